@@ -1,0 +1,24 @@
+#include "engines.h"
+
+#include <functional>
+#include <map>
+
+#include "svetlo/core/error.h"
+#include "svetlo/rt/whitted.h"
+
+namespace svetlo {
+
+std::unique_ptr<Renderer> make_renderer(const std::string& name, const std::string& file) {
+    static const std::map<std::string, std::function<std::unique_ptr<Renderer>()>> factories = {
+        {"whitted", [] { return std::make_unique<WhittedRenderer>(); }},
+    };
+    auto it = factories.find(name);
+    if (it == factories.end()) {
+        throw Error(file, "render.engine",
+                    "engine '" + name + "' is not available in this version of svetlo "
+                    "(available: whitted)");
+    }
+    return it->second();
+}
+
+}  // namespace svetlo

@@ -1,0 +1,79 @@
+// svetlo info SCENE.json: what the scene holds.
+#include <cstdio>
+
+#include "commands.h"
+#include "svetlo/rt/rt_scene.h"
+
+namespace svetlo {
+
+namespace {
+
+const char* shape_name(const Shape& s) {
+    static const char* names[] = {"sphere", "quad", "plane", "box", "cylinder", "cone", "mesh"};
+    return names[s.index()];
+}
+
+const char* light_name(const Light& l) {
+    static const char* names[] = {"point", "directional", "spot", "area"};
+    return names[l.index()];
+}
+
+const char* material_name(const Material& m) {
+    static const char* names[] = {"lambert", "phong", "oren_nayar", "cook_torrance",
+                                  "mirror", "dielectric", "emissive"};
+    if (const auto* p = std::get_if<PhongMaterial>(&m); p && p->blinn) return "blinn_phong";
+    return names[m.index()];
+}
+
+}  // namespace
+
+int run_info(const InfoArgs& args) {
+    Scene scene = load_scene(args.scene, parse_sets(args.sets, args.scene));
+    std::vector<Material> materials;
+    std::vector<Emitter> emitters;
+    Geometry g = build_geometry(scene, materials, emitters);
+    Bounds3 bounds;
+    for (uint32_t id : g.bounded_primitives()) bounds.extend(g.primitive_bounds(id));
+    const Camera& c = scene.camera;
+    std::printf("scene      %s\n", scene.path.c_str());
+    std::printf("camera     %s at (%g, %g, %g) looking at (%g, %g, %g), %s %g\n",
+                c.type == Camera::Type::Perspective ? "perspective" : "orthographic",
+                c.position.x, c.position.y, c.position.z, c.look_at.x, c.look_at.y, c.look_at.z,
+                c.type == Camera::Type::Perspective ? "fov" : "height",
+                c.type == Camera::Type::Perspective ? c.fov_deg : c.height);
+    std::printf("film       %d x %d\n", scene.film.width, scene.film.height);
+    std::printf("render     engine %s, spp %d, max_depth %d, seed %llu, accel %s\n",
+                scene.render.engine.c_str(), scene.render.spp, scene.render.max_depth,
+                static_cast<unsigned long long>(scene.render.seed), scene.render.accel.c_str());
+    std::printf("objects    %zu\n", scene.objects.size());
+    for (const Object& o : scene.objects) {
+        std::printf("  %-14s %-8s", o.name.c_str(), shape_name(o.shape));
+        if (const auto* m = std::get_if<Mesh>(&o.shape)) {
+            std::printf(" %zu triangles, %zu vertices%s", m->triangle_count(), m->positions.size(),
+                        m->smooth ? ", smooth" : "");
+        }
+        if (o.material >= 0) std::printf(" material %s", scene.material_names[o.material].c_str());
+        std::printf("%s\n", o.transform.is_identity ? "" : " (transformed)");
+    }
+    std::printf("triangles  %u\n", g.triangle_count());
+    std::printf("shapes     %zu\n", g.shapes.size());
+    std::printf("materials  %zu\n", scene.materials.size());
+    for (size_t k = 0; k < scene.materials.size(); ++k) {
+        std::printf("  %-24s %s\n", scene.material_names[k].c_str(), material_name(scene.materials[k]));
+    }
+    std::printf("lights     %zu (+ %zu emissive objects)\n", scene.lights.size(),
+                emitters.size() - static_cast<size_t>(std::count_if(
+                                      emitters.begin(), emitters.end(),
+                                      [](const Emitter& e) { return e.light_index >= 0; })));
+    for (size_t k = 0; k < scene.lights.size(); ++k) {
+        std::printf("  lights[%zu] %s\n", k, light_name(scene.lights[k]));
+    }
+    std::printf("textures   %zu\n", scene.textures.size());
+    if (!bounds.empty()) {
+        std::printf("bounds     (%g, %g, %g) - (%g, %g, %g)\n", bounds.min.x, bounds.min.y,
+                    bounds.min.z, bounds.max.x, bounds.max.y, bounds.max.z);
+    }
+    return 0;
+}
+
+}  // namespace svetlo

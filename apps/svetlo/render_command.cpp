@@ -1,0 +1,92 @@
+// svetlo render SCENE.json [-o OUT] [--engine E] [--width W] [--height H] [--spp N]
+//               [--threads N] [--seed S] [--set KEY=VALUE]... [--aov NAME=FILE]... [--quiet]
+#include <algorithm>
+#include <cstdio>
+
+#include "commands.h"
+#include "engines.h"
+#include "svetlo/core/error.h"
+#include "svetlo/core/image_io.h"
+#include "svetlo/core/parallel.h"
+#include "svetlo/core/progress.h"
+
+namespace svetlo {
+
+std::vector<Override> parse_sets(const std::vector<std::string>& sets, const std::string& file) {
+    std::vector<Override> out;
+    for (const std::string& s : sets) {
+        size_t eq = s.find('=');
+        if (eq == std::string::npos || eq == 0) {
+            throw Error(file, "--set " + s, "expected KEY=VALUE");
+        }
+        out.push_back({s.substr(0, eq), s.substr(eq + 1)});
+    }
+    return out;
+}
+
+int run_render(const RenderArgs& args) {
+    std::vector<Override> overrides = parse_sets(args.sets, args.scene);
+    // The flags override the scene and any --set.
+    if (!args.engine.empty()) overrides.push_back({"render.engine", "\"" + args.engine + "\""});
+    if (args.width > 0) overrides.push_back({"film.width", std::to_string(args.width)});
+    if (args.height > 0) overrides.push_back({"film.height", std::to_string(args.height)});
+    if (args.spp > 0) overrides.push_back({"render.spp", std::to_string(args.spp)});
+    if (args.seed >= 0) overrides.push_back({"render.seed", std::to_string(args.seed)});
+
+    // Check every output before the (possibly long) render.
+    check_writable(args.output, "-o");
+    std::vector<std::pair<std::string, std::string>> aovs;
+    for (const std::string& spec : args.aovs) {
+        size_t eq = spec.find('=');
+        std::string name = spec.substr(0, eq);
+        if (eq == std::string::npos || eq + 1 == spec.size()) {
+            throw Error(spec, "--aov", "expected NAME=FILE");
+        }
+        const auto& names = aov_names();
+        if (std::find(names.begin(), names.end(), name) == names.end()) {
+            throw Error(spec, "--aov", "unknown AOV '" + name +
+                                           "' (expected depth, normal, albedo or visibility)");
+        }
+        aovs.emplace_back(name, spec.substr(eq + 1));
+        check_writable(aovs.back().second, "--aov " + name);
+    }
+
+    Scene scene = load_scene(args.scene, overrides);
+    std::unique_ptr<Renderer> renderer = make_renderer(scene.render.engine, args.scene);
+    RenderOptions options;
+    options.threads = args.threads;
+    options.progress = !args.quiet && stderr_is_terminal();
+    for (const auto& aov : aovs) options.aovs.push_back(aov.first);
+    RenderResult result = renderer->render(scene, options);
+
+    write_image(args.output, result.color, PixelMeaning::Radiance, scene.render.exposure, "-o");
+    for (const auto& [name, file] : aovs) {
+        Image image = result.aovs.at(name);
+        bool png = image_format_for(file, "--aov") == ImageFormat::Png;
+        if (png && name == "normal") {
+            for (Color& c : image.pixels) c = 0.5f * c + Color(0.5f);  // [-1,1] -> [0,1]
+        } else if (png && name == "depth") {
+            float far = 0.0f;  // normalised by the farthest hit
+            for (const Color& c : image.pixels) far = std::max(far, c.r);
+            if (far > 0.0f) {
+                for (Color& c : image.pixels) c /= far;
+            }
+        }
+        write_image(file, image, name == "albedo" ? PixelMeaning::Radiance : PixelMeaning::Data, 1.0f,
+                    "--aov " + name);
+    }
+    if (!args.quiet) {
+        double mrays = result.stats.seconds > 0.0
+                           ? static_cast<double>(result.stats.rays) / result.stats.seconds * 1e-6
+                           : 0.0;
+        std::fprintf(stderr,
+                     "svetlo: %s %dx%d, %d spp, %d threads: setup %.3f s, render %.3f s, "
+                     "%.2f Mrays/s -> %s\n",
+                     scene.render.engine.c_str(), scene.film.width, scene.film.height,
+                     scene.render.spp, resolve_threads(args.threads), result.stats.setup_seconds,
+                     result.stats.seconds, mrays, args.output.c_str());
+    }
+    return 0;
+}
+
+}  // namespace svetlo

@@ -1,0 +1,26 @@
+# Every dependency is a Debian package (scripts/setup installs them). Nothing is downloaded.
+find_package(glm CONFIG REQUIRED)
+find_package(nlohmann_json CONFIG REQUIRED)
+find_package(CLI11 CONFIG REQUIRED)
+find_package(TBB CONFIG REQUIRED)
+find_package(OpenEXR CONFIG REQUIRED)
+find_package(tinyobjloader CONFIG REQUIRED)
+find_package(TinyGLTF CONFIG REQUIRED)
+find_package(Threads REQUIRED)
+
+find_path(STB_INCLUDE_DIR stb_image.h PATH_SUFFIXES stb REQUIRED)
+add_library(svetlo_stb INTERFACE)
+target_include_directories(svetlo_stb SYSTEM INTERFACE ${STB_INCLUDE_DIR})
+
+# Embree is optional: the comparison backend is built only when it is found.
+find_package(embree 3 CONFIG QUIET)
+if(embree_FOUND)
+    message(STATUS "svetlo: Embree ${embree_VERSION} found")
+endif()
+
+if(SVETLO_TESTS)
+    find_package(GTest CONFIG REQUIRED)
+endif()
+if(SVETLO_BENCH)
+    find_package(benchmark CONFIG REQUIRED)
+endif()

@@ -1,0 +1,19 @@
+#include "svetlo/core/image.h"
+
+namespace svetlo {
+
+float srgb_to_linear(float v) {
+    return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
+}
+
+float linear_to_srgb(float v) {
+    return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+}
+
+unsigned char linear_to_srgb8(float v) {
+    if (!(v > 0.0f)) return 0;  // also maps NaN to black
+    if (v >= 1.0f) return 255;
+    return static_cast<unsigned char>(std::lround(linear_to_srgb(v) * 255.0f));
+}
+
+}  // namespace svetlo

@@ -1,0 +1,223 @@
+#include "svetlo/core/image_io.h"
+
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfOutputFile.h>
+#include <stb_image.h>
+#include <stb_image_write.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <memory>
+#include <random>
+#include <sstream>
+
+#include "svetlo/core/error.h"
+
+namespace svetlo {
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string lower_extension(const fs::path& path) {
+    std::string ext = path.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return ext;
+}
+
+/// A temporary name in the target's folder, so that the final rename stays on one file system.
+fs::path temporary_path(const fs::path& path) {
+    std::random_device rd;
+    fs::path tmp = path;
+    tmp += ".tmp" + std::to_string(rd() % 1000000) + "." + std::to_string(::getpid());
+    return tmp;
+}
+
+void write_png(const fs::path& path, const Image& image, PixelMeaning meaning, float exposure) {
+    std::vector<unsigned char> bytes(image.pixels.size() * 3);
+    for (size_t k = 0; k < image.pixels.size(); ++k) {
+        for (int c = 0; c < 3; ++c) {
+            float v = image.pixels[k][c];
+            if (meaning == PixelMeaning::Radiance) {
+                bytes[3 * k + c] = linear_to_srgb8(v * exposure);
+            } else {
+                float clipped = std::clamp(std::isfinite(v) ? v : 0.0f, 0.0f, 1.0f);
+                bytes[3 * k + c] = static_cast<unsigned char>(std::lround(clipped * 255.0f));
+            }
+        }
+    }
+    if (!stbi_write_png(path.c_str(), image.width, image.height, 3, bytes.data(),
+                        image.width * 3)) {
+        throw std::runtime_error("cannot write PNG");
+    }
+}
+
+void write_pfm(const fs::path& path, const Image& image) {
+    std::ofstream out(path, std::ios::binary);
+    if (!out) throw std::runtime_error(std::strerror(errno));
+    out << "PF\n" << image.width << " " << image.height << "\n-1.0\n";
+    std::vector<float> row(static_cast<size_t>(image.width) * 3);
+    for (int j = image.height - 1; j >= 0; --j) {  // PFM rows go bottom to top
+        for (int i = 0; i < image.width; ++i) {
+            for (int c = 0; c < 3; ++c) row[3 * i + c] = image.at(i, j)[c];
+        }
+        // x86-64 and aarch64 are little-endian, which the negative scale announces.
+        out.write(reinterpret_cast<const char*>(row.data()),
+                  static_cast<std::streamsize>(row.size() * sizeof(float)));
+    }
+    if (!out.flush()) throw std::runtime_error("write failed");
+}
+
+void write_exr(const fs::path& path, const Image& image) {
+    Imf::Header header(image.width, image.height);
+    const char* names[3] = {"R", "G", "B"};
+    for (const char* name : names) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+    Imf::OutputFile file(path.c_str(), header);
+    Imf::FrameBuffer frame;
+    char* base = reinterpret_cast<char*>(const_cast<Color*>(image.pixels.data()));
+    for (int c = 0; c < 3; ++c) {
+        frame.insert(names[c], Imf::Slice(Imf::FLOAT, base + c * sizeof(float), sizeof(Color),
+                                          sizeof(Color) * static_cast<size_t>(image.width)));
+    }
+    file.setFrameBuffer(frame);
+    file.writePixels(image.height);
+}
+
+Image read_pfm(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw std::runtime_error(std::strerror(errno));
+    std::string magic;
+    long long w = 0, h = 0;
+    double scale = 0.0;
+    in >> magic >> w >> h >> scale;
+    in.get();
+    int channels = magic == "PF" ? 3 : magic == "Pf" ? 1 : 0;
+    if (channels == 0 || !in || w <= 0 || h <= 0 || w > 65536 || h > 65536 || scale == 0.0) {
+        throw std::runtime_error("not a PFM file");
+    }
+    if (scale > 0.0) throw std::runtime_error("big-endian PFM is not supported");
+    Image image(static_cast<int>(w), static_cast<int>(h));
+    std::vector<float> row(static_cast<size_t>(w) * channels);
+    for (long long j = h - 1; j >= 0; --j) {
+        in.read(reinterpret_cast<char*>(row.data()),
+                static_cast<std::streamsize>(row.size() * sizeof(float)));
+        if (!in) throw std::runtime_error("truncated PFM file");
+        for (long long i = 0; i < w; ++i) {
+            Color& p = image.at(static_cast<int>(i), static_cast<int>(j));
+            p = channels == 3 ? Color(row[3 * i], row[3 * i + 1], row[3 * i + 2]) : Color(row[i]);
+        }
+    }
+    return image;
+}
+
+Image read_exr(const fs::path& path) {
+    Imf::InputFile file(path.c_str());
+    Imath::Box2i window = file.header().dataWindow();
+    int w = window.max.x - window.min.x + 1;
+    int h = window.max.y - window.min.y + 1;
+    if (w <= 0 || h <= 0 || static_cast<long long>(w) * h > (1LL << 28)) {
+        throw std::runtime_error("bad EXR size");
+    }
+    Image image(w, h);
+    Imf::FrameBuffer frame;
+    char* base = reinterpret_cast<char*>(image.pixels.data()) -
+                 (static_cast<ptrdiff_t>(window.min.x) +
+                  static_cast<ptrdiff_t>(window.min.y) * w) * static_cast<ptrdiff_t>(sizeof(Color));
+    const char* names[3] = {"R", "G", "B"};
+    for (int c = 0; c < 3; ++c) {
+        frame.insert(names[c], Imf::Slice(Imf::FLOAT, base + c * sizeof(float), sizeof(Color),
+                                          sizeof(Color) * static_cast<size_t>(w), 1, 1, 0.0));
+    }
+    file.setFrameBuffer(frame);
+    file.readPixels(window.min.y, window.max.y);
+    return image;
+}
+
+Image read_stb(const fs::path& path, bool srgb) {
+    int w = 0, h = 0, n = 0;
+    if (!stbi_info(path.c_str(), &w, &h, &n)) throw std::runtime_error(stbi_failure_reason());
+    if (static_cast<long long>(w) * h > (1LL << 28)) throw std::runtime_error("image too large");
+    if (stbi_is_hdr(path.c_str())) {
+        std::unique_ptr<float, void (*)(void*)> data(stbi_loadf(path.c_str(), &w, &h, &n, 3),
+                                                     stbi_image_free);
+        if (!data) throw std::runtime_error(stbi_failure_reason());
+        Image image(w, h);
+        std::memcpy(image.pixels.data(), data.get(), image.pixels.size() * sizeof(Color));
+        return image;
+    }
+    std::unique_ptr<unsigned char, void (*)(void*)> data(stbi_load(path.c_str(), &w, &h, &n, 3),
+                                                         stbi_image_free);
+    if (!data) throw std::runtime_error(stbi_failure_reason());
+    float table[256];
+    for (int k = 0; k < 256; ++k) table[k] = srgb ? srgb_to_linear(k / 255.0f) : k / 255.0f;
+    Image image(w, h);
+    for (size_t k = 0; k < image.pixels.size(); ++k) {
+        const unsigned char* p = data.get() + 3 * k;
+        image.pixels[k] = Color(table[p[0]], table[p[1]], table[p[2]]);
+    }
+    return image;
+}
+
+}  // namespace
+
+ImageFormat image_format_for(const fs::path& path, const std::string& where) {
+    std::string ext = lower_extension(path);
+    if (ext == ".png") return ImageFormat::Png;
+    if (ext == ".pfm") return ImageFormat::Pfm;
+    if (ext == ".exr") return ImageFormat::Exr;
+    throw Error(path.string(), where,
+                "unknown image format '" + ext + "' (use .png, .pfm or .exr)");
+}
+
+void check_writable(const fs::path& path, const std::string& where) {
+    image_format_for(path, where);
+    if (fs::is_directory(path)) throw Error(path.string(), where, "is a directory");
+    fs::path tmp = temporary_path(path);
+    std::FILE* f = std::fopen(tmp.c_str(), "wb");
+    if (!f) {
+        throw Error(path.string(), where, std::string("cannot write: ") + std::strerror(errno));
+    }
+    std::fclose(f);
+    std::error_code ec;
+    fs::remove(tmp, ec);
+}
+
+void write_image(const fs::path& path, const Image& image, PixelMeaning meaning,
+                 float exposure, const std::string& where) {
+    ImageFormat format = image_format_for(path, where);
+    fs::path tmp = temporary_path(path);
+    try {
+        switch (format) {
+            case ImageFormat::Png: write_png(tmp, image, meaning, exposure); break;
+            case ImageFormat::Pfm: write_pfm(tmp, image); break;
+            case ImageFormat::Exr: write_exr(tmp, image); break;
+        }
+        fs::rename(tmp, path);
+    } catch (const std::exception& e) {
+        std::error_code ec;
+        fs::remove(tmp, ec);
+        throw Error(path.string(), where, std::string("cannot write: ") + e.what());
+    }
+}
+
+Image read_image(const fs::path& path, bool srgb, const std::string& where) {
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec)) throw Error(path.string(), where, "no such image file");
+    try {
+        std::string ext = lower_extension(path);
+        if (ext == ".pfm") return read_pfm(path);
+        if (ext == ".exr") return read_exr(path);
+        return read_stb(path, srgb);
+    } catch (const std::exception& e) {
+        throw Error(path.string(), where, std::string("cannot read image: ") + e.what());
+    }
+}
+
+}  // namespace svetlo

@@ -1,0 +1,77 @@
+// Vector types and small helpers shared by every module. Geometry and radiance are single
+// precision (glm::vec3); accumulators that sum many samples use double where it matters.
+#pragma once
+
+#include <glm/glm.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace svetlo {
+
+using glm::mat3;
+using glm::mat4;
+using glm::vec2;
+using glm::vec3;
+using glm::vec4;
+
+/// Linear RGB radiance, irradiance or reflectance, depending on context.
+using Color = glm::vec3;
+
+inline constexpr float kPi = 3.14159265358979323846f;
+inline constexpr float kInvPi = 1.0f / kPi;
+inline constexpr float kInfinity = std::numeric_limits<float>::infinity();
+
+inline float radians(float degrees) { return degrees * (kPi / 180.0f); }
+inline float max_component(vec3 v) { return std::max(v.x, std::max(v.y, v.z)); }
+inline float min_component(vec3 v) { return std::min(v.x, std::min(v.y, v.z)); }
+inline int max_dimension(vec3 v) {
+    return v.x > v.y ? (v.x > v.z ? 0 : 2) : (v.y > v.z ? 1 : 2);
+}
+inline float luminance(Color c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
+inline bool is_black(Color c) { return c.r == 0.0f && c.g == 0.0f && c.b == 0.0f; }
+inline float square(float x) { return x * x; }
+inline float safe_sqrt(float x) { return std::sqrt(std::max(0.0f, x)); }
+
+/// An orthonormal basis (t, b, n) around a unit normal n, without branches on the normal's
+/// direction. Duff et al., "Building an Orthonormal Basis, Revisited", JCGT 6(1), 2017.
+struct Frame {
+    vec3 t, b, n;
+
+    static Frame from_normal(vec3 n) {
+        float sign = std::copysign(1.0f, n.z);
+        float a = -1.0f / (sign + n.z);
+        float b = n.x * n.y * a;
+        return {vec3(1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x),
+                vec3(b, sign + n.y * n.y * a, -n.y), n};
+    }
+    vec3 to_local(vec3 v) const { return {glm::dot(v, t), glm::dot(v, b), glm::dot(v, n)}; }
+    vec3 to_world(vec3 v) const { return v.x * t + v.y * b + v.z * n; }
+};
+
+/// An axis-aligned bounding box in world space. Empty when min > max.
+struct Bounds3 {
+    vec3 min{kInfinity};
+    vec3 max{-kInfinity};
+
+    void extend(vec3 p) {
+        min = glm::min(min, p);
+        max = glm::max(max, p);
+    }
+    void extend(const Bounds3& b) {
+        min = glm::min(min, b.min);
+        max = glm::max(max, b.max);
+    }
+    bool empty() const { return min.x > max.x || min.y > max.y || min.z > max.z; }
+    vec3 extent() const { return max - min; }
+    vec3 center() const { return 0.5f * (min + max); }
+    float surface_area() const {
+        if (empty()) return 0.0f;
+        vec3 e = extent();
+        return 2.0f * (e.x * e.y + e.y * e.z + e.z * e.x);
+    }
+};
+
+}  // namespace svetlo

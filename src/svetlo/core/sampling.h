@@ -1,0 +1,62 @@
+// Warps from the unit square [0,1)^2 to the domains the renderers sample, with their pdfs.
+// Formulas from pbrt-v4, chapter A.5 (Pharr, Jakob, Humphreys 2023).
+#pragma once
+
+#include "svetlo/core/math.h"
+
+namespace svetlo {
+
+/// Concentric map to the unit disk (Shirley and Chiu 1997): keeps strata compact.
+inline vec2 sample_disk_concentric(vec2 u) {
+    vec2 o = 2.0f * u - vec2(1.0f);
+    if (o.x == 0.0f && o.y == 0.0f) return vec2(0.0f);
+    float r, theta;
+    if (std::abs(o.x) > std::abs(o.y)) {
+        r = o.x;
+        theta = (kPi / 4.0f) * (o.y / o.x);
+    } else {
+        r = o.y;
+        theta = kPi / 2.0f - (kPi / 4.0f) * (o.x / o.y);
+    }
+    return r * vec2(std::cos(theta), std::sin(theta));
+}
+
+/// Cosine-weighted direction about +z; pdf = cos(theta) / pi per steradian.
+inline vec3 sample_cosine_hemisphere(vec2 u) {
+    vec2 d = sample_disk_concentric(u);
+    return vec3(d.x, d.y, safe_sqrt(1.0f - d.x * d.x - d.y * d.y));
+}
+
+/// Uniform point on the unit sphere; pdf = 1 / (4 pi) per steradian.
+inline vec3 sample_uniform_sphere(vec2 u) {
+    float z = 1.0f - 2.0f * u.x;
+    float r = safe_sqrt(1.0f - z * z);
+    float phi = 2.0f * kPi * u.y;
+    return vec3(r * std::cos(phi), r * std::sin(phi), z);
+}
+
+/// Uniform barycentrics (b0, b1) on a triangle (b2 = 1 - b0 - b1), Heitz 2019 low-distortion map.
+inline vec2 sample_triangle(vec2 u) {
+    float b0, b1;
+    if (u.x < u.y) {
+        b0 = u.x / 2.0f;
+        b1 = u.y - b0;
+    } else {
+        b1 = u.y / 2.0f;
+        b0 = u.x - b1;
+    }
+    return vec2(b0, b1);
+}
+
+/// Stratum `index` of `count` in the unit square, jittered by u: a sqrt(count) grid when count
+/// is a perfect square, otherwise `count` strips along x with a free y.
+inline vec2 stratified_sample(int index, int count, vec2 u) {
+    int side = static_cast<int>(std::lround(std::sqrt(static_cast<double>(count))));
+    if (side * side == count) {
+        return vec2((static_cast<float>(index % side) + u.x) / static_cast<float>(side),
+                    (static_cast<float>(index / side) + u.y) / static_cast<float>(side));
+    }
+    return vec2((static_cast<float>(index) + u.x) / static_cast<float>(count), u.y);
+}
+
+}  // namespace svetlo

@@ -1,0 +1,262 @@
+#include "svetlo/rt/whitted.h"
+
+#include <atomic>
+#include <chrono>
+
+#include "svetlo/core/parallel.h"
+#include "svetlo/core/progress.h"
+#include "svetlo/core/rng.h"
+#include "svetlo/core/sampling.h"
+#include "svetlo/rt/camera.h"
+#include "svetlo/rt/rt_scene.h"
+#include "svetlo/shading/bsdf.h"
+#include "svetlo/shading/lights.h"
+
+namespace svetlo {
+
+namespace {
+
+/// Branches whose weight falls below this are not traced: Hall and Greenberg's adaptive
+/// tree-depth control ("A Testbed for Realistic Image Synthesis", IEEE CG&A 1983). It drops
+/// contributions under 1e-5 of the pixel's radiance scale.
+constexpr float kMinBranchWeight = 1e-5f;
+
+/// What the first hit of a camera sample contributes to the AOVs.
+struct AovSample {
+    float depth = 0.0f;
+    vec3 normal{0.0f};
+    Color albedo{0.0f};
+    float visibility = 1.0f;
+};
+
+class Tracer {
+public:
+    Tracer(const RtScene& rt, bool want_visibility)
+        : rt_(rt), scene_(rt.scene()), want_visibility_(want_visibility) {}
+
+    uint64_t rays = 0;
+    Rng* aov_rng = nullptr;  // the visibility AOV's own stream, so AOVs never change the image
+
+    Color trace(const Ray& ray, int depth, float weight, Rng& rng, AovSample* aov) {
+        ++rays;
+        Hit hit;
+        if (!rt_.intersect(ray, hit)) return scene_.render.background;
+        const Geometry& g = rt_.geometry();
+        SurfaceHit sh = g.surface(ray, hit);
+        Bsdf bsdf = make_bsdf(rt_.materials()[sh.material], sh.uv, scene_.textures);
+        vec3 wo = -glm::normalize(ray.d);
+        bool front = glm::dot(sh.ng, wo) > 0.0f;
+        // Two-sided shading: both normals turned toward the viewer.
+        vec3 ng = front ? sh.ng : -sh.ng;
+        vec3 ns = front ? sh.ns : -sh.ns;
+        if (glm::dot(ns, wo) <= 0.0f) ns = ng;  // interpolated normal facing away: use the face's
+
+        if (aov) {
+            aov->depth = hit.t * glm::length(ray.d);
+            aov->normal = ns;
+            aov->albedo = bsdf.has_lobes() ? bsdf.diffuse
+                          : bsdf.model == Bsdf::Model::Dielectric ? Color(1.0f)
+                                                                   : bsdf.reflect;
+            if (want_visibility_) aov->visibility = light0_visibility(sh.p, ng, *aov_rng);
+        }
+
+        Color L(0.0f);
+        if (bsdf.model == Bsdf::Model::Emissive && front) L += bsdf.emission;
+        L += bsdf.ambient * scene_.render.ambient;
+        if (bsdf.has_lobes()) L += direct_light(sh.p, ng, ns, wo, bsdf, rng);
+        if (depth >= scene_.render.max_depth) return L;
+
+        auto follow = [&](Color scale, vec3 dir) {
+            float w = weight * max_component(scale);
+            if (w < kMinBranchWeight) return Color(0.0f);
+            Ray next{offset_ray_origin(sh.p, ng, dir), dir, kInfinity};
+            return scale * trace(next, depth + 1, w, rng, nullptr);
+        };
+        switch (bsdf.model) {
+            case Bsdf::Model::Mirror: L += follow(bsdf.reflect, reflect(wo, ns)); break;
+            case Bsdf::Model::Dielectric: {
+                // Entering when we hit the outside; eta = n_transmitted / n_incident.
+                float eta = front ? bsdf.ior : 1.0f / bsdf.ior;
+                float fr = fresnel_dielectric(glm::dot(ns, wo), eta);
+                vec3 wt;
+                if (fr < 1.0f && refract(wo, ns, eta, wt)) L += follow(Color(1.0f - fr), wt);
+                else fr = 1.0f;  // total internal reflection
+                L += follow(Color(fr), reflect(wo, ns));
+                break;
+            }
+            case Bsdf::Model::Phong:
+            case Bsdf::Model::BlinnPhong: {
+                if (!is_black(bsdf.reflect)) L += follow(bsdf.reflect, reflect(wo, ns));
+                if (!is_black(bsdf.transmit)) {
+                    float eta = front ? bsdf.ior : 1.0f / bsdf.ior;
+                    vec3 wt;
+                    // Under total internal reflection the transmitted part reflects.
+                    if (!refract(wo, ns, eta, wt)) wt = reflect(wo, ns);
+                    L += follow(bsdf.transmit, wt);
+                }
+                break;
+            }
+            default: break;
+        }
+        return L;
+    }
+
+private:
+    /// True when the segment from p (offset along ng) to `target` is blocked; a target with
+    /// a normal is itself offset off its surface.
+    bool blocked(vec3 p, vec3 ng, vec3 target, vec3 direction) {
+        ++rays;
+        Ray shadow{offset_ray_origin(p, ng, direction), vec3(0.0f), 1.0f};
+        shadow.d = target - shadow.o;
+        return rt_.occluded(shadow);
+    }
+
+    bool blocked_at_infinity(vec3 p, vec3 ng, vec3 direction) {
+        ++rays;
+        return rt_.occluded(Ray{offset_ray_origin(p, ng, direction), direction, kInfinity});
+    }
+
+    Color direct_light(vec3 p, vec3 ng, vec3 ns, vec3 wo, const Bsdf& bsdf, Rng& rng) {
+        Color L(0.0f);
+        for (int index : rt_.punctual_lights()) {
+            const Light& light = scene_.lights[static_cast<size_t>(index)];
+            PunctualSample s = sample_punctual(light, p);
+            float cos_theta = glm::dot(ns, s.wi);
+            if (cos_theta <= 0.0f || glm::dot(ng, s.wi) <= 0.0f || is_black(s.irradiance)) continue;
+            bool shadowed = std::isinf(s.distance)
+                                ? blocked_at_infinity(p, ng, s.wi)
+                                : blocked(p, ng, p + s.wi * s.distance, s.wi);
+            if (!shadowed) L += eval_bsdf(bsdf, ns, wo, s.wi) * s.irradiance * cos_theta;
+        }
+        int n = scene_.render.light_samples;
+        const Geometry& g = rt_.geometry();
+        for (const Emitter& emitter : rt_.emitters()) {
+            Color sum(0.0f);
+            for (int k = 0; k < n; ++k) {
+                vec2 u = stratified_sample(k, n, vec2(rng.next_float(), rng.next_float()));
+                EmitterSample e = sample_emitter(emitter, g, u, rng.next_float());
+                vec3 d = e.p - p;
+                float dist2 = glm::dot(d, d);
+                if (dist2 <= 0.0f) continue;
+                vec3 wi = d / std::sqrt(dist2);
+                float cos_theta = glm::dot(ns, wi), cos_light = -glm::dot(e.n, wi);
+                if (cos_theta <= 0.0f || cos_light <= 0.0f || glm::dot(ng, wi) <= 0.0f) continue;
+                Bsdf light = make_bsdf(rt_.materials()[g.material(e.prim)], e.uv, scene_.textures);
+                if (is_black(light.emission)) continue;
+                if (blocked(p, ng, offset_ray_origin(e.p, e.n, -wi), wi)) continue;
+                // Area form of the rendering equation: G = cos cos' / d^2, pdf per m^2.
+                sum += eval_bsdf(bsdf, ns, wo, wi) * light.emission *
+                       (cos_theta * cos_light / (dist2 * e.pdf_area));
+            }
+            L += sum / static_cast<float>(n);
+        }
+        return L;
+    }
+
+    /// The fraction of light 0 that reaches p (contract: the visibility AOV).
+    float light0_visibility(vec3 p, vec3 ng, Rng& rng) {
+        const Light& light = scene_.lights[0];
+        if (!std::holds_alternative<AreaLight>(light)) {
+            PunctualSample s = sample_punctual(light, p);
+            if (glm::dot(ng, s.wi) <= 0.0f) return 1.0f;  // faces away from the light
+            bool shadowed = std::isinf(s.distance) ? blocked_at_infinity(p, ng, s.wi)
+                                                   : blocked(p, ng, p + s.wi * s.distance, s.wi);
+            return shadowed ? 0.0f : 1.0f;
+        }
+        const Emitter* emitter = nullptr;
+        for (const Emitter& e : rt_.emitters()) emitter = e.light_index == 0 ? &e : emitter;
+        if (!emitter) return 1.0f;
+        int n = std::max(scene_.render.light_samples, 16);
+        int facing = 0, visible = 0;
+        for (int k = 0; k < n; ++k) {
+            vec2 u = stratified_sample(k, n, vec2(rng.next_float(), rng.next_float()));
+            EmitterSample e = sample_emitter(*emitter, rt_.geometry(), u, 0.5f);
+            vec3 wi = glm::normalize(e.p - p);
+            if (glm::dot(ng, wi) <= 0.0f || glm::dot(e.n, wi) >= 0.0f) continue;
+            ++facing;
+            if (!blocked(p, ng, offset_ray_origin(e.p, e.n, -wi), wi)) ++visible;
+        }
+        return facing == 0 ? 1.0f : static_cast<float>(visible) / static_cast<float>(facing);
+    }
+
+    const RtScene& rt_;
+    const Scene& scene_;
+    bool want_visibility_;
+};
+
+}  // namespace
+
+RenderResult WhittedRenderer::render(const Scene& scene, const RenderOptions& options) {
+    using Clock = std::chrono::steady_clock;
+    auto t0 = Clock::now();
+    RtScene rt(scene, scene.render.accel, options.threads);
+    auto t1 = Clock::now();
+
+    const int width = scene.film.width, height = scene.film.height, spp = scene.render.spp;
+    RenderResult result;
+    result.color = Image(width, height);
+    bool want[4] = {false, false, false, false};  // depth, normal, albedo, visibility
+    for (const std::string& name : options.aovs) {
+        for (size_t k = 0; k < aov_names().size(); ++k) {
+            if (name == aov_names()[k]) {
+                want[k] = true;
+                result.aovs[name] = Image(width, height, k == 3 ? Color(1.0f) : Color(0.0f));
+            }
+        }
+    }
+    bool any_aov = !result.aovs.empty();
+    Image* aov_image[4];  // looked up once: the tiles write through these concurrently
+    for (size_t k = 0; k < 4; ++k) {
+        aov_image[k] = want[k] ? &result.aovs[aov_names()[k]] : nullptr;
+    }
+    bool want_visibility = want[3] && !scene.lights.empty();
+    CameraRays camera(scene.camera, width, height);
+    std::atomic<uint64_t> rays{0};
+    Progress progress("whitted", static_cast<int64_t>(width) * height, options.progress);
+
+    parallel_tiles(
+        width, height, options.threads,
+        [&](const Tile& tile) {
+            Tracer tracer(rt, want_visibility);
+            for (int j = tile.y0; j < tile.y1; ++j) {
+                for (int i = tile.x0; i < tile.x1; ++i) {
+                    uint64_t pixel = static_cast<uint64_t>(j) * width + i;
+                    Rng rng = pixel_rng(scene.render.seed, pixel);
+                    Rng aov_rng = pixel_rng(scene.render.seed ^ 0xa0a0a0a0ULL, pixel);
+                    tracer.aov_rng = &aov_rng;
+                    glm::dvec3 sum(0.0);
+                    AovSample aov_sum{0.0f, vec3(0.0f), Color(0.0f), 0.0f};
+                    for (int s = 0; s < spp; ++s) {
+                        vec2 offset = spp == 1 ? vec2(0.5f)
+                                               : stratified_sample(s, spp, vec2(rng.next_float(),
+                                                                                rng.next_float()));
+                        Ray ray = camera.generate((static_cast<float>(i) + offset.x) / width,
+                                                  (static_cast<float>(j) + offset.y) / height);
+                        AovSample aov;
+                        sum += glm::dvec3(tracer.trace(ray, 0, 1.0f, rng, any_aov ? &aov : nullptr));
+                        if (any_aov) {
+                            aov_sum.depth += aov.depth;
+                            aov_sum.normal += aov.normal;
+                            aov_sum.albedo += aov.albedo;
+                            aov_sum.visibility += aov.visibility;
+                        }
+                    }
+                    float inv = 1.0f / static_cast<float>(spp);
+                    result.color.at(i, j) = Color(sum / static_cast<double>(spp));
+                    if (want[0]) aov_image[0]->at(i, j) = Color(aov_sum.depth * inv);
+                    if (want[1]) aov_image[1]->at(i, j) = aov_sum.normal * inv;
+                    if (want[2]) aov_image[2]->at(i, j) = aov_sum.albedo * inv;
+                    if (want[3]) aov_image[3]->at(i, j) = Color(aov_sum.visibility * inv);
+                }
+            }
+            rays += tracer.rays;
+        },
+        [&](int pixels) { progress.advance(pixels); });
+    progress.finish();
+    result.stats.setup_seconds = std::chrono::duration<double>(t1 - t0).count();
+    result.stats.seconds = std::chrono::duration<double>(Clock::now() - t1).count();
+    result.stats.rays = rays.load();
+    return result;
+}
+
+}  // namespace svetlo

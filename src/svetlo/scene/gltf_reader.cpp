@@ -1,0 +1,274 @@
+// glTF 2.0 (.gltf and .glb) through tinygltf: every triangle primitive of every node of the
+// default scene, with node transforms baked in; metallic-roughness materials mapped to
+// cook_torrance, emission to emissive; KHR_lights_punctual lights (glTF's candela and lux
+// are taken as W/sr and W/m^2, since svetlo is radiometric).
+#include <tiny_gltf.h>
+
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <stdexcept>
+
+#include "svetlo/scene/mesh_file.h"
+
+namespace svetlo {
+
+namespace {
+
+/// Reads element `index` of a float accessor (or a normalised integer one) into `out[0..n)`.
+class AccessorView {
+public:
+    AccessorView(const tinygltf::Model& model, int accessor_index, int components) {
+        if (accessor_index < 0 || static_cast<size_t>(accessor_index) >= model.accessors.size()) {
+            throw std::runtime_error("accessor " + std::to_string(accessor_index) + " missing");
+        }
+        const tinygltf::Accessor& a = model.accessors[accessor_index];
+        if (a.bufferView < 0 || static_cast<size_t>(a.bufferView) >= model.bufferViews.size()) {
+            throw std::runtime_error("accessor without a buffer view (sparse is not supported)");
+        }
+        const tinygltf::BufferView& view = model.bufferViews[a.bufferView];
+        if (view.buffer < 0 || static_cast<size_t>(view.buffer) >= model.buffers.size()) {
+            throw std::runtime_error("buffer view without a buffer");
+        }
+        const tinygltf::Buffer& buffer = model.buffers[view.buffer];
+        int n = tinygltf::GetNumComponentsInType(static_cast<uint32_t>(a.type));
+        component_type_ = a.componentType;
+        int size = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(a.componentType));
+        if (n != components || size <= 0) throw std::runtime_error("unexpected accessor type");
+        components_ = n;
+        component_size_ = size;
+        normalized_ = a.normalized;
+        count_ = a.count;
+        stride_ = view.byteStride > 0 ? view.byteStride : static_cast<size_t>(n * size);
+        size_t offset = view.byteOffset + a.byteOffset;
+        size_t need = count_ == 0 ? 0 : offset + stride_ * (count_ - 1) + n * size;
+        if (need > buffer.data.size() || a.byteOffset + n * size > view.byteLength + stride_) {
+            throw std::runtime_error("accessor runs past its buffer");
+        }
+        data_ = buffer.data.data() + offset;
+    }
+
+    size_t count() const { return count_; }
+
+    double component(size_t index, int c) const {
+        const unsigned char* p = data_ + index * stride_ + static_cast<size_t>(c) * component_size_;
+        switch (component_type_) {
+            case TINYGLTF_COMPONENT_TYPE_FLOAT: return load<float>(p);
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+                return normalized_ ? load<uint8_t>(p) / 255.0 : load<uint8_t>(p);
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+                return normalized_ ? load<uint16_t>(p) / 65535.0 : load<uint16_t>(p);
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: return load<uint32_t>(p);
+            case TINYGLTF_COMPONENT_TYPE_BYTE: return load<int8_t>(p);
+            case TINYGLTF_COMPONENT_TYPE_SHORT: return load<int16_t>(p);
+            default: throw std::runtime_error("unsupported component type");
+        }
+    }
+
+private:
+    template <typename T>
+    static double load(const unsigned char* p) {
+        T v;
+        std::memcpy(&v, p, sizeof(T));
+        return static_cast<double>(v);
+    }
+    const unsigned char* data_ = nullptr;
+    size_t count_ = 0, stride_ = 0;
+    int components_ = 0, component_size_ = 0, component_type_ = 0;
+    bool normalized_ = false;
+};
+
+mat4 node_matrix(const tinygltf::Node& node) {
+    if (node.matrix.size() == 16) {
+        mat4 m;
+        for (int k = 0; k < 16; ++k) glm::value_ptr(m)[k] = static_cast<float>(node.matrix[k]);
+        return m;  // glTF stores column-major, as glm does
+    }
+    mat4 t(1.0f), r(1.0f), s(1.0f);
+    if (node.translation.size() == 3) {
+        t = glm::translate(mat4(1.0f), vec3(node.translation[0], node.translation[1],
+                                            node.translation[2]));
+    }
+    if (node.rotation.size() == 4) {
+        glm::quat q(static_cast<float>(node.rotation[3]), static_cast<float>(node.rotation[0]),
+                    static_cast<float>(node.rotation[1]), static_cast<float>(node.rotation[2]));
+        r = glm::mat4_cast(q);
+    }
+    if (node.scale.size() == 3) {
+        s = glm::scale(mat4(1.0f), vec3(node.scale[0], node.scale[1], node.scale[2]));
+    }
+    return t * r * s;
+}
+
+Material material_from_gltf(const tinygltf::Material& m) {
+    const auto& pbr = m.pbrMetallicRoughness;
+    Color base(1.0f);
+    if (pbr.baseColorFactor.size() >= 3) {
+        base = Color(pbr.baseColorFactor[0], pbr.baseColorFactor[1], pbr.baseColorFactor[2]);
+    }
+    Color emission(0.0f);
+    if (m.emissiveFactor.size() == 3) {
+        emission = Color(m.emissiveFactor[0], m.emissiveFactor[1], m.emissiveFactor[2]);
+    }
+    auto strength = m.extensions.find("KHR_materials_emissive_strength");
+    if (strength != m.extensions.end() && strength->second.Has("emissiveStrength")) {
+        emission *= static_cast<float>(strength->second.Get("emissiveStrength").GetNumberAsDouble());
+    }
+    if (max_component(emission) > 0.0f) {
+        EmissiveMaterial e;
+        e.radiance = ColorSource::constant(emission);
+        e.albedo = ColorSource::constant(base);
+        return e;
+    }
+    CookTorranceMaterial ct;
+    ct.base_color = ColorSource::constant(base);
+    ct.roughness = static_cast<float>(std::clamp(pbr.roughnessFactor, 0.0, 1.0));
+    ct.metallic = static_cast<float>(std::clamp(pbr.metallicFactor, 0.0, 1.0));
+    return ct;
+}
+
+struct Flattener {
+    const tinygltf::Model& model;
+    MeshFile& file;
+    int depth_guard = 0;
+
+    void visit(int node_index, const mat4& parent) {
+        if (node_index < 0 || static_cast<size_t>(node_index) >= model.nodes.size()) {
+            throw std::runtime_error("node " + std::to_string(node_index) + " missing");
+        }
+        if (++depth_guard > 10000) throw std::runtime_error("node hierarchy too deep or cyclic");
+        const tinygltf::Node& node = model.nodes[node_index];
+        mat4 world = parent * node_matrix(node);
+        if (node.mesh >= 0) add_mesh(node.mesh, world);
+        add_light(node, world);
+        for (int child : node.children) visit(child, world);
+        --depth_guard;
+    }
+
+    void add_light(const tinygltf::Node& node, const mat4& world) {
+        auto ext = node.extensions.find("KHR_lights_punctual");
+        if (ext == node.extensions.end() || !ext->second.Has("light")) return;
+        int index = ext->second.Get("light").GetNumberAsInt();
+        if (index < 0 || static_cast<size_t>(index) >= model.lights.size()) {
+            throw std::runtime_error("light " + std::to_string(index) + " missing");
+        }
+        const tinygltf::Light& l = model.lights[index];
+        Color c(1.0f);
+        if (l.color.size() == 3) c = Color(l.color[0], l.color[1], l.color[2]);
+        c *= static_cast<float>(l.intensity);
+        vec3 position = vec3(world * vec4(0.0f, 0.0f, 0.0f, 1.0f));
+        vec3 direction = glm::normalize(vec3(world * vec4(0.0f, 0.0f, -1.0f, 0.0f)));
+        if (l.type == "point") {
+            file.lights.push_back(PointLight{position, c});
+        } else if (l.type == "directional") {
+            file.lights.push_back(DirectionalLight{direction, c});
+        } else if (l.type == "spot") {
+            SpotLight s;
+            s.position = position;
+            s.direction = direction;
+            s.intensity = c;
+            s.inner_deg = static_cast<float>(l.spot.innerConeAngle * 180.0 / M_PI);
+            s.outer_deg = static_cast<float>(l.spot.outerConeAngle * 180.0 / M_PI);
+            file.lights.push_back(s);
+        } else {
+            throw std::runtime_error("unknown light type '" + l.type + "'");
+        }
+    }
+
+    void add_mesh(int mesh_index, const mat4& world) {
+        if (static_cast<size_t>(mesh_index) >= model.meshes.size()) {
+            throw std::runtime_error("mesh " + std::to_string(mesh_index) + " missing");
+        }
+        mat3 normal_matrix = glm::transpose(glm::inverse(mat3(world)));
+        Mesh& mesh = file.mesh;
+        for (const tinygltf::Primitive& prim : model.meshes[mesh_index].primitives) {
+            if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != -1) continue;
+            auto pos = prim.attributes.find("POSITION");
+            if (pos == prim.attributes.end()) throw std::runtime_error("primitive without POSITION");
+            AccessorView positions(model, pos->second, 3);
+            auto base = static_cast<uint32_t>(mesh.positions.size());
+            for (size_t k = 0; k < positions.count(); ++k) {
+                vec3 p(positions.component(k, 0), positions.component(k, 1),
+                       positions.component(k, 2));
+                mesh.positions.push_back(vec3(world * vec4(p, 1.0f)));
+            }
+            auto nor = prim.attributes.find("NORMAL");
+            if (nor != prim.attributes.end()) {
+                AccessorView normals(model, nor->second, 3);
+                if (normals.count() != positions.count()) throw std::runtime_error("NORMAL count");
+                mesh.normals.resize(base);
+                for (size_t k = 0; k < normals.count(); ++k) {
+                    vec3 n(normals.component(k, 0), normals.component(k, 1), normals.component(k, 2));
+                    mesh.normals.push_back(glm::normalize(normal_matrix * n));
+                }
+            }
+            auto tex = prim.attributes.find("TEXCOORD_0");
+            if (tex != prim.attributes.end()) {
+                AccessorView uvs(model, tex->second, 2);
+                if (uvs.count() != positions.count()) throw std::runtime_error("TEXCOORD_0 count");
+                mesh.uvs.resize(base);
+                // glTF's v runs down the image; svetlo's (OpenGL's) runs up.
+                for (size_t k = 0; k < uvs.count(); ++k) {
+                    mesh.uvs.emplace_back(uvs.component(k, 0), 1.0 - uvs.component(k, 1));
+                }
+            }
+            size_t first = mesh.indices.size();
+            if (prim.indices >= 0) {
+                AccessorView indices(model, prim.indices, 1);
+                for (size_t k = 0; k < indices.count(); ++k) {
+                    double i = indices.component(k, 0);
+                    if (i < 0 || i >= static_cast<double>(positions.count())) {
+                        throw std::runtime_error("index out of range");
+                    }
+                    mesh.indices.push_back(base + static_cast<uint32_t>(i));
+                }
+            } else {
+                for (size_t k = 0; k < positions.count(); ++k) {
+                    mesh.indices.push_back(base + static_cast<uint32_t>(k));
+                }
+            }
+            if ((mesh.indices.size() - first) % 3 != 0) throw std::runtime_error("index count");
+            int material = prim.material >= 0 &&
+                                   static_cast<size_t>(prim.material) < file.materials.size()
+                               ? prim.material
+                               : -1;
+            mesh.face_material.resize(mesh.indices.size() / 3, material);
+        }
+    }
+};
+
+}  // namespace
+
+MeshFile read_gltf(const std::filesystem::path& path) {
+    tinygltf::TinyGLTF loader;
+    tinygltf::Model model;
+    std::string err, warn;
+    bool binary = path.extension() == ".glb" || path.extension() == ".GLB";
+    bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path.string())
+                     : loader.LoadASCIIFromFile(&model, &err, &warn, path.string());
+    if (!ok) {
+        while (!err.empty() && (err.back() == '\n' || err.back() == '\r')) err.pop_back();
+        throw std::runtime_error(err.empty() ? "cannot parse glTF" : err);
+    }
+    MeshFile file;
+    for (const tinygltf::Material& m : model.materials) {
+        file.materials.push_back(material_from_gltf(m));
+        file.material_names.push_back(m.name);
+    }
+    Flattener flattener{model, file};
+    int scene = model.defaultScene >= 0 ? model.defaultScene : 0;
+    if (static_cast<size_t>(scene) < model.scenes.size()) {
+        for (int node : model.scenes[scene].nodes) flattener.visit(node, mat4(1.0f));
+    } else {
+        for (size_t n = 0; n < model.nodes.size(); ++n) flattener.visit(static_cast<int>(n), mat4(1.0f));
+    }
+    Mesh& mesh = file.mesh;
+    if (mesh.indices.empty()) throw std::runtime_error("glTF file has no triangles");
+    if (!mesh.normals.empty()) mesh.normals.resize(mesh.positions.size(), vec3(0.0f));
+    if (!mesh.uvs.empty()) mesh.uvs.resize(mesh.positions.size(), vec2(0.0f));
+    bool any_material = false;
+    for (int m : mesh.face_material) any_material = any_material || m >= 0;
+    if (!any_material) mesh.face_material.clear();
+    return file;
+}
+
+}  // namespace svetlo

@@ -1,0 +1,128 @@
+// materials section and material colours (constants, textures, checkers).
+#include <map>
+
+#include "svetlo/core/image_io.h"
+#include "svetlo/scene/scene_parts.h"
+
+namespace svetlo {
+
+namespace {
+
+ColorSource optional_color(const JsonNode& node, const char* key, Color fallback, Scene& scene) {
+    auto n = node.find(key);
+    return n ? parse_color_source(*n, scene) : ColorSource::constant(fallback);
+}
+
+float roughness_like(const JsonNode& node, const char* key, float fallback) {
+    auto n = node.find(key);
+    return n ? n->as_in_range(0.0, 1.0) : fallback;
+}
+
+PhongMaterial parse_phong(const JsonNode& node, Scene& scene, bool blinn) {
+    node.expect_object({"type", "ka", "kd", "ks", "shininess", "reflect", "transmit", "ior"});
+    PhongMaterial m;
+    m.blinn = blinn;
+    m.ka = optional_color(node, "ka", Color(0.0f), scene);
+    m.kd = optional_color(node, "kd", Color(0.8f), scene);
+    m.ks = optional_color(node, "ks", Color(0.0f), scene);
+    if (auto n = node.find("shininess")) m.shininess = n->as_non_negative();
+    m.reflect = optional_color(node, "reflect", Color(0.0f), scene);
+    m.transmit = optional_color(node, "transmit", Color(0.0f), scene);
+    if (auto n = node.find("ior")) m.ior = n->as_positive();
+    return m;
+}
+
+Material parse_material(const JsonNode& node, Scene& scene) {
+    if (!node.is_object()) node.fail("must be an object");
+    std::string type = node.at("type").as_choice({"lambert", "phong", "blinn_phong", "oren_nayar",
+                                                  "cook_torrance", "mirror", "dielectric",
+                                                  "emissive"});
+    if (type == "lambert") {
+        node.expect_object({"type", "albedo"});
+        return LambertMaterial{optional_color(node, "albedo", Color(0.8f), scene)};
+    }
+    if (type == "phong" || type == "blinn_phong") return parse_phong(node, scene, type == "blinn_phong");
+    if (type == "oren_nayar") {
+        node.expect_object({"type", "albedo", "sigma"});
+        OrenNayarMaterial m;
+        m.albedo = optional_color(node, "albedo", Color(0.8f), scene);
+        if (auto n = node.find("sigma")) m.sigma_deg = n->as_in_range(0.0, 90.0);
+        return m;
+    }
+    if (type == "cook_torrance") {
+        node.expect_object({"type", "base_color", "roughness", "metallic"});
+        CookTorranceMaterial m;
+        m.base_color = optional_color(node, "base_color", Color(0.8f), scene);
+        m.roughness = roughness_like(node, "roughness", 0.5f);
+        m.metallic = roughness_like(node, "metallic", 0.0f);
+        return m;
+    }
+    if (type == "mirror") {
+        node.expect_object({"type", "reflectance"});
+        return MirrorMaterial{optional_color(node, "reflectance", Color(1.0f), scene)};
+    }
+    if (type == "dielectric") {
+        node.expect_object({"type", "ior", "abbe"});
+        DielectricMaterial m;
+        if (auto n = node.find("ior")) m.ior = n->as_positive();
+        if (auto n = node.find("abbe")) m.abbe = n->as_non_negative();
+        return m;
+    }
+    node.expect_object({"type", "radiance", "albedo"});
+    EmissiveMaterial m;
+    m.radiance = optional_color(node, "radiance", Color(1.0f), scene);
+    m.albedo = optional_color(node, "albedo", Color(0.0f), scene);
+    return m;
+}
+
+}  // namespace
+
+ColorSource parse_color_source(const JsonNode& node, Scene& scene) {
+    if (!node.is_object()) return ColorSource::constant(node.as_color());
+    ColorSource s;
+    if (node.has("checker")) {
+        node.expect_object({"checker"});
+        JsonNode c = node.at("checker");
+        c.expect_object({"a", "b", "scale"});
+        s.kind = ColorSource::Kind::Checker;
+        s.a = c.at("a").as_color();
+        s.b = c.at("b").as_color();
+        if (auto n = c.find("scale")) s.scale = n->as_positive();
+        return s;
+    }
+    node.expect_object({"texture", "filter", "wrap", "srgb"});
+    s.kind = ColorSource::Kind::Image;
+    JsonNode tex = node.at("texture");
+    std::filesystem::path file = scene.path.parent_path() / tex.as_string();
+    bool srgb = true;
+    if (auto n = node.find("srgb")) srgb = n->as_bool();
+    if (auto n = node.find("filter")) {
+        std::string f = n->as_choice({"nearest", "bilinear", "trilinear"});
+        s.filter = f == "nearest"    ? TextureFilter::Nearest
+                   : f == "bilinear" ? TextureFilter::Bilinear
+                                     : TextureFilter::Trilinear;
+    }
+    if (auto n = node.find("wrap")) {
+        s.wrap = n->as_choice({"repeat", "clamp"}) == "repeat" ? TextureWrap::Repeat
+                                                               : TextureWrap::Clamp;
+    }
+    try {
+        scene.textures.push_back(read_image(file, srgb, tex.path()));
+    } catch (const Error& e) {
+        tex.fail("cannot read texture '" + tex.as_string() + "': " + e.message());
+    }
+    s.texture = static_cast<int>(scene.textures.size()) - 1;
+    return s;
+}
+
+void parse_materials(const JsonNode& node, Scene& scene) {
+    if (!node.is_object()) node.fail("must be an object mapping names to materials");
+    for (const auto& [name, value] : node.raw().items()) {
+        if (!name.empty() && name[0] == '_') continue;
+        JsonNode m(value, node.file(), node.path() + "." + name);
+        scene.materials.push_back(parse_material(m, scene));
+        scene.material_names.push_back(name);
+    }
+}
+
+}  // namespace svetlo

@@ -1,0 +1,70 @@
+#include "svetlo/scene/mesh_file.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace svetlo {
+namespace fs = std::filesystem;
+
+MeshFile read_mesh_file(const fs::path& path) {
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec)) throw std::runtime_error("no such file");
+    std::string ext = path.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    MeshFile file;
+    if (ext == ".obj") {
+        file = read_obj(path);
+    } else if (ext == ".ply") {
+        file = read_ply(path);
+    } else if (ext == ".gltf" || ext == ".glb") {
+        file = read_gltf(path);
+    } else {
+        throw std::runtime_error("unknown mesh format '" + ext + "' (use .obj, .ply, .gltf, .glb)");
+    }
+    validate_mesh(file.mesh);
+    return file;
+}
+
+void validate_mesh(const Mesh& mesh) {
+    if (mesh.indices.size() % 3 != 0) throw std::runtime_error("index count is not a multiple of 3");
+    for (size_t k = 0; k < mesh.positions.size(); ++k) {
+        const vec3& p = mesh.positions[k];
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
+            throw std::runtime_error("vertex " + std::to_string(k) + " is not finite");
+        }
+    }
+    for (size_t k = 0; k < mesh.indices.size(); ++k) {
+        if (mesh.indices[k] >= mesh.positions.size()) {
+            throw std::runtime_error("triangle " + std::to_string(k / 3) + " refers to vertex " +
+                                     std::to_string(mesh.indices[k]) + " of " +
+                                     std::to_string(mesh.positions.size()));
+        }
+    }
+    if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size()) {
+        throw std::runtime_error("normal count differs from position count");
+    }
+    if (!mesh.uvs.empty() && mesh.uvs.size() != mesh.positions.size()) {
+        throw std::runtime_error("uv count differs from position count");
+    }
+}
+
+void compute_vertex_normals(Mesh& mesh) {
+    mesh.normals.assign(mesh.positions.size(), vec3(0.0f));
+    for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+        uint32_t a = mesh.indices[t], b = mesh.indices[t + 1], c = mesh.indices[t + 2];
+        // The cross product's length is twice the area: an area-weighted average.
+        vec3 n = glm::cross(mesh.positions[b] - mesh.positions[a],
+                            mesh.positions[c] - mesh.positions[a]);
+        mesh.normals[a] += n;
+        mesh.normals[b] += n;
+        mesh.normals[c] += n;
+    }
+    for (vec3& n : mesh.normals) {
+        float len = glm::length(n);
+        n = len > 0.0f ? n / len : vec3(0.0f, 0.0f, 1.0f);
+    }
+}
+
+}  // namespace svetlo

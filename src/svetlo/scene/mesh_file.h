@@ -1,0 +1,35 @@
+// Readers for triangle-mesh files: OBJ with its MTL (tinyobjloader), PLY (ASCII and binary,
+// svetlo's own reader) and glTF 2.0 with KHR_lights_punctual (tinygltf). Each returns the
+// triangles in the file's object space, plus the materials and lights the file brings.
+// Failures throw std::runtime_error with the file's own place ("line 12: ..."); the scene
+// loader adds the scene file and the JSON path.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "svetlo/scene/scene.h"
+
+namespace svetlo {
+
+struct MeshFile {
+    Mesh mesh;  // face_material indexes `materials` below, or is empty
+    std::vector<Material> materials;
+    std::vector<std::string> material_names;
+    std::vector<Light> lights;  // glTF punctual lights, in the file's space
+};
+
+/// Reads .obj, .ply, .gltf or .glb by extension.
+MeshFile read_mesh_file(const std::filesystem::path& path);
+
+MeshFile read_obj(const std::filesystem::path& path);
+MeshFile read_ply(const std::filesystem::path& path);
+MeshFile read_gltf(const std::filesystem::path& path);
+
+/// Checks a mesh for finite positions and in-range indices; throws std::runtime_error.
+void validate_mesh(const Mesh& mesh);
+/// Fills `mesh.normals` with area-weighted vertex normals (for `smooth` meshes without them).
+void compute_vertex_normals(Mesh& mesh);
+
+}  // namespace svetlo

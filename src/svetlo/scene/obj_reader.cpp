@@ -1,0 +1,125 @@
+// OBJ and MTL through tinyobjloader. Every (position, normal, uv) triple becomes one vertex,
+// so seams keep their own normals and texture coordinates. MTL mapping (the contract):
+// Ke > 0 -> emissive (Kd as albedo); illum 3 or 5 -> mirror (Ks); illum 4, 6, 7 or d < 1 ->
+// dielectric (Ni); otherwise phong with Ka, Kd, Ks, Ns.
+#include <tiny_obj_loader.h>
+
+#include <map>
+#include <stdexcept>
+#include <tuple>
+
+#include "svetlo/scene/mesh_file.h"
+
+namespace svetlo {
+
+namespace {
+
+Color to_color(const tinyobj::real_t c[3]) { return Color(c[0], c[1], c[2]); }
+
+Material material_from_mtl(const tinyobj::material_t& m) {
+    Color ke = to_color(m.emission);
+    if (max_component(ke) > 0.0f) {
+        EmissiveMaterial e;
+        e.radiance = ColorSource::constant(ke);
+        e.albedo = ColorSource::constant(to_color(m.diffuse));
+        return e;
+    }
+    if (m.illum == 3 || m.illum == 5) {
+        MirrorMaterial mirror;
+        mirror.reflectance = ColorSource::constant(to_color(m.specular));
+        return mirror;
+    }
+    if (m.illum == 4 || m.illum == 6 || m.illum == 7 || m.dissolve < 1.0f) {
+        DielectricMaterial d;
+        d.ior = m.ior > 1.0f ? m.ior : 1.5f;
+        return d;
+    }
+    PhongMaterial p;
+    p.ka = ColorSource::constant(to_color(m.ambient));
+    p.kd = ColorSource::constant(to_color(m.diffuse));
+    p.ks = ColorSource::constant(to_color(m.specular));
+    p.shininess = m.shininess > 0.0f ? m.shininess : 1.0f;
+    return p;
+}
+
+}  // namespace
+
+MeshFile read_obj(const std::filesystem::path& path) {
+    tinyobj::ObjReaderConfig config;
+    config.triangulate = true;
+    config.vertex_color = false;
+    config.mtl_search_path = path.parent_path().string();
+    tinyobj::ObjReader reader;
+    if (!reader.ParseFromFile(path.string(), config)) {
+        std::string err = reader.Error();
+        while (!err.empty() && (err.back() == '\n' || err.back() == '\r')) err.pop_back();
+        throw std::runtime_error(err.empty() ? "cannot parse OBJ" : err);
+    }
+    const tinyobj::attrib_t& attrib = reader.GetAttrib();
+    MeshFile file;
+    for (const tinyobj::material_t& m : reader.GetMaterials()) {
+        file.materials.push_back(material_from_mtl(m));
+        file.material_names.push_back(m.name);
+    }
+    bool has_normals = !attrib.normals.empty();
+    bool has_uvs = !attrib.texcoords.empty();
+    std::map<std::tuple<int, int, int>, uint32_t> vertex_of;
+    Mesh& mesh = file.mesh;
+    size_t nv = attrib.vertices.size() / 3, nn = attrib.normals.size() / 3;
+    size_t nt = attrib.texcoords.size() / 2;
+    for (const tinyobj::shape_t& shape : reader.GetShapes()) {
+        const auto& indices = shape.mesh.indices;
+        for (size_t f = 0; f < shape.mesh.num_face_vertices.size(); ++f) {
+            if (shape.mesh.num_face_vertices[f] != 3) throw std::runtime_error("bad face");
+            for (int k = 0; k < 3; ++k) {
+                const tinyobj::index_t& idx = indices[3 * f + k];
+                if (idx.vertex_index < 0 || static_cast<size_t>(idx.vertex_index) >= nv ||
+                    (idx.normal_index >= 0 && static_cast<size_t>(idx.normal_index) >= nn) ||
+                    (idx.texcoord_index >= 0 && static_cast<size_t>(idx.texcoord_index) >= nt)) {
+                    throw std::runtime_error("shape '" + shape.name + "': face " +
+                                             std::to_string(f) + " has an index out of range");
+                }
+                auto key = std::make_tuple(idx.vertex_index, idx.normal_index, idx.texcoord_index);
+                auto [it, inserted] =
+                    vertex_of.try_emplace(key, static_cast<uint32_t>(mesh.positions.size()));
+                if (inserted) {
+                    const float* p = &attrib.vertices[3 * static_cast<size_t>(idx.vertex_index)];
+                    mesh.positions.emplace_back(p[0], p[1], p[2]);
+                    if (has_normals) {
+                        mesh.normals.push_back(
+                            idx.normal_index < 0
+                                ? vec3(0.0f)
+                                : vec3(attrib.normals[3 * idx.normal_index],
+                                       attrib.normals[3 * idx.normal_index + 1],
+                                       attrib.normals[3 * idx.normal_index + 2]));
+                    }
+                    if (has_uvs) {
+                        mesh.uvs.push_back(idx.texcoord_index < 0
+                                               ? vec2(0.0f)
+                                               : vec2(attrib.texcoords[2 * idx.texcoord_index],
+                                                      attrib.texcoords[2 * idx.texcoord_index + 1]));
+                    }
+                }
+                mesh.indices.push_back(it->second);
+            }
+            int m = shape.mesh.material_ids.empty() ? -1 : shape.mesh.material_ids[f];
+            mesh.face_material.push_back(m >= 0 && static_cast<size_t>(m) < file.materials.size()
+                                             ? m
+                                             : -1);
+        }
+    }
+    if (mesh.indices.empty()) throw std::runtime_error("OBJ file has no faces");
+    // Faces without their own normals keep a zero normal; recompute all normals then.
+    for (const vec3& n : mesh.normals) {
+        if (n == vec3(0.0f)) {
+            mesh.normals.clear();
+            break;
+        }
+    }
+    bool any_material = false;
+    for (int m : mesh.face_material) any_material = any_material || m >= 0;
+    if (!any_material) mesh.face_material.clear();
+    return file;
+}
+
+}  // namespace svetlo

@@ -1,0 +1,234 @@
+// lights and objects sections, transforms, and mesh files.
+#include <glm/gtc/type_ptr.hpp>
+
+#include "svetlo/scene/mesh_file.h"
+#include "svetlo/scene/scene_parts.h"
+
+namespace svetlo {
+
+namespace {
+
+int find_material(const Scene& scene, const JsonNode& node) {
+    std::string name = node.as_string();
+    for (size_t k = 0; k < scene.material_names.size(); ++k) {
+        if (scene.material_names[k] == name) return static_cast<int>(k);
+    }
+    node.fail("unknown material '" + name + "'");
+}
+
+/// Reads an array of vectors given either nested ([[x,y,z], ...]) or flat ([x,y,z, ...]).
+template <int N>
+std::vector<glm::vec<N, float>> parse_vectors(const JsonNode& node) {
+    std::vector<glm::vec<N, float>> out;
+    size_t n = node.size();
+    bool nested = n > 0 && node.at(size_t{0}).is_array();
+    if (!nested && n % N != 0) node.fail("length must be a multiple of " + std::to_string(N));
+    for (size_t k = 0; k < (nested ? n : n / N); ++k) {
+        glm::vec<N, float> v;
+        for (int c = 0; c < N; ++c) {
+            JsonNode e = nested ? node.at(k).at(static_cast<size_t>(c)) : node.at(N * k + c);
+            if (nested && node.at(k).size() != N) node.at(k).fail("must have " + std::to_string(N) + " numbers");
+            v[c] = e.as_float();
+        }
+        out.push_back(v);
+    }
+    return out;
+}
+
+void check_non_degenerate_quad(const JsonNode& node, vec3 u, vec3 v) {
+    if (glm::length(glm::cross(u, v)) <= 0.0f) node.fail("edge_u and edge_v are parallel or zero");
+}
+
+Mesh parse_mesh(const JsonNode& node, Scene& scene, int material, const Transform& transform) {
+    Mesh mesh;
+    if (auto file_node = node.find("file")) {
+        if (node.has("positions")) node.fail("give either file or positions, not both");
+        std::filesystem::path file = scene.path.parent_path() / file_node->as_string();
+        MeshFile loaded;
+        try {
+            loaded = read_mesh_file(file);
+        } catch (const std::exception& e) {
+            file_node->fail("cannot read mesh '" + file_node->as_string() + "': " + e.what());
+        }
+        mesh = std::move(loaded.mesh);
+        auto offset = static_cast<int>(scene.materials.size());
+        for (size_t k = 0; k < loaded.materials.size(); ++k) {
+            scene.materials.push_back(loaded.materials[k]);
+            scene.material_names.push_back(node.path() + ":" + loaded.material_names[k]);
+        }
+        for (int& m : mesh.face_material) m = m >= 0 ? m + offset : -1;
+        for (Light l : loaded.lights) {  // glTF lights move with the object
+            std::visit(
+                [&](auto& light) {
+                    using T = std::decay_t<decltype(light)>;
+                    if constexpr (requires { light.position; }) light.position = transform.point(light.position);
+                    if constexpr (requires { light.direction; }) {
+                        light.direction = glm::normalize(transform.vector(light.direction));
+                    }
+                    (void)sizeof(T);
+                },
+                l);
+            scene.lights.push_back(l);
+        }
+    } else {
+        mesh.positions = parse_vectors<3>(node.at("positions"));
+        JsonNode indices = node.at("indices");
+        for (size_t k = 0; k < indices.size(); ++k) {
+            auto i = indices.at(k).as_integer(0, static_cast<long long>(mesh.positions.size()) - 1);
+            mesh.indices.push_back(static_cast<uint32_t>(i));
+        }
+        if (mesh.indices.empty() || mesh.indices.size() % 3 != 0) {
+            indices.fail("must hold a positive multiple of 3 vertex indices");
+        }
+        if (auto n = node.find("normals")) {
+            mesh.normals = parse_vectors<3>(*n);
+            if (mesh.normals.size() != mesh.positions.size()) n->fail("needs one normal per position");
+        }
+        if (auto n = node.find("uvs")) {
+            mesh.uvs = parse_vectors<2>(*n);
+            if (mesh.uvs.size() != mesh.positions.size()) n->fail("needs one uv per position");
+        }
+    }
+    if (auto n = node.find("smooth")) mesh.smooth = n->as_bool();
+    if (!mesh.smooth) {
+        mesh.normals.clear();
+    } else {
+        bool usable = !mesh.normals.empty();
+        for (const vec3& n : mesh.normals) usable = usable && glm::length(n) > 0.0f;
+        if (!usable) compute_vertex_normals(mesh);
+    }
+    if (material >= 0) {
+        mesh.face_material.clear();
+    } else if (mesh.face_material.empty()) {
+        node.at("material");  // fails with "missing key": the file brings no material
+    } else {
+        // Faces the file left without a material get a plain grey Lambertian one.
+        for (int& m : mesh.face_material) {
+            if (m < 0) {
+                scene.materials.push_back(LambertMaterial{});
+                scene.material_names.push_back(node.path() + ":default");
+                m = static_cast<int>(scene.materials.size()) - 1;
+                for (int& rest : mesh.face_material) rest = rest < 0 ? m : rest;
+            }
+        }
+    }
+    return mesh;
+}
+
+}  // namespace
+
+Light parse_light(const JsonNode& node) {
+    if (!node.is_object()) node.fail("must be an object");
+    std::string type = node.at("type").as_choice({"point", "directional", "spot", "area"});
+    if (type == "point") {
+        node.expect_object({"type", "position", "intensity"});
+        return PointLight{node.at("position").as_vec3(), node.at("intensity").as_color()};
+    }
+    if (type == "directional") {
+        node.expect_object({"type", "direction", "irradiance"});
+        return DirectionalLight{node.at("direction").as_direction(), node.at("irradiance").as_color()};
+    }
+    if (type == "spot") {
+        node.expect_object({"type", "position", "direction", "intensity", "inner_angle", "outer_angle"});
+        SpotLight s;
+        s.position = node.at("position").as_vec3();
+        s.direction = node.at("direction").as_direction();
+        s.intensity = node.at("intensity").as_color();
+        s.inner_deg = node.at("inner_angle").as_in_range(0.0, 180.0);
+        s.outer_deg = node.at("outer_angle").as_in_range(0.0, 180.0);
+        if (s.outer_deg < s.inner_deg) node.at("outer_angle").fail("must be >= inner_angle");
+        return s;
+    }
+    node.expect_object({"type", "corner", "edge_u", "edge_v", "radiance"});
+    AreaLight a;
+    a.corner = node.at("corner").as_vec3();
+    a.edge_u = node.at("edge_u").as_vec3();
+    a.edge_v = node.at("edge_v").as_vec3();
+    check_non_degenerate_quad(node, a.edge_u, a.edge_v);
+    a.radiance = node.at("radiance").as_color();
+    return a;
+}
+
+Transform parse_transform(const JsonNode& node) {
+    Transform t;
+    if (node.has("matrix")) {
+        node.expect_object({"matrix"});
+        JsonNode m = node.at("matrix");
+        if (m.size() != 16) m.fail("must hold 16 numbers (row-major)");
+        for (int row = 0; row < 4; ++row) {
+            for (int col = 0; col < 4; ++col) t.matrix[col][row] = m.at(static_cast<size_t>(4 * row + col)).as_float();
+        }
+        if (t.matrix[0][3] != 0.0f || t.matrix[1][3] != 0.0f || t.matrix[2][3] != 0.0f ||
+            t.matrix[3][3] != 1.0f) {
+            m.fail("must be affine (last row 0 0 0 1)");
+        }
+    } else {
+        node.expect_object({"translate", "rotate", "scale"});
+        mat4 s(1.0f), r(1.0f), tr(1.0f);
+        if (auto n = node.find("scale")) {
+            vec3 v = n->is_number() ? vec3(n->as_float()) : n->as_vec3();
+            s = glm::scale(mat4(1.0f), v);
+        }
+        if (auto n = node.find("rotate")) {
+            if (n->size() != 4) n->fail("must be [angle in degrees, axis x, y, z]");
+            float angle = n->at(size_t{0}).as_float();
+            vec3 axis(n->at(size_t{1}).as_float(), n->at(size_t{2}).as_float(), n->at(size_t{3}).as_float());
+            if (!(glm::length(axis) > 0.0f)) n->fail("rotation axis must be non-zero");
+            r = glm::rotate(mat4(1.0f), radians(angle), glm::normalize(axis));
+        }
+        if (auto n = node.find("translate")) tr = glm::translate(mat4(1.0f), n->as_vec3());
+        t.matrix = tr * r * s;  // scale, then rotate, then translate
+    }
+    float det = glm::determinant(mat3(t.matrix));
+    if (!std::isfinite(det) || std::abs(det) < 1e-12f) node.fail("transform is singular");
+    t.is_identity = t.matrix == mat4(1.0f);
+    return t;
+}
+
+void parse_object(const JsonNode& node, Scene& scene) {
+    if (!node.is_object()) node.fail("must be an object");
+    std::string type = node.at("type").as_choice(
+        {"sphere", "quad", "plane", "box", "cylinder", "cone", "mesh", "csg", "implicit"});
+    Object obj;
+    obj.name = node.path();
+    if (auto t = node.find("transform")) obj.transform = parse_transform(*t);
+    if (auto m = node.find("material")) obj.material = find_material(scene, *m);
+    else if (type != "mesh") node.at("material");  // fails: missing key
+    if (type == "sphere") {
+        node.expect_object({"type", "center", "radius", "material", "transform"});
+        obj.shape = Sphere{node.at("center").as_vec3(), node.at("radius").as_positive()};
+    } else if (type == "quad") {
+        node.expect_object({"type", "corner", "edge_u", "edge_v", "material", "transform"});
+        Quad q{node.at("corner").as_vec3(), node.at("edge_u").as_vec3(), node.at("edge_v").as_vec3()};
+        check_non_degenerate_quad(node, q.edge_u, q.edge_v);
+        obj.shape = q;
+    } else if (type == "plane") {
+        node.expect_object({"type", "point", "normal", "material", "transform"});
+        obj.shape = Plane{node.at("point").as_vec3(), node.at("normal").as_direction()};
+    } else if (type == "box") {
+        node.expect_object({"type", "min", "max", "material", "transform"});
+        Box b{node.at("min").as_vec3(), node.at("max").as_vec3()};
+        if (!(b.min.x < b.max.x && b.min.y < b.max.y && b.min.z < b.max.z)) {
+            node.at("max").fail("must be greater than min on every axis");
+        }
+        obj.shape = b;
+    } else if (type == "cylinder" || type == "cone") {
+        node.expect_object({"type", "base", "axis", "radius", "material", "transform"});
+        vec3 base = node.at("base").as_vec3();
+        vec3 axis = node.at("axis").as_vec3();
+        if (!(glm::length(axis) > 0.0f)) node.at("axis").fail("must be a non-zero vector");
+        float radius = node.at("radius").as_positive();
+        if (type == "cylinder") obj.shape = Cylinder{base, axis, radius};
+        else obj.shape = Cone{base, axis, radius};
+    } else if (type == "mesh") {
+        node.expect_object({"type", "file", "positions", "indices", "normals", "uvs", "smooth",
+                            "material", "transform"});
+        obj.shape = parse_mesh(node, scene, obj.material, obj.transform);
+    } else {
+        node.at("type").fail("'" + type + "' objects are not supported yet (CSG and implicit "
+                             "surfaces come with the geometry work)");
+    }
+    scene.objects.push_back(std::move(obj));
+}
+
+}  // namespace svetlo

@@ -1,0 +1,46 @@
+// The interface every engine implements, and what a render returns. Engines are an open set:
+// apps/svetlo/engines.cpp maps names to factories.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "svetlo/core/image.h"
+#include "svetlo/scene/scene.h"
+
+namespace svetlo {
+
+/// The auxiliary buffers (contract: --aov NAME=FILE).
+inline const std::vector<std::string>& aov_names() {
+    static const std::vector<std::string> names = {"depth", "normal", "albedo", "visibility"};
+    return names;
+}
+
+struct RenderOptions {
+    int threads = 0;        // 0 = all cores
+    bool progress = false;  // draw a progress bar on stderr
+    std::vector<std::string> aovs;  // which of aov_names() to fill
+};
+
+struct RenderStats {
+    double seconds = 0.0;       // rendering, excluding scene setup
+    double setup_seconds = 0.0;  // acceleration structure build and the like
+    uint64_t rays = 0;           // all rays traced (camera, shadow, secondary)
+};
+
+struct RenderResult {
+    Image color;  // linear radiance
+    std::map<std::string, Image> aovs;
+    RenderStats stats;
+};
+
+class Renderer {
+public:
+    virtual ~Renderer() = default;
+    virtual RenderResult render(const Scene& scene, const RenderOptions& options) = 0;
+};
+
+}  // namespace svetlo

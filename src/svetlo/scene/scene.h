@@ -1,0 +1,211 @@
+// The scene model: plain value structs, the same for every engine. Objects refer to
+// materials and textures by index. Units: lengths in scene units (metres by convention),
+// angles in degrees as in the file, radiance in W/(m^2 sr), intensity in W/sr, irradiance
+// in W/m^2, all as linear RGB.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "svetlo/core/image.h"
+#include "svetlo/core/math.h"
+
+namespace svetlo {
+
+// ---- colours and textures -----------------------------------------------------------------
+
+enum class TextureFilter { Nearest, Bilinear, Trilinear };
+enum class TextureWrap { Repeat, Clamp };
+
+/// A material colour: a constant, an image texture (by index into Scene::textures) or a
+/// checkerboard in texture space.
+struct ColorSource {
+    enum class Kind { Constant, Image, Checker };
+    Kind kind = Kind::Constant;
+    Color value{0.0f};  // Constant
+    int texture = -1;   // Image
+    TextureFilter filter = TextureFilter::Bilinear;
+    TextureWrap wrap = TextureWrap::Repeat;
+    Color a{0.0f}, b{1.0f};  // Checker: a where floor(scale*u) + floor(scale*v) is even
+    float scale = 1.0f;
+
+    static ColorSource constant(Color c) {
+        ColorSource s;
+        s.value = c;
+        return s;
+    }
+    bool is_black() const { return kind == Kind::Constant && svetlo::is_black(value); }
+};
+
+// ---- materials ----------------------------------------------------------------------------
+
+struct LambertMaterial {
+    ColorSource albedo = ColorSource::constant(Color(0.8f));
+};
+/// Normalised Phong (or, with blinn = true, Blinn-Phong) with optional ideal mirror and
+/// transmission parts for the Whitted engine.
+struct PhongMaterial {
+    ColorSource ka, kd = ColorSource::constant(Color(0.8f)), ks;
+    float shininess = 32.0f;
+    ColorSource reflect, transmit;
+    float ior = 1.5f;
+    bool blinn = false;
+};
+struct OrenNayarMaterial {
+    ColorSource albedo = ColorSource::constant(Color(0.8f));
+    float sigma_deg = 20.0f;  // roughness: standard deviation of the facet slope angle
+};
+struct CookTorranceMaterial {
+    ColorSource base_color = ColorSource::constant(Color(0.8f));
+    float roughness = 0.5f;  // perceptual; GGX alpha = roughness^2
+    float metallic = 0.0f;
+};
+struct MirrorMaterial {
+    ColorSource reflectance = ColorSource::constant(Color(1.0f));
+};
+struct DielectricMaterial {
+    float ior = 1.5f;   // at the sodium d line, 587.6 nm
+    float abbe = 0.0f;  // Abbe number V_d for dispersion; 0 = no dispersion
+};
+struct EmissiveMaterial {
+    ColorSource radiance = ColorSource::constant(Color(1.0f));
+    ColorSource albedo;  // it also reflects diffusely (Lambert) when non-zero
+};
+
+using Material = std::variant<LambertMaterial, PhongMaterial, OrenNayarMaterial,
+                              CookTorranceMaterial, MirrorMaterial, DielectricMaterial,
+                              EmissiveMaterial>;
+
+// ---- lights -------------------------------------------------------------------------------
+
+struct PointLight {
+    vec3 position{0.0f};
+    Color intensity{1.0f};  // W/sr
+};
+struct DirectionalLight {
+    vec3 direction{0.0f, -1.0f, 0.0f};  // unit, the way the light travels
+    Color irradiance{1.0f};             // W/m^2 on a surface facing the light
+};
+struct SpotLight {
+    vec3 position{0.0f};
+    vec3 direction{0.0f, -1.0f, 0.0f};  // unit, the cone's axis
+    Color intensity{1.0f};              // W/sr on the axis
+    float inner_deg = 20.0f, outer_deg = 30.0f;  // half-angles
+};
+/// A one-sided emitting parallelogram; it emits toward edge_u x edge_v.
+struct AreaLight {
+    vec3 corner{0.0f}, edge_u{1.0f, 0.0f, 0.0f}, edge_v{0.0f, 0.0f, 1.0f};
+    Color radiance{1.0f};  // W/(m^2 sr)
+};
+
+using Light = std::variant<PointLight, DirectionalLight, SpotLight, AreaLight>;
+
+// ---- shapes -------------------------------------------------------------------------------
+
+struct Sphere {
+    vec3 center{0.0f};
+    float radius = 1.0f;
+};
+struct Quad {
+    vec3 corner{0.0f}, edge_u{1.0f, 0.0f, 0.0f}, edge_v{0.0f, 0.0f, 1.0f};
+};
+struct Plane {
+    vec3 point{0.0f}, normal{0.0f, 1.0f, 0.0f};
+};
+struct Box {
+    vec3 min{-0.5f}, max{0.5f};
+};
+/// A cylinder closed by two caps; `axis` is the height vector from the base centre.
+struct Cylinder {
+    vec3 base{0.0f}, axis{0.0f, 1.0f, 0.0f};
+    float radius = 1.0f;
+};
+/// A cone closed by its base cap, radius `radius` at `base`, apex at base + axis.
+struct Cone {
+    vec3 base{0.0f}, axis{0.0f, 1.0f, 0.0f};
+    float radius = 1.0f;
+};
+/// An indexed triangle mesh in object space. Triangles wind counter-clockwise seen from
+/// their front. `face_material` (per triangle, an index into Scene::materials) is set when
+/// the file brought its own materials.
+struct Mesh {
+    std::vector<vec3> positions;
+    std::vector<vec3> normals;  // empty, or one per position
+    std::vector<vec2> uvs;      // empty, or one per position
+    std::vector<uint32_t> indices;
+    std::vector<int> face_material;
+    bool smooth = false;
+
+    size_t triangle_count() const { return indices.size() / 3; }
+};
+
+using Shape = std::variant<Sphere, Quad, Plane, Box, Cylinder, Cone, Mesh>;
+
+/// An affine object-to-world transform (identity when `is_identity`).
+struct Transform {
+    mat4 matrix{1.0f};
+    bool is_identity = true;
+
+    vec3 point(vec3 p) const { return is_identity ? p : vec3(matrix * vec4(p, 1.0f)); }
+    vec3 vector(vec3 v) const { return is_identity ? v : vec3(matrix * vec4(v, 0.0f)); }
+};
+
+struct Object {
+    std::string name;  // the JSON path, objects[k], for messages
+    Shape shape;
+    int material = -1;  // index into Scene::materials (-1: the mesh's own per-face materials)
+    Transform transform;
+};
+
+// ---- camera, film, settings ---------------------------------------------------------------
+
+struct Camera {
+    enum class Type { Perspective, Orthographic };
+    Type type = Type::Perspective;
+    vec3 position{0.0f, 0.0f, 5.0f}, look_at{0.0f}, up{0.0f, 1.0f, 0.0f};
+    float fov_deg = 40.0f;  // full vertical field of view (perspective)
+    float height = 2.0f;    // world-space film height (orthographic)
+};
+
+struct Film {
+    int width = 512, height = 512;
+};
+
+struct ShadowMapSettings {
+    int resolution = 2048;
+    float bias = 0.002f;
+    std::string filter = "pcf";  // none, pcf, pcss
+    int kernel = 5;
+};
+
+struct RenderSettings {
+    std::string engine = "whitted";
+    int spp = 1;
+    int max_depth = 5;
+    uint64_t seed = 0;
+    std::string shading = "phong";     // raster: flat, gouraud, phong, depth, normal
+    std::string shadows = "raytraced";  // raster: none, planar, volume, map, raytraced
+    ShadowMapSettings shadow_map;
+    Color ambient{0.0f};
+    Color background{0.0f};
+    float exposure = 1.0f;
+    std::string accel = "bvh";  // none, bvh
+    int light_samples = 1;      // shadow rays per area light and shading point
+};
+
+struct Scene {
+    std::filesystem::path path;  // the scene file, for messages and relative paths
+    Camera camera;
+    Film film;
+    RenderSettings render;
+    std::vector<Material> materials;
+    std::vector<std::string> material_names;
+    std::vector<Image> textures;  // linear RGB, rows from the top
+    std::vector<Light> lights;
+    std::vector<Object> objects;
+};
+
+}  // namespace svetlo

@@ -1,0 +1,105 @@
+#include "svetlo/scene/scene_loader.h"
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include "svetlo/scene/json_node.h"
+#include "svetlo/scene/scene_parts.h"
+
+namespace svetlo {
+namespace fs = std::filesystem;
+
+nlohmann::json read_scene_json(const fs::path& path) {
+    std::string file = path.string();
+    std::error_code ec;
+    if (fs::is_directory(path, ec)) throw Error(file, "file", "is a directory");
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw Error(file, "file", std::string("cannot open: ") + std::strerror(errno));
+    std::stringstream buffer;
+    buffer << in.rdbuf();
+    std::string text = buffer.str();
+    try {
+        return nlohmann::json::parse(text);
+    } catch (const nlohmann::json::parse_error& e) {
+        size_t line = 1, column = 1;
+        for (size_t k = 0; k + 1 < e.byte && k < text.size(); ++k) {
+            if (text[k] == '\n') {
+                ++line;
+                column = 1;
+            } else {
+                ++column;
+            }
+        }
+        std::string what = e.what();
+        // nlohmann's message is "[json.exception.parse_error.101] parse error at line 1,
+        // column 2: syntax error while parsing value - ..."; keep the part after "- ".
+        size_t dash = what.find(" - ");
+        if (dash != std::string::npos) what = what.substr(dash + 3);
+        throw Error(file, "line " + std::to_string(line) + ", column " + std::to_string(column),
+                    "malformed JSON: " + what);
+    }
+}
+
+void apply_override(nlohmann::json& root, const Override& o, const std::string& file) {
+    std::string where = "--set " + o.key;
+    if (o.key.empty()) throw Error(file, where, "empty key");
+    nlohmann::json value;
+    try {
+        value = nlohmann::json::parse(o.value);
+    } catch (const nlohmann::json::parse_error&) {
+        value = o.value;  // not JSON: a plain string
+    }
+    nlohmann::json* node = &root;
+    std::stringstream parts(o.key);
+    std::string part;
+    while (std::getline(parts, part, '.')) {
+        if (part.empty()) throw Error(file, where, "empty path component");
+        if (node->is_array()) {
+            size_t used = 0;
+            unsigned long index = 0;
+            try {
+                index = std::stoul(part, &used);
+            } catch (const std::exception&) {
+                used = 0;
+            }
+            if (used != part.size()) throw Error(file, where, "'" + part + "' is not an index");
+            if (index >= node->size()) {
+                throw Error(file, where, "index " + part + " is past the end of the array");
+            }
+            node = &(*node)[index];
+        } else if (node->is_object() || node->is_null()) {
+            node = &(*node)[part];
+        } else {
+            throw Error(file, where, "'" + part + "' goes inside a value that is not an object");
+        }
+    }
+    *node = value;
+}
+
+Scene load_scene(const fs::path& path, const std::vector<Override>& overrides) {
+    nlohmann::json root = read_scene_json(path);
+    for (const Override& o : overrides) apply_override(root, o, path.string());
+    return scene_from_json(root, path);
+}
+
+Scene scene_from_json(const nlohmann::json& root, const fs::path& path) {
+    Scene scene;
+    scene.path = path;
+    JsonNode top(root, path.string(), "");
+    top.expect_object({"camera", "film", "render", "materials", "lights", "objects"});
+    scene.camera = parse_camera(top.at("camera"));
+    if (auto film = top.find("film")) scene.film = parse_film(*film);
+    if (auto render = top.find("render")) scene.render = parse_render(*render);
+    if (auto materials = top.find("materials")) parse_materials(*materials, scene);
+    if (auto lights = top.find("lights")) {
+        for (size_t k = 0; k < lights->size(); ++k) scene.lights.push_back(parse_light(lights->at(k)));
+    }
+    if (auto objects = top.find("objects")) {
+        for (size_t k = 0; k < objects->size(); ++k) parse_object(objects->at(k), scene);
+    }
+    return scene;
+}
+
+}  // namespace svetlo

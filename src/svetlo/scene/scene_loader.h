@@ -1,0 +1,40 @@
+// load_scene(): reads a scene file (JSON, ../docs/scene-format.md), applies the command
+// line's overrides and validates every key. Any problem throws svetlo::Error naming the file
+// and the JSON path; nothing is allocated from a size the file states before it is checked.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "svetlo/scene/scene.h"
+
+namespace svetlo {
+
+/// One `--set KEY=VALUE`: a dotted path (`lights.0.intensity`) and its value, read as JSON
+/// when it parses as JSON and as a string otherwise.
+struct Override {
+    std::string key;
+    std::string value;
+};
+
+/// Largest film, in pixels, that svetlo accepts (8192 x 8192); larger ones are refused
+/// before anything is allocated.
+inline constexpr long long kMaxFilmPixels = 8192LL * 8192LL;
+
+Scene load_scene(const std::filesystem::path& path, const std::vector<Override>& overrides = {});
+
+/// Builds a Scene from JSON already in memory (tests); `path` names it in messages and
+/// anchors relative paths.
+Scene scene_from_json(const nlohmann::json& root, const std::filesystem::path& path);
+
+/// Parses a scene file, reporting syntax errors with line and column.
+nlohmann::json read_scene_json(const std::filesystem::path& path);
+
+/// Applies one override to a scene's JSON; throws Error for a path that cannot exist.
+void apply_override(nlohmann::json& root, const Override& o, const std::string& file);
+
+}  // namespace svetlo

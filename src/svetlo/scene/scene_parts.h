@@ -1,0 +1,19 @@
+// The parts of the scene loader, one per section of the file. Internal to scene/.
+#pragma once
+
+#include "svetlo/scene/json_node.h"
+#include "svetlo/scene/scene.h"
+
+namespace svetlo {
+
+Camera parse_camera(const JsonNode& node);
+Film parse_film(const JsonNode& node);
+RenderSettings parse_render(const JsonNode& node);
+void parse_materials(const JsonNode& node, Scene& scene);
+/// A material colour (constant, texture or checker); textures are loaded into the scene.
+ColorSource parse_color_source(const JsonNode& node, Scene& scene);
+Light parse_light(const JsonNode& node);
+Transform parse_transform(const JsonNode& node);
+void parse_object(const JsonNode& node, Scene& scene);
+
+}  // namespace svetlo

@@ -1,0 +1,80 @@
+// camera, film and render sections.
+#include "svetlo/scene/scene_loader.h"
+#include "svetlo/scene/scene_parts.h"
+
+namespace svetlo {
+
+Camera parse_camera(const JsonNode& node) {
+    node.expect_object({"type", "position", "look_at", "up", "fov", "height"});
+    Camera c;
+    if (auto type = node.find("type")) {
+        c.type = type->as_choice({"perspective", "orthographic"}) == "perspective"
+                     ? Camera::Type::Perspective
+                     : Camera::Type::Orthographic;
+    }
+    c.position = node.at("position").as_vec3();
+    c.look_at = node.at("look_at").as_vec3();
+    if (auto up = node.find("up")) c.up = up->as_direction();
+    if (auto fov = node.find("fov")) {
+        c.fov_deg = fov->as_positive();
+        if (c.fov_deg >= 180.0f) fov->fail("must be < 180 degrees");
+    }
+    if (auto height = node.find("height")) c.height = height->as_positive();
+    vec3 forward = c.look_at - c.position;
+    float len = glm::length(forward);
+    if (!(len > 1e-12f * std::max(1.0f, glm::length(c.position)))) {
+        node.at("look_at").fail("must differ from position (the camera has no direction)");
+    }
+    if (glm::length(glm::cross(forward / len, c.up)) < 1e-6f) {
+        (node.has("up") ? node.at("up") : node).fail("up is parallel to the viewing direction");
+    }
+    return c;
+}
+
+Film parse_film(const JsonNode& node) {
+    node.expect_object({"width", "height"});
+    Film f;
+    if (auto w = node.find("width")) f.width = static_cast<int>(w->as_integer(1, 65536));
+    if (auto h = node.find("height")) f.height = static_cast<int>(h->as_integer(1, 65536));
+    long long pixels = static_cast<long long>(f.width) * f.height;
+    if (pixels > kMaxFilmPixels) {
+        node.fail("film of " + std::to_string(f.width) + " x " + std::to_string(f.height) +
+                  " pixels is too large (at most " + std::to_string(kMaxFilmPixels) + " pixels)");
+    }
+    return f;
+}
+
+RenderSettings parse_render(const JsonNode& node) {
+    node.expect_object({"engine", "spp", "max_depth", "seed", "shading", "shadows", "shadow_map",
+                        "ambient", "background", "exposure", "accel", "light_samples"});
+    RenderSettings r;
+    if (auto n = node.find("engine")) r.engine = n->as_choice({"raster", "whitted", "path", "radiosity"});
+    if (auto n = node.find("spp")) r.spp = static_cast<int>(n->as_integer(1, 1 << 20));
+    if (auto n = node.find("max_depth")) r.max_depth = static_cast<int>(n->as_integer(0, 1000));
+    if (auto n = node.find("seed")) r.seed = static_cast<uint64_t>(n->as_integer(0, 1LL << 53));
+    if (auto n = node.find("shading")) {
+        r.shading = n->as_choice({"flat", "gouraud", "phong", "depth", "normal"});
+    }
+    if (auto n = node.find("shadows")) {
+        r.shadows = n->as_choice({"none", "planar", "volume", "map", "raytraced"});
+    }
+    if (auto sm = node.find("shadow_map")) {
+        sm->expect_object({"resolution", "bias", "filter", "kernel"});
+        if (auto n = sm->find("resolution")) {
+            r.shadow_map.resolution = static_cast<int>(n->as_integer(1, 16384));
+        }
+        if (auto n = sm->find("bias")) r.shadow_map.bias = n->as_non_negative();
+        if (auto n = sm->find("filter")) r.shadow_map.filter = n->as_choice({"none", "pcf", "pcss"});
+        if (auto n = sm->find("kernel")) r.shadow_map.kernel = static_cast<int>(n->as_integer(1, 64));
+    }
+    if (auto n = node.find("ambient")) r.ambient = n->as_color();
+    if (auto n = node.find("background")) r.background = n->as_color();
+    if (auto n = node.find("exposure")) r.exposure = n->as_non_negative();
+    if (auto n = node.find("accel")) r.accel = n->as_choice({"none", "bvh"});
+    if (auto n = node.find("light_samples")) {
+        r.light_samples = static_cast<int>(n->as_integer(1, 4096));
+    }
+    return r;
+}
+
+}  // namespace svetlo

@@ -1,0 +1,161 @@
+#include "svetlo/shading/bsdf.h"
+
+#include "svetlo/shading/texture.h"
+
+namespace svetlo {
+
+namespace {
+
+struct BsdfMaker {
+    vec2 uv;
+    const std::vector<Image>& textures;
+
+    Color c(const ColorSource& s) const { return eval_color(s, uv, textures); }
+
+    Bsdf operator()(const LambertMaterial& m) const {
+        Bsdf b;
+        b.model = Bsdf::Model::Lambert;
+        b.diffuse = b.ambient = c(m.albedo);
+        return b;
+    }
+    Bsdf operator()(const PhongMaterial& m) const {
+        Bsdf b;
+        b.model = m.blinn ? Bsdf::Model::BlinnPhong : Bsdf::Model::Phong;
+        b.ambient = c(m.ka);
+        b.diffuse = c(m.kd);
+        b.specular = c(m.ks);
+        b.shininess = m.shininess;
+        b.reflect = c(m.reflect);
+        b.transmit = c(m.transmit);
+        b.ior = m.ior;
+        return b;
+    }
+    Bsdf operator()(const OrenNayarMaterial& m) const {
+        Bsdf b;
+        b.model = Bsdf::Model::OrenNayar;
+        b.diffuse = b.ambient = c(m.albedo);
+        float s2 = square(radians(m.sigma_deg));
+        b.on_a = 1.0f - 0.5f * s2 / (s2 + 0.33f);
+        b.on_b = 0.45f * s2 / (s2 + 0.09f);
+        return b;
+    }
+    Bsdf operator()(const CookTorranceMaterial& m) const {
+        Bsdf b;
+        b.model = Bsdf::Model::CookTorrance;
+        Color base = c(m.base_color);
+        b.diffuse = b.ambient = base * (1.0f - m.metallic);
+        b.specular = glm::mix(Color(0.04f), base, m.metallic);
+        // Below alpha ~ 1e-3 the GGX peak exceeds float range for point lights.
+        b.alpha = std::max(square(m.roughness), 1e-3f);
+        return b;
+    }
+    Bsdf operator()(const MirrorMaterial& m) const {
+        Bsdf b;
+        b.model = Bsdf::Model::Mirror;
+        b.reflect = c(m.reflectance);
+        return b;
+    }
+    Bsdf operator()(const DielectricMaterial& m) const {
+        Bsdf b;
+        b.model = Bsdf::Model::Dielectric;
+        b.ior = m.ior;
+        return b;
+    }
+    Bsdf operator()(const EmissiveMaterial& m) const {
+        Bsdf b;
+        b.model = Bsdf::Model::Emissive;
+        b.emission = c(m.radiance);
+        b.diffuse = b.ambient = c(m.albedo);
+        return b;
+    }
+};
+
+}  // namespace
+
+bool Bsdf::has_lobes() const {
+    switch (model) {
+        case Model::Mirror:
+        case Model::Dielectric: return false;
+        case Model::Emissive: return !is_black(diffuse);
+        case Model::Phong:
+        case Model::BlinnPhong: return !is_black(diffuse) || !is_black(specular);
+        default: return true;
+    }
+}
+
+Bsdf make_bsdf(const Material& material, vec2 uv, const std::vector<Image>& textures) {
+    return std::visit(BsdfMaker{uv, textures}, material);
+}
+
+Color eval_bsdf(const Bsdf& b, vec3 n, vec3 wo, vec3 wi) {
+    float cos_i = glm::dot(n, wi), cos_o = glm::dot(n, wo);
+    if (cos_i <= 0.0f || cos_o <= 0.0f) return Color(0.0f);
+    switch (b.model) {
+        case Bsdf::Model::Lambert:
+        case Bsdf::Model::Emissive: return b.diffuse * kInvPi;
+        case Bsdf::Model::Phong: {
+            float rv = std::max(0.0f, glm::dot(reflect(wi, n), wo));
+            return b.diffuse * kInvPi +
+                   b.specular * ((b.shininess + 2.0f) / (2.0f * kPi) * std::pow(rv, b.shininess));
+        }
+        case Bsdf::Model::BlinnPhong: {
+            vec3 h = glm::normalize(wi + wo);
+            float nh = std::max(0.0f, glm::dot(n, h));
+            return b.diffuse * kInvPi +
+                   b.specular * ((b.shininess + 8.0f) / (8.0f * kPi) * std::pow(nh, b.shininess));
+        }
+        case Bsdf::Model::OrenNayar: {
+            // cos(phi_i - phi_o) from the projections of wi and wo onto the tangent plane.
+            vec3 ti = wi - cos_i * n, to = wo - cos_o * n;
+            float li = glm::length(ti), lo = glm::length(to);
+            float cos_phi = li > 1e-6f && lo > 1e-6f ? glm::dot(ti, to) / (li * lo) : 0.0f;
+            float sin_i = safe_sqrt(1.0f - cos_i * cos_i), sin_o = safe_sqrt(1.0f - cos_o * cos_o);
+            // alpha = max(theta_i, theta_o), beta = min: sin(alpha) tan(beta).
+            float sin_alpha, tan_beta;
+            if (cos_i > cos_o) {  // theta_i < theta_o
+                sin_alpha = sin_o;
+                tan_beta = sin_i / cos_i;
+            } else {
+                sin_alpha = sin_i;
+                tan_beta = sin_o / cos_o;
+            }
+            return b.diffuse * kInvPi *
+                   (b.on_a + b.on_b * std::max(0.0f, cos_phi) * sin_alpha * tan_beta);
+        }
+        case Bsdf::Model::CookTorrance: {
+            vec3 h = glm::normalize(wi + wo);
+            float nh = std::max(0.0f, glm::dot(n, h));
+            float vh = std::max(0.0f, glm::dot(wo, h));
+            float a2 = b.alpha * b.alpha;
+            float d = a2 / (kPi * square(nh * nh * (a2 - 1.0f) + 1.0f));
+            float vis = 0.5f / (cos_i * std::sqrt(cos_o * cos_o * (1.0f - a2) + a2) +
+                                cos_o * std::sqrt(cos_i * cos_i * (1.0f - a2) + a2));
+            Color f = b.specular + (Color(1.0f) - b.specular) * std::pow(1.0f - vh, 5.0f);
+            return (Color(1.0f) - f) * b.diffuse * kInvPi + f * (d * vis);
+        }
+        case Bsdf::Model::Mirror:
+        case Bsdf::Model::Dielectric: return Color(0.0f);
+    }
+    return Color(0.0f);
+}
+
+float fresnel_dielectric(float cos_i, float eta) {
+    cos_i = std::clamp(cos_i, 0.0f, 1.0f);
+    float sin2_t = (1.0f - cos_i * cos_i) / (eta * eta);
+    if (sin2_t >= 1.0f) return 1.0f;
+    float cos_t = safe_sqrt(1.0f - sin2_t);
+    float r_parallel = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+    float r_perpendicular = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+    return 0.5f * (r_parallel * r_parallel + r_perpendicular * r_perpendicular);
+}
+
+bool refract(vec3 wo, vec3 n, float eta, vec3& wt) {
+    float cos_i = glm::dot(n, wo);
+    float sin2_t = std::max(0.0f, 1.0f - cos_i * cos_i) / (eta * eta);
+    if (sin2_t >= 1.0f) return false;
+    float cos_t = std::sqrt(1.0f - sin2_t);
+    wt = -wo / eta + (cos_i / eta - cos_t) * n;
+    return true;
+}
+
+}  // namespace svetlo

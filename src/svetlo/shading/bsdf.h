@@ -1,0 +1,60 @@
+// Materials as BRDFs. A Bsdf is a material with its textures evaluated at one surface point:
+// a flat struct (shared with future GPU code) plus free functions. All directions are unit
+// vectors in world space pointing away from the surface; f is in 1/sr.
+//
+//   lambert       f = albedo / pi
+//   phong         f = kd/pi + ks (n+2)/(2 pi) max(0, r.v)^n            (normalised Phong,
+//   blinn_phong   f = kd/pi + ks (n+8)/(8 pi) max(0, n.h)^n             Lafortune & Willems 1994)
+//   oren_nayar    f = albedo/pi (A + B max(0, cos(phi_i - phi_o)) sin(alpha) tan(beta))
+//                 (Oren & Nayar 1994, the qualitative model)
+//   cook_torrance glTF 2.0 metallic-roughness: GGX D (Walter et al. 2007), height-correlated
+//                 Smith V (Heitz 2014), Schlick F; diffuse (1 - F) c_diff / pi
+//   mirror, dielectric: delta BRDFs, handled by the engines through reflect/refract/fresnel.
+#pragma once
+
+#include <vector>
+
+#include "svetlo/core/math.h"
+#include "svetlo/scene/scene.h"
+
+namespace svetlo {
+
+struct Bsdf {
+    enum class Model : unsigned char {
+        Lambert, Phong, BlinnPhong, OrenNayar, CookTorrance, Mirror, Dielectric, Emissive
+    };
+    Model model = Model::Lambert;
+    Color diffuse{0.0f};   // kd, albedo, or glTF's c_diff
+    Color specular{0.0f};  // ks (Phong lobes) or F0 (Cook-Torrance)
+    Color ambient{0.0f};   // k_a of the ambient term
+    Color reflect{0.0f};   // ideal mirror part (phong reflect, mirror reflectance)
+    Color transmit{0.0f};  // ideal transmission part (phong transmit)
+    Color emission{0.0f};  // radiance emitted from the front side
+    float shininess = 0.0f;
+    float alpha = 0.0f;  // GGX roughness alpha = roughness^2
+    float ior = 1.0f;
+    float on_a = 1.0f, on_b = 0.0f;  // Oren-Nayar A and B
+
+    /// True when the BRDF has a non-delta part that direct lighting must evaluate.
+    bool has_lobes() const;
+};
+
+/// The material at texture coordinates uv.
+Bsdf make_bsdf(const Material& material, vec2 uv, const std::vector<Image>& textures);
+
+/// f(wo, wi) for a shading normal n; zero unless wo and wi are both above the surface.
+Color eval_bsdf(const Bsdf& bsdf, vec3 n, vec3 wo, vec3 wi);
+
+/// Unpolarised Fresnel reflectance of a dielectric interface. cos_i is the cosine of the
+/// incident angle (> 0), eta = n_transmitted / n_incident. Returns 1 under total internal
+/// reflection.
+float fresnel_dielectric(float cos_i, float eta);
+
+/// Mirror of wo (pointing away) about n.
+inline vec3 reflect(vec3 wo, vec3 n) { return 2.0f * glm::dot(wo, n) * n - wo; }
+
+/// Refracts wo (pointing away, on n's side) through an interface with eta = n_t / n_i. Returns
+/// false under total internal reflection.
+bool refract(vec3 wo, vec3 n, float eta, vec3& wt);
+
+}  // namespace svetlo

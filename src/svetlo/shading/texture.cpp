@@ -1,0 +1,60 @@
+#include "svetlo/shading/texture.h"
+
+namespace svetlo {
+
+namespace {
+
+int wrap_index(int i, int n, TextureWrap wrap) {
+    if (wrap == TextureWrap::Clamp) return std::clamp(i, 0, n - 1);
+    int m = i % n;
+    return m < 0 ? m + n : m;
+}
+
+/// Texel (i, j) with j counted from the bottom row.
+const Color& texel(const Image& image, int i, int j, TextureWrap wrap) {
+    int x = wrap_index(i, image.width, wrap);
+    int y = wrap_index(j, image.height, wrap);
+    return image.at(x, image.height - 1 - y);
+}
+
+/// Keeps huge texture coordinates from overflowing int when converted to texel indices.
+float tame(float x) { return std::isfinite(x) ? std::fmod(x, 1.0e6f) : 0.0f; }
+
+}  // namespace
+
+Color sample_nearest(const Image& image, vec2 uv, TextureWrap wrap) {
+    float x = tame(uv.x) * static_cast<float>(image.width);
+    float y = tame(uv.y) * static_cast<float>(image.height);
+    return texel(image, static_cast<int>(std::floor(x)), static_cast<int>(std::floor(y)), wrap);
+}
+
+Color sample_bilinear(const Image& image, vec2 uv, TextureWrap wrap) {
+    float x = tame(uv.x) * static_cast<float>(image.width) - 0.5f;
+    float y = tame(uv.y) * static_cast<float>(image.height) - 0.5f;
+    float x0 = std::floor(x), y0 = std::floor(y);
+    float fx = x - x0, fy = y - y0;
+    int i = static_cast<int>(x0), j = static_cast<int>(y0);
+    return (1.0f - fx) * (1.0f - fy) * texel(image, i, j, wrap) +
+           fx * (1.0f - fy) * texel(image, i + 1, j, wrap) +
+           (1.0f - fx) * fy * texel(image, i, j + 1, wrap) + fx * fy * texel(image, i + 1, j + 1, wrap);
+}
+
+Color eval_color(const ColorSource& source, vec2 uv, const std::vector<Image>& textures) {
+    switch (source.kind) {
+        case ColorSource::Kind::Constant: return source.value;
+        case ColorSource::Kind::Checker: {
+            float s = source.scale;
+            auto parity = static_cast<long long>(std::floor(tame(uv.x * s))) +
+                          static_cast<long long>(std::floor(tame(uv.y * s)));
+            return (parity & 1) == 0 ? source.a : source.b;
+        }
+        case ColorSource::Kind::Image: {
+            const Image& image = textures[static_cast<size_t>(source.texture)];
+            if (source.filter == TextureFilter::Nearest) return sample_nearest(image, uv, source.wrap);
+            return sample_bilinear(image, uv, source.wrap);
+        }
+    }
+    return source.value;
+}
+
+}  // namespace svetlo

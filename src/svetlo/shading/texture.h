@@ -1,0 +1,20 @@
+// Evaluating a material colour at texture coordinates (u, v). Image rows follow OpenGL:
+// v = 0 is the bottom row of the image file. Texel centres lie at ((i + 1/2)/W, (j + 1/2)/H).
+#pragma once
+
+#include <vector>
+
+#include "svetlo/scene/scene.h"
+
+namespace svetlo {
+
+/// Nearest texel: the value of the texel that contains (u, v).
+Color sample_nearest(const Image& image, vec2 uv, TextureWrap wrap);
+/// Bilinear interpolation between the four texel centres around (u, v).
+Color sample_bilinear(const Image& image, vec2 uv, TextureWrap wrap);
+
+/// The colour of `source` at uv. Ray-traced engines have no footprint, so trilinear
+/// filtering samples the finest mip level, which is bilinear filtering.
+Color eval_color(const ColorSource& source, vec2 uv, const std::vector<Image>& textures);
+
+}  // namespace svetlo
