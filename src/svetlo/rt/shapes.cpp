@@ -128,10 +128,12 @@ bool hit_quadric(const AnalyticShape& s, const Ray& r, float tmax, float& t, int
         c = o.x * o.x + o.y * o.y - k2 * hz * hz;
     }
     float t0, t1;
-    if (std::abs(a) > 1e-12f * glm::dot(d, d) && solve_quadratic(a, b, c, b * b - a * c, t0, t1)) {
-        for (float tt : {t0, t1}) {
-            float z = o.z + tt * d.z;
-            if (z >= 0.0f && z <= h) consider(tt, 0);
+    if (std::abs(a) > 1e-12f * glm::dot(d, d)) {
+        if (solve_quadratic(a, b, c, b * b - a * c, t0, t1)) {
+            for (float tt : {t0, t1}) {
+                float z = o.z + tt * d.z;
+                if (z >= 0.0f && z <= h) consider(tt, 0);
+            }
         }
     } else if (cone && b != 0.0f) {  // ray parallel to a generator line: one root
         float tt = -c / (2.0f * b);

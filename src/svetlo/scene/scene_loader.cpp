@@ -22,9 +22,38 @@ nlohmann::json read_scene_json(const fs::path& path) {
     std::string text = buffer.str();
     try {
         return nlohmann::json::parse(text);
-    } catch (const nlohmann::json::parse_error& e) {
+    } catch (const nlohmann::json::exception& e) {
+        // A number too large for a double (1e999) is an out_of_range error without a
+        // position: find it with a SAX pass, whose parse_error receives the position.
+        size_t byte = 0;
+        if (const auto* pe = dynamic_cast<const nlohmann::json::parse_error*>(&e)) {
+            byte = pe->byte;
+        } else {
+            struct Locator : nlohmann::json_sax<nlohmann::json> {
+                size_t byte = 0;
+                bool null() override { return true; }
+                bool boolean(bool) override { return true; }
+                bool number_integer(number_integer_t) override { return true; }
+                bool number_unsigned(number_unsigned_t) override { return true; }
+                bool number_float(number_float_t, const string_t&) override { return true; }
+                bool string(string_t&) override { return true; }
+                bool binary(binary_t&) override { return true; }
+                bool start_object(std::size_t) override { return true; }
+                bool key(string_t&) override { return true; }
+                bool end_object() override { return true; }
+                bool start_array(std::size_t) override { return true; }
+                bool end_array() override { return true; }
+                bool parse_error(std::size_t position, const std::string&,
+                                 const nlohmann::json::exception&) override {
+                    byte = position;
+                    return false;
+                }
+            } locator;
+            nlohmann::json::sax_parse(text, &locator);
+            byte = locator.byte;
+        }
         size_t line = 1, column = 1;
-        for (size_t k = 0; k + 1 < e.byte && k < text.size(); ++k) {
+        for (size_t k = 0; k + 1 < byte && k < text.size(); ++k) {
             if (text[k] == '\n') {
                 ++line;
                 column = 1;
@@ -37,6 +66,10 @@ nlohmann::json read_scene_json(const fs::path& path) {
         // column 2: syntax error while parsing value - ..."; keep the part after "- ".
         size_t dash = what.find(" - ");
         if (dash != std::string::npos) what = what.substr(dash + 3);
+        size_t bracket = what.find("] ");  // drop nlohmann's "[json.exception.x.y] " prefix
+        if (what.rfind("[json.exception", 0) == 0 && bracket != std::string::npos) {
+            what = what.substr(bracket + 2);
+        }
         throw Error(file, "line " + std::to_string(line) + ", column " + std::to_string(column),
                     "malformed JSON: " + what);
     }
@@ -48,8 +81,8 @@ void apply_override(nlohmann::json& root, const Override& o, const std::string& 
     nlohmann::json value;
     try {
         value = nlohmann::json::parse(o.value);
-    } catch (const nlohmann::json::parse_error&) {
-        value = o.value;  // not JSON: a plain string
+    } catch (const nlohmann::json::exception&) {
+        value = o.value;  // not JSON (or a number out of range): a plain string
     }
     nlohmann::json* node = &root;
     std::stringstream parts(o.key);

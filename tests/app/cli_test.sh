@@ -1,0 +1,125 @@
+#!/usr/bin/env bash
+# Drives the svetlo binary as a user would: every bad input gets one line
+# `svetlo: error: FILE: WHERE: WHAT`, a non-zero exit and no output (an existing file is left
+# untouched); good runs write what they say; output is the same whatever the thread count.
+# Usage: cli_test.sh SVETLO TEST_DATA_DIR
+set -u
+svetlo=$1
+data=$2
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+passed=0
+failed=0
+
+pass() { passed=$((passed + 1)); }
+fail() { echo "FAIL: $*"; failed=$((failed + 1)); }
+
+cat > "$work/good.json" <<'JSON'
+{
+  "camera": {"position": [0, 1, 5], "look_at": [0, 1, 0], "fov": 40},
+  "film": {"width": 48, "height": 32},
+  "render": {"spp": 2, "light_samples": 2},
+  "materials": {"white": {"type": "lambert", "albedo": 0.8}},
+  "lights": [{"type": "point", "position": [0, 4, 2], "intensity": [10, 10, 10]},
+             {"type": "area", "corner": [-1, 3, -1], "edge_u": [2, 0, 0], "edge_v": [0, 0, 2], "radiance": 2}],
+  "objects": [{"type": "sphere", "center": [0, 1, 0], "radius": 1, "material": "white"},
+              {"type": "plane", "point": [0, 0, 0], "normal": [0, 1, 0], "material": "white"}]
+}
+JSON
+
+# expect_error NAME WHERE_PATTERN ARGS...: runs svetlo ARGS with -o $work/keep.png already
+# holding "keep"; wants exit != 0, one stderr line naming WHERE, and keep.png unchanged.
+expect_error() {
+    local name=$1 where=$2
+    shift 2
+    echo keep > "$work/keep.png"
+    "$svetlo" "$@" > "$work/stdout" 2> "$work/stderr"
+    local rc=$?
+    local lines
+    lines=$(wc -l < "$work/stderr")
+    if [ $rc -eq 0 ]; then fail "$name: exit 0"; return; fi
+    if [ "$lines" -ne 1 ]; then fail "$name: $lines lines on stderr: $(cat "$work/stderr")"; return; fi
+    if ! grep -Eq "^svetlo: error: [^:]+: .*${where}" "$work/stderr"; then
+        fail "$name: stderr '$(cat "$work/stderr")' does not name '$where'"; return
+    fi
+    if [ "$(cat "$work/keep.png")" != keep ]; then fail "$name: output was touched"; return; fi
+    if ls "$work" | grep -q '\.tmp'; then fail "$name: left a temporary file"; return; fi
+    pass
+}
+
+# scene_with JQ-LIKE: writes $work/bad.json from good.json through a python edit.
+scene_with() {
+    python3 - "$work/good.json" "$work/bad.json" "$1" <<'PY'
+import json, sys
+scene = json.load(open(sys.argv[1]))
+exec(sys.argv[3])
+open(sys.argv[2], "w").write(json.dumps(scene) if not isinstance(scene, str) else scene)
+PY
+}
+
+render_bad() {  # render_bad NAME WHERE EDIT [extra args]
+    local name=$1 where=$2 edit=$3
+    shift 3
+    scene_with "$edit"
+    expect_error "$name" "$where" render "$work/bad.json" -o "$work/keep.png" "$@"
+}
+
+# --- good runs ---
+if "$svetlo" render "$work/good.json" -o "$work/out.png" --quiet 2> "$work/stderr" &&
+   [ -s "$work/out.png" ] && [ ! -s "$work/stderr" ]; then pass; else fail "good render"; fi
+"$svetlo" --version | grep -q '^svetlo ' && pass || fail "--version"
+"$svetlo" render "$work/good.json" -o "$work/t1.pfm" -t 1 -q --aov visibility="$work/v1.pfm" &&
+"$svetlo" render "$work/good.json" -o "$work/t2.pfm" -t 2 -q --aov visibility="$work/v2.pfm" &&
+cmp -s "$work/t1.pfm" "$work/t2.pfm" && cmp -s "$work/v1.pfm" "$work/v2.pfm" && pass || fail "threads 1 vs 2 differ"
+[ "$(head -c 3 "$work/t1.pfm" | head -1)" = "PF" ] && pass || fail "PFM header"
+"$svetlo" render "$work/good.json" -o "$work/o.exr" -q --aov depth="$work/d.exr" --aov normal="$work/n.png" \
+    --aov albedo="$work/a.pfm" --set camera.fov=30 --set 'lights.0.intensity=[5,5,5]' -W 20 -H 10 &&
+    [ -s "$work/o.exr" ] && [ -s "$work/d.exr" ] && [ -s "$work/n.png" ] && [ -s "$work/a.pfm" ] &&
+    head -2 "$work/a.pfm" | tail -1 | grep -q '^20 10$' && pass || fail "exr, aovs, --set, -W -H"
+"$svetlo" info "$work/good.json" | grep -q '^lights     2' && pass || fail "info"
+"$svetlo" bench "$work/good.json" --accel none,bvh --rays diffuse -t 1 > "$work/bench" 2>/dev/null
+if [ "$(grep -c '^accel=\(none\|bvh\) build_ms=[0-9.]* mrays_per_s=[0-9.]* hits=[0-9]*$' "$work/bench")" = 2 ] &&
+   [ "$(sed 's/.*hits=//' "$work/bench" | sort -u | wc -l)" = 1 ]; then pass; else fail "bench: $(cat "$work/bench")"; fi
+
+# --- bad command lines ---
+"$svetlo" render "$work/good.json" --frobnicate > /dev/null 2> "$work/stderr"
+[ $? -ne 0 ] && grep -qi usage "$work/stderr" && pass || fail "unknown flag"
+"$svetlo" > /dev/null 2>&1 && fail "no subcommand" || pass
+expect_error "unknown engine" "render.engine" render "$work/good.json" -o "$work/keep.png" --engine foo
+expect_error "engine not built" "render.engine" render "$work/good.json" -o "$work/keep.png" --engine radiosity
+expect_error "bad --set" "--set" render "$work/good.json" -o "$work/keep.png" --set nokey
+expect_error "--set into a number" "--set camera.fov.x" render "$work/good.json" -o "$work/keep.png" --set camera.fov.x=1
+expect_error "non-finite --set" "camera.fov: must be a number" render "$work/good.json" -o "$work/keep.png" --set camera.fov=1e999
+expect_error "unknown aov" "--aov" render "$work/good.json" -o "$work/keep.png" --aov shine="$work/s.png"
+expect_error "unwritable output" "-o" render "$work/good.json" -o "$work/no/such/dir/out.png"
+expect_error "unknown extension" "-o" render "$work/good.json" -o "$work/out.jpg"
+expect_error "missing scene" "file" render "$work/nothing.json" -o "$work/keep.png"
+
+# --- bad scenes ---
+render_bad "malformed JSON" "line 1, column" 'scene = "{\"camera\": [1,,2]}"'
+render_bad "empty file" "line 1, column" 'scene = ""'
+render_bad "missing key" "camera.position: missing key" 'del scene["camera"]["position"]'
+render_bad "wrong type" "film.width: must be a number" 'scene["film"]["width"] = "wide"'
+render_bad "unknown material type" "materials.white.type: unknown value" 'scene["materials"]["white"]["type"] = "velvet"'
+render_bad "unknown shape" "objects\[0\].type: unknown value" 'scene["objects"][0]["type"] = "teapot"'
+render_bad "unknown light" "lights\[0\].type: unknown value" 'scene["lights"][0]["type"] = "laser"'
+render_bad "missing material" "objects\[1\].material: unknown material" 'scene["objects"][1]["material"] = "gold"'
+render_bad "negative radius" "objects\[0\].radius: must be > 0" 'scene["objects"][0]["radius"] = -1'
+render_bad "zero radius" "objects\[0\].radius: must be > 0" 'scene["objects"][0]["radius"] = 0'
+render_bad "non-finite" "line 1, column [0-9]+: malformed JSON: number overflow" 'scene = json.dumps(scene).replace("[0, 1, 0], \"radius\"", "[0, 1e999, 0], \"radius\"")'
+render_bad "degenerate camera" "camera.look_at" 'scene["camera"]["look_at"] = scene["camera"]["position"]'
+render_bad "film too large" "film: .*too large" 'scene["film"] = {"width": 65536, "height": 65536}'
+render_bad "missing mesh file" "objects\[0\].file" 'scene["objects"][0] = {"type": "mesh", "file": "nothing.obj", "material": "white"}'
+render_bad "unknown key" "objects\[0\].raduis: unknown key" 'scene["objects"][0]["raduis"] = 1'
+render_bad "negative spp" "render.spp" 'scene["render"]["spp"] = -4'
+for f in broken.ply lying_header.ply bad_index.obj broken.gltf not_a_mesh.txt; do
+    cp "$data/$f" "$work/$f"
+    render_bad "malformed mesh $f" "objects\[0\].file: cannot read mesh" \
+        "scene['objects'][0] = {'type': 'mesh', 'file': '$f', 'material': 'white'}"
+done
+render_bad "emissive plane" "objects\[1\]: an emissive plane" \
+    'scene["materials"]["glow"] = {"type": "emissive", "radiance": 1}; scene["objects"][1]["material"] = "glow"'
+expect_error "bench unknown accel" "--accel" bench "$work/good.json" --accel kd-tree
+
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ]

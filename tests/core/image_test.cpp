@@ -1,0 +1,106 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "svetlo/core/error.h"
+#include "svetlo/core/image_io.h"
+
+namespace svetlo {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path temp_file(const std::string& name) {
+    fs::path dir = fs::temp_directory_path() / ("svetlo_test_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    return dir / name;
+}
+
+TEST(Srgb, RoundTripsEveryCode) {
+    for (int k = 0; k < 256; ++k) {
+        float linear = srgb_to_linear(k / 255.0f);
+        EXPECT_EQ(linear_to_srgb8(linear), k);
+    }
+}
+
+TEST(Srgb, KnownValues) {
+    EXPECT_NEAR(srgb_to_linear(0.5f), 0.214041f, 1e-5f);  // IEC 61966-2-1
+    EXPECT_EQ(linear_to_srgb8(1.0f), 255);
+    EXPECT_EQ(linear_to_srgb8(-3.0f), 0);
+    EXPECT_EQ(linear_to_srgb8(std::nanf("")), 0);
+}
+
+TEST(ImageIo, PfmRoundTripIsExactAndBottomUp) {
+    Image image(3, 2);
+    for (int j = 0; j < 2; ++j)
+        for (int i = 0; i < 3; ++i) image.at(i, j) = Color(i, j, 0.125f * (i + 3 * j));
+    fs::path path = temp_file("round.pfm");
+    write_image(path, image, PixelMeaning::Radiance, 1.0f, "test");
+    Image back = read_image(path, false, "test");
+    ASSERT_EQ(back.width, 3);
+    ASSERT_EQ(back.height, 2);
+    for (size_t k = 0; k < image.pixels.size(); ++k) EXPECT_EQ(back.pixels[k], image.pixels[k]);
+    // The first row in the file is the bottom row of the image.
+    std::ifstream in(path, std::ios::binary);
+    std::string magic, dims, scale;
+    std::getline(in, magic);
+    std::getline(in, dims);
+    std::getline(in, scale);
+    EXPECT_EQ(magic, "PF");
+    EXPECT_EQ(dims, "3 2");
+    EXPECT_EQ(scale, "-1.0");
+    float first[3];
+    in.read(reinterpret_cast<char*>(first), sizeof(first));
+    EXPECT_EQ(first[1], 1.0f);  // pixel (0, 1): green channel holds j = 1
+}
+
+TEST(ImageIo, ExrRoundTripIsExact) {
+    Image image(4, 3);
+    for (size_t k = 0; k < image.pixels.size(); ++k) image.pixels[k] = Color(k * 0.37f, 1e-3f * k, 17.5f);
+    fs::path path = temp_file("round.exr");
+    write_image(path, image, PixelMeaning::Radiance, 1.0f, "test");
+    Image back = read_image(path, false, "test");
+    ASSERT_EQ(back.pixels.size(), image.pixels.size());
+    for (size_t k = 0; k < image.pixels.size(); ++k) EXPECT_EQ(back.pixels[k], image.pixels[k]);
+}
+
+TEST(ImageIo, PngIsSrgbWithExposure) {
+    Image image(1, 1, Color(0.25f, 0.5f, 2.0f));
+    fs::path path = temp_file("exposure.png");
+    write_image(path, image, PixelMeaning::Radiance, 2.0f, "test");
+    Image back = read_image(path, false, "test");  // raw codes / 255
+    EXPECT_NEAR(back.pixels[0].r * 255.0f, linear_to_srgb8(0.5f), 1e-3f);
+    EXPECT_NEAR(back.pixels[0].g * 255.0f, 255.0f, 1e-3f);
+    EXPECT_NEAR(back.pixels[0].b * 255.0f, 255.0f, 1e-3f);
+}
+
+TEST(ImageIo, UnknownExtensionAndMissingFolderAreErrors) {
+    EXPECT_THROW(image_format_for("out.jpg", "-o"), Error);
+    EXPECT_THROW(check_writable("/nonexistent-folder/out.png", "-o"), Error);
+    Image image(1, 1);
+    EXPECT_THROW(write_image("/nonexistent-folder/out.png", image, PixelMeaning::Radiance, 1.0f, "-o"),
+                 Error);
+}
+
+TEST(ImageIo, FailedWriteLeavesTheOldFile) {
+    fs::path path = temp_file("keep.pfm");
+    { std::ofstream(path) << "old"; }
+    fs::permissions(path.parent_path(), fs::perms::owner_read | fs::perms::owner_exec);
+    Image image(1, 1);
+    bool threw = false;
+    try {
+        write_image(path, image, PixelMeaning::Radiance, 1.0f, "-o");
+    } catch (const Error&) {
+        threw = true;
+    }
+    fs::permissions(path.parent_path(), fs::perms::owner_all);
+    std::ifstream in(path);
+    std::string content;
+    in >> content;
+    if (::geteuid() != 0) EXPECT_TRUE(threw);  // root writes anywhere
+    if (threw) EXPECT_EQ(content, "old");
+}
+
+}  // namespace
+}  // namespace svetlo

@@ -1,0 +1,74 @@
+#include <gtest/gtest.h>
+
+#include "svetlo/core/rng.h"
+#include "svetlo/core/sampling.h"
+
+namespace svetlo {
+namespace {
+
+TEST(Rng, StreamsAreReproducibleAndDistinct) {
+    Rng a = pixel_rng(7, 100), b = pixel_rng(7, 100), c = pixel_rng(7, 101);
+    for (int k = 0; k < 100; ++k) {
+        uint32_t x = a.next_u32();
+        EXPECT_EQ(x, b.next_u32());
+        EXPECT_NE(x, c.next_u32());
+    }
+}
+
+TEST(Rng, UniformMeanAndRange) {
+    Rng rng(1, 2);
+    double sum = 0.0;
+    const int n = 200000;
+    for (int k = 0; k < n; ++k) {
+        float u = rng.next_float();
+        ASSERT_GE(u, 0.0f);
+        ASSERT_LT(u, 1.0f);
+        sum += u;
+    }
+    EXPECT_NEAR(sum / n, 0.5, 3.0 * std::sqrt(1.0 / 12.0 / n) * 2.0);
+}
+
+TEST(Sampling, CosineHemisphereHasMeanCosTwoThirds) {
+    // E[cos] under pdf cos/pi is 2/3; E[cos^2] = 1/2.
+    Rng rng(3, 4);
+    double sum = 0.0, sum2 = 0.0;
+    const int n = 200000;
+    for (int k = 0; k < n; ++k) {
+        vec3 d = sample_cosine_hemisphere(vec2(rng.next_float(), rng.next_float()));
+        ASSERT_NEAR(glm::length(d), 1.0f, 1e-5f);
+        sum += d.z;
+        sum2 += d.z * d.z;
+    }
+    EXPECT_NEAR(sum / n, 2.0 / 3.0, 0.003);
+    EXPECT_NEAR(sum2 / n, 0.5, 0.003);
+}
+
+TEST(Sampling, TriangleSamplesAreUniform) {
+    Rng rng(5, 6);
+    double b0 = 0.0, b1 = 0.0;
+    const int n = 100000;
+    for (int k = 0; k < n; ++k) {
+        vec2 b = sample_triangle(vec2(rng.next_float(), rng.next_float()));
+        ASSERT_GE(b.x, 0.0f);
+        ASSERT_GE(b.y, 0.0f);
+        ASSERT_LE(b.x + b.y, 1.0f + 1e-6f);
+        b0 += b.x;
+        b1 += b.y;
+    }
+    EXPECT_NEAR(b0 / n, 1.0 / 3.0, 0.005);  // centroid
+    EXPECT_NEAR(b1 / n, 1.0 / 3.0, 0.005);
+}
+
+TEST(Sampling, StratifiedCoversEachStratumOnce) {
+    const int n = 16;
+    int counts[4][4] = {};
+    for (int k = 0; k < n; ++k) {
+        vec2 s = stratified_sample(k, n, vec2(0.999f, 0.001f));
+        counts[static_cast<int>(s.x * 4)][static_cast<int>(s.y * 4)]++;
+    }
+    for (auto& row : counts)
+        for (int c : row) EXPECT_EQ(c, 1);
+}
+
+}  // namespace
+}  // namespace svetlo

@@ -1,0 +1,79 @@
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "svetlo/scene/mesh_file.h"
+
+namespace svetlo {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path data(const std::string& name) { return fs::path(SVETLO_TEST_DATA) / name; }
+
+TEST(Obj, CornellBoxMapsMtlOntoMaterials) {
+    MeshFile f = read_mesh_file(fs::path(SVETLO_SHARED_DATA) / "cornell/mcguire/CornellBox-Original.obj");
+    EXPECT_GT(f.mesh.triangle_count(), 30u);
+    ASSERT_EQ(f.mesh.face_material.size(), f.mesh.triangle_count());
+    int emissive = 0, phong = 0;
+    for (size_t k = 0; k < f.materials.size(); ++k) {
+        if (const auto* e = std::get_if<EmissiveMaterial>(&f.materials[k])) {
+            EXPECT_EQ(f.material_names[k], "light");
+            EXPECT_EQ(e->radiance.value, Color(17, 12, 4));  // Ke
+            EXPECT_NEAR(e->albedo.value.r, 0.78f, 1e-6f);    // Kd
+            ++emissive;
+        } else if (const auto* p = std::get_if<PhongMaterial>(&f.materials[k])) {
+            if (f.material_names[k] == "leftWall") EXPECT_EQ(p->kd.value, Color(0.63f, 0.065f, 0.05f));
+            ++phong;
+        }
+    }
+    EXPECT_EQ(emissive, 1);
+    EXPECT_EQ(phong, 7);
+}
+
+TEST(Ply, BunnyLoads) {
+    MeshFile f = read_mesh_file(fs::path(SVETLO_SHARED_DATA) / "bunny/bun_zipper_res4.ply");
+    EXPECT_EQ(f.mesh.positions.size(), 453u);
+    EXPECT_EQ(f.mesh.triangle_count(), 948u);
+}
+
+TEST(Ply, AsciiAndBinaryAgree) {
+    MeshFile a = read_mesh_file(data("quad_ascii.ply"));
+    MeshFile b = read_mesh_file(data("quad_binary.ply"));
+    ASSERT_EQ(a.mesh.positions.size(), 4u);
+    EXPECT_EQ(a.mesh.indices, (std::vector<uint32_t>{0, 1, 2, 0, 2, 3}));  // fanned quad
+    EXPECT_EQ(a.mesh.positions, b.mesh.positions);
+    EXPECT_EQ(a.mesh.indices, b.mesh.indices);
+}
+
+TEST(Gltf, TriangleWithMaterialAndLight) {
+    MeshFile f = read_mesh_file(data("triangle.gltf"));
+    ASSERT_EQ(f.mesh.triangle_count(), 1u);
+    // The node translates by (0, 0, -1).
+    EXPECT_EQ(f.mesh.positions[1], vec3(1, 0, -1));
+    ASSERT_EQ(f.materials.size(), 1u);
+    const auto& ct = std::get<CookTorranceMaterial>(f.materials[0]);
+    EXPECT_FLOAT_EQ(ct.roughness, 0.25f);
+    EXPECT_FLOAT_EQ(ct.metallic, 1.0f);
+    ASSERT_EQ(f.lights.size(), 1u);
+    EXPECT_EQ(std::get<PointLight>(f.lights[0]).position, vec3(0, 2, 0));
+}
+
+TEST(MeshFiles, MalformedFilesAreErrors) {
+    for (const char* name : {"broken.ply", "lying_header.ply", "bad_index.obj", "broken.gltf",
+                             "missing.obj", "not_a_mesh.txt"}) {
+        EXPECT_THROW(read_mesh_file(data(name)), std::runtime_error) << name;
+    }
+}
+
+TEST(MeshFiles, SmoothNormalsAreAreaWeighted) {
+    Mesh m;
+    m.positions = {vec3(0, 0, 0), vec3(1, 0, 0), vec3(0, 1, 0), vec3(0, 0, 1)};
+    m.indices = {0, 1, 2, 0, 3, 1};  // faces with normals +z and +y
+    compute_vertex_normals(m);
+    EXPECT_NEAR(glm::dot(m.normals[0], glm::normalize(vec3(0, 1, 1))), 1.0f, 1e-6f);
+    EXPECT_NEAR(m.normals[2].z, 1.0f, 1e-6f);
+}
+
+}  // namespace
+}  // namespace svetlo

@@ -1,0 +1,155 @@
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "svetlo/core/error.h"
+#include "svetlo/scene/scene_loader.h"
+
+namespace svetlo {
+namespace {
+
+using json = nlohmann::json;
+
+json minimal() {
+    return json::parse(R"({
+      "camera": {"position": [0, 1, 5], "look_at": [0, 1, 0]},
+      "materials": {"white": {"type": "lambert", "albedo": 0.8}},
+      "lights": [{"type": "point", "position": [0, 4, 0], "intensity": [10, 10, 10]}],
+      "objects": [{"type": "sphere", "center": [0, 1, 0], "radius": 1, "material": "white"}]
+    })");
+}
+
+/// The "WHERE: WHAT" of the error that loading `j` raises.
+std::string error_of(const json& j) {
+    try {
+        scene_from_json(j, "s.json");
+    } catch (const Error& e) {
+        EXPECT_EQ(e.file(), "s.json");
+        return e.where() + ": " + e.message();
+    }
+    return "no error";
+}
+
+TEST(SceneLoader, MinimalSceneHasTheContractDefaults) {
+    Scene s = scene_from_json(minimal(), "s.json");
+    EXPECT_EQ(s.film.width, 512);
+    EXPECT_EQ(s.render.engine, "whitted");
+    EXPECT_EQ(s.render.spp, 1);
+    EXPECT_EQ(s.render.max_depth, 5);
+    EXPECT_EQ(s.render.exposure, 1.0f);
+    EXPECT_EQ(s.camera.fov_deg, 40.0f);
+    ASSERT_EQ(s.objects.size(), 1u);
+    EXPECT_EQ(std::get<Sphere>(s.objects[0].shape).radius, 1.0f);
+}
+
+TEST(SceneLoader, ErrorsNameTheJsonPath) {
+    json j = minimal();
+    j["objects"][0]["radius"] = -1;
+    EXPECT_EQ(error_of(j), "objects[0].radius: must be > 0 (is -1)");
+    j = minimal();
+    j["objects"][0]["radius"] = 0;
+    EXPECT_EQ(error_of(j), "objects[0].radius: must be > 0 (is 0)");
+    j = minimal();
+    j["objects"][0]["radius"] = "big";
+    EXPECT_EQ(error_of(j), "objects[0].radius: must be a number, not a string");
+    j = minimal();
+    j["objects"][0].erase("radius");
+    EXPECT_EQ(error_of(j), "objects[0].radius: missing key");
+    j = minimal();
+    j["objects"][0]["material"] = "gold";
+    EXPECT_EQ(error_of(j), "objects[0].material: unknown material 'gold'");
+    j = minimal();
+    j["objects"][0]["type"] = "teapot";
+    EXPECT_NE(error_of(j).find("objects[0].type: unknown value 'teapot'"), std::string::npos);
+    j = minimal();
+    j["lights"][0]["type"] = "laser";
+    EXPECT_NE(error_of(j).find("lights[0].type: unknown value 'laser'"), std::string::npos);
+    j = minimal();
+    j["materials"]["white"]["type"] = "velvet";
+    EXPECT_NE(error_of(j).find("materials.white.type: unknown value 'velvet'"), std::string::npos);
+    j = minimal();
+    j["render"] = {{"engine", "magic"}};
+    EXPECT_NE(error_of(j).find("render.engine: unknown value 'magic'"), std::string::npos);
+    j = minimal();
+    j["objects"][0]["raduis"] = 1;
+    EXPECT_NE(error_of(j).find("objects[0].raduis: unknown key"), std::string::npos);
+    j = minimal();
+    j["lights"][0]["intensity"] = {1, 2};
+    EXPECT_NE(error_of(j).find("lights[0].intensity: must be a colour"), std::string::npos);
+}
+
+TEST(SceneLoader, DegenerateCameraAndImpossibleFilm) {
+    json j = minimal();
+    j["camera"]["look_at"] = {0, 1, 5};
+    EXPECT_NE(error_of(j).find("camera.look_at: must differ from position"), std::string::npos);
+    j = minimal();
+    j["camera"]["up"] = {0, 0, -2};
+    EXPECT_NE(error_of(j).find("up is parallel"), std::string::npos);
+    j = minimal();
+    j["film"] = {{"width", 60000}, {"height", 60000}};
+    EXPECT_NE(error_of(j).find("film: film of 60000 x 60000 pixels is too large"), std::string::npos);
+    j = minimal();
+    j["film"] = {{"width", 0}};
+    EXPECT_NE(error_of(j).find("film.width: must be in [1, 65536]"), std::string::npos);
+    j = minimal();
+    j["film"] = {{"width", 10.5}};
+    EXPECT_NE(error_of(j).find("film.width: must be a whole number"), std::string::npos);
+}
+
+TEST(SceneLoader, NonFiniteNumbersAreRefused) {
+    json j = minimal();
+    j["objects"][0]["center"] = {0, std::numeric_limits<double>::infinity(), 0};
+    EXPECT_EQ(error_of(j), "objects[0].center[1]: must be a finite number");
+    j = minimal();
+    j["camera"]["fov"] = std::nan("");
+    EXPECT_EQ(error_of(j), "camera.fov: must be a finite number");
+}
+
+TEST(SceneLoader, OverridesFollowDottedPaths) {
+    json j = minimal();
+    apply_override(j, {"lights.0.intensity", "[5,5,5]"}, "s.json");
+    apply_override(j, {"render.engine", "raster"}, "s.json");  // not JSON: a string
+    apply_override(j, {"camera.fov", "30"}, "s.json");
+    apply_override(j, {"render.shadow_map.bias", "0.01"}, "s.json");
+    Scene s = scene_from_json(j, "s.json");
+    EXPECT_EQ(std::get<PointLight>(s.lights[0]).intensity, Color(5.0f));
+    EXPECT_EQ(s.render.engine, "raster");
+    EXPECT_EQ(s.camera.fov_deg, 30.0f);
+    EXPECT_FLOAT_EQ(s.render.shadow_map.bias, 0.01f);
+    EXPECT_THROW(apply_override(j, {"lights.3.intensity", "1"}, "s.json"), Error);
+    EXPECT_THROW(apply_override(j, {"camera.fov.x", "1"}, "s.json"), Error);
+}
+
+TEST(SceneLoader, TransformsComposeScaleRotateTranslate) {
+    json j = minimal();
+    j["objects"][0]["transform"] = {{"translate", {1, 2, 3}}, {"rotate", {90, 0, 0, 1}}, {"scale", 2}};
+    Scene s = scene_from_json(j, "s.json");
+    vec3 p = s.objects[0].transform.point(vec3(1, 0, 0));  // scale -> (2,0,0), rotate -> (0,2,0)
+    EXPECT_NEAR(p.x, 1.0f, 1e-5f);
+    EXPECT_NEAR(p.y, 4.0f, 1e-5f);
+    EXPECT_NEAR(p.z, 3.0f, 1e-5f);
+    j["objects"][0]["transform"] = {{"matrix", {1, 0, 0, 5, 0, 1, 0, 6, 0, 0, 1, 7, 0, 0, 0, 1}}};
+    s = scene_from_json(j, "s.json");
+    EXPECT_EQ(s.objects[0].transform.point(vec3(0.0f)), vec3(5, 6, 7));  // row-major
+    j["objects"][0]["transform"] = {{"scale", {1, 0, 1}}};
+    EXPECT_NE(error_of(j).find("objects[0].transform: transform is singular"), std::string::npos);
+}
+
+TEST(SceneLoader, ReadsFilesAndReportsSyntaxErrorsWithLineAndColumn) {
+    namespace fs = std::filesystem;
+    fs::path dir = fs::temp_directory_path() / ("svetlo_loader_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    fs::path bad = dir / "bad.json";
+    { std::ofstream(bad) << "{\n  \"camera\": {\n    \"position\": [0, 1,, 5]\n  }\n}\n"; }
+    try {
+        load_scene(bad);
+        FAIL() << "no error";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.where(), "line 3, column 23");
+        EXPECT_NE(e.message().find("malformed JSON"), std::string::npos);
+    }
+    EXPECT_THROW(load_scene(dir / "missing.json"), Error);
+}
+
+}  // namespace
+}  // namespace svetlo

@@ -1,0 +1,149 @@
+#include <gtest/gtest.h>
+
+#include "svetlo/core/rng.h"
+#include "svetlo/core/sampling.h"
+#include "svetlo/shading/bsdf.h"
+
+namespace svetlo {
+namespace {
+
+const std::vector<Image> kNoTextures;
+const vec3 kN(0.0f, 0.0f, 1.0f);
+
+vec3 dir(float theta_deg, float phi_deg) {
+    float t = radians(theta_deg), p = radians(phi_deg);
+    return vec3(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t));
+}
+
+/// Directional albedo: integral of f cos over the hemisphere, by cosine-weighted Monte Carlo.
+Color albedo(const Bsdf& b, vec3 wo, int n = 200000) {
+    Rng rng(11, 12);
+    glm::dvec3 sum(0.0);
+    for (int k = 0; k < n; ++k) {
+        vec3 wi = sample_cosine_hemisphere(vec2(rng.next_float(), rng.next_float()));
+        if (wi.z <= 0.0f) continue;
+        // f cos / (cos / pi) = f pi
+        sum += glm::dvec3(eval_bsdf(b, kN, wo, wi) * kPi);
+    }
+    return Color(sum / static_cast<double>(n));
+}
+
+TEST(Fresnel, NormalIncidenceMatchesClosedForm) {
+    // R0 = ((n - 1) / (n + 1))^2 = 0.04 for n = 1.5, from either side.
+    EXPECT_NEAR(fresnel_dielectric(1.0f, 1.5f), 0.04f, 1e-6f);
+    EXPECT_NEAR(fresnel_dielectric(1.0f, 1.0f / 1.5f), 0.04f, 1e-6f);
+    EXPECT_NEAR(fresnel_dielectric(1.0f, 1.33f), square(0.33f / 2.33f), 1e-6f);
+}
+
+TEST(Fresnel, BrewsterAngleAndTotalInternalReflection) {
+    // At Brewster's angle the parallel part vanishes: R = r_perp^2 / 2.
+    float theta_b = std::atan(1.5f);
+    float ci = std::cos(theta_b), ct = std::cos(kPi / 2.0f - theta_b);
+    float rs = (ci - 1.5f * ct) / (ci + 1.5f * ct);
+    EXPECT_NEAR(fresnel_dielectric(ci, 1.5f), 0.5f * rs * rs, 1e-6f);
+    // Inside glass beyond the critical angle asin(1/1.5) = 41.8 degrees: everything reflects.
+    EXPECT_EQ(fresnel_dielectric(std::cos(radians(45.0f)), 1.0f / 1.5f), 1.0f);
+    EXPECT_LT(fresnel_dielectric(std::cos(radians(40.0f)), 1.0f / 1.5f), 1.0f);
+    vec3 wt;
+    EXPECT_FALSE(refract(dir(45.0f, 0.0f), kN, 1.0f / 1.5f, wt));
+}
+
+TEST(Refract, ObeysSnellsLaw) {
+    vec3 wo = dir(30.0f, 0.0f), wt;
+    ASSERT_TRUE(refract(wo, kN, 1.5f, wt));
+    float sin_t = std::sqrt(wt.x * wt.x + wt.y * wt.y);
+    EXPECT_NEAR(sin_t, std::sin(radians(30.0f)) / 1.5f, 1e-6f);
+    EXPECT_LT(wt.z, 0.0f);
+    EXPECT_LT(wt.x, 0.0f);  // continues to the other side
+    EXPECT_NEAR(glm::length(wt), 1.0f, 1e-6f);
+}
+
+TEST(Lambert, IsAlbedoOverPiAndConservesEnergy) {
+    Bsdf b = make_bsdf(LambertMaterial{ColorSource::constant(Color(0.5f, 0.25f, 1.0f))}, vec2(0.0f),
+                       kNoTextures);
+    EXPECT_NEAR(eval_bsdf(b, kN, dir(10, 0), dir(70, 120)).r, 0.5f / kPi, 1e-7f);
+    EXPECT_EQ(eval_bsdf(b, kN, dir(10, 0), -dir(70, 120)), Color(0.0f));  // below the surface
+    Color a = albedo(b, dir(30, 0));
+    EXPECT_NEAR(a.b, 1.0f, 1e-4f);  // white furnace: albedo 1 reflects everything
+}
+
+TEST(Phong, MatchesTheNormalisedFormula) {
+    PhongMaterial m;
+    m.kd = ColorSource::constant(Color(0.3f));
+    m.ks = ColorSource::constant(Color(0.5f));
+    m.shininess = 20.0f;
+    Bsdf b = make_bsdf(m, vec2(0.0f), kNoTextures);
+    vec3 wi = dir(40, 0), wo = dir(35, 180);
+    vec3 r = vec3(-wi.x, -wi.y, wi.z);  // wi mirrored about n
+    float expected = 0.3f / kPi + 0.5f * 22.0f / (2.0f * kPi) * std::pow(glm::dot(r, wo), 20.0f);
+    EXPECT_NEAR(eval_bsdf(b, kN, wo, wi).r, expected, 1e-6f);
+}
+
+TEST(Phong, SpecularLobeIntegratesToKsAtNormalIncidence) {
+    // For wo = n the normalised lobe (n+2)/(2 pi) cos^n(alpha) cos(theta) integrates to 1.
+    PhongMaterial m;
+    m.kd = ColorSource::constant(Color(0.0f));
+    m.ks = ColorSource::constant(Color(1.0f));
+    m.shininess = 10.0f;
+    Bsdf b = make_bsdf(m, vec2(0.0f), kNoTextures);
+    EXPECT_NEAR(albedo(b, kN, 400000).r, 1.0f, 0.01f);
+}
+
+TEST(BlinnPhong, MatchesTheNormalisedFormula) {
+    PhongMaterial m;
+    m.blinn = true;
+    m.kd = ColorSource::constant(Color(0.2f));
+    m.ks = ColorSource::constant(Color(0.6f));
+    m.shininess = 50.0f;
+    Bsdf b = make_bsdf(m, vec2(0.0f), kNoTextures);
+    vec3 wi = dir(30, 10), wo = dir(50, 200);
+    vec3 h = glm::normalize(wi + wo);
+    float expected = 0.2f / kPi + 0.6f * 58.0f / (8.0f * kPi) * std::pow(h.z, 50.0f);
+    EXPECT_NEAR(eval_bsdf(b, kN, wo, wi).r, expected, 1e-6f);
+}
+
+TEST(OrenNayar, ReducesToLambertWhenSmooth) {
+    OrenNayarMaterial m;
+    m.albedo = ColorSource::constant(Color(0.7f));
+    m.sigma_deg = 0.0f;
+    Bsdf b = make_bsdf(m, vec2(0.0f), kNoTextures);
+    EXPECT_NEAR(eval_bsdf(b, kN, dir(60, 0), dir(20, 90)).r, 0.7f / kPi, 1e-7f);
+}
+
+TEST(OrenNayar, MatchesTheQualitativeModel) {
+    OrenNayarMaterial m;
+    m.albedo = ColorSource::constant(Color(1.0f));
+    m.sigma_deg = 30.0f;
+    Bsdf b = make_bsdf(m, vec2(0.0f), kNoTextures);
+    float s2 = square(radians(30.0f));
+    float a = 1.0f - 0.5f * s2 / (s2 + 0.33f), bb = 0.45f * s2 / (s2 + 0.09f);
+    // theta_i = 60, theta_o = 20, same azimuth: alpha = 60, beta = 20.
+    float expected = (a + bb * std::sin(radians(60.0f)) * std::tan(radians(20.0f))) / kPi;
+    EXPECT_NEAR(eval_bsdf(b, kN, dir(20, 45), dir(60, 45)).r, expected, 1e-6f);
+    // Retro-reflection is brighter than Lambert; the model loses energy overall.
+    EXPECT_GT(eval_bsdf(b, kN, dir(60, 0), dir(60, 0)).r, 1.0f / kPi);
+    EXPECT_LT(albedo(b, dir(30, 0)).r, 1.0f);
+}
+
+TEST(CookTorrance, DielectricDiffuseAtNormalIncidenceAndEnergyBound) {
+    CookTorranceMaterial m;
+    m.base_color = ColorSource::constant(Color(1.0f));
+    m.roughness = 0.5f;
+    m.metallic = 1.0f;
+    Bsdf metal = make_bsdf(m, vec2(0.0f), kNoTextures);
+    Color a = albedo(metal, dir(30, 0), 400000);
+    // A white GGX metal loses only the energy of single scattering: 0.85 to 1.
+    EXPECT_GT(a.r, 0.8f);
+    EXPECT_LE(a.r, 1.0f);
+    // Specular peak at the mirror direction for normal incidence: F0 D V with D = 1/(pi a^2),
+    // V = 1/4 when n.l = n.v = 1.
+    m.metallic = 0.0f;
+    Bsdf plastic = make_bsdf(m, vec2(0.0f), kNoTextures);
+    float alpha2 = square(0.25f);
+    float spec = 0.04f * (1.0f / (kPi * alpha2)) * 0.25f;
+    float diffuse = (1.0f - 0.04f) / kPi;
+    EXPECT_NEAR(eval_bsdf(plastic, kN, kN, kN).r, spec + diffuse, 1e-5f);
+}
+
+}  // namespace
+}  // namespace svetlo
