@@ -110,7 +110,7 @@ int run_bench(const BenchArgs& args) {
             ++passes;
         } while (seconds < 0.3 && passes < 50);
         double mrays = seconds > 0.0 ? static_cast<double>(rays.size()) * passes / seconds * 1e-6 : 0.0;
-        std::printf("accel=%s build_ms=%.3f mrays_per_s=%.3f hits=%llu\n", name.c_str(), build_ms,
+        std::printf("accel=%s build_ms=%.3f mrays_per_s=%.6g hits=%llu\n", name.c_str(), build_ms,
                     mrays, static_cast<unsigned long long>(hits));
         std::fflush(stdout);
         std::fprintf(stderr, "  %s: %.1f MiB structure, %.1f MiB geometry\n", name.c_str(),
