@@ -12,7 +12,7 @@ namespace fs = std::filesystem;
 fs::path data(const std::string& name) { return fs::path(SVETLO_TEST_DATA) / name; }
 
 TEST(Obj, CornellBoxMapsMtlOntoMaterials) {
-    MeshFile f = read_mesh_file(fs::path(SVETLO_SHARED_DATA) / "cornell/mcguire/CornellBox-Original.obj");
+    MeshFile f = read_mesh_file(data("CornellBox-Original.obj"));
     EXPECT_GT(f.mesh.triangle_count(), 30u);
     ASSERT_EQ(f.mesh.face_material.size(), f.mesh.triangle_count());
     int emissive = 0, phong = 0;
@@ -32,7 +32,7 @@ TEST(Obj, CornellBoxMapsMtlOntoMaterials) {
 }
 
 TEST(Ply, BunnyLoads) {
-    MeshFile f = read_mesh_file(fs::path(SVETLO_SHARED_DATA) / "bunny/bun_zipper_res4.ply");
+    MeshFile f = read_mesh_file(data("bun_zipper_res4.ply"));
     EXPECT_EQ(f.mesh.positions.size(), 453u);
     EXPECT_EQ(f.mesh.triangle_count(), 948u);
 }
