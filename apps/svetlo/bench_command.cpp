@@ -79,8 +79,8 @@ int run_bench(const BenchArgs& args) {
     }
     std::vector<std::string> names;
     std::stringstream list(args.accels);
+    const std::vector<std::string> known = accel_names();
     for (std::string name; std::getline(list, name, ',');) {
-        auto known = accel_names();
         if (std::find(known.begin(), known.end(), name) == known.end()) {
             throw Error(args.scene, "--accel", "unknown accelerator '" + name + "' (available: none, bvh)");
         }

@@ -32,7 +32,9 @@ struct AovSample {
 class Tracer {
 public:
     Tracer(const RtScene& rt, bool want_visibility)
-        : rt_(rt), scene_(rt.scene()), want_visibility_(want_visibility) {}
+        : rt_(rt), scene_(rt.scene()), want_visibility_(want_visibility) {
+        for (const Emitter& e : rt.emitters()) light0_emitter_ = e.light_index == 0 ? &e : light0_emitter_;
+    }
 
     uint64_t rays = 0;
     Rng* aov_rng = nullptr;  // the visibility AOV's own stream, so AOVs never change the image
@@ -116,6 +118,12 @@ private:
         return rt_.occluded(Ray{offset_ray_origin(p, ng, direction), direction, kInfinity});
     }
 
+    /// Shadow test toward a punctual light sample (directional lights lie at infinity).
+    bool blocked(vec3 p, vec3 ng, const PunctualSample& s) {
+        return std::isinf(s.distance) ? blocked_at_infinity(p, ng, s.wi)
+                                      : blocked(p, ng, p + s.wi * s.distance, s.wi);
+    }
+
     Color direct_light(vec3 p, vec3 ng, vec3 ns, vec3 wo, const Bsdf& bsdf, Rng& rng) {
         Color L(0.0f);
         for (int index : rt_.punctual_lights()) {
@@ -123,10 +131,7 @@ private:
             PunctualSample s = sample_punctual(light, p);
             float cos_theta = glm::dot(ns, s.wi);
             if (cos_theta <= 0.0f || glm::dot(ng, s.wi) <= 0.0f || is_black(s.irradiance)) continue;
-            bool shadowed = std::isinf(s.distance)
-                                ? blocked_at_infinity(p, ng, s.wi)
-                                : blocked(p, ng, p + s.wi * s.distance, s.wi);
-            if (!shadowed) L += eval_bsdf(bsdf, ns, wo, s.wi) * s.irradiance * cos_theta;
+            if (!blocked(p, ng, s)) L += eval_bsdf(bsdf, ns, wo, s.wi) * s.irradiance * cos_theta;
         }
         int n = scene_.render.light_samples;
         const Geometry& g = rt_.geometry();
@@ -159,12 +164,9 @@ private:
         if (!std::holds_alternative<AreaLight>(light)) {
             PunctualSample s = sample_punctual(light, p);
             if (glm::dot(ng, s.wi) <= 0.0f) return 1.0f;  // faces away from the light
-            bool shadowed = std::isinf(s.distance) ? blocked_at_infinity(p, ng, s.wi)
-                                                   : blocked(p, ng, p + s.wi * s.distance, s.wi);
-            return shadowed ? 0.0f : 1.0f;
+            return blocked(p, ng, s) ? 0.0f : 1.0f;
         }
-        const Emitter* emitter = nullptr;
-        for (const Emitter& e : rt_.emitters()) emitter = e.light_index == 0 ? &e : emitter;
+        const Emitter* emitter = light0_emitter_;
         if (!emitter) return 1.0f;
         int n = std::max(scene_.render.light_samples, 16);
         int facing = 0, visible = 0;
@@ -182,6 +184,7 @@ private:
     const RtScene& rt_;
     const Scene& scene_;
     bool want_visibility_;
+    const Emitter* light0_emitter_ = nullptr;  // the emitter of lights[0] when it is an area light
 };
 
 }  // namespace

@@ -24,11 +24,10 @@ std::vector<glm::vec<N, float>> parse_vectors(const JsonNode& node) {
     bool nested = n > 0 && node.at(size_t{0}).is_array();
     if (!nested && n % N != 0) node.fail("length must be a multiple of " + std::to_string(N));
     for (size_t k = 0; k < (nested ? n : n / N); ++k) {
+        if (nested && node.at(k).size() != N) node.at(k).fail("must have " + std::to_string(N) + " numbers");
         glm::vec<N, float> v;
         for (int c = 0; c < N; ++c) {
-            JsonNode e = nested ? node.at(k).at(static_cast<size_t>(c)) : node.at(N * k + c);
-            if (nested && node.at(k).size() != N) node.at(k).fail("must have " + std::to_string(N) + " numbers");
-            v[c] = e.as_float();
+            v[c] = (nested ? node.at(k).at(static_cast<size_t>(c)) : node.at(N * k + c)).as_float();
         }
         out.push_back(v);
     }
