@@ -78,11 +78,18 @@ int run_bench(const BenchArgs& args) {
         throw Error(args.scene, "--rays", "expected primary or diffuse, not '" + args.rays + "'");
     }
     std::vector<std::string> names;
-    std::stringstream list(args.accels);
     const std::vector<std::string> known = accel_names();
+    std::string accels = args.accels;
+    if (accels.empty()) {
+        // Default: every structure but brute force, which takes hours on a large mesh.
+        for (size_t k = 1; k < known.size(); ++k) accels += (k > 1 ? "," : "") + known[k];
+    }
+    std::stringstream list(accels);
     for (std::string name; std::getline(list, name, ',');) {
         if (std::find(known.begin(), known.end(), name) == known.end()) {
-            throw Error(args.scene, "--accel", "unknown accelerator '" + name + "' (available: none, bvh)");
+            std::string available;
+            for (const std::string& k : known) available += (available.empty() ? "" : ", ") + k;
+            throw Error(args.scene, "--accel", "unknown accelerator '" + name + "' (available: " + available + ")");
         }
         names.push_back(name);
     }

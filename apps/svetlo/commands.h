@@ -28,7 +28,7 @@ struct InfoArgs {
 
 struct BenchArgs {
     std::string scene;
-    std::string accels = "none,bvh";
+    std::string accels;  // empty: every structure built in except brute force
     std::string rays = "primary";
     int threads = 0;
     int width = 0, height = 0;

@@ -39,7 +39,7 @@ int main(int argc, char** argv) {
     BenchArgs bench;
     CLI::App* b = app.add_subcommand("bench", "Trace the same rays through acceleration structures");
     b->add_option("scene", bench.scene, "Scene file (JSON)")->required();
-    b->add_option("--accel", bench.accels, "Comma-separated list: none, bvh");
+    b->add_option("--accel", bench.accels, "Comma-separated list of none, grid, octree, bvh2, bvh, embree (default: all built)");
     b->add_option("--rays", bench.rays, "primary or diffuse");
     b->add_option("-t,--threads", bench.threads, "Threads (0 = all cores)")->check(CLI::NonNegativeNumber);
     b->add_option("-W,--width", bench.width, "Film width (rays per row)")->check(CLI::PositiveNumber);

@@ -1,14 +1,26 @@
 #include "svetlo/rt/accel.h"
 
 #include "svetlo/rt/bvh.h"
+#include "svetlo/rt/embree_accel.h"
+#include "svetlo/rt/grid.h"
+#include "svetlo/rt/octree.h"
+#include "svetlo/rt/wide_bvh.h"
 
 namespace svetlo {
 
-std::vector<std::string> accel_names() { return {"none", "bvh"}; }
+std::vector<std::string> accel_names() {
+    std::vector<std::string> names = {"none", "grid", "octree", "bvh2", "bvh"};
+    if (embree_available()) names.push_back("embree");
+    return names;
+}
 
 std::unique_ptr<Accel> make_accel(std::string_view name, const Geometry& geometry, int threads) {
     if (name == "none") return std::make_unique<BruteForce>(geometry);
-    if (name == "bvh") return std::make_unique<Bvh>(geometry, threads);
+    if (name == "grid") return std::make_unique<Grid>(geometry);
+    if (name == "octree") return std::make_unique<Octree>(geometry);
+    if (name == "bvh2") return std::make_unique<Bvh>(geometry, threads);
+    if (name == "bvh") return std::make_unique<WideBvh>(geometry, threads);
+    if (name == "embree" && embree_available()) return make_embree_accel(geometry, threads);
     return nullptr;
 }
 

@@ -25,7 +25,7 @@ public:
 /// The names make_accel accepts, in the order `svetlo bench` lists them.
 std::vector<std::string> accel_names();
 
-/// Builds the structure called `name` ("none", "bvh") over `geometry`'s bounded primitives on
+/// Builds the structure called `name` (one of accel_names()) over `geometry`'s bounded primitives on
 /// `threads` threads (0 = all cores). Returns nullptr for an unknown name.
 std::unique_ptr<Accel> make_accel(std::string_view name, const Geometry& geometry, int threads = 0);
 

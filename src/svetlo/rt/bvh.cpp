@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "svetlo/core/parallel.h"
+#include "svetlo/rt/ray_box.h"
 
 namespace svetlo {
 
@@ -32,7 +33,7 @@ struct BuildRef {
 
 class Builder {
 public:
-    Builder(std::vector<BuildRef>& refs, BvhNode* nodes) : refs_(refs), nodes_(nodes) {}
+    Builder(LargeArray<BuildRef>& refs, BvhNode* nodes) : refs_(refs), nodes_(nodes) {}
 
     uint32_t node_count() const { return node_count_.load(); }
     int depth() const { return depth_.load(); }
@@ -107,21 +108,42 @@ private:
         int a = max_dimension(centroids.extent());
         float cmin = centroids.min[a];
         float scale = static_cast<float>(kBins) * 0.99999f / centroids.extent()[a];
-        __m128 bin_min[kBins], bin_max[kBins];
-        uint32_t bin_count[kBins] = {};
+        // Two interleaved sets of bins: consecutive primitives of a mesh often fall into the
+        // same bin, and one set would chain every update on the previous one.
+        __m128 bin_min[2][kBins], bin_max[2][kBins];
+        uint32_t bin_count[2][kBins] = {};
         for (int b = 0; b < kBins; ++b) {
-            bin_min[b] = _mm_set1_ps(kInfinity);
-            bin_max[b] = _mm_set1_ps(-kInfinity);
+            bin_min[0][b] = bin_min[1][b] = _mm_set1_ps(kInfinity);
+            bin_max[0][b] = bin_max[1][b] = _mm_set1_ps(-kInfinity);
         }
         const BuildRef* refs = refs_.data();
-        for (uint32_t k = begin; k < end; ++k) {
-            const BuildRef& r = refs[k];
+        auto bin_of = [&](const BuildRef& r) {
             float c = 0.5f * (r.min[a] + r.max[a]);
-            int b = std::min(kBins - 1, static_cast<int>((c - cmin) * scale));
+            return std::min(kBins - 1, static_cast<int>((c - cmin) * scale));
+        };
+        uint32_t k = begin;
+        for (; k + 1 < end; k += 2) {
             // Lane 3 holds the id or padding bits: never read back.
-            bin_min[b] = _mm_min_ps(bin_min[b], _mm_loadu_ps(&r.min.x));
-            bin_max[b] = _mm_max_ps(bin_max[b], _mm_loadu_ps(&r.max.x));
-            bin_count[b]++;
+            const BuildRef& r0 = refs[k];
+            const BuildRef& r1 = refs[k + 1];
+            int b0 = bin_of(r0), b1 = bin_of(r1);
+            bin_min[0][b0] = _mm_min_ps(bin_min[0][b0], _mm_loadu_ps(&r0.min.x));
+            bin_max[0][b0] = _mm_max_ps(bin_max[0][b0], _mm_loadu_ps(&r0.max.x));
+            bin_count[0][b0]++;
+            bin_min[1][b1] = _mm_min_ps(bin_min[1][b1], _mm_loadu_ps(&r1.min.x));
+            bin_max[1][b1] = _mm_max_ps(bin_max[1][b1], _mm_loadu_ps(&r1.max.x));
+            bin_count[1][b1]++;
+        }
+        if (k < end) {
+            int b0 = bin_of(refs[k]);
+            bin_min[0][b0] = _mm_min_ps(bin_min[0][b0], _mm_loadu_ps(&refs[k].min.x));
+            bin_max[0][b0] = _mm_max_ps(bin_max[0][b0], _mm_loadu_ps(&refs[k].max.x));
+            bin_count[0][b0]++;
+        }
+        for (int b = 0; b < kBins; ++b) {
+            bin_min[0][b] = _mm_min_ps(bin_min[0][b], bin_min[1][b]);
+            bin_max[0][b] = _mm_max_ps(bin_max[0][b], bin_max[1][b]);
+            bin_count[0][b] += bin_count[1][b];
         }
         // Sweep from the right, then from the left: cost of splitting after bin b.
         float right_cost[kBins];
@@ -133,9 +155,9 @@ private:
         };
         uint32_t count = 0;
         for (int b = kBins - 1; b > 0; --b) {
-            acc_min = _mm_min_ps(acc_min, bin_min[b]);
-            acc_max = _mm_max_ps(acc_max, bin_max[b]);
-            count += bin_count[b];
+            acc_min = _mm_min_ps(acc_min, bin_min[0][b]);
+            acc_max = _mm_max_ps(acc_max, bin_max[0][b]);
+            count += bin_count[0][b];
             right_cost[b] = count ? area(acc_min, acc_max) * static_cast<float>(count) : 0.0f;
         }
         float best_cost = kInfinity;
@@ -144,9 +166,9 @@ private:
         acc_max = _mm_set1_ps(-kInfinity);
         count = 0;
         for (int b = 0; b < kBins - 1; ++b) {
-            acc_min = _mm_min_ps(acc_min, bin_min[b]);
-            acc_max = _mm_max_ps(acc_max, bin_max[b]);
-            count += bin_count[b];
+            acc_min = _mm_min_ps(acc_min, bin_min[0][b]);
+            acc_max = _mm_max_ps(acc_max, bin_max[0][b]);
+            count += bin_count[0][b];
             if (count == 0 || count == n) continue;
             float cost = area(acc_min, acc_max) * static_cast<float>(count) + right_cost[b + 1];
             if (cost < best_cost) {
@@ -165,10 +187,8 @@ private:
             bounds_of(mid, end, rb, rc);
             return true;
         }
-        auto it = std::partition(refs_.begin() + begin, refs_.begin() + end, [&](const BuildRef& r) {
-            float c = 0.5f * (r.min[a] + r.max[a]);
-            return std::min(kBins - 1, static_cast<int>((c - cmin) * scale)) <= best_bin;
-        });
+        auto it = std::partition(refs_.begin() + begin, refs_.begin() + end,
+                                 [&](const BuildRef& r) { return bin_of(r) <= best_bin; });
         mid = static_cast<uint32_t>(it - refs_.begin());
         // Children's bounds from the bins; their centroid bounds are approximated by the
         // primitive bounds, which contain every centroid (binning only needs a range).
@@ -176,11 +196,11 @@ private:
         __m128 r_min = l_min, r_max = l_max;
         for (int b = 0; b < kBins; ++b) {
             if (b <= best_bin) {
-                l_min = _mm_min_ps(l_min, bin_min[b]);
-                l_max = _mm_max_ps(l_max, bin_max[b]);
+                l_min = _mm_min_ps(l_min, bin_min[0][b]);
+                l_max = _mm_max_ps(l_max, bin_max[0][b]);
             } else {
-                r_min = _mm_min_ps(r_min, bin_min[b]);
-                r_max = _mm_max_ps(r_max, bin_max[b]);
+                r_min = _mm_min_ps(r_min, bin_min[0][b]);
+                r_max = _mm_max_ps(r_max, bin_max[0][b]);
             }
         }
         auto to_bounds = [](__m128 lo, __m128 hi) {
@@ -194,30 +214,15 @@ private:
         return true;
     }
 
-    std::vector<BuildRef>& refs_;
+    LargeArray<BuildRef>& refs_;
     BvhNode* nodes_;  // room for 2 n - 1 nodes
     std::atomic<uint32_t> node_count_{0};
     std::atomic<int> depth_{0};
     tbb::task_group group_;
 };
 
-/// Slab test against a node's box: the entry distance, or infinity on a miss. The exit
-/// distance is enlarged by 1 + 2 gamma(3) to cover rounding (pbrt-v4, section 6.8.2).
-inline float box_entry(const BvhNode& node, vec3 o, vec3 inv_d, float tmax) {
-    constexpr float kRobust = 1.0f + 2.0f * 3.0f * 0x1p-24f / (1.0f - 3.0f * 0x1p-24f);
-    vec3 t0 = (node.min - o) * inv_d, t1 = (node.max - o) * inv_d;
-    vec3 tn = glm::min(t0, t1), tf = glm::max(t0, t1);
-    float enter = std::max(std::max(tn.x, tn.y), std::max(tn.z, 0.0f));
-    float exit = std::min(std::min(tf.x, tf.y), std::min(tf.z, tmax)) * kRobust;
-    return enter <= exit ? enter : kInfinity;
-}
-
-/// 1/d with zero components replaced by a huge finite value of the same sign, so that the
-/// slab test never computes 0 * infinity.
-inline vec3 safe_inverse(vec3 d) {
-    vec3 inv;
-    for (int k = 0; k < 3; ++k) inv[k] = d[k] != 0.0f ? 1.0f / d[k] : std::copysign(1e32f, d[k]);
-    return inv;
+inline float node_entry(const BvhNode& node, vec3 o, vec3 inv_d, float tmax) {
+    return box_entry(node.min, node.max, o, inv_d, tmax);
 }
 
 }  // namespace
@@ -225,23 +230,37 @@ inline vec3 safe_inverse(vec3 d) {
 Bvh::Bvh(const Geometry& geometry, int threads) : geometry_(geometry) {
     std::vector<uint32_t> ids = geometry.bounded_primitives();
     if (ids.empty()) return;
-    std::vector<BuildRef> refs(ids.size());
+    LargeArray<BuildRef> refs(ids.size());
+    // The references and their bounds, in parallel chunks merged in order.
+    int workers = resolve_threads(threads);
+    size_t chunks = std::min<size_t>(static_cast<size_t>(workers) * 4, (ids.size() + 4095) / 4096);
+    std::vector<Bounds3> chunk_bounds(chunks), chunk_centroids(chunks);
+    parallel_ranges(chunks, threads, [&](size_t c0, size_t c1) {
+        for (size_t c = c0; c < c1; ++c) {
+            Bounds3 b, cb;
+            for (size_t k = c * ids.size() / chunks; k < (c + 1) * ids.size() / chunks; ++k) {
+                Bounds3 pb = geometry.primitive_bounds(ids[k]);
+                refs[k] = BuildRef{pb.min, ids[k], pb.max, 0.0f};
+                b.extend(pb);
+                cb.extend(refs[k].centroid());
+            }
+            chunk_bounds[c] = b;
+            chunk_centroids[c] = cb;
+        }
+    });
     Bounds3 bounds, centroids;
-    for (size_t k = 0; k < ids.size(); ++k) {
-        Bounds3 b = geometry.primitive_bounds(ids[k]);
-        refs[k] = BuildRef{b.min, ids[k], b.max, 0.0f};
-        bounds.extend(b);
-        centroids.extend(refs[k].centroid());
+    for (size_t c = 0; c < chunks; ++c) {
+        bounds.extend(chunk_bounds[c]);
+        centroids.extend(chunk_centroids[c]);
     }
-    // Uninitialised room for the worst case (2 n - 1 nodes): untouched pages cost nothing,
-    // and only the nodes built are copied out.
-    std::unique_ptr<BvhNode[]> room(new BvhNode[2 * refs.size()]);
-    Builder builder(refs, room.get());
-    tbb::task_arena arena(resolve_threads(threads));
+    // Uninitialised room for the worst case (2 n - 1 nodes): untouched pages cost nothing.
+    nodes_ = LargeArray<BvhNode>(2 * refs.size());
+    Builder builder(refs, nodes_.data());
+    tbb::task_arena arena(workers);
     arena.execute([&] { builder.build_root(bounds, centroids); });
-    nodes_.assign(room.get(), room.get() + builder.node_count());
+    nodes_.truncate(builder.node_count());
     depth_ = builder.depth();
-    prims_.resize(refs.size());
+    prims_ = LargeArray<uint32_t>(refs.size());
     for (size_t k = 0; k < refs.size(); ++k) prims_[k] = refs[k].id;
 }
 
@@ -257,7 +276,7 @@ bool Bvh::intersect(const Ray& ray, Hit& hit) const {
     };
     Entry stack[kStackSize];
     int sp = 0;
-    if (box_entry(nodes_[0], ray.o, inv_d, hit.t) == kInfinity) return false;
+    if (node_entry(nodes_[0], ray.o, inv_d, hit.t) == kInfinity) return false;
     stack[sp++] = {0, 0.0f};
     bool found = false;
     while (sp > 0) {
@@ -267,8 +286,8 @@ bool Bvh::intersect(const Ray& ray, Hit& hit) const {
         while (node->count == 0) {
             const BvhNode& l = nodes_[node->first];
             const BvhNode& r = nodes_[node->first + 1];
-            float tl = box_entry(l, ray.o, inv_d, hit.t);
-            float tr = box_entry(r, ray.o, inv_d, hit.t);
+            float tl = node_entry(l, ray.o, inv_d, hit.t);
+            float tr = node_entry(r, ray.o, inv_d, hit.t);
             if (tl == kInfinity && tr == kInfinity) {
                 node = nullptr;
                 break;
@@ -299,7 +318,7 @@ bool Bvh::occluded(const Ray& ray) const {
     Hit hit;
     while (sp > 0) {
         const BvhNode& node = nodes_[stack[--sp]];
-        if (box_entry(node, ray.o, inv_d, ray.tmax) == kInfinity) continue;
+        if (node_entry(node, ray.o, inv_d, ray.tmax) == kInfinity) continue;
         if (node.count == 0) {
             stack[sp++] = node.first + 1;
             stack[sp++] = node.first;

@@ -6,8 +6,10 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
+#include "svetlo/core/large_array.h"
 #include "svetlo/rt/accel.h"
 
 namespace svetlo {
@@ -29,14 +31,14 @@ public:
         return nodes_.size() * sizeof(BvhNode) + prims_.size() * sizeof(uint32_t);
     }
 
-    const std::vector<BvhNode>& nodes() const { return nodes_; }
-    const std::vector<uint32_t>& primitives() const { return prims_; }
+    std::span<const BvhNode> nodes() const { return {nodes_.data(), nodes_.size()}; }
+    std::span<const uint32_t> primitives() const { return {prims_.data(), prims_.size()}; }
     int depth() const { return depth_; }
 
 private:
     const Geometry& geometry_;
-    std::vector<BvhNode> nodes_;
-    std::vector<uint32_t> prims_;  // primitive ids in leaf order
+    LargeArray<BvhNode> nodes_;    // room for 2 n - 1 nodes, truncated to those built
+    LargeArray<uint32_t> prims_;   // primitive ids in leaf order
     int depth_ = 0;
 };
 

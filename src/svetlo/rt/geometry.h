@@ -68,6 +68,7 @@ public:
         if (!intersect_shape(shape(id), ray, hit.t, t, part)) return false;
         hit.t = t;
         hit.prim = id;
+        hit.u = hit.v = 0.0f;
         hit.part = part;
         return true;
     }

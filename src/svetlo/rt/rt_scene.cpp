@@ -141,7 +141,11 @@ RtScene::RtScene(const Scene& scene, const std::string& accel, int threads) : sc
     }
     unbounded_ = geometry_.unbounded_primitives();
     accel_ = make_accel(accel, geometry_, threads);
-    if (!accel_) throw Error(scene.path.string(), "render.accel", "unknown accelerator '" + accel + "'");
+    if (!accel_) {
+        throw Error(scene.path.string(), "render.accel",
+                    accel == "embree" ? std::string("this svetlo was built without Embree")
+                                      : "unknown accelerator '" + accel + "'");
+    }
 }
 
 bool RtScene::intersect(const Ray& ray, Hit& hit) const {

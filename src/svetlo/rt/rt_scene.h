@@ -15,7 +15,7 @@ namespace svetlo {
 
 class RtScene {
 public:
-    /// Builds with the accelerator `accel` ("none", "bvh") on `threads` threads. Throws Error
+    /// Builds with the accelerator `accel` (see accel_names()) on `threads` threads. Throws Error
     /// for what the ray tracer cannot handle (an emissive shape under a non-uniform scale).
     RtScene(const Scene& scene, const std::string& accel, int threads);
 

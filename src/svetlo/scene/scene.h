@@ -192,7 +192,7 @@ struct RenderSettings {
     Color ambient{0.0f};
     Color background{0.0f};
     float exposure = 1.0f;
-    std::string accel = "bvh";  // none, bvh
+    std::string accel = "bvh";  // none, grid, octree, bvh2, bvh (wide), embree
     int light_samples = 1;      // shadow rays per area light and shading point
 };
 

@@ -5,6 +5,9 @@
 
 #include "svetlo/core/rng.h"
 #include "svetlo/rt/bvh.h"
+#include "svetlo/rt/grid.h"
+#include "svetlo/rt/octree.h"
+#include "svetlo/rt/wide_bvh.h"
 
 namespace svetlo {
 namespace {
@@ -41,9 +44,14 @@ Geometry random_geometry(int triangles, int shapes, uint64_t seed) {
     return g;
 }
 
-TEST(Bvh, SameHitsAsBruteForceOnRandomRays) {
+/// Every acceleration structure against brute force on the same random rays: the same hit
+/// distances and primitive ids (bit for bit), and the same answers to any-hit queries.
+class EveryAccel : public testing::TestWithParam<std::string> {};
+
+TEST_P(EveryAccel, SameHitsAsBruteForceOnRandomRays) {
     Geometry g = random_geometry(3000, 200, 42);
-    Bvh bvh(g, 2);
+    std::unique_ptr<Accel> accel = make_accel(GetParam(), g, 2);
+    ASSERT_TRUE(accel);
     BruteForce brute(g);
     Rng rng(7, 7);
     int hits = 0;
@@ -54,20 +62,51 @@ TEST(Bvh, SameHitsAsBruteForceOnRandomRays) {
         if (glm::length(d) == 0.0f) continue;
         Ray ray{o, glm::normalize(d), k % 5 == 0 ? 0.3f : kInfinity};
         Hit a, b;
-        bool ha = bvh.intersect(ray, a), hb = brute.intersect(ray, b);
+        bool ha = accel->intersect(ray, a), hb = brute.intersect(ray, b);
         ASSERT_EQ(ha, hb) << "ray " << k << " prim " << b.prim << " t " << b.t << " kind "
                           << (g.is_triangle(b.prim) ? -1 : static_cast<int>(g.shape(b.prim).kind))
-                          << " p " << glm::to_string(ray.o + b.t * ray.d) << " bounds "
-                          << glm::to_string(g.primitive_bounds(b.prim).min) << " "
-                          << glm::to_string(g.primitive_bounds(b.prim).max) << " part " << b.part;
+                          << " p " << glm::to_string(ray.o + b.t * ray.d) << " part " << b.part;
         if (ha) {
             ++hits;
             EXPECT_EQ(a.t, b.t) << "ray " << k;
             EXPECT_EQ(a.prim, b.prim) << "ray " << k;
+            EXPECT_EQ(a.u, b.u) << "ray " << k;
+            EXPECT_EQ(a.part, b.part) << "ray " << k;
         }
-        ASSERT_EQ(bvh.occluded(ray), hb) << "ray " << k;
+        ASSERT_EQ(accel->occluded(ray), hb) << "ray " << k;
     }
     EXPECT_GT(hits, 2000);  // the test exercises real hits
+}
+
+TEST_P(EveryAccel, EmptyAndDegenerateInputs) {
+    Geometry empty;
+    std::unique_ptr<Accel> none = make_accel(GetParam(), empty, 1);
+    Hit hit;
+    EXPECT_FALSE(none->intersect(Ray{}, hit));
+    EXPECT_FALSE(none->occluded(Ray{}));
+    Geometry g;  // 100 identical triangles in a plane: centroids coincide, bounds are flat
+    for (int k = 0; k < 100; ++k) {
+        g.positions.insert(g.positions.end(), {vec3(0, 0, 0), vec3(1, 0, 0), vec3(0, 1, 0)});
+        for (int v = 0; v < 3; ++v) g.indices.push_back(static_cast<uint32_t>(3 * k + v));
+        g.triangle_material.push_back(0);
+    }
+    std::unique_ptr<Accel> accel = make_accel(GetParam(), g, 1);
+    ASSERT_TRUE(accel->intersect(Ray{vec3(0.2f, 0.2f, 1.0f), vec3(0, 0, -1)}, hit));
+    EXPECT_EQ(hit.t, 1.0f);
+    EXPECT_LT(hit.prim, 100u);  // coincident triangles: any of them
+    EXPECT_FALSE(accel->intersect(Ray{vec3(0.8f, 0.8f, 1.0f), vec3(0, 0, -1)}, hit));
+    EXPECT_TRUE(accel->occluded(Ray{vec3(0.2f, 0.2f, -1.0f), vec3(0, 0, 1)}));
+}
+
+INSTANTIATE_TEST_SUITE_P(Accel, EveryAccel, testing::ValuesIn(accel_names()),
+                         [](const testing::TestParamInfo<std::string>& info) { return info.param; });
+
+TEST(Accel, NamesIncludeEveryStructure) {
+    std::vector<std::string> names = accel_names();
+    for (const char* name : {"none", "grid", "octree", "bvh2", "bvh"}) {
+        EXPECT_NE(std::find(names.begin(), names.end(), name), names.end()) << name;
+    }
+    EXPECT_EQ(make_accel("kd-tree", Geometry{}), nullptr);
 }
 
 TEST(Bvh, StructureIsValid) {

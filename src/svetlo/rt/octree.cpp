@@ -1,0 +1,165 @@
+#include "svetlo/rt/octree.h"
+
+#include <algorithm>
+
+#include "svetlo/rt/ray_box.h"
+
+namespace svetlo {
+
+namespace {
+
+constexpr uint32_t kMaxLeaf = 8;
+constexpr int kMaxDepth = 16;
+// Splitting stops where the children would list more than this many times the node's
+// primitives (large primitives straddling every split).
+constexpr size_t kMaxDuplication = 4;
+constexpr int kStackSize = 8 * kMaxDepth + 8;
+constexpr int64_t kMaxExtraReferences = 32 << 20;  // duplicated entries, all splits together
+
+Bounds3 child_box(const Bounds3& box, int child) {
+    vec3 mid = 0.5f * (box.min + box.max);
+    Bounds3 b;
+    for (int a = 0; a < 3; ++a) {
+        bool upper = (child >> a) & 1;
+        b.min[a] = upper ? mid[a] : box.min[a];
+        b.max[a] = upper ? box.max[a] : mid[a];
+    }
+    return b;
+}
+
+bool overlaps(const Bounds3& a, const Bounds3& b) {
+    return a.min.x <= b.max.x && a.max.x >= b.min.x && a.min.y <= b.max.y &&
+           a.max.y >= b.min.y && a.min.z <= b.max.z && a.max.z >= b.min.z;
+}
+
+}  // namespace
+
+Octree::Octree(const Geometry& geometry) : geometry_(geometry) {
+    std::vector<uint32_t> all = geometry.bounded_primitives();
+    if (all.empty()) return;
+    // Bounds indexed by primitive id (unbounded planes keep an empty box).
+    std::vector<Bounds3> bounds(geometry.primitive_count());
+    for (uint32_t id : all) {
+        bounds[id] = geometry.primitive_bounds(id);
+        bounds_.extend(bounds[id]);
+    }
+    reference_budget_ = kMaxExtraReferences;
+    nodes_.push_back({});
+    build(0, bounds_, all, bounds, 1);
+}
+
+void Octree::build(uint32_t node, const Bounds3& box, std::vector<uint32_t>& ids,
+                   const std::vector<Bounds3>& bounds, int depth) {
+    depth_ = std::max(depth_, depth);
+    auto make_leaf = [&] {
+        nodes_[node] = {static_cast<uint32_t>(prims_.size()), static_cast<uint32_t>(ids.size())};
+        prims_.insert(prims_.end(), ids.begin(), ids.end());
+    };
+    if (ids.size() <= kMaxLeaf || depth >= kMaxDepth) return make_leaf();
+    std::vector<uint32_t> children[8];
+    size_t listed = 0;
+    for (int c = 0; c < 8; ++c) {
+        Bounds3 cb = child_box(box, c);
+        for (uint32_t id : ids) {
+            if (overlaps(bounds[id], cb)) children[c].push_back(id);
+        }
+        listed += children[c].size();
+    }
+    bool progress = std::any_of(children, children + 8, [&](const auto& c) { return c.size() < ids.size(); });
+    if (!progress || listed > kMaxDuplication * ids.size()) return make_leaf();
+    // The duplicates of all splits share one budget, which bounds the memory on any input.
+    auto extra = static_cast<int64_t>(listed - ids.size());
+    if (extra > reference_budget_) return make_leaf();
+    reference_budget_ -= extra;
+    std::vector<uint32_t>().swap(ids);  // free the parent's list before recursing
+    auto first = static_cast<uint32_t>(nodes_.size());
+    nodes_[node] = {first, OctreeNode::kInner};
+    nodes_.resize(nodes_.size() + 8);
+    for (int c = 0; c < 8; ++c) build(first + c, child_box(box, c), children[c], bounds, depth + 1);
+}
+
+namespace {
+
+struct OctreeEntry {
+    uint32_t node;
+    float t;
+    Bounds3 box;
+};
+
+/// Pushes the children of `e` that the ray enters before tmax, nearest on top.
+template <class Nodes>
+void push_children(const Nodes& nodes, const OctreeEntry& e, const Ray& ray, vec3 inv_d,
+                   float tmax, OctreeEntry* stack, int& sp) {
+    OctreeEntry found[8];
+    int n = 0;
+    for (int c = 0; c < 8; ++c) {
+        uint32_t child = nodes[e.node].first + c;
+        if (nodes[child].count == 0) continue;
+        Bounds3 b = child_box(e.box, c);
+        float t = box_entry(b.min, b.max, ray.o, inv_d, tmax);
+        if (t == kInfinity) continue;
+        int k = n++;
+        while (k > 0 && found[k - 1].t < t) {  // sorted by decreasing entry
+            found[k] = found[k - 1];
+            --k;
+        }
+        found[k] = {child, t, b};
+    }
+    for (int k = 0; k < n; ++k) stack[sp++] = found[k];
+}
+
+}  // namespace
+
+bool Octree::intersect(const Ray& ray, Hit& hit) const {
+    hit = Hit{};
+    hit.t = ray.tmax;
+    if (nodes_.empty()) return false;
+    RayPrecomputed pre(ray);
+    vec3 inv_d = safe_inverse(ray.d);
+    float t = box_entry(bounds_.min, bounds_.max, ray.o, inv_d, hit.t);
+    if (t == kInfinity) return false;
+    OctreeEntry stack[kStackSize];
+    int sp = 0;
+    stack[sp++] = {0, t, bounds_};
+    bool found = false;
+    while (sp > 0) {
+        OctreeEntry e = stack[--sp];
+        if (e.t > hit.t) continue;
+        const OctreeNode& node = nodes_[e.node];
+        if (node.count == OctreeNode::kInner) {
+            push_children(nodes_, e, ray, inv_d, hit.t, stack, sp);
+            continue;
+        }
+        for (uint32_t k = node.first; k < node.first + node.count; ++k) {
+            found |= geometry_.intersect(prims_[k], ray, pre, hit);
+        }
+    }
+    return found;
+}
+
+bool Octree::occluded(const Ray& ray) const {
+    if (nodes_.empty()) return false;
+    RayPrecomputed pre(ray);
+    vec3 inv_d = safe_inverse(ray.d);
+    float t = box_entry(bounds_.min, bounds_.max, ray.o, inv_d, ray.tmax);
+    if (t == kInfinity) return false;
+    OctreeEntry stack[kStackSize];
+    int sp = 0;
+    stack[sp++] = {0, t, bounds_};
+    while (sp > 0) {
+        OctreeEntry e = stack[--sp];
+        const OctreeNode& node = nodes_[e.node];
+        if (node.count == OctreeNode::kInner) {
+            push_children(nodes_, e, ray, inv_d, ray.tmax, stack, sp);
+            continue;
+        }
+        for (uint32_t k = node.first; k < node.first + node.count; ++k) {
+            Hit hit;
+            hit.t = ray.tmax;
+            if (geometry_.intersect(prims_[k], ray, pre, hit)) return true;
+        }
+    }
+    return false;
+}
+
+}  // namespace svetlo
