@@ -32,10 +32,10 @@ demo: build
 bench: build
 	$(BUILD)/bench/svetlo_bench
 	$(SVETLO) bench scenes/bunny.json --accel none,bvh --rays primary --threads 1 -W 64 -H 40
-	$(SVETLO) bench scenes/bunny.json --accel bvh --rays primary --threads 1
-	$(SVETLO) bench scenes/bunny.json --accel bvh --rays primary --threads $(JOBS)
-	$(SVETLO) bench scenes/bunny.json --accel bvh --rays diffuse --threads 1
-	$(SVETLO) bench scenes/bunny.json --accel bvh --rays diffuse --threads $(JOBS)
+	$(SVETLO) bench scenes/bunny.json --rays primary --threads 1
+	$(SVETLO) bench scenes/bunny.json --rays primary --threads $(JOBS)
+	$(SVETLO) bench scenes/bunny.json --rays diffuse --threads 1
+	$(SVETLO) bench scenes/bunny.json --rays diffuse --threads $(JOBS)
 
 format:
 	clang-format -i $$(git ls-files '*.cpp' '*.h')

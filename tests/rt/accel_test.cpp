@@ -41,6 +41,24 @@ Geometry random_geometry(int triangles, int shapes, uint64_t seed) {
         }
         g.shapes.push_back(make_analytic_shape(s, t, 0));
     }
+    // A few CSG and implicit shapes: their bounds must hold them for every structure.
+    for (int k = 0; k < shapes / 20; ++k) {
+        vec3 c(rnd(), rnd(), rnd());
+        Object body, cut;
+        body.shape = Sphere{c, 0.04f};
+        body.material = cut.material = 0;
+        cut.shape = Box{c, c + vec3(0.05f)};
+        g.shapes.push_back(make_analytic_shape(Csg{CsgOp::Difference, {body, cut}}, Transform{}, 0));
+        SdfNode a, b, blend;
+        a.op = b.op = SdfOp::Sphere;
+        a.a = c + vec3(0.0f, 0.0f, 0.1f);
+        b.a = c + vec3(0.03f, 0.0f, 0.1f);
+        a.r1 = b.r1 = 0.02f;
+        blend.op = SdfOp::Union;
+        blend.smooth = 0.02f;
+        blend.children = {a, b};
+        g.shapes.push_back(make_analytic_shape(Implicit{blend}, Transform{}, 0));
+    }
     return g;
 }
 
@@ -99,7 +117,7 @@ TEST_P(EveryAccel, EmptyAndDegenerateInputs) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Accel, EveryAccel, testing::ValuesIn(accel_names()),
-                         [](const testing::TestParamInfo<std::string>& info) { return info.param; });
+                         [](const testing::TestParamInfo<std::string>& param) { return param.param; });
 
 TEST(Accel, NamesIncludeEveryStructure) {
     std::vector<std::string> names = accel_names();

@@ -14,9 +14,10 @@ struct Probe {
 Probe probe(const Shape& shape, const Ray& ray, Transform transform = {}) {
     AnalyticShape s = make_analytic_shape(shape, transform, 0);
     Probe p{};
-    int part = 0;
-    p.hit = intersect_shape(s, ray, ray.tmax, p.t, part);
-    if (p.hit) p.surface = shape_surface(s, ray, p.t, part);
+    ShapeHit h;
+    p.hit = intersect_shape(s, ray, ray.tmax, h);
+    p.t = h.t;
+    if (p.hit) p.surface = shape_surface(s, ray, h);
     return p;
 }
 

@@ -151,5 +151,65 @@ TEST(SceneLoader, ReadsFilesAndReportsSyntaxErrorsWithLineAndColumn) {
     EXPECT_THROW(load_scene(dir / "missing.json"), Error);
 }
 
+TEST(SceneLoader, CsgAndImplicitTrees) {
+    json j = minimal();
+    j["objects"] = json::parse(R"([
+      {"type": "csg", "op": "difference", "material": "white", "transform": {"translate": [1, 0, 0]},
+       "children": [
+         {"type": "box", "min": [-1, -1, -1], "max": [1, 1, 1]},
+         {"type": "csg", "op": "union", "children": [
+           {"type": "sphere", "center": [0, 1, 0], "radius": 0.5},
+           {"type": "cylinder", "base": [0, -2, 0], "axis": [0, 4, 0], "radius": 0.2}]}]},
+      {"type": "implicit", "material": "white",
+       "sdf": {"op": "union", "smooth": 0.2, "children": [
+         {"op": "sphere", "center": [0, 0, 0], "radius": 1},
+         {"op": "torus", "center": [0, 0, 0], "major_radius": 1, "minor_radius": 0.2,
+          "transform": {"scale": 2}}]}}
+    ])");
+    Scene s = scene_from_json(j, "s.json");
+    ASSERT_EQ(s.objects.size(), 2u);
+    const Csg& csg = std::get<Csg>(s.objects[0].shape);
+    EXPECT_EQ(csg.op, CsgOp::Difference);
+    ASSERT_EQ(csg.children.size(), 2u);
+    EXPECT_EQ(csg.children[0].material, 0);  // inherited from the node
+    const Csg& inner = std::get<Csg>(csg.children[1].shape);
+    EXPECT_EQ(inner.children.size(), 2u);
+    const Implicit& imp = std::get<Implicit>(s.objects[1].shape);
+    EXPECT_EQ(imp.root.op, SdfOp::Union);
+    EXPECT_EQ(imp.root.smooth, 0.2f);
+    EXPECT_EQ(imp.root.children[1].transform[0][0], 2.0f);
+}
+
+TEST(SceneLoader, CsgAndImplicitErrorsNameThePlace) {
+    json j = minimal();
+    j["objects"] = json::parse(R"([{"type": "csg", "op": "xor", "material": "white", "children": []}])");
+    EXPECT_NE(error_of(j).find("objects[0].op: unknown value 'xor'"), std::string::npos);
+    j["objects"] = json::parse(R"([{"type": "csg", "op": "union", "material": "white", "children": []}])");
+    EXPECT_EQ(error_of(j), "objects[0].children: must be a non-empty array of objects");
+    j["objects"] = json::parse(R"([{"type": "csg", "op": "union", "material": "white", "children": [
+        {"type": "quad", "corner": [0, 0, 0], "edge_u": [1, 0, 0], "edge_v": [0, 1, 0]}]}])");
+    EXPECT_NE(error_of(j).find("objects[0].children[0].type: a CSG child must be a closed shape"), std::string::npos);
+    j["objects"] = json::parse(R"([{"type": "csg", "op": "union", "children": [
+        {"type": "sphere", "center": [0, 0, 0], "radius": 1}]}])");
+    EXPECT_EQ(error_of(j), "objects[0].children[0].material: missing key");
+    j["objects"] = json::parse(R"([{"type": "csg", "op": "union", "material": "white", "children": [
+        {"type": "sphere", "center": [0, 0, 0], "radius": -1}]}])");
+    EXPECT_EQ(error_of(j), "objects[0].children[0].radius: must be > 0 (is -1)");
+    j["objects"] = json::parse(R"([{"type": "implicit", "material": "white",
+        "sdf": {"op": "union", "children": [{"op": "blob", "radius": 1}]}}])");
+    EXPECT_NE(error_of(j).find("objects[0].sdf.children[0].op: unknown value 'blob'"), std::string::npos);
+    j["objects"] = json::parse(R"([{"type": "implicit", "material": "white",
+        "sdf": {"op": "rounded_box", "min": [0, 0, 0], "max": [1, 1, 1], "radius": 0.8}}])");
+    EXPECT_EQ(error_of(j), "objects[0].sdf.radius: must be at most half the smallest edge");
+    j["objects"] = json::parse(R"([{"type": "implicit", "material": "white",
+        "sdf": {"op": "sphere", "center": [0, 0, 0], "radius": 1, "smooth": 2}}])");
+    EXPECT_NE(error_of(j).find("objects[0].sdf.smooth: unknown key"), std::string::npos);
+    // Hostile nesting is refused, not recursed into without end.
+    json deep = json::parse(R"({"op": "sphere", "center": [0, 0, 0], "radius": 1})");
+    for (int k = 0; k < 100; ++k) deep = json{{"op", "union"}, {"children", json::array({deep})}};
+    j["objects"] = json::array({json{{"type", "implicit"}, {"material", "white"}, {"sdf", deep}}});
+    EXPECT_NE(error_of(j).find("nested deeper than 64"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace svetlo

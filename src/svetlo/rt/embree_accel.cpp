@@ -39,13 +39,12 @@ void shape_intersect_cb(const RTCIntersectFunctionNArguments* args) {
     const auto* table = static_cast<const ShapeTable*>(args->geometryUserPtr);
     auto* rh = reinterpret_cast<RTCRayHit*>(args->rayhit);
     Ray ray = to_ray(rh->ray);
-    float t;
-    int part;
+    ShapeHit sh;
     const Geometry& g = *table->geometry;
-    if (!intersect_shape(g.shape(table->ids[args->primID]), ray, rh->ray.tfar, t, part)) return;
-    if (t < rh->ray.tnear) return;
-    rh->ray.tfar = t;
-    rh->hit.u = static_cast<float>(part);
+    if (!intersect_shape(g.shape(table->ids[args->primID]), ray, rh->ray.tfar, sh)) return;
+    if (sh.t < rh->ray.tnear) return;
+    rh->ray.tfar = sh.t;
+    rh->hit.u = 0.0f;  // svetlo re-evaluates the winning primitive
     rh->hit.v = 0.0f;
     rh->hit.Ng_x = rh->hit.Ng_y = rh->hit.Ng_z = 0.0f;
     rh->hit.primID = args->primID;
@@ -57,10 +56,9 @@ void shape_occluded_cb(const RTCOccludedFunctionNArguments* args) {
     if (!args->valid[0]) return;
     const auto* table = static_cast<const ShapeTable*>(args->geometryUserPtr);
     auto* r = reinterpret_cast<RTCRay*>(args->ray);
-    float t;
-    int part;
+    ShapeHit sh;
     const Geometry& g = *table->geometry;
-    if (intersect_shape(g.shape(table->ids[args->primID]), to_ray(*r), r->tfar, t, part) && t >= r->tnear) {
+    if (intersect_shape(g.shape(table->ids[args->primID]), to_ray(*r), r->tfar, sh) && sh.t >= r->tnear) {
         r->tfar = -std::numeric_limits<float>::infinity();
     }
 }
@@ -138,7 +136,7 @@ public:
             hit.prim = prim;
             hit.u = rh.hit.u;
             hit.v = rh.hit.v;
-            hit.part = geometry_.is_triangle(prim) ? 0 : static_cast<int>(rh.hit.u);
+            hit.part = 0;
         }
         return true;
     }

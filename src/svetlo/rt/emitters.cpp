@@ -117,7 +117,10 @@ EmitterSample sample_emitter(const Emitter& emitter, const Geometry& g, vec2 u, 
         n = glm::normalize(shape.normal_to_world * n);
     }
     // shape_surface recomputes uv (and projects p onto the surface) from the point alone.
-    ShapeSurface surface = shape_surface(shape, Ray{p, vec3(0.0f), 0.0f}, 0.0f, part);
+    ShapeHit at;
+    at.t = 0.0f;
+    at.part = part;
+    ShapeSurface surface = shape_surface(shape, Ray{p, vec3(0.0f), 0.0f}, at);
     s.p = surface.p;
     s.n = n;
     s.uv = surface.uv;

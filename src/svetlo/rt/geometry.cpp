@@ -2,11 +2,21 @@
 
 namespace svetlo {
 
+namespace {
+
+bool is_bounded(const AnalyticShape& s) {
+    if (s.kind == ShapeKind::Plane) return false;
+    Bounds3 b = shape_bounds(s);
+    return std::isfinite(b.min.x + b.min.y + b.min.z + b.max.x + b.max.y + b.max.z);
+}
+
+}  // namespace
+
 std::vector<uint32_t> Geometry::bounded_primitives() const {
     std::vector<uint32_t> ids;
     ids.reserve(primitive_count());
     for (uint32_t id = 0; id < primitive_count(); ++id) {
-        if (is_triangle(id) || shape(id).kind != ShapeKind::Plane) ids.push_back(id);
+        if (is_triangle(id) || is_bounded(shape(id))) ids.push_back(id);
     }
     return ids;
 }
@@ -14,7 +24,7 @@ std::vector<uint32_t> Geometry::bounded_primitives() const {
 std::vector<uint32_t> Geometry::unbounded_primitives() const {
     std::vector<uint32_t> ids;
     for (uint32_t id = triangle_count(); id < primitive_count(); ++id) {
-        if (shape(id).kind == ShapeKind::Plane) ids.push_back(id);
+        if (!is_bounded(shape(id))) ids.push_back(id);
     }
     return ids;
 }
@@ -30,10 +40,18 @@ SurfaceHit Geometry::surface(const Ray& ray, const Hit& hit) const {
     SurfaceHit s;
     s.material = material(hit.prim);
     if (!is_triangle(hit.prim)) {
-        ShapeSurface ss = shape_surface(shape(hit.prim), ray, hit.t, hit.part);
+        ShapeHit sh;
+        sh.t = hit.t;
+        sh.part = hit.part;
+        sh.sub = hit.sub;
+        sh.u = hit.u;
+        sh.v = hit.v;
+        ShapeSurface ss = shape_surface(shape(hit.prim), ray, sh);
         s.p = ss.p;
-        s.ng = s.ns = ss.n;
+        s.ng = ss.n;
+        s.ns = ss.ns;
         s.uv = ss.uv;
+        s.material = ss.material;
         return s;
     }
     const uint32_t* tri = &indices[3 * static_cast<size_t>(hit.prim)];

@@ -36,6 +36,7 @@ public:
     }
     bool is_triangle(uint32_t id) const { return id < triangle_count(); }
     const AnalyticShape& shape(uint32_t id) const { return shapes[id - triangle_count()]; }
+    /// The material of a primitive; a CSG shape's leaves may differ (SurfaceHit has the one hit).
     uint32_t material(uint32_t id) const {
         return is_triangle(id) ? triangle_material[id] : shape(id).material;
     }
@@ -61,15 +62,17 @@ public:
             hit.u = b1;
             hit.v = b2;
             hit.part = 0;
+            hit.sub = 0;
             return true;
         }
-        float t;
-        int part;
-        if (!intersect_shape(shape(id), ray, hit.t, t, part)) return false;
-        hit.t = t;
+        ShapeHit sh;
+        if (!intersect_shape(shape(id), ray, hit.t, sh)) return false;
+        hit.t = sh.t;
         hit.prim = id;
-        hit.u = hit.v = 0.0f;
-        hit.part = part;
+        hit.u = sh.u;
+        hit.v = sh.v;
+        hit.part = sh.part;
+        hit.sub = sh.sub;
         return true;
     }
 

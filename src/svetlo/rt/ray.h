@@ -20,6 +20,7 @@ struct Hit {
     uint32_t prim = ~0u;  // primitive id (see Geometry)
     float u = 0.0f, v = 0.0f;  // barycentrics of vertices 1 and 2 for triangles
     int part = 0;              // which face or surface of an analytic shape
+    uint32_t sub = 0;          // the leaf of a CSG shape (see ShapeHit)
     bool valid() const { return prim != ~0u; }
 };
 

@@ -117,8 +117,11 @@ Geometry build_geometry(const Scene& scene, std::vector<Material>& materials,
             }
         } else {
             uint32_t id = shape_id++;
-            if (!emits(materials[static_cast<size_t>(obj.material)])) continue;
             const AnalyticShape& s = g.shape(id);
+            // CSG and implicit surfaces glow where seen but are not sampled as lights (their
+            // surface area has no closed form); docs/scene-format.md says so.
+            if (s.kind == ShapeKind::Csg || s.kind == ShapeKind::Implicit) continue;
+            if (!emits(materials[static_cast<size_t>(obj.material)])) continue;
             if (s.kind == ShapeKind::Plane) {
                 throw Error(scene.path.string(), obj.name,
                             "an emissive plane is infinite and cannot be a light; use a quad");

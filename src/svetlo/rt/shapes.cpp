@@ -1,5 +1,8 @@
 #include "svetlo/rt/shapes.h"
 
+#include "svetlo/rt/csg.h"
+#include "svetlo/rt/sdf.h"
+
 namespace svetlo {
 
 namespace {
@@ -66,9 +69,11 @@ bool hit_plane(const AnalyticShape& s, const Ray& r, float tmax, float& t) {
     return true;
 }
 
-bool hit_box(const AnalyticShape& s, const Ray& r, float tmax, float& t, int& part) {
-    float t_near = -kInfinity, t_far = kInfinity;
-    int near_face = 0, far_face = 0;
+/// The slab interval of a box over the whole line, with the faces of entry and exit.
+bool box_interval(const AnalyticShape& s, const Ray& r, float& t_near, int& near_face, float& t_far, int& far_face) {
+    t_near = -kInfinity;
+    t_far = kInfinity;
+    near_face = far_face = 0;
     for (int k = 0; k < 3; ++k) {
         float inv = 1.0f / r.d[k];
         float ta = (s.p0[k] - r.o[k]) * inv, tb = (s.p1[k] - r.o[k]) * inv;
@@ -87,7 +92,13 @@ bool hit_box(const AnalyticShape& s, const Ray& r, float tmax, float& t, int& pa
             far_face = fb;
         }
     }
-    if (t_near > t_far) return false;
+    return t_near <= t_far;
+}
+
+bool hit_box(const AnalyticShape& s, const Ray& r, float tmax, float& t, int& part) {
+    float t_near, t_far;
+    int near_face, far_face;
+    if (!box_interval(s, r, t_near, near_face, t_far, far_face)) return false;
     if (t_near > 0.0f && t_near < tmax) {
         t = t_near;
         part = near_face;
@@ -101,20 +112,14 @@ bool hit_box(const AnalyticShape& s, const Ray& r, float tmax, float& t, int& pa
     return false;
 }
 
-/// Cylinder (cone = false) or cone (cone = true) in its axis frame: z from 0 to h.
-/// Parts: 0 lateral surface, 1 base cap (z = 0), 2 top cap (z = h, cylinder only).
-bool hit_quadric(const AnalyticShape& s, const Ray& r, float tmax, float& t, int& part, bool cone) {
+/// Every point where the line o + t d (in the shape's space) crosses the surface of a
+/// cylinder (cone = false) or cone (cone = true) in its axis frame, z from 0 to h, passed to
+/// `visit(t, part)` for t of any sign. Parts: 0 lateral surface, 1 base cap (z = 0), 2 top
+/// cap (z = h, cylinder only).
+template <class Visit>
+void quadric_crossings(const AnalyticShape& s, const Ray& r, bool cone, Visit&& visit) {
     vec3 o = s.frame.to_local(r.o - s.p0), d = s.frame.to_local(r.d);
     float h = s.height, rad = s.radius;
-    float best = tmax;
-    bool found = false;
-    auto consider = [&](float tt, int p) {
-        if (tt > 0.0f && tt < best) {
-            best = tt;
-            part = p;
-            found = true;
-        }
-    };
     float a, b, c;
     if (!cone) {
         a = d.x * d.x + d.y * d.y;
@@ -132,22 +137,34 @@ bool hit_quadric(const AnalyticShape& s, const Ray& r, float tmax, float& t, int
         if (solve_quadratic(a, b, c, b * b - a * c, t0, t1)) {
             for (float tt : {t0, t1}) {
                 float z = o.z + tt * d.z;
-                if (z >= 0.0f && z <= h) consider(tt, 0);
+                if (z >= 0.0f && z <= h) visit(tt, 0);
             }
         }
     } else if (cone && b != 0.0f) {  // ray parallel to a generator line: one root
         float tt = -c / (2.0f * b);
         float z = o.z + tt * d.z;
-        if (z >= 0.0f && z <= h) consider(tt, 0);
+        if (z >= 0.0f && z <= h) visit(tt, 0);
     }
     if (d.z != 0.0f) {
         for (int cap = 1; cap <= (cone ? 1 : 2); ++cap) {
             float zc = cap == 1 ? 0.0f : h;
             float tt = (zc - o.z) / d.z;
             float x = o.x + tt * d.x, y = o.y + tt * d.y;
-            if (x * x + y * y <= rad * rad) consider(tt, cap);
+            if (x * x + y * y <= rad * rad) visit(tt, cap);
         }
     }
+}
+
+bool hit_quadric(const AnalyticShape& s, const Ray& r, float tmax, float& t, int& part, bool cone) {
+    float best = tmax;
+    bool found = false;
+    quadric_crossings(s, r, cone, [&](float tt, int p) {
+        if (tt > 0.0f && tt < best) {
+            best = tt;
+            part = p;
+            found = true;
+        }
+    });
     if (found) t = best;
     return found;
 }
@@ -190,6 +207,14 @@ AnalyticShape make_analytic_shape(const Shape& shape, const Transform& transform
         s.radius = cy->radius;
         s.height = glm::length(cy->axis);
         s.frame = Frame::from_normal(cy->axis / s.height);
+    } else if (const auto* csg = std::get_if<Csg>(&shape)) {
+        s.kind = ShapeKind::Csg;
+        s.csg = std::make_shared<const CsgShape>(*csg, transform, material);
+        s.transformed = false;  // the tree holds world-space leaves
+    } else if (const auto* imp = std::get_if<Implicit>(&shape)) {
+        s.kind = ShapeKind::Implicit;
+        s.sdf = std::make_shared<const SdfShape>(imp->root, transform.matrix);
+        s.transformed = false;
     } else if (const auto* co = std::get_if<Cone>(&shape)) {
         s.kind = ShapeKind::Cone;
         s.p0 = co->base;
@@ -212,6 +237,8 @@ Bounds3 shape_bounds(const AnalyticShape& s) {
             for (vec3 p : {s.p0, s.p0 + s.p1, s.p0 + s.p2, s.p0 + s.p1 + s.p2}) local.extend(p);
             return local;  // already world space
         case ShapeKind::Plane: return Bounds3{vec3(-kInfinity), vec3(kInfinity)};
+        case ShapeKind::Csg: return s.csg->bounds();
+        case ShapeKind::Implicit: return s.sdf->bounds();
         case ShapeKind::Box:
             local.extend(s.p0);
             local.extend(s.p1);
@@ -238,24 +265,81 @@ Bounds3 shape_bounds(const AnalyticShape& s) {
     return world;
 }
 
-bool intersect_shape(const AnalyticShape& s, const Ray& ray, float tmax, float& t, int& part) {
-    part = 0;
+bool intersect_shape(const AnalyticShape& s, const Ray& ray, float tmax, ShapeHit& hit) {
+    hit.part = 0;
+    hit.sub = 0;
+    hit.u = hit.v = 0.0f;
     switch (s.kind) {
-        case ShapeKind::Quad: return hit_quad(s, ray, tmax, t);
-        case ShapeKind::Plane: return hit_plane(s, ray, tmax, t);
+        case ShapeKind::Quad: return hit_quad(s, ray, tmax, hit.t);
+        case ShapeKind::Plane: return hit_plane(s, ray, tmax, hit.t);
+        case ShapeKind::Csg: return s.csg->intersect(ray, tmax, hit);
+        case ShapeKind::Implicit: return s.sdf->intersect(ray, tmax, hit.t);
         default: break;
     }
     Ray r = local_ray(s, ray);
     switch (s.kind) {
-        case ShapeKind::Sphere: return hit_sphere(s, r, tmax, t);
-        case ShapeKind::Box: return hit_box(s, r, tmax, t, part);
-        case ShapeKind::Cylinder: return hit_quadric(s, r, tmax, t, part, false);
-        case ShapeKind::Cone: return hit_quadric(s, r, tmax, t, part, true);
+        case ShapeKind::Sphere: return hit_sphere(s, r, tmax, hit.t);
+        case ShapeKind::Box: return hit_box(s, r, tmax, hit.t, hit.part);
+        case ShapeKind::Cylinder: return hit_quadric(s, r, tmax, hit.t, hit.part, false);
+        case ShapeKind::Cone: return hit_quadric(s, r, tmax, hit.t, hit.part, true);
         default: return false;
     }
 }
 
-ShapeSurface shape_surface(const AnalyticShape& s, const Ray& ray, float t, int part) {
+bool shape_interval(const AnalyticShape& s, const Ray& ray, float& t0, int& part0, float& t1, int& part1) {
+    Ray r = local_ray(s, ray);
+    part0 = part1 = 0;
+    switch (s.kind) {
+        case ShapeKind::Sphere: {
+            vec3 oc = r.o - s.p0;
+            float a = glm::dot(r.d, r.d);
+            float h = glm::dot(oc, r.d);
+            float c = glm::dot(oc, oc) - s.radius * s.radius;
+            vec3 l = oc - (h / a) * r.d;
+            return solve_quadratic(a, h, c, a * (s.radius * s.radius - glm::dot(l, l)), t0, t1);
+        }
+        case ShapeKind::Box: return box_interval(s, r, t0, part0, t1, part1);
+        case ShapeKind::Cylinder:
+        case ShapeKind::Cone: {
+            t0 = kInfinity;
+            t1 = -kInfinity;
+            quadric_crossings(s, r, s.kind == ShapeKind::Cone, [&](float t, int part) {
+                if (t < t0) {
+                    t0 = t;
+                    part0 = part;
+                }
+                if (t > t1) {
+                    t1 = t;
+                    part1 = part;
+                }
+            });
+            return t0 <= t1;
+        }
+        default: return false;
+    }
+}
+
+bool shape_contains(const AnalyticShape& s, vec3 pw) {
+    if (s.kind == ShapeKind::Csg) return s.csg->contains(pw);
+    if (s.kind == ShapeKind::Implicit) return s.sdf->eval(pw) < 0.0f;
+    vec3 p = s.transformed ? vec3(s.to_local * vec4(pw, 1.0f)) : pw;
+    switch (s.kind) {
+        case ShapeKind::Sphere: return glm::dot(p - s.p0, p - s.p0) < s.radius * s.radius;
+        case ShapeKind::Box: return glm::all(glm::greaterThan(p, s.p0)) && glm::all(glm::lessThan(p, s.p1));
+        case ShapeKind::Cylinder:
+        case ShapeKind::Cone: {
+            vec3 q = s.frame.to_local(p - s.p0);
+            if (!(q.z > 0.0f && q.z < s.height)) return false;
+            float r = s.kind == ShapeKind::Cylinder ? s.radius : s.radius * (1.0f - q.z / s.height);
+            return q.x * q.x + q.y * q.y < r * r;
+        }
+        default: return false;
+    }
+}
+
+namespace {
+
+ShapeSurface analytic_surface(const AnalyticShape& s, const Ray& ray, float t, int part) {
     ShapeSurface out;
     vec3 pw = ray.o + t * ray.d;
     if (s.kind == ShapeKind::Quad) {
@@ -326,6 +410,24 @@ ShapeSurface shape_surface(const AnalyticShape& s, const Ray& ray, float t, int 
     return out;
 }
 
+}  // namespace
+
+ShapeSurface shape_surface(const AnalyticShape& s, const Ray& ray, const ShapeHit& hit) {
+    ShapeSurface out;
+    switch (s.kind) {
+        case ShapeKind::Csg: return s.csg->surface(ray, hit);
+        case ShapeKind::Implicit:
+            out = s.sdf->surface(ray, hit.t);
+            out.material = s.material;
+            return out;
+        default:
+            out = analytic_surface(s, ray, hit.t, hit.part);
+            out.ns = out.n;
+            out.material = s.material;
+            return out;
+    }
+}
+
 float shape_area(const AnalyticShape& s) {
     float scale2 = 1.0f;  // area scale of a similarity transform
     if (s.transformed) scale2 = std::pow(std::abs(glm::determinant(mat3(s.to_world))), 2.0f / 3.0f);
@@ -342,6 +444,8 @@ float shape_area(const AnalyticShape& s) {
         case ShapeKind::Cone:
             return scale2 * (kPi * s.radius * std::sqrt(s.radius * s.radius + s.height * s.height) +
                              kPi * s.radius * s.radius);
+        case ShapeKind::Csg:
+        case ShapeKind::Implicit: return 0.0f;  // not sampled as lights
     }
     return 0.0f;
 }

@@ -184,15 +184,100 @@ Transform parse_transform(const JsonNode& node) {
     return t;
 }
 
-void parse_object(const JsonNode& node, Scene& scene) {
+namespace {
+
+constexpr int kMaxTreeDepth = 64;  // CSG and SDF nesting: deeper trees are refused
+
+Object parse_object_node(const JsonNode& node, Scene& scene, int inherited_material, int depth);
+
+/// The children of a CSG node, which must be closed shapes.
+Csg parse_csg(const JsonNode& node, Scene& scene, int material, int depth) {
+    Csg csg;
+    std::string op = node.at("op").as_choice({"union", "intersection", "difference"});
+    csg.op = op == "union" ? CsgOp::Union : op == "intersection" ? CsgOp::Intersection : CsgOp::Difference;
+    JsonNode children = node.at("children");
+    if (!children.is_array() || children.size() == 0) children.fail("must be a non-empty array of objects");
+    for (size_t k = 0; k < children.size(); ++k) {
+        JsonNode child = children.at(k);
+        if (!child.is_object()) child.fail("must be an object");
+        std::string type = child.at("type").as_string();
+        if (type == "quad" || type == "plane" || type == "implicit") {
+            child.at("type").fail("a CSG child must be a closed shape (sphere, box, cylinder, cone, "
+                                  "mesh or csg), not '" + type + "'");
+        }
+        csg.children.push_back(parse_object_node(child, scene, material, depth + 1));
+    }
+    return csg;
+}
+
+SdfNode parse_sdf(const JsonNode& node, int depth) {
+    if (depth > kMaxTreeDepth) node.fail("SDF tree nested deeper than " + std::to_string(kMaxTreeDepth));
+    if (!node.is_object()) node.fail("must be an object with an \"op\"");
+    SdfNode n;
+    std::string op = node.at("op").as_choice({"sphere", "box", "rounded_box", "torus", "cylinder",
+                                              "plane", "union", "intersection", "difference"});
+    if (auto t = node.find("transform")) n.transform = parse_transform(*t).matrix;
+    auto box = [&] {
+        n.a = node.at("min").as_vec3();
+        n.b = node.at("max").as_vec3();
+        if (!(n.a.x < n.b.x && n.a.y < n.b.y && n.a.z < n.b.z)) node.at("max").fail("must be greater than min on every axis");
+    };
+    if (op == "sphere") {
+        node.expect_object({"op", "center", "radius", "transform"});
+        n.op = SdfOp::Sphere;
+        n.a = node.at("center").as_vec3();
+        n.r1 = node.at("radius").as_positive();
+    } else if (op == "box") {
+        node.expect_object({"op", "min", "max", "transform"});
+        n.op = SdfOp::Box;
+        box();
+    } else if (op == "rounded_box") {
+        node.expect_object({"op", "min", "max", "radius", "transform"});
+        n.op = SdfOp::RoundedBox;
+        box();
+        n.r1 = node.at("radius").as_non_negative();
+        if (2.0f * n.r1 > min_component(n.b - n.a)) node.at("radius").fail("must be at most half the smallest edge");
+    } else if (op == "torus") {
+        node.expect_object({"op", "center", "major_radius", "minor_radius", "transform"});
+        n.op = SdfOp::Torus;
+        n.a = node.at("center").as_vec3();
+        n.r1 = node.at("major_radius").as_positive();
+        n.r2 = node.at("minor_radius").as_positive();
+    } else if (op == "cylinder") {
+        node.expect_object({"op", "base", "axis", "radius", "transform"});
+        n.op = SdfOp::Cylinder;
+        n.a = node.at("base").as_vec3();
+        n.b = node.at("axis").as_vec3();
+        if (!(glm::length(n.b) > 0.0f)) node.at("axis").fail("must be a non-zero vector");
+        n.r1 = node.at("radius").as_positive();
+    } else if (op == "plane") {
+        node.expect_object({"op", "point", "normal", "transform"});
+        n.op = SdfOp::Plane;
+        n.a = node.at("point").as_vec3();
+        n.b = node.at("normal").as_direction();
+    } else {
+        node.expect_object({"op", "children", "smooth", "transform"});
+        n.op = op == "union" ? SdfOp::Union : op == "intersection" ? SdfOp::Intersection : SdfOp::Difference;
+        if (auto k = node.find("smooth")) n.smooth = k->as_non_negative();
+        JsonNode children = node.at("children");
+        if (!children.is_array() || children.size() == 0) children.fail("must be a non-empty array of SDF nodes");
+        for (size_t k = 0; k < children.size(); ++k) n.children.push_back(parse_sdf(children.at(k), depth + 1));
+    }
+    return n;
+}
+
+Object parse_object_node(const JsonNode& node, Scene& scene, int inherited_material, int depth) {
     if (!node.is_object()) node.fail("must be an object");
+    if (depth > kMaxTreeDepth) node.fail("CSG tree nested deeper than " + std::to_string(kMaxTreeDepth));
     std::string type = node.at("type").as_choice(
         {"sphere", "quad", "plane", "box", "cylinder", "cone", "mesh", "csg", "implicit"});
     Object obj;
     obj.name = node.path();
     if (auto t = node.find("transform")) obj.transform = parse_transform(*t);
+    obj.material = inherited_material;
     if (auto m = node.find("material")) obj.material = find_material(scene, *m);
-    else if (type != "mesh") node.at("material");  // fails: missing key
+    // Meshes may bring their own materials, and a CSG node may leave them to its children.
+    else if (type != "mesh" && type != "csg" && obj.material < 0) node.at("material");  // fails: missing key
     if (type == "sphere") {
         node.expect_object({"type", "center", "radius", "material", "transform"});
         obj.shape = Sphere{node.at("center").as_vec3(), node.at("radius").as_positive()};
@@ -223,11 +308,20 @@ void parse_object(const JsonNode& node, Scene& scene) {
         node.expect_object({"type", "file", "positions", "indices", "normals", "uvs", "smooth",
                             "material", "transform"});
         obj.shape = parse_mesh(node, scene, obj.material, obj.transform);
+    } else if (type == "csg") {
+        node.expect_object({"type", "op", "children", "material", "transform"});
+        obj.shape = parse_csg(node, scene, obj.material, depth);
     } else {
-        node.at("type").fail("'" + type + "' objects are not supported yet (CSG and implicit "
-                             "surfaces come with the geometry work)");
+        node.expect_object({"type", "sdf", "material", "transform"});
+        obj.shape = Implicit{parse_sdf(node.at("sdf"), 1)};
     }
-    scene.objects.push_back(std::move(obj));
+    return obj;
+}
+
+}  // namespace
+
+void parse_object(const JsonNode& node, Scene& scene) {
+    scene.objects.push_back(parse_object_node(node, scene, -1, 1));
 }
 
 }  // namespace svetlo

@@ -142,7 +142,38 @@ struct Mesh {
     size_t triangle_count() const { return indices.size() / 3; }
 };
 
-using Shape = std::variant<Sphere, Quad, Plane, Box, Cylinder, Cone, Mesh>;
+struct Object;
+
+/// Constructive solid geometry: a boolean of closed children (spheres, boxes, cylinders,
+/// cones, closed meshes, other CSG nodes). Difference is the first child minus the rest.
+enum class CsgOp { Union, Intersection, Difference };
+struct Csg {
+    CsgOp op = CsgOp::Union;
+    std::vector<Object> children;  // each with its own transform (relative to this node)
+};
+
+/// A node of a signed-distance (F-rep) tree: negative inside, positive outside, and
+/// 1-Lipschitz (its value never exceeds the distance to the surface). Leaves are primitives;
+/// union, intersection and difference take the min / max of their children, blended over
+/// `smooth` (scene units) when it is positive.
+enum class SdfOp { Sphere, Box, RoundedBox, Torus, Cylinder, Plane, Union, Intersection, Difference };
+struct SdfNode {
+    SdfOp op = SdfOp::Sphere;
+    // sphere: a = centre, r1 = radius; box: a = min, b = max; rounded_box: also r1 = edge
+    // radius; torus: a = centre, r1 = major radius (ring in the xz plane), r2 = minor radius;
+    // cylinder: a = base, b = axis (height vector), r1 = radius; plane: a = point, b = unit
+    // normal pointing outside.
+    vec3 a{0.0f}, b{0.0f};
+    float r1 = 0.0f, r2 = 0.0f;
+    float smooth = 0.0f;
+    mat4 transform{1.0f};  // this node's space to its parent's
+    std::vector<SdfNode> children;
+};
+struct Implicit {
+    SdfNode root;
+};
+
+using Shape = std::variant<Sphere, Quad, Plane, Box, Cylinder, Cone, Mesh, Csg, Implicit>;
 
 /// An affine object-to-world transform (identity when `is_identity`).
 struct Transform {
