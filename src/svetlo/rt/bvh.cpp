@@ -17,7 +17,8 @@ namespace {
 
 constexpr int kBins = 16;
 constexpr uint32_t kMaxLeaf = 8;
-constexpr float kTraversalCost = 1.0f;     // relative to one primitive test
+constexpr uint32_t kMinSplit = 4;         // nodes this small become leaves without a SAH test
+constexpr float kTraversalCost = 2.0f;     // relative to one primitive test
 constexpr int kMedianDepth = 64;           // below this depth, split at the median
 constexpr uint32_t kParallelGrain = 4096;  // smaller subtrees are built serially
 constexpr int kStackSize = 128;            // > kMedianDepth + log2(2^32)
@@ -55,7 +56,7 @@ private:
         while (depth > seen && !depth_.compare_exchange_weak(seen, depth)) {
         }
         uint32_t n = end - begin;
-        if (n <= 1) return make_leaf(node, begin, end, bounds);
+        if (n <= kMinSplit) return make_leaf(node, begin, end, bounds);
         vec3 extent = centroids.extent();
         uint32_t mid = begin;
         Bounds3 lb, rb, lc, rc;
