@@ -1,10 +1,12 @@
-// Google Benchmark programs for the ray-tracing core: BVH build rate (triangles per second,
-// single- and multi-threaded) and closest-hit traversal of primary and diffuse rays, on the
-// Stanford bunny (69,451 triangles) three times over (208,353 triangles).
+// Google Benchmark programs for the ray-tracing core: build rate (triangles per second,
+// single- and multi-threaded) and closest-hit traversal of primary and diffuse rays for every
+// acceleration structure (grid, octree, binary and wide BVH, Embree), all on the same rays,
+// on the Stanford bunny (69,451 triangles) three times over (208,353 triangles).
 #include <benchmark/benchmark.h>
 
 #include "svetlo/core/rng.h"
 #include "svetlo/core/sampling.h"
+#include "svetlo/rt/accel.h"
 #include "svetlo/rt/bvh.h"
 #include "svetlo/scene/mesh_file.h"
 
@@ -26,20 +28,19 @@ const Geometry& bunnies() {
     return g;
 }
 
-void BM_BvhBuild(benchmark::State& state) {
+void build(benchmark::State& state, const std::string& name) {
     const Geometry& g = bunnies();
     for (auto _ : state) {
-        Bvh bvh(g, static_cast<int>(state.range(0)));
-        benchmark::DoNotOptimize(bvh.nodes().data());
+        std::unique_ptr<Accel> accel = make_accel(name, g, static_cast<int>(state.range(0)));
+        benchmark::DoNotOptimize(accel.get());
     }
     state.counters["Mtris/s"] = benchmark::Counter(
         static_cast<double>(g.triangle_count()) * state.iterations() * 1e-6, benchmark::Counter::kIsRate);
 }
-BENCHMARK(BM_BvhBuild)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 /// Rays from a ring of viewpoints toward the bunnies (primary), or leaving their first hits
 /// in cosine-distributed directions (diffuse).
-std::vector<Ray> make_rays(const Bvh& bvh, bool diffuse) {
+std::vector<Ray> make_rays(const Bvh& bvh, bool diffuse) {  // NOLINT: copies are cheap here
     const Geometry& g = bunnies();
     Rng rng(1, 2);
     std::vector<Ray> rays;
@@ -63,23 +64,45 @@ std::vector<Ray> make_rays(const Bvh& bvh, bool diffuse) {
     return rays;
 }
 
-void BM_BvhTrace(benchmark::State& state) {
+/// The rays, made once with the binary BVH and shared by every structure.
+const std::vector<Ray>& rays(bool diffuse) {
+    static const std::vector<Ray> primary = [] { return make_rays(Bvh(bunnies()), false); }();
+    static const std::vector<Ray> incoherent = [] { return make_rays(Bvh(bunnies()), true); }();
+    return diffuse ? incoherent : primary;
+}
+
+void trace(benchmark::State& state, const std::string& name) {
     const Geometry& g = bunnies();
-    Bvh bvh(g);
-    std::vector<Ray> rays = make_rays(bvh, state.range(0) == 1);
+    std::unique_ptr<Accel> accel = make_accel(name, g, 1);
+    const std::vector<Ray>& r = rays(state.range(0) == 1);
     int64_t hits = 0;
     for (auto _ : state) {
         Hit hit;
-        for (const Ray& r : rays) hits += bvh.intersect(r, hit);
+        for (const Ray& ray : r) hits += accel->intersect(ray, hit);
     }
     benchmark::DoNotOptimize(hits);
     state.SetLabel(state.range(0) == 1 ? "diffuse" : "primary");
     state.counters["Mrays/s"] = benchmark::Counter(
-        static_cast<double>(rays.size()) * state.iterations() * 1e-6, benchmark::Counter::kIsRate);
+        static_cast<double>(r.size()) * state.iterations() * 1e-6, benchmark::Counter::kIsRate);
 }
-BENCHMARK(BM_BvhTrace)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace svetlo
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+    using namespace svetlo;
+    for (const std::string& name : accel_names()) {
+        if (name == "none") continue;  // brute force: hours on this mesh
+        benchmark::RegisterBenchmark(("Build/" + name).c_str(), build, name)
+            ->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+    }
+    for (const std::string& name : accel_names()) {
+        if (name == "none") continue;
+        benchmark::RegisterBenchmark(("Trace/" + name).c_str(), trace, name)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+    }
+    benchmark::Initialize(&argc, argv);
+    if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::Shutdown();
+    return 0;
+}

@@ -34,35 +34,45 @@ struct BuildRef {
 
 class Builder {
 public:
-    Builder(LargeArray<BuildRef>& refs, BvhNode* nodes) : refs_(refs), nodes_(nodes) {}
+    Builder(LargeArray<BuildRef>& refs, BvhNode* nodes) : refs_(refs), scratch_(refs.size()), nodes_(nodes) {}
 
-    uint32_t node_count() const { return node_count_.load(); }
+    uint32_t node_count() const { return node_count_.load(); }  // slots used, holes included
     int depth() const { return depth_.load(); }
 
     void build_root(const Bounds3& bounds, const Bounds3& centroids) {
         node_count_ = 1;
-        build(0, 0, static_cast<uint32_t>(refs_.size()), bounds, centroids, 1);
+        depth_ = build(0, 0, static_cast<uint32_t>(refs_.size()), bounds, centroids, 1, nullptr);
         group_.wait();
     }
 
 private:
+    /// Node slots reserved for a serial subtree: its descendants never touch the shared
+    /// counter (which two threads would otherwise bounce between their caches).
+    struct Slots {
+        uint32_t next;
+    };
+
     void make_leaf(uint32_t node, uint32_t begin, uint32_t end, const Bounds3& bounds) {
         nodes_[node] = BvhNode{bounds.min, begin, bounds.max, end - begin};
     }
 
-    void build(uint32_t node, uint32_t begin, uint32_t end, Bounds3 bounds, Bounds3 centroids,
-               int depth) {
-        int seen = depth_.load();
-        while (depth > seen && !depth_.compare_exchange_weak(seen, depth)) {
-        }
+    /// Builds the subtree of refs [begin, end) into `node`; returns its depth.
+    int build(uint32_t node, uint32_t begin, uint32_t end, Bounds3 bounds, Bounds3 centroids, int depth,
+              Slots* slots) {
         uint32_t n = end - begin;
-        if (n <= kMinSplit) return make_leaf(node, begin, end, bounds);
+        if (n <= kMinSplit) {
+            make_leaf(node, begin, end, bounds);
+            return depth;
+        }
         vec3 extent = centroids.extent();
         uint32_t mid = begin;
         Bounds3 lb, rb, lc, rc;
         if (max_component(extent) <= 0.0f) {
             // All centroids coincide: no split can separate them.
-            if (n <= kMaxLeaf) return make_leaf(node, begin, end, bounds);
+            if (n <= kMaxLeaf) {
+                make_leaf(node, begin, end, bounds);
+                return depth;
+            }
             mid = begin + n / 2;
             bounds_of(begin, mid, lb, lc);
             bounds_of(mid, end, rb, rc);
@@ -76,17 +86,30 @@ private:
             bounds_of(begin, mid, lb, lc);
             bounds_of(mid, end, rb, rc);
         } else if (!sah_split(begin, end, bounds, centroids, mid, lb, rb, lc, rc)) {
-            return make_leaf(node, begin, end, bounds);
+            make_leaf(node, begin, end, bounds);
+            return depth;
         }
-        uint32_t left = node_count_.fetch_add(2);
+        Slots local{0};
+        if (!slots && n < kParallelGrain) {
+            // A subtree of n primitives has at most 2 n - 2 descendants.
+            local.next = node_count_.fetch_add(2 * n - 2);
+            slots = &local;
+        }
+        uint32_t left = slots ? slots->next : node_count_.fetch_add(2);
+        if (slots) slots->next += 2;
         nodes_[node] = BvhNode{bounds.min, left, bounds.max, 0};
         if (n >= kParallelGrain) {
-            group_.run([=, this] { build(left, begin, mid, lb, lc, depth + 1); });
-            build(left + 1, mid, end, rb, rc, depth + 1);
-        } else {
-            build(left, begin, mid, lb, lc, depth + 1);
-            build(left + 1, mid, end, rb, rc, depth + 1);
+            group_.run([=, this] {
+                int d = build(left, begin, mid, lb, lc, depth + 1, nullptr);
+                int seen = depth_.load();
+                while (d > seen && !depth_.compare_exchange_weak(seen, d)) {
+                }
+            });
+            return build(left + 1, mid, end, rb, rc, depth + 1, nullptr);
         }
+        int dl = build(left, begin, mid, lb, lc, depth + 1, slots);
+        int dr = build(left + 1, mid, end, rb, rc, depth + 1, slots);
+        return std::max(dl, dr);
     }
 
     void bounds_of(uint32_t begin, uint32_t end, Bounds3& bounds, Bounds3& centroids) const {
@@ -188,9 +211,18 @@ private:
             bounds_of(mid, end, rb, rc);
             return true;
         }
-        auto it = std::partition(refs_.begin() + begin, refs_.begin() + end,
-                                 [&](const BuildRef& r) { return bin_of(r) <= best_bin; });
-        mid = static_cast<uint32_t>(it - refs_.begin());
+        // Branch-free, through a scratch buffer: each reference is written to the next slot at
+        // the left or at the right end (a branch here mispredicts half the time).
+        BuildRef* scratch = scratch_.data();
+        uint32_t next_left = begin, next_right = end - 1;
+        for (uint32_t j = begin; j < end; ++j) {
+            uint32_t left = bin_of(refs[j]) <= best_bin ? 1u : 0u;
+            scratch[left ? next_left : next_right] = refs[j];
+            next_left += left;
+            next_right -= 1u - left;
+        }
+        std::copy(scratch + begin, scratch + end, refs_.data() + begin);
+        mid = next_left;
         // Children's bounds from the bins; their centroid bounds are approximated by the
         // primitive bounds, which contain every centroid (binning only needs a range).
         __m128 l_min = _mm_set1_ps(kInfinity), l_max = _mm_set1_ps(-kInfinity);
@@ -216,6 +248,7 @@ private:
     }
 
     LargeArray<BuildRef>& refs_;
+    LargeArray<BuildRef> scratch_;  // for partitioning, same indices as refs_
     BvhNode* nodes_;  // room for 2 n - 1 nodes
     std::atomic<uint32_t> node_count_{0};
     std::atomic<int> depth_{0};
@@ -255,12 +288,31 @@ Bvh::Bvh(const Geometry& geometry, int threads) : geometry_(geometry) {
         centroids.extend(chunk_centroids[c]);
     }
     // Uninitialised room for the worst case (2 n - 1 nodes): untouched pages cost nothing.
-    nodes_ = LargeArray<BvhNode>(2 * refs.size());
-    Builder builder(refs, nodes_.data());
+    LargeArray<BvhNode> room(2 * refs.size());
+    Builder builder(refs, room.data());
     tbb::task_arena arena(workers);
     arena.execute([&] { builder.build_root(bounds, centroids); });
-    nodes_.truncate(builder.node_count());
     depth_ = builder.depth();
+    // Serial subtrees leave unused slots: copy the tree out in depth-first order, which also
+    // puts each subtree's nodes close together for traversal.
+    uint32_t count = 1;
+    std::vector<std::pair<uint32_t, uint32_t>> stack = {{0, 0}};  // (old, new)
+    nodes_ = LargeArray<BvhNode>(builder.node_count());
+    nodes_[0] = room[0];
+    while (!stack.empty()) {
+        auto [from, to] = stack.back();
+        stack.pop_back();
+        const BvhNode& n = room[from];
+        if (n.count != 0) continue;
+        uint32_t pair = count;
+        count += 2;
+        nodes_[pair] = room[n.first];
+        nodes_[pair + 1] = room[n.first + 1];
+        nodes_[to].first = pair;
+        stack.emplace_back(n.first + 1, pair + 1);
+        stack.emplace_back(n.first, pair);
+    }
+    nodes_.truncate(count);
     prims_ = LargeArray<uint32_t>(refs.size());
     for (size_t k = 0; k < refs.size(); ++k) prims_[k] = refs[k].id;
 }

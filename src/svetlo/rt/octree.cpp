@@ -27,11 +27,6 @@ Bounds3 child_box(const Bounds3& box, int child) {
     return b;
 }
 
-bool overlaps(const Bounds3& a, const Bounds3& b) {
-    return a.min.x <= b.max.x && a.max.x >= b.min.x && a.min.y <= b.max.y &&
-           a.max.y >= b.min.y && a.min.z <= b.max.z && a.max.z >= b.min.z;
-}
-
 }  // namespace
 
 Octree::Octree(const Geometry& geometry) : geometry_(geometry) {
@@ -56,21 +51,36 @@ void Octree::build(uint32_t node, const Bounds3& box, std::vector<uint32_t>& ids
         prims_.insert(prims_.end(), ids.begin(), ids.end());
     };
     if (ids.size() <= kMaxLeaf || depth >= kMaxDepth) return make_leaf();
+    // Each primitive goes to the children its bounds overlap: per axis the lower half, the
+    // upper half or both (the same closed-interval test as child_box with overlaps).
+    // Counted first, then filled, so that each list is allocated once.
     std::vector<uint32_t> children[8];
     size_t listed = 0;
-    for (int c = 0; c < 8; ++c) {
-        Bounds3 cb = child_box(box, c);
+    vec3 mid = 0.5f * (box.min + box.max);
+    auto distribute = [&](auto&& add) {
         for (uint32_t id : ids) {
-            if (overlaps(bounds[id], cb)) children[c].push_back(id);
+            const Bounds3& b = bounds[id];
+            int lo[3], hi[3];
+            for (int a = 0; a < 3; ++a) {
+                lo[a] = b.min[a] <= mid[a] ? 0 : 1;
+                hi[a] = b.max[a] >= mid[a] ? 1 : 0;
+            }
+            for (int z = lo[2]; z <= hi[2]; ++z)
+                for (int y = lo[1]; y <= hi[1]; ++y)
+                    for (int x = lo[0]; x <= hi[0]; ++x) add(x | (y << 1) | (z << 2), id);
         }
-        listed += children[c].size();
-    }
-    bool progress = std::any_of(children, children + 8, [&](const auto& c) { return c.size() < ids.size(); });
+    };
+    size_t counts[8] = {};
+    distribute([&](int c, uint32_t) { counts[c]++; });
+    for (int c = 0; c < 8; ++c) listed += counts[c];
+    bool progress = std::any_of(counts, counts + 8, [&](size_t c) { return c < ids.size(); });
     if (!progress || listed > kMaxDuplication * ids.size()) return make_leaf();
     // The duplicates of all splits share one budget, which bounds the memory on any input.
     auto extra = static_cast<int64_t>(listed - ids.size());
     if (extra > reference_budget_) return make_leaf();
     reference_budget_ -= extra;
+    for (int c = 0; c < 8; ++c) children[c].reserve(counts[c]);
+    distribute([&](int c, uint32_t id) { children[c].push_back(id); });
     std::vector<uint32_t>().swap(ids);  // free the parent's list before recursing
     auto first = static_cast<uint32_t>(nodes_.size());
     nodes_[node] = {first, OctreeNode::kInner};
