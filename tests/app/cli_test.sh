@@ -81,6 +81,23 @@ cmp -s "$work/t1.pfm" "$work/t2.pfm" && cmp -s "$work/v1.pfm" "$work/v2.pfm" && 
 if [ "$(grep -c '^accel=\(none\|bvh\) build_ms=[0-9.]* mrays_per_s=[0-9.]* hits=[0-9]*$' "$work/bench")" = 2 ] &&
    [ "$(sed 's/.*hits=//' "$work/bench" | sort -u | wc -l)" = 1 ]; then pass; else fail "bench: $(cat "$work/bench")"; fi
 
+# Every structure built in: the same hits on the bench, the same image from the renderer.
+"$svetlo" bench "$work/good.json" --rays primary -t 2 > "$work/bench_all" 2>/dev/null
+[ "$(grep -c '^accel=' "$work/bench_all")" -ge 4 ] && [ "$(sed 's/.*hits=//' "$work/bench_all" | sort -u | wc -l)" = 1 ] &&
+    pass || fail "bench all: $(cat "$work/bench_all")"
+for accel in none grid octree bvh2; do
+    "$svetlo" render "$work/good.json" -o "$work/accel_$accel.pfm" -q --set render.accel=$accel &&
+        cmp -s "$work/accel_$accel.pfm" "$work/t1.pfm" && pass || fail "render.accel=$accel changes the image"
+done
+# CSG and implicit objects render, identically on any thread count.
+scene_with 'scene["objects"].append({"type": "csg", "op": "difference", "material": "white", "children": [
+    {"type": "box", "min": [-2, 0, -2], "max": [-1, 1, -1]}, {"type": "sphere", "center": [-1.5, 1, -1.5], "radius": 0.4}]})
+scene["objects"].append({"type": "implicit", "material": "white", "sdf": {"op": "union", "smooth": 0.2, "children": [
+    {"op": "sphere", "center": [1.5, 0.5, 0], "radius": 0.4}, {"op": "torus", "center": [1.5, 0.2, 0], "major_radius": 0.5, "minor_radius": 0.1}]}})'
+cp "$work/bad.json" "$work/solids.json"
+"$svetlo" render "$work/solids.json" -o "$work/s1.pfm" -t 1 -q && "$svetlo" render "$work/solids.json" -o "$work/s2.pfm" -t 2 -q &&
+    cmp -s "$work/s1.pfm" "$work/s2.pfm" && ! cmp -s "$work/s1.pfm" "$work/t1.pfm" && pass || fail "csg and implicit render"
+
 # --- bad command lines ---
 "$svetlo" render "$work/good.json" --frobnicate > /dev/null 2> "$work/stderr"
 [ $? -ne 0 ] && grep -qi usage "$work/stderr" && pass || fail "unknown flag"
@@ -120,6 +137,13 @@ done
 render_bad "emissive plane" "objects\[1\]: an emissive plane" \
     'scene["materials"]["glow"] = {"type": "emissive", "radiance": 1}; scene["objects"][1]["material"] = "glow"'
 expect_error "bench unknown accel" "--accel" bench "$work/good.json" --accel kd-tree
+render_bad "unknown accel" "render.accel: unknown value" 'scene["render"]["accel"] = "kd-tree"'
+render_bad "csg of a quad" "objects\[2\].children\[0\].type: a CSG child must be a closed shape" \
+    'scene["objects"].append({"type": "csg", "op": "union", "material": "white", "children": [{"type": "quad", "corner": [0, 0, 0], "edge_u": [1, 0, 0], "edge_v": [0, 1, 0]}]})'
+render_bad "bad sdf op" "objects\[2\].sdf.op: unknown value" \
+    'scene["objects"].append({"type": "implicit", "material": "white", "sdf": {"op": "blob"}})'
+render_bad "negative sdf radius" "objects\[2\].sdf.children\[0\].radius: must be > 0" \
+    'scene["objects"].append({"type": "implicit", "material": "white", "sdf": {"op": "union", "children": [{"op": "sphere", "center": [0, 0, 0], "radius": -1}]}})' 
 
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]
