@@ -24,6 +24,7 @@ struct RenderArgs {
 struct InfoArgs {
     std::string scene;
     std::vector<std::string> sets;
+    bool matrices = false;  // also print the rasterizer's view, projection and model matrices
 };
 
 struct BenchArgs {

@@ -4,19 +4,21 @@
 #include <map>
 
 #include "svetlo/core/error.h"
+#include "svetlo/raster/raster_engine.h"
 #include "svetlo/rt/whitted.h"
 
 namespace svetlo {
 
 std::unique_ptr<Renderer> make_renderer(const std::string& name, const std::string& file) {
     static const std::map<std::string, std::function<std::unique_ptr<Renderer>()>> factories = {
+        {"raster", [] { return std::make_unique<RasterRenderer>(); }},
         {"whitted", [] { return std::make_unique<WhittedRenderer>(); }},
     };
     auto it = factories.find(name);
     if (it == factories.end()) {
         throw Error(file, "render.engine",
                     "engine '" + name + "' is not available in this version of svetlo "
-                    "(available: whitted)");
+                    "(available: raster, whitted)");
     }
     return it->second();
 }

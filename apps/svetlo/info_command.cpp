@@ -2,6 +2,7 @@
 #include <cstdio>
 
 #include "commands.h"
+#include "svetlo/raster/raster_engine.h"
 #include "svetlo/rt/rt_scene.h"
 
 namespace svetlo {
@@ -9,7 +10,8 @@ namespace svetlo {
 namespace {
 
 const char* shape_name(const Shape& s) {
-    static const char* names[] = {"sphere", "quad", "plane", "box", "cylinder", "cone", "mesh"};
+    static const char* names[] = {"sphere", "quad", "plane", "box", "cylinder", "cone", "mesh", "csg", "implicit"};
+    static_assert(std::variant_size_v<Shape> == 9, "a name for every shape");
     return names[s.index()];
 }
 
@@ -72,6 +74,23 @@ int run_info(const InfoArgs& args) {
     if (!bounds.empty()) {
         std::printf("bounds     (%g, %g, %g) - (%g, %g, %g)\n", bounds.min.x, bounds.min.y,
                     bounds.min.z, bounds.max.x, bounds.max.y, bounds.max.z);
+    }
+    if (args.matrices) {
+        // The rasterizer's vertex stage: clip = projection * view * model * p (column vectors).
+        CameraMatrices m = raster_camera(scene);
+        auto print = [](const char* name, const mat4& a) {
+            for (int row = 0; row < 4; ++row) {
+                std::printf("%-10s %s[%10.5f %10.5f %10.5f %10.5f]\n", row == 0 ? name : "", "", a[0][row], a[1][row],
+                            a[2][row], a[3][row]);
+            }
+        };
+        std::printf("near, far  %g, %g\n", m.near, m.far);
+        print("view", m.view);
+        print("projection", m.projection);
+        for (const Object& o : scene.objects) {
+            if (!o.transform.is_identity) print((o.name + " model").c_str(), o.transform.matrix);
+        }
+        std::printf("viewport   x = (x_ndc + 1) / 2 * %d, y = (1 - y_ndc) / 2 * %d (pixels, y down)\n", m.width, m.height);
     }
     return 0;
 }

@@ -35,6 +35,7 @@ int main(int argc, char** argv) {
     CLI::App* i = app.add_subcommand("info", "Describe what a scene holds");
     i->add_option("scene", info.scene, "Scene file (JSON)")->required();
     i->add_option("--set", info.sets, "Override a scene key: KEY=VALUE");
+    i->add_flag("--matrices", info.matrices, "Also print the rasterizer's view, projection and model matrices");
 
     BenchArgs bench;
     CLI::App* b = app.add_subcommand("bench", "Trace the same rays through acceleration structures");

@@ -76,15 +76,17 @@ int run_render(const RenderArgs& args) {
                     "--aov " + name);
     }
     if (!args.quiet) {
-        double mrays = result.stats.seconds > 0.0
-                           ? static_cast<double>(result.stats.rays) / result.stats.seconds * 1e-6
-                           : 0.0;
-        std::fprintf(stderr,
-                     "svetlo: %s %dx%d, %d spp, %d threads: setup %.3f s, render %.3f s, "
-                     "%.2f Mrays/s -> %s\n",
-                     scene.render.engine.c_str(), scene.film.width, scene.film.height,
-                     scene.render.spp, resolve_threads(args.threads), result.stats.setup_seconds,
-                     result.stats.seconds, mrays, args.output.c_str());
+        double per_second = result.stats.seconds > 0.0 ? 1e-6 / result.stats.seconds : 0.0;
+        char rate[64];
+        if (result.stats.triangles > 0) {
+            std::snprintf(rate, sizeof rate, "%.2f Mtris/s", static_cast<double>(result.stats.triangles) * per_second);
+        } else {
+            std::snprintf(rate, sizeof rate, "%.2f Mrays/s", static_cast<double>(result.stats.rays) * per_second);
+        }
+        std::fprintf(stderr, "svetlo: %s %dx%d, %d spp, %d threads: setup %.3f s, render %.3f s, %s -> %s\n",
+                     scene.render.engine.c_str(), scene.film.width, scene.film.height, scene.render.spp,
+                     resolve_threads(args.threads), result.stats.setup_seconds, result.stats.seconds, rate,
+                     args.output.c_str());
     }
     return 0;
 }

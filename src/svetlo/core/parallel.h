@@ -16,6 +16,13 @@ inline constexpr int kTileSize = 16;
 /// (0 = all cores), then `done(pixels_in_tile)` after each, for progress reporting.
 void parallel_tiles(int width, int height, int threads, const std::function<void(const Tile&)>& body,
                     const std::function<void(int)>& done = {});
+/// The same with square tiles of `tile_size` pixels.
+void parallel_tiles(int width, int height, int tile_size, int threads,
+                    const std::function<void(const Tile&)>& body, const std::function<void(int)>& done);
+
+/// Calls body(i) for every i in [0, count), one index per task (for coarse work items whose
+/// boundaries must not depend on the thread count).
+void parallel_indices(size_t count, int threads, const std::function<void(size_t)>& body);
 
 /// Runs body(begin, end) over [0, count) in chunks on `threads` threads (0 = all cores).
 void parallel_ranges(size_t count, int threads,

@@ -29,6 +29,7 @@ struct RenderStats {
     double seconds = 0.0;       // rendering, excluding scene setup
     double setup_seconds = 0.0;  // acceleration structure build and the like
     uint64_t rays = 0;           // all rays traced (camera, shadow, secondary)
+    uint64_t triangles = 0;      // triangles set up for rasterization
 };
 
 struct RenderResult {

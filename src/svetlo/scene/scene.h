@@ -212,6 +212,16 @@ struct ShadowMapSettings {
     int kernel = 5;
 };
 
+/// Settings of the rasterizer (svetlo extensions, docs/raster.md).
+struct RasterSettings {
+    std::string visibility = "zbuffer";  // zbuffer, painter
+    bool cull_back_faces = false;        // contract: surfaces are two-sided by default
+    bool msaa = false;                   // false: supersampling (shade every sample)
+    std::string wireframe = "none";      // none, bresenham, wu: an overlay of triangle edges
+    Color wireframe_color{1.0f};
+    int tessellation = 64;               // segments around spheres, cylinders and cones
+};
+
 struct RenderSettings {
     std::string engine = "whitted";
     int spp = 1;
@@ -225,6 +235,7 @@ struct RenderSettings {
     float exposure = 1.0f;
     std::string accel = "bvh";  // none, grid, octree, bvh2, bvh (wide), embree
     int light_samples = 1;      // shadow rays per area light and shading point
+    RasterSettings raster;
 };
 
 struct Scene {

@@ -46,7 +46,8 @@ Film parse_film(const JsonNode& node) {
 
 RenderSettings parse_render(const JsonNode& node) {
     node.expect_object({"engine", "spp", "max_depth", "seed", "shading", "shadows", "shadow_map",
-                        "ambient", "background", "exposure", "accel", "light_samples"});
+                        "ambient", "background", "exposure", "accel", "light_samples", "visibility",
+                        "cull", "antialias", "wireframe", "wireframe_color", "tessellation"});
     RenderSettings r;
     if (auto n = node.find("engine")) r.engine = n->as_choice({"raster", "whitted", "path", "radiosity"});
     if (auto n = node.find("spp")) r.spp = static_cast<int>(n->as_integer(1, 1 << 20));
@@ -74,6 +75,12 @@ RenderSettings parse_render(const JsonNode& node) {
     if (auto n = node.find("light_samples")) {
         r.light_samples = static_cast<int>(n->as_integer(1, 4096));
     }
+    if (auto n = node.find("visibility")) r.raster.visibility = n->as_choice({"zbuffer", "painter"});
+    if (auto n = node.find("cull")) r.raster.cull_back_faces = n->as_choice({"none", "back"}) == "back";
+    if (auto n = node.find("antialias")) r.raster.msaa = n->as_choice({"ssaa", "msaa"}) == "msaa";
+    if (auto n = node.find("wireframe")) r.raster.wireframe = n->as_choice({"none", "bresenham", "wu"});
+    if (auto n = node.find("wireframe_color")) r.raster.wireframe_color = n->as_color();
+    if (auto n = node.find("tessellation")) r.raster.tessellation = static_cast<int>(n->as_integer(3, 4096));
     return r;
 }
 

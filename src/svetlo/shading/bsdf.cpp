@@ -8,9 +8,9 @@ namespace {
 
 struct BsdfMaker {
     vec2 uv;
-    const std::vector<Image>& textures;
+    const TextureLookup& lookup;
 
-    Color c(const ColorSource& s) const { return eval_color(s, uv, textures); }
+    Color c(const ColorSource& s) const { return eval_color(s, uv, lookup); }
 
     Bsdf operator()(const LambertMaterial& m) const {
         Bsdf b;
@@ -84,7 +84,11 @@ bool Bsdf::has_lobes() const {
 }
 
 Bsdf make_bsdf(const Material& material, vec2 uv, const std::vector<Image>& textures) {
-    return std::visit(BsdfMaker{uv, textures}, material);
+    return make_bsdf(material, uv, TextureLookup{textures});
+}
+
+Bsdf make_bsdf(const Material& material, vec2 uv, const TextureLookup& lookup) {
+    return std::visit(BsdfMaker{uv, lookup}, material);
 }
 
 Color eval_bsdf(const Bsdf& b, vec3 n, vec3 wo, vec3 wi) {

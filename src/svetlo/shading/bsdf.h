@@ -16,6 +16,7 @@
 
 #include "svetlo/core/math.h"
 #include "svetlo/scene/scene.h"
+#include "svetlo/shading/mipmap.h"
 
 namespace svetlo {
 
@@ -41,6 +42,8 @@ struct Bsdf {
 
 /// The material at texture coordinates uv.
 Bsdf make_bsdf(const Material& material, vec2 uv, const std::vector<Image>& textures);
+/// The same with a texture footprint (trilinear filtering in the rasterizer).
+Bsdf make_bsdf(const Material& material, vec2 uv, const TextureLookup& lookup);
 
 /// f(wo, wi) for a shading normal n; zero unless wo and wi are both above the surface.
 Color eval_bsdf(const Bsdf& bsdf, vec3 n, vec3 wo, vec3 wi);

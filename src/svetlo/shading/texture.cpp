@@ -40,6 +40,11 @@ Color sample_bilinear(const Image& image, vec2 uv, TextureWrap wrap) {
 }
 
 Color eval_color(const ColorSource& source, vec2 uv, const std::vector<Image>& textures) {
+    return eval_color(source, uv, TextureLookup{textures});
+}
+
+Color eval_color(const ColorSource& source, vec2 uv, const TextureLookup& lookup) {
+    const std::vector<Image>& textures = lookup.images;
     switch (source.kind) {
         case ColorSource::Kind::Constant: return source.value;
         case ColorSource::Kind::Checker: {
@@ -51,6 +56,10 @@ Color eval_color(const ColorSource& source, vec2 uv, const std::vector<Image>& t
         case ColorSource::Kind::Image: {
             const Image& image = textures[static_cast<size_t>(source.texture)];
             if (source.filter == TextureFilter::Nearest) return sample_nearest(image, uv, source.wrap);
+            if (source.filter == TextureFilter::Trilinear && lookup.mips) {
+                const MipChain& chain = (*lookup.mips)[static_cast<size_t>(source.texture)];
+                return sample_trilinear(chain, uv, mip_level(chain, lookup.duv_dx, lookup.duv_dy), source.wrap);
+            }
             return sample_bilinear(image, uv, source.wrap);
         }
     }

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "svetlo/scene/scene.h"
+#include "svetlo/shading/mipmap.h"
 
 namespace svetlo {
 
@@ -16,5 +17,9 @@ Color sample_bilinear(const Image& image, vec2 uv, TextureWrap wrap);
 /// The colour of `source` at uv. Ray-traced engines have no footprint, so trilinear
 /// filtering samples the finest mip level, which is bilinear filtering.
 Color eval_color(const ColorSource& source, vec2 uv, const std::vector<Image>& textures);
+
+/// The same with a pixel footprint and mip chains (the rasterizer): trilinear filtering
+/// then picks the mip level from the footprint.
+Color eval_color(const ColorSource& source, vec2 uv, const TextureLookup& lookup);
 
 }  // namespace svetlo

@@ -1,0 +1,43 @@
+#include "svetlo/raster/camera_matrices.h"
+
+#include <algorithm>
+
+namespace svetlo {
+
+CameraMatrices camera_matrices(const Camera& camera, int width, int height, const Bounds3& bounds) {
+    CameraMatrices m;
+    m.width = width;
+    m.height = height;
+    m.view = glm::lookAt(camera.position, camera.look_at, camera.up);
+    // Depth range of the scene in front of the camera: -z in view space of the bounds' corners.
+    float zmin = kInfinity, zmax = -kInfinity;
+    bool finite = std::isfinite(bounds.min.x + bounds.min.y + bounds.min.z + bounds.max.x + bounds.max.y + bounds.max.z);
+    if (finite && bounds.min.x <= bounds.max.x) {
+        for (int k = 0; k < 8; ++k) {
+            vec3 c((k & 1) ? bounds.max.x : bounds.min.x, (k & 2) ? bounds.max.y : bounds.min.y,
+                   (k & 4) ? bounds.max.z : bounds.min.z);
+            float z = -(m.view * vec4(c, 1.0f)).z;
+            zmin = std::min(zmin, z);
+            zmax = std::max(zmax, z);
+        }
+    } else {
+        zmin = 0.0f;
+        zmax = 1.0f;
+    }
+    float aspect = static_cast<float>(width) / static_cast<float>(height);
+    float margin = 0.01f * std::max(zmax - zmin, 1e-3f);
+    m.far = std::max(zmax + margin, 1e-3f);
+    if (camera.type == Camera::Type::Perspective) {
+        m.near = std::max(zmin - margin, m.far * 1e-5f);
+        m.projection = glm::perspective(radians(camera.fov_deg), aspect, m.near, m.far);
+    } else {
+        m.near = std::max(zmin - margin, 0.0f);  // as the ray tracer: what lies in front only
+        float h = 0.5f * camera.height, w = h * aspect;
+        m.projection = glm::ortho(-w, w, -h, h, m.near, m.far);
+    }
+    return m;
+}
+
+mat3 normal_matrix(const mat4& model) { return glm::transpose(glm::inverse(mat3(model))); }
+
+}  // namespace svetlo

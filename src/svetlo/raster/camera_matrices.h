@@ -1,0 +1,33 @@
+// The vertex stage's matrices (OpenGL conventions, as a student meets them): model (object to
+// world, the object's transform), view (world to camera, gluLookAt: the camera looks down -z,
+// x is forward x up), projection (camera to clip space, gluPerspective or glOrtho: visible
+// points have -w <= x, y, z <= w), and the viewport (normalised device coordinates to pixels,
+// y down: pixel (i, j) covers [i, i+1] x [j, j+1]).
+#pragma once
+
+#include "svetlo/scene/scene.h"
+
+namespace svetlo {
+
+struct CameraMatrices {
+    mat4 view{1.0f};
+    mat4 projection{1.0f};
+    float near = 0.1f, far = 100.0f;  // clip plane distances along the view direction
+    int width = 1, height = 1;        // viewport in pixels
+
+    mat4 view_projection() const { return projection * view; }
+    /// Normalised device coordinates to pixels (x right, y down from the top-left corner).
+    vec2 to_pixels(vec2 ndc) const {
+        return vec2((ndc.x + 1.0f) * 0.5f * static_cast<float>(width), (1.0f - ndc.y) * 0.5f * static_cast<float>(height));
+    }
+};
+
+/// The camera's matrices for a width x height film. The near and far planes enclose `bounds`
+/// (the scene's, world space) with a margin; near is at least far / 10^5 for perspective
+/// cameras, which keeps float depth precise enough.
+CameraMatrices camera_matrices(const Camera& camera, int width, int height, const Bounds3& bounds);
+
+/// The inverse transpose of the model matrix's linear part: it carries normals.
+mat3 normal_matrix(const mat4& model);
+
+}  // namespace svetlo

@@ -1,0 +1,45 @@
+// Clipping in homogeneous coordinates (Sutherland and Hodgman, "Reentrant Polygon Clipping",
+// CACM 1974; Blinn and Newell, "Clipping Using Homogeneous Coordinates", SIGGRAPH 1978).
+// A triangle is clipped against the near and far planes (-w <= z <= w), which is what makes
+// triangles crossing the camera plane draw correctly, and against a guard band around the
+// viewport (|x|, |y| <= g w), which only keeps the rasterizer's fixed-point coordinates in
+// range: triangles that merely leave the screen are not cut, the rasterizer's bounding box
+// does that for free. Clipping in clip space, before the division by w, interpolates every
+// attribute linearly, which is exact there.
+#pragma once
+
+#include <array>
+
+#include "svetlo/core/math.h"
+
+namespace svetlo {
+
+/// A vertex in clip space with the attributes the pipeline carries.
+struct ClipVertex {
+    vec4 clip{0.0f};
+    vec3 world{0.0f};
+    vec3 normal{0.0f};
+    vec2 uv{0.0f};
+    Color color{0.0f};  // Gouraud: the lit vertex colour
+};
+
+/// A convex polygon of at most 3 + 6 vertices (each plane adds at most one).
+struct ClipPolygon {
+    std::array<ClipVertex, 9> v;
+    int count = 0;
+};
+
+/// Clips triangle (a, b, c) to -w <= z <= w and |x|, |y| <= guard_x w, guard_y w; w > 0 is
+/// implied by the near plane. Returns the polygon (count 0 when nothing is left).
+ClipPolygon clip_triangle(const ClipVertex& a, const ClipVertex& b, const ClipVertex& c, float guard_x,
+                          float guard_y);
+
+/// True when the triangle lies inside every clip plane (the common case: no clipping).
+inline bool inside_all(const vec4& a, const vec4& b, const vec4& c, float gx, float gy) {
+    auto in = [&](const vec4& p) {
+        return p.z >= -p.w && p.z <= p.w && std::abs(p.x) <= gx * p.w && std::abs(p.y) <= gy * p.w;
+    };
+    return in(a) && in(b) && in(c);
+}
+
+}  // namespace svetlo

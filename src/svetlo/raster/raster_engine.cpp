@@ -1,0 +1,713 @@
+#include "svetlo/raster/raster_engine.h"
+
+#include <tbb/enumerable_thread_specific.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+
+#include "svetlo/core/parallel.h"
+#include "svetlo/core/progress.h"
+#include "svetlo/core/rng.h"
+#include "svetlo/core/sampling.h"
+#include "svetlo/raster/camera_matrices.h"
+#include "svetlo/raster/clipper.h"
+#include "svetlo/raster/edge_function.h"
+#include "svetlo/raster/lines.h"
+#include "svetlo/raster/raster_lights.h"
+#include "svetlo/rt/tessellate.h"
+#include "svetlo/shading/texture.h"
+
+namespace svetlo {
+
+namespace {
+
+constexpr int kTile = 64;                  // pixels per side of a binning tile
+constexpr int kMaxSamplesPerPass = 16;     // samples per pixel held at once; more take passes
+constexpr size_t kChunk = 4096;            // triangles per unit of parallel setup and binning
+constexpr float kGuardPixels = 4096.0f;    // guard band beyond each side of the viewport
+constexpr uint32_t kNone = ~0u;            // no triangle in a sample
+constexpr uint32_t kExtra = 1u << 31;      // a vertex made by clipping (chunk-local until fixed up)
+
+enum class Mode { Flat, Gouraud, Phong, Depth, Normal };
+
+/// A triangle after clipping, projection and snapping, ready to rasterize.
+struct SetupTriangle {
+    int32_t x[3], y[3];  // fixed-point pixels, wound so that the area is positive
+    float z[3];          // depth key, affine in screen space, smaller is nearer (setup_triangle)
+    float invw[3];       // 1 / w, for perspective-correct interpolation
+    uint32_t v[3];       // vertex indices
+    uint32_t material;
+    int32_t x0, y0, x1, y1;  // pixels that may hold a covered sample, [x0, x1) x [y0, y1)
+    Color flat{0.0f};        // flat shading: the face's colour
+    float depth_key = 0.0f;  // painter's algorithm: distance of the centroid from the camera
+    bool front = true;       // the camera sees the counter-clockwise side
+};
+
+/// Everything the tiles read, made once per frame.
+struct FrameState {
+    const Scene* scene = nullptr;
+    Mode mode = Mode::Phong;
+    CameraMatrices cam;
+    vec3 eye{0.0f}, forward{0.0f, 0.0f, -1.0f};
+    bool ortho = false;
+    std::vector<Material> materials;
+    std::vector<Bsdf> constant_bsdf;     // per material, when it has no texture
+    std::vector<char> textured;          // per material: some colour depends on uv
+    std::vector<char> needs_footprint;   // per material: some texture is trilinear
+    std::vector<MipChain> mips;
+    RasterLights lights;
+    std::vector<ClipVertex> vertices;
+    std::vector<SetupTriangle> tris;
+    std::vector<std::vector<std::vector<uint32_t>>> bins;  // [chunk][tile] -> triangles, in order
+    int tiles_x = 0, tiles_y = 0;
+};
+
+bool is_textured(const ColorSource& c) { return c.kind != ColorSource::Kind::Constant; }
+bool is_trilinear(const ColorSource& c) {
+    return c.kind == ColorSource::Kind::Image && c.filter == TextureFilter::Trilinear;
+}
+
+template <class F>
+bool any_source(const Material& m, F&& f) {
+    return std::visit(
+        [&](const auto& mat) {
+            using T = std::decay_t<decltype(mat)>;
+            if constexpr (std::is_same_v<T, LambertMaterial> || std::is_same_v<T, OrenNayarMaterial>) {
+                return f(mat.albedo);
+            } else if constexpr (std::is_same_v<T, PhongMaterial>) {
+                return f(mat.ka) || f(mat.kd) || f(mat.ks) || f(mat.reflect) || f(mat.transmit);
+            } else if constexpr (std::is_same_v<T, CookTorranceMaterial>) {
+                return f(mat.base_color);
+            } else if constexpr (std::is_same_v<T, MirrorMaterial>) {
+                return f(mat.reflectance);
+            } else if constexpr (std::is_same_v<T, EmissiveMaterial>) {
+                return f(mat.radiance) || f(mat.albedo);
+            } else {
+                return false;
+            }
+        },
+        m);
+}
+
+Mode parse_mode(const std::string& s) {
+    if (s == "flat") return Mode::Flat;
+    if (s == "gouraud") return Mode::Gouraud;
+    if (s == "depth") return Mode::Depth;
+    if (s == "normal") return Mode::Normal;
+    return Mode::Phong;
+}
+
+struct DrawMesh {
+    Mesh mesh;     // object space
+    mat4 model{1.0f};
+};
+
+/// Stage 1: every object tessellated in its own space, plus the area lights as one-sided
+/// emissive quads (the ray tracer shows them too). Fills the lights' VPLs.
+std::vector<DrawMesh> tessellate_scene(const Scene& scene, FrameState& f, int threads) {
+    TessellationOptions options;
+    options.segments = scene.render.raster.tessellation;
+    options.rings = std::max(2, options.segments / 2);
+    std::vector<DrawMesh> meshes(scene.objects.size());
+    parallel_indices(scene.objects.size(), threads, [&](size_t k) {
+        Object local = scene.objects[k];
+        local.transform = Transform{};
+        meshes[k].mesh = tessellate(local, options);
+        meshes[k].model = scene.objects[k].transform.matrix;
+    });
+    for (const Light& light : scene.lights) {
+        if (const auto* a = std::get_if<AreaLight>(&light)) {
+            EmissiveMaterial m;
+            m.radiance = ColorSource::constant(a->radiance);
+            f.materials.push_back(m);
+            Object quad;
+            quad.shape = Quad{a->corner, a->edge_u, a->edge_v};
+            quad.material = static_cast<int>(f.materials.size() - 1);
+            meshes.push_back({tessellate(quad, options), mat4(1.0f)});
+            auto vpls = area_light_vpls(*a);
+            f.lights.vpls.insert(f.lights.vpls.end(), vpls.begin(), vpls.end());
+        } else {
+            f.lights.punctual.push_back(&light);
+        }
+    }
+    // Emissive objects light the scene through VPLs over their emitting faces.
+    for (size_t k = 0; k < scene.objects.size(); ++k) {
+        const DrawMesh& d = meshes[k];
+        EmitterTriangles tris;
+        for (size_t t = 0; t < d.mesh.triangle_count(); ++t) {
+            int m = d.mesh.face_material[t];
+            if (m < 0) continue;
+            const auto* e = std::get_if<EmissiveMaterial>(&f.materials[static_cast<size_t>(m)]);
+            if (!e) continue;
+            vec2 uv(0.0f);
+            if (!d.mesh.uvs.empty()) uv = d.mesh.uvs[d.mesh.indices[3 * t]];
+            Color radiance = eval_color(e->radiance, uv, scene.textures);
+            if (is_black(radiance)) continue;
+            for (int v = 0; v < 3; ++v) tris.p.push_back(vec3(d.model * vec4(d.mesh.positions[d.mesh.indices[3 * t + v]], 1.0f)));
+            tris.radiance.push_back(radiance);
+        }
+        auto vpls = triangle_vpls(tris);
+        f.lights.vpls.insert(f.lights.vpls.end(), vpls.begin(), vpls.end());
+    }
+    return meshes;
+}
+
+/// The material's BRDF at a point: the per-material constant one, or textures evaluated with
+/// the footprint when the rasterizer has one.
+Bsdf material_at(const FrameState& f, uint32_t m, vec2 uv, vec2 duv_dx, vec2 duv_dy) {
+    if (!f.textured[m]) return f.constant_bsdf[m];
+    TextureLookup lookup{f.scene->textures, f.mips.empty() ? nullptr : &f.mips, duv_dx, duv_dy};
+    return make_bsdf(f.materials[m], uv, lookup);
+}
+
+/// Lit colour at a point with geometric normal ng (the counter-clockwise side), shading
+/// normal ns, seen from the camera; shading is two-sided, emission one-sided.
+Color light_point(const FrameState& f, const Bsdf& bsdf, vec3 p, vec3 ng, vec3 ns, bool front) {
+    vec3 wo = f.ortho ? -f.forward : glm::normalize(f.eye - p);
+    vec3 n = glm::dot(ng, wo) >= 0.0f ? ng : -ng;
+    if (glm::length(ns) == 0.0f) ns = n;
+    if (glm::dot(ns, n) < 0.0f) ns = -ns;
+    if (glm::dot(ns, wo) <= 0.0f) ns = n;
+    return shade_point(bsdf, p, n, ns, wo, front, f.lights, f.scene->render.ambient, f.scene->render.background);
+}
+
+/// Stage 2: the vertex stage. World positions and normals, clip coordinates, and for
+/// Gouraud shading the lit colour of each vertex (with the material of the first face that
+/// uses it).
+void vertex_stage(const std::vector<DrawMesh>& meshes, FrameState& f, std::vector<uint32_t>& base, int threads) {
+    base.assign(meshes.size() + 1, 0);
+    for (size_t k = 0; k < meshes.size(); ++k) base[k + 1] = base[k] + static_cast<uint32_t>(meshes[k].mesh.positions.size());
+    f.vertices.resize(base.back());
+    mat4 vp = f.cam.view_projection();
+    parallel_indices(meshes.size(), threads, [&](size_t k) {
+        const Mesh& m = meshes[k].mesh;
+        const mat4& model = meshes[k].model;
+        mat3 nm = normal_matrix(model);
+        for (size_t v = 0; v < m.positions.size(); ++v) {
+            ClipVertex& out = f.vertices[base[k] + v];
+            out.world = vec3(model * vec4(m.positions[v], 1.0f));
+            out.clip = vp * vec4(out.world, 1.0f);
+            vec3 n = v < m.normals.size() ? m.normals[v] : vec3(0.0f);
+            out.normal = glm::length(n) > 0.0f ? glm::normalize(nm * n) : vec3(0.0f);
+            out.uv = v < m.uvs.size() ? m.uvs[v] : vec2(0.0f);
+        }
+        if (f.mode != Mode::Gouraud) return;
+        std::vector<uint32_t> face_of(m.positions.size(), kNone);
+        for (size_t t = 0; t < m.triangle_count(); ++t) {
+            for (int c = 0; c < 3; ++c) {
+                uint32_t v = m.indices[3 * t + c];
+                if (face_of[v] == kNone) face_of[v] = static_cast<uint32_t>(t);
+            }
+        }
+        for (size_t v = 0; v < m.positions.size(); ++v) {
+            if (face_of[v] == kNone) continue;
+            size_t t = face_of[v];
+            const ClipVertex* tv[3];
+            for (int c = 0; c < 3; ++c) tv[c] = &f.vertices[base[k] + m.indices[3 * t + c]];
+            vec3 ng = glm::cross(tv[1]->world - tv[0]->world, tv[2]->world - tv[0]->world);
+            ng = glm::length(ng) > 0.0f ? glm::normalize(ng) : vec3(0.0f, 0.0f, 1.0f);
+            ClipVertex& out = f.vertices[base[k] + v];
+            auto mat = static_cast<uint32_t>(m.face_material[t]);
+            vec3 wo = f.ortho ? -f.forward : glm::normalize(f.eye - out.world);
+            bool front = glm::dot(ng, wo) > 0.0f;
+            out.color = light_point(f, material_at(f, mat, out.uv, vec2(0.0f), vec2(0.0f)), out.world, ng, out.normal, front);
+        }
+    });
+}
+
+/// Stage 3 for one triangle: projection, viewport, snapping, culling. Appends to `out`.
+void setup_triangle(const FrameState& f, const ClipVertex* cv[3], const uint32_t index[3], uint32_t material, Color flat,
+                    std::vector<SetupTriangle>& out) {
+    SetupTriangle t;
+    vec2 px[3];
+    for (int i = 0; i < 3; ++i) {
+        float invw = 1.0f / cv[i]->clip.w;
+        vec3 ndc = vec3(cv[i]->clip) * invw;
+        px[i] = f.cam.to_pixels(vec2(ndc));
+        t.x[i] = to_fixed(px[i].x);
+        t.y[i] = to_fixed(px[i].y);
+        // Depth key, smaller is nearer: -1/w for perspective (1/w is affine in screen space
+        // and keeps float's relative precision at every distance, unlike z/w), window z for
+        // orthographic cameras (w = 1, z/w linear in distance).
+        t.z[i] = f.ortho ? 0.5f * ndc.z + 0.5f : -invw;
+        t.invw[i] = invw;
+        t.v[i] = index[i];
+    }
+    int64_t area = signed_area2(t.x, t.y);
+    if (area == 0) return;  // degenerate on the screen: covers no sample
+    t.front = area > 0;
+    if (!t.front) {
+        if (f.scene->render.raster.cull_back_faces) return;
+        std::swap(t.x[1], t.x[2]);
+        std::swap(t.y[1], t.y[2]);
+        std::swap(t.z[1], t.z[2]);
+        std::swap(t.invw[1], t.invw[2]);
+        std::swap(t.v[1], t.v[2]);
+    }
+    int32_t xmin = std::min({t.x[0], t.x[1], t.x[2]}), xmax = std::max({t.x[0], t.x[1], t.x[2]});
+    int32_t ymin = std::min({t.y[0], t.y[1], t.y[2]}), ymax = std::max({t.y[0], t.y[1], t.y[2]});
+    // Samples of pixel i lie in [i, i + 1) pixels: pixels from floor(min) - 1 to floor(max).
+    t.x0 = std::max(0, (xmin >> kSubpixelBits) - 1);
+    t.y0 = std::max(0, (ymin >> kSubpixelBits) - 1);
+    t.x1 = std::min(f.cam.width, (xmax >> kSubpixelBits) + 1);
+    t.y1 = std::min(f.cam.height, (ymax >> kSubpixelBits) + 1);
+    if (t.x0 >= t.x1 || t.y0 >= t.y1) return;
+    t.material = material;
+    t.flat = flat;
+    t.depth_key = (cv[0]->clip.w + cv[1]->clip.w + cv[2]->clip.w) / 3.0f;
+    if (f.ortho) t.depth_key = (cv[0]->clip.z + cv[1]->clip.z + cv[2]->clip.z) / 3.0f;
+    out.push_back(t);
+}
+
+/// Stages 3 and 4: primitive assembly, clipping and setup of every triangle, in chunks of
+/// kChunk whose results are concatenated in order (so the order never depends on threads).
+void assemble(const std::vector<DrawMesh>& meshes, const std::vector<uint32_t>& base, FrameState& f, int threads) {
+    struct Source {
+        uint32_t mesh, tri;
+    };
+    std::vector<Source> sources;
+    for (size_t k = 0; k < meshes.size(); ++k) {
+        for (size_t t = 0; t < meshes[k].mesh.triangle_count(); ++t) sources.push_back({static_cast<uint32_t>(k), static_cast<uint32_t>(t)});
+    }
+    size_t chunks = (sources.size() + kChunk - 1) / kChunk;
+    std::vector<std::vector<SetupTriangle>> out(chunks);
+    std::vector<std::vector<ClipVertex>> extra(chunks);
+    float gx = 1.0f + 2.0f * kGuardPixels / static_cast<float>(f.cam.width);
+    float gy = 1.0f + 2.0f * kGuardPixels / static_cast<float>(f.cam.height);
+    parallel_indices(chunks, threads, [&](size_t c) {
+        for (size_t s = c * kChunk; s < std::min(sources.size(), (c + 1) * kChunk); ++s) {
+            const Mesh& m = meshes[sources[s].mesh].mesh;
+            size_t t = sources[s].tri;
+            uint32_t idx[3];
+            const ClipVertex* cv[3];
+            for (int i = 0; i < 3; ++i) {
+                idx[i] = base[sources[s].mesh] + m.indices[3 * t + i];
+                cv[i] = &f.vertices[idx[i]];
+            }
+            auto material = static_cast<uint32_t>(m.face_material[t]);
+            Color flat(0.0f);
+            if (f.mode == Mode::Flat) {
+                // One normal and one colour per face: lit at the centroid.
+                vec3 p = (cv[0]->world + cv[1]->world + cv[2]->world) / 3.0f;
+                vec3 ng = glm::cross(cv[1]->world - cv[0]->world, cv[2]->world - cv[0]->world);
+                ng = glm::length(ng) > 0.0f ? glm::normalize(ng) : vec3(0.0f, 0.0f, 1.0f);
+                vec2 uv = (cv[0]->uv + cv[1]->uv + cv[2]->uv) / 3.0f;
+                vec3 wo = f.ortho ? -f.forward : glm::normalize(f.eye - p);
+                flat = light_point(f, material_at(f, material, uv, vec2(0.0f), vec2(0.0f)), p, ng, ng,
+                                   glm::dot(ng, wo) > 0.0f);
+            }
+            if (inside_all(cv[0]->clip, cv[1]->clip, cv[2]->clip, gx, gy)) {
+                setup_triangle(f, cv, idx, material, flat, out[c]);
+                continue;
+            }
+            ClipPolygon poly = clip_triangle(*cv[0], *cv[1], *cv[2], gx, gy);
+            if (poly.count < 3) continue;
+            auto first = static_cast<uint32_t>(extra[c].size());
+            for (int k = 0; k < poly.count; ++k) extra[c].push_back(poly.v[static_cast<size_t>(k)]);
+            for (int k = 1; k + 1 < poly.count; ++k) {
+                uint32_t fan[3] = {kExtra | first, kExtra | (first + static_cast<uint32_t>(k)),
+                                   kExtra | (first + static_cast<uint32_t>(k) + 1)};
+                const ClipVertex* fv[3] = {&extra[c][fan[0] & ~kExtra], &extra[c][fan[1] & ~kExtra],
+                                           &extra[c][fan[2] & ~kExtra]};
+                setup_triangle(f, fv, fan, material, flat, out[c]);
+            }
+        }
+    });
+    // Concatenate, moving the clipped vertices behind the mesh vertices.
+    size_t total = 0;
+    for (const auto& o : out) total += o.size();
+    f.tris.reserve(total);
+    for (size_t c = 0; c < chunks; ++c) {
+        auto offset = static_cast<uint32_t>(f.vertices.size());
+        f.vertices.insert(f.vertices.end(), extra[c].begin(), extra[c].end());
+        for (SetupTriangle t : out[c]) {
+            for (uint32_t& v : t.v) v = (v & kExtra) ? offset + (v & ~kExtra) : v;
+            f.tris.push_back(t);
+        }
+    }
+}
+
+/// Stage 4: binning into tiles, by chunks of triangles in drawing order.
+void bin(FrameState& f, int threads) {
+    f.tiles_x = (f.cam.width + kTile - 1) / kTile;
+    f.tiles_y = (f.cam.height + kTile - 1) / kTile;
+    std::vector<uint32_t> order(f.tris.size());
+    for (size_t k = 0; k < order.size(); ++k) order[k] = static_cast<uint32_t>(k);
+    if (f.scene->render.raster.visibility == "painter") {
+        // Back to front by the centroid's depth; ties keep the submission order.
+        std::stable_sort(order.begin(), order.end(),
+                         [&](uint32_t a, uint32_t b) { return f.tris[a].depth_key > f.tris[b].depth_key; });
+    }
+    size_t chunks = (order.size() + kChunk - 1) / kChunk;
+    f.bins.assign(chunks, {});
+    parallel_indices(chunks, threads, [&](size_t c) {
+        auto& bins = f.bins[c];
+        bins.assign(static_cast<size_t>(f.tiles_x) * f.tiles_y, {});
+        for (size_t k = c * kChunk; k < std::min(order.size(), (c + 1) * kChunk); ++k) {
+            const SetupTriangle& t = f.tris[order[k]];
+            for (int ty = t.y0 / kTile; ty <= (t.y1 - 1) / kTile; ++ty) {
+                for (int tx = t.x0 / kTile; tx <= (t.x1 - 1) / kTile; ++tx) {
+                    bins[static_cast<size_t>(ty) * f.tiles_x + tx].push_back(order[k]);
+                }
+            }
+        }
+    });
+}
+
+/// Per-thread buffers of a tile: the visibility buffer and the stencil, per sample.
+struct TileBuffers {
+    std::vector<float> depth;
+    std::vector<uint32_t> tri;
+    std::vector<float> b1, b2;
+    std::vector<uint8_t> stencil;
+    std::vector<Color> color;        // resolved colour per pixel, accumulated over passes
+    std::vector<Color> aov[4];       // depth, normal, albedo, visibility per pixel
+    void reset(size_t samples, size_t pixels, bool aovs) {
+        depth.assign(samples, kInfinity);
+        tri.assign(samples, kNone);
+        b1.resize(samples);
+        b2.resize(samples);
+        stencil.assign(samples, 0);
+        if (color.size() != pixels) color.resize(pixels);
+        if (aovs) {
+            for (auto& a : aov) a.resize(pixels);
+        }
+    }
+};
+
+struct SamplePattern {
+    int count = 1;
+    int32_t ox[kMaxSamplesPerPass], oy[kMaxSamplesPerPass];  // fixed-point offsets in the pixel
+    vec2 offset[kMaxSamplesPerPass];
+};
+
+/// Samples [first, first + count) of the frame's stratified, jittered pattern: the same in
+/// every pixel, fixed by the seed.
+SamplePattern pattern(const Scene& scene, int first, int count) {
+    SamplePattern p;
+    p.count = count;
+    int spp = scene.render.spp;
+    for (int s = 0; s < count; ++s) {
+        int k = first + s;
+        vec2 o(0.5f);
+        if (spp > 1) {
+            Rng rng(scene.render.seed * 0x9e3779b97f4a7c15ULL + static_cast<uint64_t>(k), 0x5ca1ab1eULL);
+            o = stratified_sample(k, spp, vec2(rng.next_float(), rng.next_float()));
+        }
+        p.ox[s] = std::min(kSubpixel - 1, static_cast<int32_t>(o.x * kSubpixel));
+        p.oy[s] = std::min(kSubpixel - 1, static_cast<int32_t>(o.y * kSubpixel));
+        p.offset[s] = vec2(static_cast<float>(p.ox[s]), static_cast<float>(p.oy[s])) / static_cast<float>(kSubpixel);
+    }
+    return p;
+}
+
+/// Stage 5: rasterizes triangle t into the tile's visibility buffer.
+void rasterize(const FrameState& f, const SetupTriangle& t, const Tile& tile, const SamplePattern& sp, bool depth_test,
+               TileBuffers& buf) {
+    int xs = std::max(t.x0, tile.x0), xe = std::min(t.x1, tile.x1);
+    int ys = std::max(t.y0, tile.y0), ye = std::min(t.y1, tile.y1);
+    if (xs >= xe || ys >= ye) return;
+    Edge e0 = Edge::make(t.x[1], t.y[1], t.x[2], t.y[2]);  // weight of vertex 0
+    Edge e1 = Edge::make(t.x[2], t.y[2], t.x[0], t.y[0]);  // of vertex 1
+    Edge e2 = Edge::make(t.x[0], t.y[0], t.x[1], t.y[1]);  // of vertex 2
+    double inv_area = 1.0 / static_cast<double>(signed_area2(t.x, t.y));
+    int tw = tile.x1 - tile.x0;
+    int S = sp.count;
+    for (int py = ys; py < ye; ++py) {
+        for (int s = 0; s < S; ++s) {
+            int64_t sy = static_cast<int64_t>(py) * kSubpixel + sp.oy[s];
+            int64_t sx = static_cast<int64_t>(xs) * kSubpixel + sp.ox[s];
+            int64_t w0 = e0.at(sx, sy) + e0.bias, w1 = e1.at(sx, sy) + e1.bias, w2 = e2.at(sx, sy) + e2.bias;
+            int64_t d0 = e0.a * kSubpixel, d1 = e1.a * kSubpixel, d2 = e2.a * kSubpixel;
+            for (int px = xs; px < xe; ++px, w0 += d0, w1 += d1, w2 += d2) {
+                if ((w0 | w1 | w2) < 0) continue;
+                // Barycentrics in screen space (the biases are below one fixed-point unit).
+                auto l1 = static_cast<float>(static_cast<double>(w1 - e1.bias) * inv_area);
+                auto l2 = static_cast<float>(static_cast<double>(w2 - e2.bias) * inv_area);
+                float z = t.z[0] + l1 * (t.z[1] - t.z[0]) + l2 * (t.z[2] - t.z[0]);
+                size_t i = (static_cast<size_t>(py - tile.y0) * tw + (px - tile.x0)) * S + s;
+                if (depth_test && !(z < buf.depth[i])) continue;
+                buf.depth[i] = z;
+                buf.tri[i] = static_cast<uint32_t>(&t - f.tris.data());
+                buf.b1[i] = l1;
+                buf.b2[i] = l2;
+            }
+        }
+    }
+}
+
+struct ShadeResult {
+    Color color{0.0f};
+    float distance = 0.0f;
+    vec3 normal{0.0f};
+    Color albedo{0.0f};
+};
+
+/// Stage 6: the colour of a visible sample of triangle `ti` with screen barycentrics (l1, l2).
+ShadeResult shade_sample(const FrameState& f, uint32_t ti, float l1, float l2, bool want_aovs) {
+    const SetupTriangle& t = f.tris[ti];
+    const ClipVertex& A = f.vertices[t.v[0]];
+    const ClipVertex& B = f.vertices[t.v[1]];
+    const ClipVertex& C = f.vertices[t.v[2]];
+    float l0 = 1.0f - l1 - l2;
+    // Perspective-correct weights: screen barycentrics over w, renormalised.
+    float q0 = l0 * t.invw[0], q1 = l1 * t.invw[1], q2 = l2 * t.invw[2];
+    float inv_q = 1.0f / (q0 + q1 + q2);
+    float b0 = q0 * inv_q, b1 = q1 * inv_q, b2 = q2 * inv_q;
+    ShadeResult r;
+    vec3 p = b0 * A.world + b1 * B.world + b2 * C.world;
+    // The counter-clockwise side's normal (vertices 1 and 2 were swapped for back faces).
+    vec3 ng = glm::cross(B.world - A.world, C.world - A.world);
+    ng = glm::length(ng) > 0.0f ? glm::normalize(t.front ? ng : -ng) : vec3(0.0f, 0.0f, 1.0f);
+    vec3 ns = b0 * A.normal + b1 * B.normal + b2 * C.normal;
+    ns = glm::length(ns) > 0.0f ? glm::normalize(ns) : ng;
+    vec3 wo = f.ortho ? -f.forward : glm::normalize(f.eye - p);
+    if (want_aovs || f.mode == Mode::Normal || f.mode == Mode::Depth) {
+        r.distance = f.ortho ? glm::dot(p - f.eye, f.forward) : glm::length(p - f.eye);
+        vec3 n = glm::dot(ng, wo) >= 0.0f ? ng : -ng;
+        r.normal = glm::dot(ns, n) < 0.0f ? -ns : ns;
+        if (glm::dot(r.normal, wo) <= 0.0f) r.normal = n;
+    }
+    vec2 uv = b0 * A.uv + b1 * B.uv + b2 * C.uv;
+    switch (f.mode) {
+        case Mode::Flat: r.color = t.flat; break;
+        case Mode::Gouraud: r.color = b0 * A.color + b1 * B.color + b2 * C.color; break;
+        case Mode::Depth: {
+            float depth = f.ortho ? r.distance : glm::dot(p - f.eye, f.forward);
+            r.color = Color(std::clamp(1.0f - (depth - f.cam.near) / (f.cam.far - f.cam.near), 0.0f, 1.0f));
+            break;
+        }
+        case Mode::Normal: r.color = 0.5f * r.normal + vec3(0.5f); break;
+        case Mode::Phong: {
+            vec2 dx(0.0f), dy(0.0f);
+            if (f.needs_footprint[t.material]) {
+                // d(uv)/dx and d(uv)/dy: the screen-space barycentric gradients (a / area per
+                // pixel) through the perspective division.
+                Edge e[3] = {Edge::make(t.x[1], t.y[1], t.x[2], t.y[2]), Edge::make(t.x[2], t.y[2], t.x[0], t.y[0]),
+                             Edge::make(t.x[0], t.y[0], t.x[1], t.y[1])};
+                auto area = static_cast<float>(signed_area2(t.x, t.y));
+                float q[3] = {q0, q1, q2};
+                const vec2* uvs[3] = {&A.uv, &B.uv, &C.uv};
+                for (int axis = 0; axis < 2; ++axis) {
+                    float dq[3], dsum = 0.0f;
+                    for (int i = 0; i < 3; ++i) {
+                        float dl = static_cast<float>(axis == 0 ? e[i].a : e[i].b) * kSubpixel / area;
+                        dq[i] = dl * t.invw[i];
+                        dsum += dq[i];
+                    }
+                    vec2 d(0.0f);
+                    float sum = q0 + q1 + q2;
+                    for (int i = 0; i < 3; ++i) d += ((dq[i] * sum - q[i] * dsum) / (sum * sum)) * *uvs[i];
+                    (axis == 0 ? dx : dy) = d;
+                }
+            }
+            Bsdf bsdf = material_at(f, t.material, uv, dx, dy);
+            r.color = light_point(f, bsdf, p, ng, ns, t.front);
+            if (want_aovs) {
+                r.albedo = bsdf.has_lobes() ? bsdf.diffuse
+                           : bsdf.model == Bsdf::Model::Dielectric ? Color(1.0f)
+                                                                    : bsdf.reflect;
+            }
+            return r;
+        }
+    }
+    if (want_aovs) {
+        Bsdf bsdf = material_at(f, t.material, uv, vec2(0.0f), vec2(0.0f));
+        r.albedo = bsdf.has_lobes() ? bsdf.diffuse : bsdf.model == Bsdf::Model::Dielectric ? Color(1.0f) : bsdf.reflect;
+    }
+    return r;
+}
+
+/// Stage 7: wireframe overlay on the tile's resolved colours (edges whose depth passes
+/// against the deepest sample of the pixel).
+void draw_wireframe(const FrameState& f, const Tile& tile, TileBuffers& buf, int S) {
+    const std::string& algo = f.scene->render.raster.wireframe;
+    Color wire = f.scene->render.raster.wireframe_color;
+    int tw = tile.x1 - tile.x0;
+    size_t ti = static_cast<size_t>(tile.y0 / kTile) * f.tiles_x + tile.x0 / kTile;
+    for (const auto& chunk : f.bins) {
+        for (uint32_t index : chunk[ti]) {
+            const SetupTriangle& t = f.tris[index];
+            for (int e = 0; e < 3; ++e) {
+                int a = e, b = (e + 1) % 3;
+                vec2 pa = vec2(t.x[a], t.y[a]) / static_cast<float>(kSubpixel);
+                vec2 pb = vec2(t.x[b], t.y[b]) / static_cast<float>(kSubpixel);
+                auto plot = [&](int i, int j, float coverage, float s) {
+                    if (i < tile.x0 || i >= tile.x1 || j < tile.y0 || j >= tile.y1) return;
+                    size_t pixel = static_cast<size_t>(j - tile.y0) * tw + (i - tile.x0);
+                    float z = t.z[a] + s * (t.z[b] - t.z[a]), deepest = -kInfinity;
+                    for (int k = 0; k < S; ++k) deepest = std::max(deepest, buf.depth[pixel * S + k]);
+                    if (z > deepest + 1e-4f * std::abs(deepest)) return;
+                    buf.color[pixel] += std::min(coverage, 1.0f) * (wire - buf.color[pixel]);
+                };
+                if (algo == "wu") draw_line_wu(pa, pb, plot);
+                else draw_line_bresenham(pa, pb, plot);
+            }
+        }
+    }
+}
+
+/// World bounds of everything drawn: the near and far planes enclose them.
+Bounds3 drawn_bounds(const std::vector<DrawMesh>& meshes) {
+    Bounds3 bounds;
+    for (const DrawMesh& d : meshes) {
+        for (vec3 p : d.mesh.positions) bounds.extend(vec3(d.model * vec4(p, 1.0f)));
+    }
+    return bounds;
+}
+
+}  // namespace
+
+CameraMatrices raster_camera(const Scene& scene) {
+    FrameState f;
+    f.scene = &scene;
+    f.materials = scene.materials;
+    return camera_matrices(scene.camera, scene.film.width, scene.film.height, drawn_bounds(tessellate_scene(scene, f, 0)));
+}
+
+RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& options) {
+    using Clock = std::chrono::steady_clock;
+    auto t0 = Clock::now();
+    const int width = scene.film.width, height = scene.film.height;
+    int threads = options.threads;
+    FrameState f;
+    f.scene = &scene;
+    f.mode = parse_mode(scene.render.shading);
+    f.materials = scene.materials;
+
+    std::vector<DrawMesh> meshes = tessellate_scene(scene, f, threads);
+    // Materials: constant BRDFs made once; mip chains when a texture is filtered trilinearly.
+    bool any_trilinear = false;
+    for (const Material& m : f.materials) {
+        f.textured.push_back(any_source(m, is_textured) ? 1 : 0);
+        f.needs_footprint.push_back(any_source(m, is_trilinear) ? 1 : 0);
+        any_trilinear |= f.needs_footprint.back() != 0;
+        f.constant_bsdf.push_back(make_bsdf(m, vec2(0.0f), scene.textures));
+    }
+    if (any_trilinear) {
+        for (const Image& image : scene.textures) f.mips.push_back(build_mip_chain(image));
+    }
+    f.cam = camera_matrices(scene.camera, width, height, drawn_bounds(meshes));
+    f.eye = scene.camera.position;
+    f.forward = glm::normalize(scene.camera.look_at - scene.camera.position);
+    f.ortho = scene.camera.type == Camera::Type::Orthographic;
+
+    std::vector<uint32_t> base;
+    vertex_stage(meshes, f, base, threads);
+    assemble(meshes, base, f, threads);
+    meshes.clear();
+    bin(f, threads);
+    auto t1 = Clock::now();
+
+    RenderResult result;
+    result.color = Image(width, height);
+    bool want[4] = {false, false, false, false};
+    for (const std::string& name : options.aovs) {
+        for (size_t k = 0; k < aov_names().size(); ++k) {
+            if (name == aov_names()[k]) {
+                want[k] = true;
+                result.aovs[name] = Image(width, height, k == 3 ? Color(1.0f) : Color(0.0f));
+            }
+        }
+    }
+    bool any_aov = !result.aovs.empty();
+    Image* aov_image[4];
+    for (size_t k = 0; k < 4; ++k) aov_image[k] = want[k] ? &result.aovs[aov_names()[k]] : nullptr;
+
+    const int spp = scene.render.spp;
+    const bool msaa = scene.render.raster.msaa;
+    const bool depth_test = scene.render.raster.visibility != "painter";
+    const Color background = scene.render.background;
+    tbb::enumerable_thread_specific<TileBuffers> buffers;
+    Progress progress("raster", static_cast<int64_t>(width) * height, options.progress);
+
+    parallel_tiles(
+        width, height, kTile, threads,
+        [&](const Tile& tile) {
+            TileBuffers& buf = buffers.local();
+            int tw = tile.x1 - tile.x0, th = tile.y1 - tile.y0;
+            auto pixels = static_cast<size_t>(tw) * th;
+            size_t ti = static_cast<size_t>(tile.y0 / kTile) * f.tiles_x + tile.x0 / kTile;
+            buf.color.assign(pixels, Color(0.0f));
+            if (any_aov) {
+                for (auto& a : buf.aov) a.assign(pixels, Color(0.0f));
+            }
+            int S = std::min(spp, kMaxSamplesPerPass);
+            for (int first = 0; first < spp; first += kMaxSamplesPerPass) {
+                SamplePattern sp = pattern(scene, first, std::min(kMaxSamplesPerPass, spp - first));
+                S = sp.count;
+                buf.reset(pixels * static_cast<size_t>(S), pixels, any_aov);
+                for (const auto& chunk : f.bins) {
+                    for (uint32_t index : chunk[ti]) rasterize(f, f.tris[index], tile, sp, depth_test, buf);
+                }
+                // Shade the visible samples; MSAA shades once per pixel and triangle.
+                for (size_t pixel = 0; pixel < pixels; ++pixel) {
+                    Color sum(0.0f);
+                    ShadeResult aov_sum;
+                    float visibility = 0.0f;
+                    for (int s = 0; s < S; ++s) {
+                        size_t i = pixel * static_cast<size_t>(S) + static_cast<size_t>(s);
+                        uint32_t tri = buf.tri[i];
+                        visibility += 1.0f;
+                        if (tri == kNone) {
+                            sum += background;
+                            continue;
+                        }
+                        if (msaa) {
+                            bool seen = false;  // already shaded for an earlier sample?
+                            for (int k = 0; k < s && !seen; ++k) seen = buf.tri[pixel * S + k] == tri;
+                            if (seen) continue;
+                            int covered = 0;
+                            for (int k = s; k < S; ++k) covered += buf.tri[pixel * S + k] == tri ? 1 : 0;
+                            ShadeResult r = shade_sample(f, tri, buf.b1[i], buf.b2[i], any_aov);
+                            auto w = static_cast<float>(covered);
+                            sum += w * r.color;
+                            aov_sum.distance += w * r.distance;
+                            aov_sum.normal += w * r.normal;
+                            aov_sum.albedo += w * r.albedo;
+                            continue;
+                        }
+                        ShadeResult r = shade_sample(f, tri, buf.b1[i], buf.b2[i], any_aov);
+                        sum += r.color;
+                        aov_sum.distance += r.distance;
+                        aov_sum.normal += r.normal;
+                        aov_sum.albedo += r.albedo;
+                    }
+                    buf.color[pixel] += sum;
+                    if (any_aov) {
+                        buf.aov[0][pixel] += Color(aov_sum.distance);
+                        buf.aov[1][pixel] += aov_sum.normal;
+                        buf.aov[2][pixel] += aov_sum.albedo;
+                        buf.aov[3][pixel] += Color(visibility);
+                    }
+                }
+                if (first + kMaxSamplesPerPass >= spp) break;
+            }
+            float inv = 1.0f / static_cast<float>(spp);
+            for (size_t pixel = 0; pixel < pixels; ++pixel) {
+                buf.color[pixel] *= inv;
+                if (any_aov) {
+                    for (auto& a : buf.aov) a[pixel] *= inv;
+                }
+            }
+            if (scene.render.raster.wireframe != "none") draw_wireframe(f, tile, buf, S);
+            for (int j = tile.y0; j < tile.y1; ++j) {
+                for (int i = tile.x0; i < tile.x1; ++i) {
+                    size_t pixel = static_cast<size_t>(j - tile.y0) * tw + (i - tile.x0);
+                    result.color.at(i, j) = buf.color[pixel];
+                    for (int k = 0; k < 4; ++k) {
+                        if (want[k]) aov_image[k]->at(i, j) = buf.aov[k][pixel];
+                    }
+                }
+            }
+        },
+        [&](int pixels) { progress.advance(pixels); });
+    progress.finish();
+    result.stats.setup_seconds = std::chrono::duration<double>(t1 - t0).count();
+    result.stats.seconds = std::chrono::duration<double>(Clock::now() - t1).count();
+    result.stats.triangles = f.tris.size();
+    return result;
+}
+
+}  // namespace svetlo

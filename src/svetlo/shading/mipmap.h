@@ -1,0 +1,38 @@
+// Mipmaps (Williams, "Pyramidal Parametrics", SIGGRAPH 1983): each level halves the one above
+// with a 2x2 box filter, down to 1x1. A texture lookup with a screen-space footprint (the
+// derivatives of uv across one pixel) picks the level whose texels match the footprint and
+// blends the two nearest levels (trilinear filtering).
+#pragma once
+
+#include <vector>
+
+#include "svetlo/core/image.h"
+#include "svetlo/scene/scene.h"
+
+namespace svetlo {
+
+struct MipChain {
+    std::vector<Image> levels;  // levels[0] is the texture itself
+};
+
+/// The pyramid of `image`. Odd sizes round down (the last row or column folds into the
+/// level's last texel), so every level is at least 1x1.
+MipChain build_mip_chain(const Image& image);
+
+/// Level of detail for a footprint: log2 of the longer of the two uv derivative vectors
+/// measured in texels of level 0 (OpenGL 4.6 spec, section 8.14.1). Clamped at 0.
+float mip_level(const MipChain& chain, vec2 duv_dx, vec2 duv_dy);
+
+/// Bilinear lookups in the two levels around `lod`, blended linearly.
+Color sample_trilinear(const MipChain& chain, vec2 uv, float lod, TextureWrap wrap);
+
+/// Where a texture lookup happens: its uv footprint across one pixel (zero without one, as
+/// for rays) and the scene's mip chains (one per Scene::textures entry; empty for engines
+/// that have no footprint).
+struct TextureLookup {
+    const std::vector<Image>& images;
+    const std::vector<MipChain>* mips = nullptr;
+    vec2 duv_dx{0.0f}, duv_dy{0.0f};
+};
+
+}  // namespace svetlo
