@@ -98,6 +98,20 @@ cp "$work/bad.json" "$work/solids.json"
 "$svetlo" render "$work/solids.json" -o "$work/s1.pfm" -t 1 -q && "$svetlo" render "$work/solids.json" -o "$work/s2.pfm" -t 2 -q &&
     cmp -s "$work/s1.pfm" "$work/s2.pfm" && ! cmp -s "$work/s1.pfm" "$work/t1.pfm" && pass || fail "csg and implicit render"
 
+# The rasterizer: every shading mode, MSAA, painter, wireframe; the same image on any thread count.
+for mode in flat gouraud phong depth normal; do
+    "$svetlo" render "$work/solids.json" --engine raster -o "$work/r_$mode.png" -q --set render.shading=$mode &&
+        [ -s "$work/r_$mode.png" ] && pass || fail "raster shading $mode"
+done
+"$svetlo" render "$work/solids.json" --engine raster -o "$work/r1.pfm" -t 1 -q --spp 4 --set render.antialias=msaa \
+    --set render.wireframe=wu --aov depth="$work/rd1.pfm" &&
+"$svetlo" render "$work/solids.json" --engine raster -o "$work/r2.pfm" -t 2 -q --spp 4 --set render.antialias=msaa \
+    --set render.wireframe=wu --aov depth="$work/rd2.pfm" &&
+    cmp -s "$work/r1.pfm" "$work/r2.pfm" && cmp -s "$work/rd1.pfm" "$work/rd2.pfm" && pass || fail "raster threads 1 vs 2 differ"
+"$svetlo" render "$work/solids.json" --engine raster -o "$work/rp.png" -q --set render.visibility=painter \
+    --set render.cull=back --set render.wireframe=bresenham && pass || fail "raster painter"
+"$svetlo" info "$work/good.json" --matrices | grep -q '^projection' && pass || fail "info --matrices"
+
 # --- bad command lines ---
 "$svetlo" render "$work/good.json" --frobnicate > /dev/null 2> "$work/stderr"
 [ $? -ne 0 ] && grep -qi usage "$work/stderr" && pass || fail "unknown flag"
@@ -138,6 +152,8 @@ render_bad "emissive plane" "objects\[1\]: an emissive plane" \
     'scene["materials"]["glow"] = {"type": "emissive", "radiance": 1}; scene["objects"][1]["material"] = "glow"'
 expect_error "bench unknown accel" "--accel" bench "$work/good.json" --accel kd-tree
 render_bad "unknown accel" "render.accel: unknown value" 'scene["render"]["accel"] = "kd-tree"'
+render_bad "unknown visibility" "render.visibility: unknown value" 'scene["render"]["visibility"] = "magic"'
+render_bad "tessellation too coarse" "render.tessellation" 'scene["render"]["tessellation"] = 2'
 render_bad "csg of a quad" "objects\[2\].children\[0\].type: a CSG child must be a closed shape" \
     'scene["objects"].append({"type": "csg", "op": "union", "material": "white", "children": [{"type": "quad", "corner": [0, 0, 0], "edge_u": [1, 0, 0], "edge_v": [0, 1, 0]}]})'
 render_bad "bad sdf op" "objects\[2\].sdf.op: unknown value" \

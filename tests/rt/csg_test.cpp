@@ -192,7 +192,9 @@ TEST(Csg, SecondaryRaysDoNotHitTheirOwnSurface) {
         if (glm::dot(r, n) <= 0.0f) continue;
         Probe back = probe(s, offset_ray_origin(p.s.p, n, r), r);
         // The only surface a reflected ray can meet on this convex-from-outside solid is far.
-        if (back.hit) EXPECT_GT(back.t, 1e-3f) << k;
+        if (back.hit) {
+            EXPECT_GT(back.t, 1e-3f) << k;
+        }
     }
 }
 

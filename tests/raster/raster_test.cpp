@@ -1,0 +1,433 @@
+// The rasterizer against closed forms, against the ray tracer, and its invariants (fill
+// rule, depth test, clipping). Expected values are computed here, independently of the
+// pipeline: a pixel's world point is the camera ray through its centre meeting the surface.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "svetlo/core/image_io.h"
+#include "svetlo/raster/camera_matrices.h"
+#include "svetlo/raster/clipper.h"
+#include "svetlo/raster/edge_function.h"
+#include "svetlo/raster/lines.h"
+#include "svetlo/raster/raster_engine.h"
+#include "svetlo/rt/camera.h"
+#include "svetlo/rt/whitted.h"
+#include "svetlo/scene/scene_loader.h"
+#include "svetlo/shading/mipmap.h"
+
+namespace svetlo {
+namespace {
+
+using json = nlohmann::json;
+
+RenderResult render(const json& j, const std::string& engine = "raster", std::vector<std::string> aovs = {},
+                    int threads = 2) {
+    Scene scene = scene_from_json(j, "test.json");
+    scene.render.engine = engine;
+    RenderOptions options;
+    options.threads = threads;
+    options.aovs = std::move(aovs);
+    if (engine == "whitted") return WhittedRenderer().render(scene, options);
+    return RasterRenderer().render(scene, options);
+}
+
+/// A perspective camera looking obliquely down at the y = 0 plane.
+json oblique(int w, int h) {
+    return {{"camera", {{"position", {0.4, 2.2, 3.5}}, {"look_at", {0, 0, 0}}, {"fov", 50}}},
+            {"film", {{"width", w}, {"height", h}}},
+            {"render", {{"engine", "raster"}, {"spp", 1}, {"max_depth", 0}}}};
+}
+
+json floor_quad(float half, const char* material) {
+    return {{"type", "quad"}, {"corner", {-half, 0, -half}}, {"edge_u", {0, 0, 2 * half}},
+            {"edge_v", {2 * half, 0, 0}}, {"material", material}};
+}
+
+/// Where the ray through the centre of pixel (i, j) meets y = 0 (false if it does not).
+bool floor_point(const Scene& scene, int i, int j, vec3& p) {
+    CameraRays rays(scene.camera, scene.film.width, scene.film.height);
+    Ray r = rays.generate((i + 0.5f) / scene.film.width, (j + 0.5f) / scene.film.height);
+    if (!(r.d.y < 0.0f)) return false;
+    p = r.o - (r.o.y / r.d.y) * r.d;
+    return true;
+}
+
+/// Normalised Phong under a point light, the contract's formula.
+Color phong_closed_form(vec3 p, vec3 eye, vec3 light, Color intensity, float kd, float ks, float n, float ka, float ambient) {
+    vec3 nrm(0, 1, 0);
+    vec3 d = light - p;
+    float d2 = glm::dot(d, d);
+    vec3 l = d / std::sqrt(d2), v = glm::normalize(eye - p);
+    float cos_t = glm::dot(nrm, l);
+    vec3 r = 2.0f * cos_t * nrm - l;
+    float spec = (n + 2.0f) / (2.0f * kPi) * std::pow(std::max(0.0f, glm::dot(r, v)), n);
+    return Color(ka * ambient) + (kd / kPi + ks * spec) * intensity * (cos_t / d2);
+}
+
+// The world point of a pixel comes from vertices snapped to 1/256 pixel: the interpolated
+// point moves by at most 1/512 pixel times the world size of a pixel (here < 0.03 m / px at
+// 96 px: 6e-5 m), which changes the lighting by well under 1e-3 relative.
+constexpr float kSnapTolerance = 1e-3f;
+
+TEST(Raster, PhongShadedQuadUnderPointLightMatchesTheClosedForm) {
+    const int w = 96, h = 64;
+    json j = oblique(w, h);
+    j["materials"] = {{"shiny", {{"type", "phong"}, {"kd", 0.5}, {"ks", 0.3}, {"shininess", 20}, {"ka", 0.5}}}};
+    j["lights"] = {{{"type", "point"}, {"position", {0.5, 1.2, 0.3}}, {"intensity", {6, 3, 1.5}}}};
+    j["render"]["ambient"] = 0.2;
+    j["objects"] = {floor_quad(1.5f, "shiny")};
+    Scene scene = scene_from_json(j, "test.json");
+    RenderResult r = render(j);
+    int checked = 0;
+    for (int jj = 0; jj < h; ++jj) {
+        for (int i = 0; i < w; ++i) {
+            vec3 p;
+            if (!floor_point(scene, i, jj, p) || std::abs(p.x) > 1.45f || std::abs(p.z) > 1.45f) continue;
+            Color e = phong_closed_form(p, scene.camera.position, vec3(0.5f, 1.2f, 0.3f), Color(6, 3, 1.5f), 0.5f, 0.3f,
+                                        20.0f, 0.5f, 0.2f);
+            ASSERT_NEAR(r.color.at(i, jj).r, e.r, kSnapTolerance * e.r) << i << "," << jj;
+            ASSERT_NEAR(r.color.at(i, jj).b, e.b, kSnapTolerance * e.b) << i << "," << jj;
+            ++checked;
+        }
+    }
+    EXPECT_GT(checked, 1200);
+}
+
+/// A single triangle on the floor with per-vertex normals, for the Gouraud and flat tests.
+json floor_triangle(const char* material) {
+    return {{"type", "mesh"},
+            {"positions", {{-1.2, 0, 1.0}, {1.3, 0, 0.8}, {0.1, 0, -1.4}}},
+            {"indices", {0, 1, 2}},
+            {"normals", {{0, 1, 0}, {0, 1, 0}, {0, 1, 0}}},
+            {"smooth", true},
+            {"material", material}};
+}
+
+TEST(Raster, GouraudInterpolatesTheVertexColours) {
+    const int w = 80, h = 60;
+    json j = oblique(w, h);
+    j["materials"] = {{"white", {{"type", "lambert"}, {"albedo", 0.7}}}};
+    vec3 light(0.2f, 0.6f, 0.1f);
+    j["lights"] = {{{"type", "point"}, {"position", {light.x, light.y, light.z}}, {"intensity", 3}}};
+    j["render"]["shading"] = "gouraud";
+    j["objects"] = {floor_triangle("white")};
+    Scene scene = scene_from_json(j, "test.json");
+    RenderResult r = render(j);
+    vec3 v[3] = {vec3(-1.2f, 0, 1.0f), vec3(1.3f, 0, 0.8f), vec3(0.1f, 0, -1.4f)};
+    float c[3];
+    for (int k = 0; k < 3; ++k) {
+        vec3 d = light - v[k];
+        float d2 = glm::dot(d, d);
+        c[k] = 0.7f / kPi * 3.0f * (d.y / std::sqrt(d2)) / d2;
+    }
+    int checked = 0;
+    float max_phong_gap = 0.0f;
+    for (int jj = 0; jj < h; ++jj) {
+        for (int i = 0; i < w; ++i) {
+            vec3 p;
+            if (!floor_point(scene, i, jj, p)) continue;
+            // World barycentrics of p: perspective-correct interpolation reproduces them.
+            vec3 e0 = v[1] - v[0], e1 = v[2] - v[0], q = p - v[0];
+            float det = e0.x * e1.z - e0.z * e1.x;
+            float b1 = (q.x * e1.z - q.z * e1.x) / det, b2 = (e0.x * q.z - e0.z * q.x) / det, b0 = 1.0f - b1 - b2;
+            if (b0 < 0.02f || b1 < 0.02f || b2 < 0.02f) continue;  // away from the edges
+            float expected = b0 * c[0] + b1 * c[1] + b2 * c[2];
+            ASSERT_NEAR(r.color.at(i, jj).g, expected, kSnapTolerance * expected) << i << "," << jj;
+            vec3 d = light - p;
+            float phong = 0.7f / kPi * 3.0f * (d.y / glm::length(d)) / glm::dot(d, d);
+            max_phong_gap = std::max(max_phong_gap, std::abs(phong - expected) / phong);
+            ++checked;
+        }
+    }
+    EXPECT_GT(checked, 300);
+    EXPECT_GT(max_phong_gap, 0.2f);  // the lesson: the light's peak between vertices is lost
+}
+
+TEST(Raster, FlatShadingIsOneColourPerFace) {
+    const int w = 80, h = 60;
+    json j = oblique(w, h);
+    j["materials"] = {{"white", {{"type", "phong"}, {"kd", 0.6}, {"ks", 0.2}, {"shininess", 10}}}};
+    vec3 light(0.2f, 0.6f, 0.1f);
+    j["lights"] = {{{"type", "point"}, {"position", {light.x, light.y, light.z}}, {"intensity", 3}}};
+    j["render"]["shading"] = "flat";
+    j["objects"] = {floor_triangle("white")};
+    Scene scene = scene_from_json(j, "test.json");
+    RenderResult r = render(j);
+    vec3 centroid = (vec3(-1.2f, 0, 1.0f) + vec3(1.3f, 0, 0.8f) + vec3(0.1f, 0, -1.4f)) / 3.0f;
+    Color expected = phong_closed_form(centroid, scene.camera.position, light, Color(3.0f), 0.6f, 0.2f, 10.0f, 0.0f, 0.0f);
+    int covered = 0;
+    for (const Color& c : r.color.pixels) {
+        if (c.r == 0.0f) continue;  // background
+        ASSERT_NEAR(c.r, expected.r, 1e-6f * expected.r);
+        ++covered;
+    }
+    EXPECT_GT(covered, 400);
+}
+
+TEST(Raster, PhongShadedSphereMatchesTheRayTracer) {
+    json j = {{"camera", {{"position", {0, 0.5, 4}}, {"look_at", {0, 0, 0}}, {"fov", 35}}},
+              {"film", {{"width", 96}, {"height", 96}}},
+              {"render", {{"spp", 1}, {"max_depth", 0}, {"ambient", 0.05}}},
+              {"materials", {{"m", {{"type", "blinn_phong"}, {"kd", 0.6}, {"ks", 0.3}, {"shininess", 30}, {"ka", 1}}}}},
+              {"lights", {{{"type", "point"}, {"position", {2, 3, 3}}, {"intensity", 20}}}},
+              {"objects", {{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1}, {"material", "m"}}}}};
+    RenderResult ras = render(j, "raster", {"depth"});
+    RenderResult ray = render(j, "whitted", {"depth"});
+    const Image& dr = ras.aovs.at("depth");
+    const Image& dt = ray.aovs.at("depth");
+    // Differences relative to the brightest pixel (relative ones explode at the terminator).
+    float peak = 0.0f;
+    for (const Color& c : ray.color.pixels) peak = std::max(peak, luminance(c));
+    double sum = 0.0;
+    int n = 0;
+    float worst = 0.0f;
+    for (int y = 1; y < 95; ++y) {
+        for (int x = 1; x < 95; ++x) {
+            bool inside = true;  // the pixel and its neighbours are on the sphere in both
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) inside = inside && dr.at(x + dx, y + dy).r > 0 && dt.at(x + dx, y + dy).r > 0;
+            if (!inside) continue;
+            float rel = std::abs(luminance(ras.color.at(x, y)) - luminance(ray.color.at(x, y))) / peak;
+            worst = std::max(worst, rel);
+            sum += rel;
+            ++n;
+        }
+    }
+    ASSERT_GT(n, 3000);
+    EXPECT_LT(sum / n, 0.005);  // 0.5 % of the peak on average
+    EXPECT_LT(worst, 0.02f);    // 2 % at worst (the default 64 x 32 tessellation)
+}
+
+TEST(Raster, DepthTestDoesNotDependOnDrawOrder) {
+    json j = oblique(64, 48);
+    j["materials"] = {{"a", {{"type", "lambert"}, {"albedo", {0.8, 0.2, 0.2}}}}, {"b", {{"type", "lambert"}, {"albedo", {0.2, 0.8, 0.2}}}},
+                      {"c", {{"type", "lambert"}, {"albedo", {0.2, 0.2, 0.8}}}}};
+    j["lights"] = {{{"type", "directional"}, {"direction", {-0.3, -1, -0.2}}, {"irradiance", 2}}};
+    json objects = {{{"type", "sphere"}, {"center", {0, 0.3, 0}}, {"radius", 0.6}, {"material", "a"}},
+                    {{"type", "box"}, {"min", {-0.8, 0, -0.2}}, {"max", {0.3, 0.5, 0.5}}, {"material", "b"}},
+                    floor_quad(1.5f, "c")};
+    j["objects"] = objects;
+    RenderResult first = render(j);
+    j["objects"] = {objects[2], objects[0], objects[1]};
+    RenderResult second = render(j);
+    ASSERT_EQ(first.color.pixels.size(), second.color.pixels.size());
+    for (size_t k = 0; k < first.color.pixels.size(); ++k) ASSERT_EQ(first.color.pixels[k], second.color.pixels[k]) << k;
+    // Different thread counts give the same image.
+    RenderResult one = render(j, "raster", {}, 1);
+    for (size_t k = 0; k < one.color.pixels.size(); ++k) ASSERT_EQ(one.color.pixels[k], second.color.pixels[k]) << k;
+    // The painter's algorithm gets this scene right (the floor is drawn first, being farthest)
+    // except where the interpenetrating sphere and box cross: it has no per-pixel depth.
+    j["render"]["visibility"] = "painter";
+    RenderResult painter = render(j);
+    int differ = 0;
+    for (size_t k = 0; k < painter.color.pixels.size(); ++k) differ += painter.color.pixels[k] != first.color.pixels[k];
+    EXPECT_GT(differ, 0);
+    EXPECT_LT(differ, static_cast<int>(first.color.pixels.size() / 4));
+}
+
+TEST(Raster, NearPlaneClippingMatchesTheRayTracersCoverage) {
+    // A camera close to a floor that extends far behind it: triangles cross the camera plane.
+    json j = {{"camera", {{"position", {0, 0.3, 0}}, {"look_at", {0, 0.1, -1}}, {"fov", 70}}},
+              {"film", {{"width", 64}, {"height", 48}}},
+              {"render", {{"spp", 1}, {"max_depth", 0}}},
+              {"materials", {{"m", {{"type", "lambert"}, {"albedo", 0.5}}}}},
+              {"lights", {{{"type", "directional"}, {"direction", {0, -1, 0}}, {"irradiance", 1}}}},
+              {"objects", {floor_quad(20.0f, "m"),
+                           {{"type", "box"}, {"min", {-0.5, 0, -2}}, {"max", {0.5, 0.6, 0.5}}, {"material", "m"}}}}};
+    RenderResult ras = render(j, "raster", {"depth"});
+    RenderResult ray = render(j, "whitted", {"depth"});
+    const Image& a = ras.aovs.at("depth");
+    const Image& b = ray.aovs.at("depth");
+    int covered = 0;
+    for (int y = 0; y < 48; ++y) {
+        for (int x = 0; x < 64; ++x) {
+            bool hit_a = a.at(x, y).r > 0.0f, hit_b = b.at(x, y).r > 0.0f;
+            covered += hit_b;
+            ASSERT_EQ(hit_a, hit_b) << x << "," << y;
+            if (hit_b) {
+                ASSERT_NEAR(a.at(x, y).r, b.at(x, y).r, 2e-3f * b.at(x, y).r) << x << "," << y;
+            }
+        }
+    }
+    EXPECT_GT(covered, 1000);
+}
+
+TEST(Raster, FillRuleCoversEverySampleOnce) {
+    // A 9 x 7 grid of vertices, jittered (some exactly on sample centres and pixel edges),
+    // two triangles per cell: every sample inside the outer rectangle belongs to exactly one.
+    const int gx = 9, gy = 7;
+    const int32_t step = 5 * kSubpixel;  // 5 pixels
+    std::vector<int32_t> vx, vy;
+    uint32_t state = 12345;
+    auto rnd = [&] { return (state = state * 1664525u + 1013904223u) >> 8; };
+    for (int y = 0; y < gy; ++y) {
+        for (int x = 0; x < gx; ++x) {
+            int32_t jx = 0, jy = 0;
+            if (x > 0 && x < gx - 1 && y > 0 && y < gy - 1) {
+                switch (rnd() % 3) {
+                    case 0: break;                                  // on a pixel corner
+                    case 1: jx = jy = kSubpixel / 2; break;         // on a pixel centre
+                    default: jx = static_cast<int32_t>(rnd() % 400) - 200, jy = static_cast<int32_t>(rnd() % 400) - 200;
+                }
+            }
+            vx.push_back(x * step + jx);
+            vy.push_back(y * step + jy);
+        }
+    }
+    std::vector<std::array<int, 3>> tris;
+    for (int y = 0; y + 1 < gy; ++y) {
+        for (int x = 0; x + 1 < gx; ++x) {
+            int a = y * gx + x, b = a + 1, c = a + gx, d = c + 1;
+            if ((x + y) % 2) {
+                tris.push_back({a, b, d});
+                tris.push_back({a, d, c});
+            } else {
+                tris.push_back({a, b, c});
+                tris.push_back({b, d, c});
+            }
+        }
+    }
+    // Samples at pixel centres and at a quarter of a pixel, over the grid's interior.
+    for (int32_t offset : {kSubpixel / 2, kSubpixel / 4}) {
+        for (int32_t sy = offset; sy < (gy - 1) * step; sy += kSubpixel) {
+            for (int32_t sx = offset; sx < (gx - 1) * step; sx += kSubpixel) {
+                int count = 0;
+                for (const auto& t : tris) {
+                    int32_t x[3] = {vx[t[0]], vx[t[1]], vx[t[2]]}, y[3] = {vy[t[0]], vy[t[1]], vy[t[2]]};
+                    if (signed_area2(x, y) < 0) {
+                        std::swap(x[1], x[2]);
+                        std::swap(y[1], y[2]);
+                    }
+                    Edge e[3] = {Edge::make(x[1], y[1], x[2], y[2]), Edge::make(x[2], y[2], x[0], y[0]),
+                                 Edge::make(x[0], y[0], x[1], y[1])};
+                    bool in = true;
+                    for (const Edge& edge : e) in = in && edge.at(sx, sy) + edge.bias >= 0;
+                    count += in;
+                }
+                ASSERT_EQ(count, 1) << "sample " << sx << "," << sy;
+            }
+        }
+    }
+}
+
+TEST(Raster, ClippingKeepsThePartInFrontOfTheNearPlane) {
+    ClipVertex a, b, c;
+    a.clip = vec4(0, 0, -2, 1);  // in front of the near plane (z < -w would be behind)
+    b.clip = vec4(1, 0, -3, 1);  // behind it
+    c.clip = vec4(0, 1, 0.5f, 1);
+    a.uv = vec2(0, 0);
+    b.uv = vec2(1, 0);
+    c.uv = vec2(0, 1);
+    ClipPolygon p = clip_triangle(a, b, c, 2.0f, 2.0f);
+    ASSERT_EQ(p.count, 3);  // one vertex kept, two made on the near plane
+    for (int k = 0; k < p.count; ++k) {
+        const ClipVertex& v = p.v[static_cast<size_t>(k)];
+        EXPECT_GE(v.clip.z, -v.clip.w - 1e-6f);
+        EXPECT_LE(v.clip.z, v.clip.w + 1e-6f);
+        // Attributes follow the clip-space position linearly: uv.y tracks y here.
+        EXPECT_NEAR(v.uv.y, v.clip.y, 1e-6f);
+    }
+    ClipPolygon none = clip_triangle(b, b, b, 2.0f, 2.0f);
+    EXPECT_EQ(none.count, 0);
+}
+
+TEST(Raster, MatricesProjectWhereTheCameraRaysGo) {
+    Camera cam;
+    cam.position = vec3(1, 2, 3);
+    cam.look_at = vec3(0, 0.5f, 0);
+    cam.fov_deg = 45.0f;
+    Bounds3 bounds{vec3(-2), vec3(2)};
+    for (auto type : {Camera::Type::Perspective, Camera::Type::Orthographic}) {
+        cam.type = type;
+        CameraMatrices m = camera_matrices(cam, 200, 100, bounds);
+        CameraRays rays(cam, 200, 100);
+        for (vec2 film : {vec2(0.1f, 0.2f), vec2(0.5f, 0.5f), vec2(0.9f, 0.7f)}) {
+            Ray r = rays.generate(film.x, film.y);
+            vec3 p = r.o + 2.5f * r.d;
+            vec4 clip = m.view_projection() * vec4(p, 1.0f);
+            vec2 px = m.to_pixels(vec2(clip) / clip.w);
+            EXPECT_NEAR(px.x, film.x * 200.0f, 1e-3f);
+            EXPECT_NEAR(px.y, film.y * 100.0f, 1e-3f);
+        }
+    }
+}
+
+TEST(Raster, LinesCoverWhatTheyShould) {
+    std::vector<std::pair<int, int>> pixels;
+    draw_line_bresenham(vec2(0.5f, 0.5f), vec2(10.5f, 4.5f), [&](int i, int j, float c, float) {
+        EXPECT_EQ(c, 1.0f);
+        pixels.emplace_back(i, j);
+    });
+    ASSERT_EQ(pixels.size(), 11u);  // one pixel per step of the major axis
+    EXPECT_EQ(pixels.front(), std::make_pair(0, 0));
+    EXPECT_EQ(pixels.back(), std::make_pair(10, 4));
+    for (size_t k = 1; k < pixels.size(); ++k) EXPECT_LE(std::abs(pixels[k].second - pixels[k - 1].second), 1);
+    // Wu: the two pixels straddling the line share its unit intensity per column.
+    std::map<int, float> column;
+    draw_line_wu(vec2(0.5f, 0.5f), vec2(20.5f, 7.3f), [&](int i, int, float c, float) { column[i] += c; });
+    for (int i = 1; i < 20; ++i) EXPECT_NEAR(column[i], 1.0f, 1e-5f) << i;
+}
+
+TEST(Raster, TrilinearFilteringAveragesWhenMinified) {
+    // A texel-sized black and white checker, 64 x 64.
+    Image checker(64, 64);
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x) checker.at(x, y) = Color(((x + y) & 1) ? 1.0f : 0.0f);
+    MipChain chain = build_mip_chain(checker);
+    ASSERT_EQ(chain.levels.size(), 7u);
+    EXPECT_EQ(chain.levels[1].at(3, 5), Color(0.5f));
+    EXPECT_EQ(chain.levels[6].at(0, 0), Color(0.5f));
+    // A footprint of 8 texels per pixel selects level 3.
+    EXPECT_NEAR(mip_level(chain, vec2(8.0f / 64.0f, 0.0f), vec2(0.0f, 1.0f / 64.0f)), 3.0f, 1e-5f);
+    EXPECT_EQ(sample_trilinear(chain, vec2(0.37f, 0.61f), 3.0f, TextureWrap::Repeat), Color(0.5f));
+    EXPECT_EQ(sample_trilinear(chain, vec2(0.37f, 0.61f), 2.5f, TextureWrap::Repeat), Color(0.5f));
+    // Rendered: a far, textured floor is grey with trilinear filtering, noise with bilinear.
+    Image fine(256, 256);
+    for (int y = 0; y < 256; ++y)
+        for (int x = 0; x < 256; ++x) fine.at(x, y) = Color(((x + y) & 1) ? 1.0f : 0.0f);
+    auto dir = std::filesystem::temp_directory_path() / ("svetlo_raster_test_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    write_image(dir / "checker.pfm", fine, PixelMeaning::Radiance, 1.0f, "test");
+    json j = {{"camera", {{"position", {0, 1, 0}}, {"look_at", {0, 0.85, -1}}, {"fov", 40}}},
+              {"film", {{"width", 48}, {"height", 32}}},
+              {"render", {{"spp", 1}, {"max_depth", 0}, {"ambient", 1}}},
+              {"lights", json::array()},
+              {"objects", {floor_quad(1.0f, "tex")}}};
+    j["objects"][0]["corner"] = {-4, 0, -12};
+    j["objects"][0]["edge_u"] = {0, 0, 11};
+    j["objects"][0]["edge_v"] = {8, 0, 0};
+    j["materials"] = {{"tex", {{"type", "lambert"}, {"albedo", 0.5}}}};
+    Scene scene = scene_from_json(j, "test.json");  // for the camera rays
+    double spread[2];
+    for (int k = 0; k < 2; ++k) {
+        const char* filter = k == 0 ? "trilinear" : "bilinear";
+        j["materials"] = {{"tex", {{"type", "lambert"},
+                                   {"albedo", {{"texture", (dir / "checker.pfm").string()}, {"filter", filter}}}}}};
+        RenderResult r = render(j);
+        double lo = 1.0, hi = 0.0;
+        int n = 0;
+        for (int y = 0; y < 32; ++y) {
+            for (int x = 4; x < 44; ++x) {
+                vec3 p;
+                // On the quad, and at least 2 m away: 4 or more texels per pixel.
+                if (!floor_point(scene, x, y, p) || p.z > -2.0f || p.z < -11.5f || std::abs(p.x) > 3.5f) continue;
+                double v = r.color.at(x, y).r;
+                lo = std::min(lo, v);
+                hi = std::max(hi, v);
+                ++n;
+            }
+        }
+        ASSERT_GT(n, 200);
+        spread[k] = hi - lo;
+        if (k == 0) {
+            EXPECT_NEAR(lo, 0.5, 0.03);
+            EXPECT_NEAR(hi, 0.5, 0.03);
+        }
+    }
+    EXPECT_GT(spread[1], 0.3);  // bilinear aliases
+    std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace svetlo
