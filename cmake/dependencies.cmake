@@ -24,3 +24,9 @@ endif()
 if(SVETLO_BENCH)
     find_package(benchmark CONFIG REQUIRED)
 endif()
+
+# Mesa's OSMesa (llvmpipe) is optional too: the rasterizer benchmark compares against it.
+find_package(PkgConfig QUIET)
+if(PKG_CONFIG_FOUND AND SVETLO_BENCH)
+    pkg_check_modules(OSMESA QUIET IMPORTED_TARGET osmesa)
+endif()

@@ -19,8 +19,12 @@ namespace svetlo {
 inline constexpr int kSubpixelBits = 8;
 inline constexpr int32_t kSubpixel = 1 << kSubpixelBits;
 
-/// Pixel coordinate to fixed point, rounded to the nearest step.
-inline int32_t to_fixed(float x) { return static_cast<int32_t>(std::lround(x * static_cast<float>(kSubpixel))); }
+/// Pixel coordinate to fixed point, rounded to the nearest step (half away from zero; inline,
+/// where std::lround is a library call).
+inline int32_t to_fixed(float x) {
+    float v = x * static_cast<float>(kSubpixel);
+    return static_cast<int32_t>(v >= 0.0f ? v + 0.5f : v - 0.5f);
+}
 
 struct Edge {
     int64_t a = 0, b = 0;  // E(x, y) = a x + b y + c, in fixed-point units

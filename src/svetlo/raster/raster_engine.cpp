@@ -6,6 +6,7 @@
 #include <atomic>
 #include <chrono>
 
+#include "svetlo/core/large_array.h"
 #include "svetlo/core/parallel.h"
 #include "svetlo/core/progress.h"
 #include "svetlo/core/rng.h"
@@ -41,7 +42,11 @@ struct SetupTriangle {
     int32_t x0, y0, x1, y1;  // pixels that may hold a covered sample, [x0, x1) x [y0, y1)
     Color flat{0.0f};        // flat shading: the face's colour
     float depth_key = 0.0f;  // painter's algorithm: distance of the centroid from the camera
+    vec3 ng{0.0f};           // unit geometric normal of the counter-clockwise side (world)
+    double inv_area = 0.0;   // 1 / twice the fixed-point area
     bool front = true;       // the camera sees the counter-clockwise side
+
+    bool empty() const { return x0 >= x1; }
 };
 
 /// Everything the tiles read, made once per frame.
@@ -57,10 +62,21 @@ struct FrameState {
     std::vector<char> needs_footprint;   // per material: some texture is trilinear
     std::vector<MipChain> mips;
     RasterLights lights;
-    std::vector<ClipVertex> vertices;
-    std::vector<SetupTriangle> tris;
-    std::vector<std::vector<std::vector<uint32_t>>> bins;  // [chunk][tile] -> triangles, in order
+    LargeArray<ClipVertex> vertices;      // the vertex stage's output, mesh after mesh
+    std::vector<ClipVertex> extra;        // vertices made by clipping (index bit kExtra)
+    LargeArray<SetupTriangle> tris;       // one slot per input triangle (empty when culled)
+    std::vector<SetupTriangle> clipped;   // triangles of clipped polygons, after the slots
+    std::vector<std::pair<uint32_t, uint32_t>> clipped_range;  // per chunk, into `clipped`
+    size_t triangle_count = 0;            // set up and drawn
+    struct Bins {                         // per chunk of triangles in drawing order:
+        std::vector<uint32_t> start;      // tile k's triangles are ids[start[k] .. start[k+1])
+        std::vector<uint32_t> ids;
+    };
+    std::vector<Bins> bins;
     int tiles_x = 0, tiles_y = 0;
+
+    const ClipVertex& vertex(uint32_t v) const { return (v & kExtra) ? extra[v & ~kExtra] : vertices[v]; }
+    const SetupTriangle& tri(uint32_t id) const { return id < tris.size() ? tris[id] : clipped[id - tris.size()]; }
 };
 
 bool is_textured(const ColorSource& c) { return c.kind != ColorSource::Kind::Constant; }
@@ -153,18 +169,18 @@ std::vector<DrawMesh> tessellate_scene(const Scene& scene, FrameState& f, int th
     return meshes;
 }
 
-/// The material's BRDF at a point: the per-material constant one, or textures evaluated with
-/// the footprint when the rasterizer has one.
-Bsdf material_at(const FrameState& f, uint32_t m, vec2 uv, vec2 duv_dx, vec2 duv_dy) {
+/// The material's BRDF at a point: the per-material constant one, or (in `scratch`) textures
+/// evaluated with the footprint when the rasterizer has one.
+const Bsdf& material_at(const FrameState& f, uint32_t m, vec2 uv, vec2 duv_dx, vec2 duv_dy, Bsdf& scratch) {
     if (!f.textured[m]) return f.constant_bsdf[m];
     TextureLookup lookup{f.scene->textures, f.mips.empty() ? nullptr : &f.mips, duv_dx, duv_dy};
-    return make_bsdf(f.materials[m], uv, lookup);
+    scratch = make_bsdf(f.materials[m], uv, lookup);
+    return scratch;
 }
 
 /// Lit colour at a point with geometric normal ng (the counter-clockwise side), shading
-/// normal ns, seen from the camera; shading is two-sided, emission one-sided.
-Color light_point(const FrameState& f, const Bsdf& bsdf, vec3 p, vec3 ng, vec3 ns, bool front) {
-    vec3 wo = f.ortho ? -f.forward : glm::normalize(f.eye - p);
+/// normal ns, seen from the camera along -wo; shading is two-sided, emission one-sided.
+Color light_point(const FrameState& f, const Bsdf& bsdf, vec3 p, vec3 wo, vec3 ng, vec3 ns, bool front) {
     vec3 n = glm::dot(ng, wo) >= 0.0f ? ng : -ng;
     if (glm::length(ns) == 0.0f) ns = n;
     if (glm::dot(ns, n) < 0.0f) ns = -ns;
@@ -178,7 +194,7 @@ Color light_point(const FrameState& f, const Bsdf& bsdf, vec3 p, vec3 ng, vec3 n
 void vertex_stage(const std::vector<DrawMesh>& meshes, FrameState& f, std::vector<uint32_t>& base, int threads) {
     base.assign(meshes.size() + 1, 0);
     for (size_t k = 0; k < meshes.size(); ++k) base[k + 1] = base[k] + static_cast<uint32_t>(meshes[k].mesh.positions.size());
-    f.vertices.resize(base.back());
+    f.vertices = LargeArray<ClipVertex>(base.back());
     mat4 vp = f.cam.view_projection();
     parallel_indices(meshes.size(), threads, [&](size_t k) {
         const Mesh& m = meshes[k].mesh;
@@ -191,6 +207,7 @@ void vertex_stage(const std::vector<DrawMesh>& meshes, FrameState& f, std::vecto
             vec3 n = v < m.normals.size() ? m.normals[v] : vec3(0.0f);
             out.normal = glm::length(n) > 0.0f ? glm::normalize(nm * n) : vec3(0.0f);
             out.uv = v < m.uvs.size() ? m.uvs[v] : vec2(0.0f);
+            out.color = Color(0.0f);
         }
         if (f.mode != Mode::Gouraud) return;
         std::vector<uint32_t> face_of(m.positions.size(), kNone);
@@ -211,15 +228,17 @@ void vertex_stage(const std::vector<DrawMesh>& meshes, FrameState& f, std::vecto
             auto mat = static_cast<uint32_t>(m.face_material[t]);
             vec3 wo = f.ortho ? -f.forward : glm::normalize(f.eye - out.world);
             bool front = glm::dot(ng, wo) > 0.0f;
-            out.color = light_point(f, material_at(f, mat, out.uv, vec2(0.0f), vec2(0.0f)), out.world, ng, out.normal, front);
+            Bsdf scratch;
+            out.color = light_point(f, material_at(f, mat, out.uv, vec2(0.0f), vec2(0.0f), scratch), out.world, wo, ng,
+                                    out.normal, front);
         }
     });
 }
 
 /// Stage 3 for one triangle: projection, viewport, snapping, culling. Appends to `out`.
-void setup_triangle(const FrameState& f, const ClipVertex* cv[3], const uint32_t index[3], uint32_t material, Color flat,
-                    std::vector<SetupTriangle>& out) {
-    SetupTriangle t;
+bool setup_triangle(const FrameState& f, const ClipVertex* cv[3], const uint32_t index[3], uint32_t material, Color flat,
+                    SetupTriangle& t) {
+    t.x0 = t.x1 = 0;  // empty until set up
     vec2 px[3];
     for (int i = 0; i < 3; ++i) {
         float invw = 1.0f / cv[i]->clip.w;
@@ -235,10 +254,11 @@ void setup_triangle(const FrameState& f, const ClipVertex* cv[3], const uint32_t
         t.v[i] = index[i];
     }
     int64_t area = signed_area2(t.x, t.y);
-    if (area == 0) return;  // degenerate on the screen: covers no sample
+    if (area == 0) return false;  // degenerate on the screen: covers no sample
     t.front = area > 0;
+    t.inv_area = 1.0 / static_cast<double>(std::abs(area));
     if (!t.front) {
-        if (f.scene->render.raster.cull_back_faces) return;
+        if (f.scene->render.raster.cull_back_faces) return false;
         std::swap(t.x[1], t.x[2]);
         std::swap(t.y[1], t.y[2]);
         std::swap(t.z[1], t.z[2]);
@@ -248,20 +268,26 @@ void setup_triangle(const FrameState& f, const ClipVertex* cv[3], const uint32_t
     int32_t xmin = std::min({t.x[0], t.x[1], t.x[2]}), xmax = std::max({t.x[0], t.x[1], t.x[2]});
     int32_t ymin = std::min({t.y[0], t.y[1], t.y[2]}), ymax = std::max({t.y[0], t.y[1], t.y[2]});
     // Samples of pixel i lie in [i, i + 1) pixels: pixels from floor(min) - 1 to floor(max).
-    t.x0 = std::max(0, (xmin >> kSubpixelBits) - 1);
-    t.y0 = std::max(0, (ymin >> kSubpixelBits) - 1);
-    t.x1 = std::min(f.cam.width, (xmax >> kSubpixelBits) + 1);
-    t.y1 = std::min(f.cam.height, (ymax >> kSubpixelBits) + 1);
-    if (t.x0 >= t.x1 || t.y0 >= t.y1) return;
+    int32_t x0 = std::max(0, (xmin >> kSubpixelBits) - 1), y0 = std::max(0, (ymin >> kSubpixelBits) - 1);
+    int32_t x1 = std::min(f.cam.width, (xmax >> kSubpixelBits) + 1), y1 = std::min(f.cam.height, (ymax >> kSubpixelBits) + 1);
+    if (x0 >= x1 || y0 >= y1) return false;
+    t.x0 = x0;
+    t.y0 = y0;
+    t.x1 = x1;
+    t.y1 = y1;
     t.material = material;
     t.flat = flat;
     t.depth_key = (cv[0]->clip.w + cv[1]->clip.w + cv[2]->clip.w) / 3.0f;
     if (f.ortho) t.depth_key = (cv[0]->clip.z + cv[1]->clip.z + cv[2]->clip.z) / 3.0f;
-    out.push_back(t);
+    // The counter-clockwise side's unit normal, from the vertices in their original order.
+    vec3 ng = glm::cross(cv[1]->world - cv[0]->world, cv[2]->world - cv[0]->world);
+    t.ng = glm::length(ng) > 0.0f ? glm::normalize(ng) : vec3(0.0f, 0.0f, 1.0f);
+    return true;
 }
 
-/// Stages 3 and 4: primitive assembly, clipping and setup of every triangle, in chunks of
-/// kChunk whose results are concatenated in order (so the order never depends on threads).
+/// Stage 3: primitive assembly, clipping and setup of every triangle, in chunks of kChunk
+/// triangles. An unclipped triangle is set up in its own slot; the pieces of clipped ones go
+/// to per-chunk lists appended after the slots, so the order never depends on threads.
 void assemble(const std::vector<DrawMesh>& meshes, const std::vector<uint32_t>& base, FrameState& f, int threads) {
     struct Source {
         uint32_t mesh, tri;
@@ -271,8 +297,10 @@ void assemble(const std::vector<DrawMesh>& meshes, const std::vector<uint32_t>& 
         for (size_t t = 0; t < meshes[k].mesh.triangle_count(); ++t) sources.push_back({static_cast<uint32_t>(k), static_cast<uint32_t>(t)});
     }
     size_t chunks = (sources.size() + kChunk - 1) / kChunk;
-    std::vector<std::vector<SetupTriangle>> out(chunks);
+    f.tris = LargeArray<SetupTriangle>(sources.size());
+    std::vector<std::vector<SetupTriangle>> clipped(chunks);
     std::vector<std::vector<ClipVertex>> extra(chunks);
+    std::vector<size_t> counts(chunks, 0);
     float gx = 1.0f + 2.0f * kGuardPixels / static_cast<float>(f.cam.width);
     float gy = 1.0f + 2.0f * kGuardPixels / static_cast<float>(f.cam.height);
     parallel_indices(chunks, threads, [&](size_t c) {
@@ -294,11 +322,14 @@ void assemble(const std::vector<DrawMesh>& meshes, const std::vector<uint32_t>& 
                 ng = glm::length(ng) > 0.0f ? glm::normalize(ng) : vec3(0.0f, 0.0f, 1.0f);
                 vec2 uv = (cv[0]->uv + cv[1]->uv + cv[2]->uv) / 3.0f;
                 vec3 wo = f.ortho ? -f.forward : glm::normalize(f.eye - p);
-                flat = light_point(f, material_at(f, material, uv, vec2(0.0f), vec2(0.0f)), p, ng, ng,
+                Bsdf scratch;
+                flat = light_point(f, material_at(f, material, uv, vec2(0.0f), vec2(0.0f), scratch), p, wo, ng, ng,
                                    glm::dot(ng, wo) > 0.0f);
             }
+            SetupTriangle& slot = f.tris[s];
+            slot.x0 = slot.x1 = 0;
             if (inside_all(cv[0]->clip, cv[1]->clip, cv[2]->clip, gx, gy)) {
-                setup_triangle(f, cv, idx, material, flat, out[c]);
+                counts[c] += setup_triangle(f, cv, idx, material, flat, slot) ? 1 : 0;
                 continue;
             }
             ClipPolygon poly = clip_triangle(*cv[0], *cv[1], *cv[2], gx, gy);
@@ -306,69 +337,88 @@ void assemble(const std::vector<DrawMesh>& meshes, const std::vector<uint32_t>& 
             auto first = static_cast<uint32_t>(extra[c].size());
             for (int k = 0; k < poly.count; ++k) extra[c].push_back(poly.v[static_cast<size_t>(k)]);
             for (int k = 1; k + 1 < poly.count; ++k) {
-                uint32_t fan[3] = {kExtra | first, kExtra | (first + static_cast<uint32_t>(k)),
-                                   kExtra | (first + static_cast<uint32_t>(k) + 1)};
-                const ClipVertex* fv[3] = {&extra[c][fan[0] & ~kExtra], &extra[c][fan[1] & ~kExtra],
-                                           &extra[c][fan[2] & ~kExtra]};
-                setup_triangle(f, fv, fan, material, flat, out[c]);
+                uint32_t fan[3] = {first, first + static_cast<uint32_t>(k), first + static_cast<uint32_t>(k) + 1};
+                const ClipVertex* fv[3] = {&extra[c][fan[0]], &extra[c][fan[1]], &extra[c][fan[2]]};
+                SetupTriangle piece;
+                // Chunk-local vertex indices for now: setup reads the vertices through fv.
+                uint32_t local[3] = {kExtra | fan[0], kExtra | fan[1], kExtra | fan[2]};
+                if (setup_triangle(f, fv, local, material, flat, piece)) clipped[c].push_back(piece);
             }
         }
     });
-    // Concatenate, moving the clipped vertices behind the mesh vertices.
-    size_t total = 0;
-    for (const auto& o : out) total += o.size();
-    f.tris.reserve(total);
+    // Concatenate the clipped pieces and their vertices, chunk after chunk.
     for (size_t c = 0; c < chunks; ++c) {
-        auto offset = static_cast<uint32_t>(f.vertices.size());
-        f.vertices.insert(f.vertices.end(), extra[c].begin(), extra[c].end());
-        for (SetupTriangle t : out[c]) {
-            for (uint32_t& v : t.v) v = (v & kExtra) ? offset + (v & ~kExtra) : v;
-            f.tris.push_back(t);
+        auto offset = static_cast<uint32_t>(f.extra.size());
+        f.extra.insert(f.extra.end(), extra[c].begin(), extra[c].end());
+        auto begin = static_cast<uint32_t>(f.clipped.size());
+        for (SetupTriangle t : clipped[c]) {
+            for (uint32_t& v : t.v) v = kExtra | (offset + (v & ~kExtra));
+            f.clipped.push_back(t);
         }
+        f.clipped_range.emplace_back(begin, static_cast<uint32_t>(f.clipped.size()));
+        f.triangle_count += counts[c] + clipped[c].size();
     }
 }
 
-/// Stage 4: binning into tiles, by chunks of triangles in drawing order.
+/// Stage 4: binning into tiles, by chunks of triangles in drawing order (each chunk's slots,
+/// then its clipped pieces; back to front for the painter's algorithm), as compressed rows.
 void bin(FrameState& f, int threads) {
     f.tiles_x = (f.cam.width + kTile - 1) / kTile;
     f.tiles_y = (f.cam.height + kTile - 1) / kTile;
-    std::vector<uint32_t> order(f.tris.size());
-    for (size_t k = 0; k < order.size(); ++k) order[k] = static_cast<uint32_t>(k);
+    std::vector<uint32_t> order;
+    order.reserve(f.triangle_count);
+    auto main_count = static_cast<uint32_t>(f.tris.size());
+    for (size_t c = 0; c < f.clipped_range.size(); ++c) {
+        for (uint32_t id = static_cast<uint32_t>(c * kChunk); id < std::min<size_t>(main_count, (c + 1) * kChunk); ++id) {
+            if (!f.tris[id].empty()) order.push_back(id);
+        }
+        for (uint32_t k = f.clipped_range[c].first; k < f.clipped_range[c].second; ++k) order.push_back(main_count + k);
+    }
     if (f.scene->render.raster.visibility == "painter") {
         // Back to front by the centroid's depth; ties keep the submission order.
         std::stable_sort(order.begin(), order.end(),
-                         [&](uint32_t a, uint32_t b) { return f.tris[a].depth_key > f.tris[b].depth_key; });
+                         [&](uint32_t a, uint32_t b) { return f.tri(a).depth_key > f.tri(b).depth_key; });
     }
     size_t chunks = (order.size() + kChunk - 1) / kChunk;
+    size_t tiles = static_cast<size_t>(f.tiles_x) * f.tiles_y;
     f.bins.assign(chunks, {});
     parallel_indices(chunks, threads, [&](size_t c) {
-        auto& bins = f.bins[c];
-        bins.assign(static_cast<size_t>(f.tiles_x) * f.tiles_y, {});
-        for (size_t k = c * kChunk; k < std::min(order.size(), (c + 1) * kChunk); ++k) {
-            const SetupTriangle& t = f.tris[order[k]];
-            for (int ty = t.y0 / kTile; ty <= (t.y1 - 1) / kTile; ++ty) {
-                for (int tx = t.x0 / kTile; tx <= (t.x1 - 1) / kTile; ++tx) {
-                    bins[static_cast<size_t>(ty) * f.tiles_x + tx].push_back(order[k]);
+        FrameState::Bins& b = f.bins[c];
+        b.start.assign(tiles + 1, 0);
+        auto each = [&](auto&& visit) {
+            for (size_t k = c * kChunk; k < std::min(order.size(), (c + 1) * kChunk); ++k) {
+                const SetupTriangle& t = f.tri(order[k]);
+                for (int ty = t.y0 / kTile; ty <= (t.y1 - 1) / kTile; ++ty) {
+                    for (int tx = t.x0 / kTile; tx <= (t.x1 - 1) / kTile; ++tx) {
+                        visit(static_cast<size_t>(ty) * f.tiles_x + tx, order[k]);
+                    }
                 }
             }
-        }
+        };
+        each([&](size_t tile, uint32_t) { b.start[tile + 1]++; });
+        for (size_t k = 0; k < tiles; ++k) b.start[k + 1] += b.start[k];
+        b.ids.resize(b.start[tiles]);
+        std::vector<uint32_t> fill(b.start.begin(), b.start.end() - 1);
+        each([&](size_t tile, uint32_t id) { b.ids[fill[tile]++] = id; });
     });
 }
 
-/// Per-thread buffers of a tile: the visibility buffer and the stencil, per sample.
+/// Per-thread buffers of a tile: the visibility buffer (depth and triangle per sample), the
+/// stencil, and per 8 x 8 pixel block the deepest depth stored so far (a one-level
+/// hierarchical z-buffer: a triangle nearer nowhere than that is skipped for the block).
 struct TileBuffers {
+    static constexpr int kBlock = 8;
     std::vector<float> depth;
     std::vector<uint32_t> tri;
-    std::vector<float> b1, b2;
     std::vector<uint8_t> stencil;
+    std::vector<float> block_far;    // per block: max depth over its samples
     std::vector<Color> color;        // resolved colour per pixel, accumulated over passes
     std::vector<Color> aov[4];       // depth, normal, albedo, visibility per pixel
     void reset(size_t samples, size_t pixels, bool aovs) {
         depth.assign(samples, kInfinity);
         tri.assign(samples, kNone);
-        b1.resize(samples);
-        b2.resize(samples);
         stencil.assign(samples, 0);
+        block_far.assign(static_cast<size_t>(kTile / kBlock) * (kTile / kBlock), kInfinity);
         if (color.size() != pixels) color.resize(pixels);
         if (aovs) {
             for (auto& a : aov) a.resize(pixels);
@@ -402,36 +452,78 @@ SamplePattern pattern(const Scene& scene, int first, int count) {
     return p;
 }
 
-/// Stage 5: rasterizes triangle t into the tile's visibility buffer.
-void rasterize(const FrameState& f, const SetupTriangle& t, const Tile& tile, const SamplePattern& sp, bool depth_test,
+/// The triangle's edges, in the order of the barycentric weights of vertices 0, 1, 2.
+struct TriangleEdges {
+    Edge e[3];
+    double inv_area;
+    explicit TriangleEdges(const SetupTriangle& t)
+        : e{Edge::make(t.x[1], t.y[1], t.x[2], t.y[2]), Edge::make(t.x[2], t.y[2], t.x[0], t.y[0]),
+            Edge::make(t.x[0], t.y[0], t.x[1], t.y[1])},
+          inv_area(t.inv_area) {}
+    /// Screen-space barycentrics of vertices 1 and 2 at fixed-point (x, y).
+    vec2 weights(int64_t x, int64_t y) const {
+        return vec2(static_cast<float>(static_cast<double>(e[1].at(x, y)) * inv_area),
+                    static_cast<float>(static_cast<double>(e[2].at(x, y)) * inv_area));
+    }
+};
+
+/// Stage 5: rasterizes triangle `id` into the tile's visibility buffer, 8 x 8 blocks at a
+/// time: a block where the triangle's nearest depth lies behind everything stored is skipped.
+/// Depth is the plane z(x, y) of the depth keys, stepped incrementally along each row.
+void rasterize(uint32_t id, const SetupTriangle& t, const Tile& tile, const SamplePattern& sp, bool depth_test,
                TileBuffers& buf) {
     int xs = std::max(t.x0, tile.x0), xe = std::min(t.x1, tile.x1);
     int ys = std::max(t.y0, tile.y0), ye = std::min(t.y1, tile.y1);
     if (xs >= xe || ys >= ye) return;
-    Edge e0 = Edge::make(t.x[1], t.y[1], t.x[2], t.y[2]);  // weight of vertex 0
-    Edge e1 = Edge::make(t.x[2], t.y[2], t.x[0], t.y[0]);  // of vertex 1
-    Edge e2 = Edge::make(t.x[0], t.y[0], t.x[1], t.y[1]);  // of vertex 2
-    double inv_area = 1.0 / static_cast<double>(signed_area2(t.x, t.y));
-    int tw = tile.x1 - tile.x0;
-    int S = sp.count;
-    for (int py = ys; py < ye; ++py) {
-        for (int s = 0; s < S; ++s) {
-            int64_t sy = static_cast<int64_t>(py) * kSubpixel + sp.oy[s];
-            int64_t sx = static_cast<int64_t>(xs) * kSubpixel + sp.ox[s];
-            int64_t w0 = e0.at(sx, sy) + e0.bias, w1 = e1.at(sx, sy) + e1.bias, w2 = e2.at(sx, sy) + e2.bias;
-            int64_t d0 = e0.a * kSubpixel, d1 = e1.a * kSubpixel, d2 = e2.a * kSubpixel;
-            for (int px = xs; px < xe; ++px, w0 += d0, w1 += d1, w2 += d2) {
-                if ((w0 | w1 | w2) < 0) continue;
-                // Barycentrics in screen space (the biases are below one fixed-point unit).
-                auto l1 = static_cast<float>(static_cast<double>(w1 - e1.bias) * inv_area);
-                auto l2 = static_cast<float>(static_cast<double>(w2 - e2.bias) * inv_area);
-                float z = t.z[0] + l1 * (t.z[1] - t.z[0]) + l2 * (t.z[2] - t.z[0]);
-                size_t i = (static_cast<size_t>(py - tile.y0) * tw + (px - tile.x0)) * S + s;
-                if (depth_test && !(z < buf.depth[i])) continue;
-                buf.depth[i] = z;
-                buf.tri[i] = static_cast<uint32_t>(&t - f.tris.data());
-                buf.b1[i] = l1;
-                buf.b2[i] = l2;
+    TriangleEdges te(t);
+    const Edge& e0 = te.e[0];
+    const Edge& e1 = te.e[1];
+    const Edge& e2 = te.e[2];
+    // Depth plane in pixels: z = z0 + dzdx (x - x0) + dzdy (y - y0), from the weights' gradients.
+    auto px_per_fixed = static_cast<double>(kSubpixel);
+    double dzdx = (static_cast<double>(e1.a) * (t.z[1] - t.z[0]) + static_cast<double>(e2.a) * (t.z[2] - t.z[0])) *
+                  te.inv_area * px_per_fixed;
+    double dzdy = (static_cast<double>(e1.b) * (t.z[1] - t.z[0]) + static_cast<double>(e2.b) * (t.z[2] - t.z[0])) *
+                  te.inv_area * px_per_fixed;
+    float zmin = std::min({t.z[0], t.z[1], t.z[2]});
+    const int tw = tile.x1 - tile.x0, S = sp.count, kB = TileBuffers::kBlock, bw = kTile / kB;
+    const int64_t d0 = e0.a * kSubpixel, d1 = e1.a * kSubpixel, d2 = e2.a * kSubpixel;
+    for (int by = (ys - tile.y0) / kB; by <= (ye - 1 - tile.y0) / kB; ++by) {
+        for (int bx = (xs - tile.x0) / kB; bx <= (xe - 1 - tile.x0) / kB; ++bx) {
+            float& far = buf.block_far[static_cast<size_t>(by) * bw + bx];
+            if (depth_test && zmin >= far) continue;  // hidden in the whole block
+            int x0 = std::max(xs, tile.x0 + bx * kB), x1 = std::min(xe, tile.x0 + (bx + 1) * kB);
+            int y0 = std::max(ys, tile.y0 + by * kB), y1 = std::min(ye, tile.y0 + (by + 1) * kB);
+            bool wrote = false;
+            for (int py = y0; py < y1; ++py) {
+                for (int s = 0; s < S; ++s) {
+                    int64_t sy = static_cast<int64_t>(py) * kSubpixel + sp.oy[s];
+                    int64_t sx = static_cast<int64_t>(x0) * kSubpixel + sp.ox[s];
+                    int64_t w0 = e0.at(sx, sy) + e0.bias, w1 = e1.at(sx, sy) + e1.bias, w2 = e2.at(sx, sy) + e2.bias;
+                    double fx = static_cast<double>(sx - t.x[0]) / px_per_fixed, fy = static_cast<double>(sy - t.y[0]) / px_per_fixed;
+                    auto z = static_cast<float>(t.z[0] + dzdx * fx + dzdy * fy);
+                    auto dz = static_cast<float>(dzdx);
+                    size_t i = (static_cast<size_t>(py - tile.y0) * tw + (x0 - tile.x0)) * S + s;
+                    for (int px = x0; px < x1; ++px, w0 += d0, w1 += d1, w2 += d2, z += dz, i += S) {
+                        if ((w0 | w1 | w2) < 0) continue;
+                        if (depth_test && !(z < buf.depth[i])) continue;
+                        buf.depth[i] = z;
+                        buf.tri[i] = id;
+                        wrote = true;
+                    }
+                }
+            }
+            if (wrote && depth_test) {
+                // The block's deepest sample may have come nearer.
+                float deepest = -kInfinity;
+                for (int py = tile.y0 + by * kB; py < std::min(tile.y1, tile.y0 + (by + 1) * kB); ++py) {
+                    size_t row = (static_cast<size_t>(py - tile.y0) * tw) * S;
+                    int px0 = bx * kB, px1 = std::min(tw, (bx + 1) * kB);
+                    for (size_t i = row + static_cast<size_t>(px0) * S; i < row + static_cast<size_t>(px1) * S; ++i) {
+                        deepest = std::max(deepest, buf.depth[i]);
+                    }
+                }
+                far = deepest;
             }
         }
     }
@@ -445,11 +537,13 @@ struct ShadeResult {
 };
 
 /// Stage 6: the colour of a visible sample of triangle `ti` with screen barycentrics (l1, l2).
-ShadeResult shade_sample(const FrameState& f, uint32_t ti, float l1, float l2, bool want_aovs) {
-    const SetupTriangle& t = f.tris[ti];
-    const ClipVertex& A = f.vertices[t.v[0]];
-    const ClipVertex& B = f.vertices[t.v[1]];
-    const ClipVertex& C = f.vertices[t.v[2]];
+ShadeResult shade_sample(const FrameState& f, uint32_t ti, int64_t sx, int64_t sy, bool want_aovs) {
+    const SetupTriangle& t = f.tri(ti);
+    vec2 l = TriangleEdges(t).weights(sx, sy);
+    float l1 = l.x, l2 = l.y;
+    const ClipVertex& A = f.vertex(t.v[0]);
+    const ClipVertex& B = f.vertex(t.v[1]);
+    const ClipVertex& C = f.vertex(t.v[2]);
     float l0 = 1.0f - l1 - l2;
     // Perspective-correct weights: screen barycentrics over w, renormalised.
     float q0 = l0 * t.invw[0], q1 = l1 * t.invw[1], q2 = l2 * t.invw[2];
@@ -457,9 +551,7 @@ ShadeResult shade_sample(const FrameState& f, uint32_t ti, float l1, float l2, b
     float b0 = q0 * inv_q, b1 = q1 * inv_q, b2 = q2 * inv_q;
     ShadeResult r;
     vec3 p = b0 * A.world + b1 * B.world + b2 * C.world;
-    // The counter-clockwise side's normal (vertices 1 and 2 were swapped for back faces).
-    vec3 ng = glm::cross(B.world - A.world, C.world - A.world);
-    ng = glm::length(ng) > 0.0f ? glm::normalize(t.front ? ng : -ng) : vec3(0.0f, 0.0f, 1.0f);
+    vec3 ng = t.ng;
     vec3 ns = b0 * A.normal + b1 * B.normal + b2 * C.normal;
     ns = glm::length(ns) > 0.0f ? glm::normalize(ns) : ng;
     vec3 wo = f.ortho ? -f.forward : glm::normalize(f.eye - p);
@@ -502,8 +594,9 @@ ShadeResult shade_sample(const FrameState& f, uint32_t ti, float l1, float l2, b
                     (axis == 0 ? dx : dy) = d;
                 }
             }
-            Bsdf bsdf = material_at(f, t.material, uv, dx, dy);
-            r.color = light_point(f, bsdf, p, ng, ns, t.front);
+            Bsdf scratch;
+            const Bsdf& bsdf = material_at(f, t.material, uv, dx, dy, scratch);
+            r.color = light_point(f, bsdf, p, wo, ng, ns, t.front);
             if (want_aovs) {
                 r.albedo = bsdf.has_lobes() ? bsdf.diffuse
                            : bsdf.model == Bsdf::Model::Dielectric ? Color(1.0f)
@@ -513,7 +606,8 @@ ShadeResult shade_sample(const FrameState& f, uint32_t ti, float l1, float l2, b
         }
     }
     if (want_aovs) {
-        Bsdf bsdf = material_at(f, t.material, uv, vec2(0.0f), vec2(0.0f));
+        Bsdf scratch;
+        const Bsdf& bsdf = material_at(f, t.material, uv, vec2(0.0f), vec2(0.0f), scratch);
         r.albedo = bsdf.has_lobes() ? bsdf.diffuse : bsdf.model == Bsdf::Model::Dielectric ? Color(1.0f) : bsdf.reflect;
     }
     return r;
@@ -526,9 +620,9 @@ void draw_wireframe(const FrameState& f, const Tile& tile, TileBuffers& buf, int
     Color wire = f.scene->render.raster.wireframe_color;
     int tw = tile.x1 - tile.x0;
     size_t ti = static_cast<size_t>(tile.y0 / kTile) * f.tiles_x + tile.x0 / kTile;
-    for (const auto& chunk : f.bins) {
-        for (uint32_t index : chunk[ti]) {
-            const SetupTriangle& t = f.tris[index];
+    for (const FrameState::Bins& bins : f.bins) {
+        for (uint32_t n = bins.start[ti]; n < bins.start[ti + 1]; ++n) {
+            const SetupTriangle& t = f.tri(bins.ids[n]);
             for (int e = 0; e < 3; ++e) {
                 int a = e, b = (e + 1) % 3;
                 vec2 pa = vec2(t.x[a], t.y[a]) / static_cast<float>(kSubpixel);
@@ -589,6 +683,8 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
         for (const Image& image : scene.textures) f.mips.push_back(build_mip_chain(image));
     }
     f.cam = camera_matrices(scene.camera, width, height, drawn_bounds(meshes));
+    // Setup ends here: what follows is the pipeline proper, the work of every frame.
+    auto t1 = Clock::now();
     f.eye = scene.camera.position;
     f.forward = glm::normalize(scene.camera.look_at - scene.camera.position);
     f.ortho = scene.camera.type == Camera::Type::Orthographic;
@@ -598,7 +694,6 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     assemble(meshes, base, f, threads);
     meshes.clear();
     bin(f, threads);
-    auto t1 = Clock::now();
 
     RenderResult result;
     result.color = Image(width, height);
@@ -638,9 +733,17 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                 SamplePattern sp = pattern(scene, first, std::min(kMaxSamplesPerPass, spp - first));
                 S = sp.count;
                 buf.reset(pixels * static_cast<size_t>(S), pixels, any_aov);
-                for (const auto& chunk : f.bins) {
-                    for (uint32_t index : chunk[ti]) rasterize(f, f.tris[index], tile, sp, depth_test, buf);
+                for (const FrameState::Bins& b : f.bins) {
+                    for (uint32_t k = b.start[ti]; k < b.start[ti + 1]; ++k) {
+                        rasterize(b.ids[k], f.tri(b.ids[k]), tile, sp, depth_test, buf);
+                    }
                 }
+                auto sample_x = [&](size_t pixel, int s) {
+                    return static_cast<int64_t>(tile.x0 + static_cast<int>(pixel % static_cast<size_t>(tw))) * kSubpixel + sp.ox[s];
+                };
+                auto sample_y = [&](size_t pixel, int s) {
+                    return static_cast<int64_t>(tile.y0 + static_cast<int>(pixel / static_cast<size_t>(tw))) * kSubpixel + sp.oy[s];
+                };
                 // Shade the visible samples; MSAA shades once per pixel and triangle.
                 for (size_t pixel = 0; pixel < pixels; ++pixel) {
                     Color sum(0.0f);
@@ -660,7 +763,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                             if (seen) continue;
                             int covered = 0;
                             for (int k = s; k < S; ++k) covered += buf.tri[pixel * S + k] == tri ? 1 : 0;
-                            ShadeResult r = shade_sample(f, tri, buf.b1[i], buf.b2[i], any_aov);
+                            ShadeResult r = shade_sample(f, tri, sample_x(pixel, s), sample_y(pixel, s), any_aov);
                             auto w = static_cast<float>(covered);
                             sum += w * r.color;
                             aov_sum.distance += w * r.distance;
@@ -668,7 +771,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                             aov_sum.albedo += w * r.albedo;
                             continue;
                         }
-                        ShadeResult r = shade_sample(f, tri, buf.b1[i], buf.b2[i], any_aov);
+                        ShadeResult r = shade_sample(f, tri, sample_x(pixel, s), sample_y(pixel, s), any_aov);
                         sum += r.color;
                         aov_sum.distance += r.distance;
                         aov_sum.normal += r.normal;
@@ -706,7 +809,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     progress.finish();
     result.stats.setup_seconds = std::chrono::duration<double>(t1 - t0).count();
     result.stats.seconds = std::chrono::duration<double>(Clock::now() - t1).count();
-    result.stats.triangles = f.tris.size();
+    result.stats.triangles = f.triangle_count;
     return result;
 }
 
