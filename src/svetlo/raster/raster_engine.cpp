@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <optional>
 
 #include "svetlo/core/large_array.h"
 #include "svetlo/core/parallel.h"
@@ -537,9 +538,15 @@ struct ShadeResult {
 };
 
 /// Stage 6: the colour of a visible sample of triangle `ti` with screen barycentrics (l1, l2).
-ShadeResult shade_sample(const FrameState& f, uint32_t ti, int64_t sx, int64_t sy, bool want_aovs) {
+ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& edges, int64_t sx, int64_t sy,
+                         bool want_aovs) {
     const SetupTriangle& t = f.tri(ti);
-    vec2 l = TriangleEdges(t).weights(sx, sy);
+    if (f.mode == Mode::Flat && !want_aovs) {
+        ShadeResult flat;
+        flat.color = t.flat;
+        return flat;
+    }
+    vec2 l = edges.weights(sx, sy);
     float l1 = l.x, l2 = l.y;
     const ClipVertex& A = f.vertex(t.v[0]);
     const ClipVertex& B = f.vertex(t.v[1]);
@@ -683,18 +690,11 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
         for (const Image& image : scene.textures) f.mips.push_back(build_mip_chain(image));
     }
     f.cam = camera_matrices(scene.camera, width, height, drawn_bounds(meshes));
-    // Setup ends here: what follows is the pipeline proper, the work of every frame.
-    auto t1 = Clock::now();
     f.eye = scene.camera.position;
     f.forward = glm::normalize(scene.camera.look_at - scene.camera.position);
     f.ortho = scene.camera.type == Camera::Type::Orthographic;
-
-    std::vector<uint32_t> base;
-    vertex_stage(meshes, f, base, threads);
-    assemble(meshes, base, f, threads);
-    meshes.clear();
-    bin(f, threads);
-
+    // The output images are allocated (and their pages touched) as part of the setup, as a
+    // GPU's framebuffer exists before the frame.
     RenderResult result;
     result.color = Image(width, height);
     bool want[4] = {false, false, false, false};
@@ -709,6 +709,14 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     bool any_aov = !result.aovs.empty();
     Image* aov_image[4];
     for (size_t k = 0; k < 4; ++k) aov_image[k] = want[k] ? &result.aovs[aov_names()[k]] : nullptr;
+
+    // Setup ends here: what follows is the pipeline proper, the work of every frame.
+    auto t1 = Clock::now();
+    std::vector<uint32_t> base;
+    vertex_stage(meshes, f, base, threads);
+    assemble(meshes, base, f, threads);
+    meshes.clear();
+    bin(f, threads);
 
     const int spp = scene.render.spp;
     const bool msaa = scene.render.raster.msaa;
@@ -744,6 +752,16 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                 auto sample_y = [&](size_t pixel, int s) {
                     return static_cast<int64_t>(tile.y0 + static_cast<int>(pixel / static_cast<size_t>(tw))) * kSubpixel + sp.oy[s];
                 };
+                // Neighbouring samples mostly share a triangle: keep its edges.
+                uint32_t edges_id = kNone;
+                std::optional<TriangleEdges> edges;
+                auto edges_of = [&](uint32_t id) -> const TriangleEdges& {
+                    if (id != edges_id) {
+                        edges.emplace(f.tri(id));
+                        edges_id = id;
+                    }
+                    return *edges;
+                };
                 // Shade the visible samples; MSAA shades once per pixel and triangle.
                 for (size_t pixel = 0; pixel < pixels; ++pixel) {
                     Color sum(0.0f);
@@ -763,7 +781,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                             if (seen) continue;
                             int covered = 0;
                             for (int k = s; k < S; ++k) covered += buf.tri[pixel * S + k] == tri ? 1 : 0;
-                            ShadeResult r = shade_sample(f, tri, sample_x(pixel, s), sample_y(pixel, s), any_aov);
+                            ShadeResult r = shade_sample(f, tri, edges_of(tri), sample_x(pixel, s), sample_y(pixel, s), any_aov);
                             auto w = static_cast<float>(covered);
                             sum += w * r.color;
                             aov_sum.distance += w * r.distance;
@@ -771,7 +789,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                             aov_sum.albedo += w * r.albedo;
                             continue;
                         }
-                        ShadeResult r = shade_sample(f, tri, sample_x(pixel, s), sample_y(pixel, s), any_aov);
+                        ShadeResult r = shade_sample(f, tri, edges_of(tri), sample_x(pixel, s), sample_y(pixel, s), any_aov);
                         sum += r.color;
                         aov_sum.distance += r.distance;
                         aov_sum.normal += r.normal;
