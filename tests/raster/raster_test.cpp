@@ -11,6 +11,7 @@
 #include "svetlo/raster/edge_function.h"
 #include "svetlo/raster/lines.h"
 #include "svetlo/raster/raster_engine.h"
+#include "svetlo/raster/simd_shading.h"
 #include "svetlo/rt/camera.h"
 #include "svetlo/rt/whitted.h"
 #include "svetlo/scene/scene_loader.h"
@@ -427,6 +428,53 @@ TEST(Raster, TrilinearFilteringAveragesWhenMinified) {
     }
     EXPECT_GT(spread[1], 0.3);  // bilinear aliases
     std::filesystem::remove_all(dir);
+}
+
+TEST(Raster, SimdPowMatchesStdPow) {
+    float worst = 0.0f;
+    for (float n : {0.0f, 1.0f, 2.5f, 8.0f, 32.0f, 100.0f, 1000.0f}) {
+        for (float x = 0.0f; x <= 1.0f; x += 1.0f / 4096.0f) {
+            float xs[4] = {x, x * 0.5f, 1.0f - x, std::min(1.0f, x + 1e-3f)}, ns[4] = {n, n, n, n}, out[4];
+            pow4(xs, ns, out);
+            for (int k = 0; k < 4; ++k) {
+                float e = std::pow(xs[k], n);
+                if (e < 1e-30f) {
+                    EXPECT_LT(out[k], 1e-29f);
+                    continue;
+                }
+                worst = std::max(worst, std::abs(out[k] - e) / e);
+            }
+        }
+    }
+    EXPECT_LT(worst, 2e-5f);  // n log2(x) carries the 1e-7 of log2, times n up to 1000
+}
+
+TEST(Raster, SimdFastPathAgreesWithTheScalarShading) {
+    // The same frame shaded four samples at a time (no AOVs) and one by one (an AOV asked for
+    // sends every sample through the scalar path): Lambert, Phong and Blinn-Phong, a point and
+    // a directional light, seen from both sides.
+    json j = oblique(64, 48);
+    j["materials"] = {{"l", {{"type", "lambert"}, {"albedo", {0.7, 0.5, 0.3}}}},
+                      {"p", {{"type", "phong"}, {"ka", 0.3}, {"kd", 0.5}, {"ks", 0.4}, {"shininess", 40}}},
+                      {"b", {{"type", "blinn_phong"}, {"kd", 0.2}, {"ks", 0.6}, {"shininess", 12}}}};
+    j["lights"] = {{{"type", "point"}, {"position", {0.5, 1.5, 0.8}}, {"intensity", {5, 4, 3}}},
+                   {{"type", "directional"}, {"direction", {0.3, -1, -0.4}}, {"irradiance", 0.8}}};
+    j["render"]["ambient"] = 0.1;
+    j["render"]["spp"] = 4;
+    j["objects"] = {floor_quad(1.5f, "l"),
+                    {{"type", "sphere"}, {"center", {-0.5, 0.5, 0}}, {"radius", 0.5}, {"material", "p"}},
+                    {{"type", "box"}, {"min", {0.2, 0, -0.6}}, {"max", {0.9, 0.7, 0.1}}, {"material", "b"}},
+                    {{"type", "quad"}, {"corner", {-1, 0, -1}}, {"edge_u", {0, 1, 0}}, {"edge_v", {1, 0, 0}}, {"material", "p"}}};
+    RenderResult fast = render(j);
+    RenderResult scalar = render(j, "raster", {"albedo"});
+    float worst = 0.0f;
+    for (size_t k = 0; k < fast.color.pixels.size(); ++k) {
+        for (int c = 0; c < 3; ++c) {
+            float a = fast.color.pixels[k][c], b = scalar.color.pixels[k][c];
+            worst = std::max(worst, std::abs(a - b) / std::max(b, 1e-3f));
+        }
+    }
+    EXPECT_LT(worst, 1e-4f);
 }
 
 }  // namespace

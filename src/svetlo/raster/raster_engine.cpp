@@ -17,6 +17,7 @@
 #include "svetlo/raster/edge_function.h"
 #include "svetlo/raster/lines.h"
 #include "svetlo/raster/raster_lights.h"
+#include "svetlo/raster/simd_shading.h"
 #include "svetlo/rt/tessellate.h"
 #include "svetlo/shading/texture.h"
 
@@ -63,6 +64,10 @@ struct FrameState {
     std::vector<char> needs_footprint;   // per material: some texture is trilinear
     std::vector<MipChain> mips;
     RasterLights lights;
+    SimdLights simd_lights;               // the same lights for the fast path,
+    bool simd_lights_ok = false;          // when they are all point or directional
+    std::vector<SimdMaterial> simd_material;  // per material, and whether the fast path takes it
+    std::vector<char> simd_ok;
     LargeArray<ClipVertex> vertices;      // the vertex stage's output, mesh after mesh
     std::vector<ClipVertex> extra;        // vertices made by clipping (index bit kExtra)
     LargeArray<SetupTriangle> tris;       // one slot per input triangle (empty when culled)
@@ -414,6 +419,7 @@ struct TileBuffers {
     std::vector<uint8_t> stencil;
     std::vector<float> block_far;    // per block: max depth over its samples
     std::vector<Color> color;        // resolved colour per pixel, accumulated over passes
+    std::vector<Color> sample_color; // the fast path's colour per sample
     std::vector<Color> aov[4];       // depth, normal, albedo, visibility per pixel
     void reset(size_t samples, size_t pixels, bool aovs) {
         depth.assign(samples, kInfinity);
@@ -530,6 +536,23 @@ void rasterize(uint32_t id, const SetupTriangle& t, const Tile& tile, const Samp
     }
 }
 
+/// Perspective-correct weights of a sample: the screen barycentrics over w (q), and
+/// renormalised (b): b interpolates any attribute of the vertices.
+struct Weights {
+    float q[3], b[3];
+};
+
+Weights perspective_weights(const SetupTriangle& t, const TriangleEdges& edges, int64_t sx, int64_t sy) {
+    vec2 l = edges.weights(sx, sy);
+    Weights w;
+    w.q[0] = (1.0f - l.x - l.y) * t.invw[0];
+    w.q[1] = l.x * t.invw[1];
+    w.q[2] = l.y * t.invw[2];
+    float inv_q = 1.0f / (w.q[0] + w.q[1] + w.q[2]);
+    for (int k = 0; k < 3; ++k) w.b[k] = w.q[k] * inv_q;
+    return w;
+}
+
 struct ShadeResult {
     Color color{0.0f};
     float distance = 0.0f;
@@ -546,16 +569,12 @@ ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& 
         flat.color = t.flat;
         return flat;
     }
-    vec2 l = edges.weights(sx, sy);
-    float l1 = l.x, l2 = l.y;
     const ClipVertex& A = f.vertex(t.v[0]);
     const ClipVertex& B = f.vertex(t.v[1]);
     const ClipVertex& C = f.vertex(t.v[2]);
-    float l0 = 1.0f - l1 - l2;
-    // Perspective-correct weights: screen barycentrics over w, renormalised.
-    float q0 = l0 * t.invw[0], q1 = l1 * t.invw[1], q2 = l2 * t.invw[2];
-    float inv_q = 1.0f / (q0 + q1 + q2);
-    float b0 = q0 * inv_q, b1 = q1 * inv_q, b2 = q2 * inv_q;
+    Weights w = perspective_weights(t, edges, sx, sy);
+    float b0 = w.b[0], b1 = w.b[1], b2 = w.b[2];
+    float q0 = w.q[0], q1 = w.q[1], q2 = w.q[2];
     ShadeResult r;
     vec3 p = b0 * A.world + b1 * B.world + b2 * C.world;
     vec3 ng = t.ng;
@@ -689,6 +708,31 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     if (any_trilinear) {
         for (const Image& image : scene.textures) f.mips.push_back(build_mip_chain(image));
     }
+    // The SIMD fast path: constant Lambert and Phong-family materials under point and
+    // directional lights only.
+    f.simd_lights_ok = f.lights.vpls.empty();
+    for (const Light* light : f.lights.punctual) {
+        if (const auto* pl = std::get_if<PointLight>(light)) {
+            f.simd_lights.points.push_back({pl->position, pl->intensity});
+        } else if (const auto* dl = std::get_if<DirectionalLight>(light)) {
+            f.simd_lights.directionals.push_back({-glm::normalize(dl->direction), dl->irradiance});
+        } else {
+            f.simd_lights_ok = false;
+        }
+    }
+    for (size_t m = 0; m < f.materials.size(); ++m) {
+        const Bsdf& b = f.constant_bsdf[m];
+        bool phong = b.model == Bsdf::Model::Phong || b.model == Bsdf::Model::BlinnPhong;
+        f.simd_ok.push_back(!f.textured[m] && (phong || b.model == Bsdf::Model::Lambert) ? 1 : 0);
+        SimdMaterial sm;
+        sm.ka = b.ambient;
+        sm.kd = b.diffuse;
+        sm.ks = b.specular;
+        sm.shininess = b.shininess;
+        sm.blinn = b.model == Bsdf::Model::BlinnPhong;
+        sm.specular = phong;
+        f.simd_material.push_back(sm);
+    }
     f.cam = camera_matrices(scene.camera, width, height, drawn_bounds(meshes));
     f.eye = scene.camera.position;
     f.forward = glm::normalize(scene.camera.look_at - scene.camera.position);
@@ -720,6 +764,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
 
     const int spp = scene.render.spp;
     const bool msaa = scene.render.raster.msaa;
+    const bool simd = f.mode == Mode::Phong && !msaa && !any_aov && f.simd_lights_ok;
     const bool depth_test = scene.render.raster.visibility != "painter";
     const Color background = scene.render.background;
     tbb::enumerable_thread_specific<TileBuffers> buffers;
@@ -762,6 +807,53 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                     }
                     return *edges;
                 };
+                if (simd) {
+                    // The fast path: constant Phong-family samples lit four at a time.
+                    size_t count = pixels * static_cast<size_t>(S);
+                    buf.sample_color.resize(count);
+                    ShadeBatch batch;
+                    size_t lane_of[4];
+                    Color lit[4];
+                    auto flush = [&] {
+                        shade_batch(batch, f.simd_lights, f.eye, f.ortho, f.forward, scene.render.ambient, lit);
+                        for (int k = 0; k < batch.count; ++k) buf.sample_color[lane_of[k]] = lit[k];
+                        batch.count = 0;
+                    };
+                    for (size_t i = 0; i < count; ++i) {
+                        uint32_t tri = buf.tri[i];
+                        size_t pixel = i / static_cast<size_t>(S);
+                        int s = static_cast<int>(i % static_cast<size_t>(S));
+                        if (tri == kNone) {
+                            buf.sample_color[i] = background;
+                            continue;
+                        }
+                        const SetupTriangle& t = f.tri(tri);
+                        if (!f.simd_ok[t.material]) {
+                            buf.sample_color[i] =
+                                shade_sample(f, tri, edges_of(tri), sample_x(pixel, s), sample_y(pixel, s), false).color;
+                            continue;
+                        }
+                        Weights w = perspective_weights(t, edges_of(tri), sample_x(pixel, s), sample_y(pixel, s));
+                        const ClipVertex& A = f.vertex(t.v[0]);
+                        const ClipVertex& B = f.vertex(t.v[1]);
+                        const ClipVertex& C = f.vertex(t.v[2]);
+                        int k = batch.count++;
+                        batch.p[k] = w.b[0] * A.world + w.b[1] * B.world + w.b[2] * C.world;
+                        batch.ns[k] = w.b[0] * A.normal + w.b[1] * B.normal + w.b[2] * C.normal;
+                        batch.ng[k] = t.ng;
+                        batch.material[k] = &f.simd_material[t.material];
+                        lane_of[k] = i;
+                        if (batch.count == 4) flush();
+                    }
+                    if (batch.count > 0) flush();
+                    for (size_t pixel = 0; pixel < pixels; ++pixel) {
+                        Color sum(0.0f);
+                        for (int s = 0; s < S; ++s) sum += buf.sample_color[pixel * static_cast<size_t>(S) + static_cast<size_t>(s)];
+                        buf.color[pixel] += sum;
+                    }
+                    if (first + kMaxSamplesPerPass >= spp) break;
+                    continue;
+                }
                 // Shade the visible samples; MSAA shades once per pixel and triangle.
                 for (size_t pixel = 0; pixel < pixels; ++pixel) {
                     Color sum(0.0f);
