@@ -1,5 +1,6 @@
 #include "svetlo/raster/raster_engine.h"
 
+#include <immintrin.h>
 #include <tbb/enumerable_thread_specific.h>
 
 #include <algorithm>
@@ -521,16 +522,20 @@ void rasterize(uint32_t id, const SetupTriangle& t, const Tile& tile, const Samp
                 }
             }
             if (wrote && depth_test) {
-                // The block's deepest sample may have come nearer.
-                float deepest = -kInfinity;
+                // The block's deepest sample may have come nearer: the max over its rows, four
+                // lanes at a time (each row of the block is contiguous).
+                __m128 deepest = _mm_set1_ps(-kInfinity);
+                float tail = -kInfinity;
+                int px0 = bx * kB, px1 = std::min(tw, (bx + 1) * kB);
                 for (int py = tile.y0 + by * kB; py < std::min(tile.y1, tile.y0 + (by + 1) * kB); ++py) {
-                    size_t row = (static_cast<size_t>(py - tile.y0) * tw) * S;
-                    int px0 = bx * kB, px1 = std::min(tw, (bx + 1) * kB);
-                    for (size_t i = row + static_cast<size_t>(px0) * S; i < row + static_cast<size_t>(px1) * S; ++i) {
-                        deepest = std::max(deepest, buf.depth[i]);
-                    }
+                    const float* row = buf.depth.data() + (static_cast<size_t>(py - tile.y0) * tw + px0) * S;
+                    size_t n = static_cast<size_t>(px1 - px0) * S, i = 0;
+                    for (; i + 4 <= n; i += 4) deepest = _mm_max_ps(deepest, _mm_loadu_ps(row + i));
+                    for (; i < n; ++i) tail = std::max(tail, row[i]);
                 }
-                far = deepest;
+                alignas(16) float lanes[4];
+                _mm_store_ps(lanes, deepest);
+                far = std::max({lanes[0], lanes[1], lanes[2], lanes[3], tail});
             }
         }
     }

@@ -1,6 +1,9 @@
 #include "svetlo/rt/bvh.h"
 
 #include <immintrin.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 #include <tbb/task_arena.h>
 #include <tbb/task_group.h>
 
@@ -21,6 +24,8 @@ constexpr uint32_t kMinSplit = 4;         // nodes this small become leaves with
 constexpr float kTraversalCost = 2.0f;     // relative to one primitive test
 constexpr int kMedianDepth = 64;           // below this depth, split at the median
 constexpr uint32_t kParallelGrain = 4096;  // smaller subtrees are built serially
+constexpr uint32_t kParallelSplit = 65536; // larger nodes bin and partition in parallel
+constexpr uint32_t kSplitChunk = 16384;    // references per task there
 constexpr int kStackSize = 128;            // > kMedianDepth + log2(2^32)
 
 /// A primitive during the build: its bounds and id, 32 bytes, partitioned in place.
@@ -30,6 +35,26 @@ struct BuildRef {
     vec3 max;
     float pad;
     vec3 centroid() const { return 0.5f * (min + max); }
+};
+
+/// SAH bins: the bounds (SSE registers; lane 3 unused) and the count of each.
+struct Bins {
+    __m128 min[kBins], max[kBins];
+    uint32_t count[kBins];
+    Bins() {
+        for (int b = 0; b < kBins; ++b) {
+            min[b] = _mm_set1_ps(kInfinity);
+            max[b] = _mm_set1_ps(-kInfinity);
+            count[b] = 0;
+        }
+    }
+    void merge(const Bins& o) {
+        for (int b = 0; b < kBins; ++b) {
+            min[b] = _mm_min_ps(min[b], o.min[b]);
+            max[b] = _mm_max_ps(max[b], o.max[b]);
+            count[b] += o.count[b];
+        }
+    }
 };
 
 class Builder {
@@ -122,6 +147,35 @@ private:
         }
     }
 
+    /// Adds refs [begin, end) to `out`, through two interleaved sets of bins: consecutive
+    /// primitives of a mesh often fall into the same bin, and one set would chain every
+    /// update on the previous one.
+    template <class BinOf>
+    void bin_range(uint32_t begin, uint32_t end, const BinOf& bin_of, Bins& out) const {
+        Bins second;
+        const BuildRef* refs = refs_.data();
+        uint32_t k = begin;
+        for (; k + 1 < end; k += 2) {
+            // Lane 3 holds the id or padding bits: never read back.
+            const BuildRef& r0 = refs[k];
+            const BuildRef& r1 = refs[k + 1];
+            int b0 = bin_of(r0), b1 = bin_of(r1);
+            out.min[b0] = _mm_min_ps(out.min[b0], _mm_loadu_ps(&r0.min.x));
+            out.max[b0] = _mm_max_ps(out.max[b0], _mm_loadu_ps(&r0.max.x));
+            out.count[b0]++;
+            second.min[b1] = _mm_min_ps(second.min[b1], _mm_loadu_ps(&r1.min.x));
+            second.max[b1] = _mm_max_ps(second.max[b1], _mm_loadu_ps(&r1.max.x));
+            second.count[b1]++;
+        }
+        if (k < end) {
+            int b0 = bin_of(refs[k]);
+            out.min[b0] = _mm_min_ps(out.min[b0], _mm_loadu_ps(&refs[k].min.x));
+            out.max[b0] = _mm_max_ps(out.max[b0], _mm_loadu_ps(&refs[k].max.x));
+            out.count[b0]++;
+        }
+        out.merge(second);
+    }
+
     /// Bins the centroids along the axis of largest centroid extent, chooses the cheapest of
     /// the kBins - 1 bin boundaries by SAH and partitions refs there. Returns false when a
     /// leaf is cheaper and allowed. Binning one axis (Wald 2007) costs a third of binning
@@ -132,42 +186,27 @@ private:
         int a = max_dimension(centroids.extent());
         float cmin = centroids.min[a];
         float scale = static_cast<float>(kBins) * 0.99999f / centroids.extent()[a];
-        // Two interleaved sets of bins: consecutive primitives of a mesh often fall into the
-        // same bin, and one set would chain every update on the previous one.
-        __m128 bin_min[2][kBins], bin_max[2][kBins];
-        uint32_t bin_count[2][kBins] = {};
-        for (int b = 0; b < kBins; ++b) {
-            bin_min[0][b] = bin_min[1][b] = _mm_set1_ps(kInfinity);
-            bin_max[0][b] = bin_max[1][b] = _mm_set1_ps(-kInfinity);
-        }
         const BuildRef* refs = refs_.data();
         auto bin_of = [&](const BuildRef& r) {
             float c = 0.5f * (r.min[a] + r.max[a]);
             return std::min(kBins - 1, static_cast<int>((c - cmin) * scale));
         };
-        uint32_t k = begin;
-        for (; k + 1 < end; k += 2) {
-            // Lane 3 holds the id or padding bits: never read back.
-            const BuildRef& r0 = refs[k];
-            const BuildRef& r1 = refs[k + 1];
-            int b0 = bin_of(r0), b1 = bin_of(r1);
-            bin_min[0][b0] = _mm_min_ps(bin_min[0][b0], _mm_loadu_ps(&r0.min.x));
-            bin_max[0][b0] = _mm_max_ps(bin_max[0][b0], _mm_loadu_ps(&r0.max.x));
-            bin_count[0][b0]++;
-            bin_min[1][b1] = _mm_min_ps(bin_min[1][b1], _mm_loadu_ps(&r1.min.x));
-            bin_max[1][b1] = _mm_max_ps(bin_max[1][b1], _mm_loadu_ps(&r1.max.x));
-            bin_count[1][b1]++;
-        }
-        if (k < end) {
-            int b0 = bin_of(refs[k]);
-            bin_min[0][b0] = _mm_min_ps(bin_min[0][b0], _mm_loadu_ps(&refs[k].min.x));
-            bin_max[0][b0] = _mm_max_ps(bin_max[0][b0], _mm_loadu_ps(&refs[k].max.x));
-            bin_count[0][b0]++;
-        }
-        for (int b = 0; b < kBins; ++b) {
-            bin_min[0][b] = _mm_min_ps(bin_min[0][b], bin_min[1][b]);
-            bin_max[0][b] = _mm_max_ps(bin_max[0][b], bin_max[1][b]);
-            bin_count[0][b] += bin_count[1][b];
+        Bins bins;
+        if (n >= kParallelSplit) {
+            // The top levels: bins of chunks in parallel, merged (min, max and sums are exact in
+            // any order, so the result does not depend on the threads).
+            bins = tbb::parallel_reduce(
+                tbb::blocked_range<uint32_t>(begin, end, kSplitChunk), Bins{},
+                [&](const tbb::blocked_range<uint32_t>& r, Bins acc) {
+                    bin_range(r.begin(), r.end(), bin_of, acc);
+                    return acc;
+                },
+                [](Bins x, const Bins& y) {
+                    x.merge(y);
+                    return x;
+                });
+        } else {
+            bin_range(begin, end, bin_of, bins);
         }
         // Sweep from the right, then from the left: cost of splitting after bin b.
         float right_cost[kBins];
@@ -179,9 +218,9 @@ private:
         };
         uint32_t count = 0;
         for (int b = kBins - 1; b > 0; --b) {
-            acc_min = _mm_min_ps(acc_min, bin_min[0][b]);
-            acc_max = _mm_max_ps(acc_max, bin_max[0][b]);
-            count += bin_count[0][b];
+            acc_min = _mm_min_ps(acc_min, bins.min[b]);
+            acc_max = _mm_max_ps(acc_max, bins.max[b]);
+            count += bins.count[b];
             right_cost[b] = count ? area(acc_min, acc_max) * static_cast<float>(count) : 0.0f;
         }
         float best_cost = kInfinity;
@@ -190,9 +229,9 @@ private:
         acc_max = _mm_set1_ps(-kInfinity);
         count = 0;
         for (int b = 0; b < kBins - 1; ++b) {
-            acc_min = _mm_min_ps(acc_min, bin_min[0][b]);
-            acc_max = _mm_max_ps(acc_max, bin_max[0][b]);
-            count += bin_count[0][b];
+            acc_min = _mm_min_ps(acc_min, bins.min[b]);
+            acc_max = _mm_max_ps(acc_max, bins.max[b]);
+            count += bins.count[b];
             if (count == 0 || count == n) continue;
             float cost = area(acc_min, acc_max) * static_cast<float>(count) + right_cost[b + 1];
             if (cost < best_cost) {
@@ -211,29 +250,57 @@ private:
             bounds_of(mid, end, rb, rc);
             return true;
         }
-        // Branch-free, through a scratch buffer: each reference is written to the next slot at
-        // the left or at the right end (a branch here mispredicts half the time).
         BuildRef* scratch = scratch_.data();
-        uint32_t next_left = begin, next_right = end - 1;
-        for (uint32_t j = begin; j < end; ++j) {
-            uint32_t left = bin_of(refs[j]) <= best_bin ? 1u : 0u;
-            scratch[left ? next_left : next_right] = refs[j];
-            next_left += left;
-            next_right -= 1u - left;
+        if (n >= kParallelSplit) {
+            // In parallel and stable: count the left references of each chunk, then every chunk
+            // writes its own at known offsets.
+            uint32_t chunks = (n + kSplitChunk - 1) / kSplitChunk;
+            std::vector<uint32_t> lefts(chunks + 1, 0);
+            tbb::parallel_for(0u, chunks, [&](uint32_t c) {
+                uint32_t in_left = 0;
+                for (uint32_t j = begin + c * kSplitChunk; j < std::min(end, begin + (c + 1) * kSplitChunk); ++j) {
+                    in_left += bin_of(refs[j]) <= best_bin ? 1u : 0u;
+                }
+                lefts[c + 1] = in_left;
+            });
+            for (uint32_t c = 0; c < chunks; ++c) lefts[c + 1] += lefts[c];
+            mid = begin + lefts[chunks];
+            tbb::parallel_for(0u, chunks, [&](uint32_t c) {
+                uint32_t first = begin + c * kSplitChunk, last = std::min(end, begin + (c + 1) * kSplitChunk);
+                uint32_t l = begin + lefts[c], r = mid + (first - begin - lefts[c]);
+                for (uint32_t j = first; j < last; ++j) {
+                    if (bin_of(refs[j]) <= best_bin) scratch[l++] = refs[j];
+                    else scratch[r++] = refs[j];
+                }
+            });
+            tbb::parallel_for(0u, chunks, [&](uint32_t c) {
+                uint32_t first = begin + c * kSplitChunk, last = std::min(end, begin + (c + 1) * kSplitChunk);
+                std::copy(scratch + first, scratch + last, refs_.data() + first);
+            });
+        } else {
+            // Branch-free, through a scratch buffer: each reference is written to the next slot
+            // at the left or at the right end (a branch here mispredicts half the time).
+            uint32_t next_left = begin, next_right = end - 1;
+            for (uint32_t j = begin; j < end; ++j) {
+                uint32_t left = bin_of(refs[j]) <= best_bin ? 1u : 0u;
+                scratch[left ? next_left : next_right] = refs[j];
+                next_left += left;
+                next_right -= 1u - left;
+            }
+            std::copy(scratch + begin, scratch + end, refs_.data() + begin);
+            mid = next_left;
         }
-        std::copy(scratch + begin, scratch + end, refs_.data() + begin);
-        mid = next_left;
         // Children's bounds from the bins; their centroid bounds are approximated by the
         // primitive bounds, which contain every centroid (binning only needs a range).
         __m128 l_min = _mm_set1_ps(kInfinity), l_max = _mm_set1_ps(-kInfinity);
         __m128 r_min = l_min, r_max = l_max;
         for (int b = 0; b < kBins; ++b) {
             if (b <= best_bin) {
-                l_min = _mm_min_ps(l_min, bin_min[0][b]);
-                l_max = _mm_max_ps(l_max, bin_max[0][b]);
+                l_min = _mm_min_ps(l_min, bins.min[b]);
+                l_max = _mm_max_ps(l_max, bins.max[b]);
             } else {
-                r_min = _mm_min_ps(r_min, bin_min[0][b]);
-                r_max = _mm_max_ps(r_max, bin_max[0][b]);
+                r_min = _mm_min_ps(r_min, bins.min[b]);
+                r_max = _mm_max_ps(r_max, bins.max[b]);
             }
         }
         auto to_bounds = [](__m128 lo, __m128 hi) {
