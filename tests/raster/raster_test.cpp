@@ -465,16 +465,19 @@ TEST(Raster, SimdFastPathAgreesWithTheScalarShading) {
                     {{"type", "sphere"}, {"center", {-0.5, 0.5, 0}}, {"radius", 0.5}, {"material", "p"}},
                     {{"type", "box"}, {"min", {0.2, 0, -0.6}}, {"max", {0.9, 0.7, 0.1}}, {"material", "b"}},
                     {{"type", "quad"}, {"corner", {-1, 0, -1}}, {"edge_u", {0, 1, 0}}, {"edge_v", {1, 0, 0}}, {"material", "p"}}};
-    RenderResult fast = render(j);
-    RenderResult scalar = render(j, "raster", {"albedo"});
-    float worst = 0.0f;
-    for (size_t k = 0; k < fast.color.pixels.size(); ++k) {
-        for (int c = 0; c < 3; ++c) {
-            float a = fast.color.pixels[k][c], b = scalar.color.pixels[k][c];
-            worst = std::max(worst, std::abs(a - b) / std::max(b, 1e-3f));
+    for (int spp : {1, 4}) {  // one sample: runs along rows; more: batches of samples
+        j["render"]["spp"] = spp;
+        RenderResult fast = render(j);
+        RenderResult scalar = render(j, "raster", {"albedo"});
+        float worst = 0.0f;
+        for (size_t k = 0; k < fast.color.pixels.size(); ++k) {
+            for (int c = 0; c < 3; ++c) {
+                float a = fast.color.pixels[k][c], b = scalar.color.pixels[k][c];
+                worst = std::max(worst, std::abs(a - b) / std::max(b, 1e-3f));
+            }
         }
+        EXPECT_LT(worst, 1e-4f) << spp;
     }
-    EXPECT_LT(worst, 1e-4f);
 }
 
 }  // namespace

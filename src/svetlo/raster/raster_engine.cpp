@@ -503,7 +503,47 @@ void rasterize(uint32_t id, const SetupTriangle& t, const Tile& tile, const Samp
             int x0 = std::max(xs, tile.x0 + bx * kB), x1 = std::min(xe, tile.x0 + (bx + 1) * kB);
             int y0 = std::max(ys, tile.y0 + by * kB), y1 = std::min(ye, tile.y0 + (by + 1) * kB);
             bool wrote = false;
-            for (int py = y0; py < y1; ++py) {
+            // A block whose every sample is inside all three edges (the edge functions are
+            // linear: checking the corners suffices) needs only the depth test, four pixels
+            // at a time.
+            bool full = S == 1;
+            for (int k = 0; k < 3 && full; ++k) {
+                const Edge& e = te.e[k];
+                int64_t xa = static_cast<int64_t>(x0) * kSubpixel, xb = static_cast<int64_t>(x1) * kSubpixel - 1;
+                int64_t ya = static_cast<int64_t>(y0) * kSubpixel, yb = static_cast<int64_t>(y1) * kSubpixel - 1;
+                int64_t lowest = std::min(std::min(e.at(xa, ya), e.at(xb, ya)), std::min(e.at(xa, yb), e.at(xb, yb)));
+                full = lowest + e.bias >= 0;
+            }
+            if (full) {
+                const __m128 steps = _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f);
+                const __m128i ids = _mm_set1_epi32(static_cast<int>(id));
+                auto dz = static_cast<float>(dzdx);
+                for (int py = y0; py < y1; ++py) {
+                    double fx = static_cast<double>(static_cast<int64_t>(x0) * kSubpixel + sp.ox[0] - t.x[0]) / px_per_fixed;
+                    double fy = static_cast<double>(static_cast<int64_t>(py) * kSubpixel + sp.oy[0] - t.y[0]) / px_per_fixed;
+                    auto z = static_cast<float>(t.z[0] + dzdx * fx + dzdy * fy);
+                    size_t i = static_cast<size_t>(py - tile.y0) * tw + (x0 - tile.x0);
+                    int px = x0;
+                    for (; px + 4 <= x1; px += 4, i += 4, z += 4.0f * dz) {
+                        __m128 z4 = _mm_add_ps(_mm_set1_ps(z), _mm_mul_ps(_mm_set1_ps(dz), steps));
+                        __m128 d = _mm_loadu_ps(&buf.depth[i]);
+                        __m128 m = depth_test ? _mm_cmplt_ps(z4, d) : _mm_castsi128_ps(_mm_set1_epi32(-1));
+                        if (_mm_movemask_ps(m) == 0) continue;
+                        _mm_storeu_ps(&buf.depth[i], _mm_or_ps(_mm_and_ps(m, z4), _mm_andnot_ps(m, d)));
+                        auto* tp = reinterpret_cast<__m128i*>(&buf.tri[i]);
+                        __m128i mi = _mm_castps_si128(m);
+                        _mm_storeu_si128(tp, _mm_or_si128(_mm_and_si128(mi, ids), _mm_andnot_si128(mi, _mm_loadu_si128(tp))));
+                        wrote = true;
+                    }
+                    for (; px < x1; ++px, ++i, z += dz) {
+                        if (depth_test && !(z < buf.depth[i])) continue;
+                        buf.depth[i] = z;
+                        buf.tri[i] = id;
+                        wrote = true;
+                    }
+                }
+            }
+            for (int py = y0; py < y1 && !full; ++py) {
                 for (int s = 0; s < S; ++s) {
                     int64_t sy = static_cast<int64_t>(py) * kSubpixel + sp.oy[s];
                     int64_t sx = static_cast<int64_t>(x0) * kSubpixel + sp.ox[s];
@@ -824,7 +864,47 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                         for (int k = 0; k < batch.count; ++k) buf.sample_color[lane_of[k]] = lit[k];
                         batch.count = 0;
                     };
-                    for (size_t i = 0; i < count; ++i) {
+                    for (size_t i = 0; i < count && S == 1; ++i) {
+                        // One sample per pixel: runs of one triangle along each row, their
+                        // weights stepped exactly (edge functions are affine), shaded four
+                        // pixels at a time.
+                        uint32_t tri = buf.tri[i];
+                        if (tri == kNone) {
+                            buf.sample_color[i] = background;
+                            continue;
+                        }
+                        const SetupTriangle& t = f.tri(tri);
+                        size_t row = i / static_cast<size_t>(tw), px = i % static_cast<size_t>(tw);
+                        if (!f.simd_ok[t.material]) {
+                            buf.sample_color[i] = shade_sample(f, tri, edges_of(tri), sample_x(i, 0), sample_y(i, 0), false).color;
+                            continue;
+                        }
+                        size_t end = px;
+                        while (end < static_cast<size_t>(tw) && buf.tri[row * tw + end] == tri) ++end;
+                        const TriangleEdges& e = edges_of(tri);
+                        SpanQuad q;
+                        for (int v = 0; v < 3; ++v) {
+                            q.invw[v] = t.invw[v];
+                            q.world[v] = f.vertex(t.v[v]).world;
+                            q.normal[v] = f.vertex(t.v[v]).normal;
+                        }
+                        int64_t sx = sample_x(i, 0), sy = sample_y(i, 0);
+                        int64_t e1 = e.e[1].at(sx, sy), e2 = e.e[2].at(sx, sy);
+                        int64_t d1 = e.e[1].a * kSubpixel, d2 = e.e[2].a * kSubpixel;
+                        Color out[4];
+                        for (size_t x = px; x < end; x += 4) {
+                            q.count = static_cast<int>(std::min<size_t>(4, end - x));
+                            for (int k = 0; k < q.count; ++k, e1 += d1, e2 += d2) {
+                                q.l1[k] = static_cast<float>(static_cast<double>(e1) * e.inv_area);
+                                q.l2[k] = static_cast<float>(static_cast<double>(e2) * e.inv_area);
+                            }
+                            shade_span(q, f.simd_material[t.material], t.ng, f.simd_lights, f.eye, f.ortho, f.forward,
+                                       scene.render.ambient, out);
+                            for (int k = 0; k < q.count; ++k) buf.sample_color[row * tw + x + static_cast<size_t>(k)] = out[k];
+                        }
+                        i = row * tw + end - 1;
+                    }
+                    for (size_t i = 0; i < count && S > 1; ++i) {
                         uint32_t tri = buf.tri[i];
                         size_t pixel = i / static_cast<size_t>(S);
                         int s = static_cast<int>(i % static_cast<size_t>(S));

@@ -79,6 +79,74 @@ V lane(const float (&a)[4]) { return _mm_loadu_ps(a); }
 
 void pow4(const float x[4], const float n[4], float out[4]) { _mm_storeu_ps(out, pow_ps(_mm_loadu_ps(x), _mm_loadu_ps(n))); }
 
+namespace {
+
+/// The lighting of four samples: positions p, interpolated normals ns (any length), unit
+/// geometric normals ng (counter-clockwise side); material terms per lane.
+struct Material4 {
+    V ka[3], kd[3], ks[3], shininess, norm, blinn;  // ka premultiplied by the ambient, kd by 1/pi
+};
+
+void light4(V3 p, V3 ns, V3 ng, const Material4& m, const SimdLights& lights, vec3 eye, bool ortho, vec3 forward,
+            V L[3]) {
+    V3 wo = ortho ? V3{set(-forward.x), set(-forward.y), set(-forward.z)}
+                  : normalize3(sub3(V3{set(eye.x), set(eye.y), set(eye.z)}, p));
+    // Two-sided: both normals toward the viewer; an interpolated normal facing away falls back
+    // to the geometric one (as light_point does).
+    V facing = _mm_cmpge_ps(dot3(ng, wo), _mm_setzero_ps());
+    V3 n = select3(facing, ng, neg3(ng));
+    V len2 = dot3(ns, ns);
+    V has_ns = _mm_cmpgt_ps(len2, _mm_setzero_ps());
+    ns = select3(has_ns, scale3(ns, div(set(1.0f), _mm_sqrt_ps(vmax(len2, set(1e-30f))))), n);
+    ns = select3(_mm_cmplt_ps(dot3(ns, n), _mm_setzero_ps()), neg3(ns), ns);
+    ns = select3(_mm_cmple_ps(dot3(ns, wo), _mm_setzero_ps()), n, ns);
+    V cos_o = dot3(ns, wo);
+    V lit_o = _mm_cmpgt_ps(cos_o, _mm_setzero_ps());
+    for (int c = 0; c < 3; ++c) L[c] = m.ka[c];
+    auto contribute = [&](V3 wi, const V irr[3]) {
+        V cos_i = dot3(ns, wi);
+        V ok = _mm_and_ps(_mm_and_ps(_mm_cmpgt_ps(cos_i, _mm_setzero_ps()), _mm_cmpgt_ps(dot3(n, wi), _mm_setzero_ps())), lit_o);
+        if (_mm_movemask_ps(ok) == 0) return;
+        // Phong: r.v with r = 2 (n.wi) n - wi; Blinn-Phong: n.h with h = normalize(wi + wo).
+        V rv = sub(mul(mul(set(2.0f), cos_i), cos_o), dot3(wi, wo));
+        V3 h = normalize3(V3{add(wi.x, wo.x), add(wi.y, wo.y), add(wi.z, wo.z)});
+        V x = vmax(select(m.blinn, dot3(ns, h), rv), _mm_setzero_ps());
+        V spec = mul(m.norm, pow_ps(x, m.shininess));
+        for (int c = 0; c < 3; ++c) {
+            V f = add(m.kd[c], mul(m.ks[c], spec));
+            L[c] = add(L[c], _mm_and_ps(ok, mul(mul(f, irr[c]), cos_i)));
+        }
+    };
+    for (const SimdLights::Point& light : lights.points) {
+        V3 d = sub3(V3{set(light.position.x), set(light.position.y), set(light.position.z)}, p);
+        V d2 = dot3(d, d);
+        V3 wi = scale3(d, div(set(1.0f), _mm_sqrt_ps(d2)));
+        V inv_d2 = div(set(1.0f), d2);
+        V irr[3] = {mul(set(light.intensity.r), inv_d2), mul(set(light.intensity.g), inv_d2),
+                    mul(set(light.intensity.b), inv_d2)};
+        contribute(wi, irr);
+    }
+    for (const SimdLights::Directional& light : lights.directionals) {
+        V3 wi{set(light.to_light.x), set(light.to_light.y), set(light.to_light.z)};
+        V irr[3] = {set(light.irradiance.r), set(light.irradiance.g), set(light.irradiance.b)};
+        contribute(wi, irr);
+    }
+}
+
+float norm_of(const SimdMaterial& m) {
+    return m.blinn ? (m.shininess + 8.0f) / (8.0f * kPi) : (m.shininess + 2.0f) / (2.0f * kPi);
+}
+
+void store(const V L[3], int count, Color out[4]) {
+    float r[4], g[4], b[4];
+    _mm_storeu_ps(r, L[0]);
+    _mm_storeu_ps(g, L[1]);
+    _mm_storeu_ps(b, L[2]);
+    for (int k = 0; k < count; ++k) out[k] = Color(r[k], g[k], b[k]);
+}
+
+}  // namespace
+
 void shade_batch(const ShadeBatch& b, const SimdLights& lights, vec3 eye, bool ortho, vec3 forward, Color ambient,
                  Color out[4]) {
     // Gather the lanes (unused lanes repeat lane 0).
@@ -96,63 +164,49 @@ void shade_batch(const ShadeBatch& b, const SimdLights& lights, vec3 eye, bool o
             ks[c][k] = m.specular ? m.ks[c] : 0.0f;
         }
         shin[k] = m.shininess;
-        norm[k] = m.blinn ? (m.shininess + 8.0f) / (8.0f * kPi) : (m.shininess + 2.0f) / (2.0f * kPi);
+        norm[k] = norm_of(m);
         blinn[k] = m.blinn ? 1.0f : 0.0f;
     }
-    V3 p{lane(px), lane(py), lane(pz)};
-    V3 wo = ortho ? V3{set(-forward.x), set(-forward.y), set(-forward.z)}
-                  : normalize3(sub3(V3{set(eye.x), set(eye.y), set(eye.z)}, p));
-    // Two-sided: both normals toward the viewer; an interpolated normal facing away falls back
-    // to the geometric one (as light_point does).
-    V3 ng{lane(gx), lane(gy), lane(gz)};
-    V facing = _mm_cmpge_ps(dot3(ng, wo), _mm_setzero_ps());
-    V3 n = select3(facing, ng, neg3(ng));
-    V3 ns{lane(nx), lane(ny), lane(nz)};
-    V len2 = dot3(ns, ns);
-    V has_ns = _mm_cmpgt_ps(len2, _mm_setzero_ps());
-    ns = select3(has_ns, scale3(ns, div(set(1.0f), _mm_sqrt_ps(vmax(len2, set(1e-30f))))), n);
-    ns = select3(_mm_cmplt_ps(dot3(ns, n), _mm_setzero_ps()), neg3(ns), ns);
-    ns = select3(_mm_cmple_ps(dot3(ns, wo), _mm_setzero_ps()), n, ns);
-    V cos_o = dot3(ns, wo);
-    V lit_o = _mm_cmpgt_ps(cos_o, _mm_setzero_ps());
-    V L[3] = {lane(ka[0]), lane(ka[1]), lane(ka[2])};
-    V kdv[3] = {lane(kd[0]), lane(kd[1]), lane(kd[2])};
-    V ksv[3] = {lane(ks[0]), lane(ks[1]), lane(ks[2])};
-    V shinv = lane(shin), normv = lane(norm), blinnv = _mm_cmpgt_ps(lane(blinn), _mm_setzero_ps());
-    auto contribute = [&](V3 wi, const V irr[3]) {
-        V cos_i = dot3(ns, wi);
-        V ok = _mm_and_ps(_mm_and_ps(_mm_cmpgt_ps(cos_i, _mm_setzero_ps()), _mm_cmpgt_ps(dot3(n, wi), _mm_setzero_ps())), lit_o);
-        if (_mm_movemask_ps(ok) == 0) return;
-        // Phong: r.v with r = 2 (n.wi) n - wi; Blinn-Phong: n.h with h = normalize(wi + wo).
-        V rv = sub(mul(mul(set(2.0f), cos_i), cos_o), dot3(wi, wo));
-        V3 h = normalize3(V3{add(wi.x, wo.x), add(wi.y, wo.y), add(wi.z, wo.z)});
-        V x = vmax(select(blinnv, dot3(ns, h), rv), _mm_setzero_ps());
-        V spec = mul(normv, pow_ps(x, shinv));
-        for (int c = 0; c < 3; ++c) {
-            V f = add(kdv[c], mul(ksv[c], spec));
-            L[c] = add(L[c], _mm_and_ps(ok, mul(mul(f, irr[c]), cos_i)));
-        }
+    Material4 m;
+    for (int c = 0; c < 3; ++c) {
+        m.ka[c] = lane(ka[c]);
+        m.kd[c] = lane(kd[c]);
+        m.ks[c] = lane(ks[c]);
+    }
+    m.shininess = lane(shin);
+    m.norm = lane(norm);
+    m.blinn = _mm_cmpgt_ps(lane(blinn), _mm_setzero_ps());
+    V L[3];
+    light4(V3{lane(px), lane(py), lane(pz)}, V3{lane(nx), lane(ny), lane(nz)}, V3{lane(gx), lane(gy), lane(gz)}, m,
+           lights, eye, ortho, forward, L);
+    store(L, b.count, out);
+}
+
+void shade_span(const SpanQuad& q, const SimdMaterial& mat, vec3 ng, const SimdLights& lights, vec3 eye, bool ortho,
+                vec3 forward, Color ambient, Color out[4]) {
+    Material4 m;
+    for (int c = 0; c < 3; ++c) {
+        m.ka[c] = set(mat.ka[c] * ambient[c]);
+        m.kd[c] = set(mat.kd[c] * kInvPi);
+        m.ks[c] = set(mat.specular ? mat.ks[c] : 0.0f);
+    }
+    m.shininess = set(mat.shininess);
+    m.norm = set(norm_of(mat));
+    m.blinn = mat.blinn ? _mm_castsi128_ps(_mm_set1_epi32(-1)) : _mm_setzero_ps();
+    // Perspective-correct weights from the screen barycentrics: q_i = l_i / w_i, b_i = q_i / sum.
+    V l1 = _mm_loadu_ps(q.l1), l2 = _mm_loadu_ps(q.l2);
+    V l0 = sub(sub(set(1.0f), l1), l2);
+    V q0 = mul(l0, set(q.invw[0])), q1 = mul(l1, set(q.invw[1])), q2 = mul(l2, set(q.invw[2]));
+    V inv = div(set(1.0f), add(add(q0, q1), q2));
+    V b0 = mul(q0, inv), b1 = mul(q1, inv), b2 = mul(q2, inv);
+    auto lerp3 = [&](const vec3 (&v)[3]) {
+        return V3{add(add(mul(b0, set(v[0].x)), mul(b1, set(v[1].x))), mul(b2, set(v[2].x))),
+                  add(add(mul(b0, set(v[0].y)), mul(b1, set(v[1].y))), mul(b2, set(v[2].y))),
+                  add(add(mul(b0, set(v[0].z)), mul(b1, set(v[1].z))), mul(b2, set(v[2].z)))};
     };
-    for (const SimdLights::Point& light : lights.points) {
-        V3 d = sub3(V3{set(light.position.x), set(light.position.y), set(light.position.z)}, p);
-        V d2 = dot3(d, d);
-        V inv = div(set(1.0f), _mm_sqrt_ps(d2));
-        V3 wi = scale3(d, inv);
-        V inv_d2 = div(set(1.0f), d2);
-        V irr[3] = {mul(set(light.intensity.r), inv_d2), mul(set(light.intensity.g), inv_d2),
-                    mul(set(light.intensity.b), inv_d2)};
-        contribute(wi, irr);
-    }
-    for (const SimdLights::Directional& light : lights.directionals) {
-        V3 wi{set(light.to_light.x), set(light.to_light.y), set(light.to_light.z)};
-        V irr[3] = {set(light.irradiance.r), set(light.irradiance.g), set(light.irradiance.b)};
-        contribute(wi, irr);
-    }
-    float r[4], g[4], bl[4];
-    _mm_storeu_ps(r, L[0]);
-    _mm_storeu_ps(g, L[1]);
-    _mm_storeu_ps(bl, L[2]);
-    for (int k = 0; k < b.count; ++k) out[k] = Color(r[k], g[k], bl[k]);
+    V L[3];
+    light4(lerp3(q.world), lerp3(q.normal), V3{set(ng.x), set(ng.y), set(ng.z)}, m, lights, eye, ortho, forward, L);
+    store(L, q.count, out);
 }
 
 }  // namespace svetlo
