@@ -480,5 +480,47 @@ TEST(Raster, SimdFastPathAgreesWithTheScalarShading) {
     }
 }
 
+TEST(Raster, AMeshOfSmallTrianglesHasNoCracks) {
+    // A 60 x 40 grid of jittered vertices, two triangles per cell (a few pixels each, so the
+    // small-triangle path draws them), against the one quad it tiles: the same pixels covered.
+    const int nx = 60, ny = 40;
+    json positions = json::array(), indices = json::array();
+    uint32_t state = 99;
+    auto jitter = [&] { return (static_cast<float>((state = state * 1664525u + 1013904223u) >> 8) / 16777216.0f - 0.5f) * 0.6f; };
+    for (int y = 0; y <= ny; ++y) {
+        for (int x = 0; x <= nx; ++x) {
+            bool inner = x > 0 && x < nx && y > 0 && y < ny;
+            float fx = static_cast<float>(x) + (inner ? jitter() : 0.0f), fy = static_cast<float>(y) + (inner ? jitter() : 0.0f);
+            positions.push_back({-1.5f + 3.0f * fx / nx, 0.0f, -1.0f + 2.0f * fy / ny});
+        }
+    }
+    for (int y = 0; y < ny; ++y) {
+        for (int x = 0; x < nx; ++x) {
+            int a = y * (nx + 1) + x, b = a + 1, c = a + nx + 1, d = c + 1;
+            for (int v : {a, c, b, b, c, d}) indices.push_back(v);
+        }
+    }
+    json j = {{"camera", {{"type", "orthographic"}, {"position", {0.013, 5, 0.007}}, {"look_at", {0.013, 0, 0.007}},
+                          {"up", {0, 0, -1}}, {"height", 2.5}}},
+              {"film", {{"width", 160}, {"height", 120}}},
+              {"render", {{"spp", 1}, {"ambient", 1}, {"background", 5}}},
+              {"materials", {{"m", {{"type", "lambert"}, {"albedo", 0.5}}}}},
+              {"lights", json::array()},
+              {"objects", {{{"type", "mesh"}, {"positions", positions}, {"indices", indices}, {"material", "m"}}}}};
+    RenderResult mesh = render(j);
+    j["objects"] = {floor_quad(1.0f, "m")};
+    j["objects"][0]["corner"] = {-1.5, 0, -1};
+    j["objects"][0]["edge_u"] = {0, 0, 2};
+    j["objects"][0]["edge_v"] = {3, 0, 0};
+    RenderResult quad = render(j);
+    int covered = 0;
+    for (size_t k = 0; k < mesh.color.pixels.size(); ++k) {
+        bool a = mesh.color.pixels[k].r < 1.0f, b = quad.color.pixels[k].r < 1.0f;
+        covered += b;
+        ASSERT_EQ(a, b) << "pixel " << k % 160 << "," << k / 160;
+    }
+    EXPECT_GT(covered, 8000);
+}
+
 }  // namespace
 }  // namespace svetlo

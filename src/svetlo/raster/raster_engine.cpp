@@ -475,6 +475,71 @@ struct TriangleEdges {
     }
 };
 
+/// Stage 5 for small triangles and one sample per pixel: edge functions relative to the
+/// triangle's corner fit in 32 bits, so four pixels are tested and depth-tested at once. The
+/// blocks' deepest depths are left as they were: larger than the truth, which is safe.
+constexpr int kSmall = 32;  // pixels: the bounding box's largest side for this path
+
+bool is_small(const SetupTriangle& t, int samples) {
+    // The triangle itself, not its bounds clamped to the film: the edge coefficients grow with it.
+    int32_t w = std::max({t.x[0], t.x[1], t.x[2]}) - std::min({t.x[0], t.x[1], t.x[2]});
+    int32_t h = std::max({t.y[0], t.y[1], t.y[2]}) - std::min({t.y[0], t.y[1], t.y[2]});
+    return samples == 1 && w <= kSmall * kSubpixel && h <= kSmall * kSubpixel;
+}
+
+void rasterize_small(uint32_t id, const SetupTriangle& t, const Tile& tile, const SamplePattern& sp, bool depth_test,
+                     TileBuffers& buf) {
+    int xs = std::max(t.x0, tile.x0), xe = std::min(t.x1, tile.x1);
+    int ys = std::max(t.y0, tile.y0), ye = std::min(t.y1, tile.y1);
+    if (xs >= xe || ys >= ye) return;
+    TriangleEdges te(t);
+    // Over the box |E| <= (|a| + |b|) (kSmall + 2) 256 with |a|, |b| <= (kSmall + 2) 256: below
+    // 2^28, and the steps of four pixels below 2^24.
+    int64_t ox = static_cast<int64_t>(xs) * kSubpixel + sp.ox[0], oy = static_cast<int64_t>(ys) * kSubpixel + sp.oy[0];
+    __m128i w_row[3], step_x[3], step_y[3];
+    for (int k = 0; k < 3; ++k) {
+        const Edge& e = te.e[k];
+        auto origin = static_cast<int32_t>(e.at(ox, oy) + e.bias);
+        auto ax = static_cast<int32_t>(e.a * kSubpixel);
+        w_row[k] = _mm_add_epi32(_mm_set1_epi32(origin), _mm_set_epi32(3 * ax, 2 * ax, ax, 0));
+        step_x[k] = _mm_set1_epi32(4 * ax);
+        step_y[k] = _mm_set1_epi32(static_cast<int32_t>(e.b * kSubpixel));
+    }
+    double scale = static_cast<double>(kSubpixel) * te.inv_area;
+    auto dzdx = static_cast<float>((static_cast<double>(te.e[1].a) * (t.z[1] - t.z[0]) + static_cast<double>(te.e[2].a) * (t.z[2] - t.z[0])) * scale);
+    auto dzdy = static_cast<float>((static_cast<double>(te.e[1].b) * (t.z[1] - t.z[0]) + static_cast<double>(te.e[2].b) * (t.z[2] - t.z[0])) * scale);
+    float z_origin = t.z[0] + dzdx * static_cast<float>(static_cast<double>(ox - t.x[0]) / kSubpixel) +
+                     dzdy * static_cast<float>(static_cast<double>(oy - t.y[0]) / kSubpixel);
+    const __m128 z_steps = _mm_mul_ps(_mm_set1_ps(dzdx), _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f));
+    const __m128 z_step4 = _mm_set1_ps(4.0f * dzdx);
+    const int tw = tile.x1 - tile.x0;
+    for (int py = ys; py < ye; ++py) {
+        __m128i w0 = w_row[0], w1 = w_row[1], w2 = w_row[2];
+        __m128 z4 = _mm_add_ps(_mm_set1_ps(z_origin + dzdy * static_cast<float>(py - ys)), z_steps);
+        for (int px = xs; px < xe; px += 4) {
+            __m128i inside = _mm_or_si128(_mm_or_si128(w0, w1), w2);  // sign bit set: outside
+            int lanes = xe - px;
+            int mask = ~_mm_movemask_ps(_mm_castsi128_ps(inside)) & (lanes >= 4 ? 15 : (1 << lanes) - 1);
+            if (mask) {
+                size_t i = static_cast<size_t>(py - tile.y0) * tw + (px - tile.x0);
+                alignas(16) float z[4];
+                _mm_store_ps(z, z4);
+                for (int k = 0; k < 4; ++k) {
+                    if (!((mask >> k) & 1)) continue;
+                    if (depth_test && !(z[k] < buf.depth[i + k])) continue;
+                    buf.depth[i + k] = z[k];
+                    buf.tri[i + k] = id;
+                }
+            }
+            w0 = _mm_add_epi32(w0, step_x[0]);
+            w1 = _mm_add_epi32(w1, step_x[1]);
+            w2 = _mm_add_epi32(w2, step_x[2]);
+            z4 = _mm_add_ps(z4, z_step4);
+        }
+        for (int k = 0; k < 3; ++k) w_row[k] = _mm_add_epi32(w_row[k], step_y[k]);
+    }
+}
+
 /// Stage 5: rasterizes triangle `id` into the tile's visibility buffer, 8 x 8 blocks at a
 /// time: a block where the triangle's nearest depth lies behind everything stored is skipped.
 /// Depth is the plane z(x, y) of the depth keys, stepped incrementally along each row.
@@ -833,7 +898,9 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                 buf.reset(pixels * static_cast<size_t>(S), pixels, any_aov);
                 for (const FrameState::Bins& b : f.bins) {
                     for (uint32_t k = b.start[ti]; k < b.start[ti + 1]; ++k) {
-                        rasterize(b.ids[k], f.tri(b.ids[k]), tile, sp, depth_test, buf);
+                        const SetupTriangle& t = f.tri(b.ids[k]);
+                        if (is_small(t, S)) rasterize_small(b.ids[k], t, tile, sp, depth_test, buf);
+                        else rasterize(b.ids[k], t, tile, sp, depth_test, buf);
                     }
                 }
                 auto sample_x = [&](size_t pixel, int s) {
