@@ -931,6 +931,20 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                         for (int k = 0; k < batch.count; ++k) buf.sample_color[lane_of[k]] = lit[k];
                         batch.count = 0;
                     };
+                    // Gathers sample i (of pixel, sample s) of triangle `tri` into the batch.
+                    auto add_to_batch = [&](size_t i, size_t pixel, int s, uint32_t tri, const SetupTriangle& t) {
+                        Weights w = perspective_weights(t, edges_of(tri), sample_x(pixel, s), sample_y(pixel, s));
+                        const ClipVertex& A = f.vertex(t.v[0]);
+                        const ClipVertex& B = f.vertex(t.v[1]);
+                        const ClipVertex& C = f.vertex(t.v[2]);
+                        int k = batch.count++;
+                        batch.p[k] = w.b[0] * A.world + w.b[1] * B.world + w.b[2] * C.world;
+                        batch.ns[k] = w.b[0] * A.normal + w.b[1] * B.normal + w.b[2] * C.normal;
+                        batch.ng[k] = t.ng;
+                        batch.material[k] = &f.simd_material[t.material];
+                        lane_of[k] = i;
+                        if (batch.count == 4) flush();
+                    };
                     for (size_t i = 0; i < count && S == 1; ++i) {
                         // One sample per pixel: runs of one triangle along each row, their
                         // weights stepped exactly (edge functions are affine), shaded four
@@ -948,27 +962,33 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                         }
                         size_t end = px;
                         while (end < static_cast<size_t>(tw) && buf.tri[row * tw + end] == tri) ++end;
-                        const TriangleEdges& e = edges_of(tri);
-                        SpanQuad q;
-                        for (int v = 0; v < 3; ++v) {
-                            q.invw[v] = t.invw[v];
-                            q.world[v] = f.vertex(t.v[v]).world;
-                            q.normal[v] = f.vertex(t.v[v]).normal;
-                        }
-                        int64_t sx = sample_x(i, 0), sy = sample_y(i, 0);
-                        int64_t e1 = e.e[1].at(sx, sy), e2 = e.e[2].at(sx, sy);
-                        int64_t d1 = e.e[1].a * kSubpixel, d2 = e.e[2].a * kSubpixel;
-                        Color out[4];
-                        for (size_t x = px; x < end; x += 4) {
-                            q.count = static_cast<int>(std::min<size_t>(4, end - x));
-                            for (int k = 0; k < q.count; ++k, e1 += d1, e2 += d2) {
-                                q.l1[k] = static_cast<float>(static_cast<double>(e1) * e.inv_area);
-                                q.l2[k] = static_cast<float>(static_cast<double>(e2) * e.inv_area);
+                        // Groups of four along the run are shaded as spans; what is left joins
+                        // the batch, which gathers samples of small triangles four at a time.
+                        size_t spans_end = px + (end - px) / 4 * 4;
+                        if (spans_end > px) {
+                            const TriangleEdges& e = edges_of(tri);
+                            SpanQuad q;
+                            for (int v = 0; v < 3; ++v) {
+                                q.invw[v] = t.invw[v];
+                                q.world[v] = f.vertex(t.v[v]).world;
+                                q.normal[v] = f.vertex(t.v[v]).normal;
                             }
-                            shade_span(q, f.simd_material[t.material], t.ng, f.simd_lights, f.eye, f.ortho, f.forward,
-                                       scene.render.ambient, out);
-                            for (int k = 0; k < q.count; ++k) buf.sample_color[row * tw + x + static_cast<size_t>(k)] = out[k];
+                            int64_t sx = sample_x(i, 0), sy = sample_y(i, 0);
+                            int64_t e1 = e.e[1].at(sx, sy), e2 = e.e[2].at(sx, sy);
+                            int64_t d1 = e.e[1].a * kSubpixel, d2 = e.e[2].a * kSubpixel;
+                            Color out[4];
+                            q.count = 4;
+                            for (size_t x = px; x < spans_end; x += 4) {
+                                for (int k = 0; k < 4; ++k, e1 += d1, e2 += d2) {
+                                    q.l1[k] = static_cast<float>(static_cast<double>(e1) * e.inv_area);
+                                    q.l2[k] = static_cast<float>(static_cast<double>(e2) * e.inv_area);
+                                }
+                                shade_span(q, f.simd_material[t.material], t.ng, f.simd_lights, f.eye, f.ortho, f.forward,
+                                           scene.render.ambient, out);
+                                for (int k = 0; k < 4; ++k) buf.sample_color[row * tw + x + static_cast<size_t>(k)] = out[k];
+                            }
                         }
+                        for (size_t x = spans_end; x < end; ++x) add_to_batch(row * tw + x, row * tw + x, 0, tri, t);
                         i = row * tw + end - 1;
                     }
                     for (size_t i = 0; i < count && S > 1; ++i) {
@@ -985,17 +1005,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                                 shade_sample(f, tri, edges_of(tri), sample_x(pixel, s), sample_y(pixel, s), false).color;
                             continue;
                         }
-                        Weights w = perspective_weights(t, edges_of(tri), sample_x(pixel, s), sample_y(pixel, s));
-                        const ClipVertex& A = f.vertex(t.v[0]);
-                        const ClipVertex& B = f.vertex(t.v[1]);
-                        const ClipVertex& C = f.vertex(t.v[2]);
-                        int k = batch.count++;
-                        batch.p[k] = w.b[0] * A.world + w.b[1] * B.world + w.b[2] * C.world;
-                        batch.ns[k] = w.b[0] * A.normal + w.b[1] * B.normal + w.b[2] * C.normal;
-                        batch.ng[k] = t.ng;
-                        batch.material[k] = &f.simd_material[t.material];
-                        lane_of[k] = i;
-                        if (batch.count == 4) flush();
+                        add_to_batch(i, pixel, s, tri, t);
                     }
                     if (batch.count > 0) flush();
                     for (size_t pixel = 0; pixel < pixels; ++pixel) {
