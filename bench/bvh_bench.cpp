@@ -19,7 +19,8 @@ const Geometry& bunnies() {
         MeshFile f = read_mesh_file(SVETLO_SHARED_DATA "/bunny/bun_zipper.ply");
         for (int copy = 0; copy < 3; ++copy) {
             auto base = static_cast<uint32_t>(out.positions.size());
-            for (vec3 p : f.mesh.positions) out.positions.push_back(p + vec3(0.2f * copy, 0.0f, 0.0f));
+            for (vec3 p : f.mesh.positions)
+                out.positions.push_back(p + vec3(0.2f * copy, 0.0f, 0.0f));
             for (uint32_t i : f.mesh.indices) out.indices.push_back(base + i);
             out.triangle_material.resize(out.indices.size() / 3, 0);
         }
@@ -34,8 +35,9 @@ void build(benchmark::State& state, const std::string& name) {
         std::unique_ptr<Accel> accel = make_accel(name, g, static_cast<int>(state.range(0)));
         benchmark::DoNotOptimize(accel.get());
     }
-    state.counters["Mtris/s"] = benchmark::Counter(
-        static_cast<double>(g.triangle_count()) * state.iterations() * 1e-6, benchmark::Counter::kIsRate);
+    state.counters["Mtris/s"] =
+        benchmark::Counter(static_cast<double>(g.triangle_count()) * state.iterations() * 1e-6,
+                           benchmark::Counter::kIsRate);
 }
 
 /// Rays from a ring of viewpoints toward the bunnies (primary), or leaving their first hits
@@ -48,7 +50,8 @@ std::vector<Ray> make_rays(const Bvh& bvh, bool diffuse) {  // NOLINT: copies ar
     while (rays.size() < 100000) {
         float a = 2.0f * kPi * rng.next_float();
         vec3 o = target + vec3(0.6f * std::cos(a), 0.1f, 0.6f * std::sin(a));
-        vec3 p = target + 0.15f * (vec3(rng.next_float(), rng.next_float(), rng.next_float()) - 0.5f);
+        vec3 p =
+            target + 0.15f * (vec3(rng.next_float(), rng.next_float(), rng.next_float()) - 0.5f);
         Ray r{o, glm::normalize(p - o), kInfinity};
         if (!diffuse) {
             rays.push_back(r);
@@ -58,7 +61,8 @@ std::vector<Ray> make_rays(const Bvh& bvh, bool diffuse) {  // NOLINT: copies ar
         if (!bvh.intersect(r, hit)) continue;
         SurfaceHit s = g.surface(r, hit);
         vec3 n = glm::dot(s.ng, r.d) < 0.0f ? s.ng : -s.ng;
-        vec3 d = Frame::from_normal(n).to_world(sample_cosine_hemisphere(vec2(rng.next_float(), rng.next_float())));
+        vec3 d = Frame::from_normal(n).to_world(
+            sample_cosine_hemisphere(vec2(rng.next_float(), rng.next_float())));
         rays.push_back(Ray{offset_ray_origin(s.p, n, d), d, kInfinity});
     }
     return rays;
@@ -94,11 +98,17 @@ int main(int argc, char** argv) {
     for (const std::string& name : accel_names()) {
         if (name == "none") continue;  // brute force: hours on this mesh
         benchmark::RegisterBenchmark(("Build/" + name).c_str(), build, name)
-            ->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+            ->Arg(1)
+            ->Arg(2)
+            ->Unit(benchmark::kMillisecond)
+            ->UseRealTime();
     }
     for (const std::string& name : accel_names()) {
         if (name == "none") continue;
-        benchmark::RegisterBenchmark(("Trace/" + name).c_str(), trace, name)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark(("Trace/" + name).c_str(), trace, name)
+            ->Arg(0)
+            ->Arg(1)
+            ->Unit(benchmark::kMillisecond);
     }
     benchmark::Initialize(&argc, argv);
     if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;

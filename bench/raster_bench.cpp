@@ -20,9 +20,9 @@
 
 #ifdef SVETLO_HAS_OSMESA
 #define GL_GLEXT_PROTOTYPES 1
-#include <GL/osmesa.h>
 #include <GL/gl.h>
 #include <GL/glext.h>
+#include <GL/osmesa.h>
 #endif
 
 #include "svetlo/raster/camera_matrices.h"
@@ -48,7 +48,8 @@ Workload geometry_heavy() {
     o.rings = 128;
     for (int k = 0; k < 32; ++k) {
         Object sphere;
-        sphere.shape = Sphere{vec3(static_cast<float>(k % 8) - 3.5f, static_cast<float>(k / 8) - 1.5f, 0.0f), 0.48f};
+        sphere.shape = Sphere{
+            vec3(static_cast<float>(k % 8) - 3.5f, static_cast<float>(k / 8) - 1.5f, 0.0f), 0.48f};
         sphere.material = 0;
         Mesh m = tessellate(sphere, o);
         auto base = static_cast<uint32_t>(w.mesh.positions.size());
@@ -115,7 +116,8 @@ double svetlo_frame_ms(const Workload& w, int threads, int frames) {
     RenderOptions options;
     options.threads = threads;
     std::vector<double> ms;
-    for (int k = 0; k < frames; ++k) ms.push_back(RasterRenderer().render(scene, options).stats.seconds * 1e3);
+    for (int k = 0; k < frames; ++k)
+        ms.push_back(RasterRenderer().render(scene, options).stats.seconds * 1e3);
     return median(ms);
 }
 
@@ -170,8 +172,17 @@ GLuint compile(GLenum type, const char* source) {
 
 double llvmpipe_frame_ms(const Workload& w, int threads, int frames) {
     setenv("LP_NUM_THREADS", std::to_string(threads).c_str(), 1);  // before the first context
-    const int attribs[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 24, OSMESA_PROFILE, OSMESA_CORE_PROFILE,
-                           OSMESA_CONTEXT_MAJOR_VERSION, 3, OSMESA_CONTEXT_MINOR_VERSION, 3, 0};
+    const int attribs[] = {OSMESA_FORMAT,
+                           OSMESA_RGBA,
+                           OSMESA_DEPTH_BITS,
+                           24,
+                           OSMESA_PROFILE,
+                           OSMESA_CORE_PROFILE,
+                           OSMESA_CONTEXT_MAJOR_VERSION,
+                           3,
+                           OSMESA_CONTEXT_MINOR_VERSION,
+                           3,
+                           0};
     OSMesaContext ctx = OSMesaCreateContextAttribs(attribs, nullptr);
     if (!ctx) {
         std::fprintf(stderr, "OSMesa: no OpenGL 3.3 core context\n");
@@ -191,20 +202,23 @@ double llvmpipe_frame_ms(const Workload& w, int threads, int frames) {
     for (int a = 0; a < 2; ++a) {
         const auto& data = a == 0 ? w.mesh.positions : w.mesh.normals;
         glBindBuffer(GL_ARRAY_BUFFER, vbo[a]);
-        glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(data.size() * sizeof(vec3)), data.data(), GL_STATIC_DRAW);
+        glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(data.size() * sizeof(vec3)),
+                     data.data(), GL_STATIC_DRAW);
         glVertexAttribPointer(static_cast<GLuint>(a), 3, GL_FLOAT, GL_FALSE, 0, nullptr);
         glEnableVertexAttribArray(static_cast<GLuint>(a));
     }
     glGenBuffers(1, &ibo);
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo);
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(w.mesh.indices.size() * sizeof(uint32_t)),
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER,
+                 static_cast<GLsizeiptr>(w.mesh.indices.size() * sizeof(uint32_t)),
                  w.mesh.indices.data(), GL_STATIC_DRAW);
     Bounds3 bounds;
     for (vec3 p : w.mesh.positions) bounds.extend(p);
     CameraMatrices cam = camera_matrices(w.camera, kWidth, kHeight, bounds);
     mat4 vp = cam.view_projection();
     glUniformMatrix4fv(glGetUniformLocation(program, "view_projection"), 1, GL_FALSE, &vp[0][0]);
-    glUniform3f(glGetUniformLocation(program, "eye"), w.camera.position.x, w.camera.position.y, w.camera.position.z);
+    glUniform3f(glGetUniformLocation(program, "eye"), w.camera.position.x, w.camera.position.y,
+                w.camera.position.z);
     glUniform3f(glGetUniformLocation(program, "light_pos"), kLightPos.x, kLightPos.y, kLightPos.z);
     glUniform1f(glGetUniformLocation(program, "kd"), kKd);
     glUniform1f(glGetUniformLocation(program, "ks"), kKs);
@@ -219,9 +233,13 @@ double llvmpipe_frame_ms(const Workload& w, int threads, int frames) {
         auto t0 = std::chrono::steady_clock::now();
         glClearColor(0, 0, 0, 1);
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-        glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(w.mesh.indices.size()), GL_UNSIGNED_INT, nullptr);
+        glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(w.mesh.indices.size()), GL_UNSIGNED_INT,
+                       nullptr);
         glFinish();
-        if (k > 0) ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+        if (k > 0)
+            ms.push_back(
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                    .count());
     }
     OSMesaDestroyContext(ctx);
     return median(ms);
@@ -237,12 +255,14 @@ int main(int argc, char** argv) {
     // llvmpipe reads LP_NUM_THREADS once per process: one thread count per run.
     int threads = argc > 1 ? std::max(1, std::atoi(argv[1])) : 1;
     int frames = argc > 2 ? std::max(1, std::atoi(argv[2])) : 5;
-    std::printf("%-32s %7s %12s %12s %10s\n", "workload, 1920x1080", "threads", "svetlo ms", "llvmpipe ms", "ratio");
+    std::printf("%-32s %7s %12s %12s %10s\n", "workload, 1920x1080", "threads", "svetlo ms",
+                "llvmpipe ms", "ratio");
     for (const Workload& w : {geometry_heavy(), fragment_heavy()}) {
         double ours = svetlo_frame_ms(w, threads, frames);
 #ifdef SVETLO_HAS_OSMESA
         double theirs = llvmpipe_frame_ms(w, threads, frames);
-        std::printf("%-32s %7d %12.1f %12.1f %9.2fx\n", w.name.c_str(), threads, ours, theirs, ours > 0.0 ? theirs / ours : 0.0);
+        std::printf("%-32s %7d %12.1f %12.1f %9.2fx\n", w.name.c_str(), threads, ours, theirs,
+                    ours > 0.0 ? theirs / ours : 0.0);
 #else
         std::printf("%-32s %7d %12.1f %12s %10s\n", w.name.c_str(), threads, ours, "-", "-");
 #endif

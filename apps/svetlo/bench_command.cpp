@@ -89,7 +89,8 @@ int run_bench(const BenchArgs& args) {
         if (std::find(known.begin(), known.end(), name) == known.end()) {
             std::string available;
             for (const std::string& k : known) available += (available.empty() ? "" : ", ") + k;
-            throw Error(args.scene, "--accel", "unknown accelerator '" + name + "' (available: " + available + ")");
+            throw Error(args.scene, "--accel",
+                        "unknown accelerator '" + name + "' (available: " + available + ")");
         }
         names.push_back(name);
     }
@@ -116,7 +117,8 @@ int run_bench(const BenchArgs& args) {
             seconds += std::chrono::duration<double>(Clock::now() - t1).count();
             ++passes;
         } while (seconds < 0.3 && passes < 50);
-        double mrays = seconds > 0.0 ? static_cast<double>(rays.size()) * passes / seconds * 1e-6 : 0.0;
+        double mrays =
+            seconds > 0.0 ? static_cast<double>(rays.size()) * passes / seconds * 1e-6 : 0.0;
         std::printf("accel=%s build_ms=%.3f mrays_per_s=%.6g hits=%llu\n", name.c_str(), build_ms,
                     mrays, static_cast<unsigned long long>(hits));
         std::fflush(stdout);

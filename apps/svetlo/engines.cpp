@@ -17,8 +17,9 @@ std::unique_ptr<Renderer> make_renderer(const std::string& name, const std::stri
     auto it = factories.find(name);
     if (it == factories.end()) {
         throw Error(file, "render.engine",
-                    "engine '" + name + "' is not available in this version of svetlo "
-                    "(available: raster, whitted)");
+                    "engine '" + name +
+                        "' is not available in this version of svetlo "
+                        "(available: raster, whitted)");
     }
     return it->second();
 }

@@ -10,7 +10,8 @@ namespace svetlo {
 namespace {
 
 const char* shape_name(const Shape& s) {
-    static const char* names[] = {"sphere", "quad", "plane", "box", "cylinder", "cone", "mesh", "csg", "implicit"};
+    static const char* names[] = {"sphere", "quad", "plane", "box",     "cylinder",
+                                  "cone",   "mesh", "csg",   "implicit"};
     static_assert(std::variant_size_v<Shape> == 9, "a name for every shape");
     return names[s.index()];
 }
@@ -21,8 +22,8 @@ const char* light_name(const Light& l) {
 }
 
 const char* material_name(const Material& m) {
-    static const char* names[] = {"lambert", "phong", "oren_nayar", "cook_torrance",
-                                  "mirror", "dielectric", "emissive"};
+    static const char* names[] = {"lambert", "phong",      "oren_nayar", "cook_torrance",
+                                  "mirror",  "dielectric", "emissive"};
     if (const auto* p = std::get_if<PhongMaterial>(&m); p && p->blinn) return "blinn_phong";
     return names[m.index()];
 }
@@ -39,8 +40,8 @@ int run_info(const InfoArgs& args) {
     const Camera& c = scene.camera;
     std::printf("scene      %s\n", scene.path.c_str());
     std::printf("camera     %s at (%g, %g, %g) looking at (%g, %g, %g), %s %g\n",
-                c.type == Camera::Type::Perspective ? "perspective" : "orthographic",
-                c.position.x, c.position.y, c.position.z, c.look_at.x, c.look_at.y, c.look_at.z,
+                c.type == Camera::Type::Perspective ? "perspective" : "orthographic", c.position.x,
+                c.position.y, c.position.z, c.look_at.x, c.look_at.y, c.look_at.z,
                 c.type == Camera::Type::Perspective ? "fov" : "height",
                 c.type == Camera::Type::Perspective ? c.fov_deg : c.height);
     std::printf("film       %d x %d\n", scene.film.width, scene.film.height);
@@ -61,7 +62,8 @@ int run_info(const InfoArgs& args) {
     std::printf("shapes     %zu\n", g.shapes.size());
     std::printf("materials  %zu\n", scene.materials.size());
     for (size_t k = 0; k < scene.materials.size(); ++k) {
-        std::printf("  %-24s %s\n", scene.material_names[k].c_str(), material_name(scene.materials[k]));
+        std::printf("  %-24s %s\n", scene.material_names[k].c_str(),
+                    material_name(scene.materials[k]));
     }
     std::printf("lights     %zu (+ %zu emissive objects)\n", scene.lights.size(),
                 emitters.size() - static_cast<size_t>(std::count_if(
@@ -80,8 +82,8 @@ int run_info(const InfoArgs& args) {
         CameraMatrices m = raster_camera(scene);
         auto print = [](const char* name, const mat4& a) {
             for (int row = 0; row < 4; ++row) {
-                std::printf("%-10s %s[%10.5f %10.5f %10.5f %10.5f]\n", row == 0 ? name : "", "", a[0][row], a[1][row],
-                            a[2][row], a[3][row]);
+                std::printf("%-10s %s[%10.5f %10.5f %10.5f %10.5f]\n", row == 0 ? name : "", "",
+                            a[0][row], a[1][row], a[2][row], a[3][row]);
             }
         };
         std::printf("near, far  %g, %g\n", m.near, m.far);
@@ -90,7 +92,9 @@ int run_info(const InfoArgs& args) {
         for (const Object& o : scene.objects) {
             if (!o.transform.is_identity) print((o.name + " model").c_str(), o.transform.matrix);
         }
-        std::printf("viewport   x = (x_ndc + 1) / 2 * %d, y = (1 - y_ndc) / 2 * %d (pixels, y down)\n", m.width, m.height);
+        std::printf(
+            "viewport   x = (x_ndc + 1) / 2 * %d, y = (1 - y_ndc) / 2 * %d (pixels, y down)\n",
+            m.width, m.height);
     }
     return 0;
 }

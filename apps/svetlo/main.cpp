@@ -1,6 +1,5 @@
 // svetlo: the command line (contract: ../../../shared/CONTRACT.md, docs/cli.md).
 #include <CLI/CLI.hpp>
-
 #include <cstdio>
 #include <new>
 
@@ -13,7 +12,8 @@
 
 int main(int argc, char** argv) {
     using namespace svetlo;
-    CLI::App app{"svetlo: lighting, shading and shadows, every classical technique in one renderer"};
+    CLI::App app{
+        "svetlo: lighting, shading and shadows, every classical technique in one renderer"};
     app.set_version_flag("--version", std::string("svetlo ") + SVETLO_VERSION);
     app.require_subcommand(1);
 
@@ -23,27 +23,36 @@ int main(int argc, char** argv) {
     r->add_option("-o,--output", render.output, "Output image: .png, .pfm or .exr");
     r->add_option("-e,--engine", render.engine, "raster, whitted, path or radiosity");
     r->add_option("-W,--width", render.width, "Film width in pixels")->check(CLI::PositiveNumber);
-    r->add_option("-H,--height", render.height, "Film height in pixels")->check(CLI::PositiveNumber);
+    r->add_option("-H,--height", render.height, "Film height in pixels")
+        ->check(CLI::PositiveNumber);
     r->add_option("-s,--spp", render.spp, "Samples per pixel")->check(CLI::PositiveNumber);
-    r->add_option("-t,--threads", render.threads, "Threads (0 = all cores)")->check(CLI::NonNegativeNumber);
+    r->add_option("-t,--threads", render.threads, "Threads (0 = all cores)")
+        ->check(CLI::NonNegativeNumber);
     r->add_option("--seed", render.seed, "Random seed")->check(CLI::NonNegativeNumber);
     r->add_option("--set", render.sets, "Override a scene key: KEY=VALUE (dotted path)");
-    r->add_option("--aov", render.aovs, "Also write an AOV: NAME=FILE (depth, normal, albedo, visibility)");
+    r->add_option("--aov", render.aovs,
+                  "Also write an AOV: NAME=FILE (depth, normal, albedo, visibility)");
     r->add_flag("-q,--quiet", render.quiet, "Print nothing but errors");
 
     InfoArgs info;
     CLI::App* i = app.add_subcommand("info", "Describe what a scene holds");
     i->add_option("scene", info.scene, "Scene file (JSON)")->required();
     i->add_option("--set", info.sets, "Override a scene key: KEY=VALUE");
-    i->add_flag("--matrices", info.matrices, "Also print the rasterizer's view, projection and model matrices");
+    i->add_flag("--matrices", info.matrices,
+                "Also print the rasterizer's view, projection and model matrices");
 
     BenchArgs bench;
-    CLI::App* b = app.add_subcommand("bench", "Trace the same rays through acceleration structures");
+    CLI::App* b =
+        app.add_subcommand("bench", "Trace the same rays through acceleration structures");
     b->add_option("scene", bench.scene, "Scene file (JSON)")->required();
-    b->add_option("--accel", bench.accels, "Comma-separated list of none, grid, octree, bvh2, bvh, embree (default: all built)");
+    b->add_option(
+        "--accel", bench.accels,
+        "Comma-separated list of none, grid, octree, bvh2, bvh, embree (default: all built)");
     b->add_option("--rays", bench.rays, "primary or diffuse");
-    b->add_option("-t,--threads", bench.threads, "Threads (0 = all cores)")->check(CLI::NonNegativeNumber);
-    b->add_option("-W,--width", bench.width, "Film width (rays per row)")->check(CLI::PositiveNumber);
+    b->add_option("-t,--threads", bench.threads, "Threads (0 = all cores)")
+        ->check(CLI::NonNegativeNumber);
+    b->add_option("-W,--width", bench.width, "Film width (rays per row)")
+        ->check(CLI::PositiveNumber);
     b->add_option("-H,--height", bench.height, "Film height")->check(CLI::PositiveNumber);
     b->add_option("--set", bench.sets, "Override a scene key: KEY=VALUE");
 

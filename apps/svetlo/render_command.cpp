@@ -44,8 +44,9 @@ int run_render(const RenderArgs& args) {
         }
         const auto& names = aov_names();
         if (std::find(names.begin(), names.end(), name) == names.end()) {
-            throw Error(spec, "--aov", "unknown AOV '" + name +
-                                           "' (expected depth, normal, albedo or visibility)");
+            throw Error(
+                spec, "--aov",
+                "unknown AOV '" + name + "' (expected depth, normal, albedo or visibility)");
         }
         aovs.emplace_back(name, spec.substr(eq + 1));
         check_writable(aovs.back().second, "--aov " + name);
@@ -72,21 +73,24 @@ int run_render(const RenderArgs& args) {
                 for (Color& c : image.pixels) c /= far;
             }
         }
-        write_image(file, image, name == "albedo" ? PixelMeaning::Radiance : PixelMeaning::Data, 1.0f,
-                    "--aov " + name);
+        write_image(file, image, name == "albedo" ? PixelMeaning::Radiance : PixelMeaning::Data,
+                    1.0f, "--aov " + name);
     }
     if (!args.quiet) {
         double per_second = result.stats.seconds > 0.0 ? 1e-6 / result.stats.seconds : 0.0;
         char rate[64];
         if (result.stats.triangles > 0) {
-            std::snprintf(rate, sizeof rate, "%.2f Mtris/s", static_cast<double>(result.stats.triangles) * per_second);
+            std::snprintf(rate, sizeof rate, "%.2f Mtris/s",
+                          static_cast<double>(result.stats.triangles) * per_second);
         } else {
-            std::snprintf(rate, sizeof rate, "%.2f Mrays/s", static_cast<double>(result.stats.rays) * per_second);
+            std::snprintf(rate, sizeof rate, "%.2f Mrays/s",
+                          static_cast<double>(result.stats.rays) * per_second);
         }
-        std::fprintf(stderr, "svetlo: %s %dx%d, %d spp, %d threads: setup %.3f s, render %.3f s, %s -> %s\n",
-                     scene.render.engine.c_str(), scene.film.width, scene.film.height, scene.render.spp,
-                     resolve_threads(args.threads), result.stats.setup_seconds, result.stats.seconds, rate,
-                     args.output.c_str());
+        std::fprintf(
+            stderr, "svetlo: %s %dx%d, %d spp, %d threads: setup %.3f s, render %.3f s, %s -> %s\n",
+            scene.render.engine.c_str(), scene.film.width, scene.film.height, scene.render.spp,
+            resolve_threads(args.threads), result.stats.setup_seconds, result.stats.seconds, rate,
+            args.output.c_str());
     }
     return 0;
 }

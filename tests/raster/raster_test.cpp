@@ -22,8 +22,8 @@ namespace {
 
 using json = nlohmann::json;
 
-RenderResult render(const json& j, const std::string& engine = "raster", std::vector<std::string> aovs = {},
-                    int threads = 2) {
+RenderResult render(const json& j, const std::string& engine = "raster",
+                    std::vector<std::string> aovs = {}, int threads = 2) {
     Scene scene = scene_from_json(j, "test.json");
     scene.render.engine = engine;
     RenderOptions options;
@@ -41,8 +41,11 @@ json oblique(int w, int h) {
 }
 
 json floor_quad(float half, const char* material) {
-    return {{"type", "quad"}, {"corner", {-half, 0, -half}}, {"edge_u", {0, 0, 2 * half}},
-            {"edge_v", {2 * half, 0, 0}}, {"material", material}};
+    return {{"type", "quad"},
+            {"corner", {-half, 0, -half}},
+            {"edge_u", {0, 0, 2 * half}},
+            {"edge_v", {2 * half, 0, 0}},
+            {"material", material}};
 }
 
 /// Where the ray through the centre of pixel (i, j) meets y = 0 (false if it does not).
@@ -55,7 +58,8 @@ bool floor_point(const Scene& scene, int i, int j, vec3& p) {
 }
 
 /// Normalised Phong under a point light, the contract's formula.
-Color phong_closed_form(vec3 p, vec3 eye, vec3 light, Color intensity, float kd, float ks, float n, float ka, float ambient) {
+Color phong_closed_form(vec3 p, vec3 eye, vec3 light, Color intensity, float kd, float ks, float n,
+                        float ka, float ambient) {
     vec3 nrm(0, 1, 0);
     vec3 d = light - p;
     float d2 = glm::dot(d, d);
@@ -74,7 +78,8 @@ constexpr float kSnapTolerance = 1e-3f;
 TEST(Raster, PhongShadedQuadUnderPointLightMatchesTheClosedForm) {
     const int w = 96, h = 64;
     json j = oblique(w, h);
-    j["materials"] = {{"shiny", {{"type", "phong"}, {"kd", 0.5}, {"ks", 0.3}, {"shininess", 20}, {"ka", 0.5}}}};
+    j["materials"] = {
+        {"shiny", {{"type", "phong"}, {"kd", 0.5}, {"ks", 0.3}, {"shininess", 20}, {"ka", 0.5}}}};
     j["lights"] = {{{"type", "point"}, {"position", {0.5, 1.2, 0.3}}, {"intensity", {6, 3, 1.5}}}};
     j["render"]["ambient"] = 0.2;
     j["objects"] = {floor_quad(1.5f, "shiny")};
@@ -84,9 +89,10 @@ TEST(Raster, PhongShadedQuadUnderPointLightMatchesTheClosedForm) {
     for (int jj = 0; jj < h; ++jj) {
         for (int i = 0; i < w; ++i) {
             vec3 p;
-            if (!floor_point(scene, i, jj, p) || std::abs(p.x) > 1.45f || std::abs(p.z) > 1.45f) continue;
-            Color e = phong_closed_form(p, scene.camera.position, vec3(0.5f, 1.2f, 0.3f), Color(6, 3, 1.5f), 0.5f, 0.3f,
-                                        20.0f, 0.5f, 0.2f);
+            if (!floor_point(scene, i, jj, p) || std::abs(p.x) > 1.45f || std::abs(p.z) > 1.45f)
+                continue;
+            Color e = phong_closed_form(p, scene.camera.position, vec3(0.5f, 1.2f, 0.3f),
+                                        Color(6, 3, 1.5f), 0.5f, 0.3f, 20.0f, 0.5f, 0.2f);
             ASSERT_NEAR(r.color.at(i, jj).r, e.r, kSnapTolerance * e.r) << i << "," << jj;
             ASSERT_NEAR(r.color.at(i, jj).b, e.b, kSnapTolerance * e.b) << i << "," << jj;
             ++checked;
@@ -97,12 +103,9 @@ TEST(Raster, PhongShadedQuadUnderPointLightMatchesTheClosedForm) {
 
 /// A single triangle on the floor with per-vertex normals, for the Gouraud and flat tests.
 json floor_triangle(const char* material) {
-    return {{"type", "mesh"},
-            {"positions", {{-1.2, 0, 1.0}, {1.3, 0, 0.8}, {0.1, 0, -1.4}}},
-            {"indices", {0, 1, 2}},
-            {"normals", {{0, 1, 0}, {0, 1, 0}, {0, 1, 0}}},
-            {"smooth", true},
-            {"material", material}};
+    return {{"type", "mesh"},       {"positions", {{-1.2, 0, 1.0}, {1.3, 0, 0.8}, {0.1, 0, -1.4}}},
+            {"indices", {0, 1, 2}}, {"normals", {{0, 1, 0}, {0, 1, 0}, {0, 1, 0}}},
+            {"smooth", true},       {"material", material}};
 }
 
 TEST(Raster, GouraudInterpolatesTheVertexColours) {
@@ -110,7 +113,8 @@ TEST(Raster, GouraudInterpolatesTheVertexColours) {
     json j = oblique(w, h);
     j["materials"] = {{"white", {{"type", "lambert"}, {"albedo", 0.7}}}};
     vec3 light(0.2f, 0.6f, 0.1f);
-    j["lights"] = {{{"type", "point"}, {"position", {light.x, light.y, light.z}}, {"intensity", 3}}};
+    j["lights"] = {
+        {{"type", "point"}, {"position", {light.x, light.y, light.z}}, {"intensity", 3}}};
     j["render"]["shading"] = "gouraud";
     j["objects"] = {floor_triangle("white")};
     Scene scene = scene_from_json(j, "test.json");
@@ -131,7 +135,8 @@ TEST(Raster, GouraudInterpolatesTheVertexColours) {
             // World barycentrics of p: perspective-correct interpolation reproduces them.
             vec3 e0 = v[1] - v[0], e1 = v[2] - v[0], q = p - v[0];
             float det = e0.x * e1.z - e0.z * e1.x;
-            float b1 = (q.x * e1.z - q.z * e1.x) / det, b2 = (e0.x * q.z - e0.z * q.x) / det, b0 = 1.0f - b1 - b2;
+            float b1 = (q.x * e1.z - q.z * e1.x) / det, b2 = (e0.x * q.z - e0.z * q.x) / det,
+                  b0 = 1.0f - b1 - b2;
             if (b0 < 0.02f || b1 < 0.02f || b2 < 0.02f) continue;  // away from the edges
             float expected = b0 * c[0] + b1 * c[1] + b2 * c[2];
             ASSERT_NEAR(r.color.at(i, jj).g, expected, kSnapTolerance * expected) << i << "," << jj;
@@ -150,13 +155,15 @@ TEST(Raster, FlatShadingIsOneColourPerFace) {
     json j = oblique(w, h);
     j["materials"] = {{"white", {{"type", "phong"}, {"kd", 0.6}, {"ks", 0.2}, {"shininess", 10}}}};
     vec3 light(0.2f, 0.6f, 0.1f);
-    j["lights"] = {{{"type", "point"}, {"position", {light.x, light.y, light.z}}, {"intensity", 3}}};
+    j["lights"] = {
+        {{"type", "point"}, {"position", {light.x, light.y, light.z}}, {"intensity", 3}}};
     j["render"]["shading"] = "flat";
     j["objects"] = {floor_triangle("white")};
     Scene scene = scene_from_json(j, "test.json");
     RenderResult r = render(j);
     vec3 centroid = (vec3(-1.2f, 0, 1.0f) + vec3(1.3f, 0, 0.8f) + vec3(0.1f, 0, -1.4f)) / 3.0f;
-    Color expected = phong_closed_form(centroid, scene.camera.position, light, Color(3.0f), 0.6f, 0.2f, 10.0f, 0.0f, 0.0f);
+    Color expected = phong_closed_form(centroid, scene.camera.position, light, Color(3.0f), 0.6f,
+                                       0.2f, 10.0f, 0.0f, 0.0f);
     int covered = 0;
     for (const Color& c : r.color.pixels) {
         if (c.r == 0.0f) continue;  // background
@@ -167,12 +174,16 @@ TEST(Raster, FlatShadingIsOneColourPerFace) {
 }
 
 TEST(Raster, PhongShadedSphereMatchesTheRayTracer) {
-    json j = {{"camera", {{"position", {0, 0.5, 4}}, {"look_at", {0, 0, 0}}, {"fov", 35}}},
-              {"film", {{"width", 96}, {"height", 96}}},
-              {"render", {{"spp", 1}, {"max_depth", 0}, {"ambient", 0.05}}},
-              {"materials", {{"m", {{"type", "blinn_phong"}, {"kd", 0.6}, {"ks", 0.3}, {"shininess", 30}, {"ka", 1}}}}},
-              {"lights", {{{"type", "point"}, {"position", {2, 3, 3}}, {"intensity", 20}}}},
-              {"objects", {{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1}, {"material", "m"}}}}};
+    json j = {
+        {"camera", {{"position", {0, 0.5, 4}}, {"look_at", {0, 0, 0}}, {"fov", 35}}},
+        {"film", {{"width", 96}, {"height", 96}}},
+        {"render", {{"spp", 1}, {"max_depth", 0}, {"ambient", 0.05}}},
+        {"materials",
+         {{"m",
+           {{"type", "blinn_phong"}, {"kd", 0.6}, {"ks", 0.3}, {"shininess", 30}, {"ka", 1}}}}},
+        {"lights", {{{"type", "point"}, {"position", {2, 3, 3}}, {"intensity", 20}}}},
+        {"objects",
+         {{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1}, {"material", "m"}}}}};
     RenderResult ras = render(j, "raster", {"depth"});
     RenderResult ray = render(j, "whitted", {"depth"});
     const Image& dr = ras.aovs.at("depth");
@@ -187,9 +198,11 @@ TEST(Raster, PhongShadedSphereMatchesTheRayTracer) {
         for (int x = 1; x < 95; ++x) {
             bool inside = true;  // the pixel and its neighbours are on the sphere in both
             for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) inside = inside && dr.at(x + dx, y + dy).r > 0 && dt.at(x + dx, y + dy).r > 0;
+                for (int dx = -1; dx <= 1; ++dx)
+                    inside = inside && dr.at(x + dx, y + dy).r > 0 && dt.at(x + dx, y + dy).r > 0;
             if (!inside) continue;
-            float rel = std::abs(luminance(ras.color.at(x, y)) - luminance(ray.color.at(x, y))) / peak;
+            float rel =
+                std::abs(luminance(ras.color.at(x, y)) - luminance(ray.color.at(x, y))) / peak;
             worst = std::max(worst, rel);
             sum += rel;
             ++n;
@@ -202,40 +215,47 @@ TEST(Raster, PhongShadedSphereMatchesTheRayTracer) {
 
 TEST(Raster, DepthTestDoesNotDependOnDrawOrder) {
     json j = oblique(64, 48);
-    j["materials"] = {{"a", {{"type", "lambert"}, {"albedo", {0.8, 0.2, 0.2}}}}, {"b", {{"type", "lambert"}, {"albedo", {0.2, 0.8, 0.2}}}},
+    j["materials"] = {{"a", {{"type", "lambert"}, {"albedo", {0.8, 0.2, 0.2}}}},
+                      {"b", {{"type", "lambert"}, {"albedo", {0.2, 0.8, 0.2}}}},
                       {"c", {{"type", "lambert"}, {"albedo", {0.2, 0.2, 0.8}}}}};
     j["lights"] = {{{"type", "directional"}, {"direction", {-0.3, -1, -0.2}}, {"irradiance", 2}}};
-    json objects = {{{"type", "sphere"}, {"center", {0, 0.3, 0}}, {"radius", 0.6}, {"material", "a"}},
-                    {{"type", "box"}, {"min", {-0.8, 0, -0.2}}, {"max", {0.3, 0.5, 0.5}}, {"material", "b"}},
-                    floor_quad(1.5f, "c")};
+    json objects = {
+        {{"type", "sphere"}, {"center", {0, 0.3, 0}}, {"radius", 0.6}, {"material", "a"}},
+        {{"type", "box"}, {"min", {-0.8, 0, -0.2}}, {"max", {0.3, 0.5, 0.5}}, {"material", "b"}},
+        floor_quad(1.5f, "c")};
     j["objects"] = objects;
     RenderResult first = render(j);
     j["objects"] = {objects[2], objects[0], objects[1]};
     RenderResult second = render(j);
     ASSERT_EQ(first.color.pixels.size(), second.color.pixels.size());
-    for (size_t k = 0; k < first.color.pixels.size(); ++k) ASSERT_EQ(first.color.pixels[k], second.color.pixels[k]) << k;
+    for (size_t k = 0; k < first.color.pixels.size(); ++k)
+        ASSERT_EQ(first.color.pixels[k], second.color.pixels[k]) << k;
     // Different thread counts give the same image.
     RenderResult one = render(j, "raster", {}, 1);
-    for (size_t k = 0; k < one.color.pixels.size(); ++k) ASSERT_EQ(one.color.pixels[k], second.color.pixels[k]) << k;
+    for (size_t k = 0; k < one.color.pixels.size(); ++k)
+        ASSERT_EQ(one.color.pixels[k], second.color.pixels[k]) << k;
     // The painter's algorithm gets this scene right (the floor is drawn first, being farthest)
     // except where the interpenetrating sphere and box cross: it has no per-pixel depth.
     j["render"]["visibility"] = "painter";
     RenderResult painter = render(j);
     int differ = 0;
-    for (size_t k = 0; k < painter.color.pixels.size(); ++k) differ += painter.color.pixels[k] != first.color.pixels[k];
+    for (size_t k = 0; k < painter.color.pixels.size(); ++k)
+        differ += painter.color.pixels[k] != first.color.pixels[k];
     EXPECT_GT(differ, 0);
     EXPECT_LT(differ, static_cast<int>(first.color.pixels.size() / 4));
 }
 
 TEST(Raster, NearPlaneClippingMatchesTheRayTracersCoverage) {
     // A camera close to a floor that extends far behind it: triangles cross the camera plane.
-    json j = {{"camera", {{"position", {0, 0.3, 0}}, {"look_at", {0, 0.1, -1}}, {"fov", 70}}},
-              {"film", {{"width", 64}, {"height", 48}}},
-              {"render", {{"spp", 1}, {"max_depth", 0}}},
-              {"materials", {{"m", {{"type", "lambert"}, {"albedo", 0.5}}}}},
-              {"lights", {{{"type", "directional"}, {"direction", {0, -1, 0}}, {"irradiance", 1}}}},
-              {"objects", {floor_quad(20.0f, "m"),
-                           {{"type", "box"}, {"min", {-0.5, 0, -2}}, {"max", {0.5, 0.6, 0.5}}, {"material", "m"}}}}};
+    json j = {
+        {"camera", {{"position", {0, 0.3, 0}}, {"look_at", {0, 0.1, -1}}, {"fov", 70}}},
+        {"film", {{"width", 64}, {"height", 48}}},
+        {"render", {{"spp", 1}, {"max_depth", 0}}},
+        {"materials", {{"m", {{"type", "lambert"}, {"albedo", 0.5}}}}},
+        {"lights", {{{"type", "directional"}, {"direction", {0, -1, 0}}, {"irradiance", 1}}}},
+        {"objects",
+         {floor_quad(20.0f, "m"),
+          {{"type", "box"}, {"min", {-0.5, 0, -2}}, {"max", {0.5, 0.6, 0.5}}, {"material", "m"}}}}};
     RenderResult ras = render(j, "raster", {"depth"});
     RenderResult ray = render(j, "whitted", {"depth"});
     const Image& a = ras.aovs.at("depth");
@@ -267,9 +287,14 @@ TEST(Raster, FillRuleCoversEverySampleOnce) {
             int32_t jx = 0, jy = 0;
             if (x > 0 && x < gx - 1 && y > 0 && y < gy - 1) {
                 switch (rnd() % 3) {
-                    case 0: break;                                  // on a pixel corner
-                    case 1: jx = jy = kSubpixel / 2; break;         // on a pixel centre
-                    default: jx = static_cast<int32_t>(rnd() % 400) - 200, jy = static_cast<int32_t>(rnd() % 400) - 200;
+                    case 0:
+                        break;  // on a pixel corner
+                    case 1:
+                        jx = jy = kSubpixel / 2;
+                        break;  // on a pixel centre
+                    default:
+                        jx = static_cast<int32_t>(rnd() % 400) - 200,
+                        jy = static_cast<int32_t>(rnd() % 400) - 200;
                 }
             }
             vx.push_back(x * step + jx);
@@ -295,12 +320,14 @@ TEST(Raster, FillRuleCoversEverySampleOnce) {
             for (int32_t sx = offset; sx < (gx - 1) * step; sx += kSubpixel) {
                 int count = 0;
                 for (const auto& t : tris) {
-                    int32_t x[3] = {vx[t[0]], vx[t[1]], vx[t[2]]}, y[3] = {vy[t[0]], vy[t[1]], vy[t[2]]};
+                    int32_t x[3] = {vx[t[0]], vx[t[1]], vx[t[2]]},
+                            y[3] = {vy[t[0]], vy[t[1]], vy[t[2]]};
                     if (signed_area2(x, y) < 0) {
                         std::swap(x[1], x[2]);
                         std::swap(y[1], y[2]);
                     }
-                    Edge e[3] = {Edge::make(x[1], y[1], x[2], y[2]), Edge::make(x[2], y[2], x[0], y[0]),
+                    Edge e[3] = {Edge::make(x[1], y[1], x[2], y[2]),
+                                 Edge::make(x[2], y[2], x[0], y[0]),
                                  Edge::make(x[0], y[0], x[1], y[1])};
                     bool in = true;
                     for (const Edge& edge : e) in = in && edge.at(sx, sy) + edge.bias >= 0;
@@ -363,10 +390,12 @@ TEST(Raster, LinesCoverWhatTheyShould) {
     ASSERT_EQ(pixels.size(), 11u);  // one pixel per step of the major axis
     EXPECT_EQ(pixels.front(), std::make_pair(0, 0));
     EXPECT_EQ(pixels.back(), std::make_pair(10, 4));
-    for (size_t k = 1; k < pixels.size(); ++k) EXPECT_LE(std::abs(pixels[k].second - pixels[k - 1].second), 1);
+    for (size_t k = 1; k < pixels.size(); ++k)
+        EXPECT_LE(std::abs(pixels[k].second - pixels[k - 1].second), 1);
     // Wu: the two pixels straddling the line share its unit intensity per column.
     std::map<int, float> column;
-    draw_line_wu(vec2(0.5f, 0.5f), vec2(20.5f, 7.3f), [&](int i, int, float c, float) { column[i] += c; });
+    draw_line_wu(vec2(0.5f, 0.5f), vec2(20.5f, 7.3f),
+                 [&](int i, int, float c, float) { column[i] += c; });
     for (int i = 1; i < 20; ++i) EXPECT_NEAR(column[i], 1.0f, 1e-5f) << i;
 }
 
@@ -387,7 +416,8 @@ TEST(Raster, TrilinearFilteringAveragesWhenMinified) {
     Image fine(256, 256);
     for (int y = 0; y < 256; ++y)
         for (int x = 0; x < 256; ++x) fine.at(x, y) = Color(((x + y) & 1) ? 1.0f : 0.0f);
-    auto dir = std::filesystem::temp_directory_path() / ("svetlo_raster_test_" + std::to_string(::getpid()));
+    auto dir = std::filesystem::temp_directory_path() /
+               ("svetlo_raster_test_" + std::to_string(::getpid()));
     std::filesystem::create_directories(dir);
     write_image(dir / "checker.pfm", fine, PixelMeaning::Radiance, 1.0f, "test");
     json j = {{"camera", {{"position", {0, 1, 0}}, {"look_at", {0, 0.85, -1}}, {"fov", 40}}},
@@ -403,8 +433,10 @@ TEST(Raster, TrilinearFilteringAveragesWhenMinified) {
     double spread[2];
     for (int k = 0; k < 2; ++k) {
         const char* filter = k == 0 ? "trilinear" : "bilinear";
-        j["materials"] = {{"tex", {{"type", "lambert"},
-                                   {"albedo", {{"texture", (dir / "checker.pfm").string()}, {"filter", filter}}}}}};
+        j["materials"] = {
+            {"tex",
+             {{"type", "lambert"},
+              {"albedo", {{"texture", (dir / "checker.pfm").string()}, {"filter", filter}}}}}};
         RenderResult r = render(j);
         double lo = 1.0, hi = 0.0;
         int n = 0;
@@ -412,7 +444,9 @@ TEST(Raster, TrilinearFilteringAveragesWhenMinified) {
             for (int x = 4; x < 44; ++x) {
                 vec3 p;
                 // On the quad, and at least 2 m away: 4 or more texels per pixel.
-                if (!floor_point(scene, x, y, p) || p.z > -2.0f || p.z < -11.5f || std::abs(p.x) > 3.5f) continue;
+                if (!floor_point(scene, x, y, p) || p.z > -2.0f || p.z < -11.5f ||
+                    std::abs(p.x) > 3.5f)
+                    continue;
                 double v = r.color.at(x, y).r;
                 lo = std::min(lo, v);
                 hi = std::max(hi, v);
@@ -434,7 +468,8 @@ TEST(Raster, SimdPowMatchesStdPow) {
     float worst = 0.0f;
     for (float n : {0.0f, 1.0f, 2.5f, 8.0f, 32.0f, 100.0f, 1000.0f}) {
         for (float x = 0.0f; x <= 1.0f; x += 1.0f / 4096.0f) {
-            float xs[4] = {x, x * 0.5f, 1.0f - x, std::min(1.0f, x + 1e-3f)}, ns[4] = {n, n, n, n}, out[4];
+            float xs[4] = {x, x * 0.5f, 1.0f - x, std::min(1.0f, x + 1e-3f)}, ns[4] = {n, n, n, n},
+                  out[4];
             pow4(xs, ns, out);
             for (int k = 0; k < 4; ++k) {
                 float e = std::pow(xs[k], n);
@@ -454,17 +489,23 @@ TEST(Raster, SimdFastPathAgreesWithTheScalarShading) {
     // sends every sample through the scalar path): Lambert, Phong and Blinn-Phong, a point and
     // a directional light, seen from both sides.
     json j = oblique(64, 48);
-    j["materials"] = {{"l", {{"type", "lambert"}, {"albedo", {0.7, 0.5, 0.3}}}},
-                      {"p", {{"type", "phong"}, {"ka", 0.3}, {"kd", 0.5}, {"ks", 0.4}, {"shininess", 40}}},
-                      {"b", {{"type", "blinn_phong"}, {"kd", 0.2}, {"ks", 0.6}, {"shininess", 12}}}};
+    j["materials"] = {
+        {"l", {{"type", "lambert"}, {"albedo", {0.7, 0.5, 0.3}}}},
+        {"p", {{"type", "phong"}, {"ka", 0.3}, {"kd", 0.5}, {"ks", 0.4}, {"shininess", 40}}},
+        {"b", {{"type", "blinn_phong"}, {"kd", 0.2}, {"ks", 0.6}, {"shininess", 12}}}};
     j["lights"] = {{{"type", "point"}, {"position", {0.5, 1.5, 0.8}}, {"intensity", {5, 4, 3}}},
                    {{"type", "directional"}, {"direction", {0.3, -1, -0.4}}, {"irradiance", 0.8}}};
     j["render"]["ambient"] = 0.1;
     j["render"]["spp"] = 4;
-    j["objects"] = {floor_quad(1.5f, "l"),
-                    {{"type", "sphere"}, {"center", {-0.5, 0.5, 0}}, {"radius", 0.5}, {"material", "p"}},
-                    {{"type", "box"}, {"min", {0.2, 0, -0.6}}, {"max", {0.9, 0.7, 0.1}}, {"material", "b"}},
-                    {{"type", "quad"}, {"corner", {-1, 0, -1}}, {"edge_u", {0, 1, 0}}, {"edge_v", {1, 0, 0}}, {"material", "p"}}};
+    j["objects"] = {
+        floor_quad(1.5f, "l"),
+        {{"type", "sphere"}, {"center", {-0.5, 0.5, 0}}, {"radius", 0.5}, {"material", "p"}},
+        {{"type", "box"}, {"min", {0.2, 0, -0.6}}, {"max", {0.9, 0.7, 0.1}}, {"material", "b"}},
+        {{"type", "quad"},
+         {"corner", {-1, 0, -1}},
+         {"edge_u", {0, 1, 0}},
+         {"edge_v", {1, 0, 0}},
+         {"material", "p"}}};
     for (int spp : {1, 4}) {  // one sample: runs along rows; more: batches of samples
         j["render"]["spp"] = spp;
         RenderResult fast = render(j);
@@ -486,11 +527,16 @@ TEST(Raster, AMeshOfSmallTrianglesHasNoCracks) {
     const int nx = 60, ny = 40;
     json positions = json::array(), indices = json::array();
     uint32_t state = 99;
-    auto jitter = [&] { return (static_cast<float>((state = state * 1664525u + 1013904223u) >> 8) / 16777216.0f - 0.5f) * 0.6f; };
+    auto jitter = [&] {
+        return (static_cast<float>((state = state * 1664525u + 1013904223u) >> 8) / 16777216.0f -
+                0.5f) *
+               0.6f;
+    };
     for (int y = 0; y <= ny; ++y) {
         for (int x = 0; x <= nx; ++x) {
             bool inner = x > 0 && x < nx && y > 0 && y < ny;
-            float fx = static_cast<float>(x) + (inner ? jitter() : 0.0f), fy = static_cast<float>(y) + (inner ? jitter() : 0.0f);
+            float fx = static_cast<float>(x) + (inner ? jitter() : 0.0f),
+                  fy = static_cast<float>(y) + (inner ? jitter() : 0.0f);
             positions.push_back({-1.5f + 3.0f * fx / nx, 0.0f, -1.0f + 2.0f * fy / ny});
         }
     }
@@ -500,13 +546,19 @@ TEST(Raster, AMeshOfSmallTrianglesHasNoCracks) {
             for (int v : {a, c, b, b, c, d}) indices.push_back(v);
         }
     }
-    json j = {{"camera", {{"type", "orthographic"}, {"position", {0.013, 5, 0.007}}, {"look_at", {0.013, 0, 0.007}},
-                          {"up", {0, 0, -1}}, {"height", 2.5}}},
-              {"film", {{"width", 160}, {"height", 120}}},
-              {"render", {{"spp", 1}, {"ambient", 1}, {"background", 5}}},
-              {"materials", {{"m", {{"type", "lambert"}, {"albedo", 0.5}}}}},
-              {"lights", json::array()},
-              {"objects", {{{"type", "mesh"}, {"positions", positions}, {"indices", indices}, {"material", "m"}}}}};
+    json j = {
+        {"camera",
+         {{"type", "orthographic"},
+          {"position", {0.013, 5, 0.007}},
+          {"look_at", {0.013, 0, 0.007}},
+          {"up", {0, 0, -1}},
+          {"height", 2.5}}},
+        {"film", {{"width", 160}, {"height", 120}}},
+        {"render", {{"spp", 1}, {"ambient", 1}, {"background", 5}}},
+        {"materials", {{"m", {{"type", "lambert"}, {"albedo", 0.5}}}}},
+        {"lights", json::array()},
+        {"objects",
+         {{{"type", "mesh"}, {"positions", positions}, {"indices", indices}, {"material", "m"}}}}};
     RenderResult mesh = render(j);
     j["objects"] = {floor_quad(1.0f, "m")};
     j["objects"][0]["corner"] = {-1.5, 0, -1};

@@ -29,15 +29,24 @@ Geometry random_geometry(int triangles, int shapes, uint64_t seed) {
         vec3 c(rnd(), rnd(), rnd());
         Transform t;
         if (k % 3 == 0) {
-            t.matrix = glm::rotate(mat4(1.0f), rnd() * 3.0f, glm::normalize(vec3(rnd(), rnd(), 1.0f)));
+            t.matrix =
+                glm::rotate(mat4(1.0f), rnd() * 3.0f, glm::normalize(vec3(rnd(), rnd(), 1.0f)));
             t.is_identity = false;
         }
         Shape s;
         switch (k % 4) {
-            case 0: s = Sphere{c, 0.02f + 0.03f * rnd()}; break;
-            case 1: s = Box{c, c + vec3(0.04f)}; break;
-            case 2: s = Cylinder{c, vec3(0.0f, 0.05f, 0.01f), 0.02f}; break;
-            default: s = Cone{c, vec3(0.01f, 0.05f, 0.0f), 0.03f}; break;
+            case 0:
+                s = Sphere{c, 0.02f + 0.03f * rnd()};
+                break;
+            case 1:
+                s = Box{c, c + vec3(0.04f)};
+                break;
+            case 2:
+                s = Cylinder{c, vec3(0.0f, 0.05f, 0.01f), 0.02f};
+                break;
+            default:
+                s = Cone{c, vec3(0.01f, 0.05f, 0.0f), 0.03f};
+                break;
         }
         g.shapes.push_back(make_analytic_shape(s, t, 0));
     }
@@ -48,7 +57,8 @@ Geometry random_geometry(int triangles, int shapes, uint64_t seed) {
         body.shape = Sphere{c, 0.04f};
         body.material = cut.material = 0;
         cut.shape = Box{c, c + vec3(0.05f)};
-        g.shapes.push_back(make_analytic_shape(Csg{CsgOp::Difference, {body, cut}}, Transform{}, 0));
+        g.shapes.push_back(
+            make_analytic_shape(Csg{CsgOp::Difference, {body, cut}}, Transform{}, 0));
         SdfNode a, b, blend;
         a.op = b.op = SdfOp::Sphere;
         a.a = c + vec3(0.0f, 0.0f, 0.1f);
@@ -74,7 +84,8 @@ TEST_P(EveryAccel, SameHitsAsBruteForceOnRandomRays) {
     Rng rng(7, 7);
     int hits = 0;
     for (int k = 0; k < 20000; ++k) {
-        vec3 o(rng.next_float() * 1.4f - 0.2f, rng.next_float() * 1.4f - 0.2f, rng.next_float() * 1.4f - 0.2f);
+        vec3 o(rng.next_float() * 1.4f - 0.2f, rng.next_float() * 1.4f - 0.2f,
+               rng.next_float() * 1.4f - 0.2f);
         vec3 d(rng.next_float() - 0.5f, rng.next_float() - 0.5f, rng.next_float() - 0.5f);
         if (k % 10 == 0) d = vec3(0.0f, 0.0f, d.z);  // axis-parallel rays too
         if (glm::length(d) == 0.0f) continue;
@@ -117,7 +128,9 @@ TEST_P(EveryAccel, EmptyAndDegenerateInputs) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Accel, EveryAccel, testing::ValuesIn(accel_names()),
-                         [](const testing::TestParamInfo<std::string>& param) { return param.param; });
+                         [](const testing::TestParamInfo<std::string>& param) {
+                             return param.param;
+                         });
 
 TEST(Accel, NamesIncludeEveryStructure) {
     std::vector<std::string> names = accel_names();

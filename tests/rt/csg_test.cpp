@@ -1,7 +1,8 @@
+#include "svetlo/rt/csg.h"
+
 #include <gtest/gtest.h>
 
 #include "svetlo/core/rng.h"
-#include "svetlo/rt/csg.h"
 
 namespace svetlo {
 namespace {
@@ -47,7 +48,8 @@ constexpr float kTol = 1e-5f;
 
 TEST(Csg, UnionOfTwoSpheresHasTheOuterDepths) {
     // Unit spheres at x = -0.5 and x = +0.5.
-    AnalyticShape s = make(node(CsgOp::Union, {leaf(Sphere{vec3(-0.5f, 0, 0), 1.0f}), leaf(Sphere{vec3(0.5f, 0, 0), 1.0f})}));
+    AnalyticShape s = make(node(CsgOp::Union, {leaf(Sphere{vec3(-0.5f, 0, 0), 1.0f}),
+                                               leaf(Sphere{vec3(0.5f, 0, 0), 1.0f})}));
     Probe p = probe(s, vec3(-5, 0, 0), vec3(1, 0, 0));
     ASSERT_TRUE(p.hit);
     EXPECT_NEAR(p.t, 3.5f, kTol);
@@ -64,10 +66,11 @@ TEST(Csg, UnionOfTwoSpheresHasTheOuterDepths) {
 }
 
 TEST(Csg, IntersectionIsTheLens) {
-    AnalyticShape s = make(node(CsgOp::Intersection, {leaf(Sphere{vec3(-0.5f, 0, 0), 1.0f}), leaf(Sphere{vec3(0.5f, 0, 0), 1.0f})}));
+    AnalyticShape s = make(node(CsgOp::Intersection, {leaf(Sphere{vec3(-0.5f, 0, 0), 1.0f}),
+                                                      leaf(Sphere{vec3(0.5f, 0, 0), 1.0f})}));
     Probe p = probe(s, vec3(-5, 0, 0), vec3(1, 0, 0));
     ASSERT_TRUE(p.hit);
-    EXPECT_NEAR(p.t, 4.5f, kTol);           // enters at x = -0.5: the right sphere's surface
+    EXPECT_NEAR(p.t, 4.5f, kTol);  // enters at x = -0.5: the right sphere's surface
     EXPECT_NEAR(p.s.n.x, -1.0f, kTol);
     EXPECT_FALSE(probe(s, vec3(-1.2f, 5, 0), vec3(0, -1, 0)).hit);  // inside the left only
     p = probe(s, vec3(0, 5, 0), vec3(0, -1, 0));
@@ -77,14 +80,15 @@ TEST(Csg, IntersectionIsTheLens) {
 
 TEST(Csg, DifferenceFlipsTheCutterNormals) {
     // A unit cube minus a sphere of radius 0.5 centred on its top face.
-    AnalyticShape s = make(node(CsgOp::Difference, {leaf(Box{vec3(-1), vec3(1)}), leaf(Sphere{vec3(0, 1, 0), 0.5f})}));
+    AnalyticShape s = make(
+        node(CsgOp::Difference, {leaf(Box{vec3(-1), vec3(1)}), leaf(Sphere{vec3(0, 1, 0), 0.5f})}));
     Probe p = probe(s, vec3(0, 5, 0), vec3(0, -1, 0));
     ASSERT_TRUE(p.hit);
-    EXPECT_NEAR(p.t, 4.5f, kTol);            // the bottom of the spherical dent, y = 0.5
-    EXPECT_NEAR(p.s.n.y, 1.0f, kTol);       // facing out of the solid: the sphere's normal reversed
+    EXPECT_NEAR(p.t, 4.5f, kTol);      // the bottom of the spherical dent, y = 0.5
+    EXPECT_NEAR(p.s.n.y, 1.0f, kTol);  // facing out of the solid: the sphere's normal reversed
     p = probe(s, vec3(0.8f, 5, 0), vec3(0, -1, 0));
     ASSERT_TRUE(p.hit);
-    EXPECT_NEAR(p.t, 4.0f, kTol);            // beside the dent: the cube's top
+    EXPECT_NEAR(p.t, 4.0f, kTol);  // beside the dent: the cube's top
     EXPECT_NEAR(p.s.n.y, 1.0f, kTol);
     // Slanted: the dent's normal points toward the sphere's centre.
     p = probe(s, vec3(0.3f, 5, 0), vec3(0, -1, 0));
@@ -97,7 +101,8 @@ TEST(Csg, DifferenceFlipsTheCutterNormals) {
 
 TEST(Csg, CoincidentFacesLeaveNoSkin) {
     // A box minus a box sharing its top face: the top is cut down to y = 0, everywhere.
-    AnalyticShape s = make(node(CsgOp::Difference, {leaf(Box{vec3(-1), vec3(1)}), leaf(Box{vec3(-2, 0, -2), vec3(2, 1, 2)})}));
+    AnalyticShape s = make(node(CsgOp::Difference, {leaf(Box{vec3(-1), vec3(1)}),
+                                                    leaf(Box{vec3(-2, 0, -2), vec3(2, 1, 2)})}));
     Rng rng(3, 4);
     for (int k = 0; k < 1000; ++k) {
         vec3 o(2.0f * rng.next_float() - 1.0f, 3.0f, 2.0f * rng.next_float() - 1.0f);
@@ -106,7 +111,8 @@ TEST(Csg, CoincidentFacesLeaveNoSkin) {
         EXPECT_EQ(p.t, 3.0f) << k;
     }
     // Two boxes meeting face to face merge: a ray along the seam's normal does not stop there.
-    AnalyticShape u = make(node(CsgOp::Union, {leaf(Box{vec3(0), vec3(1)}), leaf(Box{vec3(1, 0, 0), vec3(2, 1, 1)})}));
+    AnalyticShape u = make(
+        node(CsgOp::Union, {leaf(Box{vec3(0), vec3(1)}), leaf(Box{vec3(1, 0, 0), vec3(2, 1, 1)})}));
     Probe p = probe(u, vec3(0.5f, 0.5f, 0.5f), vec3(1, 0, 0));
     ASSERT_TRUE(p.hit);
     EXPECT_NEAR(p.t, 1.5f, kTol);
@@ -120,14 +126,16 @@ TEST(Csg, NestedTreesWithTransformsAtEveryLevel) {
     twice.matrix = glm::scale(mat4(1.0f), vec3(2.0f));
     twice.is_identity = false;
     // (unit sphere minus a cylinder along z of radius 0.25), the whole scaled 2x, then moved up 2.
-    Object inner = node(CsgOp::Difference, {leaf(Sphere{vec3(0), 1.0f}), leaf(Cylinder{vec3(0, 0, -2), vec3(0, 0, 4), 0.25f})}, twice);
+    Object inner = node(
+        CsgOp::Difference,
+        {leaf(Sphere{vec3(0), 1.0f}), leaf(Cylinder{vec3(0, 0, -2), vec3(0, 0, 4), 0.25f})}, twice);
     AnalyticShape s = make(node(CsgOp::Union, {inner}), up);
     Probe p = probe(s, vec3(0, 2, 10), vec3(0, 0, -1));  // down the hole: nothing
     EXPECT_FALSE(p.hit);
-    p = probe(s, vec3(0, 2.75f, 10), vec3(0, 0, -1));    // beside the hole (0.5 < 0.75 < 2)
+    p = probe(s, vec3(0, 2.75f, 10), vec3(0, 0, -1));  // beside the hole (0.5 < 0.75 < 2)
     ASSERT_TRUE(p.hit);
     EXPECT_NEAR(p.t, 10.0f - std::sqrt(4.0f - 0.75f * 0.75f), 1e-4f);
-    p = probe(s, vec3(0, 2, 0), vec3(0, 1, 0));           // from the hole up: the cylinder wall
+    p = probe(s, vec3(0, 2, 0), vec3(0, 1, 0));  // from the hole up: the cylinder wall
     ASSERT_TRUE(p.hit);
     EXPECT_NEAR(p.t, 0.5f, 1e-5f);
     EXPECT_NEAR(p.s.n.y, -1.0f, 1e-4f);  // facing into the hole
@@ -135,7 +143,8 @@ TEST(Csg, NestedTreesWithTransformsAtEveryLevel) {
 
 TEST(Csg, ConesAndCylindersIntersectAtClosedFormDepths) {
     // A cone (apex at y = 2, base radius 1 at y = 0) intersected with a slab box y < 1.
-    AnalyticShape s = make(node(CsgOp::Intersection, {leaf(Cone{vec3(0), vec3(0, 2, 0), 1.0f}), leaf(Box{vec3(-5, -1, -5), vec3(5, 1, 5)})}));
+    AnalyticShape s = make(node(CsgOp::Intersection, {leaf(Cone{vec3(0), vec3(0, 2, 0), 1.0f}),
+                                                      leaf(Box{vec3(-5, -1, -5), vec3(5, 1, 5)})}));
     Probe p = probe(s, vec3(0, 5, 0), vec3(0, -1, 0));
     ASSERT_TRUE(p.hit);
     EXPECT_NEAR(p.t, 4.0f, kTol);  // the box's top cuts the cone at y = 1
@@ -147,10 +156,12 @@ TEST(Csg, ConesAndCylindersIntersectAtClosedFormDepths) {
 TEST(Csg, ClosedMeshLeaves) {
     // A unit cube as a closed, outward-wound mesh, minus a sphere at its centre of radius 0.25.
     Mesh cube;
-    cube.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+    cube.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                      {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
     cube.indices = {0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
                     3, 7, 6, 3, 6, 2, 0, 4, 7, 0, 7, 3, 1, 2, 6, 1, 6, 5};
-    AnalyticShape s = make(node(CsgOp::Difference, {leaf(cube, 1), leaf(Sphere{vec3(0.5f), 0.25f}, 2)}));
+    AnalyticShape s =
+        make(node(CsgOp::Difference, {leaf(cube, 1), leaf(Sphere{vec3(0.5f), 0.25f}, 2)}));
     Probe p = probe(s, vec3(0.5f, 0.5f, 5), vec3(0, 0, -1));
     ASSERT_TRUE(p.hit);
     EXPECT_NEAR(p.t, 4.0f, kTol);
@@ -180,7 +191,8 @@ TEST(Csg, MaterialPerChildOrInherited) {
 }
 
 TEST(Csg, SecondaryRaysDoNotHitTheirOwnSurface) {
-    AnalyticShape s = make(node(CsgOp::Difference, {leaf(Sphere{vec3(0), 1.0f}), leaf(Box{vec3(-2, 0.5f, -2), vec3(2, 2, 2)})}));
+    AnalyticShape s = make(node(CsgOp::Difference, {leaf(Sphere{vec3(0), 1.0f}),
+                                                    leaf(Box{vec3(-2, 0.5f, -2), vec3(2, 2, 2)})}));
     Rng rng(5, 6);
     for (int k = 0; k < 500; ++k) {
         vec3 o(2.0f * rng.next_float() - 1.0f, 3.0f, 2.0f * rng.next_float() - 1.0f);

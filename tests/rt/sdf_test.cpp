@@ -1,7 +1,8 @@
+#include "svetlo/rt/sdf.h"
+
 #include <gtest/gtest.h>
 
 #include "svetlo/core/rng.h"
-#include "svetlo/rt/sdf.h"
 
 namespace svetlo {
 namespace {
@@ -28,8 +29,10 @@ TEST(Implicit, SphereMatchesTheAnalyticSphere) {
     Rng rng(1, 1);
     int hits = 0;
     for (int k = 0; k < 2000; ++k) {
-        vec3 o = 5.0f * glm::normalize(vec3(rng.next_float() - 0.5f, rng.next_float() - 0.5f, rng.next_float() - 0.5f));
-        vec3 target = 1.6f * vec3(rng.next_float() - 0.5f, rng.next_float() - 0.5f, rng.next_float() - 0.5f);
+        vec3 o = 5.0f * glm::normalize(vec3(rng.next_float() - 0.5f, rng.next_float() - 0.5f,
+                                            rng.next_float() - 0.5f));
+        vec3 target =
+            1.6f * vec3(rng.next_float() - 0.5f, rng.next_float() - 0.5f, rng.next_float() - 0.5f);
         Ray ray{o, glm::normalize(target - o), kInfinity};
         float t;
         ShapeHit h;
@@ -54,8 +57,12 @@ TEST(Implicit, SmoothUnionBulgesWhereItMust) {
     // sqrt(0.36 - 0.25). A blend of radius k fills it: along x = 0, both distances are
     // a = b = sqrt(y^2 + 0.25) - 0.6 and smin = a - k/4, zero where sqrt(y^2 + 0.25) = 0.6 + k/4.
     float k = 0.4f;
-    SdfShape sharp(op(SdfOp::Union, {sphere(vec3(-0.5f, 0, 0), 0.6f), sphere(vec3(0.5f, 0, 0), 0.6f)}), mat4(1.0f));
-    SdfShape blend(op(SdfOp::Union, {sphere(vec3(-0.5f, 0, 0), 0.6f), sphere(vec3(0.5f, 0, 0), 0.6f)}, k), mat4(1.0f));
+    SdfShape sharp(
+        op(SdfOp::Union, {sphere(vec3(-0.5f, 0, 0), 0.6f), sphere(vec3(0.5f, 0, 0), 0.6f)}),
+        mat4(1.0f));
+    SdfShape blend(
+        op(SdfOp::Union, {sphere(vec3(-0.5f, 0, 0), 0.6f), sphere(vec3(0.5f, 0, 0), 0.6f)}, k),
+        mat4(1.0f));
     Ray down{vec3(0, 2, 0), vec3(0, -1, 0), kInfinity};
     float t_sharp, t_blend;
     ASSERT_TRUE(sharp.intersect(down, kInfinity, t_sharp));
@@ -120,7 +127,8 @@ TEST(Implicit, PrimitivesAtClosedFormDepths) {
     EXPECT_TRUE(std::isfinite(cut.bounds().max.y));
 
     // Difference: a sphere minus a smaller one: a ray from inside the cavity meets its wall.
-    SdfShape shell(op(SdfOp::Difference, {sphere(vec3(0), 1.0f), sphere(vec3(0), 0.5f)}), mat4(1.0f));
+    SdfShape shell(op(SdfOp::Difference, {sphere(vec3(0), 1.0f), sphere(vec3(0), 0.5f)}),
+                   mat4(1.0f));
     ASSERT_TRUE(shell.intersect(Ray{vec3(0), vec3(1, 0, 0)}, kInfinity, t));
     EXPECT_NEAR(t, 0.5f, 1e-5f);
     EXPECT_NEAR(shell.normal(vec3(0.5f, 0, 0)).x, -1.0f, 1e-3f);
@@ -150,7 +158,8 @@ TEST(Implicit, SecondaryRaysLeaveAndCrossTheSurface) {
     Rng rng(2, 2);
     for (int k = 0; k < 200; ++k) {
         vec3 o(4.0f * (rng.next_float() - 0.5f), 4.0f * (rng.next_float() - 0.5f), 5.0f);
-        Ray ray{o, glm::normalize(vec3(0.0f, 0.0f, 0.0f) - o + 0.3f * vec3(rng.next_float(), 0, 0)), kInfinity};
+        Ray ray{o, glm::normalize(vec3(0.0f, 0.0f, 0.0f) - o + 0.3f * vec3(rng.next_float(), 0, 0)),
+                kInfinity};
         float t;
         if (!s.intersect(ray, kInfinity, t)) continue;
         vec3 p = ray.o + t * ray.d;

@@ -1,6 +1,6 @@
-#include <gtest/gtest.h>
-
 #include "svetlo/rt/shapes.h"
+
+#include <gtest/gtest.h>
 
 namespace svetlo {
 namespace {
@@ -121,7 +121,8 @@ TEST(Quad, BarycentricBoundsAndUv) {
 }
 
 TEST(Plane, InfiniteAndOneSidedNormal) {
-    Probe p = probe(Plane{vec3(0, -1, 0), vec3(0, 1, 0)}, Ray{vec3(1e3f, 5, -1e3f), vec3(0, -1, 0)});
+    Probe p =
+        probe(Plane{vec3(0, -1, 0), vec3(0, 1, 0)}, Ray{vec3(1e3f, 5, -1e3f), vec3(0, -1, 0)});
     ASSERT_TRUE(p.hit);
     EXPECT_NEAR(p.t, 6.0f, 1e-4f);
     EXPECT_FALSE(probe(Plane{vec3(0, -1, 0), vec3(0, 1, 0)}, Ray{vec3(0), vec3(1, 0, 0)}).hit);

@@ -1,10 +1,11 @@
+#include "svetlo/rt/tessellate.h"
+
 #include <gtest/gtest.h>
 
 #include <map>
 
 #include "svetlo/rt/csg.h"
 #include "svetlo/rt/sdf.h"
-#include "svetlo/rt/tessellate.h"
 
 namespace svetlo {
 namespace {
@@ -18,12 +19,15 @@ Object object(Shape s, Transform t = {}, int material = 0) {
 }
 
 vec3 face_normal(const Mesh& m, size_t f) {
-    vec3 a = m.positions[m.indices[3 * f]], b = m.positions[m.indices[3 * f + 1]], c = m.positions[m.indices[3 * f + 2]];
+    vec3 a = m.positions[m.indices[3 * f]], b = m.positions[m.indices[3 * f + 1]],
+         c = m.positions[m.indices[3 * f + 2]];
     return glm::cross(b - a, c - a);
 }
 
 vec3 centroid(const Mesh& m, size_t f) {
-    return (m.positions[m.indices[3 * f]] + m.positions[m.indices[3 * f + 1]] + m.positions[m.indices[3 * f + 2]]) / 3.0f;
+    return (m.positions[m.indices[3 * f]] + m.positions[m.indices[3 * f + 1]] +
+            m.positions[m.indices[3 * f + 2]]) /
+           3.0f;
 }
 
 double area(const Mesh& m) {
@@ -38,7 +42,8 @@ void expect_closed(const Mesh& m) {
     std::map<std::tuple<float, float, float>, uint32_t> ids;
     auto id = [&](uint32_t v) {
         vec3 p = m.positions[v];
-        return ids.emplace(std::make_tuple(p.x, p.y, p.z), static_cast<uint32_t>(ids.size())).first->second;
+        return ids.emplace(std::make_tuple(p.x, p.y, p.z), static_cast<uint32_t>(ids.size()))
+            .first->second;
     };
     std::map<std::pair<uint32_t, uint32_t>, int> edges;
     for (size_t f = 0; f < m.triangle_count(); ++f) {
@@ -93,17 +98,21 @@ TEST(Tessellate, BoxCylinderConeAreasAndWinding) {
     EXPECT_EQ(box.triangle_count(), 12u);
     EXPECT_NEAR(area(box), 2.0 * (2 + 6 + 3), 1e-5);
     vec3 mid(0.5f, 1.0f, 1.5f);
-    for (size_t f = 0; f < 12; ++f) EXPECT_GT(glm::dot(face_normal(box, f), centroid(box, f) - mid), 0.0f);
+    for (size_t f = 0; f < 12; ++f)
+        EXPECT_GT(glm::dot(face_normal(box, f), centroid(box, f) - mid), 0.0f);
     expect_closed(box);
 
     // A polygon of n sides inscribed in a circle: area and perimeter shrink by known factors.
-    double n = o.segments, shrink_area = n / (2.0 * kPi) * std::sin(2.0 * kPi / n), shrink_perim = n / kPi * std::sin(kPi / n);
+    double n = o.segments, shrink_area = n / (2.0 * kPi) * std::sin(2.0 * kPi / n),
+           shrink_perim = n / kPi * std::sin(kPi / n);
     Mesh cyl = tessellate(object(Cylinder{vec3(0), vec3(0, 2, 0), 0.5f}), o);
     double expected = 2.0 * kPi * 0.5 * 2.0 * shrink_perim + 2.0 * kPi * 0.25 * shrink_area;
     EXPECT_NEAR(area(cyl), expected, 1e-4 * expected);
     for (size_t f = 0; f < cyl.triangle_count(); ++f) {
         vec3 c = centroid(cyl, f);
-        vec3 out = c.y < 1e-5f ? vec3(0, -1, 0) : c.y > 2.0f - 1e-5f ? vec3(0, 1, 0) : vec3(c.x, 0, c.z);
+        vec3 out = c.y < 1e-5f          ? vec3(0, -1, 0)
+                   : c.y > 2.0f - 1e-5f ? vec3(0, 1, 0)
+                                        : vec3(c.x, 0, c.z);
         EXPECT_GT(glm::dot(face_normal(cyl, f), out), 0.0f) << f;
     }
     expect_closed(cyl);
@@ -166,7 +175,8 @@ TEST(Tessellate, CsgSurfaceNetsFollowTheSolid) {
     // Every vertex is within a cell of the boundary: inside on one side, outside on the other.
     for (size_t v = 0; v < m.positions.size(); ++v) {
         vec3 p = m.positions[v], n = m.normals[v];
-        EXPECT_TRUE(shape.csg->contains(p - 1.8f * cell * n) || shape.csg->contains(p - 1.8f * cell * glm::normalize(p)));
+        EXPECT_TRUE(shape.csg->contains(p - 1.8f * cell * n) ||
+                    shape.csg->contains(p - 1.8f * cell * glm::normalize(p)));
         EXPECT_FALSE(shape.csg->contains(p + 1.8f * cell * n)) << v;
     }
     expect_closed(m);

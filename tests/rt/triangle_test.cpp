@@ -51,7 +51,9 @@ TEST(Triangle, WatertightAcrossSharedEdgesAndVertices) {
             Ray r{origin, target - origin};
             int hits = 0;
             for (int m = 0; m < n; ++m) hits += hit(r, centre, rim[m], rim[(m + 1) % n]);
-            if (s < 50) EXPECT_GE(hits, 1) << "edge " << k << " step " << s;
+            if (s < 50) {
+                EXPECT_GE(hits, 1) << "edge " << k << " step " << s;
+            }
             ++rays;
         }
     }

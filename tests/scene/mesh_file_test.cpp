@@ -23,7 +23,9 @@ TEST(Obj, CornellBoxMapsMtlOntoMaterials) {
             EXPECT_NEAR(e->albedo.value.r, 0.78f, 1e-6f);    // Kd
             ++emissive;
         } else if (const auto* p = std::get_if<PhongMaterial>(&f.materials[k])) {
-            if (f.material_names[k] == "leftWall") EXPECT_EQ(p->kd.value, Color(0.63f, 0.065f, 0.05f));
+            if (f.material_names[k] == "leftWall") {
+                EXPECT_EQ(p->kd.value, Color(0.63f, 0.065f, 0.05f));
+            }
             ++phong;
         }
     }

@@ -1,9 +1,10 @@
+#include "svetlo/scene/scene_loader.h"
+
 #include <gtest/gtest.h>
 
 #include <fstream>
 
 #include "svetlo/core/error.h"
-#include "svetlo/scene/scene_loader.h"
 
 namespace svetlo {
 namespace {
@@ -87,7 +88,8 @@ TEST(SceneLoader, DegenerateCameraAndImpossibleFilm) {
     EXPECT_NE(error_of(j).find("up is parallel"), std::string::npos);
     j = minimal();
     j["film"] = {{"width", 60000}, {"height", 60000}};
-    EXPECT_NE(error_of(j).find("film: film of 60000 x 60000 pixels is too large"), std::string::npos);
+    EXPECT_NE(error_of(j).find("film: film of 60000 x 60000 pixels is too large"),
+              std::string::npos);
     j = minimal();
     j["film"] = {{"width", 0}};
     EXPECT_NE(error_of(j).find("film.width: must be in [1, 65536]"), std::string::npos);
@@ -122,7 +124,8 @@ TEST(SceneLoader, OverridesFollowDottedPaths) {
 
 TEST(SceneLoader, TransformsComposeScaleRotateTranslate) {
     json j = minimal();
-    j["objects"][0]["transform"] = {{"translate", {1, 2, 3}}, {"rotate", {90, 0, 0, 1}}, {"scale", 2}};
+    j["objects"][0]["transform"] = {
+        {"translate", {1, 2, 3}}, {"rotate", {90, 0, 0, 1}}, {"scale", 2}};
     Scene s = scene_from_json(j, "s.json");
     vec3 p = s.objects[0].transform.point(vec3(1, 0, 0));  // scale -> (2,0,0), rotate -> (0,2,0)
     EXPECT_NEAR(p.x, 1.0f, 1e-5f);
@@ -182,13 +185,16 @@ TEST(SceneLoader, CsgAndImplicitTrees) {
 
 TEST(SceneLoader, CsgAndImplicitErrorsNameThePlace) {
     json j = minimal();
-    j["objects"] = json::parse(R"([{"type": "csg", "op": "xor", "material": "white", "children": []}])");
+    j["objects"] =
+        json::parse(R"([{"type": "csg", "op": "xor", "material": "white", "children": []}])");
     EXPECT_NE(error_of(j).find("objects[0].op: unknown value 'xor'"), std::string::npos);
-    j["objects"] = json::parse(R"([{"type": "csg", "op": "union", "material": "white", "children": []}])");
+    j["objects"] =
+        json::parse(R"([{"type": "csg", "op": "union", "material": "white", "children": []}])");
     EXPECT_EQ(error_of(j), "objects[0].children: must be a non-empty array of objects");
     j["objects"] = json::parse(R"([{"type": "csg", "op": "union", "material": "white", "children": [
         {"type": "quad", "corner": [0, 0, 0], "edge_u": [1, 0, 0], "edge_v": [0, 1, 0]}]}])");
-    EXPECT_NE(error_of(j).find("objects[0].children[0].type: a CSG child must be a closed shape"), std::string::npos);
+    EXPECT_NE(error_of(j).find("objects[0].children[0].type: a CSG child must be a closed shape"),
+              std::string::npos);
     j["objects"] = json::parse(R"([{"type": "csg", "op": "union", "children": [
         {"type": "sphere", "center": [0, 0, 0], "radius": 1}]}])");
     EXPECT_EQ(error_of(j), "objects[0].children[0].material: missing key");
@@ -197,7 +203,8 @@ TEST(SceneLoader, CsgAndImplicitErrorsNameThePlace) {
     EXPECT_EQ(error_of(j), "objects[0].children[0].radius: must be > 0 (is -1)");
     j["objects"] = json::parse(R"([{"type": "implicit", "material": "white",
         "sdf": {"op": "union", "children": [{"op": "blob", "radius": 1}]}}])");
-    EXPECT_NE(error_of(j).find("objects[0].sdf.children[0].op: unknown value 'blob'"), std::string::npos);
+    EXPECT_NE(error_of(j).find("objects[0].sdf.children[0].op: unknown value 'blob'"),
+              std::string::npos);
     j["objects"] = json::parse(R"([{"type": "implicit", "material": "white",
         "sdf": {"op": "rounded_box", "min": [0, 0, 0], "max": [1, 1, 1], "radius": 0.8}}])");
     EXPECT_EQ(error_of(j), "objects[0].sdf.radius: must be at most half the smallest edge");

@@ -20,13 +20,15 @@ template <class T>
 class LargeArray {
     static_assert(std::is_trivially_copyable_v<T> && std::is_trivially_destructible_v<T>);
 
-public:
+  public:
     LargeArray() = default;
     explicit LargeArray(size_t count) : size_(count) {
         if (count == 0) return;
         constexpr size_t kHuge = size_t{2} << 20;
         size_t bytes = count * sizeof(T);
-        size_t align = bytes >= kHuge ? kHuge : alignof(std::max_align_t) < 64 ? 64 : alignof(std::max_align_t);
+        size_t align = bytes >= kHuge                   ? kHuge
+                       : alignof(std::max_align_t) < 64 ? 64
+                                                        : alignof(std::max_align_t);
         bytes = (bytes + align - 1) / align * align;
         void* p = std::aligned_alloc(align, bytes);
         if (!p) throw std::bad_alloc();
@@ -49,7 +51,7 @@ public:
     const T* begin() const { return data(); }
     const T* end() const { return data() + size_; }
 
-private:
+  private:
     struct Free {
         void operator()(T* p) const { std::free(p); }
     };

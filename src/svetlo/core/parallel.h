@@ -14,19 +14,20 @@ inline constexpr int kTileSize = 16;
 
 /// Calls `body(tile)` for every tile of a width x height image on `threads` threads
 /// (0 = all cores), then `done(pixels_in_tile)` after each, for progress reporting.
-void parallel_tiles(int width, int height, int threads, const std::function<void(const Tile&)>& body,
+void parallel_tiles(int width, int height, int threads,
+                    const std::function<void(const Tile&)>& body,
                     const std::function<void(int)>& done = {});
 /// The same with square tiles of `tile_size` pixels.
 void parallel_tiles(int width, int height, int tile_size, int threads,
-                    const std::function<void(const Tile&)>& body, const std::function<void(int)>& done);
+                    const std::function<void(const Tile&)>& body,
+                    const std::function<void(int)>& done);
 
 /// Calls body(i) for every i in [0, count), one index per task (for coarse work items whose
 /// boundaries must not depend on the thread count).
 void parallel_indices(size_t count, int threads, const std::function<void(size_t)>& body);
 
 /// Runs body(begin, end) over [0, count) in chunks on `threads` threads (0 = all cores).
-void parallel_ranges(size_t count, int threads,
-                     const std::function<void(size_t, size_t)>& body);
+void parallel_ranges(size_t count, int threads, const std::function<void(size_t, size_t)>& body);
 
 /// The number of threads that `threads` (0 = all cores) resolves to.
 int resolve_threads(int threads);

@@ -11,7 +11,8 @@ CameraMatrices camera_matrices(const Camera& camera, int width, int height, cons
     m.view = glm::lookAt(camera.position, camera.look_at, camera.up);
     // Depth range of the scene in front of the camera: -z in view space of the bounds' corners.
     float zmin = kInfinity, zmax = -kInfinity;
-    bool finite = std::isfinite(bounds.min.x + bounds.min.y + bounds.min.z + bounds.max.x + bounds.max.y + bounds.max.z);
+    bool finite = std::isfinite(bounds.min.x + bounds.min.y + bounds.min.z + bounds.max.x +
+                                bounds.max.y + bounds.max.z);
     if (finite && bounds.min.x <= bounds.max.x) {
         for (int k = 0; k < 8; ++k) {
             vec3 c((k & 1) ? bounds.max.x : bounds.min.x, (k & 2) ? bounds.max.y : bounds.min.y,

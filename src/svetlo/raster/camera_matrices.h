@@ -18,7 +18,8 @@ struct CameraMatrices {
     mat4 view_projection() const { return projection * view; }
     /// Normalised device coordinates to pixels (x right, y down from the top-left corner).
     vec2 to_pixels(vec2 ndc) const {
-        return vec2((ndc.x + 1.0f) * 0.5f * static_cast<float>(width), (1.0f - ndc.y) * 0.5f * static_cast<float>(height));
+        return vec2((ndc.x + 1.0f) * 0.5f * static_cast<float>(width),
+                    (1.0f - ndc.y) * 0.5f * static_cast<float>(height));
     }
 };
 

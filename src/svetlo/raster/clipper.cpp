@@ -34,7 +34,8 @@ void clip_plane(const ClipPolygon& in, ClipPolygon& out, Dist&& dist) {
 
 }  // namespace
 
-ClipPolygon clip_triangle(const ClipVertex& a, const ClipVertex& b, const ClipVertex& c, float gx, float gy) {
+ClipPolygon clip_triangle(const ClipVertex& a, const ClipVertex& b, const ClipVertex& c, float gx,
+                          float gy) {
     ClipPolygon p, q;
     p.v[0] = a;
     p.v[1] = b;

@@ -31,8 +31,8 @@ struct ClipPolygon {
 
 /// Clips triangle (a, b, c) to -w <= z <= w and |x|, |y| <= guard_x w, guard_y w; w > 0 is
 /// implied by the near plane. Returns the polygon (count 0 when nothing is left).
-ClipPolygon clip_triangle(const ClipVertex& a, const ClipVertex& b, const ClipVertex& c, float guard_x,
-                          float guard_y);
+ClipPolygon clip_triangle(const ClipVertex& a, const ClipVertex& b, const ClipVertex& c,
+                          float guard_x, float guard_y);
 
 /// True when the triangle lies inside every clip plane (the common case: no clipping).
 inline bool inside_all(const vec4& a, const vec4& b, const vec4& c, float gx, float gy) {

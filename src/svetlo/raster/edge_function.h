@@ -29,7 +29,7 @@ inline int32_t to_fixed(float x) {
 struct Edge {
     int64_t a = 0, b = 0;  // E(x, y) = a x + b y + c, in fixed-point units
     int64_t c = 0;
-    int64_t bias = 0;      // 0 on a top or left edge, -1 otherwise: E + bias >= 0 is inside
+    int64_t bias = 0;  // 0 on a top or left edge, -1 otherwise: E + bias >= 0 is inside
 
     /// The edge from (x0, y0) to (x1, y1) of a triangle with positive area.
     static Edge make(int64_t x0, int64_t y0, int64_t x1, int64_t y1) {

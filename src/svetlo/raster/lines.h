@@ -24,7 +24,8 @@ void draw_line_bresenham(vec2 p0, vec2 p1, Plot&& plot) {
     int err = dx + dy;
     int steps = std::max(dx, -dy), step = 0;
     for (;;) {
-        plot(x0, y0, 1.0f, steps == 0 ? 0.0f : static_cast<float>(step) / static_cast<float>(steps));
+        plot(x0, y0, 1.0f,
+             steps == 0 ? 0.0f : static_cast<float>(step) / static_cast<float>(steps));
         if (x0 == x1 && y0 == y1) break;
         int e2 = 2 * err;
         if (e2 >= dy) {
@@ -59,8 +60,10 @@ void draw_line_wu(vec2 p0, vec2 p1, Plot&& plot) {
         float t = dx == 0.0f ? 0.0f : std::clamp((x - x0) / dx, 0.0f, 1.0f);
         if (reversed) t = 1.0f - t;
         if (c <= 0.0f) return;
-        if (steep) plot(minor, major, c, t);
-        else plot(major, minor, c, t);
+        if (steep)
+            plot(minor, major, c, t);
+        else
+            plot(major, minor, c, t);
     };
     auto fpart = [](float v) { return v - std::floor(v); };
     // First endpoint.

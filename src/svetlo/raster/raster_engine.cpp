@@ -26,12 +26,12 @@ namespace svetlo {
 
 namespace {
 
-constexpr int kTile = 64;                  // pixels per side of a binning tile
-constexpr int kMaxSamplesPerPass = 16;     // samples per pixel held at once; more take passes
-constexpr size_t kChunk = 4096;            // triangles per unit of parallel setup and binning
-constexpr float kGuardPixels = 4096.0f;    // guard band beyond each side of the viewport
-constexpr uint32_t kNone = ~0u;            // no triangle in a sample
-constexpr uint32_t kExtra = 1u << 31;      // a vertex made by clipping (chunk-local until fixed up)
+constexpr int kTile = 64;                // pixels per side of a binning tile
+constexpr int kMaxSamplesPerPass = 16;   // samples per pixel held at once; more take passes
+constexpr size_t kChunk = 4096;          // triangles per unit of parallel setup and binning
+constexpr float kGuardPixels = 4096.0f;  // guard band beyond each side of the viewport
+constexpr uint32_t kNone = ~0u;          // no triangle in a sample
+constexpr uint32_t kExtra = 1u << 31;    // a vertex made by clipping (chunk-local until fixed up)
 
 enum class Mode { Flat, Gouraud, Phong, Depth, Normal };
 
@@ -60,30 +60,34 @@ struct FrameState {
     vec3 eye{0.0f}, forward{0.0f, 0.0f, -1.0f};
     bool ortho = false;
     std::vector<Material> materials;
-    std::vector<Bsdf> constant_bsdf;     // per material, when it has no texture
-    std::vector<char> textured;          // per material: some colour depends on uv
-    std::vector<char> needs_footprint;   // per material: some texture is trilinear
+    std::vector<Bsdf> constant_bsdf;    // per material, when it has no texture
+    std::vector<char> textured;         // per material: some colour depends on uv
+    std::vector<char> needs_footprint;  // per material: some texture is trilinear
     std::vector<MipChain> mips;
     RasterLights lights;
-    SimdLights simd_lights;               // the same lights for the fast path,
-    bool simd_lights_ok = false;          // when they are all point or directional
+    SimdLights simd_lights;                   // the same lights for the fast path,
+    bool simd_lights_ok = false;              // when they are all point or directional
     std::vector<SimdMaterial> simd_material;  // per material, and whether the fast path takes it
     std::vector<char> simd_ok;
-    LargeArray<ClipVertex> vertices;      // the vertex stage's output, mesh after mesh
-    std::vector<ClipVertex> extra;        // vertices made by clipping (index bit kExtra)
-    LargeArray<SetupTriangle> tris;       // one slot per input triangle (empty when culled)
-    std::vector<SetupTriangle> clipped;   // triangles of clipped polygons, after the slots
+    LargeArray<ClipVertex> vertices;     // the vertex stage's output, mesh after mesh
+    std::vector<ClipVertex> extra;       // vertices made by clipping (index bit kExtra)
+    LargeArray<SetupTriangle> tris;      // one slot per input triangle (empty when culled)
+    std::vector<SetupTriangle> clipped;  // triangles of clipped polygons, after the slots
     std::vector<std::pair<uint32_t, uint32_t>> clipped_range;  // per chunk, into `clipped`
-    size_t triangle_count = 0;            // set up and drawn
-    struct Bins {                         // per chunk of triangles in drawing order:
-        std::vector<uint32_t> start;      // tile k's triangles are ids[start[k] .. start[k+1])
+    size_t triangle_count = 0;                                 // set up and drawn
+    struct Bins {                     // per chunk of triangles in drawing order:
+        std::vector<uint32_t> start;  // tile k's triangles are ids[start[k] .. start[k+1])
         std::vector<uint32_t> ids;
     };
     std::vector<Bins> bins;
     int tiles_x = 0, tiles_y = 0;
 
-    const ClipVertex& vertex(uint32_t v) const { return (v & kExtra) ? extra[v & ~kExtra] : vertices[v]; }
-    const SetupTriangle& tri(uint32_t id) const { return id < tris.size() ? tris[id] : clipped[id - tris.size()]; }
+    const ClipVertex& vertex(uint32_t v) const {
+        return (v & kExtra) ? extra[v & ~kExtra] : vertices[v];
+    }
+    const SetupTriangle& tri(uint32_t id) const {
+        return id < tris.size() ? tris[id] : clipped[id - tris.size()];
+    }
 };
 
 bool is_textured(const ColorSource& c) { return c.kind != ColorSource::Kind::Constant; }
@@ -96,7 +100,8 @@ bool any_source(const Material& m, F&& f) {
     return std::visit(
         [&](const auto& mat) {
             using T = std::decay_t<decltype(mat)>;
-            if constexpr (std::is_same_v<T, LambertMaterial> || std::is_same_v<T, OrenNayarMaterial>) {
+            if constexpr (std::is_same_v<T, LambertMaterial> ||
+                          std::is_same_v<T, OrenNayarMaterial>) {
                 return f(mat.albedo);
             } else if constexpr (std::is_same_v<T, PhongMaterial>) {
                 return f(mat.ka) || f(mat.kd) || f(mat.ks) || f(mat.reflect) || f(mat.transmit);
@@ -122,7 +127,7 @@ Mode parse_mode(const std::string& s) {
 }
 
 struct DrawMesh {
-    Mesh mesh;     // object space
+    Mesh mesh;  // object space
     mat4 model{1.0f};
 };
 
@@ -167,7 +172,9 @@ std::vector<DrawMesh> tessellate_scene(const Scene& scene, FrameState& f, int th
             if (!d.mesh.uvs.empty()) uv = d.mesh.uvs[d.mesh.indices[3 * t]];
             Color radiance = eval_color(e->radiance, uv, scene.textures);
             if (is_black(radiance)) continue;
-            for (int v = 0; v < 3; ++v) tris.p.push_back(vec3(d.model * vec4(d.mesh.positions[d.mesh.indices[3 * t + v]], 1.0f)));
+            for (int v = 0; v < 3; ++v)
+                tris.p.push_back(
+                    vec3(d.model * vec4(d.mesh.positions[d.mesh.indices[3 * t + v]], 1.0f)));
             tris.radiance.push_back(radiance);
         }
         auto vpls = triangle_vpls(tris);
@@ -178,7 +185,8 @@ std::vector<DrawMesh> tessellate_scene(const Scene& scene, FrameState& f, int th
 
 /// The material's BRDF at a point: the per-material constant one, or (in `scratch`) textures
 /// evaluated with the footprint when the rasterizer has one.
-const Bsdf& material_at(const FrameState& f, uint32_t m, vec2 uv, vec2 duv_dx, vec2 duv_dy, Bsdf& scratch) {
+const Bsdf& material_at(const FrameState& f, uint32_t m, vec2 uv, vec2 duv_dx, vec2 duv_dy,
+                        Bsdf& scratch) {
     if (!f.textured[m]) return f.constant_bsdf[m];
     TextureLookup lookup{f.scene->textures, f.mips.empty() ? nullptr : &f.mips, duv_dx, duv_dy};
     scratch = make_bsdf(f.materials[m], uv, lookup);
@@ -187,20 +195,24 @@ const Bsdf& material_at(const FrameState& f, uint32_t m, vec2 uv, vec2 duv_dx, v
 
 /// Lit colour at a point with geometric normal ng (the counter-clockwise side), shading
 /// normal ns, seen from the camera along -wo; shading is two-sided, emission one-sided.
-Color light_point(const FrameState& f, const Bsdf& bsdf, vec3 p, vec3 wo, vec3 ng, vec3 ns, bool front) {
+Color light_point(const FrameState& f, const Bsdf& bsdf, vec3 p, vec3 wo, vec3 ng, vec3 ns,
+                  bool front) {
     vec3 n = glm::dot(ng, wo) >= 0.0f ? ng : -ng;
     if (glm::length(ns) == 0.0f) ns = n;
     if (glm::dot(ns, n) < 0.0f) ns = -ns;
     if (glm::dot(ns, wo) <= 0.0f) ns = n;
-    return shade_point(bsdf, p, n, ns, wo, front, f.lights, f.scene->render.ambient, f.scene->render.background);
+    return shade_point(bsdf, p, n, ns, wo, front, f.lights, f.scene->render.ambient,
+                       f.scene->render.background);
 }
 
 /// Stage 2: the vertex stage. World positions and normals, clip coordinates, and for
 /// Gouraud shading the lit colour of each vertex (with the material of the first face that
 /// uses it).
-void vertex_stage(const std::vector<DrawMesh>& meshes, FrameState& f, std::vector<uint32_t>& base, int threads) {
+void vertex_stage(const std::vector<DrawMesh>& meshes, FrameState& f, std::vector<uint32_t>& base,
+                  int threads) {
     base.assign(meshes.size() + 1, 0);
-    for (size_t k = 0; k < meshes.size(); ++k) base[k + 1] = base[k] + static_cast<uint32_t>(meshes[k].mesh.positions.size());
+    for (size_t k = 0; k < meshes.size(); ++k)
+        base[k + 1] = base[k] + static_cast<uint32_t>(meshes[k].mesh.positions.size());
     f.vertices = LargeArray<ClipVertex>(base.back());
     mat4 vp = f.cam.view_projection();
     parallel_indices(meshes.size(), threads, [&](size_t k) {
@@ -236,15 +248,15 @@ void vertex_stage(const std::vector<DrawMesh>& meshes, FrameState& f, std::vecto
             vec3 wo = f.ortho ? -f.forward : glm::normalize(f.eye - out.world);
             bool front = glm::dot(ng, wo) > 0.0f;
             Bsdf scratch;
-            out.color = light_point(f, material_at(f, mat, out.uv, vec2(0.0f), vec2(0.0f), scratch), out.world, wo, ng,
-                                    out.normal, front);
+            out.color = light_point(f, material_at(f, mat, out.uv, vec2(0.0f), vec2(0.0f), scratch),
+                                    out.world, wo, ng, out.normal, front);
         }
     });
 }
 
 /// Stage 3 for one triangle: projection, viewport, snapping, culling. Appends to `out`.
-bool setup_triangle(const FrameState& f, const ClipVertex* cv[3], const uint32_t index[3], uint32_t material, Color flat,
-                    SetupTriangle& t) {
+bool setup_triangle(const FrameState& f, const ClipVertex* cv[3], const uint32_t index[3],
+                    uint32_t material, Color flat, SetupTriangle& t) {
     t.x0 = t.x1 = 0;  // empty until set up
     vec2 px[3];
     for (int i = 0; i < 3; ++i) {
@@ -275,8 +287,10 @@ bool setup_triangle(const FrameState& f, const ClipVertex* cv[3], const uint32_t
     int32_t xmin = std::min({t.x[0], t.x[1], t.x[2]}), xmax = std::max({t.x[0], t.x[1], t.x[2]});
     int32_t ymin = std::min({t.y[0], t.y[1], t.y[2]}), ymax = std::max({t.y[0], t.y[1], t.y[2]});
     // Samples of pixel i lie in [i, i + 1) pixels: pixels from floor(min) - 1 to floor(max).
-    int32_t x0 = std::max(0, (xmin >> kSubpixelBits) - 1), y0 = std::max(0, (ymin >> kSubpixelBits) - 1);
-    int32_t x1 = std::min(f.cam.width, (xmax >> kSubpixelBits) + 1), y1 = std::min(f.cam.height, (ymax >> kSubpixelBits) + 1);
+    int32_t x0 = std::max(0, (xmin >> kSubpixelBits) - 1),
+            y0 = std::max(0, (ymin >> kSubpixelBits) - 1);
+    int32_t x1 = std::min(f.cam.width, (xmax >> kSubpixelBits) + 1),
+            y1 = std::min(f.cam.height, (ymax >> kSubpixelBits) + 1);
     if (x0 >= x1 || y0 >= y1) return false;
     t.x0 = x0;
     t.y0 = y0;
@@ -295,13 +309,15 @@ bool setup_triangle(const FrameState& f, const ClipVertex* cv[3], const uint32_t
 /// Stage 3: primitive assembly, clipping and setup of every triangle, in chunks of kChunk
 /// triangles. An unclipped triangle is set up in its own slot; the pieces of clipped ones go
 /// to per-chunk lists appended after the slots, so the order never depends on threads.
-void assemble(const std::vector<DrawMesh>& meshes, const std::vector<uint32_t>& base, FrameState& f, int threads) {
+void assemble(const std::vector<DrawMesh>& meshes, const std::vector<uint32_t>& base, FrameState& f,
+              int threads) {
     struct Source {
         uint32_t mesh, tri;
     };
     std::vector<Source> sources;
     for (size_t k = 0; k < meshes.size(); ++k) {
-        for (size_t t = 0; t < meshes[k].mesh.triangle_count(); ++t) sources.push_back({static_cast<uint32_t>(k), static_cast<uint32_t>(t)});
+        for (size_t t = 0; t < meshes[k].mesh.triangle_count(); ++t)
+            sources.push_back({static_cast<uint32_t>(k), static_cast<uint32_t>(t)});
     }
     size_t chunks = (sources.size() + kChunk - 1) / kChunk;
     f.tris = LargeArray<SetupTriangle>(sources.size());
@@ -330,8 +346,8 @@ void assemble(const std::vector<DrawMesh>& meshes, const std::vector<uint32_t>& 
                 vec2 uv = (cv[0]->uv + cv[1]->uv + cv[2]->uv) / 3.0f;
                 vec3 wo = f.ortho ? -f.forward : glm::normalize(f.eye - p);
                 Bsdf scratch;
-                flat = light_point(f, material_at(f, material, uv, vec2(0.0f), vec2(0.0f), scratch), p, wo, ng, ng,
-                                   glm::dot(ng, wo) > 0.0f);
+                flat = light_point(f, material_at(f, material, uv, vec2(0.0f), vec2(0.0f), scratch),
+                                   p, wo, ng, ng, glm::dot(ng, wo) > 0.0f);
             }
             SetupTriangle& slot = f.tris[s];
             slot.x0 = slot.x1 = 0;
@@ -344,12 +360,14 @@ void assemble(const std::vector<DrawMesh>& meshes, const std::vector<uint32_t>& 
             auto first = static_cast<uint32_t>(extra[c].size());
             for (int k = 0; k < poly.count; ++k) extra[c].push_back(poly.v[static_cast<size_t>(k)]);
             for (int k = 1; k + 1 < poly.count; ++k) {
-                uint32_t fan[3] = {first, first + static_cast<uint32_t>(k), first + static_cast<uint32_t>(k) + 1};
+                uint32_t fan[3] = {first, first + static_cast<uint32_t>(k),
+                                   first + static_cast<uint32_t>(k) + 1};
                 const ClipVertex* fv[3] = {&extra[c][fan[0]], &extra[c][fan[1]], &extra[c][fan[2]]};
                 SetupTriangle piece;
                 // Chunk-local vertex indices for now: setup reads the vertices through fv.
                 uint32_t local[3] = {kExtra | fan[0], kExtra | fan[1], kExtra | fan[2]};
-                if (setup_triangle(f, fv, local, material, flat, piece)) clipped[c].push_back(piece);
+                if (setup_triangle(f, fv, local, material, flat, piece))
+                    clipped[c].push_back(piece);
             }
         }
     });
@@ -376,15 +394,18 @@ void bin(FrameState& f, int threads) {
     order.reserve(f.triangle_count);
     auto main_count = static_cast<uint32_t>(f.tris.size());
     for (size_t c = 0; c < f.clipped_range.size(); ++c) {
-        for (uint32_t id = static_cast<uint32_t>(c * kChunk); id < std::min<size_t>(main_count, (c + 1) * kChunk); ++id) {
+        for (uint32_t id = static_cast<uint32_t>(c * kChunk);
+             id < std::min<size_t>(main_count, (c + 1) * kChunk); ++id) {
             if (!f.tris[id].empty()) order.push_back(id);
         }
-        for (uint32_t k = f.clipped_range[c].first; k < f.clipped_range[c].second; ++k) order.push_back(main_count + k);
+        for (uint32_t k = f.clipped_range[c].first; k < f.clipped_range[c].second; ++k)
+            order.push_back(main_count + k);
     }
     if (f.scene->render.raster.visibility == "painter") {
         // Back to front by the centroid's depth; ties keep the submission order.
-        std::stable_sort(order.begin(), order.end(),
-                         [&](uint32_t a, uint32_t b) { return f.tri(a).depth_key > f.tri(b).depth_key; });
+        std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+            return f.tri(a).depth_key > f.tri(b).depth_key;
+        });
     }
     size_t chunks = (order.size() + kChunk - 1) / kChunk;
     size_t tiles = static_cast<size_t>(f.tiles_x) * f.tiles_y;
@@ -418,10 +439,10 @@ struct TileBuffers {
     std::vector<float> depth;
     std::vector<uint32_t> tri;
     std::vector<uint8_t> stencil;
-    std::vector<float> block_far;    // per block: max depth over its samples
-    std::vector<Color> color;        // resolved colour per pixel, accumulated over passes
-    std::vector<Color> sample_color; // the fast path's colour per sample
-    std::vector<Color> aov[4];       // depth, normal, albedo, visibility per pixel
+    std::vector<float> block_far;     // per block: max depth over its samples
+    std::vector<Color> color;         // resolved colour per pixel, accumulated over passes
+    std::vector<Color> sample_color;  // the fast path's colour per sample
+    std::vector<Color> aov[4];        // depth, normal, albedo, visibility per pixel
     void reset(size_t samples, size_t pixels, bool aovs) {
         depth.assign(samples, kInfinity);
         tri.assign(samples, kNone);
@@ -450,12 +471,14 @@ SamplePattern pattern(const Scene& scene, int first, int count) {
         int k = first + s;
         vec2 o(0.5f);
         if (spp > 1) {
-            Rng rng(scene.render.seed * 0x9e3779b97f4a7c15ULL + static_cast<uint64_t>(k), 0x5ca1ab1eULL);
+            Rng rng(scene.render.seed * 0x9e3779b97f4a7c15ULL + static_cast<uint64_t>(k),
+                    0x5ca1ab1eULL);
             o = stratified_sample(k, spp, vec2(rng.next_float(), rng.next_float()));
         }
         p.ox[s] = std::min(kSubpixel - 1, static_cast<int32_t>(o.x * kSubpixel));
         p.oy[s] = std::min(kSubpixel - 1, static_cast<int32_t>(o.y * kSubpixel));
-        p.offset[s] = vec2(static_cast<float>(p.ox[s]), static_cast<float>(p.oy[s])) / static_cast<float>(kSubpixel);
+        p.offset[s] = vec2(static_cast<float>(p.ox[s]), static_cast<float>(p.oy[s])) /
+                      static_cast<float>(kSubpixel);
     }
     return p;
 }
@@ -487,15 +510,16 @@ bool is_small(const SetupTriangle& t, int samples) {
     return samples == 1 && w <= kSmall * kSubpixel && h <= kSmall * kSubpixel;
 }
 
-void rasterize_small(uint32_t id, const SetupTriangle& t, const Tile& tile, const SamplePattern& sp, bool depth_test,
-                     TileBuffers& buf) {
+void rasterize_small(uint32_t id, const SetupTriangle& t, const Tile& tile, const SamplePattern& sp,
+                     bool depth_test, TileBuffers& buf) {
     int xs = std::max(t.x0, tile.x0), xe = std::min(t.x1, tile.x1);
     int ys = std::max(t.y0, tile.y0), ye = std::min(t.y1, tile.y1);
     if (xs >= xe || ys >= ye) return;
     TriangleEdges te(t);
     // Over the box |E| <= (|a| + |b|) (kSmall + 2) 256 with |a|, |b| <= (kSmall + 2) 256: below
     // 2^28, and the steps of four pixels below 2^24.
-    int64_t ox = static_cast<int64_t>(xs) * kSubpixel + sp.ox[0], oy = static_cast<int64_t>(ys) * kSubpixel + sp.oy[0];
+    int64_t ox = static_cast<int64_t>(xs) * kSubpixel + sp.ox[0],
+            oy = static_cast<int64_t>(ys) * kSubpixel + sp.oy[0];
     __m128i w_row[3], step_x[3], step_y[3];
     for (int k = 0; k < 3; ++k) {
         const Edge& e = te.e[k];
@@ -506,9 +530,14 @@ void rasterize_small(uint32_t id, const SetupTriangle& t, const Tile& tile, cons
         step_y[k] = _mm_set1_epi32(static_cast<int32_t>(e.b * kSubpixel));
     }
     double scale = static_cast<double>(kSubpixel) * te.inv_area;
-    auto dzdx = static_cast<float>((static_cast<double>(te.e[1].a) * (t.z[1] - t.z[0]) + static_cast<double>(te.e[2].a) * (t.z[2] - t.z[0])) * scale);
-    auto dzdy = static_cast<float>((static_cast<double>(te.e[1].b) * (t.z[1] - t.z[0]) + static_cast<double>(te.e[2].b) * (t.z[2] - t.z[0])) * scale);
-    float z_origin = t.z[0] + dzdx * static_cast<float>(static_cast<double>(ox - t.x[0]) / kSubpixel) +
+    auto dzdx = static_cast<float>((static_cast<double>(te.e[1].a) * (t.z[1] - t.z[0]) +
+                                    static_cast<double>(te.e[2].a) * (t.z[2] - t.z[0])) *
+                                   scale);
+    auto dzdy = static_cast<float>((static_cast<double>(te.e[1].b) * (t.z[1] - t.z[0]) +
+                                    static_cast<double>(te.e[2].b) * (t.z[2] - t.z[0])) *
+                                   scale);
+    float z_origin = t.z[0] +
+                     dzdx * static_cast<float>(static_cast<double>(ox - t.x[0]) / kSubpixel) +
                      dzdy * static_cast<float>(static_cast<double>(oy - t.y[0]) / kSubpixel);
     const __m128 z_steps = _mm_mul_ps(_mm_set1_ps(dzdx), _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f));
     const __m128 z_step4 = _mm_set1_ps(4.0f * dzdx);
@@ -519,7 +548,8 @@ void rasterize_small(uint32_t id, const SetupTriangle& t, const Tile& tile, cons
         for (int px = xs; px < xe; px += 4) {
             __m128i inside = _mm_or_si128(_mm_or_si128(w0, w1), w2);  // sign bit set: outside
             int lanes = xe - px;
-            int mask = ~_mm_movemask_ps(_mm_castsi128_ps(inside)) & (lanes >= 4 ? 15 : (1 << lanes) - 1);
+            int mask =
+                ~_mm_movemask_ps(_mm_castsi128_ps(inside)) & (lanes >= 4 ? 15 : (1 << lanes) - 1);
             if (mask) {
                 size_t i = static_cast<size_t>(py - tile.y0) * tw + (px - tile.x0);
                 alignas(16) float z[4];
@@ -543,8 +573,8 @@ void rasterize_small(uint32_t id, const SetupTriangle& t, const Tile& tile, cons
 /// Stage 5: rasterizes triangle `id` into the tile's visibility buffer, 8 x 8 blocks at a
 /// time: a block where the triangle's nearest depth lies behind everything stored is skipped.
 /// Depth is the plane z(x, y) of the depth keys, stepped incrementally along each row.
-void rasterize(uint32_t id, const SetupTriangle& t, const Tile& tile, const SamplePattern& sp, bool depth_test,
-               TileBuffers& buf) {
+void rasterize(uint32_t id, const SetupTriangle& t, const Tile& tile, const SamplePattern& sp,
+               bool depth_test, TileBuffers& buf) {
     int xs = std::max(t.x0, tile.x0), xe = std::min(t.x1, tile.x1);
     int ys = std::max(t.y0, tile.y0), ye = std::min(t.y1, tile.y1);
     if (xs >= xe || ys >= ye) return;
@@ -554,9 +584,11 @@ void rasterize(uint32_t id, const SetupTriangle& t, const Tile& tile, const Samp
     const Edge& e2 = te.e[2];
     // Depth plane in pixels: z = z0 + dzdx (x - x0) + dzdy (y - y0), from the weights' gradients.
     auto px_per_fixed = static_cast<double>(kSubpixel);
-    double dzdx = (static_cast<double>(e1.a) * (t.z[1] - t.z[0]) + static_cast<double>(e2.a) * (t.z[2] - t.z[0])) *
+    double dzdx = (static_cast<double>(e1.a) * (t.z[1] - t.z[0]) +
+                   static_cast<double>(e2.a) * (t.z[2] - t.z[0])) *
                   te.inv_area * px_per_fixed;
-    double dzdy = (static_cast<double>(e1.b) * (t.z[1] - t.z[0]) + static_cast<double>(e2.b) * (t.z[2] - t.z[0])) *
+    double dzdy = (static_cast<double>(e1.b) * (t.z[1] - t.z[0]) +
+                   static_cast<double>(e2.b) * (t.z[2] - t.z[0])) *
                   te.inv_area * px_per_fixed;
     float zmin = std::min({t.z[0], t.z[1], t.z[2]});
     const int tw = tile.x1 - tile.x0, S = sp.count, kB = TileBuffers::kBlock, bw = kTile / kB;
@@ -574,9 +606,12 @@ void rasterize(uint32_t id, const SetupTriangle& t, const Tile& tile, const Samp
             bool full = S == 1;
             for (int k = 0; k < 3 && full; ++k) {
                 const Edge& e = te.e[k];
-                int64_t xa = static_cast<int64_t>(x0) * kSubpixel, xb = static_cast<int64_t>(x1) * kSubpixel - 1;
-                int64_t ya = static_cast<int64_t>(y0) * kSubpixel, yb = static_cast<int64_t>(y1) * kSubpixel - 1;
-                int64_t lowest = std::min(std::min(e.at(xa, ya), e.at(xb, ya)), std::min(e.at(xa, yb), e.at(xb, yb)));
+                int64_t xa = static_cast<int64_t>(x0) * kSubpixel,
+                        xb = static_cast<int64_t>(x1) * kSubpixel - 1;
+                int64_t ya = static_cast<int64_t>(y0) * kSubpixel,
+                        yb = static_cast<int64_t>(y1) * kSubpixel - 1;
+                int64_t lowest = std::min(std::min(e.at(xa, ya), e.at(xb, ya)),
+                                          std::min(e.at(xa, yb), e.at(xb, yb)));
                 full = lowest + e.bias >= 0;
             }
             if (full) {
@@ -584,20 +619,28 @@ void rasterize(uint32_t id, const SetupTriangle& t, const Tile& tile, const Samp
                 const __m128i ids = _mm_set1_epi32(static_cast<int>(id));
                 auto dz = static_cast<float>(dzdx);
                 for (int py = y0; py < y1; ++py) {
-                    double fx = static_cast<double>(static_cast<int64_t>(x0) * kSubpixel + sp.ox[0] - t.x[0]) / px_per_fixed;
-                    double fy = static_cast<double>(static_cast<int64_t>(py) * kSubpixel + sp.oy[0] - t.y[0]) / px_per_fixed;
+                    double fx = static_cast<double>(static_cast<int64_t>(x0) * kSubpixel +
+                                                    sp.ox[0] - t.x[0]) /
+                                px_per_fixed;
+                    double fy = static_cast<double>(static_cast<int64_t>(py) * kSubpixel +
+                                                    sp.oy[0] - t.y[0]) /
+                                px_per_fixed;
                     auto z = static_cast<float>(t.z[0] + dzdx * fx + dzdy * fy);
                     size_t i = static_cast<size_t>(py - tile.y0) * tw + (x0 - tile.x0);
                     int px = x0;
                     for (; px + 4 <= x1; px += 4, i += 4, z += 4.0f * dz) {
                         __m128 z4 = _mm_add_ps(_mm_set1_ps(z), _mm_mul_ps(_mm_set1_ps(dz), steps));
                         __m128 d = _mm_loadu_ps(&buf.depth[i]);
-                        __m128 m = depth_test ? _mm_cmplt_ps(z4, d) : _mm_castsi128_ps(_mm_set1_epi32(-1));
+                        __m128 m =
+                            depth_test ? _mm_cmplt_ps(z4, d) : _mm_castsi128_ps(_mm_set1_epi32(-1));
                         if (_mm_movemask_ps(m) == 0) continue;
-                        _mm_storeu_ps(&buf.depth[i], _mm_or_ps(_mm_and_ps(m, z4), _mm_andnot_ps(m, d)));
+                        _mm_storeu_ps(&buf.depth[i],
+                                      _mm_or_ps(_mm_and_ps(m, z4), _mm_andnot_ps(m, d)));
                         auto* tp = reinterpret_cast<__m128i*>(&buf.tri[i]);
                         __m128i mi = _mm_castps_si128(m);
-                        _mm_storeu_si128(tp, _mm_or_si128(_mm_and_si128(mi, ids), _mm_andnot_si128(mi, _mm_loadu_si128(tp))));
+                        _mm_storeu_si128(tp,
+                                         _mm_or_si128(_mm_and_si128(mi, ids),
+                                                      _mm_andnot_si128(mi, _mm_loadu_si128(tp))));
                         wrote = true;
                     }
                     for (; px < x1; ++px, ++i, z += dz) {
@@ -612,12 +655,15 @@ void rasterize(uint32_t id, const SetupTriangle& t, const Tile& tile, const Samp
                 for (int s = 0; s < S; ++s) {
                     int64_t sy = static_cast<int64_t>(py) * kSubpixel + sp.oy[s];
                     int64_t sx = static_cast<int64_t>(x0) * kSubpixel + sp.ox[s];
-                    int64_t w0 = e0.at(sx, sy) + e0.bias, w1 = e1.at(sx, sy) + e1.bias, w2 = e2.at(sx, sy) + e2.bias;
-                    double fx = static_cast<double>(sx - t.x[0]) / px_per_fixed, fy = static_cast<double>(sy - t.y[0]) / px_per_fixed;
+                    int64_t w0 = e0.at(sx, sy) + e0.bias, w1 = e1.at(sx, sy) + e1.bias,
+                            w2 = e2.at(sx, sy) + e2.bias;
+                    double fx = static_cast<double>(sx - t.x[0]) / px_per_fixed,
+                           fy = static_cast<double>(sy - t.y[0]) / px_per_fixed;
                     auto z = static_cast<float>(t.z[0] + dzdx * fx + dzdy * fy);
                     auto dz = static_cast<float>(dzdx);
                     size_t i = (static_cast<size_t>(py - tile.y0) * tw + (x0 - tile.x0)) * S + s;
-                    for (int px = x0; px < x1; ++px, w0 += d0, w1 += d1, w2 += d2, z += dz, i += S) {
+                    for (int px = x0; px < x1;
+                         ++px, w0 += d0, w1 += d1, w2 += d2, z += dz, i += S) {
                         if ((w0 | w1 | w2) < 0) continue;
                         if (depth_test && !(z < buf.depth[i])) continue;
                         buf.depth[i] = z;
@@ -632,8 +678,10 @@ void rasterize(uint32_t id, const SetupTriangle& t, const Tile& tile, const Samp
                 __m128 deepest = _mm_set1_ps(-kInfinity);
                 float tail = -kInfinity;
                 int px0 = bx * kB, px1 = std::min(tw, (bx + 1) * kB);
-                for (int py = tile.y0 + by * kB; py < std::min(tile.y1, tile.y0 + (by + 1) * kB); ++py) {
-                    const float* row = buf.depth.data() + (static_cast<size_t>(py - tile.y0) * tw + px0) * S;
+                for (int py = tile.y0 + by * kB; py < std::min(tile.y1, tile.y0 + (by + 1) * kB);
+                     ++py) {
+                    const float* row =
+                        buf.depth.data() + (static_cast<size_t>(py - tile.y0) * tw + px0) * S;
                     size_t n = static_cast<size_t>(px1 - px0) * S, i = 0;
                     for (; i + 4 <= n; i += 4) deepest = _mm_max_ps(deepest, _mm_loadu_ps(row + i));
                     for (; i < n; ++i) tail = std::max(tail, row[i]);
@@ -652,7 +700,8 @@ struct Weights {
     float q[3], b[3];
 };
 
-Weights perspective_weights(const SetupTriangle& t, const TriangleEdges& edges, int64_t sx, int64_t sy) {
+Weights perspective_weights(const SetupTriangle& t, const TriangleEdges& edges, int64_t sx,
+                            int64_t sy) {
     vec2 l = edges.weights(sx, sy);
     Weights w;
     w.q[0] = (1.0f - l.x - l.y) * t.invw[0];
@@ -671,8 +720,8 @@ struct ShadeResult {
 };
 
 /// Stage 6: the colour of a visible sample of triangle `ti` with screen barycentrics (l1, l2).
-ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& edges, int64_t sx, int64_t sy,
-                         bool want_aovs) {
+ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& edges, int64_t sx,
+                         int64_t sy, bool want_aovs) {
     const SetupTriangle& t = f.tri(ti);
     if (f.mode == Mode::Flat && !want_aovs) {
         ShadeResult flat;
@@ -699,20 +748,28 @@ ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& 
     }
     vec2 uv = b0 * A.uv + b1 * B.uv + b2 * C.uv;
     switch (f.mode) {
-        case Mode::Flat: r.color = t.flat; break;
-        case Mode::Gouraud: r.color = b0 * A.color + b1 * B.color + b2 * C.color; break;
+        case Mode::Flat:
+            r.color = t.flat;
+            break;
+        case Mode::Gouraud:
+            r.color = b0 * A.color + b1 * B.color + b2 * C.color;
+            break;
         case Mode::Depth: {
             float depth = f.ortho ? r.distance : glm::dot(p - f.eye, f.forward);
-            r.color = Color(std::clamp(1.0f - (depth - f.cam.near) / (f.cam.far - f.cam.near), 0.0f, 1.0f));
+            r.color = Color(
+                std::clamp(1.0f - (depth - f.cam.near) / (f.cam.far - f.cam.near), 0.0f, 1.0f));
             break;
         }
-        case Mode::Normal: r.color = 0.5f * r.normal + vec3(0.5f); break;
+        case Mode::Normal:
+            r.color = 0.5f * r.normal + vec3(0.5f);
+            break;
         case Mode::Phong: {
             vec2 dx(0.0f), dy(0.0f);
             if (f.needs_footprint[t.material]) {
                 // d(uv)/dx and d(uv)/dy: the screen-space barycentric gradients (a / area per
                 // pixel) through the perspective division.
-                Edge e[3] = {Edge::make(t.x[1], t.y[1], t.x[2], t.y[2]), Edge::make(t.x[2], t.y[2], t.x[0], t.y[0]),
+                Edge e[3] = {Edge::make(t.x[1], t.y[1], t.x[2], t.y[2]),
+                             Edge::make(t.x[2], t.y[2], t.x[0], t.y[0]),
                              Edge::make(t.x[0], t.y[0], t.x[1], t.y[1])};
                 auto area = static_cast<float>(signed_area2(t.x, t.y));
                 float q[3] = {q0, q1, q2};
@@ -720,13 +777,15 @@ ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& 
                 for (int axis = 0; axis < 2; ++axis) {
                     float dq[3], dsum = 0.0f;
                     for (int i = 0; i < 3; ++i) {
-                        float dl = static_cast<float>(axis == 0 ? e[i].a : e[i].b) * kSubpixel / area;
+                        float dl =
+                            static_cast<float>(axis == 0 ? e[i].a : e[i].b) * kSubpixel / area;
                         dq[i] = dl * t.invw[i];
                         dsum += dq[i];
                     }
                     vec2 d(0.0f);
                     float sum = q0 + q1 + q2;
-                    for (int i = 0; i < 3; ++i) d += ((dq[i] * sum - q[i] * dsum) / (sum * sum)) * *uvs[i];
+                    for (int i = 0; i < 3; ++i)
+                        d += ((dq[i] * sum - q[i] * dsum) / (sum * sum)) * *uvs[i];
                     (axis == 0 ? dx : dy) = d;
                 }
             }
@@ -734,9 +793,9 @@ ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& 
             const Bsdf& bsdf = material_at(f, t.material, uv, dx, dy, scratch);
             r.color = light_point(f, bsdf, p, wo, ng, ns, t.front);
             if (want_aovs) {
-                r.albedo = bsdf.has_lobes() ? bsdf.diffuse
+                r.albedo = bsdf.has_lobes()                        ? bsdf.diffuse
                            : bsdf.model == Bsdf::Model::Dielectric ? Color(1.0f)
-                                                                    : bsdf.reflect;
+                                                                   : bsdf.reflect;
             }
             return r;
         }
@@ -744,7 +803,9 @@ ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& 
     if (want_aovs) {
         Bsdf scratch;
         const Bsdf& bsdf = material_at(f, t.material, uv, vec2(0.0f), vec2(0.0f), scratch);
-        r.albedo = bsdf.has_lobes() ? bsdf.diffuse : bsdf.model == Bsdf::Model::Dielectric ? Color(1.0f) : bsdf.reflect;
+        r.albedo = bsdf.has_lobes()                        ? bsdf.diffuse
+                   : bsdf.model == Bsdf::Model::Dielectric ? Color(1.0f)
+                                                           : bsdf.reflect;
     }
     return r;
 }
@@ -767,12 +828,15 @@ void draw_wireframe(const FrameState& f, const Tile& tile, TileBuffers& buf, int
                     if (i < tile.x0 || i >= tile.x1 || j < tile.y0 || j >= tile.y1) return;
                     size_t pixel = static_cast<size_t>(j - tile.y0) * tw + (i - tile.x0);
                     float z = t.z[a] + s * (t.z[b] - t.z[a]), deepest = -kInfinity;
-                    for (int k = 0; k < S; ++k) deepest = std::max(deepest, buf.depth[pixel * S + k]);
+                    for (int k = 0; k < S; ++k)
+                        deepest = std::max(deepest, buf.depth[pixel * S + k]);
                     if (z > deepest + 1e-4f * std::abs(deepest)) return;
                     buf.color[pixel] += std::min(coverage, 1.0f) * (wire - buf.color[pixel]);
                 };
-                if (algo == "wu") draw_line_wu(pa, pb, plot);
-                else draw_line_bresenham(pa, pb, plot);
+                if (algo == "wu")
+                    draw_line_wu(pa, pb, plot);
+                else
+                    draw_line_bresenham(pa, pb, plot);
             }
         }
     }
@@ -793,7 +857,8 @@ CameraMatrices raster_camera(const Scene& scene) {
     FrameState f;
     f.scene = &scene;
     f.materials = scene.materials;
-    return camera_matrices(scene.camera, scene.film.width, scene.film.height, drawn_bounds(tessellate_scene(scene, f, 0)));
+    return camera_matrices(scene.camera, scene.film.width, scene.film.height,
+                           drawn_bounds(tessellate_scene(scene, f, 0)));
 }
 
 RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& options) {
@@ -899,15 +964,23 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                 for (const FrameState::Bins& b : f.bins) {
                     for (uint32_t k = b.start[ti]; k < b.start[ti + 1]; ++k) {
                         const SetupTriangle& t = f.tri(b.ids[k]);
-                        if (is_small(t, S)) rasterize_small(b.ids[k], t, tile, sp, depth_test, buf);
-                        else rasterize(b.ids[k], t, tile, sp, depth_test, buf);
+                        if (is_small(t, S))
+                            rasterize_small(b.ids[k], t, tile, sp, depth_test, buf);
+                        else
+                            rasterize(b.ids[k], t, tile, sp, depth_test, buf);
                     }
                 }
                 auto sample_x = [&](size_t pixel, int s) {
-                    return static_cast<int64_t>(tile.x0 + static_cast<int>(pixel % static_cast<size_t>(tw))) * kSubpixel + sp.ox[s];
+                    return static_cast<int64_t>(tile.x0 +
+                                                static_cast<int>(pixel % static_cast<size_t>(tw))) *
+                               kSubpixel +
+                           sp.ox[s];
                 };
                 auto sample_y = [&](size_t pixel, int s) {
-                    return static_cast<int64_t>(tile.y0 + static_cast<int>(pixel / static_cast<size_t>(tw))) * kSubpixel + sp.oy[s];
+                    return static_cast<int64_t>(tile.y0 +
+                                                static_cast<int>(pixel / static_cast<size_t>(tw))) *
+                               kSubpixel +
+                           sp.oy[s];
                 };
                 // Neighbouring samples mostly share a triangle: keep its edges.
                 uint32_t edges_id = kNone;
@@ -927,13 +1000,16 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                     size_t lane_of[4];
                     Color lit[4];
                     auto flush = [&] {
-                        shade_batch(batch, f.simd_lights, f.eye, f.ortho, f.forward, scene.render.ambient, lit);
+                        shade_batch(batch, f.simd_lights, f.eye, f.ortho, f.forward,
+                                    scene.render.ambient, lit);
                         for (int k = 0; k < batch.count; ++k) buf.sample_color[lane_of[k]] = lit[k];
                         batch.count = 0;
                     };
                     // Gathers sample i (of pixel, sample s) of triangle `tri` into the batch.
-                    auto add_to_batch = [&](size_t i, size_t pixel, int s, uint32_t tri, const SetupTriangle& t) {
-                        Weights w = perspective_weights(t, edges_of(tri), sample_x(pixel, s), sample_y(pixel, s));
+                    auto add_to_batch = [&](size_t i, size_t pixel, int s, uint32_t tri,
+                                            const SetupTriangle& t) {
+                        Weights w = perspective_weights(t, edges_of(tri), sample_x(pixel, s),
+                                                        sample_y(pixel, s));
                         const ClipVertex& A = f.vertex(t.v[0]);
                         const ClipVertex& B = f.vertex(t.v[1]);
                         const ClipVertex& C = f.vertex(t.v[2]);
@@ -957,11 +1033,15 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                         const SetupTriangle& t = f.tri(tri);
                         size_t row = i / static_cast<size_t>(tw), px = i % static_cast<size_t>(tw);
                         if (!f.simd_ok[t.material]) {
-                            buf.sample_color[i] = shade_sample(f, tri, edges_of(tri), sample_x(i, 0), sample_y(i, 0), false).color;
+                            buf.sample_color[i] =
+                                shade_sample(f, tri, edges_of(tri), sample_x(i, 0), sample_y(i, 0),
+                                             false)
+                                    .color;
                             continue;
                         }
                         size_t end = px;
-                        while (end < static_cast<size_t>(tw) && buf.tri[row * tw + end] == tri) ++end;
+                        while (end < static_cast<size_t>(tw) && buf.tri[row * tw + end] == tri)
+                            ++end;
                         // Groups of four along the run are shaded as spans; what is left joins
                         // the batch, which gathers samples of small triangles four at a time.
                         size_t spans_end = px + (end - px) / 4 * 4;
@@ -980,15 +1060,20 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                             q.count = 4;
                             for (size_t x = px; x < spans_end; x += 4) {
                                 for (int k = 0; k < 4; ++k, e1 += d1, e2 += d2) {
-                                    q.l1[k] = static_cast<float>(static_cast<double>(e1) * e.inv_area);
-                                    q.l2[k] = static_cast<float>(static_cast<double>(e2) * e.inv_area);
+                                    q.l1[k] =
+                                        static_cast<float>(static_cast<double>(e1) * e.inv_area);
+                                    q.l2[k] =
+                                        static_cast<float>(static_cast<double>(e2) * e.inv_area);
                                 }
-                                shade_span(q, f.simd_material[t.material], t.ng, f.simd_lights, f.eye, f.ortho, f.forward,
-                                           scene.render.ambient, out);
-                                for (int k = 0; k < 4; ++k) buf.sample_color[row * tw + x + static_cast<size_t>(k)] = out[k];
+                                shade_span(q, f.simd_material[t.material], t.ng, f.simd_lights,
+                                           f.eye, f.ortho, f.forward, scene.render.ambient, out);
+                                for (int k = 0; k < 4; ++k)
+                                    buf.sample_color[row * tw + x + static_cast<size_t>(k)] =
+                                        out[k];
                             }
                         }
-                        for (size_t x = spans_end; x < end; ++x) add_to_batch(row * tw + x, row * tw + x, 0, tri, t);
+                        for (size_t x = spans_end; x < end; ++x)
+                            add_to_batch(row * tw + x, row * tw + x, 0, tri, t);
                         i = row * tw + end - 1;
                     }
                     for (size_t i = 0; i < count && S > 1; ++i) {
@@ -1002,7 +1087,9 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                         const SetupTriangle& t = f.tri(tri);
                         if (!f.simd_ok[t.material]) {
                             buf.sample_color[i] =
-                                shade_sample(f, tri, edges_of(tri), sample_x(pixel, s), sample_y(pixel, s), false).color;
+                                shade_sample(f, tri, edges_of(tri), sample_x(pixel, s),
+                                             sample_y(pixel, s), false)
+                                    .color;
                             continue;
                         }
                         add_to_batch(i, pixel, s, tri, t);
@@ -1010,7 +1097,9 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                     if (batch.count > 0) flush();
                     for (size_t pixel = 0; pixel < pixels; ++pixel) {
                         Color sum(0.0f);
-                        for (int s = 0; s < S; ++s) sum += buf.sample_color[pixel * static_cast<size_t>(S) + static_cast<size_t>(s)];
+                        for (int s = 0; s < S; ++s)
+                            sum += buf.sample_color[pixel * static_cast<size_t>(S) +
+                                                    static_cast<size_t>(s)];
                         buf.color[pixel] += sum;
                     }
                     if (first + kMaxSamplesPerPass >= spp) break;
@@ -1031,11 +1120,14 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                         }
                         if (msaa) {
                             bool seen = false;  // already shaded for an earlier sample?
-                            for (int k = 0; k < s && !seen; ++k) seen = buf.tri[pixel * S + k] == tri;
+                            for (int k = 0; k < s && !seen; ++k)
+                                seen = buf.tri[pixel * S + k] == tri;
                             if (seen) continue;
                             int covered = 0;
-                            for (int k = s; k < S; ++k) covered += buf.tri[pixel * S + k] == tri ? 1 : 0;
-                            ShadeResult r = shade_sample(f, tri, edges_of(tri), sample_x(pixel, s), sample_y(pixel, s), any_aov);
+                            for (int k = s; k < S; ++k)
+                                covered += buf.tri[pixel * S + k] == tri ? 1 : 0;
+                            ShadeResult r = shade_sample(f, tri, edges_of(tri), sample_x(pixel, s),
+                                                         sample_y(pixel, s), any_aov);
                             auto w = static_cast<float>(covered);
                             sum += w * r.color;
                             aov_sum.distance += w * r.distance;
@@ -1043,7 +1135,8 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                             aov_sum.albedo += w * r.albedo;
                             continue;
                         }
-                        ShadeResult r = shade_sample(f, tri, edges_of(tri), sample_x(pixel, s), sample_y(pixel, s), any_aov);
+                        ShadeResult r = shade_sample(f, tri, edges_of(tri), sample_x(pixel, s),
+                                                     sample_y(pixel, s), any_aov);
                         sum += r.color;
                         aov_sum.distance += r.distance;
                         aov_sum.normal += r.normal;

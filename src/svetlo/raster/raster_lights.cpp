@@ -29,7 +29,8 @@ std::vector<VirtualLight> area_light_vpls(const AreaLight& light) {
     for (int k = 0; k < count; ++k) {
         vec2 u = stratified_sample(k, count, vec2(0.5f));
         out.push_back({light.corner + u.x * light.edge_u + u.y * light.edge_v, n,
-                       light.radiance * (area / static_cast<float>(count)), area / static_cast<float>(count)});
+                       light.radiance * (area / static_cast<float>(count)),
+                       area / static_cast<float>(count)});
     }
     return out;
 }
@@ -40,7 +41,8 @@ std::vector<VirtualLight> triangle_vpls(const EmitterTriangles& tris) {
     std::vector<double> cdf(n);
     double total = 0.0;
     for (size_t t = 0; t < n; ++t) {
-        total += 0.5 * glm::length(glm::cross(tris.p[3 * t + 1] - tris.p[3 * t], tris.p[3 * t + 2] - tris.p[3 * t]));
+        total += 0.5 * glm::length(glm::cross(tris.p[3 * t + 1] - tris.p[3 * t],
+                                              tris.p[3 * t + 2] - tris.p[3 * t]));
         cdf[t] = total;
     }
     if (!(total > 0.0)) return out;
@@ -54,13 +56,14 @@ std::vector<VirtualLight> triangle_vpls(const EmitterTriangles& tris) {
         vec3 normal = glm::cross(b - a, c - a);
         if (!(glm::length(normal) > 0.0f)) continue;
         vec2 bary = sample_triangle(r2(k));
-        out.push_back({bary.x * a + bary.y * b + (1.0f - bary.x - bary.y) * c, glm::normalize(normal), tris.radiance[t] * area_per, area_per});
+        out.push_back({bary.x * a + bary.y * b + (1.0f - bary.x - bary.y) * c,
+                       glm::normalize(normal), tris.radiance[t] * area_per, area_per});
     }
     return out;
 }
 
-Color shade_point(const Bsdf& bsdf, vec3 p, vec3 ng, vec3 ns, vec3 wo, bool front, const RasterLights& lights,
-                  Color ambient, Color background) {
+Color shade_point(const Bsdf& bsdf, vec3 p, vec3 ng, vec3 ns, vec3 wo, bool front,
+                  const RasterLights& lights, Color ambient, Color background) {
     Color L(0.0f);
     if (bsdf.model == Bsdf::Model::Emissive && front) L += bsdf.emission;
     L += bsdf.ambient * ambient;

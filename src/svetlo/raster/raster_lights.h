@@ -39,7 +39,7 @@ struct RasterLights {
 /// Outgoing radiance toward wo at p: emission (front side), the ambient term, direct light
 /// from every light, and for mirrors and glass the uniform environment `background`. ng and
 /// ns must already face wo (two-sided shading).
-Color shade_point(const Bsdf& bsdf, vec3 p, vec3 ng, vec3 ns, vec3 wo, bool front, const RasterLights& lights,
-                  Color ambient, Color background);
+Color shade_point(const Bsdf& bsdf, vec3 p, vec3 ng, vec3 ns, vec3 wo, bool front,
+                  const RasterLights& lights, Color ambient, Color background);
 
 }  // namespace svetlo

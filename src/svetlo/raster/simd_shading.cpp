@@ -21,8 +21,12 @@ struct V3 {
 V3 sub3(V3 a, V3 b) { return {sub(a.x, b.x), sub(a.y, b.y), sub(a.z, b.z)}; }
 V3 scale3(V3 a, V s) { return {mul(a.x, s), mul(a.y, s), mul(a.z, s)}; }
 V dot3(V3 a, V3 b) { return add(add(mul(a.x, b.x), mul(a.y, b.y)), mul(a.z, b.z)); }
-V3 neg3(V3 a) { return {sub(_mm_setzero_ps(), a.x), sub(_mm_setzero_ps(), a.y), sub(_mm_setzero_ps(), a.z)}; }
-V3 select3(V mask, V3 a, V3 b) { return {select(mask, a.x, b.x), select(mask, a.y, b.y), select(mask, a.z, b.z)}; }
+V3 neg3(V3 a) {
+    return {sub(_mm_setzero_ps(), a.x), sub(_mm_setzero_ps(), a.y), sub(_mm_setzero_ps(), a.z)};
+}
+V3 select3(V mask, V3 a, V3 b) {
+    return {select(mask, a.x, b.x), select(mask, a.y, b.y), select(mask, a.z, b.z)};
+}
 /// 1 / x and 1 / sqrt(x): the 12-bit hardware estimates refined by one Newton-Raphson step
 /// (about 22 bits, well within the 1e-5 the fast path promises; a true division or square
 /// root costs several times more).
@@ -41,7 +45,8 @@ V3 normalize3(V3 a) { return scale3(a, rsqrt(dot3(a, a))); }
 V log2_ps(V x) {
     __m128i bits = _mm_castps_si128(x);
     __m128i e = _mm_sub_epi32(_mm_srli_epi32(bits, 23), _mm_set1_epi32(127));
-    V m = _mm_castsi128_ps(_mm_or_si128(_mm_and_si128(bits, _mm_set1_epi32(0x007fffff)), _mm_set1_epi32(0x3f800000)));
+    V m = _mm_castsi128_ps(
+        _mm_or_si128(_mm_and_si128(bits, _mm_set1_epi32(0x007fffff)), _mm_set1_epi32(0x3f800000)));
     V big = _mm_cmpgt_ps(m, set(1.41421356f));
     m = select(big, mul(m, set(0.5f)), m);
     V ef = add(_mm_cvtepi32_ps(e), _mm_and_ps(big, set(1.0f)));
@@ -86,7 +91,9 @@ V lane(const float (&a)[4]) { return _mm_loadu_ps(a); }
 
 }  // namespace
 
-void pow4(const float x[4], const float n[4], float out[4]) { _mm_storeu_ps(out, pow_ps(_mm_loadu_ps(x), _mm_loadu_ps(n))); }
+void pow4(const float x[4], const float n[4], float out[4]) {
+    _mm_storeu_ps(out, pow_ps(_mm_loadu_ps(x), _mm_loadu_ps(n)));
+}
 
 namespace {
 
@@ -96,8 +103,8 @@ struct Material4 {
     V ka[3], kd[3], ks[3], shininess, norm, blinn;  // ka premultiplied by the ambient, kd by 1/pi
 };
 
-void light4(V3 p, V3 ns, V3 ng, const Material4& m, const SimdLights& lights, vec3 eye, bool ortho, vec3 forward,
-            V L[3]) {
+void light4(V3 p, V3 ns, V3 ng, const Material4& m, const SimdLights& lights, vec3 eye, bool ortho,
+            vec3 forward, V L[3]) {
     V3 wo = ortho ? V3{set(-forward.x), set(-forward.y), set(-forward.z)}
                   : normalize3(sub3(V3{set(eye.x), set(eye.y), set(eye.z)}, p));
     // Two-sided: both normals toward the viewer; an interpolated normal facing away falls back
@@ -114,7 +121,9 @@ void light4(V3 p, V3 ns, V3 ng, const Material4& m, const SimdLights& lights, ve
     for (int c = 0; c < 3; ++c) L[c] = m.ka[c];
     auto contribute = [&](V3 wi, const V irr[3]) {
         V cos_i = dot3(ns, wi);
-        V ok = _mm_and_ps(_mm_and_ps(_mm_cmpgt_ps(cos_i, _mm_setzero_ps()), _mm_cmpgt_ps(dot3(n, wi), _mm_setzero_ps())), lit_o);
+        V ok = _mm_and_ps(_mm_and_ps(_mm_cmpgt_ps(cos_i, _mm_setzero_ps()),
+                                     _mm_cmpgt_ps(dot3(n, wi), _mm_setzero_ps())),
+                          lit_o);
         if (_mm_movemask_ps(ok) == 0) return;
         // Phong: r.v with r = 2 (n.wi) n - wi; Blinn-Phong: n.h with h = normalize(wi + wo).
         V rv = sub(mul(mul(set(2.0f), cos_i), cos_o), dot3(wi, wo));
@@ -157,8 +166,8 @@ void store(const V L[3], int count, Color out[4]) {
 
 }  // namespace
 
-void shade_batch(const ShadeBatch& b, const SimdLights& lights, vec3 eye, bool ortho, vec3 forward, Color ambient,
-                 Color out[4]) {
+void shade_batch(const ShadeBatch& b, const SimdLights& lights, vec3 eye, bool ortho, vec3 forward,
+                 Color ambient, Color out[4]) {
     // Gather the lanes (unused lanes repeat lane 0).
     float px[4], py[4], pz[4], nx[4], ny[4], nz[4], gx[4], gy[4], gz[4];
     float ka[3][4], kd[3][4], ks[3][4], shin[4], norm[4], blinn[4];
@@ -187,13 +196,13 @@ void shade_batch(const ShadeBatch& b, const SimdLights& lights, vec3 eye, bool o
     m.norm = lane(norm);
     m.blinn = _mm_cmpgt_ps(lane(blinn), _mm_setzero_ps());
     V L[3];
-    light4(V3{lane(px), lane(py), lane(pz)}, V3{lane(nx), lane(ny), lane(nz)}, V3{lane(gx), lane(gy), lane(gz)}, m,
-           lights, eye, ortho, forward, L);
+    light4(V3{lane(px), lane(py), lane(pz)}, V3{lane(nx), lane(ny), lane(nz)},
+           V3{lane(gx), lane(gy), lane(gz)}, m, lights, eye, ortho, forward, L);
     store(L, b.count, out);
 }
 
-void shade_span(const SpanQuad& q, const SimdMaterial& mat, vec3 ng, const SimdLights& lights, vec3 eye, bool ortho,
-                vec3 forward, Color ambient, Color out[4]) {
+void shade_span(const SpanQuad& q, const SimdMaterial& mat, vec3 ng, const SimdLights& lights,
+                vec3 eye, bool ortho, vec3 forward, Color ambient, Color out[4]) {
     Material4 m;
     for (int c = 0; c < 3; ++c) {
         m.ka[c] = set(mat.ka[c] * ambient[c]);
@@ -209,13 +218,14 @@ void shade_span(const SpanQuad& q, const SimdMaterial& mat, vec3 ng, const SimdL
     V q0 = mul(l0, set(q.invw[0])), q1 = mul(l1, set(q.invw[1])), q2 = mul(l2, set(q.invw[2]));
     V inv = rcp(add(add(q0, q1), q2));
     V b0 = mul(q0, inv), b1 = mul(q1, inv), b2 = mul(q2, inv);
-    auto lerp3 = [&](const vec3 (&v)[3]) {
+    auto lerp3 = [&](const vec3(&v)[3]) {
         return V3{add(add(mul(b0, set(v[0].x)), mul(b1, set(v[1].x))), mul(b2, set(v[2].x))),
                   add(add(mul(b0, set(v[0].y)), mul(b1, set(v[1].y))), mul(b2, set(v[2].y))),
                   add(add(mul(b0, set(v[0].z)), mul(b1, set(v[1].z))), mul(b2, set(v[2].z)))};
     };
     V L[3];
-    light4(lerp3(q.world), lerp3(q.normal), V3{set(ng.x), set(ng.y), set(ng.z)}, m, lights, eye, ortho, forward, L);
+    light4(lerp3(q.world), lerp3(q.normal), V3{set(ng.x), set(ng.y), set(ng.z)}, m, lights, eye,
+           ortho, forward, L);
     store(L, q.count, out);
 }
 

@@ -21,8 +21,8 @@ struct SimdLights {
         Color intensity;  // W/sr
     };
     struct Directional {
-        vec3 to_light;    // unit, opposite to the direction of travel
-        Color irradiance; // W/m^2
+        vec3 to_light;     // unit, opposite to the direction of travel
+        Color irradiance;  // W/m^2
     };
     std::vector<Point> points;
     std::vector<Directional> directionals;
@@ -45,8 +45,8 @@ struct ShadeBatch {
 };
 
 /// Radiance toward the camera at each sample of the batch.
-void shade_batch(const ShadeBatch& batch, const SimdLights& lights, vec3 eye, bool ortho, vec3 forward,
-                 Color ambient, Color out[4]);
+void shade_batch(const ShadeBatch& batch, const SimdLights& lights, vec3 eye, bool ortho,
+                 vec3 forward, Color ambient, Color out[4]);
 
 /// Up to four samples of one triangle: their screen barycentrics of vertices 1 and 2, and the
 /// triangle's 1/w, world positions and normals per vertex.
@@ -59,8 +59,8 @@ struct SpanQuad {
 
 /// Radiance toward the camera at each sample of `q`, whose triangle has material `m` and unit
 /// geometric normal `ng` (counter-clockwise side): the interpolation is vectorised too.
-void shade_span(const SpanQuad& q, const SimdMaterial& m, vec3 ng, const SimdLights& lights, vec3 eye, bool ortho,
-                vec3 forward, Color ambient, Color out[4]);
+void shade_span(const SpanQuad& q, const SimdMaterial& m, vec3 ng, const SimdLights& lights,
+                vec3 eye, bool ortho, vec3 forward, Color ambient, Color out[4]);
 
 /// exp2(n log2(x)) on four lanes, for the tests: x >= 0, n >= 0; 0^n is 0 for n > 0, 1 for 0.
 void pow4(const float x[4], const float n[4], float out[4]);

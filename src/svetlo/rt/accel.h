@@ -12,7 +12,7 @@
 namespace svetlo {
 
 class Accel {
-public:
+  public:
     virtual ~Accel() = default;
     /// Closest hit with 0 < t < ray.tmax; fills `hit` and returns true when there is one.
     virtual bool intersect(const Ray& ray, Hit& hit) const = 0;
@@ -25,20 +25,20 @@ public:
 /// The names make_accel accepts, in the order `svetlo bench` lists them.
 std::vector<std::string> accel_names();
 
-/// Builds the structure called `name` (one of accel_names()) over `geometry`'s bounded primitives on
-/// `threads` threads (0 = all cores). Returns nullptr for an unknown name.
+/// Builds the structure called `name` (one of accel_names()) over `geometry`'s bounded primitives
+/// on `threads` threads (0 = all cores). Returns nullptr for an unknown name.
 std::unique_ptr<Accel> make_accel(std::string_view name, const Geometry& geometry, int threads = 0);
 
 /// Every primitive for every ray: the reference the others are tested against.
 class BruteForce final : public Accel {
-public:
+  public:
     explicit BruteForce(const Geometry& geometry)
         : geometry_(geometry), prims_(geometry.bounded_primitives()) {}
     bool intersect(const Ray& ray, Hit& hit) const override;
     bool occluded(const Ray& ray) const override;
     size_t memory_bytes() const override { return prims_.size() * sizeof(uint32_t); }
 
-private:
+  private:
     const Geometry& geometry_;
     std::vector<uint32_t> prims_;
 };

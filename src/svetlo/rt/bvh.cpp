@@ -20,13 +20,13 @@ namespace {
 
 constexpr int kBins = 16;
 constexpr uint32_t kMaxLeaf = 8;
-constexpr uint32_t kMinSplit = 4;         // nodes this small become leaves without a SAH test
-constexpr float kTraversalCost = 2.0f;     // relative to one primitive test
-constexpr int kMedianDepth = 64;           // below this depth, split at the median
-constexpr uint32_t kParallelGrain = 4096;  // smaller subtrees are built serially
-constexpr uint32_t kParallelSplit = 65536; // larger nodes bin and partition in parallel
-constexpr uint32_t kSplitChunk = 16384;    // references per task there
-constexpr int kStackSize = 128;            // > kMedianDepth + log2(2^32)
+constexpr uint32_t kMinSplit = 4;           // nodes this small become leaves without a SAH test
+constexpr float kTraversalCost = 2.0f;      // relative to one primitive test
+constexpr int kMedianDepth = 64;            // below this depth, split at the median
+constexpr uint32_t kParallelGrain = 4096;   // smaller subtrees are built serially
+constexpr uint32_t kParallelSplit = 65536;  // larger nodes bin and partition in parallel
+constexpr uint32_t kSplitChunk = 16384;     // references per task there
+constexpr int kStackSize = 128;             // > kMedianDepth + log2(2^32)
 
 /// A primitive during the build: its bounds and id, 32 bytes, partitioned in place.
 struct BuildRef {
@@ -58,8 +58,9 @@ struct Bins {
 };
 
 class Builder {
-public:
-    Builder(LargeArray<BuildRef>& refs, BvhNode* nodes) : refs_(refs), scratch_(refs.size()), nodes_(nodes) {}
+  public:
+    Builder(LargeArray<BuildRef>& refs, BvhNode* nodes)
+        : refs_(refs), scratch_(refs.size()), nodes_(nodes) {}
 
     uint32_t node_count() const { return node_count_.load(); }  // slots used, holes included
     int depth() const { return depth_.load(); }
@@ -70,7 +71,7 @@ public:
         group_.wait();
     }
 
-private:
+  private:
     /// Node slots reserved for a serial subtree: its descendants never touch the shared
     /// counter (which two threads would otherwise bounce between their caches).
     struct Slots {
@@ -82,8 +83,8 @@ private:
     }
 
     /// Builds the subtree of refs [begin, end) into `node`; returns its depth.
-    int build(uint32_t node, uint32_t begin, uint32_t end, Bounds3 bounds, Bounds3 centroids, int depth,
-              Slots* slots) {
+    int build(uint32_t node, uint32_t begin, uint32_t end, Bounds3 bounds, Bounds3 centroids,
+              int depth, Slots* slots) {
         uint32_t n = end - begin;
         if (n <= kMinSplit) {
             make_leaf(node, begin, end, bounds);
@@ -258,7 +259,8 @@ private:
             std::vector<uint32_t> lefts(chunks + 1, 0);
             tbb::parallel_for(0u, chunks, [&](uint32_t c) {
                 uint32_t in_left = 0;
-                for (uint32_t j = begin + c * kSplitChunk; j < std::min(end, begin + (c + 1) * kSplitChunk); ++j) {
+                for (uint32_t j = begin + c * kSplitChunk;
+                     j < std::min(end, begin + (c + 1) * kSplitChunk); ++j) {
                     in_left += bin_of(refs[j]) <= best_bin ? 1u : 0u;
                 }
                 lefts[c + 1] = in_left;
@@ -266,15 +268,19 @@ private:
             for (uint32_t c = 0; c < chunks; ++c) lefts[c + 1] += lefts[c];
             mid = begin + lefts[chunks];
             tbb::parallel_for(0u, chunks, [&](uint32_t c) {
-                uint32_t first = begin + c * kSplitChunk, last = std::min(end, begin + (c + 1) * kSplitChunk);
+                uint32_t first = begin + c * kSplitChunk,
+                         last = std::min(end, begin + (c + 1) * kSplitChunk);
                 uint32_t l = begin + lefts[c], r = mid + (first - begin - lefts[c]);
                 for (uint32_t j = first; j < last; ++j) {
-                    if (bin_of(refs[j]) <= best_bin) scratch[l++] = refs[j];
-                    else scratch[r++] = refs[j];
+                    if (bin_of(refs[j]) <= best_bin)
+                        scratch[l++] = refs[j];
+                    else
+                        scratch[r++] = refs[j];
                 }
             });
             tbb::parallel_for(0u, chunks, [&](uint32_t c) {
-                uint32_t first = begin + c * kSplitChunk, last = std::min(end, begin + (c + 1) * kSplitChunk);
+                uint32_t first = begin + c * kSplitChunk,
+                         last = std::min(end, begin + (c + 1) * kSplitChunk);
                 std::copy(scratch + first, scratch + last, refs_.data() + first);
             });
         } else {
@@ -316,7 +322,7 @@ private:
 
     LargeArray<BuildRef>& refs_;
     LargeArray<BuildRef> scratch_;  // for partitioning, same indices as refs_
-    BvhNode* nodes_;  // room for 2 n - 1 nodes
+    BvhNode* nodes_;                // room for 2 n - 1 nodes
     std::atomic<uint32_t> node_count_{0};
     std::atomic<int> depth_{0};
     tbb::task_group group_;

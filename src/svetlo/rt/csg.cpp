@@ -15,9 +15,12 @@ using Spans = SmallVector<Span, 8>;
 
 bool inside(CsgOp op, bool a, bool b) {
     switch (op) {
-        case CsgOp::Union: return a || b;
-        case CsgOp::Intersection: return a && b;
-        case CsgOp::Difference: return a && !b;
+        case CsgOp::Union:
+            return a || b;
+        case CsgOp::Intersection:
+            return a && b;
+        case CsgOp::Difference:
+            return a && !b;
     }
     return false;
 }
@@ -84,7 +87,8 @@ uint32_t CsgShape::add(const Object& obj, const mat4& parent, uint32_t inherited
     nodes_.emplace_back();
     if (const auto* csg = std::get_if<Csg>(&obj.shape)) {
         std::vector<uint32_t> children;
-        for (const Object& child : csg->children) children.push_back(add(child, to_world, material));
+        for (const Object& child : csg->children)
+            children.push_back(add(child, to_world, material));
         Node& node = nodes_[index];
         node.op = csg->op;
         node.children = std::move(children);
@@ -115,7 +119,8 @@ uint32_t CsgShape::add(const Object& obj, const mat4& parent, uint32_t inherited
         g->uvs = mesh->uvs;
         g->indices = mesh->indices;
         for (size_t k = 0; k < mesh->triangle_count(); ++k) {
-            int m = obj.material >= 0 || mesh->face_material.empty() ? static_cast<int>(material) : mesh->face_material[k];
+            int m = obj.material >= 0 || mesh->face_material.empty() ? static_cast<int>(material)
+                                                                     : mesh->face_material[k];
             g->triangle_material.push_back(static_cast<uint32_t>(m));
         }
         leaf.bvh = std::make_unique<Bvh>(*g, 1);
@@ -142,7 +147,8 @@ void CsgShape::leaf_spans(uint32_t index, const Ray& ray, float tmax, List& out)
         float t0, t1;
         int p0, p1;
         if (shape_interval(leaf.shape, ray, t0, p0, t1, p1) && t1 > 0.0f && t0 < tmax && t0 < t1) {
-            out.push_back(Span{{t0, index, p0, 0.0f, 0.0f, false}, {t1, index, p1, 0.0f, 0.0f, false}});
+            out.push_back(
+                Span{{t0, index, p0, 0.0f, 0.0f, false}, {t1, index, p1, 0.0f, 0.0f, false}});
         }
         return;
     }
@@ -171,7 +177,8 @@ void CsgShape::leaf_spans(uint32_t index, const Ray& ray, float tmax, List& out)
             h.t = kInfinity;
             if (!g.intersect(prims[k], ray, pre, h)) continue;
             const uint32_t* tri = &g.indices[3 * size_t{h.prim}];
-            vec3 ng = glm::cross(g.positions[tri[1]] - g.positions[tri[0]], g.positions[tri[2]] - g.positions[tri[0]]);
+            vec3 ng = glm::cross(g.positions[tri[1]] - g.positions[tri[0]],
+                                 g.positions[tri[2]] - g.positions[tri[0]]);
             bool entry = glm::dot(ng, ray.d) < 0.0f;
             // flip marks exits here, only to sort them; it is cleared below.
             crossings.push_back(Boundary{h.t, index, static_cast<int>(h.prim), h.u, h.v, !entry});
@@ -213,7 +220,8 @@ void CsgShape::leaf_spans(uint32_t index, const Ray& ray, float tmax, List& out)
     // Keep what lies in (0, tmax).
     Spans kept;
     for (size_t k = 0; k < out.size(); ++k) {
-        if (out[k].out.t > 0.0f && out[k].in.t < tmax && out[k].in.t < out[k].out.t) kept.push_back(out[k]);
+        if (out[k].out.t > 0.0f && out[k].in.t < tmax && out[k].in.t < out[k].out.t)
+            kept.push_back(out[k]);
     }
     out = kept;
 }

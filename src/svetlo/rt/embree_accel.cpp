@@ -58,15 +58,17 @@ void shape_occluded_cb(const RTCOccludedFunctionNArguments* args) {
     auto* r = reinterpret_cast<RTCRay*>(args->ray);
     ShapeHit sh;
     const Geometry& g = *table->geometry;
-    if (intersect_shape(g.shape(table->ids[args->primID]), to_ray(*r), r->tfar, sh) && sh.t >= r->tnear) {
+    if (intersect_shape(g.shape(table->ids[args->primID]), to_ray(*r), r->tfar, sh) &&
+        sh.t >= r->tnear) {
         r->tfar = -std::numeric_limits<float>::infinity();
     }
 }
 
 class EmbreeAccel final : public Accel {
-public:
+  public:
     EmbreeAccel(const Geometry& geometry, int threads) : geometry_(geometry) {
-        std::string config = "threads=" + std::to_string(resolve_threads(threads)) + ",set_affinity=0";
+        std::string config =
+            "threads=" + std::to_string(resolve_threads(threads)) + ",set_affinity=0";
         device_ = rtcNewDevice(config.c_str());
         if (!device_) throw std::runtime_error("Embree: cannot create a device");
         scene_ = rtcNewScene(device_);
@@ -76,8 +78,9 @@ public:
         if (triangles > 0) {
             RTCGeometry mesh = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
             // Embree's own buffers (with the padding it reads past the last vertex).
-            auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
-                mesh, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), geometry.positions.size()));
+            auto* v = static_cast<float*>(
+                rtcSetNewGeometryBuffer(mesh, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                        3 * sizeof(float), geometry.positions.size()));
             for (size_t k = 0; k < geometry.positions.size(); ++k) {
                 v[3 * k] = geometry.positions[k].x;
                 v[3 * k + 1] = geometry.positions[k].y;
@@ -127,7 +130,8 @@ public:
         RTCRayHit rh = make_rayhit(ray);
         rtcIntersect1(scene_, &context, &rh);
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-        uint32_t prim = rh.hit.geomID == triangle_geom_ ? rh.hit.primID : shapes_.ids[rh.hit.primID];
+        uint32_t prim =
+            rh.hit.geomID == triangle_geom_ ? rh.hit.primID : shapes_.ids[rh.hit.primID];
         // Same t and barycentrics as svetlo's own structures; Embree's values only where its
         // triangle test and the watertight one disagree on an edge.
         RayPrecomputed pre(ray);
@@ -151,7 +155,7 @@ public:
 
     size_t memory_bytes() const override { return 0; }  // Embree does not report it
 
-private:
+  private:
     static RTCRayHit make_rayhit(const Ray& ray) {
         RTCRayHit rh{};
         rh.ray.org_x = ray.o.x;

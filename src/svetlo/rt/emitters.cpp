@@ -84,8 +84,8 @@ float primitive_area(const Geometry& g, uint32_t id) {
 EmitterSample sample_emitter(const Emitter& emitter, const Geometry& g, vec2 u, float u_pick) {
     EmitterSample s;
     // Pick a primitive by area, then reuse the remainder of u_pick for the shape's part.
-    size_t k = static_cast<size_t>(std::upper_bound(emitter.cdf.begin(), emitter.cdf.end(), u_pick) -
-                                   emitter.cdf.begin());
+    size_t k = static_cast<size_t>(
+        std::upper_bound(emitter.cdf.begin(), emitter.cdf.end(), u_pick) - emitter.cdf.begin());
     k = std::min(k, emitter.prims.size() - 1);
     float lo = k == 0 ? 0.0f : emitter.cdf[k - 1];
     float width = emitter.cdf[k] - lo;

@@ -21,7 +21,7 @@ struct SurfaceHit {
 };
 
 class Geometry {
-public:
+  public:
     // Triangles: three indices each into the vertex arrays.
     std::vector<vec3> positions;
     std::vector<vec3> normals;  // empty, or per vertex (zero where the mesh has none)

@@ -10,8 +10,8 @@ namespace svetlo {
 namespace {
 
 constexpr double kCellsPerPrimitive = 2.0;
-constexpr int kMaxResolution = 512;              // cells along one axis
-constexpr uint64_t kMaxReferences = 64u << 20;   // cell entries: bounds the memory (256 MiB)
+constexpr int kMaxResolution = 512;             // cells along one axis
+constexpr uint64_t kMaxReferences = 64u << 20;  // cell entries: bounds the memory (256 MiB)
 
 }  // namespace
 
@@ -40,7 +40,8 @@ Grid::Grid(const Geometry& geometry) : geometry_(geometry) {
     std::vector<std::array<int, 6>> ranges(ids.size());
     for (;;) {
         for (int a = 0; a < 3; ++a) {
-            res_[a] = std::clamp(static_cast<int>(std::lround(extent[a] * density)), 1, kMaxResolution);
+            res_[a] =
+                std::clamp(static_cast<int>(std::lround(extent[a] * density)), 1, kMaxResolution);
             cell_size_[a] = extent[a] / static_cast<float>(res_[a]);
         }
         uint64_t refs = 0;
@@ -48,7 +49,8 @@ Grid::Grid(const Geometry& geometry) : geometry_(geometry) {
             uint64_t cells = 1;
             for (int a = 0; a < 3; ++a) {
                 auto cell = [&](float x) {
-                    return std::clamp(static_cast<int>((x - bounds_.min[a]) / cell_size_[a]), 0, res_[a] - 1);
+                    return std::clamp(static_cast<int>((x - bounds_.min[a]) / cell_size_[a]), 0,
+                                      res_[a] - 1);
                 };
                 ranges[k][a] = cell(prim_bounds[k].min[a]);
                 ranges[k][a + 3] = cell(prim_bounds[k].max[a]);
@@ -86,7 +88,8 @@ void Grid::walk(const Ray& ray, float tmax, Visit&& visit) const {
     int cell[3], step[3], out[3];
     float t_next[3], t_delta[3];
     for (int a = 0; a < 3; ++a) {
-        cell[a] = std::clamp(static_cast<int>((entry[a] - bounds_.min[a]) / cell_size_[a]), 0, res_[a] - 1);
+        cell[a] = std::clamp(static_cast<int>((entry[a] - bounds_.min[a]) / cell_size_[a]), 0,
+                             res_[a] - 1);
         if (ray.d[a] > 0.0f) {
             step[a] = 1;
             out[a] = res_[a];
@@ -108,7 +111,8 @@ void Grid::walk(const Ray& ray, float tmax, Visit&& visit) const {
     }
     for (;;) {
         // The axis whose cell boundary comes first.
-        int a = t_next[0] < t_next[1] ? (t_next[0] < t_next[2] ? 0 : 2) : (t_next[1] < t_next[2] ? 1 : 2);
+        int a = t_next[0] < t_next[1] ? (t_next[0] < t_next[2] ? 0 : 2)
+                                      : (t_next[1] < t_next[2] ? 1 : 2);
         float t_exit = std::min(t_next[a], t1) * kSlabRobust;
         size_t c = (static_cast<size_t>(cell[2]) * res_[1] + cell[1]) * res_[0] + cell[0];
         uint32_t first = cell_start_[c], last = cell_start_[c + 1];
@@ -126,7 +130,8 @@ bool Grid::intersect(const Ray& ray, Hit& hit) const {
     RayPrecomputed pre(ray);
     bool found = false;
     walk(ray, ray.tmax, [&](uint32_t first, uint32_t last, float t_exit) {
-        for (uint32_t k = first; k < last; ++k) found |= geometry_.intersect(cell_prims_[k], ray, pre, hit);
+        for (uint32_t k = first; k < last; ++k)
+            found |= geometry_.intersect(cell_prims_[k], ray, pre, hit);
         // A hit beyond this cell may be beaten by a primitive in a later cell.
         return found && hit.t <= t_exit;
     });

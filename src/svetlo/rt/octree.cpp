@@ -98,8 +98,8 @@ struct OctreeEntry {
 
 /// Pushes the children of `e` that the ray enters before tmax, nearest on top.
 template <class Nodes>
-void push_children(const Nodes& nodes, const OctreeEntry& e, const Ray& ray, vec3 inv_d,
-                   float tmax, OctreeEntry* stack, int& sp) {
+void push_children(const Nodes& nodes, const OctreeEntry& e, const Ray& ray, vec3 inv_d, float tmax,
+                   OctreeEntry* stack, int& sp) {
     OctreeEntry found[8];
     int n = 0;
     for (int c = 0; c < 8; ++c) {

@@ -17,7 +17,7 @@ struct Ray {
 
 struct Hit {
     float t = kInfinity;
-    uint32_t prim = ~0u;  // primitive id (see Geometry)
+    uint32_t prim = ~0u;       // primitive id (see Geometry)
     float u = 0.0f, v = 0.0f;  // barycentrics of vertices 1 and 2 for triangles
     int part = 0;              // which face or surface of an analytic shape
     uint32_t sub = 0;          // the leaf of a CSG shape (see ShapeHit)
@@ -29,9 +29,9 @@ struct Hit {
 /// surface again. Wächter and Binder, "A Fast and Robust Method for Avoiding
 /// Self-Intersection", Ray Tracing Gems, ch. 6 (2019).
 inline vec3 offset_ray_origin(vec3 p, vec3 ng, vec3 w) {
-    constexpr float kOrigin = 1.0f / 32.0f;       // below this magnitude use a fixed offset
+    constexpr float kOrigin = 1.0f / 32.0f;         // below this magnitude use a fixed offset
     constexpr float kFloatScale = 1.0f / 65536.0f;  // that fixed offset, in scene units
-    constexpr float kIntScale = 256.0f;           // ULPs per unit of normal
+    constexpr float kIntScale = 256.0f;             // ULPs per unit of normal
     vec3 n = glm::dot(ng, w) < 0.0f ? -ng : ng;
     vec3 out;
     for (int k = 0; k < 3; ++k) {

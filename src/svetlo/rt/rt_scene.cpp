@@ -85,8 +85,8 @@ Geometry build_geometry(const Scene& scene, std::vector<Material>& materials,
     }
     for (const Object& obj : scene.objects) {
         if (std::holds_alternative<Mesh>(obj.shape)) continue;
-        g.shapes.push_back(make_analytic_shape(obj.shape, obj.transform,
-                                               static_cast<uint32_t>(obj.material)));
+        g.shapes.push_back(
+            make_analytic_shape(obj.shape, obj.transform, static_cast<uint32_t>(obj.material)));
     }
     // Area lights: visible, one-sided emissive quads with a material of their own.
     std::vector<std::pair<uint32_t, int>> area_lights;  // (primitive id, light index)
@@ -140,7 +140,8 @@ Geometry build_geometry(const Scene& scene, std::vector<Material>& materials,
 RtScene::RtScene(const Scene& scene, const std::string& accel, int threads) : scene_(scene) {
     geometry_ = build_geometry(scene, materials_, emitters_);
     for (size_t k = 0; k < scene.lights.size(); ++k) {
-        if (!std::holds_alternative<AreaLight>(scene.lights[k])) punctual_.push_back(static_cast<int>(k));
+        if (!std::holds_alternative<AreaLight>(scene.lights[k]))
+            punctual_.push_back(static_cast<int>(k));
     }
     unbounded_ = geometry_.unbounded_primitives();
     accel_ = make_accel(accel, geometry_, threads);

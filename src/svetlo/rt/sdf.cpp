@@ -8,9 +8,9 @@ namespace svetlo {
 
 namespace {
 
-constexpr int kMaxSteps = 2048;     // sphere-tracing steps before giving up (grazing rays)
-constexpr int kBisections = 40;     // refinement of a bracketed crossing
-constexpr float kMinStep = 1e-5f;   // relative to scale(): the smallest advance
+constexpr int kMaxSteps = 2048;    // sphere-tracing steps before giving up (grazing rays)
+constexpr int kBisections = 40;    // refinement of a bracketed crossing
+constexpr float kMinStep = 1e-5f;  // relative to scale(): the smallest advance
 
 /// Largest singular value of a 3x3 matrix: sqrt of the largest eigenvalue of A^T A by power
 /// iteration (converges fast for the well-conditioned maps of a scene).
@@ -60,7 +60,8 @@ Bounds3 transform_bounds(const Bounds3& b, const mat4& m) {
     }
     Bounds3 out;
     for (int k = 0; k < 8; ++k) {
-        vec3 c((k & 1) ? b.max.x : b.min.x, (k & 2) ? b.max.y : b.min.y, (k & 4) ? b.max.z : b.min.z);
+        vec3 c((k & 1) ? b.max.x : b.min.x, (k & 2) ? b.max.y : b.min.y,
+               (k & 4) ? b.max.z : b.min.z);
         out.extend(vec3(m * vec4(c, 1.0f)));
     }
     return out;
@@ -108,26 +109,39 @@ float SdfShape::eval_node(uint32_t k, vec3 pw) const {
     vec3 p = n.transformed ? vec3(n.to_local * vec4(pw, 1.0f)) : pw;
     float d = 0.0f;
     switch (n.op) {
-        case SdfOp::Sphere: d = glm::length(p - n.a) - n.r1; break;
-        case SdfOp::Box: d = box_distance(p, n.a, n.b, 0.0f); break;
-        case SdfOp::RoundedBox: d = box_distance(p, n.a, n.b, n.r1); break;
+        case SdfOp::Sphere:
+            d = glm::length(p - n.a) - n.r1;
+            break;
+        case SdfOp::Box:
+            d = box_distance(p, n.a, n.b, 0.0f);
+            break;
+        case SdfOp::RoundedBox:
+            d = box_distance(p, n.a, n.b, n.r1);
+            break;
         case SdfOp::Torus: {
             vec3 q = p - n.a;
             vec2 t(glm::length(vec2(q.x, q.z)) - n.r1, q.y);
             d = glm::length(t) - n.r2;
             break;
         }
-        case SdfOp::Cylinder: d = cylinder_distance(p, n.a, n.b, n.r1); break;
-        case SdfOp::Plane: d = glm::dot(p - n.a, n.b); break;
+        case SdfOp::Cylinder:
+            d = cylinder_distance(p, n.a, n.b, n.r1);
+            break;
+        case SdfOp::Plane:
+            d = glm::dot(p - n.a, n.b);
+            break;
         case SdfOp::Union:
         case SdfOp::Intersection:
         case SdfOp::Difference: {
             d = eval_node(child_index_[n.first], p);
             for (uint32_t c = 1; c < n.count; ++c) {
                 float e = eval_node(child_index_[n.first + c], p);
-                if (n.op == SdfOp::Union) d = smooth_min(d, e, n.smooth);
-                else if (n.op == SdfOp::Intersection) d = smooth_max(d, e, n.smooth);
-                else d = smooth_max(d, -e, n.smooth);
+                if (n.op == SdfOp::Union)
+                    d = smooth_min(d, e, n.smooth);
+                else if (n.op == SdfOp::Intersection)
+                    d = smooth_max(d, e, n.smooth);
+                else
+                    d = smooth_max(d, -e, n.smooth);
             }
             break;
         }
@@ -139,9 +153,13 @@ Bounds3 SdfShape::node_bounds(uint32_t k) const {
     const Node& n = nodes_[k];
     Bounds3 b;
     switch (n.op) {
-        case SdfOp::Sphere: b = Bounds3{n.a - vec3(n.r1), n.a + vec3(n.r1)}; break;
+        case SdfOp::Sphere:
+            b = Bounds3{n.a - vec3(n.r1), n.a + vec3(n.r1)};
+            break;
         case SdfOp::Box:
-        case SdfOp::RoundedBox: b = Bounds3{n.a, n.b}; break;
+        case SdfOp::RoundedBox:
+            b = Bounds3{n.a, n.b};
+            break;
         case SdfOp::Torus: {
             vec3 e(n.r1 + n.r2, n.r2, n.r1 + n.r2);
             b = Bounds3{n.a - e, n.a + e};
@@ -156,7 +174,9 @@ Bounds3 SdfShape::node_bounds(uint32_t k) const {
             }
             break;
         }
-        case SdfOp::Plane: b = Bounds3{vec3(-kInfinity), vec3(kInfinity)}; break;
+        case SdfOp::Plane:
+            b = Bounds3{vec3(-kInfinity), vec3(kInfinity)};
+            break;
         case SdfOp::Union:
         case SdfOp::Intersection:
         case SdfOp::Difference: {
@@ -172,7 +192,8 @@ Bounds3 SdfShape::node_bounds(uint32_t k) const {
             }
             // A smooth blend moves the surface out by at most smooth / 4.
             if (n.smooth > 0.0f) b = grow(b, n.smooth);
-            if (glm::any(glm::greaterThan(b.min, b.max))) b = Bounds3{vec3(0.0f), vec3(0.0f)};  // empty
+            if (glm::any(glm::greaterThan(b.min, b.max)))
+                b = Bounds3{vec3(0.0f), vec3(0.0f)};  // empty
             break;
         }
     }
@@ -181,7 +202,8 @@ Bounds3 SdfShape::node_bounds(uint32_t k) const {
 
 vec3 SdfShape::normal(vec3 p) const {
     float h = 1e-4f * scale_ + 1e-6f * max_component(glm::abs(p));
-    vec3 g(eval(p + vec3(h, 0, 0)) - eval(p - vec3(h, 0, 0)), eval(p + vec3(0, h, 0)) - eval(p - vec3(0, h, 0)),
+    vec3 g(eval(p + vec3(h, 0, 0)) - eval(p - vec3(h, 0, 0)),
+           eval(p + vec3(0, h, 0)) - eval(p - vec3(0, h, 0)),
            eval(p + vec3(0, 0, h)) - eval(p - vec3(0, 0, h)));
     float len = glm::length(g);
     return len > 0.0f ? g / len : vec3(0.0f, 1.0f, 0.0f);
@@ -191,8 +213,10 @@ bool SdfShape::intersect(const Ray& ray, float tmax, float& t_hit) const {
     float len = glm::length(ray.d);
     if (!(len > 0.0f)) return false;
     float t0 = 0.0f, t1 = tmax;
-    if (std::isfinite(bounds_.min.x + bounds_.max.x + bounds_.min.y + bounds_.max.y + bounds_.min.z + bounds_.max.z)) {
-        if (!ray_box(bounds_.min, bounds_.max, ray.o, safe_inverse(ray.d), tmax, t0, t1)) return false;
+    if (std::isfinite(bounds_.min.x + bounds_.max.x + bounds_.min.y + bounds_.max.y +
+                      bounds_.min.z + bounds_.max.z)) {
+        if (!ray_box(bounds_.min, bounds_.max, ray.o, safe_inverse(ray.d), tmax, t0, t1))
+            return false;
         t1 = std::min(t1, tmax);
     }
     float min_step = kMinStep * scale_ / len;  // in units of t
@@ -227,8 +251,10 @@ bool SdfShape::intersect(const Ray& ray, float tmax, float& t_hit) const {
         for (int k = 0; k < kBisections && lo < hi; ++k) {
             float mid = 0.5f * (lo + hi);
             if (mid <= lo || mid >= hi) break;
-            if (eval(ray.o + mid * ray.d) * side > 0.0f) lo = mid;
-            else hi = mid;
+            if (eval(ray.o + mid * ray.d) * side > 0.0f)
+                lo = mid;
+            else
+                hi = mid;
         }
         if (!(lo > 0.0f && lo < tmax)) return false;
         t_hit = lo;
@@ -242,11 +268,13 @@ ShapeSurface SdfShape::surface(const Ray& ray, float t) const {
     s.p = ray.o + t * ray.d;
     s.n = s.ns = normal(s.p);
     // Spherical coordinates about the centre of the bounds, as for a sphere.
-    vec3 c = std::isfinite(bounds_.min.x + bounds_.max.x) ? 0.5f * (bounds_.min + bounds_.max) : vec3(0.0f);
+    vec3 c = std::isfinite(bounds_.min.x + bounds_.max.x) ? 0.5f * (bounds_.min + bounds_.max)
+                                                          : vec3(0.0f);
     vec3 q = s.p - c;
     float r = glm::length(q);
     q = r > 0.0f ? q / r : vec3(0.0f, 1.0f, 0.0f);
-    s.uv = vec2(0.5f + std::atan2(q.x, q.z) / (2.0f * kPi), 0.5f + std::asin(std::clamp(q.y, -1.0f, 1.0f)) / kPi);
+    s.uv = vec2(0.5f + std::atan2(q.x, q.z) / (2.0f * kPi),
+                0.5f + std::asin(std::clamp(q.y, -1.0f, 1.0f)) / kPi);
     s.material = 0;
     return s;
 }

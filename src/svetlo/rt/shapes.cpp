@@ -22,7 +22,8 @@ bool solve_quadratic(float a, float h, float c, float discriminant, float& t0, f
 
 Ray local_ray(const AnalyticShape& s, const Ray& ray) {
     if (!s.transformed) return ray;
-    return Ray{vec3(s.to_local * vec4(ray.o, 1.0f)), vec3(s.to_local * vec4(ray.d, 0.0f)), ray.tmax};
+    return Ray{vec3(s.to_local * vec4(ray.o, 1.0f)), vec3(s.to_local * vec4(ray.d, 0.0f)),
+               ray.tmax};
 }
 
 bool hit_sphere(const AnalyticShape& s, const Ray& r, float tmax, float& t) {
@@ -70,7 +71,8 @@ bool hit_plane(const AnalyticShape& s, const Ray& r, float tmax, float& t) {
 }
 
 /// The slab interval of a box over the whole line, with the faces of entry and exit.
-bool box_interval(const AnalyticShape& s, const Ray& r, float& t_near, int& near_face, float& t_far, int& far_face) {
+bool box_interval(const AnalyticShape& s, const Ray& r, float& t_near, int& near_face, float& t_far,
+                  int& far_face) {
     t_near = -kInfinity;
     t_far = kInfinity;
     near_face = far_face = 0;
@@ -171,7 +173,8 @@ bool hit_quadric(const AnalyticShape& s, const Ray& r, float tmax, float& t, int
 
 }  // namespace
 
-AnalyticShape make_analytic_shape(const Shape& shape, const Transform& transform, uint32_t material) {
+AnalyticShape make_analytic_shape(const Shape& shape, const Transform& transform,
+                                  uint32_t material) {
     AnalyticShape s;
     s.material = material;
     s.transformed = !transform.is_identity;
@@ -236,9 +239,12 @@ Bounds3 shape_bounds(const AnalyticShape& s) {
         case ShapeKind::Quad:
             for (vec3 p : {s.p0, s.p0 + s.p1, s.p0 + s.p2, s.p0 + s.p1 + s.p2}) local.extend(p);
             return local;  // already world space
-        case ShapeKind::Plane: return Bounds3{vec3(-kInfinity), vec3(kInfinity)};
-        case ShapeKind::Csg: return s.csg->bounds();
-        case ShapeKind::Implicit: return s.sdf->bounds();
+        case ShapeKind::Plane:
+            return Bounds3{vec3(-kInfinity), vec3(kInfinity)};
+        case ShapeKind::Csg:
+            return s.csg->bounds();
+        case ShapeKind::Implicit:
+            return s.sdf->bounds();
         case ShapeKind::Box:
             local.extend(s.p0);
             local.extend(s.p1);
@@ -270,23 +276,34 @@ bool intersect_shape(const AnalyticShape& s, const Ray& ray, float tmax, ShapeHi
     hit.sub = 0;
     hit.u = hit.v = 0.0f;
     switch (s.kind) {
-        case ShapeKind::Quad: return hit_quad(s, ray, tmax, hit.t);
-        case ShapeKind::Plane: return hit_plane(s, ray, tmax, hit.t);
-        case ShapeKind::Csg: return s.csg->intersect(ray, tmax, hit);
-        case ShapeKind::Implicit: return s.sdf->intersect(ray, tmax, hit.t);
-        default: break;
+        case ShapeKind::Quad:
+            return hit_quad(s, ray, tmax, hit.t);
+        case ShapeKind::Plane:
+            return hit_plane(s, ray, tmax, hit.t);
+        case ShapeKind::Csg:
+            return s.csg->intersect(ray, tmax, hit);
+        case ShapeKind::Implicit:
+            return s.sdf->intersect(ray, tmax, hit.t);
+        default:
+            break;
     }
     Ray r = local_ray(s, ray);
     switch (s.kind) {
-        case ShapeKind::Sphere: return hit_sphere(s, r, tmax, hit.t);
-        case ShapeKind::Box: return hit_box(s, r, tmax, hit.t, hit.part);
-        case ShapeKind::Cylinder: return hit_quadric(s, r, tmax, hit.t, hit.part, false);
-        case ShapeKind::Cone: return hit_quadric(s, r, tmax, hit.t, hit.part, true);
-        default: return false;
+        case ShapeKind::Sphere:
+            return hit_sphere(s, r, tmax, hit.t);
+        case ShapeKind::Box:
+            return hit_box(s, r, tmax, hit.t, hit.part);
+        case ShapeKind::Cylinder:
+            return hit_quadric(s, r, tmax, hit.t, hit.part, false);
+        case ShapeKind::Cone:
+            return hit_quadric(s, r, tmax, hit.t, hit.part, true);
+        default:
+            return false;
     }
 }
 
-bool shape_interval(const AnalyticShape& s, const Ray& ray, float& t0, int& part0, float& t1, int& part1) {
+bool shape_interval(const AnalyticShape& s, const Ray& ray, float& t0, int& part0, float& t1,
+                    int& part1) {
     Ray r = local_ray(s, ray);
     part0 = part1 = 0;
     switch (s.kind) {
@@ -298,7 +315,8 @@ bool shape_interval(const AnalyticShape& s, const Ray& ray, float& t0, int& part
             vec3 l = oc - (h / a) * r.d;
             return solve_quadratic(a, h, c, a * (s.radius * s.radius - glm::dot(l, l)), t0, t1);
         }
-        case ShapeKind::Box: return box_interval(s, r, t0, part0, t1, part1);
+        case ShapeKind::Box:
+            return box_interval(s, r, t0, part0, t1, part1);
         case ShapeKind::Cylinder:
         case ShapeKind::Cone: {
             t0 = kInfinity;
@@ -315,7 +333,8 @@ bool shape_interval(const AnalyticShape& s, const Ray& ray, float& t0, int& part
             });
             return t0 <= t1;
         }
-        default: return false;
+        default:
+            return false;
     }
 }
 
@@ -324,8 +343,10 @@ bool shape_contains(const AnalyticShape& s, vec3 pw) {
     if (s.kind == ShapeKind::Implicit) return s.sdf->eval(pw) < 0.0f;
     vec3 p = s.transformed ? vec3(s.to_local * vec4(pw, 1.0f)) : pw;
     switch (s.kind) {
-        case ShapeKind::Sphere: return glm::dot(p - s.p0, p - s.p0) < s.radius * s.radius;
-        case ShapeKind::Box: return glm::all(glm::greaterThan(p, s.p0)) && glm::all(glm::lessThan(p, s.p1));
+        case ShapeKind::Sphere:
+            return glm::dot(p - s.p0, p - s.p0) < s.radius * s.radius;
+        case ShapeKind::Box:
+            return glm::all(glm::greaterThan(p, s.p0)) && glm::all(glm::lessThan(p, s.p1));
         case ShapeKind::Cylinder:
         case ShapeKind::Cone: {
             vec3 q = s.frame.to_local(p - s.p0);
@@ -333,7 +354,8 @@ bool shape_contains(const AnalyticShape& s, vec3 pw) {
             float r = s.kind == ShapeKind::Cylinder ? s.radius : s.radius * (1.0f - q.z / s.height);
             return q.x * q.x + q.y * q.y < r * r;
         }
-        default: return false;
+        default:
+            return false;
     }
 }
 
@@ -415,7 +437,8 @@ ShapeSurface analytic_surface(const AnalyticShape& s, const Ray& ray, float t, i
 ShapeSurface shape_surface(const AnalyticShape& s, const Ray& ray, const ShapeHit& hit) {
     ShapeSurface out;
     switch (s.kind) {
-        case ShapeKind::Csg: return s.csg->surface(ray, hit);
+        case ShapeKind::Csg:
+            return s.csg->surface(ray, hit);
         case ShapeKind::Implicit:
             out = s.sdf->surface(ray, hit.t);
             out.material = s.material;
@@ -432,9 +455,12 @@ float shape_area(const AnalyticShape& s) {
     float scale2 = 1.0f;  // area scale of a similarity transform
     if (s.transformed) scale2 = std::pow(std::abs(glm::determinant(mat3(s.to_world))), 2.0f / 3.0f);
     switch (s.kind) {
-        case ShapeKind::Sphere: return scale2 * 4.0f * kPi * s.radius * s.radius;
-        case ShapeKind::Quad: return glm::length(glm::cross(s.p1, s.p2));
-        case ShapeKind::Plane: return kInfinity;
+        case ShapeKind::Sphere:
+            return scale2 * 4.0f * kPi * s.radius * s.radius;
+        case ShapeKind::Quad:
+            return glm::length(glm::cross(s.p1, s.p2));
+        case ShapeKind::Plane:
+            return kInfinity;
         case ShapeKind::Box: {
             vec3 e = s.p1 - s.p0;
             return scale2 * 2.0f * (e.x * e.y + e.y * e.z + e.z * e.x);
@@ -445,7 +471,8 @@ float shape_area(const AnalyticShape& s) {
             return scale2 * (kPi * s.radius * std::sqrt(s.radius * s.radius + s.height * s.height) +
                              kPi * s.radius * s.radius);
         case ShapeKind::Csg:
-        case ShapeKind::Implicit: return 0.0f;  // not sampled as lights
+        case ShapeKind::Implicit:
+            return 0.0f;  // not sampled as lights
     }
     return 0.0f;
 }

@@ -31,7 +31,7 @@ struct AnalyticShape {
     Frame frame{};        // cylinder/cone: n along the axis; quad, plane: n is the unit normal
     mat4 to_local{1.0f};
     mat4 to_world{1.0f};
-    mat3 normal_to_world{1.0f};  // inverse transpose of to_world's linear part
+    mat3 normal_to_world{1.0f};           // inverse transpose of to_world's linear part
     std::shared_ptr<const CsgShape> csg;  // kind Csg
     std::shared_ptr<const SdfShape> sdf;  // kind Implicit
 };
@@ -46,7 +46,8 @@ struct ShapeHit {
 };
 
 /// Builds the ray-tracing form of a scene shape (not meshes) with its transform.
-AnalyticShape make_analytic_shape(const Shape& shape, const Transform& transform, uint32_t material);
+AnalyticShape make_analytic_shape(const Shape& shape, const Transform& transform,
+                                  uint32_t material);
 
 /// World-space bounds; empty-infinite for planes.
 Bounds3 shape_bounds(const AnalyticShape& s);
@@ -57,17 +58,18 @@ bool intersect_shape(const AnalyticShape& s, const Ray& ray, float tmax, ShapeHi
 /// For the closed convex shapes (sphere, box, cylinder, cone): the whole line o + t d, t of
 /// any sign, meets the solid in [t0, t1]; part0 and part1 name the faces there. False when
 /// the line misses it. CSG classifies rays with these intervals.
-bool shape_interval(const AnalyticShape& s, const Ray& ray, float& t0, int& part0, float& t1, int& part1);
+bool shape_interval(const AnalyticShape& s, const Ray& ray, float& t0, int& part0, float& t1,
+                    int& part1);
 
 /// True when the world-space point lies inside the closed shape (sphere, box, cylinder,
 /// cone, CSG, implicit); false for quads and planes.
 bool shape_contains(const AnalyticShape& s, vec3 p);
 
 struct ShapeSurface {
-    vec3 p;   // world-space point, projected back onto the surface where that is exact
-    vec3 n;   // unit outward geometric normal, world space
-    vec3 ns;  // unit shading normal (a smooth CSG mesh leaf interpolates), same side as n
-    vec2 uv;  // texture coordinates (docs/scene-format.md)
+    vec3 p;             // world-space point, projected back onto the surface where that is exact
+    vec3 n;             // unit outward geometric normal, world space
+    vec3 ns;            // unit shading normal (a smooth CSG mesh leaf interpolates), same side as n
+    vec2 uv;            // texture coordinates (docs/scene-format.md)
     uint32_t material;  // the shape's, or the CSG leaf's
 };
 

@@ -86,7 +86,8 @@ void box(Mesh& m, const Box& b) {
         quad(m, lo, eu, ev);
         for (uint32_t k = base; k < m.positions.size(); ++k) m.normals[k] = -m.normals[k];
         // Reverse the winding of the min face.
-        for (size_t k = m.indices.size() - 6; k < m.indices.size(); k += 3) std::swap(m.indices[k + 1], m.indices[k + 2]);
+        for (size_t k = m.indices.size() - 6; k < m.indices.size(); k += 3)
+            std::swap(m.indices[k + 1], m.indices[k + 2]);
     }
 }
 
@@ -116,8 +117,10 @@ void quadric(Mesh& m, vec3 base, vec3 axis, float r, bool cone, const Tessellati
         }
         for (int i = 0; i < o.segments; ++i) {
             uint32_t a = first + static_cast<uint32_t>(i), b = a + 1;
-            if (cap == 0) triangle(m, centre, b, a);
-            else triangle(m, centre, a, b);
+            if (cap == 0)
+                triangle(m, centre, b, a);
+            else
+                triangle(m, centre, a, b);
         }
     }
 }
@@ -127,16 +130,20 @@ void quadric(Mesh& m, vec3 base, vec3 axis, float r, bool cone, const Tessellati
 /// outside one meets the surface, and `project(p, n)` may move a cell's vertex onto the
 /// surface (implicit surfaces) or leave it at the mean of its crossings (CSG).
 template <class Inside, class Crossing, class Project>
-void surface_nets(Mesh& m, Bounds3 bounds, int grid, Inside&& inside, Crossing&& crossing, Project&& project) {
+void surface_nets(Mesh& m, Bounds3 bounds, int grid, Inside&& inside, Crossing&& crossing,
+                  Project&& project) {
     vec3 extent = bounds.extent();
     float cell = max_component(extent) / static_cast<float>(grid);
     if (!(cell > 0.0f)) return;
     // One cell of margin on each side, so the surface never touches the grid's border.
     bounds.min -= vec3(cell);
     int n[3];
-    for (int a = 0; a < 3; ++a) n[a] = std::max(1, static_cast<int>(std::ceil(extent[a] / cell)) + 2);
+    for (int a = 0; a < 3; ++a)
+        n[a] = std::max(1, static_cast<int>(std::ceil(extent[a] / cell)) + 2);
     auto corner = [&](int i, int j, int k) { return bounds.min + cell * vec3(i, j, k); };
-    auto cidx = [&](int i, int j, int k) { return (static_cast<size_t>(k) * (n[1] + 1) + j) * (n[0] + 1) + i; };
+    auto cidx = [&](int i, int j, int k) {
+        return (static_cast<size_t>(k) * (n[1] + 1) + j) * (n[0] + 1) + i;
+    };
     std::vector<char> in((n[0] + 1) * static_cast<size_t>(n[1] + 1) * (n[2] + 1));
     for (int k = 0; k <= n[2]; ++k)
         for (int j = 0; j <= n[1]; ++j)
@@ -188,7 +195,9 @@ void surface_nets(Mesh& m, Bounds3 bounds, int grid, Inside&& inside, Crossing&&
         for (p[2] = 0; p[2] <= n[2]; ++p[2]) {
             for (p[1] = 0; p[1] <= n[1]; ++p[1]) {
                 for (p[0] = 0; p[0] <= n[0]; ++p[0]) {
-                    if (p[axis] >= n[axis] || p[a1] < 1 || p[a1] >= n[a1] || p[a2] < 1 || p[a2] >= n[a2]) continue;
+                    if (p[axis] >= n[axis] || p[a1] < 1 || p[a1] >= n[a1] || p[a2] < 1 ||
+                        p[a2] >= n[a2])
+                        continue;
                     int q[3] = {p[0], p[1], p[2]};
                     q[axis] += 1;
                     bool s0 = in[cidx(p[0], p[1], p[2])] != 0, s1 = in[cidx(q[0], q[1], q[2])] != 0;
@@ -225,11 +234,13 @@ void transform_mesh(Mesh& m, size_t first_vertex, const Transform& t) {
     bool mirror = glm::determinant(mat3(t.matrix)) < 0.0f;
     for (size_t k = first_vertex; k < m.positions.size(); ++k) {
         m.positions[k] = t.point(m.positions[k]);
-        if (k < m.normals.size() && glm::length(m.normals[k]) > 0.0f) m.normals[k] = glm::normalize(nm * m.normals[k]);
+        if (k < m.normals.size() && glm::length(m.normals[k]) > 0.0f)
+            m.normals[k] = glm::normalize(nm * m.normals[k]);
     }
     // A mirroring transform reverses the winding; keep counter-clockwise from outside.
     if (mirror) {
-        for (size_t k = 0; k + 2 < m.indices.size(); k += 3) std::swap(m.indices[k + 1], m.indices[k + 2]);
+        for (size_t k = 0; k + 2 < m.indices.size(); k += 3)
+            std::swap(m.indices[k + 1], m.indices[k + 2]);
     }
 }
 
@@ -237,7 +248,8 @@ void transform_mesh(Mesh& m, size_t first_vertex, const Transform& t) {
 
 float sphere_tessellation_error(float r, const TessellationOptions& o) {
     // No point of a cell is farther than half its diagonal (in angle) from a corner.
-    float dphi = 2.0f * kPi / static_cast<float>(o.segments), dtheta = kPi / static_cast<float>(o.rings);
+    float dphi = 2.0f * kPi / static_cast<float>(o.segments),
+          dtheta = kPi / static_cast<float>(o.rings);
     return r * (1.0f - std::cos(0.5f * std::sqrt(dphi * dphi + dtheta * dtheta)));
 }
 
@@ -269,9 +281,11 @@ Mesh tessellate(const Object& obj, const TessellationOptions& o) {
         per_face_done = true;
     } else {
         // CSG and implicit: polygonised in world space (transforms are inside the shape).
-        AnalyticShape shape = make_analytic_shape(obj.shape, obj.transform, static_cast<uint32_t>(std::max(obj.material, 0)));
+        AnalyticShape shape = make_analytic_shape(obj.shape, obj.transform,
+                                                  static_cast<uint32_t>(std::max(obj.material, 0)));
         Bounds3 bounds = shape_bounds(shape);
-        if (!std::isfinite(bounds.min.x + bounds.min.y + bounds.min.z + bounds.max.x + bounds.max.y + bounds.max.z)) {
+        if (!std::isfinite(bounds.min.x + bounds.min.y + bounds.min.z + bounds.max.x +
+                           bounds.max.y + bounds.max.z)) {
             // An unbounded implicit surface (a plane in it): polygonise a cube about the origin.
             bounds = Bounds3{vec3(-o.plane_extent), vec3(o.plane_extent)};
         }
@@ -289,7 +303,8 @@ Mesh tessellate(const Object& obj, const TessellationOptions& o) {
                     material = obj.material;
                 },
                 [&](vec3& p, vec3& n) {
-                    for (int k = 0; k < 4; ++k) p -= sdf.eval(p) * sdf.normal(p);  // onto the surface
+                    for (int k = 0; k < 4; ++k)
+                        p -= sdf.eval(p) * sdf.normal(p);  // onto the surface
                     n = sdf.normal(p);
                 });
         } else {

@@ -11,10 +11,10 @@
 namespace svetlo {
 
 struct TessellationOptions {
-    int segments = 64;          // around a sphere, cylinder or cone
-    int rings = 32;             // from pole to pole of a sphere
-    int grid = 96;              // cells along the longest side of a CSG or implicit surface
-    float plane_extent = 50.0f; // half the side of the square that stands for an infinite plane
+    int segments = 64;           // around a sphere, cylinder or cone
+    int rings = 32;              // from pole to pole of a sphere
+    int grid = 96;               // cells along the longest side of a CSG or implicit surface
+    float plane_extent = 50.0f;  // half the side of the square that stands for an infinite plane
 };
 
 /// The object `obj` as a world-space triangle mesh with per-vertex normals (smooth where the

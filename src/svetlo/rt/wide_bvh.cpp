@@ -93,20 +93,28 @@ struct PacketTest {
         __m128 v = _mm_sub_ps(_mm_mul_ps(ex[0], ey[2]), _mm_mul_ps(ey[0], ex[2]));
         __m128 w = _mm_sub_ps(_mm_mul_ps(ex[1], ey[0]), _mm_mul_ps(ey[1], ex[0]));
         __m128 zero = _mm_setzero_ps();
-        int valid = ~_mm_movemask_ps(_mm_castsi128_ps(
-                        _mm_cmpeq_epi32(_mm_load_si128(reinterpret_cast<const __m128i*>(p.id)), _mm_set1_epi32(-1)))) & 15;
-        __m128 on_edge = _mm_or_ps(_mm_or_ps(_mm_cmpeq_ps(u, zero), _mm_cmpeq_ps(v, zero)), _mm_cmpeq_ps(w, zero));
+        int valid =
+            ~_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(
+                _mm_load_si128(reinterpret_cast<const __m128i*>(p.id)), _mm_set1_epi32(-1)))) &
+            15;
+        __m128 on_edge = _mm_or_ps(_mm_or_ps(_mm_cmpeq_ps(u, zero), _mm_cmpeq_ps(v, zero)),
+                                   _mm_cmpeq_ps(w, zero));
         edge = _mm_movemask_ps(on_edge) & valid;
-        __m128 neg = _mm_or_ps(_mm_or_ps(_mm_cmplt_ps(u, zero), _mm_cmplt_ps(v, zero)), _mm_cmplt_ps(w, zero));
-        __m128 pos = _mm_or_ps(_mm_or_ps(_mm_cmpgt_ps(u, zero), _mm_cmpgt_ps(v, zero)), _mm_cmpgt_ps(w, zero));
+        __m128 neg = _mm_or_ps(_mm_or_ps(_mm_cmplt_ps(u, zero), _mm_cmplt_ps(v, zero)),
+                               _mm_cmplt_ps(w, zero));
+        __m128 pos = _mm_or_ps(_mm_or_ps(_mm_cmpgt_ps(u, zero), _mm_cmpgt_ps(v, zero)),
+                               _mm_cmpgt_ps(w, zero));
         int inside = ~_mm_movemask_ps(_mm_and_ps(neg, pos)) & valid & ~edge;
         if (!inside) return 0;
         __m128 det = _mm_add_ps(_mm_add_ps(u, v), w);
-        __m128 az = _mm_mul_ps(s[2], ez[0]), bz = _mm_mul_ps(s[2], ez[1]), cz = _mm_mul_ps(s[2], ez[2]);
-        __m128 num = _mm_add_ps(_mm_add_ps(_mm_mul_ps(u, az), _mm_mul_ps(v, bz)), _mm_mul_ps(w, cz));
+        __m128 az = _mm_mul_ps(s[2], ez[0]), bz = _mm_mul_ps(s[2], ez[1]),
+               cz = _mm_mul_ps(s[2], ez[2]);
+        __m128 num =
+            _mm_add_ps(_mm_add_ps(_mm_mul_ps(u, az), _mm_mul_ps(v, bz)), _mm_mul_ps(w, cz));
         __m128 tt = _mm_div_ps(num, det);
-        __m128 ok = _mm_and_ps(_mm_cmpneq_ps(det, zero),
-                               _mm_and_ps(_mm_cmpgt_ps(tt, zero), _mm_cmplt_ps(tt, _mm_set1_ps(tmax))));
+        __m128 ok =
+            _mm_and_ps(_mm_cmpneq_ps(det, zero),
+                       _mm_and_ps(_mm_cmpgt_ps(tt, zero), _mm_cmplt_ps(tt, _mm_set1_ps(tmax))));
         int hits = _mm_movemask_ps(ok) & inside;
         if (!hits) return 0;
         _mm_store_ps(out.t, tt);
@@ -139,7 +147,8 @@ WideBvh::WideBvh(const Geometry& geometry, int threads) : geometry_(geometry) {
         }
         ++leaves;
         size_t triangles = 0;
-        for (uint32_t k = n.first; k < n.first + n.count; ++k) triangles += geometry.is_triangle(bin.primitives()[k]);
+        for (uint32_t k = n.first; k < n.first + n.count; ++k)
+            triangles += geometry.is_triangle(bin.primitives()[k]);
         packets += (triangles + 3) / 4;
         shapes += n.count - triangles;
     }
@@ -197,7 +206,8 @@ uint32_t WideBvh::add_leaf(std::span<const uint32_t> prims) {
 
 /// Collapses the binary tree under `b` into wide node `w`: the largest inner child is opened
 /// until four children are gathered (or only leaves remain).
-void WideBvh::collapse(std::span<const BvhNode> bin, std::span<const uint32_t> prims, uint32_t b, uint32_t w) {
+void WideBvh::collapse(std::span<const BvhNode> bin, std::span<const uint32_t> prims, uint32_t b,
+                       uint32_t w) {
     uint32_t kids[4] = {bin[b].first, bin[b].first + 1, 0, 0};
     int n = 2;
     while (n < 4) {
@@ -235,7 +245,8 @@ void WideBvh::collapse(std::span<const BvhNode> bin, std::span<const uint32_t> p
     nodes_[w] = node;
 }
 
-bool WideBvh::leaf_intersect(const Leaf& leaf, const Ray& ray, const RayPrecomputed& pre, Hit& hit) const {
+bool WideBvh::leaf_intersect(const Leaf& leaf, const Ray& ray, const RayPrecomputed& pre,
+                             Hit& hit) const {
     bool found = false;
     PacketTest test(ray, pre);
     for (uint32_t k = leaf.first_packet; k < leaf.first_packet + leaf.packets; ++k) {
@@ -247,7 +258,8 @@ bool WideBvh::leaf_intersect(const Leaf& leaf, const Ray& ray, const RayPrecompu
         for (int lane = 0, mask = hits | edge; mask; ++lane, mask >>= 1) {
             if (!(mask & 1)) continue;
             if ((edge >> lane) & 1) {
-                vec3 v0(p.v[0][lane], p.v[1][lane], p.v[2][lane]), v1(p.v[3][lane], p.v[4][lane], p.v[5][lane]),
+                vec3 v0(p.v[0][lane], p.v[1][lane], p.v[2][lane]),
+                    v1(p.v[3][lane], p.v[4][lane], p.v[5][lane]),
                     v2(p.v[6][lane], p.v[7][lane], p.v[8][lane]);
                 float tt, b1, b2;
                 if (intersect_triangle(ray, pre, v0, v1, v2, hit.t, tt, b1, b2)) {
@@ -285,7 +297,8 @@ bool WideBvh::leaf_occluded(const Leaf& leaf, const Ray& ray, const RayPrecomput
         if (test.run(p, ray.tmax, h, edge)) return true;
         for (int lane = 0; edge; ++lane, edge >>= 1) {
             if (!(edge & 1)) continue;
-            vec3 v0(p.v[0][lane], p.v[1][lane], p.v[2][lane]), v1(p.v[3][lane], p.v[4][lane], p.v[5][lane]),
+            vec3 v0(p.v[0][lane], p.v[1][lane], p.v[2][lane]),
+                v1(p.v[3][lane], p.v[4][lane], p.v[5][lane]),
                 v2(p.v[6][lane], p.v[7][lane], p.v[8][lane]);
             float tt, b1, b2;
             if (intersect_triangle(ray, pre, v0, v1, v2, ray.tmax, tt, b1, b2)) return true;

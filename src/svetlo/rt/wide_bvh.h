@@ -17,8 +17,8 @@
 namespace svetlo {
 
 struct alignas(64) WideBvhNode {
-    float box[6][4];     // per child lane: min x, min y, min z, max x, max y, max z
-    uint32_t child[4];   // a node index, a leaf (kLeaf bit, see wide_bvh.cpp) or kEmpty
+    float box[6][4];    // per child lane: min x, min y, min z, max x, max y, max z
+    uint32_t child[4];  // a node index, a leaf (kLeaf bit, see wide_bvh.cpp) or kEmpty
 };
 
 /// Four triangles side by side: vertex j's component c of lane k is v[3 j + c][k].
@@ -28,7 +28,7 @@ struct alignas(16) TrianglePacket {
 };
 
 class WideBvh final : public Accel {
-public:
+  public:
     explicit WideBvh(const Geometry& geometry, int threads = 0);
     bool intersect(const Ray& ray, Hit& hit) const override;
     bool occluded(const Ray& ray) const override;
@@ -39,15 +39,17 @@ public:
 
     std::span<const WideBvhNode> nodes() const { return {nodes_.data(), nodes_.size()}; }
 
-private:
+  private:
     struct Leaf {
         uint32_t first_packet, packets;
         uint32_t first_shape, shapes;
     };
     uint32_t add_leaf(std::span<const uint32_t> prims);
-    bool leaf_intersect(const Leaf& leaf, const Ray& ray, const RayPrecomputed& pre, Hit& hit) const;
+    bool leaf_intersect(const Leaf& leaf, const Ray& ray, const RayPrecomputed& pre,
+                        Hit& hit) const;
     bool leaf_occluded(const Leaf& leaf, const Ray& ray, const RayPrecomputed& pre) const;
-    void collapse(std::span<const BvhNode> bin, std::span<const uint32_t> prims, uint32_t b, uint32_t w);
+    void collapse(std::span<const BvhNode> bin, std::span<const uint32_t> prims, uint32_t b,
+                  uint32_t w);
 
     const Geometry& geometry_;
     // Sized for the worst case before the collapse, then truncated (see LargeArray).

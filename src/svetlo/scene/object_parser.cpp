@@ -24,7 +24,8 @@ std::vector<glm::vec<N, float>> parse_vectors(const JsonNode& node) {
     bool nested = n > 0 && node.at(size_t{0}).is_array();
     if (!nested && n % N != 0) node.fail("length must be a multiple of " + std::to_string(N));
     for (size_t k = 0; k < (nested ? n : n / N); ++k) {
-        if (nested && node.at(k).size() != N) node.at(k).fail("must have " + std::to_string(N) + " numbers");
+        if (nested && node.at(k).size() != N)
+            node.at(k).fail("must have " + std::to_string(N) + " numbers");
         glm::vec<N, float> v;
         for (int c = 0; c < N; ++c) {
             v[c] = (nested ? node.at(k).at(static_cast<size_t>(c)) : node.at(N * k + c)).as_float();
@@ -60,7 +61,8 @@ Mesh parse_mesh(const JsonNode& node, Scene& scene, int material, const Transfor
             std::visit(
                 [&](auto& light) {
                     using T = std::decay_t<decltype(light)>;
-                    if constexpr (requires { light.position; }) light.position = transform.point(light.position);
+                    if constexpr (requires { light.position; })
+                        light.position = transform.point(light.position);
                     if constexpr (requires { light.direction; }) {
                         light.direction = glm::normalize(transform.vector(light.direction));
                     }
@@ -81,7 +83,8 @@ Mesh parse_mesh(const JsonNode& node, Scene& scene, int material, const Transfor
         }
         if (auto n = node.find("normals")) {
             mesh.normals = parse_vectors<3>(*n);
-            if (mesh.normals.size() != mesh.positions.size()) n->fail("needs one normal per position");
+            if (mesh.normals.size() != mesh.positions.size())
+                n->fail("needs one normal per position");
         }
         if (auto n = node.find("uvs")) {
             mesh.uvs = parse_vectors<2>(*n);
@@ -125,10 +128,12 @@ Light parse_light(const JsonNode& node) {
     }
     if (type == "directional") {
         node.expect_object({"type", "direction", "irradiance"});
-        return DirectionalLight{node.at("direction").as_direction(), node.at("irradiance").as_color()};
+        return DirectionalLight{node.at("direction").as_direction(),
+                                node.at("irradiance").as_color()};
     }
     if (type == "spot") {
-        node.expect_object({"type", "position", "direction", "intensity", "inner_angle", "outer_angle"});
+        node.expect_object(
+            {"type", "position", "direction", "intensity", "inner_angle", "outer_angle"});
         SpotLight s;
         s.position = node.at("position").as_vec3();
         s.direction = node.at("direction").as_direction();
@@ -155,7 +160,8 @@ Transform parse_transform(const JsonNode& node) {
         JsonNode m = node.at("matrix");
         if (m.size() != 16) m.fail("must hold 16 numbers (row-major)");
         for (int row = 0; row < 4; ++row) {
-            for (int col = 0; col < 4; ++col) t.matrix[col][row] = m.at(static_cast<size_t>(4 * row + col)).as_float();
+            for (int col = 0; col < 4; ++col)
+                t.matrix[col][row] = m.at(static_cast<size_t>(4 * row + col)).as_float();
         }
         if (t.matrix[0][3] != 0.0f || t.matrix[1][3] != 0.0f || t.matrix[2][3] != 0.0f ||
             t.matrix[3][3] != 1.0f) {
@@ -171,7 +177,8 @@ Transform parse_transform(const JsonNode& node) {
         if (auto n = node.find("rotate")) {
             if (n->size() != 4) n->fail("must be [angle in degrees, axis x, y, z]");
             float angle = n->at(size_t{0}).as_float();
-            vec3 axis(n->at(size_t{1}).as_float(), n->at(size_t{2}).as_float(), n->at(size_t{3}).as_float());
+            vec3 axis(n->at(size_t{1}).as_float(), n->at(size_t{2}).as_float(),
+                      n->at(size_t{3}).as_float());
             if (!(glm::length(axis) > 0.0f)) n->fail("rotation axis must be non-zero");
             r = glm::rotate(mat4(1.0f), radians(angle), glm::normalize(axis));
         }
@@ -194,16 +201,21 @@ Object parse_object_node(const JsonNode& node, Scene& scene, int inherited_mater
 Csg parse_csg(const JsonNode& node, Scene& scene, int material, int depth) {
     Csg csg;
     std::string op = node.at("op").as_choice({"union", "intersection", "difference"});
-    csg.op = op == "union" ? CsgOp::Union : op == "intersection" ? CsgOp::Intersection : CsgOp::Difference;
+    csg.op = op == "union"          ? CsgOp::Union
+             : op == "intersection" ? CsgOp::Intersection
+                                    : CsgOp::Difference;
     JsonNode children = node.at("children");
-    if (!children.is_array() || children.size() == 0) children.fail("must be a non-empty array of objects");
+    if (!children.is_array() || children.size() == 0)
+        children.fail("must be a non-empty array of objects");
     for (size_t k = 0; k < children.size(); ++k) {
         JsonNode child = children.at(k);
         if (!child.is_object()) child.fail("must be an object");
         std::string type = child.at("type").as_string();
         if (type == "quad" || type == "plane" || type == "implicit") {
-            child.at("type").fail("a CSG child must be a closed shape (sphere, box, cylinder, cone, "
-                                  "mesh or csg), not '" + type + "'");
+            child.at("type").fail(
+                "a CSG child must be a closed shape (sphere, box, cylinder, cone, "
+                "mesh or csg), not '" +
+                type + "'");
         }
         csg.children.push_back(parse_object_node(child, scene, material, depth + 1));
     }
@@ -211,7 +223,8 @@ Csg parse_csg(const JsonNode& node, Scene& scene, int material, int depth) {
 }
 
 SdfNode parse_sdf(const JsonNode& node, int depth) {
-    if (depth > kMaxTreeDepth) node.fail("SDF tree nested deeper than " + std::to_string(kMaxTreeDepth));
+    if (depth > kMaxTreeDepth)
+        node.fail("SDF tree nested deeper than " + std::to_string(kMaxTreeDepth));
     if (!node.is_object()) node.fail("must be an object with an \"op\"");
     SdfNode n;
     std::string op = node.at("op").as_choice({"sphere", "box", "rounded_box", "torus", "cylinder",
@@ -220,7 +233,8 @@ SdfNode parse_sdf(const JsonNode& node, int depth) {
     auto box = [&] {
         n.a = node.at("min").as_vec3();
         n.b = node.at("max").as_vec3();
-        if (!(n.a.x < n.b.x && n.a.y < n.b.y && n.a.z < n.b.z)) node.at("max").fail("must be greater than min on every axis");
+        if (!(n.a.x < n.b.x && n.a.y < n.b.y && n.a.z < n.b.z))
+            node.at("max").fail("must be greater than min on every axis");
     };
     if (op == "sphere") {
         node.expect_object({"op", "center", "radius", "transform"});
@@ -236,7 +250,8 @@ SdfNode parse_sdf(const JsonNode& node, int depth) {
         n.op = SdfOp::RoundedBox;
         box();
         n.r1 = node.at("radius").as_non_negative();
-        if (2.0f * n.r1 > min_component(n.b - n.a)) node.at("radius").fail("must be at most half the smallest edge");
+        if (2.0f * n.r1 > min_component(n.b - n.a))
+            node.at("radius").fail("must be at most half the smallest edge");
     } else if (op == "torus") {
         node.expect_object({"op", "center", "major_radius", "minor_radius", "transform"});
         n.op = SdfOp::Torus;
@@ -257,18 +272,23 @@ SdfNode parse_sdf(const JsonNode& node, int depth) {
         n.b = node.at("normal").as_direction();
     } else {
         node.expect_object({"op", "children", "smooth", "transform"});
-        n.op = op == "union" ? SdfOp::Union : op == "intersection" ? SdfOp::Intersection : SdfOp::Difference;
+        n.op = op == "union"          ? SdfOp::Union
+               : op == "intersection" ? SdfOp::Intersection
+                                      : SdfOp::Difference;
         if (auto k = node.find("smooth")) n.smooth = k->as_non_negative();
         JsonNode children = node.at("children");
-        if (!children.is_array() || children.size() == 0) children.fail("must be a non-empty array of SDF nodes");
-        for (size_t k = 0; k < children.size(); ++k) n.children.push_back(parse_sdf(children.at(k), depth + 1));
+        if (!children.is_array() || children.size() == 0)
+            children.fail("must be a non-empty array of SDF nodes");
+        for (size_t k = 0; k < children.size(); ++k)
+            n.children.push_back(parse_sdf(children.at(k), depth + 1));
     }
     return n;
 }
 
 Object parse_object_node(const JsonNode& node, Scene& scene, int inherited_material, int depth) {
     if (!node.is_object()) node.fail("must be an object");
-    if (depth > kMaxTreeDepth) node.fail("CSG tree nested deeper than " + std::to_string(kMaxTreeDepth));
+    if (depth > kMaxTreeDepth)
+        node.fail("CSG tree nested deeper than " + std::to_string(kMaxTreeDepth));
     std::string type = node.at("type").as_choice(
         {"sphere", "quad", "plane", "box", "cylinder", "cone", "mesh", "csg", "implicit"});
     Object obj;
@@ -277,13 +297,15 @@ Object parse_object_node(const JsonNode& node, Scene& scene, int inherited_mater
     obj.material = inherited_material;
     if (auto m = node.find("material")) obj.material = find_material(scene, *m);
     // Meshes may bring their own materials, and a CSG node may leave them to its children.
-    else if (type != "mesh" && type != "csg" && obj.material < 0) node.at("material");  // fails: missing key
+    else if (type != "mesh" && type != "csg" && obj.material < 0)
+        node.at("material");  // fails: missing key
     if (type == "sphere") {
         node.expect_object({"type", "center", "radius", "material", "transform"});
         obj.shape = Sphere{node.at("center").as_vec3(), node.at("radius").as_positive()};
     } else if (type == "quad") {
         node.expect_object({"type", "corner", "edge_u", "edge_v", "material", "transform"});
-        Quad q{node.at("corner").as_vec3(), node.at("edge_u").as_vec3(), node.at("edge_v").as_vec3()};
+        Quad q{node.at("corner").as_vec3(), node.at("edge_u").as_vec3(),
+               node.at("edge_v").as_vec3()};
         check_non_degenerate_quad(node, q.edge_u, q.edge_v);
         obj.shape = q;
     } else if (type == "plane") {
@@ -302,8 +324,10 @@ Object parse_object_node(const JsonNode& node, Scene& scene, int inherited_mater
         vec3 axis = node.at("axis").as_vec3();
         if (!(glm::length(axis) > 0.0f)) node.at("axis").fail("must be a non-zero vector");
         float radius = node.at("radius").as_positive();
-        if (type == "cylinder") obj.shape = Cylinder{base, axis, radius};
-        else obj.shape = Cone{base, axis, radius};
+        if (type == "cylinder")
+            obj.shape = Cylinder{base, axis, radius};
+        else
+            obj.shape = Cone{base, axis, radius};
     } else if (type == "mesh") {
         node.expect_object({"type", "file", "positions", "indices", "normals", "uvs", "smooth",
                             "material", "transform"});

@@ -20,13 +20,13 @@ inline const std::vector<std::string>& aov_names() {
 }
 
 struct RenderOptions {
-    int threads = 0;        // 0 = all cores
-    bool progress = false;  // draw a progress bar on stderr
+    int threads = 0;                // 0 = all cores
+    bool progress = false;          // draw a progress bar on stderr
     std::vector<std::string> aovs;  // which of aov_names() to fill
 };
 
 struct RenderStats {
-    double seconds = 0.0;       // rendering, excluding scene setup
+    double seconds = 0.0;        // rendering, excluding scene setup
     double setup_seconds = 0.0;  // acceleration structure build and the like
     uint64_t rays = 0;           // all rays traced (camera, shadow, secondary)
     uint64_t triangles = 0;      // triangles set up for rasterization
@@ -39,7 +39,7 @@ struct RenderResult {
 };
 
 class Renderer {
-public:
+  public:
     virtual ~Renderer() = default;
     virtual RenderResult render(const Scene& scene, const RenderOptions& options) = 0;
 };

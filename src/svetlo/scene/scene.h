@@ -75,9 +75,9 @@ struct EmissiveMaterial {
     ColorSource albedo;  // it also reflects diffusely (Lambert) when non-zero
 };
 
-using Material = std::variant<LambertMaterial, PhongMaterial, OrenNayarMaterial,
-                              CookTorranceMaterial, MirrorMaterial, DielectricMaterial,
-                              EmissiveMaterial>;
+using Material =
+    std::variant<LambertMaterial, PhongMaterial, OrenNayarMaterial, CookTorranceMaterial,
+                 MirrorMaterial, DielectricMaterial, EmissiveMaterial>;
 
 // ---- lights -------------------------------------------------------------------------------
 
@@ -91,8 +91,8 @@ struct DirectionalLight {
 };
 struct SpotLight {
     vec3 position{0.0f};
-    vec3 direction{0.0f, -1.0f, 0.0f};  // unit, the cone's axis
-    Color intensity{1.0f};              // W/sr on the axis
+    vec3 direction{0.0f, -1.0f, 0.0f};           // unit, the cone's axis
+    Color intensity{1.0f};                       // W/sr on the axis
     float inner_deg = 20.0f, outer_deg = 30.0f;  // half-angles
 };
 /// A one-sided emitting parallelogram; it emits toward edge_u x edge_v.
@@ -156,7 +156,17 @@ struct Csg {
 /// 1-Lipschitz (its value never exceeds the distance to the surface). Leaves are primitives;
 /// union, intersection and difference take the min / max of their children, blended over
 /// `smooth` (scene units) when it is positive.
-enum class SdfOp { Sphere, Box, RoundedBox, Torus, Cylinder, Plane, Union, Intersection, Difference };
+enum class SdfOp {
+    Sphere,
+    Box,
+    RoundedBox,
+    Torus,
+    Cylinder,
+    Plane,
+    Union,
+    Intersection,
+    Difference
+};
 struct SdfNode {
     SdfOp op = SdfOp::Sphere;
     // sphere: a = centre, r1 = radius; box: a = min, b = max; rounded_box: also r1 = edge
@@ -219,7 +229,7 @@ struct RasterSettings {
     bool msaa = false;                   // false: supersampling (shade every sample)
     std::string wireframe = "none";      // none, bresenham, wu: an overlay of triangle edges
     Color wireframe_color{1.0f};
-    int tessellation = 64;               // segments around spheres, cylinders and cones
+    int tessellation = 64;  // segments around spheres, cylinders and cones
 };
 
 struct RenderSettings {
@@ -227,7 +237,7 @@ struct RenderSettings {
     int spp = 1;
     int max_depth = 5;
     uint64_t seed = 0;
-    std::string shading = "phong";     // raster: flat, gouraud, phong, depth, normal
+    std::string shading = "phong";      // raster: flat, gouraud, phong, depth, normal
     std::string shadows = "raytraced";  // raster: none, planar, volume, map, raytraced
     ShadowMapSettings shadow_map;
     Color ambient{0.0f};

@@ -49,7 +49,8 @@ RenderSettings parse_render(const JsonNode& node) {
                         "ambient", "background", "exposure", "accel", "light_samples", "visibility",
                         "cull", "antialias", "wireframe", "wireframe_color", "tessellation"});
     RenderSettings r;
-    if (auto n = node.find("engine")) r.engine = n->as_choice({"raster", "whitted", "path", "radiosity"});
+    if (auto n = node.find("engine"))
+        r.engine = n->as_choice({"raster", "whitted", "path", "radiosity"});
     if (auto n = node.find("spp")) r.spp = static_cast<int>(n->as_integer(1, 1 << 20));
     if (auto n = node.find("max_depth")) r.max_depth = static_cast<int>(n->as_integer(0, 1000));
     if (auto n = node.find("seed")) r.seed = static_cast<uint64_t>(n->as_integer(0, 1LL << 53));
@@ -65,22 +66,29 @@ RenderSettings parse_render(const JsonNode& node) {
             r.shadow_map.resolution = static_cast<int>(n->as_integer(1, 16384));
         }
         if (auto n = sm->find("bias")) r.shadow_map.bias = n->as_non_negative();
-        if (auto n = sm->find("filter")) r.shadow_map.filter = n->as_choice({"none", "pcf", "pcss"});
-        if (auto n = sm->find("kernel")) r.shadow_map.kernel = static_cast<int>(n->as_integer(1, 64));
+        if (auto n = sm->find("filter"))
+            r.shadow_map.filter = n->as_choice({"none", "pcf", "pcss"});
+        if (auto n = sm->find("kernel"))
+            r.shadow_map.kernel = static_cast<int>(n->as_integer(1, 64));
     }
     if (auto n = node.find("ambient")) r.ambient = n->as_color();
     if (auto n = node.find("background")) r.background = n->as_color();
     if (auto n = node.find("exposure")) r.exposure = n->as_non_negative();
-    if (auto n = node.find("accel")) r.accel = n->as_choice({"none", "grid", "octree", "bvh2", "bvh", "embree"});
+    if (auto n = node.find("accel"))
+        r.accel = n->as_choice({"none", "grid", "octree", "bvh2", "bvh", "embree"});
     if (auto n = node.find("light_samples")) {
         r.light_samples = static_cast<int>(n->as_integer(1, 4096));
     }
-    if (auto n = node.find("visibility")) r.raster.visibility = n->as_choice({"zbuffer", "painter"});
-    if (auto n = node.find("cull")) r.raster.cull_back_faces = n->as_choice({"none", "back"}) == "back";
+    if (auto n = node.find("visibility"))
+        r.raster.visibility = n->as_choice({"zbuffer", "painter"});
+    if (auto n = node.find("cull"))
+        r.raster.cull_back_faces = n->as_choice({"none", "back"}) == "back";
     if (auto n = node.find("antialias")) r.raster.msaa = n->as_choice({"ssaa", "msaa"}) == "msaa";
-    if (auto n = node.find("wireframe")) r.raster.wireframe = n->as_choice({"none", "bresenham", "wu"});
+    if (auto n = node.find("wireframe"))
+        r.raster.wireframe = n->as_choice({"none", "bresenham", "wu"});
     if (auto n = node.find("wireframe_color")) r.raster.wireframe_color = n->as_color();
-    if (auto n = node.find("tessellation")) r.raster.tessellation = static_cast<int>(n->as_integer(3, 4096));
+    if (auto n = node.find("tessellation"))
+        r.raster.tessellation = static_cast<int>(n->as_integer(3, 4096));
     return r;
 }
 

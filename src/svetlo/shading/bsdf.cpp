@@ -75,11 +75,15 @@ struct BsdfMaker {
 bool Bsdf::has_lobes() const {
     switch (model) {
         case Model::Mirror:
-        case Model::Dielectric: return false;
-        case Model::Emissive: return !is_black(diffuse);
+        case Model::Dielectric:
+            return false;
+        case Model::Emissive:
+            return !is_black(diffuse);
         case Model::Phong:
-        case Model::BlinnPhong: return !is_black(diffuse) || !is_black(specular);
-        default: return true;
+        case Model::BlinnPhong:
+            return !is_black(diffuse) || !is_black(specular);
+        default:
+            return true;
     }
 }
 
@@ -96,7 +100,8 @@ Color eval_bsdf(const Bsdf& b, vec3 n, vec3 wo, vec3 wi) {
     if (cos_i <= 0.0f || cos_o <= 0.0f) return Color(0.0f);
     switch (b.model) {
         case Bsdf::Model::Lambert:
-        case Bsdf::Model::Emissive: return b.diffuse * kInvPi;
+        case Bsdf::Model::Emissive:
+            return b.diffuse * kInvPi;
         case Bsdf::Model::Phong: {
             float rv = std::max(0.0f, glm::dot(reflect(wi, n), wo));
             return b.diffuse * kInvPi +
@@ -138,7 +143,8 @@ Color eval_bsdf(const Bsdf& b, vec3 n, vec3 wo, vec3 wi) {
             return (Color(1.0f) - f) * b.diffuse * kInvPi + f * (d * vis);
         }
         case Bsdf::Model::Mirror:
-        case Bsdf::Model::Dielectric: return Color(0.0f);
+        case Bsdf::Model::Dielectric:
+            return Color(0.0f);
     }
     return Color(0.0f);
 }

@@ -22,7 +22,14 @@ namespace svetlo {
 
 struct Bsdf {
     enum class Model : unsigned char {
-        Lambert, Phong, BlinnPhong, OrenNayar, CookTorrance, Mirror, Dielectric, Emissive
+        Lambert,
+        Phong,
+        BlinnPhong,
+        OrenNayar,
+        CookTorrance,
+        Mirror,
+        Dielectric,
+        Emissive
     };
     Model model = Model::Lambert;
     Color diffuse{0.0f};   // kd, albedo, or glTF's c_diff

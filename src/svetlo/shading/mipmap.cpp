@@ -18,7 +18,8 @@ MipChain build_mip_chain(const Image& image) {
                 Color sum(0.0f);
                 for (int dj = 0; dj < 2; ++dj) {
                     for (int di = 0; di < 2; ++di) {
-                        sum += up.at(std::min(2 * i + di, up.width - 1), std::min(2 * j + dj, up.height - 1));
+                        sum += up.at(std::min(2 * i + di, up.width - 1),
+                                     std::min(2 * j + dj, up.height - 1));
                     }
                 }
                 down.at(i, j) = 0.25f * sum;

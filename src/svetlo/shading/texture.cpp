@@ -36,7 +36,8 @@ Color sample_bilinear(const Image& image, vec2 uv, TextureWrap wrap) {
     int i = static_cast<int>(x0), j = static_cast<int>(y0);
     return (1.0f - fx) * (1.0f - fy) * texel(image, i, j, wrap) +
            fx * (1.0f - fy) * texel(image, i + 1, j, wrap) +
-           (1.0f - fx) * fy * texel(image, i, j + 1, wrap) + fx * fy * texel(image, i + 1, j + 1, wrap);
+           (1.0f - fx) * fy * texel(image, i, j + 1, wrap) +
+           fx * fy * texel(image, i + 1, j + 1, wrap);
 }
 
 Color eval_color(const ColorSource& source, vec2 uv, const std::vector<Image>& textures) {
@@ -46,7 +47,8 @@ Color eval_color(const ColorSource& source, vec2 uv, const std::vector<Image>& t
 Color eval_color(const ColorSource& source, vec2 uv, const TextureLookup& lookup) {
     const std::vector<Image>& textures = lookup.images;
     switch (source.kind) {
-        case ColorSource::Kind::Constant: return source.value;
+        case ColorSource::Kind::Constant:
+            return source.value;
         case ColorSource::Kind::Checker: {
             float s = source.scale;
             auto parity = static_cast<long long>(std::floor(tame(uv.x * s))) +
@@ -55,10 +57,12 @@ Color eval_color(const ColorSource& source, vec2 uv, const TextureLookup& lookup
         }
         case ColorSource::Kind::Image: {
             const Image& image = textures[static_cast<size_t>(source.texture)];
-            if (source.filter == TextureFilter::Nearest) return sample_nearest(image, uv, source.wrap);
+            if (source.filter == TextureFilter::Nearest)
+                return sample_nearest(image, uv, source.wrap);
             if (source.filter == TextureFilter::Trilinear && lookup.mips) {
                 const MipChain& chain = (*lookup.mips)[static_cast<size_t>(source.texture)];
-                return sample_trilinear(chain, uv, mip_level(chain, lookup.duv_dx, lookup.duv_dy), source.wrap);
+                return sample_trilinear(chain, uv, mip_level(chain, lookup.duv_dx, lookup.duv_dy),
+                                        source.wrap);
             }
             return sample_bilinear(image, uv, source.wrap);
         }
