@@ -496,6 +496,14 @@ struct TriangleEdges {
         return vec2(static_cast<float>(static_cast<double>(e[1].at(x, y)) * inv_area),
                     static_cast<float>(static_cast<double>(e[2].at(x, y)) * inv_area));
     }
+    /// The depth plane per pixel: z = z0 + dzdx (x - x0) + dzdy (y - y0), (x0, y0) vertex 0,
+    /// from the gradients of the weights of vertices 1 and 2.
+    void depth_gradient(const SetupTriangle& t, double& dzdx, double& dzdy) const {
+        double per_pixel = static_cast<double>(kSubpixel) * inv_area;
+        double z1 = t.z[1] - t.z[0], z2 = t.z[2] - t.z[0];
+        dzdx = (static_cast<double>(e[1].a) * z1 + static_cast<double>(e[2].a) * z2) * per_pixel;
+        dzdy = (static_cast<double>(e[1].b) * z1 + static_cast<double>(e[2].b) * z2) * per_pixel;
+    }
 };
 
 /// Stage 5 for small triangles and one sample per pixel: edge functions relative to the
@@ -529,13 +537,9 @@ void rasterize_small(uint32_t id, const SetupTriangle& t, const Tile& tile, cons
         step_x[k] = _mm_set1_epi32(4 * ax);
         step_y[k] = _mm_set1_epi32(static_cast<int32_t>(e.b * kSubpixel));
     }
-    double scale = static_cast<double>(kSubpixel) * te.inv_area;
-    auto dzdx = static_cast<float>((static_cast<double>(te.e[1].a) * (t.z[1] - t.z[0]) +
-                                    static_cast<double>(te.e[2].a) * (t.z[2] - t.z[0])) *
-                                   scale);
-    auto dzdy = static_cast<float>((static_cast<double>(te.e[1].b) * (t.z[1] - t.z[0]) +
-                                    static_cast<double>(te.e[2].b) * (t.z[2] - t.z[0])) *
-                                   scale);
+    double gx, gy;
+    te.depth_gradient(t, gx, gy);
+    auto dzdx = static_cast<float>(gx), dzdy = static_cast<float>(gy);
     float z_origin = t.z[0] +
                      dzdx * static_cast<float>(static_cast<double>(ox - t.x[0]) / kSubpixel) +
                      dzdy * static_cast<float>(static_cast<double>(oy - t.y[0]) / kSubpixel);
@@ -582,14 +586,9 @@ void rasterize(uint32_t id, const SetupTriangle& t, const Tile& tile, const Samp
     const Edge& e0 = te.e[0];
     const Edge& e1 = te.e[1];
     const Edge& e2 = te.e[2];
-    // Depth plane in pixels: z = z0 + dzdx (x - x0) + dzdy (y - y0), from the weights' gradients.
     auto px_per_fixed = static_cast<double>(kSubpixel);
-    double dzdx = (static_cast<double>(e1.a) * (t.z[1] - t.z[0]) +
-                   static_cast<double>(e2.a) * (t.z[2] - t.z[0])) *
-                  te.inv_area * px_per_fixed;
-    double dzdy = (static_cast<double>(e1.b) * (t.z[1] - t.z[0]) +
-                   static_cast<double>(e2.b) * (t.z[2] - t.z[0])) *
-                  te.inv_area * px_per_fixed;
+    double dzdx, dzdy;
+    te.depth_gradient(t, dzdx, dzdy);
     float zmin = std::min({t.z[0], t.z[1], t.z[2]});
     const int tw = tile.x1 - tile.x0, S = sp.count, kB = TileBuffers::kBlock, bw = kTile / kB;
     const int64_t d0 = e0.a * kSubpixel, d1 = e1.a * kSubpixel, d2 = e2.a * kSubpixel;
@@ -916,18 +915,10 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     // GPU's framebuffer exists before the frame.
     RenderResult result;
     result.color = Image(width, height);
-    bool want[4] = {false, false, false, false};
-    for (const std::string& name : options.aovs) {
-        for (size_t k = 0; k < aov_names().size(); ++k) {
-            if (name == aov_names()[k]) {
-                want[k] = true;
-                result.aovs[name] = Image(width, height, k == 3 ? Color(1.0f) : Color(0.0f));
-            }
-        }
-    }
-    bool any_aov = !result.aovs.empty();
-    Image* aov_image[4];
-    for (size_t k = 0; k < 4; ++k) aov_image[k] = want[k] ? &result.aovs[aov_names()[k]] : nullptr;
+    AovTargets targets = allocate_aovs(result, options.aovs, width, height);
+    const bool* want = targets.want;
+    Image* const* aov_image = targets.image;
+    bool any_aov = targets.any;
 
     // Setup ends here: what follows is the pipeline proper, the work of every frame.
     auto t1 = Clock::now();

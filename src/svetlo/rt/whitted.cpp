@@ -30,10 +30,11 @@ struct AovSample {
 };
 
 class Tracer {
-public:
+  public:
     Tracer(const RtScene& rt, bool want_visibility)
         : rt_(rt), scene_(rt.scene()), want_visibility_(want_visibility) {
-        for (const Emitter& e : rt.emitters()) light0_emitter_ = e.light_index == 0 ? &e : light0_emitter_;
+        for (const Emitter& e : rt.emitters())
+            light0_emitter_ = e.light_index == 0 ? &e : light0_emitter_;
     }
 
     uint64_t rays = 0;
@@ -56,9 +57,9 @@ public:
         if (aov) {
             aov->depth = hit.t * glm::length(ray.d);
             aov->normal = ns;
-            aov->albedo = bsdf.has_lobes() ? bsdf.diffuse
+            aov->albedo = bsdf.has_lobes()                        ? bsdf.diffuse
                           : bsdf.model == Bsdf::Model::Dielectric ? Color(1.0f)
-                                                                   : bsdf.reflect;
+                                                                  : bsdf.reflect;
             if (want_visibility_) aov->visibility = light0_visibility(sh.p, ng, *aov_rng);
         }
 
@@ -75,14 +76,18 @@ public:
             return scale * trace(next, depth + 1, w, rng, nullptr);
         };
         switch (bsdf.model) {
-            case Bsdf::Model::Mirror: L += follow(bsdf.reflect, reflect(wo, ns)); break;
+            case Bsdf::Model::Mirror:
+                L += follow(bsdf.reflect, reflect(wo, ns));
+                break;
             case Bsdf::Model::Dielectric: {
                 // Entering when we hit the outside; eta = n_transmitted / n_incident.
                 float eta = front ? bsdf.ior : 1.0f / bsdf.ior;
                 float fr = fresnel_dielectric(glm::dot(ns, wo), eta);
                 vec3 wt;
-                if (fr < 1.0f && refract(wo, ns, eta, wt)) L += follow(Color(1.0f - fr), wt);
-                else fr = 1.0f;  // total internal reflection
+                if (fr < 1.0f && refract(wo, ns, eta, wt))
+                    L += follow(Color(1.0f - fr), wt);
+                else
+                    fr = 1.0f;  // total internal reflection
                 L += follow(Color(fr), reflect(wo, ns));
                 break;
             }
@@ -98,12 +103,13 @@ public:
                 }
                 break;
             }
-            default: break;
+            default:
+                break;
         }
         return L;
     }
 
-private:
+  private:
     /// True when the segment from p (offset along ng) to `target` is blocked; a target with
     /// a normal is itself offset off its surface.
     bool blocked(vec3 p, vec3 ng, vec3 target, vec3 direction) {
@@ -198,20 +204,11 @@ RenderResult WhittedRenderer::render(const Scene& scene, const RenderOptions& op
     const int width = scene.film.width, height = scene.film.height, spp = scene.render.spp;
     RenderResult result;
     result.color = Image(width, height);
-    bool want[4] = {false, false, false, false};  // depth, normal, albedo, visibility
-    for (const std::string& name : options.aovs) {
-        for (size_t k = 0; k < aov_names().size(); ++k) {
-            if (name == aov_names()[k]) {
-                want[k] = true;
-                result.aovs[name] = Image(width, height, k == 3 ? Color(1.0f) : Color(0.0f));
-            }
-        }
-    }
-    bool any_aov = !result.aovs.empty();
-    Image* aov_image[4];  // looked up once: the tiles write through these concurrently
-    for (size_t k = 0; k < 4; ++k) {
-        aov_image[k] = want[k] ? &result.aovs[aov_names()[k]] : nullptr;
-    }
+    // Looked up once: the tiles write through these concurrently.
+    AovTargets targets = allocate_aovs(result, options.aovs, width, height);
+    const bool* want = targets.want;
+    Image* const* aov_image = targets.image;
+    bool any_aov = targets.any;
     bool want_visibility = want[3] && !scene.lights.empty();
     CameraRays camera(scene.camera, width, height);
     std::atomic<uint64_t> rays{0};
@@ -230,13 +227,15 @@ RenderResult WhittedRenderer::render(const Scene& scene, const RenderOptions& op
                     glm::dvec3 sum(0.0);
                     AovSample aov_sum{0.0f, vec3(0.0f), Color(0.0f), 0.0f};
                     for (int s = 0; s < spp; ++s) {
-                        vec2 offset = spp == 1 ? vec2(0.5f)
-                                               : stratified_sample(s, spp, vec2(rng.next_float(),
-                                                                                rng.next_float()));
+                        vec2 offset = spp == 1
+                                          ? vec2(0.5f)
+                                          : stratified_sample(
+                                                s, spp, vec2(rng.next_float(), rng.next_float()));
                         Ray ray = camera.generate((static_cast<float>(i) + offset.x) / width,
                                                   (static_cast<float>(j) + offset.y) / height);
                         AovSample aov;
-                        sum += glm::dvec3(tracer.trace(ray, 0, 1.0f, rng, any_aov ? &aov : nullptr));
+                        sum +=
+                            glm::dvec3(tracer.trace(ray, 0, 1.0f, rng, any_aov ? &aov : nullptr));
                         if (any_aov) {
                             aov_sum.depth += aov.depth;
                             aov_sum.normal += aov.normal;

@@ -38,6 +38,28 @@ struct RenderResult {
     RenderStats stats;
 };
 
+/// The AOV images a render fills, allocated in `result` (depth, normal and albedo zero,
+/// visibility one), with pointers indexed like aov_names().
+struct AovTargets {
+    bool want[4] = {false, false, false, false};
+    Image* image[4] = {nullptr, nullptr, nullptr, nullptr};
+    bool any = false;
+};
+inline AovTargets allocate_aovs(RenderResult& result, const std::vector<std::string>& names,
+                                int width, int height) {
+    AovTargets t;
+    for (const std::string& name : names) {
+        for (size_t k = 0; k < aov_names().size(); ++k) {
+            if (name != aov_names()[k]) continue;
+            t.want[k] = true;
+            result.aovs[name] = Image(width, height, k == 3 ? Color(1.0f) : Color(0.0f));
+        }
+    }
+    for (size_t k = 0; k < 4; ++k) t.image[k] = t.want[k] ? &result.aovs[aov_names()[k]] : nullptr;
+    t.any = !result.aovs.empty();
+    return t;
+}
+
 class Renderer {
   public:
     virtual ~Renderer() = default;
