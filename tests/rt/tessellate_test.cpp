@@ -81,8 +81,8 @@ TEST(Tessellate, SphereWithinTheSagittaBound) {
         // Texture coordinates follow the ray tracer's (away from the seam and the poles).
         vec2 uv = m.uvs[v];
         if (uv.x < 0.01f || uv.x > 0.99f || uv.y < 0.01f || uv.y > 0.99f) continue;
-        vec3 o = s.center + 3.0f * (m.positions[v] - s.center);
-        Ray ray{o, s.center - o, kInfinity};
+        vec3 origin = s.center + 3.0f * (m.positions[v] - s.center);
+        Ray ray{origin, s.center - origin, kInfinity};
         ShapeHit h;
         ASSERT_TRUE(intersect_shape(rt, ray, kInfinity, h));
         vec2 ruv = shape_surface(rt, ray, h).uv;
@@ -134,7 +134,9 @@ TEST(Tessellate, MirroringTransformKeepsOutwardWinding) {
     Mesh m = tessellate(object(Sphere{vec3(0), 1.0f}, t));
     for (size_t f = 0; f < m.triangle_count(); ++f) {
         vec3 n = face_normal(m, f);
-        if (glm::length(n) > 1e-9f) EXPECT_GT(glm::dot(n, centroid(m, f)), 0.0f);
+        if (glm::length(n) > 1e-9f) {
+            EXPECT_GT(glm::dot(n, centroid(m, f)), 0.0f);
+        }
     }
 }
 

@@ -1,7 +1,8 @@
+#include "svetlo/rt/triangle.h"
+
 #include <gtest/gtest.h>
 
 #include "svetlo/core/rng.h"
-#include "svetlo/rt/triangle.h"
 
 namespace svetlo {
 namespace {
@@ -18,8 +19,8 @@ TEST(Triangle, DepthAndBarycentrics) {
     Ray r{vec3(0.25f, 0.25f, 5.0f), vec3(0, 0, -1)};
     RayPrecomputed pre(r);
     float t, b1, b2;
-    ASSERT_TRUE(intersect_triangle(r, pre, vec3(0, 0, 1), vec3(1, 0, 1), vec3(0, 1, 1), kInfinity, t,
-                                   b1, b2));
+    ASSERT_TRUE(intersect_triangle(r, pre, vec3(0, 0, 1), vec3(1, 0, 1), vec3(0, 1, 1), kInfinity,
+                                   t, b1, b2));
     EXPECT_NEAR(t, 4.0f, 1e-6f);
     EXPECT_NEAR(b1, 0.25f, 1e-6f);
     EXPECT_NEAR(b2, 0.25f, 1e-6f);
@@ -34,7 +35,8 @@ TEST(Triangle, WatertightAcrossSharedEdgesAndVertices) {
     // edges and the shared vertex must hit at least one triangle: never fall through a crack.
     const int n = 7;
     vec3 centre(0.3f, -0.2f, 0.1f);
-    vec3 u = glm::normalize(vec3(1, 0.3f, 0.2f)), v = glm::normalize(glm::cross(vec3(0.1f, 0.2f, 1), u));
+    vec3 u = glm::normalize(vec3(1, 0.3f, 0.2f)),
+         v = glm::normalize(glm::cross(vec3(0.1f, 0.2f, 1), u));
     std::vector<vec3> rim;
     for (int k = 0; k < n; ++k) {
         float a = 2.0f * kPi * k / n;

@@ -1,8 +1,8 @@
+#include "svetlo/scene/mesh_file.h"
+
 #include <gtest/gtest.h>
 
 #include <fstream>
-
-#include "svetlo/scene/mesh_file.h"
 
 namespace svetlo {
 namespace {

@@ -20,7 +20,7 @@ template <class T>
 class LargeArray {
     static_assert(std::is_trivially_copyable_v<T> && std::is_trivially_destructible_v<T>);
 
-  public:
+public:
     LargeArray() = default;
     explicit LargeArray(size_t count) : size_(count) {
         if (count == 0) return;
@@ -51,7 +51,7 @@ class LargeArray {
     const T* begin() const { return data(); }
     const T* end() const { return data() + size_; }
 
-  private:
+private:
     struct Free {
         void operator()(T* p) const { std::free(p); }
     };

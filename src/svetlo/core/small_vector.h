@@ -12,7 +12,7 @@ template <class T, size_t N>
 class SmallVector {
     static_assert(std::is_trivially_copyable_v<T>);
 
-  public:
+public:
     size_t size() const { return size_; }
     bool empty() const { return size_ == 0; }
     void clear() {
@@ -32,7 +32,7 @@ class SmallVector {
     const T& operator[](size_t k) const { return size_ <= N ? inline_[k] : heap_[k]; }
     T& back() { return (*this)[size_ - 1]; }
 
-  private:
+private:
     T inline_[N];
     std::vector<T> heap_;  // all elements once there are more than N
     size_t size_ = 0;

@@ -27,7 +27,7 @@
 namespace svetlo {
 
 class RasterRenderer final : public Renderer {
-  public:
+public:
     RenderResult render(const Scene& scene, const RenderOptions& options) override;
 };
 

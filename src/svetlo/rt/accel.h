@@ -12,7 +12,7 @@
 namespace svetlo {
 
 class Accel {
-  public:
+public:
     virtual ~Accel() = default;
     /// Closest hit with 0 < t < ray.tmax; fills `hit` and returns true when there is one.
     virtual bool intersect(const Ray& ray, Hit& hit) const = 0;
@@ -31,14 +31,14 @@ std::unique_ptr<Accel> make_accel(std::string_view name, const Geometry& geometr
 
 /// Every primitive for every ray: the reference the others are tested against.
 class BruteForce final : public Accel {
-  public:
+public:
     explicit BruteForce(const Geometry& geometry)
         : geometry_(geometry), prims_(geometry.bounded_primitives()) {}
     bool intersect(const Ray& ray, Hit& hit) const override;
     bool occluded(const Ray& ray) const override;
     size_t memory_bytes() const override { return prims_.size() * sizeof(uint32_t); }
 
-  private:
+private:
     const Geometry& geometry_;
     std::vector<uint32_t> prims_;
 };

@@ -58,7 +58,7 @@ struct Bins {
 };
 
 class Builder {
-  public:
+public:
     Builder(LargeArray<BuildRef>& refs, BvhNode* nodes)
         : refs_(refs), scratch_(refs.size()), nodes_(nodes) {}
 
@@ -71,7 +71,7 @@ class Builder {
         group_.wait();
     }
 
-  private:
+private:
     /// Node slots reserved for a serial subtree: its descendants never touch the shared
     /// counter (which two threads would otherwise bounce between their caches).
     struct Slots {
@@ -335,25 +335,41 @@ inline float node_entry(const BvhNode& node, vec3 o, vec3 inv_d, float tmax) {
 }  // namespace
 
 Bvh::Bvh(const Geometry& geometry, int threads) : geometry_(geometry) {
-    std::vector<uint32_t> ids = geometry.bounded_primitives();
-    if (ids.empty()) return;
-    LargeArray<BuildRef> refs(ids.size());
-    // The references and their bounds, in parallel chunks merged in order.
+    // Every triangle, then the bounded shapes (infinite planes are tested apart).
+    const uint32_t triangles = geometry.triangle_count();
+    std::vector<uint32_t> shapes;
+    for (uint32_t id : geometry.bounded_primitives_from(triangles)) shapes.push_back(id);
+    const size_t n = triangles + shapes.size();
+    if (n == 0) return;
+    LargeArray<BuildRef> refs(n);
     int workers = resolve_threads(threads);
-    size_t chunks = std::min<size_t>(static_cast<size_t>(workers) * 4, (ids.size() + 4095) / 4096);
+    tbb::task_arena arena(workers);
+    // The references and their bounds, in chunks merged in order.
+    size_t chunks = std::min<size_t>(static_cast<size_t>(workers) * 4, (n + 4095) / 4096);
     std::vector<Bounds3> chunk_bounds(chunks), chunk_centroids(chunks);
-    parallel_ranges(chunks, threads, [&](size_t c0, size_t c1) {
-        for (size_t c = c0; c < c1; ++c) {
+    arena.execute([&] {
+        tbb::parallel_for(size_t{0}, chunks, [&](size_t c) {
             Bounds3 b, cb;
-            for (size_t k = c * ids.size() / chunks; k < (c + 1) * ids.size() / chunks; ++k) {
-                Bounds3 pb = geometry.primitive_bounds(ids[k]);
-                refs[k] = BuildRef{pb.min, ids[k], pb.max, 0.0f};
+            const vec3* p = geometry.positions.data();
+            const uint32_t* index = geometry.indices.data();
+            for (size_t k = c * n / chunks; k < (c + 1) * n / chunks; ++k) {
+                Bounds3 pb;
+                uint32_t id;
+                if (k < triangles) {  // inline: the common case, 3 vertices
+                    id = static_cast<uint32_t>(k);
+                    vec3 a = p[index[3 * k]], v1 = p[index[3 * k + 1]], v2 = p[index[3 * k + 2]];
+                    pb = Bounds3{glm::min(a, glm::min(v1, v2)), glm::max(a, glm::max(v1, v2))};
+                } else {
+                    id = shapes[k - triangles];
+                    pb = geometry.primitive_bounds(id);
+                }
+                refs[k] = BuildRef{pb.min, id, pb.max, 0.0f};
                 b.extend(pb);
                 cb.extend(refs[k].centroid());
             }
             chunk_bounds[c] = b;
             chunk_centroids[c] = cb;
-        }
+        });
     });
     Bounds3 bounds, centroids;
     for (size_t c = 0; c < chunks; ++c) {
@@ -363,7 +379,6 @@ Bvh::Bvh(const Geometry& geometry, int threads) : geometry_(geometry) {
     // Uninitialised room for the worst case (2 n - 1 nodes): untouched pages cost nothing.
     LargeArray<BvhNode> room(2 * refs.size());
     Builder builder(refs, room.data());
-    tbb::task_arena arena(workers);
     arena.execute([&] { builder.build_root(bounds, centroids); });
     depth_ = builder.depth();
     // Serial subtrees leave unused slots: copy the tree out in depth-first order, which also
@@ -375,15 +390,15 @@ Bvh::Bvh(const Geometry& geometry, int threads) : geometry_(geometry) {
     while (!stack.empty()) {
         auto [from, to] = stack.back();
         stack.pop_back();
-        const BvhNode& n = room[from];
-        if (n.count != 0) continue;
+        const BvhNode& node = room[from];
+        if (node.count != 0) continue;
         uint32_t pair = count;
         count += 2;
-        nodes_[pair] = room[n.first];
-        nodes_[pair + 1] = room[n.first + 1];
+        nodes_[pair] = room[node.first];
+        nodes_[pair + 1] = room[node.first + 1];
         nodes_[to].first = pair;
-        stack.emplace_back(n.first + 1, pair + 1);
-        stack.emplace_back(n.first, pair);
+        stack.emplace_back(node.first + 1, pair + 1);
+        stack.emplace_back(node.first, pair);
     }
     nodes_.truncate(count);
     prims_ = LargeArray<uint32_t>(refs.size());

@@ -24,7 +24,7 @@ struct BvhNode {
 static_assert(sizeof(BvhNode) == 32);
 
 class Bvh final : public Accel {
-  public:
+public:
     Bvh(const Geometry& geometry, int threads = 0);
     bool intersect(const Ray& ray, Hit& hit) const override;
     bool occluded(const Ray& ray) const override;
@@ -36,7 +36,7 @@ class Bvh final : public Accel {
     std::span<const uint32_t> primitives() const { return {prims_.data(), prims_.size()}; }
     int depth() const { return depth_; }
 
-  private:
+private:
     const Geometry& geometry_;
     LargeArray<BvhNode> nodes_;   // room for 2 n - 1 nodes, truncated to those built
     LargeArray<uint32_t> prims_;  // primitive ids in leaf order

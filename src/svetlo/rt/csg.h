@@ -20,7 +20,7 @@
 namespace svetlo {
 
 class CsgShape {
-  public:
+public:
     /// The tree of `csg` under `transform`; leaves without a material take `material`.
     CsgShape(const Csg& csg, const Transform& transform, uint32_t material);
     CsgShape(const CsgShape&) = delete;
@@ -48,7 +48,7 @@ class CsgShape {
     };
     static constexpr uint32_t kNoLeaf = ~0u;
 
-  private:
+private:
     struct Leaf {
         AnalyticShape shape;             // sphere, box, cylinder, cone (world space)
         std::unique_ptr<Geometry> mesh;  // or a closed mesh (world space) with its BVH

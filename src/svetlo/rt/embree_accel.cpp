@@ -65,7 +65,7 @@ void shape_occluded_cb(const RTCOccludedFunctionNArguments* args) {
 }
 
 class EmbreeAccel final : public Accel {
-  public:
+public:
     EmbreeAccel(const Geometry& geometry, int threads) : geometry_(geometry) {
         std::string config =
             "threads=" + std::to_string(resolve_threads(threads)) + ",set_affinity=0";
@@ -155,7 +155,7 @@ class EmbreeAccel final : public Accel {
 
     size_t memory_bytes() const override { return 0; }  // Embree does not report it
 
-  private:
+private:
     static RTCRayHit make_rayhit(const Ray& ray) {
         RTCRayHit rh{};
         rh.ray.org_x = ray.o.x;

@@ -12,10 +12,12 @@ bool is_bounded(const AnalyticShape& s) {
 
 }  // namespace
 
-std::vector<uint32_t> Geometry::bounded_primitives() const {
+std::vector<uint32_t> Geometry::bounded_primitives() const { return bounded_primitives_from(0); }
+
+std::vector<uint32_t> Geometry::bounded_primitives_from(uint32_t first) const {
     std::vector<uint32_t> ids;
-    ids.reserve(primitive_count());
-    for (uint32_t id = 0; id < primitive_count(); ++id) {
+    ids.reserve(primitive_count() - std::min(first, primitive_count()));
+    for (uint32_t id = first; id < primitive_count(); ++id) {
         if (is_triangle(id) || is_bounded(shape(id))) ids.push_back(id);
     }
     return ids;

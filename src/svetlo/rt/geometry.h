@@ -21,7 +21,7 @@ struct SurfaceHit {
 };
 
 class Geometry {
-  public:
+public:
     // Triangles: three indices each into the vertex arrays.
     std::vector<vec3> positions;
     std::vector<vec3> normals;  // empty, or per vertex (zero where the mesh has none)
@@ -44,6 +44,8 @@ class Geometry {
     /// Ids of the primitives with finite bounds (what acceleration structures hold), and of
     /// the infinite ones (planes), which every query tests directly.
     std::vector<uint32_t> bounded_primitives() const;
+    /// The bounded primitives with ids from `first` on (shapes only, from triangle_count()).
+    std::vector<uint32_t> bounded_primitives_from(uint32_t first) const;
     std::vector<uint32_t> unbounded_primitives() const;
 
     Bounds3 primitive_bounds(uint32_t id) const;

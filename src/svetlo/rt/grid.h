@@ -16,7 +16,7 @@
 namespace svetlo {
 
 class Grid final : public Accel {
-  public:
+public:
     explicit Grid(const Geometry& geometry);
     bool intersect(const Ray& ray, Hit& hit) const override;
     bool occluded(const Ray& ray) const override;
@@ -26,7 +26,7 @@ class Grid final : public Accel {
 
     std::array<int, 3> resolution() const { return res_; }
 
-  private:
+private:
     /// Walks the cells along the ray; `visit(first, last, t_exit)` gets the primitive range of
     /// each non-empty cell and the ray's exit distance from it, and returns true to stop.
     template <class Visit>

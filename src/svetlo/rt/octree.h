@@ -20,7 +20,7 @@ struct OctreeNode {
 };
 
 class Octree final : public Accel {
-  public:
+public:
     explicit Octree(const Geometry& geometry);
     bool intersect(const Ray& ray, Hit& hit) const override;
     bool occluded(const Ray& ray) const override;
@@ -31,7 +31,7 @@ class Octree final : public Accel {
     const std::vector<OctreeNode>& nodes() const { return nodes_; }
     int depth() const { return depth_; }
 
-  private:
+private:
     void build(uint32_t node, const Bounds3& box, std::vector<uint32_t>& ids,
                const std::vector<Bounds3>& bounds, int depth);
 

@@ -14,7 +14,7 @@
 namespace svetlo {
 
 class RtScene {
-  public:
+public:
     /// Builds with the accelerator `accel` (see accel_names()) on `threads` threads. Throws Error
     /// for what the ray tracer cannot handle (an emissive shape under a non-uniform scale).
     RtScene(const Scene& scene, const std::string& accel, int threads);
@@ -30,7 +30,7 @@ class RtScene {
     bool intersect(const Ray& ray, Hit& hit) const;
     bool occluded(const Ray& ray) const;
 
-  private:
+private:
     const Scene& scene_;
     Geometry geometry_;
     std::vector<Material> materials_;

@@ -15,7 +15,7 @@
 namespace svetlo {
 
 class SdfShape {
-  public:
+public:
     /// The tree `root` placed in the world by `to_world`.
     SdfShape(const SdfNode& root, const mat4& to_world);
 
@@ -33,7 +33,7 @@ class SdfShape {
     bool intersect(const Ray& ray, float tmax, float& t) const;
     ShapeSurface surface(const Ray& ray, float t) const;
 
-  private:
+private:
     struct Node {
         SdfOp op;
         vec3 a, b;

@@ -30,7 +30,7 @@ struct AovSample {
 };
 
 class Tracer {
-  public:
+public:
     Tracer(const RtScene& rt, bool want_visibility)
         : rt_(rt), scene_(rt.scene()), want_visibility_(want_visibility) {
         for (const Emitter& e : rt.emitters())
@@ -109,7 +109,7 @@ class Tracer {
         return L;
     }
 
-  private:
+private:
     /// True when the segment from p (offset along ng) to `target` is blocked; a target with
     /// a normal is itself offset off its surface.
     bool blocked(vec3 p, vec3 ng, vec3 target, vec3 direction) {

@@ -28,7 +28,7 @@ struct alignas(16) TrianglePacket {
 };
 
 class WideBvh final : public Accel {
-  public:
+public:
     explicit WideBvh(const Geometry& geometry, int threads = 0);
     bool intersect(const Ray& ray, Hit& hit) const override;
     bool occluded(const Ray& ray) const override;
@@ -39,7 +39,7 @@ class WideBvh final : public Accel {
 
     std::span<const WideBvhNode> nodes() const { return {nodes_.data(), nodes_.size()}; }
 
-  private:
+private:
     struct Leaf {
         uint32_t first_packet, packets;
         uint32_t first_shape, shapes;

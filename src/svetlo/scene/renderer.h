@@ -61,7 +61,7 @@ inline AovTargets allocate_aovs(RenderResult& result, const std::vector<std::str
 }
 
 class Renderer {
-  public:
+public:
     virtual ~Renderer() = default;
     virtual RenderResult render(const Scene& scene, const RenderOptions& options) = 0;
 };
