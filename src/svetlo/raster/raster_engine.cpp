@@ -1038,30 +1038,25 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                         size_t spans_end = px + (end - px) / 4 * 4;
                         if (spans_end > px) {
                             const TriangleEdges& e = edges_of(tri);
-                            SpanQuad q;
+                            TriangleRun q;
                             for (int v = 0; v < 3; ++v) {
                                 q.invw[v] = t.invw[v];
                                 q.world[v] = f.vertex(t.v[v]).world;
                                 q.normal[v] = f.vertex(t.v[v]).normal;
                             }
                             int64_t sx = sample_x(i, 0), sy = sample_y(i, 0);
-                            int64_t e1 = e.e[1].at(sx, sy), e2 = e.e[2].at(sx, sy);
-                            int64_t d1 = e.e[1].a * kSubpixel, d2 = e.e[2].a * kSubpixel;
-                            Color out[4];
-                            q.count = 4;
-                            for (size_t x = px; x < spans_end; x += 4) {
-                                for (int k = 0; k < 4; ++k, e1 += d1, e2 += d2) {
-                                    q.l1[k] =
-                                        static_cast<float>(static_cast<double>(e1) * e.inv_area);
-                                    q.l2[k] =
-                                        static_cast<float>(static_cast<double>(e2) * e.inv_area);
-                                }
-                                shade_span(q, f.simd_material[t.material], t.ng, f.simd_lights,
-                                           f.eye, f.ortho, f.forward, scene.render.ambient, out);
-                                for (int k = 0; k < 4; ++k)
-                                    buf.sample_color[row * tw + x + static_cast<size_t>(k)] =
-                                        out[k];
-                            }
+                            q.l1 = static_cast<float>(static_cast<double>(e.e[1].at(sx, sy)) *
+                                                      e.inv_area);
+                            q.l2 = static_cast<float>(static_cast<double>(e.e[2].at(sx, sy)) *
+                                                      e.inv_area);
+                            auto dl1 = static_cast<float>(
+                                static_cast<double>(e.e[1].a * kSubpixel) * e.inv_area);
+                            auto dl2 = static_cast<float>(
+                                static_cast<double>(e.e[2].a * kSubpixel) * e.inv_area);
+                            shade_run(q, dl1, dl2, static_cast<int>((spans_end - px) / 4),
+                                      f.simd_material[t.material], t.ng, f.simd_lights, f.eye,
+                                      f.ortho, f.forward, scene.render.ambient,
+                                      &buf.sample_color[row * tw + px]);
                         }
                         for (size_t x = spans_end; x < end; ++x)
                             add_to_batch(row * tw + x, row * tw + x, 0, tri, t);

@@ -201,8 +201,9 @@ void shade_batch(const ShadeBatch& b, const SimdLights& lights, vec3 eye, bool o
     store(L, b.count, out);
 }
 
-void shade_span(const SpanQuad& q, const SimdMaterial& mat, vec3 ng, const SimdLights& lights,
-                vec3 eye, bool ortho, vec3 forward, Color ambient, Color out[4]) {
+namespace {
+
+Material4 broadcast(const SimdMaterial& mat, Color ambient) {
     Material4 m;
     for (int c = 0; c < 3; ++c) {
         m.ka[c] = set(mat.ka[c] * ambient[c]);
@@ -212,8 +213,13 @@ void shade_span(const SpanQuad& q, const SimdMaterial& mat, vec3 ng, const SimdL
     m.shininess = set(mat.shininess);
     m.norm = set(norm_of(mat));
     m.blinn = mat.blinn ? _mm_castsi128_ps(_mm_set1_epi32(-1)) : _mm_setzero_ps();
-    // Perspective-correct weights from the screen barycentrics: q_i = l_i / w_i, b_i = q_i / sum.
-    V l1 = _mm_loadu_ps(q.l1), l2 = _mm_loadu_ps(q.l2);
+    return m;
+}
+
+/// Perspective-correct interpolation from screen barycentrics and lighting of four samples.
+void shade_weights(V l1, V l2, const TriangleRun& q, const Material4& m, vec3 ng,
+                   const SimdLights& lights, vec3 eye, bool ortho, vec3 forward, V L[3]) {
+    // q_i = l_i / w_i, b_i = q_i / sum.
     V l0 = sub(sub(set(1.0f), l1), l2);
     V q0 = mul(l0, set(q.invw[0])), q1 = mul(l1, set(q.invw[1])), q2 = mul(l2, set(q.invw[2]));
     V inv = rcp(add(add(q0, q1), q2));
@@ -223,10 +229,26 @@ void shade_span(const SpanQuad& q, const SimdMaterial& mat, vec3 ng, const SimdL
                   add(add(mul(b0, set(v[0].y)), mul(b1, set(v[1].y))), mul(b2, set(v[2].y))),
                   add(add(mul(b0, set(v[0].z)), mul(b1, set(v[1].z))), mul(b2, set(v[2].z)))};
     };
-    V L[3];
     light4(lerp3(q.world), lerp3(q.normal), V3{set(ng.x), set(ng.y), set(ng.z)}, m, lights, eye,
            ortho, forward, L);
-    store(L, q.count, out);
+}
+
+}  // namespace
+
+void shade_run(const TriangleRun& q, float dl1, float dl2, int groups, const SimdMaterial& mat,
+               vec3 ng, const SimdLights& lights, vec3 eye, bool ortho, vec3 forward, Color ambient,
+               Color* out) {
+    Material4 m = broadcast(mat, ambient);
+    const V steps = _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f);
+    for (int g = 0; g < groups; ++g) {
+        // l = l_start + dl * index, from the start each time: no drift along the run.
+        V index = add(set(4.0f * static_cast<float>(g)), steps);
+        V l1 = add(set(q.l1), mul(set(dl1), index));
+        V l2 = add(set(q.l2), mul(set(dl2), index));
+        V L[3];
+        shade_weights(l1, l2, q, m, ng, lights, eye, ortho, forward, L);
+        store(L, 4, out + 4 * g);
+    }
 }
 
 }  // namespace svetlo

@@ -48,19 +48,20 @@ struct ShadeBatch {
 void shade_batch(const ShadeBatch& batch, const SimdLights& lights, vec3 eye, bool ortho,
                  vec3 forward, Color ambient, Color out[4]);
 
-/// Up to four samples of one triangle: their screen barycentrics of vertices 1 and 2, and the
+/// Samples of one triangle: the screen barycentrics of vertices 1 and 2 of the first, and the
 /// triangle's 1/w, world positions and normals per vertex.
-struct SpanQuad {
-    int count = 0;
-    float l1[4] = {0, 0, 0, 0}, l2[4] = {0, 0, 0, 0};
+struct TriangleRun {
+    float l1 = 0.0f, l2 = 0.0f;
     float invw[3];
     vec3 world[3], normal[3];
 };
 
-/// Radiance toward the camera at each sample of `q`, whose triangle has material `m` and unit
-/// geometric normal `ng` (counter-clockwise side): the interpolation is vectorised too.
-void shade_span(const SpanQuad& q, const SimdMaterial& m, vec3 ng, const SimdLights& lights,
-                vec3 eye, bool ortho, vec3 forward, Color ambient, Color out[4]);
+/// A run of 4 `groups` consecutive samples of one triangle along a row: the weights of the
+/// first are q.l1 and q.l2, and they change by dl1, dl2 from one sample to the next.
+/// Writes 4 groups colours to `out`.
+void shade_run(const TriangleRun& q, float dl1, float dl2, int groups, const SimdMaterial& m,
+               vec3 ng, const SimdLights& lights, vec3 eye, bool ortho, vec3 forward, Color ambient,
+               Color* out);
 
 /// exp2(n log2(x)) on four lanes, for the tests: x >= 0, n >= 0; 0^n is 0 for n > 0, 1 for 0.
 void pow4(const float x[4], const float n[4], float out[4]);
