@@ -154,6 +154,8 @@ expect_error "bench unknown accel" "--accel" bench "$work/good.json" --accel kd-
 render_bad "unknown accel" "render.accel: unknown value" 'scene["render"]["accel"] = "kd-tree"'
 render_bad "unknown visibility" "render.visibility: unknown value" 'scene["render"]["visibility"] = "magic"'
 render_bad "tessellation too coarse" "render.tessellation" 'scene["render"]["tessellation"] = 2'
+render_bad "tessellation too fine" "render.tessellation: the scene would make" \
+    'scene["render"]["tessellation"] = 4096; scene["objects"] += [dict(scene["objects"][0]) for k in range(2)]' --engine raster
 render_bad "csg of a quad" "objects\[2\].children\[0\].type: a CSG child must be a closed shape" \
     'scene["objects"].append({"type": "csg", "op": "union", "material": "white", "children": [{"type": "quad", "corner": [0, 0, 0], "edge_u": [1, 0, 0], "edge_v": [0, 1, 0]}]})'
 render_bad "bad sdf op" "objects\[2\].sdf.op: unknown value" \

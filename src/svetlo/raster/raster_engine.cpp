@@ -8,6 +8,7 @@
 #include <chrono>
 #include <optional>
 
+#include "svetlo/core/error.h"
 #include "svetlo/core/large_array.h"
 #include "svetlo/core/parallel.h"
 #include "svetlo/core/progress.h"
@@ -32,6 +33,7 @@ constexpr size_t kChunk = 4096;          // triangles per unit of parallel setup
 constexpr float kGuardPixels = 4096.0f;  // guard band beyond each side of the viewport
 constexpr uint32_t kNone = ~0u;          // no triangle in a sample
 constexpr uint32_t kExtra = 1u << 31;    // a vertex made by clipping (chunk-local until fixed up)
+constexpr uint64_t kMaxTriangles = 1u << 25;  // 33.5 M triangles: about 6 GiB of pipeline state
 
 enum class Mode { Flat, Gouraud, Phong, Depth, Normal };
 
@@ -137,6 +139,14 @@ std::vector<DrawMesh> tessellate_scene(const Scene& scene, FrameState& f, int th
     TessellationOptions options;
     options.segments = scene.render.raster.tessellation;
     options.rings = std::max(2, options.segments / 2);
+    // Refuse what would not fit in memory before making it (a fine tessellation of many shapes).
+    uint64_t total = 0;
+    for (const Object& obj : scene.objects) total += tessellated_triangles(obj, options);
+    if (total > kMaxTriangles) {
+        throw Error(scene.path.string(), "render.tessellation",
+                    "the scene would make " + std::to_string(total) + " triangles (at most " +
+                        std::to_string(kMaxTriangles) + "); lower render.tessellation");
+    }
     std::vector<DrawMesh> meshes(scene.objects.size());
     parallel_indices(scene.objects.size(), threads, [&](size_t k) {
         Object local = scene.objects[k];

@@ -253,6 +253,21 @@ float sphere_tessellation_error(float r, const TessellationOptions& o) {
     return r * (1.0f - std::cos(0.5f * std::sqrt(dphi * dphi + dtheta * dtheta)));
 }
 
+uint64_t tessellated_triangles(const Object& obj, const TessellationOptions& o) {
+    auto seg = static_cast<uint64_t>(o.segments), rings = static_cast<uint64_t>(o.rings);
+    if (std::holds_alternative<Sphere>(obj.shape)) return 2 * seg * rings;
+    if (std::holds_alternative<Quad>(obj.shape)) return 2;
+    if (std::holds_alternative<Plane>(obj.shape)) return 2 * 16 * 16;
+    if (std::holds_alternative<Box>(obj.shape)) return 12;
+    if (std::holds_alternative<Cylinder>(obj.shape)) return 4 * seg;
+    if (std::holds_alternative<Cone>(obj.shape))
+        return 2 * seg * std::max<uint64_t>(1, seg / 2) + seg;
+    if (const auto* m = std::get_if<Mesh>(&obj.shape)) return m->triangle_count();
+    // Surface nets: at most two triangles per grid edge, three edges per grid point.
+    auto g = static_cast<uint64_t>(o.grid) + 3;
+    return 6 * g * g * g;
+}
+
 Mesh tessellate(const Object& obj, const TessellationOptions& o) {
     Mesh m;
     m.smooth = true;

@@ -22,6 +22,10 @@ struct TessellationOptions {
 /// mesh file's). Triangles wind counter-clockwise seen from outside.
 Mesh tessellate(const Object& obj, const TessellationOptions& options = {});
 
+/// An upper bound on the triangles tessellate() makes of `obj` (for memory limits before
+/// tessellating: a CSG or implicit surface counts its grid's worst case).
+uint64_t tessellated_triangles(const Object& obj, const TessellationOptions& options = {});
+
 /// A bound on the distance between a sphere of radius r and its tessellation with these
 /// options: r (1 - cos(d / 2)), d the angular diagonal of a longitude-latitude cell (used by
 /// the tests and to pick resolutions).
