@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <atomic>
 #include <memory>
+#include <mutex>
 
 #include "svetlo/core/parallel.h"
 #include "svetlo/rt/ray_box.h"
@@ -63,6 +64,8 @@ public:
         : refs_(refs), scratch_(refs.size()), nodes_(nodes) {}
 
     uint32_t node_count() const { return node_count_.load(); }  // slots used, holes included
+    /// The unused slot ranges [first, last) of serial subtrees, in no particular order.
+    const std::vector<std::pair<uint32_t, uint32_t>>& holes() const { return holes_; }
     int depth() const { return depth_.load(); }
 
     void build_root(const Bounds3& bounds, const Bounds3& centroids) {
@@ -117,10 +120,23 @@ private:
         }
         Slots local{0};
         if (!slots && n < kParallelGrain) {
-            // A subtree of n primitives has at most 2 n - 2 descendants.
+            // A subtree of n primitives has at most 2 n - 2 descendants; those it does not use
+            // are a hole at the end of its range, recorded for the compaction.
             local.next = node_count_.fetch_add(2 * n - 2);
-            slots = &local;
+            uint32_t start = local.next;
+            int d = build_split(node, begin, end, mid, bounds, lb, rb, lc, rc, depth, &local);
+            std::lock_guard<std::mutex> lock(holes_mutex_);
+            holes_.push_back({local.next, start + 2 * n - 2});
+            return d;
         }
+        return build_split(node, begin, end, mid, bounds, lb, rb, lc, rc, depth, slots);
+    }
+
+    /// Makes `node` an inner node over the split at `mid` and builds its two children.
+    int build_split(uint32_t node, uint32_t begin, uint32_t end, uint32_t mid,
+                    const Bounds3& bounds, const Bounds3& lb, const Bounds3& rb, const Bounds3& lc,
+                    const Bounds3& rc, int depth, Slots* slots) {
+        uint32_t n = end - begin;
         uint32_t left = slots ? slots->next : node_count_.fetch_add(2);
         if (slots) slots->next += 2;
         nodes_[node] = BvhNode{bounds.min, left, bounds.max, 0};
@@ -325,6 +341,8 @@ private:
     BvhNode* nodes_;                // room for 2 n - 1 nodes
     std::atomic<uint32_t> node_count_{0};
     std::atomic<int> depth_{0};
+    std::mutex holes_mutex_;
+    std::vector<std::pair<uint32_t, uint32_t>> holes_;
     tbb::task_group group_;
 };
 
@@ -381,25 +399,36 @@ Bvh::Bvh(const Geometry& geometry, int threads) : geometry_(geometry) {
     Builder builder(refs, room.data());
     arena.execute([&] { builder.build_root(bounds, centroids); });
     depth_ = builder.depth();
-    // Serial subtrees leave unused slots: copy the tree out in depth-first order, which also
-    // puts each subtree's nodes close together for traversal.
-    uint32_t count = 1;
-    std::vector<std::pair<uint32_t, uint32_t>> stack = {{0, 0}};  // (old, new)
-    nodes_ = LargeArray<BvhNode>(builder.node_count());
-    nodes_[0] = room[0];
-    while (!stack.empty()) {
-        auto [from, to] = stack.back();
-        stack.pop_back();
-        const BvhNode& node = room[from];
-        if (node.count != 0) continue;
-        uint32_t pair = count;
-        count += 2;
-        nodes_[pair] = room[node.first];
-        nodes_[pair + 1] = room[node.first + 1];
-        nodes_[to].first = pair;
-        stack.emplace_back(node.first + 1, pair + 1);
-        stack.emplace_back(node.first, pair);
+    // Serial subtrees leave unused slots at the end of their ranges: copy the used runs in
+    // order (each subtree stays contiguous, in the depth-first order it was built in) and move
+    // every child index down by the size of the holes before it.
+    std::vector<std::pair<uint32_t, uint32_t>> holes = builder.holes();
+    std::sort(holes.begin(), holes.end());
+    std::vector<uint32_t> run_start = {0}, shift = {0};  // from run_start[k] on, move down shift[k]
+    for (auto [first, last] : holes) {
+        run_start.push_back(last);
+        shift.push_back(shift.back() + (last - first));
     }
+    uint32_t total = builder.node_count();
+    uint32_t count = total - shift.back();
+    nodes_ = LargeArray<BvhNode>(count);
+    auto moved = [&](uint32_t old) {
+        size_t k = static_cast<size_t>(std::upper_bound(run_start.begin(), run_start.end(), old) -
+                                       run_start.begin()) -
+                   1;
+        return old - shift[k];
+    };
+    arena.execute([&] {
+        tbb::parallel_for(size_t{0}, run_start.size(), [&](size_t k) {
+            uint32_t first = run_start[k];
+            uint32_t last = k + 1 < run_start.size() ? holes[k].first : total;
+            for (uint32_t i = first; i < last; ++i) {
+                BvhNode node = room[i];
+                if (node.count == 0) node.first = moved(node.first);
+                nodes_[i - shift[k]] = node;
+            }
+        });
+    });
     nodes_.truncate(count);
     prims_ = LargeArray<uint32_t>(refs.size());
     for (size_t k = 0; k < refs.size(); ++k) prims_[k] = refs[k].id;
