@@ -58,10 +58,14 @@ struct TriangleRun {
 
 /// A run of 4 `groups` consecutive samples of one triangle along a row: the weights of the
 /// first are q.l1 and q.l2, and they change by dl1, dl2 from one sample to the next.
-/// Writes 4 groups colours to `out`.
+/// Writes 4 groups colours to `out`, eight lanes at a time where the processor has AVX2
+/// (simd_lanes()) unless `lanes` is 4 (the tests of the four-lane build ask for it).
 void shade_run(const TriangleRun& q, float dl1, float dl2, int groups, const SimdMaterial& m,
                vec3 ng, const SimdLights& lights, vec3 eye, bool ortho, vec3 forward, Color ambient,
-               Color* out);
+               Color* out, int lanes = 0);
+
+/// The lanes shade_run uses on this processor: 8 with AVX2, else 4.
+int simd_lanes();
 
 /// exp2(n log2(x)) on four lanes, for the tests: x >= 0, n >= 0; 0^n is 0 for n > 0, 1 for 0.
 void pow4(const float x[4], const float n[4], float out[4]);
