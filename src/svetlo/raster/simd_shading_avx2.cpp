@@ -1,8 +1,13 @@
-// The fast path's kernel built for AVX2 (eight lanes); simd_shading.cpp calls it when the
-// processor has AVX2. This file alone is compiled with -mavx2.
+// The fast path's kernel built for AVX2 (eight lanes); simd_shading.cpp calls it only where
+// the processor has AVX2. The target is set by pragma around the kernel alone, not by a flag
+// for the whole file: inline functions of the headers (GLM, the standard library) are thus
+// never emitted with AVX2 instructions that the linker could pick for the rest of the program.
 #include <immintrin.h>
 
 #include "svetlo/raster/simd_shading.h"
+
+#pragma GCC push_options
+#pragma GCC target("avx2")
 
 namespace svetlo {
 
@@ -17,3 +22,5 @@ void shade_run_avx2(const TriangleRun& q, float dl1, float dl2, int first, int g
 }
 
 }  // namespace svetlo
+
+#pragma GCC pop_options
