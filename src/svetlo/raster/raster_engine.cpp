@@ -998,8 +998,9 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                     size_t count = pixels * static_cast<size_t>(S);
                     buf.sample_color.resize(count);
                     ShadeBatch batch;
-                    size_t lane_of[4];
-                    Color lit[4];
+                    const int batch_size = simd_lanes();
+                    size_t lane_of[ShadeBatch::kCapacity];
+                    Color lit[ShadeBatch::kCapacity];
                     auto flush = [&] {
                         shade_batch(batch, f.simd_lights, f.eye, f.ortho, f.forward,
                                     scene.render.ambient, lit);
@@ -1020,7 +1021,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                         batch.ng[k] = t.ng;
                         batch.material[k] = &f.simd_material[t.material];
                         lane_of[k] = i;
-                        if (batch.count == 4) flush();
+                        if (batch.count == batch_size) flush();
                     };
                     for (size_t i = 0; i < count && S == 1; ++i) {
                         // One sample per pixel: runs of one triangle along each row, their

@@ -36,17 +36,19 @@ struct SimdMaterial {
     bool specular = false;  // false for Lambert (ks = 0)
 };
 
-/// Up to four samples: position, interpolated normal (not necessarily unit), the geometric
+/// Up to eight samples: position, interpolated normal (not necessarily unit), the geometric
 /// normal of the counter-clockwise side (unit), and the material.
 struct ShadeBatch {
+    static constexpr int kCapacity = 8;
     int count = 0;
-    vec3 p[4], ns[4], ng[4];
-    const SimdMaterial* material[4] = {nullptr, nullptr, nullptr, nullptr};
+    vec3 p[kCapacity], ns[kCapacity], ng[kCapacity];
+    const SimdMaterial* material[kCapacity] = {};
 };
 
-/// Radiance toward the camera at each sample of the batch.
+/// Radiance toward the camera at each sample of the batch (eight lanes at once with AVX2,
+/// else four at a time).
 void shade_batch(const ShadeBatch& batch, const SimdLights& lights, vec3 eye, bool ortho,
-                 vec3 forward, Color ambient, Color out[4]);
+                 vec3 forward, Color ambient, Color* out);
 
 /// Samples of one triangle: the screen barycentrics of vertices 1 and 2 of the first, and the
 /// triangle's 1/w, world positions and normals per vertex.

@@ -4,6 +4,8 @@
 // never emitted with AVX2 instructions that the linker could pick for the rest of the program.
 #include <immintrin.h>
 
+#include <algorithm>
+
 #include "svetlo/raster/simd_shading.h"
 
 #pragma GCC push_options
@@ -13,6 +15,11 @@ namespace svetlo {
 
 #define SVETLO_SIMD_WIDTH 8
 #include "svetlo/raster/simd_kernel.inc"
+
+void shade_batch_avx2(const ShadeBatch& b, const SimdLights& lights, vec3 eye, bool ortho,
+                      vec3 forward, Color ambient, Color* out) {
+    shade_batch_kernel(b, 0, lights, eye, ortho, forward, ambient, out);
+}
 
 void shade_run_avx2(const TriangleRun& q, float dl1, float dl2, int first, int groups,
                     const SimdMaterial& mat, vec3 ng, const SimdLights& lights, vec3 eye,
