@@ -441,14 +441,13 @@ void bin(FrameState& f, int threads) {
     });
 }
 
-/// Per-thread buffers of a tile: the visibility buffer (depth and triangle per sample), the
-/// stencil, and per 8 x 8 pixel block the deepest depth stored so far (a one-level
+/// Per-thread buffers of a tile: the visibility buffer (depth and triangle per sample), and
+/// per 8 x 8 pixel block the deepest depth stored so far (a one-level
 /// hierarchical z-buffer: a triangle nearer nowhere than that is skipped for the block).
 struct TileBuffers {
     static constexpr int kBlock = 8;
     std::vector<float> depth;
     std::vector<uint32_t> tri;
-    std::vector<uint8_t> stencil;
     std::vector<float> block_far;     // per block: max depth over its samples
     std::vector<Color> color;         // resolved colour per pixel, accumulated over passes
     std::vector<Color> sample_color;  // the fast path's colour per sample
@@ -456,7 +455,6 @@ struct TileBuffers {
     void reset(size_t samples, size_t pixels, bool aovs) {
         depth.assign(samples, kInfinity);
         tri.assign(samples, kNone);
-        stencil.assign(samples, 0);
         block_far.assign(static_cast<size_t>(kTile / kBlock) * (kTile / kBlock), kInfinity);
         if (color.size() != pixels) color.resize(pixels);
         if (aovs) {
@@ -528,12 +526,14 @@ bool is_small(const SetupTriangle& t, int samples) {
     return samples == 1 && w <= kSmall * kSubpixel && h <= kSmall * kSubpixel;
 }
 
-void rasterize_small(uint32_t id, const SetupTriangle& t, const Tile& tile, const SamplePattern& sp,
-                     bool depth_test, TileBuffers& buf) {
-    int xs = std::max(t.x0, tile.x0), xe = std::min(t.x1, tile.x1);
-    int ys = std::max(t.y0, tile.y0), ye = std::min(t.y1, tile.y1);
-    if (xs >= xe || ys >= ye) return;
-    TriangleEdges te(t);
+/// The pixels of a tile a triangle's bounds cover: [xs, xe) x [ys, ye).
+struct PixelSpan {
+    int xs, xe, ys, ye;
+};
+
+void rasterize_small(uint32_t id, const SetupTriangle& t, const TriangleEdges& te, PixelSpan span,
+                     const Tile& tile, const SamplePattern& sp, bool depth_test, TileBuffers& buf) {
+    const auto [xs, xe, ys, ye] = span;
     // Over the box |E| <= (|a| + |b|) (kSmall + 2) 256 with |a|, |b| <= (kSmall + 2) 256: below
     // 2^28, and the steps of four pixels below 2^24.
     int64_t ox = static_cast<int64_t>(xs) * kSubpixel + sp.ox[0],
@@ -587,12 +587,9 @@ void rasterize_small(uint32_t id, const SetupTriangle& t, const Tile& tile, cons
 /// Stage 5: rasterizes triangle `id` into the tile's visibility buffer, 8 x 8 blocks at a
 /// time: a block where the triangle's nearest depth lies behind everything stored is skipped.
 /// Depth is the plane z(x, y) of the depth keys, stepped incrementally along each row.
-void rasterize(uint32_t id, const SetupTriangle& t, const Tile& tile, const SamplePattern& sp,
-               bool depth_test, TileBuffers& buf) {
-    int xs = std::max(t.x0, tile.x0), xe = std::min(t.x1, tile.x1);
-    int ys = std::max(t.y0, tile.y0), ye = std::min(t.y1, tile.y1);
-    if (xs >= xe || ys >= ye) return;
-    TriangleEdges te(t);
+void rasterize(uint32_t id, const SetupTriangle& t, const TriangleEdges& te, PixelSpan span,
+               const Tile& tile, const SamplePattern& sp, bool depth_test, TileBuffers& buf) {
+    const auto [xs, xe, ys, ye] = span;
     const Edge& e0 = te.e[0];
     const Edge& e1 = te.e[1];
     const Edge& e2 = te.e[2];
@@ -700,6 +697,20 @@ void rasterize(uint32_t id, const SetupTriangle& t, const Tile& tile, const Samp
                 far = std::max({lanes[0], lanes[1], lanes[2], lanes[3], tail});
             }
         }
+    }
+}
+
+/// Stage 5 for one triangle in one tile: the small-triangle path or the general one.
+void draw_triangle(uint32_t id, const SetupTriangle& t, const Tile& tile, const SamplePattern& sp,
+                   bool depth_test, TileBuffers& buf) {
+    PixelSpan span{std::max(t.x0, tile.x0), std::min(t.x1, tile.x1), std::max(t.y0, tile.y0),
+                   std::min(t.y1, tile.y1)};
+    if (span.xs >= span.xe || span.ys >= span.ye) return;
+    TriangleEdges te(t);
+    if (is_small(t, sp.count)) {
+        rasterize_small(id, t, te, span, tile, sp, depth_test, buf);
+    } else {
+        rasterize(id, t, te, span, tile, sp, depth_test, buf);
     }
 }
 
@@ -924,11 +935,8 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     // The output images are allocated (and their pages touched) as part of the setup, as a
     // GPU's framebuffer exists before the frame.
     RenderResult result;
-    result.color = Image(width, height);
-    AovTargets targets = allocate_aovs(result, options.aovs, width, height);
-    const bool* want = targets.want;
-    Image* const* aov_image = targets.image;
-    bool any_aov = targets.any;
+    // Looked up once: the tiles write through these concurrently.
+    const AovTargets targets = prepare_result(result, options.aovs, width, height);
 
     // Setup ends here: what follows is the pipeline proper, the work of every frame.
     auto t1 = Clock::now();
@@ -940,7 +948,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
 
     const int spp = scene.render.spp;
     const bool msaa = scene.render.raster.msaa;
-    const bool simd = f.mode == Mode::Phong && !msaa && !any_aov && f.simd_lights_ok;
+    const bool simd = f.mode == Mode::Phong && !msaa && !targets.any && f.simd_lights_ok;
     const bool depth_test = scene.render.raster.visibility != "painter";
     const Color background = scene.render.background;
     tbb::enumerable_thread_specific<TileBuffers> buffers;
@@ -954,21 +962,17 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
             auto pixels = static_cast<size_t>(tw) * th;
             size_t ti = static_cast<size_t>(tile.y0 / kTile) * f.tiles_x + tile.x0 / kTile;
             buf.color.assign(pixels, Color(0.0f));
-            if (any_aov) {
+            if (targets.any) {
                 for (auto& a : buf.aov) a.assign(pixels, Color(0.0f));
             }
             int S = std::min(spp, kMaxSamplesPerPass);
             for (int first = 0; first < spp; first += kMaxSamplesPerPass) {
                 SamplePattern sp = pattern(scene, first, std::min(kMaxSamplesPerPass, spp - first));
                 S = sp.count;
-                buf.reset(pixels * static_cast<size_t>(S), pixels, any_aov);
+                buf.reset(pixels * static_cast<size_t>(S), pixels, targets.any);
                 for (const FrameState::Bins& b : f.bins) {
                     for (uint32_t k = b.start[ti]; k < b.start[ti + 1]; ++k) {
-                        const SetupTriangle& t = f.tri(b.ids[k]);
-                        if (is_small(t, S))
-                            rasterize_small(b.ids[k], t, tile, sp, depth_test, buf);
-                        else
-                            rasterize(b.ids[k], t, tile, sp, depth_test, buf);
+                        draw_triangle(b.ids[k], f.tri(b.ids[k]), tile, sp, depth_test, buf);
                     }
                 }
                 auto sample_x = [&](size_t pixel, int s) {
@@ -1124,7 +1128,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                             for (int k = s; k < S; ++k)
                                 covered += buf.tri[pixel * S + k] == tri ? 1 : 0;
                             ShadeResult r = shade_sample(f, tri, edges_of(tri), sample_x(pixel, s),
-                                                         sample_y(pixel, s), any_aov);
+                                                         sample_y(pixel, s), targets.any);
                             auto w = static_cast<float>(covered);
                             sum += w * r.color;
                             aov_sum.distance += w * r.distance;
@@ -1133,14 +1137,14 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                             continue;
                         }
                         ShadeResult r = shade_sample(f, tri, edges_of(tri), sample_x(pixel, s),
-                                                     sample_y(pixel, s), any_aov);
+                                                     sample_y(pixel, s), targets.any);
                         sum += r.color;
                         aov_sum.distance += r.distance;
                         aov_sum.normal += r.normal;
                         aov_sum.albedo += r.albedo;
                     }
                     buf.color[pixel] += sum;
-                    if (any_aov) {
+                    if (targets.any) {
                         buf.aov[0][pixel] += Color(aov_sum.distance);
                         buf.aov[1][pixel] += aov_sum.normal;
                         buf.aov[2][pixel] += aov_sum.albedo;
@@ -1152,7 +1156,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
             float inv = 1.0f / static_cast<float>(spp);
             for (size_t pixel = 0; pixel < pixels; ++pixel) {
                 buf.color[pixel] *= inv;
-                if (any_aov) {
+                if (targets.any) {
                     for (auto& a : buf.aov) a[pixel] *= inv;
                 }
             }
@@ -1162,7 +1166,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                     size_t pixel = static_cast<size_t>(j - tile.y0) * tw + (i - tile.x0);
                     result.color.at(i, j) = buf.color[pixel];
                     for (int k = 0; k < 4; ++k) {
-                        if (want[k]) aov_image[k]->at(i, j) = buf.aov[k][pixel];
+                        if (targets.want[k]) targets.image[k]->at(i, j) = buf.aov[k][pixel];
                     }
                 }
             }

@@ -28,19 +28,11 @@ bool BruteForce::intersect(const Ray& ray, Hit& hit) const {
     RayPrecomputed pre(ray);
     hit = Hit{};
     hit.t = ray.tmax;
-    bool found = false;
-    for (uint32_t id : prims_) found |= geometry_.intersect(id, ray, pre, hit);
-    return found;
+    return geometry_.intersect(prims_.data(), prims_.size(), ray, pre, hit);
 }
 
 bool BruteForce::occluded(const Ray& ray) const {
-    RayPrecomputed pre(ray);
-    for (uint32_t id : prims_) {
-        Hit hit;
-        hit.t = ray.tmax;
-        if (geometry_.intersect(id, ray, pre, hit)) return true;
-    }
-    return false;
+    return geometry_.occludes(prims_.data(), prims_.size(), ray, RayPrecomputed(ray));
 }
 
 }  // namespace svetlo

@@ -471,9 +471,7 @@ bool Bvh::intersect(const Ray& ray, Hit& hit) const {
             }
         }
         if (!node) continue;
-        for (uint32_t k = node->first; k < node->first + node->count; ++k) {
-            found |= geometry_.intersect(prims_[k], ray, pre, hit);
-        }
+        found |= geometry_.intersect(prims_.data() + node->first, node->count, ray, pre, hit);
     }
     return found;
 }
@@ -485,7 +483,6 @@ bool Bvh::occluded(const Ray& ray) const {
     uint32_t stack[kStackSize];
     int sp = 0;
     stack[sp++] = 0;
-    Hit hit;
     while (sp > 0) {
         const BvhNode& node = nodes_[stack[--sp]];
         if (node_entry(node, ray.o, inv_d, ray.tmax) == kInfinity) continue;
@@ -494,10 +491,7 @@ bool Bvh::occluded(const Ray& ray) const {
             stack[sp++] = node.first;
             continue;
         }
-        for (uint32_t k = node.first; k < node.first + node.count; ++k) {
-            hit.t = ray.tmax;
-            if (geometry_.intersect(prims_[k], ray, pre, hit)) return true;
-        }
+        if (geometry_.occludes(prims_.data() + node.first, node.count, ray, pre)) return true;
     }
     return false;
 }

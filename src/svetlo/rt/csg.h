@@ -34,8 +34,6 @@ public:
     /// True when the point lies inside the solid.
     bool contains(vec3 p) const;
 
-    size_t leaf_count() const { return leaves_.size(); }
-
     struct Boundary {
         float t;
         uint32_t leaf;  // kNoLeaf for the open end of a span that starts behind the ray

@@ -78,6 +78,24 @@ public:
         return true;
     }
 
+    /// The closest hit among primitives ids[0, count), closer than hit.t; updates hit.
+    bool intersect(const uint32_t* ids, size_t count, const Ray& ray, const RayPrecomputed& pre,
+                   Hit& hit) const {
+        bool found = false;
+        for (size_t k = 0; k < count; ++k) found |= intersect(ids[k], ray, pre, hit);
+        return found;
+    }
+    /// True when any of primitives ids[0, count) lies on the ray at 0 < t < ray.tmax.
+    bool occludes(const uint32_t* ids, size_t count, const Ray& ray,
+                  const RayPrecomputed& pre) const {
+        for (size_t k = 0; k < count; ++k) {
+            Hit hit;
+            hit.t = ray.tmax;
+            if (intersect(ids[k], ray, pre, hit)) return true;
+        }
+        return false;
+    }
+
     SurfaceHit surface(const Ray& ray, const Hit& hit) const;
 
     /// Bytes held by the triangle and shape arrays.

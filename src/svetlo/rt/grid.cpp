@@ -130,8 +130,7 @@ bool Grid::intersect(const Ray& ray, Hit& hit) const {
     RayPrecomputed pre(ray);
     bool found = false;
     walk(ray, ray.tmax, [&](uint32_t first, uint32_t last, float t_exit) {
-        for (uint32_t k = first; k < last; ++k)
-            found |= geometry_.intersect(cell_prims_[k], ray, pre, hit);
+        found |= geometry_.intersect(cell_prims_.data() + first, last - first, ray, pre, hit);
         // A hit beyond this cell may be beaten by a primitive in a later cell.
         return found && hit.t <= t_exit;
     });
@@ -142,11 +141,7 @@ bool Grid::occluded(const Ray& ray) const {
     RayPrecomputed pre(ray);
     bool found = false;
     walk(ray, ray.tmax, [&](uint32_t first, uint32_t last, float) {
-        for (uint32_t k = first; k < last && !found; ++k) {
-            Hit hit;
-            hit.t = ray.tmax;
-            found = geometry_.intersect(cell_prims_[k], ray, pre, hit);
-        }
+        found = geometry_.occludes(cell_prims_.data() + first, last - first, ray, pre);
         return found;
     });
     return found;

@@ -24,8 +24,6 @@ public:
         return cell_start_.size() * sizeof(uint32_t) + cell_prims_.size() * sizeof(uint32_t);
     }
 
-    std::array<int, 3> resolution() const { return res_; }
-
 private:
     /// Walks the cells along the ray; `visit(first, last, t_exit)` gets the primitive range of
     /// each non-empty cell and the ray's exit distance from it, and returns true to stop.

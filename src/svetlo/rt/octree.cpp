@@ -120,56 +120,47 @@ void push_children(const Nodes& nodes, const OctreeEntry& e, const Ray& ray, vec
 
 }  // namespace
 
-bool Octree::intersect(const Ray& ray, Hit& hit) const {
-    hit = Hit{};
-    hit.t = ray.tmax;
-    if (nodes_.empty()) return false;
-    RayPrecomputed pre(ray);
+template <class Visit>
+void Octree::walk(const Ray& ray, const float& tmax, Visit&& visit) const {
+    if (nodes_.empty()) return;
     vec3 inv_d = safe_inverse(ray.d);
-    float t = box_entry(bounds_.min, bounds_.max, ray.o, inv_d, hit.t);
-    if (t == kInfinity) return false;
+    float t = box_entry(bounds_.min, bounds_.max, ray.o, inv_d, tmax);
+    if (t == kInfinity) return;
     OctreeEntry stack[kStackSize];
     int sp = 0;
     stack[sp++] = {0, t, bounds_};
-    bool found = false;
     while (sp > 0) {
         OctreeEntry e = stack[--sp];
-        if (e.t > hit.t) continue;
+        if (e.t > tmax) continue;  // a closer hit was found since this entry was pushed
         const OctreeNode& node = nodes_[e.node];
         if (node.count == OctreeNode::kInner) {
-            push_children(nodes_, e, ray, inv_d, hit.t, stack, sp);
-            continue;
-        }
-        for (uint32_t k = node.first; k < node.first + node.count; ++k) {
-            found |= geometry_.intersect(prims_[k], ray, pre, hit);
+            push_children(nodes_, e, ray, inv_d, tmax, stack, sp);
+        } else if (visit(node.first, node.first + node.count)) {
+            return;
         }
     }
+}
+
+bool Octree::intersect(const Ray& ray, Hit& hit) const {
+    hit = Hit{};
+    hit.t = ray.tmax;
+    RayPrecomputed pre(ray);
+    bool found = false;
+    walk(ray, hit.t, [&](uint32_t first, uint32_t last) {
+        found |= geometry_.intersect(prims_.data() + first, last - first, ray, pre, hit);
+        return false;
+    });
     return found;
 }
 
 bool Octree::occluded(const Ray& ray) const {
-    if (nodes_.empty()) return false;
     RayPrecomputed pre(ray);
-    vec3 inv_d = safe_inverse(ray.d);
-    float t = box_entry(bounds_.min, bounds_.max, ray.o, inv_d, ray.tmax);
-    if (t == kInfinity) return false;
-    OctreeEntry stack[kStackSize];
-    int sp = 0;
-    stack[sp++] = {0, t, bounds_};
-    while (sp > 0) {
-        OctreeEntry e = stack[--sp];
-        const OctreeNode& node = nodes_[e.node];
-        if (node.count == OctreeNode::kInner) {
-            push_children(nodes_, e, ray, inv_d, ray.tmax, stack, sp);
-            continue;
-        }
-        for (uint32_t k = node.first; k < node.first + node.count; ++k) {
-            Hit hit;
-            hit.t = ray.tmax;
-            if (geometry_.intersect(prims_[k], ray, pre, hit)) return true;
-        }
-    }
-    return false;
+    bool found = false;
+    walk(ray, ray.tmax, [&](uint32_t first, uint32_t last) {
+        found = geometry_.occludes(prims_.data() + first, last - first, ray, pre);
+        return found;
+    });
+    return found;
 }
 
 }  // namespace svetlo

@@ -32,6 +32,11 @@ public:
     int depth() const { return depth_; }
 
 private:
+    /// Visits the leaves the ray enters before `tmax` (read again at every step: the closest
+    /// hit so far), nearest first; `visit(first, last)` gets a leaf's range of prims_ and
+    /// returns true to stop.
+    template <class Visit>
+    void walk(const Ray& ray, const float& tmax, Visit&& visit) const;
     void build(uint32_t node, const Bounds3& box, std::vector<uint32_t>& ids,
                const std::vector<Bounds3>& bounds, int depth);
 

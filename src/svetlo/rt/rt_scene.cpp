@@ -157,18 +157,13 @@ bool RtScene::intersect(const Ray& ray, Hit& hit) const {
     if (unbounded_.empty()) return found;
     if (!found) hit.t = ray.tmax;
     RayPrecomputed pre(ray);
-    for (uint32_t id : unbounded_) found |= geometry_.intersect(id, ray, pre, hit);
-    return found;
+    return geometry_.intersect(unbounded_.data(), unbounded_.size(), ray, pre, hit) || found;
 }
 
 bool RtScene::occluded(const Ray& ray) const {
-    if (!unbounded_.empty()) {
-        RayPrecomputed pre(ray);
-        for (uint32_t id : unbounded_) {
-            Hit hit;
-            hit.t = ray.tmax;
-            if (geometry_.intersect(id, ray, pre, hit)) return true;
-        }
+    if (!unbounded_.empty() &&
+        geometry_.occludes(unbounded_.data(), unbounded_.size(), ray, RayPrecomputed(ray))) {
+        return true;
     }
     return accel_->occluded(ray);
 }

@@ -10,7 +10,7 @@ namespace {
 
 constexpr int kMaxSteps = 2048;    // sphere-tracing steps before giving up (grazing rays)
 constexpr int kBisections = 40;    // refinement of a bracketed crossing
-constexpr float kMinStep = 1e-5f;  // relative to scale(): the smallest advance
+constexpr float kMinStep = 1e-5f;  // relative to scale_: the smallest advance
 
 /// Largest singular value of a 3x3 matrix: sqrt of the largest eigenvalue of A^T A by power
 /// iteration (converges fast for the well-conditioned maps of a scene).

@@ -25,8 +25,6 @@ public:
     vec3 normal(vec3 p) const;
     /// Conservative world-space bounds of the solid; infinite when it is unbounded (a plane).
     Bounds3 bounds() const { return bounds_; }
-    /// A length that sets the tolerances: the bounds' diagonal, or 1 when unbounded.
-    float scale() const { return scale_; }
 
     /// First surface crossing with 0 < t < tmax, found by sphere tracing and refined by
     /// bisection to float precision. The point returned lies on the side the ray came from.
@@ -51,7 +49,7 @@ private:
     std::vector<Node> nodes_;  // nodes_[0] is the root, its parent space the world
     std::vector<uint32_t> child_index_;
     Bounds3 bounds_;
-    float scale_ = 1.0f;
+    float scale_ = 1.0f;  // sets the tolerances: the bounds' diagonal, or 1 when unbounded
 };
 
 }  // namespace svetlo

@@ -203,13 +203,9 @@ RenderResult WhittedRenderer::render(const Scene& scene, const RenderOptions& op
 
     const int width = scene.film.width, height = scene.film.height, spp = scene.render.spp;
     RenderResult result;
-    result.color = Image(width, height);
     // Looked up once: the tiles write through these concurrently.
-    AovTargets targets = allocate_aovs(result, options.aovs, width, height);
-    const bool* want = targets.want;
-    Image* const* aov_image = targets.image;
-    bool any_aov = targets.any;
-    bool want_visibility = want[3] && !scene.lights.empty();
+    const AovTargets targets = prepare_result(result, options.aovs, width, height);
+    bool want_visibility = targets.want[3] && !scene.lights.empty();
     CameraRays camera(scene.camera, width, height);
     std::atomic<uint64_t> rays{0};
     Progress progress("whitted", static_cast<int64_t>(width) * height, options.progress);
@@ -234,9 +230,9 @@ RenderResult WhittedRenderer::render(const Scene& scene, const RenderOptions& op
                         Ray ray = camera.generate((static_cast<float>(i) + offset.x) / width,
                                                   (static_cast<float>(j) + offset.y) / height);
                         AovSample aov;
-                        sum +=
-                            glm::dvec3(tracer.trace(ray, 0, 1.0f, rng, any_aov ? &aov : nullptr));
-                        if (any_aov) {
+                        sum += glm::dvec3(
+                            tracer.trace(ray, 0, 1.0f, rng, targets.any ? &aov : nullptr));
+                        if (targets.any) {
                             aov_sum.depth += aov.depth;
                             aov_sum.normal += aov.normal;
                             aov_sum.albedo += aov.albedo;
@@ -245,10 +241,11 @@ RenderResult WhittedRenderer::render(const Scene& scene, const RenderOptions& op
                     }
                     float inv = 1.0f / static_cast<float>(spp);
                     result.color.at(i, j) = Color(sum / static_cast<double>(spp));
-                    if (want[0]) aov_image[0]->at(i, j) = Color(aov_sum.depth * inv);
-                    if (want[1]) aov_image[1]->at(i, j) = aov_sum.normal * inv;
-                    if (want[2]) aov_image[2]->at(i, j) = aov_sum.albedo * inv;
-                    if (want[3]) aov_image[3]->at(i, j) = Color(aov_sum.visibility * inv);
+                    if (targets.want[0]) targets.image[0]->at(i, j) = Color(aov_sum.depth * inv);
+                    if (targets.want[1]) targets.image[1]->at(i, j) = aov_sum.normal * inv;
+                    if (targets.want[2]) targets.image[2]->at(i, j) = aov_sum.albedo * inv;
+                    if (targets.want[3])
+                        targets.image[3]->at(i, j) = Color(aov_sum.visibility * inv);
                 }
             }
             rays += tracer.rays;

@@ -282,9 +282,7 @@ bool WideBvh::leaf_intersect(const Leaf& leaf, const Ray& ray, const RayPrecompu
             }
         }
     }
-    for (uint32_t k = leaf.first_shape; k < leaf.first_shape + leaf.shapes; ++k) {
-        found |= geometry_.intersect(shapes_[k], ray, pre, hit);
-    }
+    found |= geometry_.intersect(shapes_.data() + leaf.first_shape, leaf.shapes, ray, pre, hit);
     return found;
 }
 
@@ -304,12 +302,7 @@ bool WideBvh::leaf_occluded(const Leaf& leaf, const Ray& ray, const RayPrecomput
             if (intersect_triangle(ray, pre, v0, v1, v2, ray.tmax, tt, b1, b2)) return true;
         }
     }
-    for (uint32_t k = leaf.first_shape; k < leaf.first_shape + leaf.shapes; ++k) {
-        Hit hit;
-        hit.t = ray.tmax;
-        if (geometry_.intersect(shapes_[k], ray, pre, hit)) return true;
-    }
-    return false;
+    return geometry_.occludes(shapes_.data() + leaf.first_shape, leaf.shapes, ray, pre);
 }
 
 bool WideBvh::intersect(const Ray& ray, Hit& hit) const {

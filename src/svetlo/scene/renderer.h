@@ -38,17 +38,18 @@ struct RenderResult {
     RenderStats stats;
 };
 
-/// The AOV images a render fills, allocated in `result` (depth, normal and albedo zero,
-/// visibility one), with pointers indexed like aov_names().
+/// The images a render fills: the colour, and the AOVs asked for (depth, normal and albedo
+/// zero, visibility one), with pointers indexed like aov_names() (null when not asked for).
 struct AovTargets {
     bool want[4] = {false, false, false, false};
     Image* image[4] = {nullptr, nullptr, nullptr, nullptr};
     bool any = false;
 };
-inline AovTargets allocate_aovs(RenderResult& result, const std::vector<std::string>& names,
-                                int width, int height) {
+inline AovTargets prepare_result(RenderResult& result, const std::vector<std::string>& aovs,
+                                 int width, int height) {
+    result.color = Image(width, height);
     AovTargets t;
-    for (const std::string& name : names) {
+    for (const std::string& name : aovs) {
         for (size_t k = 0; k < aov_names().size(); ++k) {
             if (name != aov_names()[k]) continue;
             t.want[k] = true;
