@@ -22,7 +22,7 @@ class LargeArray {
 
 public:
     LargeArray() = default;
-    explicit LargeArray(size_t count) : size_(count) {
+    explicit LargeArray(size_t count) : size_(count), capacity_(count) {
         if (count == 0) return;
         constexpr size_t kHuge = size_t{2} << 20;
         size_t bytes = count * sizeof(T);
@@ -46,6 +46,15 @@ public:
     bool empty() const { return size_ == 0; }
     /// Forgets the elements past `count` (their memory stays allocated).
     void truncate(size_t count) { size_ = count < size_ ? count : size_; }
+    /// Holds `count` elements with unspecified values, keeping the memory when it is large
+    /// enough (buffers reused frame after frame: no new pages to fault in).
+    void reuse(size_t count) {
+        if (count > capacity_) {
+            *this = LargeArray(count);
+        } else {
+            size_ = count;
+        }
+    }
     T* begin() { return data(); }
     T* end() { return data() + size_; }
     const T* begin() const { return data(); }
@@ -57,6 +66,7 @@ private:
     };
     std::unique_ptr<T[], Free> data_;
     size_t size_ = 0;
+    size_t capacity_ = 0;
 };
 
 }  // namespace svetlo

@@ -47,6 +47,10 @@ ClipPolygon clip_triangle(const ClipVertex& a, const ClipVertex& b, const ClipVe
     clip_plane(q, p, [gx](const vec4& v) { return gx * v.w + v.x; });
     clip_plane(p, q, [gy](const vec4& v) { return gy * v.w - v.y; });
     clip_plane(q, p, [gy](const vec4& v) { return gy * v.w + v.y; });
+    for (int k = 0; k < p.count; ++k) {
+        ClipVertex& v = p.v[static_cast<size_t>(k)];
+        v.invw = 1.0f / v.clip.w;
+    }
     return p;
 }
 

@@ -21,6 +21,7 @@ struct ClipVertex {
     vec3 normal{0.0f};
     vec2 uv{0.0f};
     Color color{0.0f};  // Gouraud: the lit vertex colour
+    float invw = 0.0f;  // 1 / clip.w (set for the vertex stage's and the clipper's outputs)
 };
 
 /// A convex polygon of at most 3 + 6 vertices (each plane adds at most one).
@@ -30,16 +31,15 @@ struct ClipPolygon {
 };
 
 /// Clips triangle (a, b, c) to -w <= z <= w and |x|, |y| <= guard_x w, guard_y w; w > 0 is
-/// implied by the near plane. Returns the polygon (count 0 when nothing is left).
+/// implied by the near plane. Returns the polygon (count 0 when nothing is left), with
+/// invw set on every vertex.
 ClipPolygon clip_triangle(const ClipVertex& a, const ClipVertex& b, const ClipVertex& c,
                           float guard_x, float guard_y);
 
-/// True when the triangle lies inside every clip plane (the common case: no clipping).
-inline bool inside_all(const vec4& a, const vec4& b, const vec4& c, float gx, float gy) {
-    auto in = [&](const vec4& p) {
-        return p.z >= -p.w && p.z <= p.w && std::abs(p.x) <= gx * p.w && std::abs(p.y) <= gy * p.w;
-    };
-    return in(a) && in(b) && in(c);
+/// True when a vertex lies inside every clip plane; a triangle of three such vertices needs no
+/// clipping (the common case).
+inline bool inside(const vec4& p, float gx, float gy) {
+    return p.z >= -p.w && p.z <= p.w && std::abs(p.x) <= gx * p.w && std::abs(p.y) <= gy * p.w;
 }
 
 }  // namespace svetlo

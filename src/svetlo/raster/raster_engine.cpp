@@ -28,6 +28,7 @@ namespace svetlo {
 namespace {
 
 constexpr int kTile = 64;                // pixels per side of a binning tile
+constexpr int kSmall = 32;               // pixels: the largest side of a "small" triangle
 constexpr int kMaxSamplesPerPass = 16;   // samples per pixel held at once; more take passes
 constexpr size_t kChunk = 4096;          // triangles per unit of parallel setup and binning
 constexpr float kGuardPixels = 4096.0f;  // guard band beyond each side of the viewport
@@ -37,22 +38,35 @@ constexpr uint64_t kMaxTriangles = 1u << 25;  // 33.5 M triangles: about 6 GiB o
 
 enum class Mode { Flat, Gouraud, Phong, Depth, Normal };
 
-/// A triangle after clipping, projection and snapping, ready to rasterize.
+/// A vertex after projection: fixed-point pixels and the depth key (setup_triangle).
+struct ScreenVertex {
+    int32_t x = 0, y = 0;
+    float z = 0.0f;
+    uint32_t inside =
+        0;  // 1 when inside every clip plane: triangles of such vertices skip clipping
+};
+
+/// A triangle after clipping, projection and snapping, ready to rasterize: one cache line,
+/// since the tiles stream through a million of them.
 struct SetupTriangle {
     int32_t x[3], y[3];  // fixed-point pixels, wound so that the area is positive
-    float z[3];          // depth key, affine in screen space, smaller is nearer (setup_triangle)
-    float invw[3];       // 1 / w, for perspective-correct interpolation
-    uint32_t v[3];       // vertex indices
-    uint32_t material;
-    int32_t x0, y0, x1, y1;  // pixels that may hold a covered sample, [x0, x1) x [y0, y1)
-    Color flat{0.0f};        // flat shading: the face's colour
-    float depth_key = 0.0f;  // painter's algorithm: distance of the centroid from the camera
-    vec3 ng{0.0f};           // unit geometric normal of the counter-clockwise side (world)
-    double inv_area = 0.0;   // 1 / twice the fixed-point area
-    bool front = true;       // the camera sees the counter-clockwise side
+    float z[3];          // depth key, affine in screen space, smaller is nearer (project)
+    uint32_t v[3];       // vertex indices, in the wound order
+    // Pixels [bx0, bx1] x [by0, by1] that may hold a covered sample (inclusive: a film is at
+    // most 65,536 pixels wide); bx0 > bx1 when the slot holds no triangle.
+    uint16_t bx0 = 1, by0 = 0, bx1 = 0, by1 = 0;
+    uint32_t material : 30 = 0;
+    uint32_t front : 1 = 1;  // the camera sees the counter-clockwise side (v is then as given)
+    uint32_t small : 1 = 0;  // fits rasterize_small: at most kSmall pixels on each side
+    float inv_area = 0.0f;   // 1 / twice the fixed-point area
 
-    bool empty() const { return x0 >= x1; }
+    int x0() const { return bx0; }
+    int x1() const { return bx1 + 1; }
+    int y0() const { return by0; }
+    int y1() const { return by1 + 1; }
+    bool empty() const { return bx0 > bx1; }
 };
+static_assert(sizeof(SetupTriangle) == 64);
 
 /// Everything the tiles read, made once per frame.
 struct FrameState {
@@ -72,9 +86,12 @@ struct FrameState {
     std::vector<SimdMaterial> simd_material;  // per material, and whether the fast path takes it
     std::vector<char> simd_ok;
     LargeArray<ClipVertex> vertices;     // the vertex stage's output, mesh after mesh
+    LargeArray<ScreenVertex> screen;     // the same vertices projected (when inside)
     std::vector<ClipVertex> extra;       // vertices made by clipping (index bit kExtra)
     LargeArray<SetupTriangle> tris;      // one slot per input triangle (empty when culled)
     std::vector<SetupTriangle> clipped;  // triangles of clipped polygons, after the slots
+    LargeArray<Color> flat;              // flat shading: each slot's face colour
+    std::vector<Color> clipped_flat;     // and each clipped triangle's
     std::vector<std::pair<uint32_t, uint32_t>> clipped_range;  // per chunk, into `clipped`
     size_t triangle_count = 0;                                 // set up and drawn
     struct Bins {                     // per chunk of triangles in drawing order:
@@ -89,6 +106,9 @@ struct FrameState {
     }
     const SetupTriangle& tri(uint32_t id) const {
         return id < tris.size() ? tris[id] : clipped[id - tris.size()];
+    }
+    Color flat_color(uint32_t id) const {
+        return id < tris.size() ? flat[id] : clipped_flat[id - tris.size()];
     }
 };
 
@@ -215,6 +235,29 @@ Color light_point(const FrameState& f, const Bsdf& bsdf, vec3 p, vec3 wo, vec3 n
                        f.scene->render.background);
 }
 
+/// The guard band in clip space: |x| <= guard_x w, |y| <= guard_y w.
+float guard_x(const FrameState& f) {
+    return 1.0f + 2.0f * kGuardPixels / static_cast<float>(f.cam.width);
+}
+float guard_y(const FrameState& f) {
+    return 1.0f + 2.0f * kGuardPixels / static_cast<float>(f.cam.height);
+}
+
+/// Stage 2 for positions: perspective division, viewport and snapping of a vertex inside the
+/// near plane (w > 0).
+ScreenVertex project(const FrameState& f, const ClipVertex& cv) {
+    vec3 ndc = vec3(cv.clip) * cv.invw;
+    vec2 px = f.cam.to_pixels(vec2(ndc));
+    ScreenVertex s;
+    s.x = to_fixed(px.x);
+    s.y = to_fixed(px.y);
+    // Depth key, smaller is nearer: -1/w for perspective (1/w is affine in screen space and
+    // keeps float's relative precision at every distance, unlike z/w), window z for
+    // orthographic cameras (w = 1, z/w linear in distance).
+    s.z = f.ortho ? 0.5f * ndc.z + 0.5f : -cv.invw;
+    return s;
+}
+
 /// Stage 2: the vertex stage. World positions and normals, clip coordinates, and for
 /// Gouraud shading the lit colour of each vertex (with the material of the first face that
 /// uses it).
@@ -223,8 +266,10 @@ void vertex_stage(const std::vector<DrawMesh>& meshes, FrameState& f, std::vecto
     base.assign(meshes.size() + 1, 0);
     for (size_t k = 0; k < meshes.size(); ++k)
         base[k + 1] = base[k] + static_cast<uint32_t>(meshes[k].mesh.positions.size());
-    f.vertices = LargeArray<ClipVertex>(base.back());
+    f.vertices.reuse(base.back());
+    f.screen.reuse(base.back());
     mat4 vp = f.cam.view_projection();
+    float gx = guard_x(f), gy = guard_y(f);
     parallel_indices(meshes.size(), threads, [&](size_t k) {
         const Mesh& m = meshes[k].mesh;
         const mat4& model = meshes[k].model;
@@ -237,6 +282,13 @@ void vertex_stage(const std::vector<DrawMesh>& meshes, FrameState& f, std::vecto
             out.normal = glm::length(n) > 0.0f ? glm::normalize(nm * n) : vec3(0.0f);
             out.uv = v < m.uvs.size() ? m.uvs[v] : vec2(0.0f);
             out.color = Color(0.0f);
+            ScreenVertex& sv = f.screen[base[k] + v];
+            sv.inside = inside(out.clip, gx, gy) ? 1 : 0;
+            if (sv.inside) {
+                out.invw = 1.0f / out.clip.w;
+                sv = project(f, out);
+                sv.inside = 1;
+            }
         }
         if (f.mode != Mode::Gouraud) return;
         std::vector<uint32_t> face_of(m.positions.size(), kNone);
@@ -264,34 +316,26 @@ void vertex_stage(const std::vector<DrawMesh>& meshes, FrameState& f, std::vecto
     });
 }
 
-/// Stage 3 for one triangle: projection, viewport, snapping, culling. Appends to `out`.
-bool setup_triangle(const FrameState& f, const ClipVertex* cv[3], const uint32_t index[3],
-                    uint32_t material, Color flat, SetupTriangle& t) {
-    t.x0 = t.x1 = 0;  // empty until set up
-    vec2 px[3];
+/// Stage 3 for one triangle: screen area, culling and bounds. False when it draws nothing.
+bool setup_triangle(const FrameState& f, const ScreenVertex* sv[3], const uint32_t index[3],
+                    uint32_t material, SetupTriangle& t) {
+    t.bx0 = 1;  // empty until set up
+    t.bx1 = 0;
     for (int i = 0; i < 3; ++i) {
-        float invw = 1.0f / cv[i]->clip.w;
-        vec3 ndc = vec3(cv[i]->clip) * invw;
-        px[i] = f.cam.to_pixels(vec2(ndc));
-        t.x[i] = to_fixed(px[i].x);
-        t.y[i] = to_fixed(px[i].y);
-        // Depth key, smaller is nearer: -1/w for perspective (1/w is affine in screen space
-        // and keeps float's relative precision at every distance, unlike z/w), window z for
-        // orthographic cameras (w = 1, z/w linear in distance).
-        t.z[i] = f.ortho ? 0.5f * ndc.z + 0.5f : -invw;
-        t.invw[i] = invw;
+        t.x[i] = sv[i]->x;
+        t.y[i] = sv[i]->y;
+        t.z[i] = sv[i]->z;
         t.v[i] = index[i];
     }
     int64_t area = signed_area2(t.x, t.y);
     if (area == 0) return false;  // degenerate on the screen: covers no sample
-    t.front = area > 0;
-    t.inv_area = 1.0 / static_cast<double>(std::abs(area));
+    t.front = area > 0 ? 1 : 0;
+    t.inv_area = 1.0f / static_cast<float>(std::abs(area));
     if (!t.front) {
         if (f.scene->render.raster.cull_back_faces) return false;
         std::swap(t.x[1], t.x[2]);
         std::swap(t.y[1], t.y[2]);
         std::swap(t.z[1], t.z[2]);
-        std::swap(t.invw[1], t.invw[2]);
         std::swap(t.v[1], t.v[2]);
     }
     int32_t xmin = std::min({t.x[0], t.x[1], t.x[2]}), xmax = std::max({t.x[0], t.x[1], t.x[2]});
@@ -302,18 +346,60 @@ bool setup_triangle(const FrameState& f, const ClipVertex* cv[3], const uint32_t
     int32_t x1 = std::min(f.cam.width, (xmax >> kSubpixelBits) + 1),
             y1 = std::min(f.cam.height, (ymax >> kSubpixelBits) + 1);
     if (x0 >= x1 || y0 >= y1) return false;
-    t.x0 = x0;
-    t.y0 = y0;
-    t.x1 = x1;
-    t.y1 = y1;
+    t.bx0 = static_cast<uint16_t>(x0);
+    t.by0 = static_cast<uint16_t>(y0);
+    t.bx1 = static_cast<uint16_t>(x1 - 1);
+    t.by1 = static_cast<uint16_t>(y1 - 1);
     t.material = material;
-    t.flat = flat;
-    t.depth_key = (cv[0]->clip.w + cv[1]->clip.w + cv[2]->clip.w) / 3.0f;
-    if (f.ortho) t.depth_key = (cv[0]->clip.z + cv[1]->clip.z + cv[2]->clip.z) / 3.0f;
-    // The counter-clockwise side's unit normal, from the vertices in their original order.
-    vec3 ng = glm::cross(cv[1]->world - cv[0]->world, cv[2]->world - cv[0]->world);
-    t.ng = glm::length(ng) > 0.0f ? glm::normalize(ng) : vec3(0.0f, 0.0f, 1.0f);
+    // The triangle itself, not its bounds clamped to the film: the edge coefficients grow with it.
+    t.small = xmax - xmin <= kSmall * kSubpixel && ymax - ymin <= kSmall * kSubpixel ? 1 : 0;
     return true;
+}
+
+/// The unit normal of the counter-clockwise side of a set-up triangle (world space), from its
+/// vertices A, B, C in the wound order (swapped for back faces: the sign undoes it exactly).
+vec3 face_normal(const SetupTriangle& t, const ClipVertex& A, const ClipVertex& B,
+                 const ClipVertex& C) {
+    vec3 n = glm::cross(B.world - A.world, C.world - A.world);
+    if (!t.front) n = -n;
+    return glm::length(n) > 0.0f ? glm::normalize(n) : vec3(0.0f, 0.0f, 1.0f);
+}
+
+/// Flat shading: one normal and one colour per face, lit at the centroid of the triangle of
+/// vertices `idx` (in the vertex stage's output).
+Color flat_colour(const FrameState& f, const uint32_t idx[3], uint32_t material) {
+    const ClipVertex* cv[3] = {&f.vertices[idx[0]], &f.vertices[idx[1]], &f.vertices[idx[2]]};
+    vec3 p = (cv[0]->world + cv[1]->world + cv[2]->world) / 3.0f;
+    vec3 ng = glm::cross(cv[1]->world - cv[0]->world, cv[2]->world - cv[0]->world);
+    ng = glm::length(ng) > 0.0f ? glm::normalize(ng) : vec3(0.0f, 0.0f, 1.0f);
+    vec2 uv = (cv[0]->uv + cv[1]->uv + cv[2]->uv) / 3.0f;
+    vec3 wo = f.ortho ? -f.forward : glm::normalize(f.eye - p);
+    Bsdf scratch;
+    return light_point(f, material_at(f, material, uv, vec2(0.0f), vec2(0.0f), scratch), p, wo, ng,
+                       ng, glm::dot(ng, wo) > 0.0f);
+}
+
+/// Stage 4 for one chunk: its triangles `ids` (in drawing order) into tiles, as compressed
+/// rows: tile k's triangles are b.ids[b.start[k] .. b.start[k + 1]).
+template <typename Tri>
+void bin_chunk(const FrameState& f, const std::vector<uint32_t>& ids, Tri&& tri,
+               FrameState::Bins& b) {
+    size_t tiles = static_cast<size_t>(f.tiles_x) * f.tiles_y;
+    b.start.assign(tiles + 1, 0);
+    auto each = [&](auto&& visit) {
+        for (uint32_t id : ids) {
+            const SetupTriangle& t = tri(id);
+            for (int ty = t.y0() / kTile; ty <= (t.y1() - 1) / kTile; ++ty) {
+                for (int tx = t.x0() / kTile; tx <= (t.x1() - 1) / kTile; ++tx)
+                    visit(static_cast<size_t>(ty) * f.tiles_x + tx, id);
+            }
+        }
+    };
+    each([&](size_t tile, uint32_t) { b.start[tile + 1]++; });
+    for (size_t k = 0; k < tiles; ++k) b.start[k + 1] += b.start[k];
+    b.ids.resize(b.start[tiles]);
+    std::vector<uint32_t> fill(b.start.begin(), b.start.end() - 1);
+    each([&](size_t tile, uint32_t id) { b.ids[fill[tile]++] = id; });
 }
 
 /// Stage 3: primitive assembly, clipping and setup of every triangle, in chunks of kChunk
@@ -330,56 +416,72 @@ void assemble(const std::vector<DrawMesh>& meshes, const std::vector<uint32_t>& 
             sources.push_back({static_cast<uint32_t>(k), static_cast<uint32_t>(t)});
     }
     size_t chunks = (sources.size() + kChunk - 1) / kChunk;
-    f.tris = LargeArray<SetupTriangle>(sources.size());
+    f.tris.reuse(sources.size());
     std::vector<std::vector<SetupTriangle>> clipped(chunks);
     std::vector<std::vector<ClipVertex>> extra(chunks);
     std::vector<size_t> counts(chunks, 0);
-    float gx = 1.0f + 2.0f * kGuardPixels / static_cast<float>(f.cam.width);
-    float gy = 1.0f + 2.0f * kGuardPixels / static_cast<float>(f.cam.height);
+    f.tiles_x = (f.cam.width + kTile - 1) / kTile;
+    f.tiles_y = (f.cam.height + kTile - 1) / kTile;
+    f.bins.assign(chunks, {});
+    float gx = guard_x(f), gy = guard_y(f);
+    const bool flat_mode = f.mode == Mode::Flat;
+    if (flat_mode) f.flat.reuse(sources.size());
+    std::vector<std::vector<Color>> clipped_flat(chunks);
     parallel_indices(chunks, threads, [&](size_t c) {
         for (size_t s = c * kChunk; s < std::min(sources.size(), (c + 1) * kChunk); ++s) {
             const Mesh& m = meshes[sources[s].mesh].mesh;
             size_t t = sources[s].tri;
             uint32_t idx[3];
-            const ClipVertex* cv[3];
+            const ScreenVertex* sv[3];
             for (int i = 0; i < 3; ++i) {
                 idx[i] = base[sources[s].mesh] + m.indices[3 * t + i];
-                cv[i] = &f.vertices[idx[i]];
+                sv[i] = &f.screen[idx[i]];
             }
             auto material = static_cast<uint32_t>(m.face_material[t]);
-            Color flat(0.0f);
-            if (f.mode == Mode::Flat) {
-                // One normal and one colour per face: lit at the centroid.
-                vec3 p = (cv[0]->world + cv[1]->world + cv[2]->world) / 3.0f;
-                vec3 ng = glm::cross(cv[1]->world - cv[0]->world, cv[2]->world - cv[0]->world);
-                ng = glm::length(ng) > 0.0f ? glm::normalize(ng) : vec3(0.0f, 0.0f, 1.0f);
-                vec2 uv = (cv[0]->uv + cv[1]->uv + cv[2]->uv) / 3.0f;
-                vec3 wo = f.ortho ? -f.forward : glm::normalize(f.eye - p);
-                Bsdf scratch;
-                flat = light_point(f, material_at(f, material, uv, vec2(0.0f), vec2(0.0f), scratch),
-                                   p, wo, ng, ng, glm::dot(ng, wo) > 0.0f);
-            }
             SetupTriangle& slot = f.tris[s];
-            slot.x0 = slot.x1 = 0;
-            if (inside_all(cv[0]->clip, cv[1]->clip, cv[2]->clip, gx, gy)) {
-                counts[c] += setup_triangle(f, cv, idx, material, flat, slot) ? 1 : 0;
+            if (flat_mode) f.flat[s] = flat_colour(f, idx, material);
+            if (sv[0]->inside & sv[1]->inside & sv[2]->inside) {
+                counts[c] += setup_triangle(f, sv, idx, material, slot) ? 1 : 0;
                 continue;
             }
-            ClipPolygon poly = clip_triangle(*cv[0], *cv[1], *cv[2], gx, gy);
+            slot.bx0 = 1;  // empty
+            slot.bx1 = 0;
+            ClipPolygon poly =
+                clip_triangle(f.vertices[idx[0]], f.vertices[idx[1]], f.vertices[idx[2]], gx, gy);
             if (poly.count < 3) continue;
             auto first = static_cast<uint32_t>(extra[c].size());
-            for (int k = 0; k < poly.count; ++k) extra[c].push_back(poly.v[static_cast<size_t>(k)]);
+            std::array<ScreenVertex, std::tuple_size_v<decltype(ClipPolygon::v)>> ps;
+            for (int k = 0; k < poly.count; ++k) {
+                extra[c].push_back(poly.v[static_cast<size_t>(k)]);
+                ps[k] = project(f, poly.v[static_cast<size_t>(k)]);
+            }
             for (int k = 1; k + 1 < poly.count; ++k) {
-                uint32_t fan[3] = {first, first + static_cast<uint32_t>(k),
-                                   first + static_cast<uint32_t>(k) + 1};
-                const ClipVertex* fv[3] = {&extra[c][fan[0]], &extra[c][fan[1]], &extra[c][fan[2]]};
+                const ScreenVertex* fv[3] = {&ps[0], &ps[k], &ps[k + 1]};
                 SetupTriangle piece;
-                // Chunk-local vertex indices for now: setup reads the vertices through fv.
-                uint32_t local[3] = {kExtra | fan[0], kExtra | fan[1], kExtra | fan[2]};
-                if (setup_triangle(f, fv, local, material, flat, piece))
+                // Chunk-local vertex indices for now: fixed up when the chunks are joined.
+                uint32_t local[3] = {kExtra | first, kExtra | (first + static_cast<uint32_t>(k)),
+                                     kExtra | (first + static_cast<uint32_t>(k) + 1)};
+                if (setup_triangle(f, fv, local, material, piece)) {
                     clipped[c].push_back(piece);
+                    if (flat_mode) clipped_flat[c].push_back(f.flat[s]);
+                }
             }
         }
+        // Binned while the chunk is in cache: its slots, then its pieces (ids chunk-local
+        // until the pieces are concatenated below).
+        std::vector<uint32_t> ids;
+        ids.reserve(counts[c] + clipped[c].size());
+        for (size_t s = c * kChunk; s < std::min(sources.size(), (c + 1) * kChunk); ++s) {
+            if (!f.tris[s].empty()) ids.push_back(static_cast<uint32_t>(s));
+        }
+        for (size_t k = 0; k < clipped[c].size(); ++k)
+            ids.push_back(kExtra | static_cast<uint32_t>(k));
+        bin_chunk(
+            f, ids,
+            [&](uint32_t id) -> const SetupTriangle& {
+                return (id & kExtra) ? clipped[c][id & ~kExtra] : f.tris[id];
+            },
+            f.bins[c]);
     });
     // Concatenate the clipped pieces and their vertices, chunk after chunk.
     for (size_t c = 0; c < chunks; ++c) {
@@ -390,20 +492,27 @@ void assemble(const std::vector<DrawMesh>& meshes, const std::vector<uint32_t>& 
             for (uint32_t& v : t.v) v = kExtra | (offset + (v & ~kExtra));
             f.clipped.push_back(t);
         }
+        f.clipped_flat.insert(f.clipped_flat.end(), clipped_flat[c].begin(), clipped_flat[c].end());
         f.clipped_range.emplace_back(begin, static_cast<uint32_t>(f.clipped.size()));
         f.triangle_count += counts[c] + clipped[c].size();
     }
+    auto main_count = static_cast<uint32_t>(f.tris.size());
+    parallel_indices(chunks, threads, [&](size_t c) {
+        if (clipped[c].empty()) return;
+        for (uint32_t& id : f.bins[c].ids) {
+            if (id & kExtra) id = main_count + f.clipped_range[c].first + (id & ~kExtra);
+        }
+    });
 }
 
-/// Stage 4: binning into tiles, by chunks of triangles in drawing order (each chunk's slots,
-/// then its clipped pieces; back to front for the painter's algorithm), as compressed rows.
-void bin(FrameState& f, int threads) {
-    f.tiles_x = (f.cam.width + kTile - 1) / kTile;
-    f.tiles_y = (f.cam.height + kTile - 1) / kTile;
+/// Stage 4 for the painter's algorithm: every triangle sorted back to front by the
+/// centroid's depth (ties keep the submission order), then binned again chunk by chunk.
+/// (The z-buffer's bins are made by `assemble`, each chunk's right after its setup.)
+void bin_back_to_front(FrameState& f, int threads) {
     std::vector<uint32_t> order;
     order.reserve(f.triangle_count);
     auto main_count = static_cast<uint32_t>(f.tris.size());
-    for (size_t c = 0; c < f.clipped_range.size(); ++c) {
+    for (size_t c = 0; c < f.clipped_range.size(); ++c) {  // the submission order
         for (uint32_t id = static_cast<uint32_t>(c * kChunk);
              id < std::min<size_t>(main_count, (c + 1) * kChunk); ++id) {
             if (!f.tris[id].empty()) order.push_back(id);
@@ -411,33 +520,24 @@ void bin(FrameState& f, int threads) {
         for (uint32_t k = f.clipped_range[c].first; k < f.clipped_range[c].second; ++k)
             order.push_back(main_count + k);
     }
-    if (f.scene->render.raster.visibility == "painter") {
-        // Back to front by the centroid's depth; ties keep the submission order.
-        std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
-            return f.tri(a).depth_key > f.tri(b).depth_key;
-        });
+    // The centroid's distance along the view axis: mean w (perspective) or mean z (orthographic).
+    std::vector<float> key(f.tris.size() + f.clipped.size());
+    for (uint32_t id : order) {
+        const SetupTriangle& t = f.tri(id);
+        float sum = 0.0f;
+        for (uint32_t v : t.v) sum += f.ortho ? f.vertex(v).clip.z : f.vertex(v).clip.w;
+        key[id] = sum / 3.0f;
     }
+    std::stable_sort(order.begin(), order.end(),
+                     [&](uint32_t a, uint32_t b) { return key[a] > key[b]; });
     size_t chunks = (order.size() + kChunk - 1) / kChunk;
-    size_t tiles = static_cast<size_t>(f.tiles_x) * f.tiles_y;
     f.bins.assign(chunks, {});
     parallel_indices(chunks, threads, [&](size_t c) {
-        FrameState::Bins& b = f.bins[c];
-        b.start.assign(tiles + 1, 0);
-        auto each = [&](auto&& visit) {
-            for (size_t k = c * kChunk; k < std::min(order.size(), (c + 1) * kChunk); ++k) {
-                const SetupTriangle& t = f.tri(order[k]);
-                for (int ty = t.y0 / kTile; ty <= (t.y1 - 1) / kTile; ++ty) {
-                    for (int tx = t.x0 / kTile; tx <= (t.x1 - 1) / kTile; ++tx) {
-                        visit(static_cast<size_t>(ty) * f.tiles_x + tx, order[k]);
-                    }
-                }
-            }
-        };
-        each([&](size_t tile, uint32_t) { b.start[tile + 1]++; });
-        for (size_t k = 0; k < tiles; ++k) b.start[k + 1] += b.start[k];
-        b.ids.resize(b.start[tiles]);
-        std::vector<uint32_t> fill(b.start.begin(), b.start.end() - 1);
-        each([&](size_t tile, uint32_t id) { b.ids[fill[tile]++] = id; });
+        std::vector<uint32_t> ids(
+            order.begin() + static_cast<std::ptrdiff_t>(c * kChunk),
+            order.begin() + static_cast<std::ptrdiff_t>(std::min(order.size(), (c + 1) * kChunk)));
+        bin_chunk(
+            f, ids, [&](uint32_t id) -> const SetupTriangle& { return f.tri(id); }, f.bins[c]);
     });
 }
 
@@ -517,39 +617,41 @@ struct TriangleEdges {
 /// Stage 5 for small triangles and one sample per pixel: edge functions relative to the
 /// triangle's corner fit in 32 bits, so four pixels are tested and depth-tested at once. The
 /// blocks' deepest depths are left as they were: larger than the truth, which is safe.
-constexpr int kSmall = 32;  // pixels: the bounding box's largest side for this path
-
-bool is_small(const SetupTriangle& t, int samples) {
-    // The triangle itself, not its bounds clamped to the film: the edge coefficients grow with it.
-    int32_t w = std::max({t.x[0], t.x[1], t.x[2]}) - std::min({t.x[0], t.x[1], t.x[2]});
-    int32_t h = std::max({t.y[0], t.y[1], t.y[2]}) - std::min({t.y[0], t.y[1], t.y[2]});
-    return samples == 1 && w <= kSmall * kSubpixel && h <= kSmall * kSubpixel;
-}
 
 /// The pixels of a tile a triangle's bounds cover: [xs, xe) x [ys, ye).
 struct PixelSpan {
     int xs, xe, ys, ye;
 };
 
-void rasterize_small(uint32_t id, const SetupTriangle& t, const TriangleEdges& te, PixelSpan span,
-                     const Tile& tile, const SamplePattern& sp, bool depth_test, TileBuffers& buf) {
+void rasterize_small(uint32_t id, const SetupTriangle& t, PixelSpan span, const Tile& tile,
+                     const SamplePattern& sp, bool depth_test, TileBuffers& buf) {
     const auto [xs, xe, ys, ye] = span;
-    // Over the box |E| <= (|a| + |b|) (kSmall + 2) 256 with |a|, |b| <= (kSmall + 2) 256: below
-    // 2^28, and the steps of four pixels below 2^24.
-    int64_t ox = static_cast<int64_t>(xs) * kSubpixel + sp.ox[0],
-            oy = static_cast<int64_t>(ys) * kSubpixel + sp.oy[0];
+    // Edge k, of vertex k's weight, runs from vertex i = k + 1 to j = k + 2 (Edge::make):
+    // E(x, y) = dx (y - y_i) - dy (x - x_i). Relative to vertex i, over the box |E| <=
+    // (|dx| + |dy|) (kSmall + 2) 256 with |dx|, |dy| <= kSmall 256: below 2^28, and the steps
+    // of four pixels below 2^24, so 32 bits hold everything exactly.
+    const int32_t ox = xs * kSubpixel + sp.ox[0], oy = ys * kSubpixel + sp.oy[0];
     __m128i w_row[3], step_x[3], step_y[3];
+    int32_t a[3];
     for (int k = 0; k < 3; ++k) {
-        const Edge& e = te.e[k];
-        auto origin = static_cast<int32_t>(e.at(ox, oy) + e.bias);
-        auto ax = static_cast<int32_t>(e.a * kSubpixel);
+        int i = (k + 1) % 3, j = (k + 2) % 3;
+        int32_t dx = t.x[j] - t.x[i], dy = t.y[j] - t.y[i];
+        int32_t bias = (-dy > 0 || (dy == 0 && dx > 0)) ? 0 : -1;  // the top-left rule
+        int32_t origin = dx * (oy - t.y[i]) - dy * (ox - t.x[i]) + bias;
+        a[k] = -dy;
+        int32_t ax = a[k] * kSubpixel;
         w_row[k] = _mm_add_epi32(_mm_set1_epi32(origin), _mm_set_epi32(3 * ax, 2 * ax, ax, 0));
         step_x[k] = _mm_set1_epi32(4 * ax);
-        step_y[k] = _mm_set1_epi32(static_cast<int32_t>(e.b * kSubpixel));
+        step_y[k] = _mm_set1_epi32(dx * kSubpixel);
     }
-    double gx, gy;
-    te.depth_gradient(t, gx, gy);
-    auto dzdx = static_cast<float>(gx), dzdy = static_cast<float>(gy);
+    // The depth plane (TriangleEdges::depth_gradient with these coefficients).
+    double per_pixel = static_cast<double>(kSubpixel) * static_cast<double>(t.inv_area);
+    double z1 = t.z[1] - t.z[0], z2 = t.z[2] - t.z[0];
+    auto dzdx = static_cast<float>(
+        (static_cast<double>(a[1]) * z1 + static_cast<double>(a[2]) * z2) * per_pixel);
+    auto dzdy = static_cast<float>(
+        (static_cast<double>(t.x[0] - t.x[2]) * z1 + static_cast<double>(t.x[1] - t.x[0]) * z2) *
+        per_pixel);
     float z_origin = t.z[0] +
                      dzdx * static_cast<float>(static_cast<double>(ox - t.x[0]) / kSubpixel) +
                      dzdy * static_cast<float>(static_cast<double>(oy - t.y[0]) / kSubpixel);
@@ -703,14 +805,13 @@ void rasterize(uint32_t id, const SetupTriangle& t, const TriangleEdges& te, Pix
 /// Stage 5 for one triangle in one tile: the small-triangle path or the general one.
 void draw_triangle(uint32_t id, const SetupTriangle& t, const Tile& tile, const SamplePattern& sp,
                    bool depth_test, TileBuffers& buf) {
-    PixelSpan span{std::max(t.x0, tile.x0), std::min(t.x1, tile.x1), std::max(t.y0, tile.y0),
-                   std::min(t.y1, tile.y1)};
+    PixelSpan span{std::max(t.x0(), tile.x0), std::min(t.x1(), tile.x1), std::max(t.y0(), tile.y0),
+                   std::min(t.y1(), tile.y1)};
     if (span.xs >= span.xe || span.ys >= span.ye) return;
-    TriangleEdges te(t);
-    if (is_small(t, sp.count)) {
-        rasterize_small(id, t, te, span, tile, sp, depth_test, buf);
+    if (t.small && sp.count == 1) {
+        rasterize_small(id, t, span, tile, sp, depth_test, buf);
     } else {
-        rasterize(id, t, te, span, tile, sp, depth_test, buf);
+        rasterize(id, t, TriangleEdges(t), span, tile, sp, depth_test, buf);
     }
 }
 
@@ -720,13 +821,13 @@ struct Weights {
     float q[3], b[3];
 };
 
-Weights perspective_weights(const SetupTriangle& t, const TriangleEdges& edges, int64_t sx,
-                            int64_t sy) {
+Weights perspective_weights(const TriangleEdges& edges, int64_t sx, int64_t sy, const ClipVertex& A,
+                            const ClipVertex& B, const ClipVertex& C) {
     vec2 l = edges.weights(sx, sy);
     Weights w;
-    w.q[0] = (1.0f - l.x - l.y) * t.invw[0];
-    w.q[1] = l.x * t.invw[1];
-    w.q[2] = l.y * t.invw[2];
+    w.q[0] = (1.0f - l.x - l.y) * A.invw;
+    w.q[1] = l.x * B.invw;
+    w.q[2] = l.y * C.invw;
     float inv_q = 1.0f / (w.q[0] + w.q[1] + w.q[2]);
     for (int k = 0; k < 3; ++k) w.b[k] = w.q[k] * inv_q;
     return w;
@@ -745,18 +846,18 @@ ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& 
     const SetupTriangle& t = f.tri(ti);
     if (f.mode == Mode::Flat && !want_aovs) {
         ShadeResult flat;
-        flat.color = t.flat;
+        flat.color = f.flat_color(ti);
         return flat;
     }
     const ClipVertex& A = f.vertex(t.v[0]);
     const ClipVertex& B = f.vertex(t.v[1]);
     const ClipVertex& C = f.vertex(t.v[2]);
-    Weights w = perspective_weights(t, edges, sx, sy);
+    Weights w = perspective_weights(edges, sx, sy, A, B, C);
     float b0 = w.b[0], b1 = w.b[1], b2 = w.b[2];
     float q0 = w.q[0], q1 = w.q[1], q2 = w.q[2];
     ShadeResult r;
     vec3 p = b0 * A.world + b1 * B.world + b2 * C.world;
-    vec3 ng = t.ng;
+    vec3 ng = face_normal(t, A, B, C);
     vec3 ns = b0 * A.normal + b1 * B.normal + b2 * C.normal;
     ns = glm::length(ns) > 0.0f ? glm::normalize(ns) : ng;
     vec3 wo = f.ortho ? -f.forward : glm::normalize(f.eye - p);
@@ -769,7 +870,7 @@ ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& 
     vec2 uv = b0 * A.uv + b1 * B.uv + b2 * C.uv;
     switch (f.mode) {
         case Mode::Flat:
-            r.color = t.flat;
+            r.color = f.flat_color(ti);
             break;
         case Mode::Gouraud:
             r.color = b0 * A.color + b1 * B.color + b2 * C.color;
@@ -794,12 +895,13 @@ ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& 
                 auto area = static_cast<float>(signed_area2(t.x, t.y));
                 float q[3] = {q0, q1, q2};
                 const vec2* uvs[3] = {&A.uv, &B.uv, &C.uv};
+                const float invw[3] = {A.invw, B.invw, C.invw};
                 for (int axis = 0; axis < 2; ++axis) {
                     float dq[3], dsum = 0.0f;
                     for (int i = 0; i < 3; ++i) {
                         float dl =
                             static_cast<float>(axis == 0 ? e[i].a : e[i].b) * kSubpixel / area;
-                        dq[i] = dl * t.invw[i];
+                        dq[i] = dl * invw[i];
                         dsum += dq[i];
                     }
                     vec2 d(0.0f);
@@ -881,12 +983,26 @@ CameraMatrices raster_camera(const Scene& scene) {
                            drawn_bounds(tessellate_scene(scene, f, 0)));
 }
 
+struct RasterRenderer::Buffers {
+    LargeArray<ClipVertex> vertices;
+    LargeArray<ScreenVertex> screen;
+    LargeArray<SetupTriangle> tris;
+    LargeArray<Color> flat;
+};
+
+RasterRenderer::RasterRenderer() : buffers_(std::make_unique<Buffers>()) {}
+RasterRenderer::~RasterRenderer() = default;
+
 RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& options) {
     using Clock = std::chrono::steady_clock;
     auto t0 = Clock::now();
     const int width = scene.film.width, height = scene.film.height;
     int threads = options.threads;
     FrameState f;
+    f.vertices = std::move(buffers_->vertices);  // the last frame's memory, given back below
+    f.screen = std::move(buffers_->screen);
+    f.tris = std::move(buffers_->tris);
+    f.flat = std::move(buffers_->flat);
     f.scene = &scene;
     f.mode = parse_mode(scene.render.shading);
     f.materials = scene.materials;
@@ -944,7 +1060,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     vertex_stage(meshes, f, base, threads);
     assemble(meshes, base, f, threads);
     meshes.clear();
-    bin(f, threads);
+    if (f.scene->render.raster.visibility == "painter") bin_back_to_front(f, threads);
 
     const int spp = scene.render.spp;
     const bool msaa = scene.render.raster.msaa;
@@ -971,7 +1087,13 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                 S = sp.count;
                 buf.reset(pixels * static_cast<size_t>(S), pixels, targets.any);
                 for (const FrameState::Bins& b : f.bins) {
-                    for (uint32_t k = b.start[ti]; k < b.start[ti + 1]; ++k) {
+                    const uint32_t end = b.start[ti + 1];
+                    for (uint32_t k = b.start[ti]; k < end; ++k) {
+                        // The triangles of a tile are scattered over the frame's: fetch ahead.
+                        constexpr uint32_t kAhead = 8;
+                        if (k + kAhead < end)
+                            _mm_prefetch(reinterpret_cast<const char*>(&f.tri(b.ids[k + kAhead])),
+                                         _MM_HINT_T0);
                         draw_triangle(b.ids[k], f.tri(b.ids[k]), tile, sp, depth_test, buf);
                     }
                 }
@@ -990,9 +1112,13 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                 // Neighbouring samples mostly share a triangle: keep its edges.
                 uint32_t edges_id = kNone;
                 std::optional<TriangleEdges> edges;
+                vec3 edges_ng(0.0f);  // and the triangle's face normal (the fast path's)
                 auto edges_of = [&](uint32_t id) -> const TriangleEdges& {
                     if (id != edges_id) {
-                        edges.emplace(f.tri(id));
+                        const SetupTriangle& t = f.tri(id);
+                        edges.emplace(t);
+                        edges_ng =
+                            face_normal(t, f.vertex(t.v[0]), f.vertex(t.v[1]), f.vertex(t.v[2]));
                         edges_id = id;
                     }
                     return *edges;
@@ -1014,15 +1140,15 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                     // Gathers sample i (of pixel, sample s) of triangle `tri` into the batch.
                     auto add_to_batch = [&](size_t i, size_t pixel, int s, uint32_t tri,
                                             const SetupTriangle& t) {
-                        Weights w = perspective_weights(t, edges_of(tri), sample_x(pixel, s),
-                                                        sample_y(pixel, s));
                         const ClipVertex& A = f.vertex(t.v[0]);
                         const ClipVertex& B = f.vertex(t.v[1]);
                         const ClipVertex& C = f.vertex(t.v[2]);
+                        Weights w = perspective_weights(edges_of(tri), sample_x(pixel, s),
+                                                        sample_y(pixel, s), A, B, C);
                         int k = batch.count++;
                         batch.p[k] = w.b[0] * A.world + w.b[1] * B.world + w.b[2] * C.world;
                         batch.ns[k] = w.b[0] * A.normal + w.b[1] * B.normal + w.b[2] * C.normal;
-                        batch.ng[k] = t.ng;
+                        batch.ng[k] = edges_ng;
                         batch.material[k] = &f.simd_material[t.material];
                         lane_of[k] = i;
                         if (batch.count == batch_size) flush();
@@ -1055,7 +1181,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                             const TriangleEdges& e = edges_of(tri);
                             TriangleRun q;
                             for (int v = 0; v < 3; ++v) {
-                                q.invw[v] = t.invw[v];
+                                q.invw[v] = f.vertex(t.v[v]).invw;
                                 q.world[v] = f.vertex(t.v[v]).world;
                                 q.normal[v] = f.vertex(t.v[v]).normal;
                             }
@@ -1069,7 +1195,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                             auto dl2 = static_cast<float>(
                                 static_cast<double>(e.e[2].a * kSubpixel) * e.inv_area);
                             shade_run(q, dl1, dl2, static_cast<int>((spans_end - px) / 4),
-                                      f.simd_material[t.material], t.ng, f.simd_lights, f.eye,
+                                      f.simd_material[t.material], edges_ng, f.simd_lights, f.eye,
                                       f.ortho, f.forward, scene.render.ambient,
                                       &buf.sample_color[row * tw + px]);
                         }
@@ -1162,12 +1288,12 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
             }
             if (scene.render.raster.wireframe != "none") draw_wireframe(f, tile, buf, S);
             for (int j = tile.y0; j < tile.y1; ++j) {
-                for (int i = tile.x0; i < tile.x1; ++i) {
-                    size_t pixel = static_cast<size_t>(j - tile.y0) * tw + (i - tile.x0);
-                    result.color.at(i, j) = buf.color[pixel];
-                    for (int k = 0; k < 4; ++k) {
-                        if (targets.want[k]) targets.image[k]->at(i, j) = buf.aov[k][pixel];
-                    }
+                auto row = static_cast<std::ptrdiff_t>(j - tile.y0) * tw;
+                std::copy_n(buf.color.begin() + row, tw, &result.color.at(tile.x0, j));
+                for (int k = 0; k < 4; ++k) {
+                    if (targets.want[k])
+                        std::copy_n(buf.aov[k].begin() + row, tw,
+                                    &targets.image[k]->at(tile.x0, j));
                 }
             }
         },
@@ -1176,6 +1302,10 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     result.stats.setup_seconds = std::chrono::duration<double>(t1 - t0).count();
     result.stats.seconds = std::chrono::duration<double>(Clock::now() - t1).count();
     result.stats.triangles = f.triangle_count;
+    buffers_->vertices = std::move(f.vertices);
+    buffers_->screen = std::move(f.screen);
+    buffers_->tris = std::move(f.tris);
+    buffers_->flat = std::move(f.flat);
     return result;
 }
 

@@ -21,14 +21,25 @@
 // shadow techniques arrive. docs/raster.md has the details and pictures.
 #pragma once
 
+#include <memory>
+
 #include "svetlo/raster/camera_matrices.h"
 #include "svetlo/scene/renderer.h"
 
 namespace svetlo {
 
+/// Keeps its pipeline's large buffers (vertices, set-up triangles) from one frame to the next,
+/// as a GL context keeps its buffers: one frame at a time per renderer.
 class RasterRenderer final : public Renderer {
 public:
+    RasterRenderer();
+    ~RasterRenderer() override;
     RenderResult render(const Scene& scene, const RenderOptions& options) override;
+
+    struct Buffers;
+
+private:
+    std::unique_ptr<Buffers> buffers_;
 };
 
 /// The camera matrices the rasterizer uses for `scene` (near and far around what it draws).
