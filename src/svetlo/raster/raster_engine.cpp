@@ -94,6 +94,10 @@ struct FrameState {
     std::vector<Color> clipped_flat;     // and each clipped triangle's
     std::vector<std::pair<uint32_t, uint32_t>> clipped_range;  // per chunk, into `clipped`
     size_t triangle_count = 0;                                 // set up and drawn
+    struct SampleBounds {
+        glm::ivec2 lo{0}, hi{kSubpixel - 1};  // the samples' offsets in their pixel, fixed point
+        int margin = 1;                       // pixels added on each side of a triangle's bounds
+    } sample_bounds;
     struct Bins {                     // per chunk of triangles in drawing order:
         std::vector<uint32_t> start;  // tile k's triangles are ids[start[k] .. start[k+1])
         std::vector<uint32_t> ids;
@@ -340,11 +344,15 @@ bool setup_triangle(const FrameState& f, const ScreenVertex* sv[3], const uint32
     }
     int32_t xmin = std::min({t.x[0], t.x[1], t.x[2]}), xmax = std::max({t.x[0], t.x[1], t.x[2]});
     int32_t ymin = std::min({t.y[0], t.y[1], t.y[2]}), ymax = std::max({t.y[0], t.y[1], t.y[2]});
-    // Samples of pixel i lie in [i, i + 1) pixels: pixels from floor(min) - 1 to floor(max).
-    int32_t x0 = std::max(0, (xmin >> kSubpixelBits) - 1),
-            y0 = std::max(0, (ymin >> kSubpixelBits) - 1);
-    int32_t x1 = std::min(f.cam.width, (xmax >> kSubpixelBits) + 1),
-            y1 = std::min(f.cam.height, (ymax >> kSubpixelBits) + 1);
+    // Pixel i's samples lie at i + o, o in [f.sample_lo, f.sample_hi] (fixed point): it may hold
+    // a covered one when i >= ceil((min - hi) / 256) and i <= floor((max - lo) / 256). The
+    // wireframe wants a pixel more on each side (Wu's lines spread to the neighbours, and
+    // triangles that cover no sample still have edges).
+    const auto& b = f.sample_bounds;
+    int32_t x0 = std::max(0, -((b.hi.x - xmin) >> kSubpixelBits) - b.margin),
+            y0 = std::max(0, -((b.hi.y - ymin) >> kSubpixelBits) - b.margin);
+    int32_t x1 = std::min(f.cam.width, ((xmax - b.lo.x) >> kSubpixelBits) + 1 + b.margin),
+            y1 = std::min(f.cam.height, ((ymax - b.lo.y) >> kSubpixelBits) + 1 + b.margin);
     if (x0 >= x1 || y0 >= y1) return false;
     t.bx0 = static_cast<uint16_t>(x0);
     t.by0 = static_cast<uint16_t>(y0);
@@ -1048,6 +1056,18 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     f.eye = scene.camera.position;
     f.forward = glm::normalize(scene.camera.look_at - scene.camera.position);
     f.ortho = scene.camera.type == Camera::Type::Orthographic;
+    if (scene.render.raster.wireframe == "none") {
+        auto& b = f.sample_bounds;
+        b = {glm::ivec2(kSubpixel), glm::ivec2(-1), 0};
+        for (int first = 0; first < scene.render.spp; first += kMaxSamplesPerPass) {
+            SamplePattern sp =
+                pattern(scene, first, std::min(kMaxSamplesPerPass, scene.render.spp - first));
+            for (int k = 0; k < sp.count; ++k) {
+                b.lo = glm::min(b.lo, glm::ivec2(sp.ox[k], sp.oy[k]));
+                b.hi = glm::max(b.hi, glm::ivec2(sp.ox[k], sp.oy[k]));
+            }
+        }
+    }
     // The output images are allocated (and their pages touched) as part of the setup, as a
     // GPU's framebuffer exists before the frame.
     RenderResult result;
