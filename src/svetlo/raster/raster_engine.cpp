@@ -415,16 +415,13 @@ void bin_chunk(const FrameState& f, const std::vector<uint32_t>& ids, Tri&& tri,
 /// to per-chunk lists appended after the slots, so the order never depends on threads.
 void assemble(const std::vector<DrawMesh>& meshes, const std::vector<uint32_t>& base, FrameState& f,
               int threads) {
-    struct Source {
-        uint32_t mesh, tri;
-    };
-    std::vector<Source> sources;
-    for (size_t k = 0; k < meshes.size(); ++k) {
-        for (size_t t = 0; t < meshes[k].mesh.triangle_count(); ++t)
-            sources.push_back({static_cast<uint32_t>(k), static_cast<uint32_t>(t)});
-    }
-    size_t chunks = (sources.size() + kChunk - 1) / kChunk;
-    f.tris.reuse(sources.size());
+    // Triangle s of the frame is triangle s - first_tri[k] of mesh k.
+    std::vector<size_t> first_tri(meshes.size() + 1, 0);
+    for (size_t k = 0; k < meshes.size(); ++k)
+        first_tri[k + 1] = first_tri[k] + meshes[k].mesh.triangle_count();
+    const size_t total = first_tri.back();
+    size_t chunks = (total + kChunk - 1) / kChunk;
+    f.tris.reuse(total);
     std::vector<std::vector<SetupTriangle>> clipped(chunks);
     std::vector<std::vector<ClipVertex>> extra(chunks);
     std::vector<size_t> counts(chunks, 0);
@@ -433,16 +430,20 @@ void assemble(const std::vector<DrawMesh>& meshes, const std::vector<uint32_t>& 
     f.bins.assign(chunks, {});
     float gx = guard_x(f), gy = guard_y(f);
     const bool flat_mode = f.mode == Mode::Flat;
-    if (flat_mode) f.flat.reuse(sources.size());
+    if (flat_mode) f.flat.reuse(total);
     std::vector<std::vector<Color>> clipped_flat(chunks);
     parallel_indices(chunks, threads, [&](size_t c) {
-        for (size_t s = c * kChunk; s < std::min(sources.size(), (c + 1) * kChunk); ++s) {
-            const Mesh& m = meshes[sources[s].mesh].mesh;
-            size_t t = sources[s].tri;
+        const size_t begin = c * kChunk, end = std::min(total, (c + 1) * kChunk);
+        size_t mesh = static_cast<size_t>(
+            std::upper_bound(first_tri.begin(), first_tri.end(), begin) - first_tri.begin() - 1);
+        for (size_t s = begin; s < end; ++s) {
+            while (s >= first_tri[mesh + 1]) ++mesh;  // skips empty meshes too
+            const Mesh& m = meshes[mesh].mesh;
+            size_t t = s - first_tri[mesh];
             uint32_t idx[3];
             const ScreenVertex* sv[3];
             for (int i = 0; i < 3; ++i) {
-                idx[i] = base[sources[s].mesh] + m.indices[3 * t + i];
+                idx[i] = base[mesh] + m.indices[3 * t + i];
                 sv[i] = &f.screen[idx[i]];
             }
             auto material = static_cast<uint32_t>(m.face_material[t]);
@@ -479,7 +480,7 @@ void assemble(const std::vector<DrawMesh>& meshes, const std::vector<uint32_t>& 
         // until the pieces are concatenated below).
         std::vector<uint32_t> ids;
         ids.reserve(counts[c] + clipped[c].size());
-        for (size_t s = c * kChunk; s < std::min(sources.size(), (c + 1) * kChunk); ++s) {
+        for (size_t s = begin; s < end; ++s) {
             if (!f.tris[s].empty()) ids.push_back(static_cast<uint32_t>(s));
         }
         for (size_t k = 0; k < clipped[c].size(); ++k)
@@ -554,6 +555,7 @@ void bin_back_to_front(FrameState& f, int threads) {
 /// hierarchical z-buffer: a triangle nearer nowhere than that is skipped for the block).
 struct TileBuffers {
     static constexpr int kBlock = 8;
+    static constexpr size_t kPad = 4;  // samples past the end, for four-wide loads and stores
     std::vector<float> depth;
     std::vector<uint32_t> tri;
     std::vector<float> block_far;     // per block: max depth over its samples
@@ -561,8 +563,8 @@ struct TileBuffers {
     std::vector<Color> sample_color;  // the fast path's colour per sample
     std::vector<Color> aov[4];        // depth, normal, albedo, visibility per pixel
     void reset(size_t samples, size_t pixels, bool aovs) {
-        depth.assign(samples, kInfinity);
-        tri.assign(samples, kNone);
+        depth.assign(samples + kPad, kInfinity);
+        tri.assign(samples + kPad, kNone);
         block_far.assign(static_cast<size_t>(kTile / kBlock) * (kTile / kBlock), kInfinity);
         if (color.size() != pixels) color.resize(pixels);
         if (aovs) {
@@ -666,24 +668,29 @@ void rasterize_small(uint32_t id, const SetupTriangle& t, PixelSpan span, const 
     const __m128 z_steps = _mm_mul_ps(_mm_set1_ps(dzdx), _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f));
     const __m128 z_step4 = _mm_set1_ps(4.0f * dzdx);
     const int tw = tile.x1 - tile.x0;
+    const __m128i lane = _mm_set_epi32(3, 2, 1, 0);
+    const __m128i id4 = _mm_set1_epi32(static_cast<int32_t>(id));
     for (int py = ys; py < ye; ++py) {
         __m128i w0 = w_row[0], w1 = w_row[1], w2 = w_row[2];
         __m128 z4 = _mm_add_ps(_mm_set1_ps(z_origin + dzdy * static_cast<float>(py - ys)), z_steps);
         for (int px = xs; px < xe; px += 4) {
-            __m128i inside = _mm_or_si128(_mm_or_si128(w0, w1), w2);  // sign bit set: outside
-            int lanes = xe - px;
-            int mask =
-                ~_mm_movemask_ps(_mm_castsi128_ps(inside)) & (lanes >= 4 ? 15 : (1 << lanes) - 1);
-            if (mask) {
+            // Covered (every edge function's sign bit clear) and within the span.
+            __m128i outside = _mm_srai_epi32(_mm_or_si128(_mm_or_si128(w0, w1), w2), 31);
+            __m128i in_span = _mm_cmplt_epi32(lane, _mm_set1_epi32(xe - px));
+            __m128 covered = _mm_castsi128_ps(_mm_andnot_si128(outside, in_span));
+            if (_mm_movemask_ps(covered)) {
+                // Four samples at once; the lanes past the span write back what they read (the
+                // buffers have room for four samples past the tile).
                 size_t i = static_cast<size_t>(py - tile.y0) * tw + (px - tile.x0);
-                alignas(16) float z[4];
-                _mm_store_ps(z, z4);
-                for (int k = 0; k < 4; ++k) {
-                    if (!((mask >> k) & 1)) continue;
-                    if (depth_test && !(z[k] < buf.depth[i + k])) continue;
-                    buf.depth[i + k] = z[k];
-                    buf.tri[i + k] = id;
-                }
+                __m128 old_z = _mm_loadu_ps(&buf.depth[i]);
+                __m128i old_id = _mm_loadu_si128(reinterpret_cast<const __m128i*>(&buf.tri[i]));
+                __m128 pass = depth_test ? _mm_and_ps(covered, _mm_cmplt_ps(z4, old_z)) : covered;
+                __m128i pass_i = _mm_castps_si128(pass);
+                _mm_storeu_ps(&buf.depth[i],
+                              _mm_or_ps(_mm_and_ps(pass, z4), _mm_andnot_ps(pass, old_z)));
+                _mm_storeu_si128(
+                    reinterpret_cast<__m128i*>(&buf.tri[i]),
+                    _mm_or_si128(_mm_and_si128(pass_i, id4), _mm_andnot_si128(pass_i, old_id)));
             }
             w0 = _mm_add_epi32(w0, step_x[0]);
             w1 = _mm_add_epi32(w1, step_x[1]);
@@ -1242,6 +1249,10 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                         add_to_batch(i, pixel, s, tri, t);
                     }
                     if (batch.count > 0) flush();
+                    if (spp == 1) {  // nothing to add up: the samples are the pixels
+                        std::swap(buf.color, buf.sample_color);
+                        break;
+                    }
                     for (size_t pixel = 0; pixel < pixels; ++pixel) {
                         Color sum(0.0f);
                         for (int s = 0; s < S; ++s)
@@ -1300,7 +1311,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                 if (first + kMaxSamplesPerPass >= spp) break;
             }
             float inv = 1.0f / static_cast<float>(spp);
-            for (size_t pixel = 0; pixel < pixels; ++pixel) {
+            for (size_t pixel = 0; pixel < pixels && spp > 1; ++pixel) {
                 buf.color[pixel] *= inv;
                 if (targets.any) {
                     for (auto& a : buf.aov) a[pixel] *= inv;
