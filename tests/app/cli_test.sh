@@ -99,7 +99,7 @@ cp "$work/bad.json" "$work/solids.json"
     cmp -s "$work/s1.pfm" "$work/s2.pfm" && ! cmp -s "$work/s1.pfm" "$work/t1.pfm" && pass || fail "csg and implicit render"
 
 # The rasterizer: every shading mode, MSAA, painter, wireframe; the same image on any thread count.
-for mode in flat gouraud phong depth normal; do
+for mode in flat gouraud phong depth normal overdraw; do
     "$svetlo" render "$work/solids.json" --engine raster -o "$work/r_$mode.png" -q --set render.shading=$mode &&
         [ -s "$work/r_$mode.png" ] && pass || fail "raster shading $mode"
 done

@@ -616,5 +616,48 @@ TEST(Raster, FourAndEightLaneKernelsAgree) {
     }
 }
 
+TEST(Raster, OverdrawCountsEveryFragmentInTheStencilBuffer) {
+    // Three stacked squares, y = 0, 0.1, 0.2, of half sizes 1, 0.6, 0.3: a pixel's count is
+    // the number of squares its centre's ray crosses, hidden ones included (the stencil
+    // buffer increments whether the depth test passes or fails), while the visibility buffer
+    // still holds the nearest surface (its normal points up).
+    const int w = 96, h = 64;
+    json j = oblique(w, h);
+    j["render"]["shading"] = "overdraw";
+    j["materials"] = {{"m", {{"type", "lambert"}, {"albedo", {0.5, 0.5, 0.5}}}}};
+    const float heights[3] = {0.0f, 0.1f, 0.2f}, halves[3] = {1.0f, 0.6f, 0.3f};
+    for (int k = 2; k >= 0; --k) {  // nearest first: the others fail the depth test
+        json q = floor_quad(halves[k], "m");
+        q["corner"][1] = heights[k];
+        j["objects"].push_back(q);
+    }
+    Scene scene = scene_from_json(j, "test.json");
+    RenderResult r = render(j, "raster", {"normal"});
+    CameraRays rays(scene.camera, w, h);
+    int checked = 0;
+    for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+            Ray ray = rays.generate((x + 0.5f) / w, (y + 0.5f) / h);
+            int count = 0;
+            float margin = kInfinity;  // distance of a crossing from a square's edge
+            for (int k = 0; k < 3; ++k) {
+                if (!(ray.d.y < 0.0f)) continue;
+                vec3 p = ray.o + ((heights[k] - ray.o.y) / ray.d.y) * ray.d;
+                float inside = halves[k] - std::max(std::abs(p.x), std::abs(p.z));
+                margin = std::min(margin, std::abs(inside));
+                count += inside > 0.0f ? 1 : 0;
+            }
+            if (margin < 0.03f) continue;  // within a pixel of an edge
+            ++checked;
+            ASSERT_FLOAT_EQ(r.color.at(x, y).x, static_cast<float>(count) / 8.0f)
+                << x << "," << y;
+            if (count > 0) {
+                EXPECT_NEAR(r.aovs.at("normal").at(x, y).y, 1.0f, 1e-5f) << x << "," << y;
+            }
+        }
+    }
+    EXPECT_GT(checked, w * h / 2);
+}
+
 }  // namespace
 }  // namespace svetlo

@@ -20,6 +20,7 @@
 #include "svetlo/raster/lines.h"
 #include "svetlo/raster/raster_lights.h"
 #include "svetlo/raster/simd_shading.h"
+#include "svetlo/raster/stencil.h"
 #include "svetlo/rt/tessellate.h"
 #include "svetlo/shading/texture.h"
 
@@ -36,7 +37,10 @@ constexpr uint32_t kNone = ~0u;          // no triangle in a sample
 constexpr uint32_t kExtra = 1u << 31;    // a vertex made by clipping (chunk-local until fixed up)
 constexpr uint64_t kMaxTriangles = 1u << 25;  // 33.5 M triangles: about 6 GiB of pipeline state
 
-enum class Mode { Flat, Gouraud, Phong, Depth, Normal };
+enum class Mode { Flat, Gouraud, Phong, Depth, Normal, Overdraw };
+
+/// The overdraw view: a pixel's value is the fragments rasterized there, divided by this.
+constexpr float kOverdrawPerUnit = 8.0f;
 
 /// A vertex after projection: fixed-point pixels and the depth key (setup_triangle).
 struct ScreenVertex {
@@ -149,6 +153,7 @@ Mode parse_mode(const std::string& s) {
     if (s == "gouraud") return Mode::Gouraud;
     if (s == "depth") return Mode::Depth;
     if (s == "normal") return Mode::Normal;
+    if (s == "overdraw") return Mode::Overdraw;
     return Mode::Phong;
 }
 
@@ -558,13 +563,15 @@ struct TileBuffers {
     static constexpr size_t kPad = 4;  // samples past the end, for four-wide loads and stores
     std::vector<float> depth;
     std::vector<uint32_t> tri;
+    std::vector<uint8_t> stencil;     // per sample, when a pass uses it
     std::vector<float> block_far;     // per block: max depth over its samples
     std::vector<Color> color;         // resolved colour per pixel, accumulated over passes
     std::vector<Color> sample_color;  // the fast path's colour per sample
     std::vector<Color> aov[4];        // depth, normal, albedo, visibility per pixel
-    void reset(size_t samples, size_t pixels, bool aovs) {
+    void reset(size_t samples, size_t pixels, bool aovs, bool stencil_used) {
         depth.assign(samples + kPad, kInfinity);
         tri.assign(samples + kPad, kNone);
+        if (stencil_used) stencil.assign(samples, 0);
         block_far.assign(static_cast<size_t>(kTile / kBlock) * (kTile / kBlock), kInfinity);
         if (color.size() != pixels) color.resize(pixels);
         if (aovs) {
@@ -817,13 +824,63 @@ void rasterize(uint32_t id, const SetupTriangle& t, const TriangleEdges& te, Pix
     }
 }
 
+/// What a pass does with the samples a triangle covers (OpenGL's depth and stencil state).
+struct DrawState {
+    bool depth_test = true;  // keep only samples nearer than the stored depth
+    StencilState stencil;
+};
+
+/// Stage 5 with the stencil buffer on: per sample, the stencil test and its operations around
+/// the depth test (stencil.h), in the plain form a student can follow; no hierarchical z, and
+/// the blocks' deepest depths are left as they were (larger than the truth: safe).
+void rasterize_stencil(uint32_t id, const SetupTriangle& t, const TriangleEdges& te, PixelSpan span,
+                       const Tile& tile, const SamplePattern& sp, const DrawState& state,
+                       TileBuffers& buf) {
+    const auto [xs, xe, ys, ye] = span;
+    const StencilState& st = state.stencil;
+    const StencilFace& face = t.front ? st.front : st.back;
+    double dzdx, dzdy;
+    te.depth_gradient(t, dzdx, dzdy);
+    const int tw = tile.x1 - tile.x0, S = sp.count;
+    for (int py = ys; py < ye; ++py) {
+        for (int px = xs; px < xe; ++px) {
+            for (int s = 0; s < S; ++s) {
+                int64_t sx = static_cast<int64_t>(px) * kSubpixel + sp.ox[s];
+                int64_t sy = static_cast<int64_t>(py) * kSubpixel + sp.oy[s];
+                bool covered = true;
+                for (const Edge& e : te.e) covered = covered && e.at(sx, sy) + e.bias >= 0;
+                if (!covered) continue;
+                size_t i = (static_cast<size_t>(py - tile.y0) * tw + (px - tile.x0)) * S + s;
+                uint8_t& stencil = buf.stencil[i];
+                if (!stencil_test(face.func, st.ref, stencil, st.read_mask)) {
+                    stencil = stencil_apply(face.fail, stencil, st.ref, st.write_mask);
+                    continue;
+                }
+                auto z = static_cast<float>(t.z[0] +
+                                            dzdx * static_cast<double>(sx - t.x[0]) / kSubpixel +
+                                            dzdy * static_cast<double>(sy - t.y[0]) / kSubpixel);
+                if (state.depth_test && !(z < buf.depth[i])) {
+                    stencil = stencil_apply(face.depth_fail, stencil, st.ref, st.write_mask);
+                    continue;
+                }
+                stencil = stencil_apply(face.pass, stencil, st.ref, st.write_mask);
+                buf.depth[i] = z;
+                buf.tri[i] = id;
+            }
+        }
+    }
+}
+
 /// Stage 5 for one triangle in one tile: the small-triangle path or the general one.
 void draw_triangle(uint32_t id, const SetupTriangle& t, const Tile& tile, const SamplePattern& sp,
-                   bool depth_test, TileBuffers& buf) {
+                   const DrawState& state, TileBuffers& buf) {
+    const bool depth_test = state.depth_test;
     PixelSpan span{std::max(t.x0(), tile.x0), std::min(t.x1(), tile.x1), std::max(t.y0(), tile.y0),
                    std::min(t.y1(), tile.y1)};
     if (span.xs >= span.xe || span.ys >= span.ye) return;
-    if (t.small && sp.count == 1) {
+    if (state.stencil.enabled) {
+        rasterize_stencil(id, t, TriangleEdges(t), span, tile, sp, state, buf);
+    } else if (t.small && sp.count == 1) {
         rasterize_small(id, t, span, tile, sp, depth_test, buf);
     } else {
         rasterize(id, t, TriangleEdges(t), span, tile, sp, depth_test, buf);
@@ -898,6 +955,8 @@ ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& 
         }
         case Mode::Normal:
             r.color = 0.5f * r.normal + vec3(0.5f);
+            break;
+        case Mode::Overdraw:  // the stencil buffer's count, not a colour of the surface
             break;
         case Mode::Phong: {
             vec2 dx(0.0f), dy(0.0f);
@@ -1092,7 +1151,15 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     const int spp = scene.render.spp;
     const bool msaa = scene.render.raster.msaa;
     const bool simd = f.mode == Mode::Phong && !msaa && !targets.any && f.simd_lights_ok;
-    const bool depth_test = scene.render.raster.visibility != "painter";
+    DrawState state;
+    state.depth_test = scene.render.raster.visibility != "painter";
+    if (f.mode == Mode::Overdraw) {
+        // The stencil buffer counts every fragment, whether the depth test keeps it or not.
+        state.stencil.enabled = true;
+        state.stencil.front = {StencilFunc::Always, StencilOp::Keep, StencilOp::Incr,
+                               StencilOp::Incr};
+        state.stencil.back = state.stencil.front;
+    }
     const Color background = scene.render.background;
     tbb::enumerable_thread_specific<TileBuffers> buffers;
     Progress progress("raster", static_cast<int64_t>(width) * height, options.progress);
@@ -1112,7 +1179,8 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
             for (int first = 0; first < spp; first += kMaxSamplesPerPass) {
                 SamplePattern sp = pattern(scene, first, std::min(kMaxSamplesPerPass, spp - first));
                 S = sp.count;
-                buf.reset(pixels * static_cast<size_t>(S), pixels, targets.any);
+                buf.reset(pixels * static_cast<size_t>(S), pixels, targets.any,
+                          state.stencil.enabled);
                 for (const FrameState::Bins& b : f.bins) {
                     const uint32_t end = b.start[ti + 1];
                     for (uint32_t k = b.start[ti]; k < end; ++k) {
@@ -1121,7 +1189,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                         if (k + kAhead < end)
                             _mm_prefetch(reinterpret_cast<const char*>(&f.tri(b.ids[k + kAhead])),
                                          _MM_HINT_T0);
-                        draw_triangle(b.ids[k], f.tri(b.ids[k]), tile, sp, depth_test, buf);
+                        draw_triangle(b.ids[k], f.tri(b.ids[k]), tile, sp, state, buf);
                     }
                 }
                 auto sample_x = [&](size_t pixel, int s) {
@@ -1272,6 +1340,16 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                         size_t i = pixel * static_cast<size_t>(S) + static_cast<size_t>(s);
                         uint32_t tri = buf.tri[i];
                         visibility += 1.0f;
+                        if (f.mode == Mode::Overdraw) {
+                            sum += Color(static_cast<float>(buf.stencil[i]) / kOverdrawPerUnit);
+                            if (tri == kNone || !targets.any) continue;
+                            ShadeResult r = shade_sample(f, tri, edges_of(tri), sample_x(pixel, s),
+                                                         sample_y(pixel, s), true);
+                            aov_sum.distance += r.distance;
+                            aov_sum.normal += r.normal;
+                            aov_sum.albedo += r.albedo;
+                            continue;
+                        }
                         if (tri == kNone) {
                             sum += background;
                             continue;

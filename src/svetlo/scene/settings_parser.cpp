@@ -55,7 +55,7 @@ RenderSettings parse_render(const JsonNode& node) {
     if (auto n = node.find("max_depth")) r.max_depth = static_cast<int>(n->as_integer(0, 1000));
     if (auto n = node.find("seed")) r.seed = static_cast<uint64_t>(n->as_integer(0, 1LL << 53));
     if (auto n = node.find("shading")) {
-        r.shading = n->as_choice({"flat", "gouraud", "phong", "depth", "normal"});
+        r.shading = n->as_choice({"flat", "gouraud", "phong", "depth", "normal", "overdraw"});
     }
     if (auto n = node.find("shadows")) {
         r.shadows = n->as_choice({"none", "planar", "volume", "map", "raytraced"});
