@@ -1232,14 +1232,13 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                         for (int k = 0; k < batch.count; ++k) buf.sample_color[lane_of[k]] = lit[k];
                         batch.count = 0;
                     };
-                    // Gathers sample i (of pixel, sample s) of triangle `tri` into the batch.
-                    auto add_to_batch = [&](size_t i, size_t pixel, int s, uint32_t tri,
+                    // Gathers sample i, at fixed-point (sx, sy), of triangle `tri` into the batch.
+                    auto add_to_batch = [&](size_t i, int64_t sx, int64_t sy, uint32_t tri,
                                             const SetupTriangle& t) {
                         const ClipVertex& A = f.vertex(t.v[0]);
                         const ClipVertex& B = f.vertex(t.v[1]);
                         const ClipVertex& C = f.vertex(t.v[2]);
-                        Weights w = perspective_weights(edges_of(tri), sample_x(pixel, s),
-                                                        sample_y(pixel, s), A, B, C);
+                        Weights w = perspective_weights(edges_of(tri), sx, sy, A, B, C);
                         int k = batch.count++;
                         batch.p[k] = w.b[0] * A.world + w.b[1] * B.world + w.b[2] * C.world;
                         batch.ns[k] = w.b[0] * A.normal + w.b[1] * B.normal + w.b[2] * C.normal;
@@ -1248,55 +1247,61 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                         lane_of[k] = i;
                         if (batch.count == batch_size) flush();
                     };
-                    for (size_t i = 0; i < count && S == 1; ++i) {
-                        // One sample per pixel: runs of one triangle along each row, their
-                        // weights stepped exactly (edge functions are affine), shaded four
-                        // pixels at a time.
-                        uint32_t tri = buf.tri[i];
-                        if (tri == kNone) {
-                            buf.sample_color[i] = background;
-                            continue;
-                        }
-                        const SetupTriangle& t = f.tri(tri);
-                        size_t row = i / static_cast<size_t>(tw), px = i % static_cast<size_t>(tw);
-                        if (!f.simd_ok[t.material]) {
-                            buf.sample_color[i] =
-                                shade_sample(f, tri, edges_of(tri), sample_x(i, 0), sample_y(i, 0),
-                                             false)
-                                    .color;
-                            continue;
-                        }
-                        size_t end = px;
-                        while (end < static_cast<size_t>(tw) && buf.tri[row * tw + end] == tri)
-                            ++end;
-                        // Groups of four along the run are shaded as spans; what is left joins
-                        // the batch, which gathers samples of small triangles four at a time.
-                        size_t spans_end = px + (end - px) / 4 * 4;
-                        if (spans_end > px) {
-                            const TriangleEdges& e = edges_of(tri);
-                            TriangleRun q;
-                            for (int v = 0; v < 3; ++v) {
-                                q.invw[v] = f.vertex(t.v[v]).invw;
-                                q.world[v] = f.vertex(t.v[v]).world;
-                                q.normal[v] = f.vertex(t.v[v]).normal;
+                    // One sample per pixel: runs of one triangle along each row, their weights
+                    // stepped exactly (edge functions are affine), shaded four pixels at a time.
+                    for (int row = 0; row < th && S == 1; ++row) {
+                        const size_t row_start = static_cast<size_t>(row) * tw;
+                        const int64_t sy =
+                            static_cast<int64_t>(tile.y0 + row) * kSubpixel + sp.oy[0];
+                        for (int px = 0; px < tw; ++px) {
+                            const size_t i = row_start + static_cast<size_t>(px);
+                            const int64_t sx =
+                                static_cast<int64_t>(tile.x0 + px) * kSubpixel + sp.ox[0];
+                            uint32_t tri = buf.tri[i];
+                            if (tri == kNone) {
+                                buf.sample_color[i] = background;
+                                continue;
                             }
-                            int64_t sx = sample_x(i, 0), sy = sample_y(i, 0);
-                            q.l1 = static_cast<float>(static_cast<double>(e.e[1].at(sx, sy)) *
-                                                      e.inv_area);
-                            q.l2 = static_cast<float>(static_cast<double>(e.e[2].at(sx, sy)) *
-                                                      e.inv_area);
-                            auto dl1 = static_cast<float>(
-                                static_cast<double>(e.e[1].a * kSubpixel) * e.inv_area);
-                            auto dl2 = static_cast<float>(
-                                static_cast<double>(e.e[2].a * kSubpixel) * e.inv_area);
-                            shade_run(q, dl1, dl2, static_cast<int>((spans_end - px) / 4),
-                                      f.simd_material[t.material], edges_ng, f.simd_lights, f.eye,
-                                      f.ortho, f.forward, scene.render.ambient,
-                                      &buf.sample_color[row * tw + px]);
+                            const SetupTriangle& t = f.tri(tri);
+                            if (!f.simd_ok[t.material]) {
+                                buf.sample_color[i] =
+                                    shade_sample(f, tri, edges_of(tri), sx, sy, false).color;
+                                continue;
+                            }
+                            int end = px;
+                            while (end < tw && buf.tri[row_start + static_cast<size_t>(end)] == tri)
+                                ++end;
+                            // Groups of four along the run are shaded as spans; what is left
+                            // joins the batch, which gathers samples of small triangles.
+                            int spans_end = px + (end - px) / 4 * 4;
+                            if (spans_end > px) {
+                                const TriangleEdges& e = edges_of(tri);
+                                TriangleRun q;
+                                for (int v = 0; v < 3; ++v) {
+                                    q.invw[v] = f.vertex(t.v[v]).invw;
+                                    q.world[v] = f.vertex(t.v[v]).world;
+                                    q.normal[v] = f.vertex(t.v[v]).normal;
+                                }
+                                q.l1 = static_cast<float>(static_cast<double>(e.e[1].at(sx, sy)) *
+                                                          e.inv_area);
+                                q.l2 = static_cast<float>(static_cast<double>(e.e[2].at(sx, sy)) *
+                                                          e.inv_area);
+                                auto dl1 = static_cast<float>(
+                                    static_cast<double>(e.e[1].a * kSubpixel) * e.inv_area);
+                                auto dl2 = static_cast<float>(
+                                    static_cast<double>(e.e[2].a * kSubpixel) * e.inv_area);
+                                shade_run(q, dl1, dl2, (spans_end - px) / 4,
+                                          f.simd_material[t.material], edges_ng, f.simd_lights,
+                                          f.eye, f.ortho, f.forward, scene.render.ambient,
+                                          &buf.sample_color[i]);
+                            }
+                            for (int x = spans_end; x < end; ++x) {
+                                add_to_batch(row_start + static_cast<size_t>(x),
+                                             sx + static_cast<int64_t>(x - px) * kSubpixel, sy, tri,
+                                             t);
+                            }
+                            px = end - 1;
                         }
-                        for (size_t x = spans_end; x < end; ++x)
-                            add_to_batch(row * tw + x, row * tw + x, 0, tri, t);
-                        i = row * tw + end - 1;
                     }
                     for (size_t i = 0; i < count && S > 1; ++i) {
                         uint32_t tri = buf.tri[i];
@@ -1314,7 +1319,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                                     .color;
                             continue;
                         }
-                        add_to_batch(i, pixel, s, tri, t);
+                        add_to_batch(i, sample_x(pixel, s), sample_y(pixel, s), tri, t);
                     }
                     if (batch.count > 0) flush();
                     if (spp == 1) {  // nothing to add up: the samples are the pixels
