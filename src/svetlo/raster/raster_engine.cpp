@@ -1247,6 +1247,18 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                         lane_of[k] = i;
                         if (batch.count == batch_size) flush();
                     };
+                    // A sample the batches do not take: the background, or a material off the
+                    // fast path (shaded alone). True when it is done.
+                    auto shade_apart = [&](size_t i, uint32_t tri, int64_t sx, int64_t sy) {
+                        if (tri == kNone) {
+                            buf.sample_color[i] = background;
+                            return true;
+                        }
+                        if (f.simd_ok[f.tri(tri).material]) return false;
+                        buf.sample_color[i] =
+                            shade_sample(f, tri, edges_of(tri), sx, sy, false).color;
+                        return true;
+                    };
                     // One sample per pixel: runs of one triangle along each row, their weights
                     // stepped exactly (edge functions are affine), shaded four pixels at a time.
                     for (int row = 0; row < th && S == 1; ++row) {
@@ -1258,16 +1270,8 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                             const int64_t sx =
                                 static_cast<int64_t>(tile.x0 + px) * kSubpixel + sp.ox[0];
                             uint32_t tri = buf.tri[i];
-                            if (tri == kNone) {
-                                buf.sample_color[i] = background;
-                                continue;
-                            }
+                            if (shade_apart(i, tri, sx, sy)) continue;
                             const SetupTriangle& t = f.tri(tri);
-                            if (!f.simd_ok[t.material]) {
-                                buf.sample_color[i] =
-                                    shade_sample(f, tri, edges_of(tri), sx, sy, false).color;
-                                continue;
-                            }
                             int end = px;
                             while (end < tw && buf.tri[row_start + static_cast<size_t>(end)] == tri)
                                 ++end;
@@ -1307,18 +1311,8 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                         uint32_t tri = buf.tri[i];
                         size_t pixel = i / static_cast<size_t>(S);
                         int s = static_cast<int>(i % static_cast<size_t>(S));
-                        if (tri == kNone) {
-                            buf.sample_color[i] = background;
-                            continue;
-                        }
+                        if (shade_apart(i, tri, sample_x(pixel, s), sample_y(pixel, s))) continue;
                         const SetupTriangle& t = f.tri(tri);
-                        if (!f.simd_ok[t.material]) {
-                            buf.sample_color[i] =
-                                shade_sample(f, tri, edges_of(tri), sample_x(pixel, s),
-                                             sample_y(pixel, s), false)
-                                    .color;
-                            continue;
-                        }
                         add_to_batch(i, sample_x(pixel, s), sample_y(pixel, s), tri, t);
                     }
                     if (batch.count > 0) flush();
