@@ -46,8 +46,8 @@ constexpr float kOverdrawPerUnit = 8.0f;
 struct ScreenVertex {
     int32_t x = 0, y = 0;
     float z = 0.0f;
-    uint32_t inside =
-        0;  // 1 when inside every clip plane: triangles of such vertices skip clipping
+    // 1 when inside every clip plane: a triangle of three such vertices skips clipping.
+    uint32_t inside = 0;
 };
 
 /// A triangle after clipping, projection and snapping, ready to rasterize: one cache line,
@@ -291,9 +291,12 @@ void vertex_stage(const std::vector<DrawMesh>& meshes, FrameState& f, std::vecto
             out.normal = glm::length(n) > 0.0f ? glm::normalize(nm * n) : vec3(0.0f);
             out.uv = v < m.uvs.size() ? m.uvs[v] : vec2(0.0f);
             out.color = Color(0.0f);
+            // Projected here once when inside the clip volume; otherwise the triangles that
+            // use it are clipped, and their pieces projected then.
             ScreenVertex& sv = f.screen[base[k] + v];
-            sv.inside = inside(out.clip, gx, gy) ? 1 : 0;
-            if (sv.inside) {
+            out.invw = 0.0f;
+            sv = ScreenVertex{};
+            if (inside(out.clip, gx, gy)) {
                 out.invw = 1.0f / out.clip.w;
                 sv = project(f, out);
                 sv.inside = 1;
@@ -349,7 +352,7 @@ bool setup_triangle(const FrameState& f, const ScreenVertex* sv[3], const uint32
     }
     int32_t xmin = std::min({t.x[0], t.x[1], t.x[2]}), xmax = std::max({t.x[0], t.x[1], t.x[2]});
     int32_t ymin = std::min({t.y[0], t.y[1], t.y[2]}), ymax = std::max({t.y[0], t.y[1], t.y[2]});
-    // Pixel i's samples lie at i + o, o in [f.sample_lo, f.sample_hi] (fixed point): it may hold
+    // Pixel i's samples lie at i + o, o in [lo, hi] (f.sample_bounds, fixed point): it may hold
     // a covered one when i >= ceil((min - hi) / 256) and i <= floor((max - lo) / 256). The
     // wireframe wants a pixel more on each side (Wu's lines spread to the neighbours, and
     // triangles that cover no sample still have edges).
