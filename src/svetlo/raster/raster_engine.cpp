@@ -567,6 +567,8 @@ struct TileBuffers {
     std::vector<float> depth;
     std::vector<uint32_t> tri;
     std::vector<uint8_t> stencil;     // per sample, when a pass uses it
+    std::vector<float> l1, l2;        // screen barycentrics of vertices 1 and 2 per sample,
+                                      // written by rasterize_small (one sample per pixel)
     std::vector<float> block_far;     // per block: max depth over its samples
     std::vector<Color> color;         // resolved colour per pixel, accumulated over passes
     std::vector<Color> sample_color;  // the fast path's colour per sample
@@ -575,6 +577,10 @@ struct TileBuffers {
         depth.assign(samples + kPad, kInfinity);
         tri.assign(samples + kPad, kNone);
         if (stencil_used) stencil.assign(samples, 0);
+        if (l1.size() != samples + kPad) {
+            l1.resize(samples + kPad);
+            l2.resize(samples + kPad);
+        }
         block_far.assign(static_cast<size_t>(kTile / kBlock) * (kTile / kBlock), kInfinity);
         if (color.size() != pixels) color.resize(pixels);
         if (aovs) {
@@ -652,12 +658,12 @@ void rasterize_small(uint32_t id, const SetupTriangle& t, PixelSpan span, const 
     // of four pixels below 2^24, so 32 bits hold everything exactly.
     const int32_t ox = xs * kSubpixel + sp.ox[0], oy = ys * kSubpixel + sp.oy[0];
     __m128i w_row[3], step_x[3], step_y[3];
-    int32_t a[3];
+    int32_t a[3], bias[3];
     for (int k = 0; k < 3; ++k) {
         int i = (k + 1) % 3, j = (k + 2) % 3;
         int32_t dx = t.x[j] - t.x[i], dy = t.y[j] - t.y[i];
-        int32_t bias = (-dy > 0 || (dy == 0 && dx > 0)) ? 0 : -1;  // the top-left rule
-        int32_t origin = dx * (oy - t.y[i]) - dy * (ox - t.x[i]) + bias;
+        bias[k] = (-dy > 0 || (dy == 0 && dx > 0)) ? 0 : -1;  // the top-left rule
+        int32_t origin = dx * (oy - t.y[i]) - dy * (ox - t.x[i]) + bias[k];
         a[k] = -dy;
         int32_t ax = a[k] * kSubpixel;
         w_row[k] = _mm_add_epi32(_mm_set1_epi32(origin), _mm_set_epi32(3 * ax, 2 * ax, ax, 0));
@@ -680,6 +686,12 @@ void rasterize_small(uint32_t id, const SetupTriangle& t, PixelSpan span, const 
     const int tw = tile.x1 - tile.x0;
     const __m128i lane = _mm_set_epi32(3, 2, 1, 0);
     const __m128i id4 = _mm_set1_epi32(static_cast<int32_t>(id));
+    // The barycentrics the shading reads back: E / (2 area), without the fill rule's bias.
+    const __m128i bias1 = _mm_set1_epi32(bias[1]), bias2 = _mm_set1_epi32(bias[2]);
+    const __m128 inv_area = _mm_set1_ps(t.inv_area);
+    auto blend = [](__m128 mask, __m128 yes, __m128 no) {  // yes where mask, else no
+        return _mm_or_ps(_mm_and_ps(mask, yes), _mm_andnot_ps(mask, no));
+    };
     for (int py = ys; py < ye; ++py) {
         __m128i w0 = w_row[0], w1 = w_row[1], w2 = w_row[2];
         __m128 z4 = _mm_add_ps(_mm_set1_ps(z_origin + dzdy * static_cast<float>(py - ys)), z_steps);
@@ -696,11 +708,14 @@ void rasterize_small(uint32_t id, const SetupTriangle& t, PixelSpan span, const 
                 __m128i old_id = _mm_loadu_si128(reinterpret_cast<const __m128i*>(&buf.tri[i]));
                 __m128 pass = depth_test ? _mm_and_ps(covered, _mm_cmplt_ps(z4, old_z)) : covered;
                 __m128i pass_i = _mm_castps_si128(pass);
-                _mm_storeu_ps(&buf.depth[i],
-                              _mm_or_ps(_mm_and_ps(pass, z4), _mm_andnot_ps(pass, old_z)));
+                _mm_storeu_ps(&buf.depth[i], blend(pass, z4, old_z));
                 _mm_storeu_si128(
                     reinterpret_cast<__m128i*>(&buf.tri[i]),
                     _mm_or_si128(_mm_and_si128(pass_i, id4), _mm_andnot_si128(pass_i, old_id)));
+                __m128 l1 = _mm_mul_ps(_mm_cvtepi32_ps(_mm_sub_epi32(w1, bias1)), inv_area);
+                __m128 l2 = _mm_mul_ps(_mm_cvtepi32_ps(_mm_sub_epi32(w2, bias2)), inv_area);
+                _mm_storeu_ps(&buf.l1[i], blend(pass, l1, _mm_loadu_ps(&buf.l1[i])));
+                _mm_storeu_ps(&buf.l2[i], blend(pass, l2, _mm_loadu_ps(&buf.l2[i])));
             }
             w0 = _mm_add_epi32(w0, step_x[0]);
             w1 = _mm_add_epi32(w1, step_x[1]);
@@ -896,9 +911,7 @@ struct Weights {
     float q[3], b[3];
 };
 
-Weights perspective_weights(const TriangleEdges& edges, int64_t sx, int64_t sy, const ClipVertex& A,
-                            const ClipVertex& B, const ClipVertex& C) {
-    vec2 l = edges.weights(sx, sy);
+Weights perspective_weights(vec2 l, const ClipVertex& A, const ClipVertex& B, const ClipVertex& C) {
     Weights w;
     w.q[0] = (1.0f - l.x - l.y) * A.invw;
     w.q[1] = l.x * B.invw;
@@ -927,7 +940,7 @@ ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& 
     const ClipVertex& A = f.vertex(t.v[0]);
     const ClipVertex& B = f.vertex(t.v[1]);
     const ClipVertex& C = f.vertex(t.v[2]);
-    Weights w = perspective_weights(edges, sx, sy, A, B, C);
+    Weights w = perspective_weights(edges.weights(sx, sy), A, B, C);
     float b0 = w.b[0], b1 = w.b[1], b2 = w.b[2];
     float q0 = w.q[0], q1 = w.q[1], q2 = w.q[2];
     ShadeResult r;
@@ -1210,16 +1223,23 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                 // Neighbouring samples mostly share a triangle: keep its edges.
                 uint32_t edges_id = kNone;
                 std::optional<TriangleEdges> edges;
-                vec3 edges_ng(0.0f);  // and the triangle's face normal (the fast path's)
                 auto edges_of = [&](uint32_t id) -> const TriangleEdges& {
                     if (id != edges_id) {
-                        const SetupTriangle& t = f.tri(id);
-                        edges.emplace(t);
-                        edges_ng =
-                            face_normal(t, f.vertex(t.v[0]), f.vertex(t.v[1]), f.vertex(t.v[2]));
+                        edges.emplace(f.tri(id));
                         edges_id = id;
                     }
                     return *edges;
+                };
+                // And its face normal, for the fast path.
+                uint32_t ng_id = kNone;
+                vec3 ng(0.0f);
+                auto ng_of = [&](uint32_t id) {
+                    if (id != ng_id) {
+                        const SetupTriangle& t = f.tri(id);
+                        ng = face_normal(t, f.vertex(t.v[0]), f.vertex(t.v[1]), f.vertex(t.v[2]));
+                        ng_id = id;
+                    }
+                    return ng;
                 };
                 if (simd) {
                     // The fast path: constant Phong-family samples lit four at a time.
@@ -1236,16 +1256,16 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                         batch.count = 0;
                     };
                     // Gathers sample i, at fixed-point (sx, sy), of triangle `tri` into the batch.
-                    auto add_to_batch = [&](size_t i, int64_t sx, int64_t sy, uint32_t tri,
+                    auto add_to_batch = [&](size_t i, vec2 l, uint32_t tri,
                                             const SetupTriangle& t) {
                         const ClipVertex& A = f.vertex(t.v[0]);
                         const ClipVertex& B = f.vertex(t.v[1]);
                         const ClipVertex& C = f.vertex(t.v[2]);
-                        Weights w = perspective_weights(edges_of(tri), sx, sy, A, B, C);
+                        Weights w = perspective_weights(l, A, B, C);
                         int k = batch.count++;
                         batch.p[k] = w.b[0] * A.world + w.b[1] * B.world + w.b[2] * C.world;
                         batch.ns[k] = w.b[0] * A.normal + w.b[1] * B.normal + w.b[2] * C.normal;
-                        batch.ng[k] = edges_ng;
+                        batch.ng[k] = ng_of(tri);
                         batch.material[k] = &f.simd_material[t.material];
                         lane_of[k] = i;
                         if (batch.count == batch_size) flush();
@@ -1298,14 +1318,19 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                                 auto dl2 = static_cast<float>(
                                     static_cast<double>(e.e[2].a * kSubpixel) * e.inv_area);
                                 shade_run(q, dl1, dl2, (spans_end - px) / 4,
-                                          f.simd_material[t.material], edges_ng, f.simd_lights,
+                                          f.simd_material[t.material], ng_of(tri), f.simd_lights,
                                           f.eye, f.ortho, f.forward, scene.render.ambient,
                                           &buf.sample_color[i]);
                             }
                             for (int x = spans_end; x < end; ++x) {
-                                add_to_batch(row_start + static_cast<size_t>(x),
-                                             sx + static_cast<int64_t>(x - px) * kSubpixel, sy, tri,
-                                             t);
+                                size_t k = row_start + static_cast<size_t>(x);
+                                // Small triangles left their barycentrics in the buffers.
+                                vec2 l =
+                                    t.small
+                                        ? vec2(buf.l1[k], buf.l2[k])
+                                        : edges_of(tri).weights(
+                                              sx + static_cast<int64_t>(x - px) * kSubpixel, sy);
+                                add_to_batch(k, l, tri, t);
                             }
                             px = end - 1;
                         }
@@ -1316,7 +1341,9 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                         int s = static_cast<int>(i % static_cast<size_t>(S));
                         if (shade_apart(i, tri, sample_x(pixel, s), sample_y(pixel, s))) continue;
                         const SetupTriangle& t = f.tri(tri);
-                        add_to_batch(i, sample_x(pixel, s), sample_y(pixel, s), tri, t);
+                        add_to_batch(i,
+                                     edges_of(tri).weights(sample_x(pixel, s), sample_y(pixel, s)),
+                                     tri, t);
                     }
                     if (batch.count > 0) flush();
                     if (spp == 1) {  // nothing to add up: the samples are the pixels
