@@ -593,14 +593,10 @@ TEST(Raster, FourAndEightLaneKernelsAgree) {
     SimdLights lights;
     lights.points.push_back({vec3(0.5f, 1.5f, 2), Color(6, 5, 4)});
     lights.directionals.push_back({glm::normalize(vec3(0.2f, 0.5f, 1)), Color(0.7f)});
-    for (bool blinn : {false, true}) {
-        SimdMaterial m;
-        m.ka = Color(0.2f);
-        m.kd = Color(0.5f, 0.4f, 0.3f);
-        m.ks = Color(0.4f);
-        m.shininess = 24.0f;
-        m.blinn = blinn;
-        m.specular = true;
+    for (int variant = 0; variant < 4; ++variant) {
+        bool blinn = variant % 2 == 1;
+        float shininess = variant < 2 ? 24.0f : 24.5f;  // repeated squaring, or exp2 and log2
+        SimdMaterial m(Color(0.2f), Color(0.5f, 0.4f, 0.3f), Color(0.4f), shininess, blinn, true);
         Color four[64], best[64];
         vec3 ng = glm::normalize(glm::cross(q.world[1] - q.world[0], q.world[2] - q.world[0]));
         shade_run(q, 0.01f, 0.008f, 16, m, ng, lights, vec3(0, 0.2f, 3), false, vec3(0, 0, -1),

@@ -372,12 +372,19 @@ bool setup_triangle(const FrameState& f, const ScreenVertex* sv[3], const uint32
     return true;
 }
 
-/// The unit normal of the counter-clockwise side of a set-up triangle (world space), from its
-/// vertices A, B, C in the wound order (swapped for back faces: the sign undoes it exactly).
+/// A normal of the counter-clockwise side of a set-up triangle (world space, twice the area
+/// long), from its vertices A, B, C in the wound order (swapped for back faces: the sign
+/// undoes it exactly).
+vec3 face_cross(const SetupTriangle& t, const ClipVertex& A, const ClipVertex& B,
+                const ClipVertex& C) {
+    vec3 n = glm::cross(B.world - A.world, C.world - A.world);
+    return t.front ? n : -n;
+}
+
+/// The same, of unit length ((0, 0, 1) for a triangle of no area).
 vec3 face_normal(const SetupTriangle& t, const ClipVertex& A, const ClipVertex& B,
                  const ClipVertex& C) {
-    vec3 n = glm::cross(B.world - A.world, C.world - A.world);
-    if (!t.front) n = -n;
+    vec3 n = face_cross(t, A, B, C);
     return glm::length(n) > 0.0f ? glm::normalize(n) : vec3(0.0f, 0.0f, 1.0f);
 }
 
@@ -1125,14 +1132,8 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
         const Bsdf& b = f.constant_bsdf[m];
         bool phong = b.model == Bsdf::Model::Phong || b.model == Bsdf::Model::BlinnPhong;
         f.simd_ok.push_back(!f.textured[m] && (phong || b.model == Bsdf::Model::Lambert) ? 1 : 0);
-        SimdMaterial sm;
-        sm.ka = b.ambient;
-        sm.kd = b.diffuse;
-        sm.ks = b.specular;
-        sm.shininess = b.shininess;
-        sm.blinn = b.model == Bsdf::Model::BlinnPhong;
-        sm.specular = phong;
-        f.simd_material.push_back(sm);
+        f.simd_material.emplace_back(b.ambient, b.diffuse, b.specular, b.shininess,
+                                     b.model == Bsdf::Model::BlinnPhong, phong);
     }
     f.cam = camera_matrices(scene.camera, width, height, drawn_bounds(meshes));
     f.eye = scene.camera.position;
@@ -1230,17 +1231,6 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                     }
                     return *edges;
                 };
-                // And its face normal, for the fast path.
-                uint32_t ng_id = kNone;
-                vec3 ng(0.0f);
-                auto ng_of = [&](uint32_t id) {
-                    if (id != ng_id) {
-                        const SetupTriangle& t = f.tri(id);
-                        ng = face_normal(t, f.vertex(t.v[0]), f.vertex(t.v[1]), f.vertex(t.v[2]));
-                        ng_id = id;
-                    }
-                    return ng;
-                };
                 if (simd) {
                     // The fast path: constant Phong-family samples lit four at a time.
                     size_t count = pixels * static_cast<size_t>(S);
@@ -1255,9 +1245,8 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                         for (int k = 0; k < batch.count; ++k) buf.sample_color[lane_of[k]] = lit[k];
                         batch.count = 0;
                     };
-                    // Gathers sample i, at fixed-point (sx, sy), of triangle `tri` into the batch.
-                    auto add_to_batch = [&](size_t i, vec2 l, uint32_t tri,
-                                            const SetupTriangle& t) {
+                    // Gathers sample i of triangle t, at screen barycentrics l, into the batch.
+                    auto add_to_batch = [&](size_t i, vec2 l, const SetupTriangle& t) {
                         const ClipVertex& A = f.vertex(t.v[0]);
                         const ClipVertex& B = f.vertex(t.v[1]);
                         const ClipVertex& C = f.vertex(t.v[2]);
@@ -1265,7 +1254,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                         int k = batch.count++;
                         batch.p[k] = w.b[0] * A.world + w.b[1] * B.world + w.b[2] * C.world;
                         batch.ns[k] = w.b[0] * A.normal + w.b[1] * B.normal + w.b[2] * C.normal;
-                        batch.ng[k] = ng_of(tri);
+                        batch.ng[k] = face_cross(t, A, B, C);
                         batch.material[k] = &f.simd_material[t.material];
                         lane_of[k] = i;
                         if (batch.count == batch_size) flush();
@@ -1318,9 +1307,11 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                                 auto dl2 = static_cast<float>(
                                     static_cast<double>(e.e[2].a * kSubpixel) * e.inv_area);
                                 shade_run(q, dl1, dl2, (spans_end - px) / 4,
-                                          f.simd_material[t.material], ng_of(tri), f.simd_lights,
-                                          f.eye, f.ortho, f.forward, scene.render.ambient,
-                                          &buf.sample_color[i]);
+                                          f.simd_material[t.material],
+                                          face_cross(t, f.vertex(t.v[0]), f.vertex(t.v[1]),
+                                                     f.vertex(t.v[2])),
+                                          f.simd_lights, f.eye, f.ortho, f.forward,
+                                          scene.render.ambient, &buf.sample_color[i]);
                             }
                             for (int x = spans_end; x < end; ++x) {
                                 size_t k = row_start + static_cast<size_t>(x);
@@ -1330,7 +1321,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                                         ? vec2(buf.l1[k], buf.l2[k])
                                         : edges_of(tri).weights(
                                               sx + static_cast<int64_t>(x - px) * kSubpixel, sy);
-                                add_to_batch(k, l, tri, t);
+                                add_to_batch(k, l, t);
                             }
                             px = end - 1;
                         }
@@ -1341,9 +1332,8 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                         int s = static_cast<int>(i % static_cast<size_t>(S));
                         if (shade_apart(i, tri, sample_x(pixel, s), sample_y(pixel, s))) continue;
                         const SetupTriangle& t = f.tri(tri);
-                        add_to_batch(i,
-                                     edges_of(tri).weights(sample_x(pixel, s), sample_y(pixel, s)),
-                                     tri, t);
+                        add_to_batch(
+                            i, edges_of(tri).weights(sample_x(pixel, s), sample_y(pixel, s)), t);
                     }
                     if (batch.count > 0) flush();
                     if (spp == 1) {  // nothing to add up: the samples are the pixels

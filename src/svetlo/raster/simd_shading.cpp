@@ -3,6 +3,7 @@
 #include <immintrin.h>
 
 #include <algorithm>
+#include <cmath>
 
 namespace svetlo {
 
@@ -30,6 +31,26 @@ bool cpu_has_avx2() {
 }
 
 }  // namespace
+
+namespace {
+
+int whole_shininess(float n) {
+    return n >= 1.0f && n <= 1024.0f && std::floor(n) == n ? static_cast<int>(n) : 0;
+}
+
+}  // namespace
+
+SimdMaterial::SimdMaterial(Color ka_, Color kd_, Color ks_, float shininess_, bool blinn_,
+                           bool specular_)
+    : ka(ka_),
+      kd(kd_),
+      ks(ks_),
+      shininess(shininess_),
+      blinn(blinn_),
+      specular(specular_),
+      norm(blinn_ ? (shininess_ + 8.0f) / (8.0f * kPi) : (shininess_ + 2.0f) / (2.0f * kPi)),
+      whole(whole_shininess(shininess_)),
+      tiny(whole > 0 ? std::exp2(-100.0f / static_cast<float>(whole)) : 0.0f) {}
 
 int simd_lanes() { return cpu_has_avx2() ? 8 : 4; }
 

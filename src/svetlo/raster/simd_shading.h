@@ -3,8 +3,9 @@
 // computes exactly the formulas of shading/bsdf.cpp and raster_lights.cpp (two-sided normals,
 // E = I cos / d^2, f = kd/pi + ks (n+2)/(2 pi) (r.v)^n or ks (n+8)/(8 pi) (n.h)^n, plus
 // ka * ambient), four lanes per instruction. pow is exp2(n log2 x) with polynomials accurate
-// to about 1e-7 relative (Cody and Waite style range reduction), where the scalar path calls
-// powf: the two paths agree to within 1e-5 relative.
+// to about 1e-7 relative (Cody and Waite style range reduction), or repeated squaring when n
+// is a whole number shared by the lanes, where the scalar path calls powf: the two paths
+// agree to within 1e-5 relative.
 #pragma once
 
 #include <vector>
@@ -28,16 +29,21 @@ struct SimdLights {
     std::vector<Directional> directionals;
 };
 
-/// A constant material in the fast path's terms.
+/// A constant material in the fast path's terms, with what the kernel derives from it once.
 struct SimdMaterial {
-    Color ka{0.0f}, kd{0.0f}, ks{0.0f};
-    float shininess = 0.0f;
-    bool blinn = false;
-    bool specular = false;  // false for Lambert (ks = 0)
+    SimdMaterial(Color ka, Color kd, Color ks, float shininess, bool blinn, bool specular);
+    const Color ka, kd, ks;
+    const float shininess;
+    const bool blinn;
+    const bool specular;  // false for Lambert (ks = 0)
+    const float norm;     // the lobe's normalisation: (n + 2) / (2 pi), or (n + 8) / (8 pi)
+    const int whole;      // n when it is a whole number in [1, 1024] (powers by squaring), else 0
+    const float tiny;     // 2^(-100 / whole): smaller bases make lobes below 2^-100, taken as 0
 };
 
 /// Up to eight samples: position, interpolated normal (not necessarily unit), the geometric
-/// normal of the counter-clockwise side (unit), and the material.
+/// normal of the counter-clockwise side (any length; a zero one stands for (0, 0, 1)), and the
+/// material.
 struct ShadeBatch {
     static constexpr int kCapacity = 8;
     int count = 0;
@@ -59,7 +65,8 @@ struct TriangleRun {
 };
 
 /// A run of 4 `groups` consecutive samples of one triangle along a row: the weights of the
-/// first are q.l1 and q.l2, and they change by dl1, dl2 from one sample to the next.
+/// first are q.l1 and q.l2, and they change by dl1, dl2 from one sample to the next; ng as in
+/// ShadeBatch.
 /// Writes 4 groups colours to `out`, eight lanes at a time where the processor has AVX2
 /// (simd_lanes()) unless `lanes` is 4 (the tests of the four-lane build ask for it).
 void shade_run(const TriangleRun& q, float dl1, float dl2, int groups, const SimdMaterial& m,
