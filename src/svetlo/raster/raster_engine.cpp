@@ -1251,12 +1251,10 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                         const ClipVertex& B = f.vertex(t.v[1]);
                         const ClipVertex& C = f.vertex(t.v[2]);
                         Weights w = perspective_weights(l, A, B, C);
-                        int k = batch.count++;
-                        batch.p[k] = w.b[0] * A.world + w.b[1] * B.world + w.b[2] * C.world;
-                        batch.ns[k] = w.b[0] * A.normal + w.b[1] * B.normal + w.b[2] * C.normal;
-                        batch.ng[k] = face_cross(t, A, B, C);
-                        batch.material[k] = &f.simd_material[t.material];
-                        lane_of[k] = i;
+                        lane_of[batch.count] = i;
+                        batch.add(w.b[0] * A.world + w.b[1] * B.world + w.b[2] * C.world,
+                                  w.b[0] * A.normal + w.b[1] * B.normal + w.b[2] * C.normal,
+                                  face_cross(t, A, B, C), &f.simd_material[t.material]);
                         if (batch.count == batch_size) flush();
                     };
                     // A sample the batches do not take: the background, or a material off the
@@ -1282,6 +1280,17 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                             const int64_t sx =
                                 static_cast<int64_t>(tile.x0 + px) * kSubpixel + sp.ox[0];
                             uint32_t tri = buf.tri[i];
+                            // The vertices of the triangle a few pixels on are fetched ahead:
+                            // a tile's vertices are scattered over the frame's.
+                            constexpr size_t kAhead = 8;
+                            if (i + kAhead < pixels) {
+                                uint32_t next = buf.tri[i + kAhead];
+                                if (next != kNone && next != tri) {
+                                    for (uint32_t v : f.tri(next).v)
+                                        _mm_prefetch(reinterpret_cast<const char*>(&f.vertex(v)),
+                                                     _MM_HINT_T0);
+                                }
+                            }
                             if (shade_apart(i, tri, sx, sy)) continue;
                             const SetupTriangle& t = f.tri(tri);
                             int end = px;

@@ -41,14 +41,24 @@ struct SimdMaterial {
     const float tiny;     // 2^(-100 / whole): smaller bases make lobes below 2^-100, taken as 0
 };
 
-/// Up to eight samples: position, interpolated normal (not necessarily unit), the geometric
-/// normal of the counter-clockwise side (any length; a zero one stands for (0, 0, 1)), and the
-/// material.
+/// Up to eight samples, one lane each (x, y, z arrays, as the kernel loads them): position,
+/// interpolated normal (not necessarily unit), the geometric normal of the counter-clockwise
+/// side (any length; a zero one stands for (0, 0, 1)), and the material.
 struct ShadeBatch {
     static constexpr int kCapacity = 8;
     int count = 0;
-    vec3 p[kCapacity], ns[kCapacity], ng[kCapacity];
+    float p[3][kCapacity], ns[3][kCapacity], ng[3][kCapacity];
     const SimdMaterial* material[kCapacity] = {};
+
+    /// Appends a sample; the caller flushes a full batch.
+    void add(vec3 position, vec3 normal, vec3 geometric, const SimdMaterial* m) {
+        for (int c = 0; c < 3; ++c) {
+            p[c][count] = position[c];
+            ns[c][count] = normal[c];
+            ng[c][count] = geometric[c];
+        }
+        material[count++] = m;
+    }
 };
 
 /// Radiance toward the camera at each sample of the batch (eight lanes at once with AVX2,
