@@ -288,7 +288,9 @@ void vertex_stage(const std::vector<DrawMesh>& meshes, FrameState& f, std::vecto
             out.world = vec3(model * vec4(m.positions[v], 1.0f));
             out.clip = vp * vec4(out.world, 1.0f);
             vec3 n = v < m.normals.size() ? m.normals[v] : vec3(0.0f);
-            out.normal = glm::length(n) > 0.0f ? glm::normalize(nm * n) : vec3(0.0f);
+            vec3 tn = nm * n;
+            float len2 = glm::dot(tn, tn);
+            out.normal = len2 > 0.0f ? tn * (1.0f / std::sqrt(len2)) : vec3(0.0f);
             out.uv = v < m.uvs.size() ? m.uvs[v] : vec2(0.0f);
             out.color = Color(0.0f);
             // Projected here once when inside the clip volume; otherwise the triangles that
@@ -402,19 +404,27 @@ Color flat_colour(const FrameState& f, const uint32_t idx[3], uint32_t material)
                        ng, glm::dot(ng, wo) > 0.0f);
 }
 
-/// Stage 4 for one chunk: its triangles `ids` (in drawing order) into tiles, as compressed
-/// rows: tile k's triangles are b.ids[b.start[k] .. b.start[k + 1]).
-template <typename Tri>
-void bin_chunk(const FrameState& f, const std::vector<uint32_t>& ids, Tri&& tri,
-               FrameState::Bins& b) {
+/// A triangle to bin: its id and the tiles its bounds touch, [tx0, tx1] x [ty0, ty1].
+struct Binned {
+    uint32_t id;
+    uint16_t tx0, ty0, tx1, ty1;
+};
+
+Binned binned(uint32_t id, const SetupTriangle& t) {
+    return {id, static_cast<uint16_t>(t.x0() / kTile), static_cast<uint16_t>(t.y0() / kTile),
+            static_cast<uint16_t>((t.x1() - 1) / kTile),
+            static_cast<uint16_t>((t.y1() - 1) / kTile)};
+}
+
+/// Stage 4 for one chunk: its triangles (in drawing order) into tiles, as compressed rows:
+/// tile k's triangles are b.ids[b.start[k] .. b.start[k + 1]).
+void bin_chunk(const FrameState& f, const std::vector<Binned>& tris, FrameState::Bins& b) {
     size_t tiles = static_cast<size_t>(f.tiles_x) * f.tiles_y;
     b.start.assign(tiles + 1, 0);
     auto each = [&](auto&& visit) {
-        for (uint32_t id : ids) {
-            const SetupTriangle& t = tri(id);
-            for (int ty = t.y0() / kTile; ty <= (t.y1() - 1) / kTile; ++ty) {
-                for (int tx = t.x0() / kTile; tx <= (t.x1() - 1) / kTile; ++tx)
-                    visit(static_cast<size_t>(ty) * f.tiles_x + tx, id);
+        for (const Binned& t : tris) {
+            for (size_t ty = t.ty0; ty <= t.ty1; ++ty) {
+                for (size_t tx = t.tx0; tx <= t.tx1; ++tx) visit(ty * f.tiles_x + tx, t.id);
             }
         }
     };
@@ -449,6 +459,8 @@ void assemble(const std::vector<DrawMesh>& meshes, const std::vector<uint32_t>& 
     std::vector<std::vector<Color>> clipped_flat(chunks);
     parallel_indices(chunks, threads, [&](size_t c) {
         const size_t begin = c * kChunk, end = std::min(total, (c + 1) * kChunk);
+        std::vector<Binned> to_bin;  // binned while the chunk is in cache, below
+        to_bin.reserve(end - begin);
         size_t mesh = static_cast<size_t>(
             std::upper_bound(first_tri.begin(), first_tri.end(), begin) - first_tri.begin() - 1);
         for (size_t s = begin; s < end; ++s) {
@@ -465,7 +477,8 @@ void assemble(const std::vector<DrawMesh>& meshes, const std::vector<uint32_t>& 
             SetupTriangle& slot = f.tris[s];
             if (flat_mode) f.flat[s] = flat_colour(f, idx, material);
             if (sv[0]->inside & sv[1]->inside & sv[2]->inside) {
-                counts[c] += setup_triangle(f, sv, idx, material, slot) ? 1 : 0;
+                if (setup_triangle(f, sv, idx, material, slot))
+                    to_bin.push_back(binned(static_cast<uint32_t>(s), slot));
                 continue;
             }
             slot.bx0 = 1;  // empty
@@ -491,21 +504,11 @@ void assemble(const std::vector<DrawMesh>& meshes, const std::vector<uint32_t>& 
                 }
             }
         }
-        // Binned while the chunk is in cache: its slots, then its pieces (ids chunk-local
-        // until the pieces are concatenated below).
-        std::vector<uint32_t> ids;
-        ids.reserve(counts[c] + clipped[c].size());
-        for (size_t s = begin; s < end; ++s) {
-            if (!f.tris[s].empty()) ids.push_back(static_cast<uint32_t>(s));
-        }
+        // Its slots, then its pieces (ids chunk-local until the pieces are concatenated below).
+        counts[c] = to_bin.size();
         for (size_t k = 0; k < clipped[c].size(); ++k)
-            ids.push_back(kExtra | static_cast<uint32_t>(k));
-        bin_chunk(
-            f, ids,
-            [&](uint32_t id) -> const SetupTriangle& {
-                return (id & kExtra) ? clipped[c][id & ~kExtra] : f.tris[id];
-            },
-            f.bins[c]);
+            to_bin.push_back(binned(kExtra | static_cast<uint32_t>(k), clipped[c][k]));
+        bin_chunk(f, to_bin, f.bins[c]);
     });
     // Concatenate the clipped pieces and their vertices, chunk after chunk.
     for (size_t c = 0; c < chunks; ++c) {
@@ -557,11 +560,10 @@ void bin_back_to_front(FrameState& f, int threads) {
     size_t chunks = (order.size() + kChunk - 1) / kChunk;
     f.bins.assign(chunks, {});
     parallel_indices(chunks, threads, [&](size_t c) {
-        std::vector<uint32_t> ids(
-            order.begin() + static_cast<std::ptrdiff_t>(c * kChunk),
-            order.begin() + static_cast<std::ptrdiff_t>(std::min(order.size(), (c + 1) * kChunk)));
-        bin_chunk(
-            f, ids, [&](uint32_t id) -> const SetupTriangle& { return f.tri(id); }, f.bins[c]);
+        std::vector<Binned> to_bin;
+        for (size_t k = c * kChunk; k < std::min(order.size(), (c + 1) * kChunk); ++k)
+            to_bin.push_back(binned(order[k], f.tri(order[k])));
+        bin_chunk(f, to_bin, f.bins[c]);
     });
 }
 
@@ -1188,7 +1190,8 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
             int tw = tile.x1 - tile.x0, th = tile.y1 - tile.y0;
             auto pixels = static_cast<size_t>(tw) * th;
             size_t ti = static_cast<size_t>(tile.y0 / kTile) * f.tiles_x + tile.x0 / kTile;
-            buf.color.assign(pixels, Color(0.0f));
+            // (One sample per pixel on the fast path writes every pixel: nothing to clear.)
+            if (!(simd && spp == 1)) buf.color.assign(pixels, Color(0.0f));
             if (targets.any) {
                 for (auto& a : buf.aov) a.assign(pixels, Color(0.0f));
             }
