@@ -1296,6 +1296,11 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                             }
                             if (shade_apart(i, tri, sx, sy)) continue;
                             const SetupTriangle& t = f.tri(tri);
+                            if (t.small) {  // short runs: straight into a batch, with the
+                                            // barycentrics the rasterizer left
+                                add_to_batch(i, vec2(buf.l1[i], buf.l2[i]), t);
+                                continue;
+                            }
                             int end = px;
                             while (end < tw && buf.tri[row_start + static_cast<size_t>(end)] == tri)
                                 ++end;
@@ -1326,14 +1331,10 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                                           scene.render.ambient, &buf.sample_color[i]);
                             }
                             for (int x = spans_end; x < end; ++x) {
-                                size_t k = row_start + static_cast<size_t>(x);
-                                // Small triangles left their barycentrics in the buffers.
-                                vec2 l =
-                                    t.small
-                                        ? vec2(buf.l1[k], buf.l2[k])
-                                        : edges_of(tri).weights(
-                                              sx + static_cast<int64_t>(x - px) * kSubpixel, sy);
-                                add_to_batch(k, l, t);
+                                add_to_batch(row_start + static_cast<size_t>(x),
+                                             edges_of(tri).weights(
+                                                 sx + static_cast<int64_t>(x - px) * kSubpixel, sy),
+                                             t);
                             }
                             px = end - 1;
                         }
