@@ -709,9 +709,10 @@ void rasterize_small(uint32_t id, const SetupTriangle& t, PixelSpan span, const 
             __m128i outside = _mm_srai_epi32(_mm_or_si128(_mm_or_si128(w0, w1), w2), 31);
             __m128i in_span = _mm_cmplt_epi32(lane, _mm_set1_epi32(xe - px));
             __m128 covered = _mm_castsi128_ps(_mm_andnot_si128(outside, in_span));
-            if (_mm_movemask_ps(covered)) {
-                // Four samples at once; the lanes past the span write back what they read (the
-                // buffers have room for four samples past the tile).
+            {
+                // Four samples at once, without a branch (whether any is covered is hard to
+                // predict); the lanes not written write back what they read (the buffers have
+                // room for four samples past the tile).
                 size_t i = static_cast<size_t>(py - tile.y0) * tw + (px - tile.x0);
                 __m128 old_z = _mm_loadu_ps(&buf.depth[i]);
                 __m128i old_id = _mm_loadu_si128(reinterpret_cast<const __m128i*>(&buf.tri[i]));
