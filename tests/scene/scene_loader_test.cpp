@@ -57,6 +57,10 @@ TEST(SceneLoader, ErrorsNameTheJsonPath) {
     j["objects"][0].erase("radius");
     EXPECT_EQ(error_of(j), "objects[0].radius: missing key");
     j = minimal();
+    j["materials"]["white"]["albedo"] = {
+        {"texture", "t.png"}, {"filter", "anisotropic"}, {"max_anisotropy", 0}};
+    EXPECT_EQ(error_of(j), "materials.white.albedo.max_anisotropy: must be in [1, 64] (is 0)");
+    j = minimal();
     j["objects"][0]["material"] = "gold";
     EXPECT_EQ(error_of(j), "objects[0].material: unknown material 'gold'");
     j = minimal();

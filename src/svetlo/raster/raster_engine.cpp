@@ -121,8 +121,11 @@ struct FrameState {
 };
 
 bool is_textured(const ColorSource& c) { return c.kind != ColorSource::Kind::Constant; }
-bool is_trilinear(const ColorSource& c) {
-    return c.kind == ColorSource::Kind::Image && c.filter == TextureFilter::Trilinear;
+
+/// Whether a colour needs mip chains and the pixel footprint (trilinear or anisotropic).
+bool uses_mips(const ColorSource& c) {
+    return c.kind == ColorSource::Kind::Image &&
+           (c.filter == TextureFilter::Trilinear || c.filter == TextureFilter::Anisotropic);
 }
 
 template <class F>
@@ -1112,7 +1115,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     bool any_trilinear = false;
     for (const Material& m : f.materials) {
         f.textured.push_back(any_source(m, is_textured) ? 1 : 0);
-        f.needs_footprint.push_back(any_source(m, is_trilinear) ? 1 : 0);
+        f.needs_footprint.push_back(any_source(m, uses_mips) ? 1 : 0);
         any_trilinear |= f.needs_footprint.back() != 0;
         f.constant_bsdf.push_back(make_bsdf(m, vec2(0.0f), scene.textures));
     }

@@ -34,14 +34,15 @@ PhongMaterial parse_phong(const JsonNode& node, Scene& scene, bool blinn) {
 
 Material parse_material(const JsonNode& node, Scene& scene) {
     if (!node.is_object()) node.fail("must be an object");
-    std::string type = node.at("type").as_choice({"lambert", "phong", "blinn_phong", "oren_nayar",
-                                                  "cook_torrance", "mirror", "dielectric",
-                                                  "emissive"});
+    std::string type =
+        node.at("type").as_choice({"lambert", "phong", "blinn_phong", "oren_nayar", "cook_torrance",
+                                   "mirror", "dielectric", "emissive"});
     if (type == "lambert") {
         node.expect_object({"type", "albedo"});
         return LambertMaterial{optional_color(node, "albedo", Color(0.8f), scene)};
     }
-    if (type == "phong" || type == "blinn_phong") return parse_phong(node, scene, type == "blinn_phong");
+    if (type == "phong" || type == "blinn_phong")
+        return parse_phong(node, scene, type == "blinn_phong");
     if (type == "oren_nayar") {
         node.expect_object({"type", "albedo", "sigma"});
         OrenNayarMaterial m;
@@ -90,18 +91,21 @@ ColorSource parse_color_source(const JsonNode& node, Scene& scene) {
         if (auto n = c.find("scale")) s.scale = n->as_positive();
         return s;
     }
-    node.expect_object({"texture", "filter", "wrap", "srgb"});
+    node.expect_object({"texture", "filter", "wrap", "srgb", "max_anisotropy"});
     s.kind = ColorSource::Kind::Image;
     JsonNode tex = node.at("texture");
     std::filesystem::path file = scene.path.parent_path() / tex.as_string();
     bool srgb = true;
     if (auto n = node.find("srgb")) srgb = n->as_bool();
     if (auto n = node.find("filter")) {
-        std::string f = n->as_choice({"nearest", "bilinear", "trilinear"});
-        s.filter = f == "nearest"    ? TextureFilter::Nearest
-                   : f == "bilinear" ? TextureFilter::Bilinear
-                                     : TextureFilter::Trilinear;
+        std::string f = n->as_choice({"nearest", "bilinear", "trilinear", "anisotropic"});
+        s.filter = f == "nearest"     ? TextureFilter::Nearest
+                   : f == "bilinear"  ? TextureFilter::Bilinear
+                   : f == "trilinear" ? TextureFilter::Trilinear
+                                      : TextureFilter::Anisotropic;
     }
+    if (auto n = node.find("max_anisotropy"))
+        s.max_anisotropy = static_cast<int>(n->as_integer(1, 64));
     if (auto n = node.find("wrap")) {
         s.wrap = n->as_choice({"repeat", "clamp"}) == "repeat" ? TextureWrap::Repeat
                                                                : TextureWrap::Clamp;

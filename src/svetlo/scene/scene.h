@@ -17,7 +17,7 @@ namespace svetlo {
 
 // ---- colours and textures -----------------------------------------------------------------
 
-enum class TextureFilter { Nearest, Bilinear, Trilinear };
+enum class TextureFilter { Nearest, Bilinear, Trilinear, Anisotropic };
 enum class TextureWrap { Repeat, Clamp };
 
 /// A material colour: a constant, an image texture (by index into Scene::textures) or a
@@ -28,6 +28,7 @@ struct ColorSource {
     Color value{0.0f};  // Constant
     int texture = -1;   // Image
     TextureFilter filter = TextureFilter::Bilinear;
+    int max_anisotropy = 16;  // Anisotropic: trilinear probes along the footprint, at most
     TextureWrap wrap = TextureWrap::Repeat;
     Color a{0.0f}, b{1.0f};  // Checker: a where floor(scale*u) + floor(scale*v) is even
     float scale = 1.0f;

@@ -49,4 +49,28 @@ Color sample_trilinear(const MipChain& chain, vec2 uv, float lod, TextureWrap wr
     return (1.0f - t) * a + t * sample_bilinear(chain.levels[static_cast<size_t>(l1)], uv, wrap);
 }
 
+Color sample_anisotropic(const MipChain& chain, vec2 uv, vec2 duv_dx, vec2 duv_dy, int max_probes,
+                         TextureWrap wrap) {
+    const Image& base = chain.levels[0];
+    vec2 size(static_cast<float>(base.width), static_cast<float>(base.height));
+    float px = glm::length(duv_dx * size), py = glm::length(duv_dy * size);  // texels
+    float major = std::max(px, py), minor = std::min(px, py);
+    if (!(major > 0.0f)) return sample_trilinear(chain, uv, 0.0f, wrap);  // no footprint
+    // Probes: enough that each covers about the minor extent (a degenerate footprint, a
+    // line, takes the most).
+    float ratio = minor > 0.0f ? major / minor : static_cast<float>(max_probes);
+    int n = std::clamp(static_cast<int>(std::ceil(ratio - 1e-4f)), 1, max_probes);
+    float rho = major / static_cast<float>(n);
+    float lod = rho > 1.0f ? std::log2(rho) : 0.0f;
+    if (n == 1) return sample_trilinear(chain, uv, lod, wrap);
+    vec2 axis = px >= py ? duv_dx : duv_dy;  // the major axis, in uv across one pixel
+    Color sum(0.0f);
+    for (int k = 0; k < n; ++k) {
+        // Probe centres at the middles of n equal parts of the footprint's major axis.
+        float t = (static_cast<float>(k) + 0.5f) / static_cast<float>(n) - 0.5f;
+        sum += sample_trilinear(chain, uv + t * axis, lod, wrap);
+    }
+    return sum / static_cast<float>(n);
+}
+
 }  // namespace svetlo

@@ -1,7 +1,8 @@
 // Mipmaps (Williams, "Pyramidal Parametrics", SIGGRAPH 1983): each level halves the one above
 // with a 2x2 box filter, down to 1x1. A texture lookup with a screen-space footprint (the
 // derivatives of uv across one pixel) picks the level whose texels match the footprint and
-// blends the two nearest levels (trilinear filtering).
+// blends the two nearest levels (trilinear filtering), or averages several such lookups
+// along a stretched footprint (anisotropic filtering).
 #pragma once
 
 #include <vector>
@@ -25,6 +26,15 @@ float mip_level(const MipChain& chain, vec2 duv_dx, vec2 duv_dy);
 
 /// Bilinear lookups in the two levels around `lod`, blended linearly.
 Color sample_trilinear(const MipChain& chain, vec2 uv, float lod, TextureWrap wrap);
+
+/// Anisotropic filtering (in the manner of EXT_texture_filter_anisotropic): a footprint
+/// longer in one direction than the other is covered by N = ceil(major / minor) trilinear
+/// probes (at most max_probes), evenly spaced along the major axis, each at the level of
+/// detail of major / N texels, and averaged; a round footprint is plain trilinear. Where
+/// trilinear blurs a grazing texture to the level of its longer axis, this keeps the detail
+/// of the shorter one.
+Color sample_anisotropic(const MipChain& chain, vec2 uv, vec2 duv_dx, vec2 duv_dy, int max_probes,
+                         TextureWrap wrap);
 
 /// Where a texture lookup happens: its uv footprint across one pixel (zero without one, as
 /// for rays) and the scene's mip chains (one per Scene::textures entry; empty for engines

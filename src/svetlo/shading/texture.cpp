@@ -64,6 +64,11 @@ Color eval_color(const ColorSource& source, vec2 uv, const TextureLookup& lookup
                 return sample_trilinear(chain, uv, mip_level(chain, lookup.duv_dx, lookup.duv_dy),
                                         source.wrap);
             }
+            if (source.filter == TextureFilter::Anisotropic && lookup.mips) {
+                const MipChain& chain = (*lookup.mips)[static_cast<size_t>(source.texture)];
+                return sample_anisotropic(chain, uv, lookup.duv_dx, lookup.duv_dy,
+                                          source.max_anisotropy, source.wrap);
+            }
             return sample_bilinear(image, uv, source.wrap);
         }
     }
