@@ -1183,6 +1183,9 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                                StencilOp::Incr};
         state.stencil.back = state.stencil.front;
     }
+    // Small triangles go through rasterize_small (draw_triangle), which keeps the screen
+    // barycentrics of the samples it writes, unless the stencil is on.
+    const bool small_left_weights = !state.stencil.enabled;
     const Color background = scene.render.background;
     tbb::enumerable_thread_specific<TileBuffers> buffers;
     Progress progress("raster", static_cast<int64_t>(width) * height, options.progress);
@@ -1300,8 +1303,9 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                             }
                             if (shade_apart(i, tri, sx, sy)) continue;
                             const SetupTriangle& t = f.tri(tri);
-                            if (t.small) {  // short runs: straight into a batch, with the
-                                            // barycentrics the rasterizer left
+                            if (small_left_weights && t.small) {
+                                // Short runs: straight into a batch, with the barycentrics
+                                // rasterize_small left.
                                 add_to_batch(i, vec2(buf.l1[i], buf.l2[i]), t);
                                 continue;
                             }
