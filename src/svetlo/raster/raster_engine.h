@@ -12,8 +12,9 @@
 //      after the chunk's setup;
 //   5. per tile, in parallel: edge-function rasterization with the top-left rule
 //      (edge_function.h) of every sample, the stencil test when a pass uses it (stencil.h),
-//      the depth test, and a visibility buffer (the nearest triangle per sample; Burns and
-//      Hunt, "The Visibility Buffer", JCGT 2013);
+//      the depth test, and a visibility buffer (the nearest triangle per sample, and for
+//      small triangles its screen barycentrics; Burns and Hunt, "The Visibility Buffer",
+//      JCGT 2013);
 //   6. shading of the visible samples only: flat (one colour per face), Gouraud (vertex
 //      colours, interpolated), Phong (normals interpolated, lit per sample), the depth and
 //      normal views, or the overdraw count; perspective-correct interpolation of every
