@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 
 #include "svetlo/core/image_io.h"
 #include "svetlo/raster/camera_matrices.h"
@@ -148,6 +149,47 @@ TEST(Raster, GouraudInterpolatesTheVertexColours) {
     }
     EXPECT_GT(checked, 300);
     EXPECT_GT(max_phong_gap, 0.2f);  // the lesson: the light's peak between vertices is lost
+}
+
+TEST(Raster, GouraudLightsASharedVertexOncePerMaterial) {
+    // One OBJ mesh, two squares sharing an edge, red on the left and blue on the right, under
+    // a light straight above: every vertex colour of a square is its own material's, so each
+    // square is uniform, right up to the shared edge (a vertex lit with one material for both
+    // squares would blend the two colours there).
+    namespace fs = std::filesystem;
+    fs::path dir = fs::temp_directory_path() / "svetlo_raster_gouraud_test";
+    fs::create_directories(dir);
+    {
+        std::ofstream obj(dir / "two.obj");
+        obj << "mtllib two.mtl\nv -1 0 1\nv 0 0 1\nv 1 0 1\nv -1 0 -1\nv 0 0 -1\nv 1 0 -1\n"
+               "usemtl red\nf 1 2 5\nf 1 5 4\nusemtl blue\nf 2 3 6\nf 2 6 5\n";
+        std::ofstream mtl(dir / "two.mtl");
+        mtl << "newmtl red\nKd 0.8 0.1 0.1\nKs 0 0 0\nnewmtl blue\nKd 0.1 0.2 0.9\nKs 0 0 0\n";
+    }
+    const int w = 80, h = 60;
+    json j = oblique(w, h);
+    j["render"]["shading"] = "gouraud";
+    j["lights"] = {{{"type", "directional"}, {"direction", {0, -1, 0}}, {"irradiance", 2}}};
+    j["objects"] = {{{"type", "mesh"}, {"file", (dir / "two.obj").string()}}};
+    Scene scene = scene_from_json(j, "test.json");
+    RenderResult r = render(j);
+    const Color red = Color(0.8f, 0.1f, 0.1f) * (2.0f / kPi),
+                blue = Color(0.1f, 0.2f, 0.9f) * (2.0f / kPi);
+    int checked[2] = {0, 0};
+    for (int jj = 0; jj < h; ++jj) {
+        for (int i = 0; i < w; ++i) {
+            vec3 p;
+            if (!floor_point(scene, i, jj, p)) continue;
+            if (std::abs(p.x) < 0.03f || std::abs(p.x) > 0.97f || std::abs(p.z) > 0.97f) continue;
+            Color expected = p.x < 0.0f ? red : blue;
+            for (int c = 0; c < 3; ++c)
+                ASSERT_NEAR(r.color.at(i, jj)[c], expected[c], 1e-4f) << i << "," << jj;
+            ++checked[p.x < 0.0f ? 0 : 1];
+        }
+    }
+    EXPECT_GT(checked[0], 100);
+    EXPECT_GT(checked[1], 100);
+    fs::remove_all(dir);
 }
 
 TEST(Raster, FlatShadingIsOneColourPerFace) {
@@ -646,8 +688,7 @@ TEST(Raster, OverdrawCountsEveryFragmentInTheStencilBuffer) {
             }
             if (margin < 0.03f) continue;  // within a pixel of an edge
             ++checked;
-            ASSERT_FLOAT_EQ(r.color.at(x, y).x, static_cast<float>(count) / 8.0f)
-                << x << "," << y;
+            ASSERT_FLOAT_EQ(r.color.at(x, y).x, static_cast<float>(count) / 8.0f) << x << "," << y;
             if (count > 0) {
                 EXPECT_NEAR(r.aovs.at("normal").at(x, y).y, 1.0f, 1e-5f) << x << "," << y;
             }

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <chrono>
 #include <optional>
+#include <unordered_map>
 
 #include "svetlo/core/error.h"
 #include "svetlo/core/large_array.h"
@@ -165,6 +166,29 @@ struct DrawMesh {
     mat4 model{1.0f};
 };
 
+/// Gouraud shading lights each vertex once: a vertex shared by faces of different materials
+/// is given one copy per material, as a GPU's vertex buffer would hold it.
+void split_vertices_by_material(Mesh& m) {
+    std::vector<int> material_of(m.positions.size(), -1);  // of the vertex's first face
+    std::unordered_map<uint64_t, uint32_t> copies;         // (vertex, material) -> copy
+    for (size_t t = 0; t < m.triangle_count(); ++t) {
+        int mat = m.face_material[t];
+        for (int c = 0; c < 3; ++c) {
+            uint32_t& v = m.indices[3 * t + c];
+            if (material_of[v] < 0) material_of[v] = mat;
+            if (material_of[v] == mat) continue;
+            uint64_t key = (uint64_t{v} << 32) | static_cast<uint32_t>(mat);
+            auto [it, made] = copies.try_emplace(key, static_cast<uint32_t>(m.positions.size()));
+            if (made) {
+                m.positions.push_back(m.positions[v]);
+                if (!m.normals.empty()) m.normals.push_back(m.normals[v]);
+                if (!m.uvs.empty()) m.uvs.push_back(m.uvs[v]);
+            }
+            v = it->second;
+        }
+    }
+}
+
 /// Stage 1: every object tessellated in its own space, plus the area lights as one-sided
 /// emissive quads (the ray tracer shows them too). Fills the lights' VPLs.
 std::vector<DrawMesh> tessellate_scene(const Scene& scene, FrameState& f, int threads) {
@@ -185,6 +209,7 @@ std::vector<DrawMesh> tessellate_scene(const Scene& scene, FrameState& f, int th
         local.transform = Transform{};
         meshes[k].mesh = tessellate(local, options);
         meshes[k].model = scene.objects[k].transform.matrix;
+        if (f.mode == Mode::Gouraud) split_vertices_by_material(meshes[k].mesh);
     });
     for (const Light& light : scene.lights) {
         if (const auto* a = std::get_if<AreaLight>(&light)) {
@@ -271,8 +296,9 @@ ScreenVertex project(const FrameState& f, const ClipVertex& cv) {
 }
 
 /// Stage 2: the vertex stage. World positions and normals, clip coordinates, and for
-/// Gouraud shading the lit colour of each vertex (with the material of the first face that
-/// uses it).
+/// Gouraud shading the lit colour of each vertex (one material per vertex: see
+/// split_vertices_by_material; the geometric normal, which decides the side, is its first
+/// face's).
 void vertex_stage(const std::vector<DrawMesh>& meshes, FrameState& f, std::vector<uint32_t>& base,
                   int threads) {
     base.assign(meshes.size() + 1, 0);
