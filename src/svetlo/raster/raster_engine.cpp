@@ -687,15 +687,15 @@ struct TriangleEdges {
     }
 };
 
-/// Stage 5 for small triangles and one sample per pixel: edge functions relative to the
-/// triangle's corner fit in 32 bits, so four pixels are tested and depth-tested at once. The
-/// blocks' deepest depths are left as they were: larger than the truth, which is safe.
-
 /// The pixels of a tile a triangle's bounds cover: [xs, xe) x [ys, ye).
 struct PixelSpan {
     int xs, xe, ys, ye;
 };
 
+/// Stage 5 for small triangles and one sample per pixel: edge functions relative to the
+/// triangle's corner fit in 32 bits, so four pixels are tested and depth-tested at once, and
+/// each written sample keeps its screen barycentrics for the shading. The blocks' deepest
+/// depths are left as they were: larger than the truth, which is safe.
 void rasterize_small(uint32_t id, const SetupTriangle& t, PixelSpan span, const Tile& tile,
                      const SamplePattern& sp, bool depth_test, TileBuffers& buf) {
     const auto [xs, xe, ys, ye] = span;
@@ -747,24 +747,22 @@ void rasterize_small(uint32_t id, const SetupTriangle& t, PixelSpan span, const 
             __m128i outside = _mm_srai_epi32(_mm_or_si128(_mm_or_si128(w0, w1), w2), 31);
             __m128i in_span = _mm_cmplt_epi32(lane, _mm_set1_epi32(xe - px));
             __m128 covered = _mm_castsi128_ps(_mm_andnot_si128(outside, in_span));
-            {
-                // Four samples at once, without a branch (whether any is covered is hard to
-                // predict); the lanes not written write back what they read (the buffers have
-                // room for four samples past the tile).
-                size_t i = static_cast<size_t>(py - tile.y0) * tw + (px - tile.x0);
-                __m128 old_z = _mm_loadu_ps(&buf.depth[i]);
-                __m128i old_id = _mm_loadu_si128(reinterpret_cast<const __m128i*>(&buf.tri[i]));
-                __m128 pass = depth_test ? _mm_and_ps(covered, _mm_cmplt_ps(z4, old_z)) : covered;
-                __m128i pass_i = _mm_castps_si128(pass);
-                _mm_storeu_ps(&buf.depth[i], blend(pass, z4, old_z));
-                _mm_storeu_si128(
-                    reinterpret_cast<__m128i*>(&buf.tri[i]),
-                    _mm_or_si128(_mm_and_si128(pass_i, id4), _mm_andnot_si128(pass_i, old_id)));
-                __m128 l1 = _mm_mul_ps(_mm_cvtepi32_ps(_mm_sub_epi32(w1, bias1)), inv_area);
-                __m128 l2 = _mm_mul_ps(_mm_cvtepi32_ps(_mm_sub_epi32(w2, bias2)), inv_area);
-                _mm_storeu_ps(&buf.l1[i], blend(pass, l1, _mm_loadu_ps(&buf.l1[i])));
-                _mm_storeu_ps(&buf.l2[i], blend(pass, l2, _mm_loadu_ps(&buf.l2[i])));
-            }
+            // Four samples at once, without a branch (whether any is covered is hard to
+            // predict); the lanes not written write back what they read (the buffers have room
+            // for four samples past the tile).
+            size_t i = static_cast<size_t>(py - tile.y0) * tw + (px - tile.x0);
+            __m128 old_z = _mm_loadu_ps(&buf.depth[i]);
+            __m128i old_id = _mm_loadu_si128(reinterpret_cast<const __m128i*>(&buf.tri[i]));
+            __m128 pass = depth_test ? _mm_and_ps(covered, _mm_cmplt_ps(z4, old_z)) : covered;
+            __m128i pass_i = _mm_castps_si128(pass);
+            _mm_storeu_ps(&buf.depth[i], blend(pass, z4, old_z));
+            _mm_storeu_si128(
+                reinterpret_cast<__m128i*>(&buf.tri[i]),
+                _mm_or_si128(_mm_and_si128(pass_i, id4), _mm_andnot_si128(pass_i, old_id)));
+            __m128 l1 = _mm_mul_ps(_mm_cvtepi32_ps(_mm_sub_epi32(w1, bias1)), inv_area);
+            __m128 l2 = _mm_mul_ps(_mm_cvtepi32_ps(_mm_sub_epi32(w2, bias2)), inv_area);
+            _mm_storeu_ps(&buf.l1[i], blend(pass, l1, _mm_loadu_ps(&buf.l1[i])));
+            _mm_storeu_ps(&buf.l2[i], blend(pass, l2, _mm_loadu_ps(&buf.l2[i])));
             w0 = _mm_add_epi32(w0, step_x[0]);
             w1 = _mm_add_epi32(w1, step_x[1]);
             w2 = _mm_add_epi32(w2, step_x[2]);
@@ -1146,15 +1144,15 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     f.materials = scene.materials;
 
     std::vector<DrawMesh> meshes = tessellate_scene(scene, f, threads);
-    // Materials: constant BRDFs made once; mip chains when a texture is filtered trilinearly.
-    bool any_trilinear = false;
+    // Materials: constant BRDFs made once; mip chains when a texture is filtered with them.
+    bool any_mips = false;
     for (const Material& m : f.materials) {
         f.textured.push_back(any_source(m, is_textured) ? 1 : 0);
         f.needs_footprint.push_back(any_source(m, uses_mips) ? 1 : 0);
-        any_trilinear |= f.needs_footprint.back() != 0;
+        any_mips |= f.needs_footprint.back() != 0;
         f.constant_bsdf.push_back(make_bsdf(m, vec2(0.0f), scene.textures));
     }
-    if (any_trilinear) {
+    if (any_mips) {
         for (const Image& image : scene.textures) f.mips.push_back(build_mip_chain(image));
     }
     // The SIMD fast path: constant Lambert and Phong-family materials under point and
