@@ -70,6 +70,10 @@ struct SetupTriangle {
     int y0() const { return by0; }
     int y1() const { return by1 + 1; }
     bool empty() const { return bx0 > bx1; }
+    void make_empty() {
+        bx0 = 1;
+        bx1 = 0;
+    }
 };
 static_assert(sizeof(SetupTriangle) == 64);
 
@@ -272,6 +276,11 @@ Color light_point(const FrameState& f, const Bsdf& bsdf, vec3 p, vec3 wo, vec3 n
                        f.scene->render.background);
 }
 
+/// A face normal made unit, or +z for a face of no area.
+vec3 unit_or_z(vec3 n) {
+    return glm::length(n) > 0.0f ? glm::normalize(n) : vec3(0.0f, 0.0f, 1.0f);
+}
+
 /// The guard band in clip space: |x| <= guard_x w, |y| <= guard_y w.
 float guard_x(const FrameState& f) {
     return 1.0f + 2.0f * kGuardPixels / static_cast<float>(f.cam.width);
@@ -346,8 +355,8 @@ void vertex_stage(const std::vector<DrawMesh>& meshes, FrameState& f, std::vecto
             size_t t = face_of[v];
             const ClipVertex* tv[3];
             for (int c = 0; c < 3; ++c) tv[c] = &f.vertices[base[k] + m.indices[3 * t + c]];
-            vec3 ng = glm::cross(tv[1]->world - tv[0]->world, tv[2]->world - tv[0]->world);
-            ng = glm::length(ng) > 0.0f ? glm::normalize(ng) : vec3(0.0f, 0.0f, 1.0f);
+            vec3 ng =
+                unit_or_z(glm::cross(tv[1]->world - tv[0]->world, tv[2]->world - tv[0]->world));
             ClipVertex& out = f.vertices[base[k] + v];
             auto mat = static_cast<uint32_t>(m.face_material[t]);
             vec3 wo = f.ortho ? -f.forward : glm::normalize(f.eye - out.world);
@@ -362,8 +371,7 @@ void vertex_stage(const std::vector<DrawMesh>& meshes, FrameState& f, std::vecto
 /// Stage 3 for one triangle: screen area, culling and bounds. False when it draws nothing.
 bool setup_triangle(const FrameState& f, const ScreenVertex* sv[3], const uint32_t index[3],
                     uint32_t material, SetupTriangle& t) {
-    t.bx0 = 1;  // empty until set up
-    t.bx1 = 0;
+    t.make_empty();  // until set up
     for (int i = 0; i < 3; ++i) {
         t.x[i] = sv[i]->x;
         t.y[i] = sv[i]->y;
@@ -415,8 +423,7 @@ vec3 face_cross(const SetupTriangle& t, const ClipVertex& A, const ClipVertex& B
 /// The same, of unit length ((0, 0, 1) for a triangle of no area).
 vec3 face_normal(const SetupTriangle& t, const ClipVertex& A, const ClipVertex& B,
                  const ClipVertex& C) {
-    vec3 n = face_cross(t, A, B, C);
-    return glm::length(n) > 0.0f ? glm::normalize(n) : vec3(0.0f, 0.0f, 1.0f);
+    return unit_or_z(face_cross(t, A, B, C));
 }
 
 /// Flat shading: one normal and one colour per face, lit at the centroid of the triangle of
@@ -424,8 +431,7 @@ vec3 face_normal(const SetupTriangle& t, const ClipVertex& A, const ClipVertex& 
 Color flat_colour(const FrameState& f, const uint32_t idx[3], uint32_t material) {
     const ClipVertex* cv[3] = {&f.vertices[idx[0]], &f.vertices[idx[1]], &f.vertices[idx[2]]};
     vec3 p = (cv[0]->world + cv[1]->world + cv[2]->world) / 3.0f;
-    vec3 ng = glm::cross(cv[1]->world - cv[0]->world, cv[2]->world - cv[0]->world);
-    ng = glm::length(ng) > 0.0f ? glm::normalize(ng) : vec3(0.0f, 0.0f, 1.0f);
+    vec3 ng = unit_or_z(glm::cross(cv[1]->world - cv[0]->world, cv[2]->world - cv[0]->world));
     vec2 uv = (cv[0]->uv + cv[1]->uv + cv[2]->uv) / 3.0f;
     vec3 wo = f.ortho ? -f.forward : glm::normalize(f.eye - p);
     Bsdf scratch;
@@ -516,8 +522,7 @@ void assemble(const std::vector<DrawMesh>& meshes, const std::vector<uint32_t>& 
                         to_bin[binned_count++] = binned(static_cast<uint32_t>(s), slot);
                     continue;
                 }
-                slot.bx0 = 1;  // empty
-                slot.bx1 = 0;
+                slot.make_empty();
                 ClipPolygon poly = clip_triangle(f.vertices[idx[0]], f.vertices[idx[1]],
                                                  f.vertices[idx[2]], gx, gy);
                 if (poly.count < 3) continue;
@@ -1178,12 +1183,15 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     f.eye = scene.camera.position;
     f.forward = glm::normalize(scene.camera.look_at - scene.camera.position);
     f.ortho = scene.camera.type == Camera::Type::Orthographic;
+    // The frame's sample positions, pass by pass (the same in every pixel).
+    std::vector<SamplePattern> passes;
+    for (int first = 0; first < scene.render.spp; first += kMaxSamplesPerPass)
+        passes.push_back(
+            pattern(scene, first, std::min(kMaxSamplesPerPass, scene.render.spp - first)));
     if (scene.render.raster.wireframe == "none") {
         auto& b = f.sample_bounds;
         b = {glm::ivec2(kSubpixel), glm::ivec2(-1), 0};
-        for (int first = 0; first < scene.render.spp; first += kMaxSamplesPerPass) {
-            SamplePattern sp =
-                pattern(scene, first, std::min(kMaxSamplesPerPass, scene.render.spp - first));
+        for (const SamplePattern& sp : passes) {
             for (int k = 0; k < sp.count; ++k) {
                 b.lo = glm::min(b.lo, glm::ivec2(sp.ox[k], sp.oy[k]));
                 b.hi = glm::max(b.hi, glm::ivec2(sp.ox[k], sp.oy[k]));
@@ -1237,7 +1245,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
             }
             int S = std::min(spp, kMaxSamplesPerPass);
             for (int first = 0; first < spp; first += kMaxSamplesPerPass) {
-                SamplePattern sp = pattern(scene, first, std::min(kMaxSamplesPerPass, spp - first));
+                const SamplePattern& sp = passes[static_cast<size_t>(first / kMaxSamplesPerPass)];
                 S = sp.count;
                 buf.reset(pixels * static_cast<size_t>(S), pixels, targets.any,
                           state.stencil.enabled);

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "svetlo/shading/bsdf.h"
+
 namespace svetlo {
 
 #define SVETLO_SIMD_WIDTH 4
@@ -48,7 +50,7 @@ SimdMaterial::SimdMaterial(Color ka_, Color kd_, Color ks_, float shininess_, bo
       shininess(shininess_),
       blinn(blinn_),
       specular(specular_),
-      norm(blinn_ ? (shininess_ + 8.0f) / (8.0f * kPi) : (shininess_ + 2.0f) / (2.0f * kPi)),
+      norm(phong_lobe_norm(shininess_, blinn_)),
       whole(whole_shininess(shininess_)),
       tiny(whole > 0 ? std::exp2(-100.0f / static_cast<float>(whole)) : 0.0f) {}
 

@@ -105,13 +105,13 @@ Color eval_bsdf(const Bsdf& b, vec3 n, vec3 wo, vec3 wi) {
         case Bsdf::Model::Phong: {
             float rv = std::max(0.0f, glm::dot(reflect(wi, n), wo));
             return b.diffuse * kInvPi +
-                   b.specular * ((b.shininess + 2.0f) / (2.0f * kPi) * std::pow(rv, b.shininess));
+                   b.specular * (phong_lobe_norm(b.shininess, false) * std::pow(rv, b.shininess));
         }
         case Bsdf::Model::BlinnPhong: {
             vec3 h = glm::normalize(wi + wo);
             float nh = std::max(0.0f, glm::dot(n, h));
             return b.diffuse * kInvPi +
-                   b.specular * ((b.shininess + 8.0f) / (8.0f * kPi) * std::pow(nh, b.shininess));
+                   b.specular * (phong_lobe_norm(b.shininess, true) * std::pow(nh, b.shininess));
         }
         case Bsdf::Model::OrenNayar: {
             // cos(phi_i - phi_o) from the projections of wi and wo onto the tangent plane.

@@ -63,6 +63,12 @@ float fresnel_dielectric(float cos_i, float eta);
 /// Mirror of wo (pointing away) about n.
 inline vec3 reflect(vec3 wo, vec3 n) { return 2.0f * glm::dot(wo, n) * n - wo; }
 
+/// The normalisation of the (Blinn-)Phong lobe of exponent n, so that it integrates to ks:
+/// (n + 2) / (2 pi) for Phong's (r.v)^n, (n + 8) / (8 pi) for Blinn-Phong's (n.h)^n.
+inline float phong_lobe_norm(float n, bool blinn) {
+    return blinn ? (n + 8.0f) / (8.0f * kPi) : (n + 2.0f) / (2.0f * kPi);
+}
+
 /// Refracts wo (pointing away, on n's side) through an interface with eta = n_t / n_i. Returns
 /// false under total internal reflection.
 bool refract(vec3 wo, vec3 n, float eta, vec3& wt);
