@@ -46,11 +46,17 @@ struct Edge {
     int64_t at(int64_t x, int64_t y) const { return a * x + b * y + c; }
 };
 
-/// Twice the signed area of the fixed-point triangle; positive when it turns clockwise on
-/// the screen (counter-clockwise in the y-up world seen by the camera: a front face).
+/// Twice the signed area of the fixed-point triangle in pixel coordinates (x right, y down):
+/// positive when the vertices turn clockwise as the viewer sees the screen.
 inline int64_t signed_area2(const int32_t x[3], const int32_t y[3]) {
     return (static_cast<int64_t>(x[1]) - x[0]) * (static_cast<int64_t>(y[2]) - y[0]) -
            (static_cast<int64_t>(x[2]) - x[0]) * (static_cast<int64_t>(y[1]) - y[0]);
 }
+
+/// Whether the camera sees a triangle's front (counter-clockwise) side, from signed_area2:
+/// rows grow downward, so a front face, counter-clockwise as seen, has a negative area. For a
+/// planar triangle this is the sign of ng . wo at every point of it (shading_frame.h), the
+/// rule the stencil's per-face operations and back-face culling follow.
+inline bool front_facing(int64_t area2) { return area2 < 0; }
 
 }  // namespace svetlo

@@ -23,6 +23,7 @@
 #include "svetlo/raster/simd_shading.h"
 #include "svetlo/raster/stencil.h"
 #include "svetlo/rt/tessellate.h"
+#include "svetlo/shading/shading_frame.h"
 #include "svetlo/shading/texture.h"
 
 namespace svetlo {
@@ -61,7 +62,7 @@ struct SetupTriangle {
     // most 65,536 pixels wide); bx0 > bx1 when the slot holds no triangle.
     uint16_t bx0 = 1, by0 = 0, bx1 = 0, by1 = 0;
     uint32_t material : 30 = 0;
-    uint32_t front : 1 = 1;  // the camera sees the counter-clockwise side (v is then as given)
+    uint32_t front : 1 = 1;  // the camera sees the front side (front_facing); v is then reversed
     uint32_t small : 1 = 0;  // fits rasterize_small: at most kSmall pixels on each side
     float inv_area = 0.0f;   // 1 / twice the fixed-point area
 
@@ -264,16 +265,11 @@ const Bsdf& material_at(const FrameState& f, uint32_t m, vec2 uv, vec2 duv_dx, v
     return scratch;
 }
 
-/// Lit colour at a point with geometric normal ng (the counter-clockwise side), shading
-/// normal ns, seen from the camera along -wo; shading is two-sided, emission one-sided.
-Color light_point(const FrameState& f, const Bsdf& bsdf, vec3 p, vec3 wo, vec3 ng, vec3 ns,
-                  bool front) {
-    vec3 n = glm::dot(ng, wo) >= 0.0f ? ng : -ng;
-    if (glm::length(ns) == 0.0f) ns = n;
-    if (glm::dot(ns, n) < 0.0f) ns = -ns;
-    if (glm::dot(ns, wo) <= 0.0f) ns = n;
-    return shade_point(bsdf, p, n, ns, wo, front, f.lights, f.scene->render.ambient,
-                       f.scene->render.background);
+/// Lit colour at a point with unit geometric normal ng (the counter-clockwise side) and
+/// shading normal ns (unit or zero), seen from the camera along -wo (shading_frame.h).
+Color light_point(const FrameState& f, const Bsdf& bsdf, vec3 p, vec3 wo, vec3 ng, vec3 ns) {
+    return shade_point(bsdf, p, make_shading_frame(ng, ns, wo), wo, f.lights,
+                       f.scene->render.ambient, f.scene->render.background);
 }
 
 /// A face normal made unit, or +z for a face of no area.
@@ -360,10 +356,9 @@ void vertex_stage(const std::vector<DrawMesh>& meshes, FrameState& f, std::vecto
             ClipVertex& out = f.vertices[base[k] + v];
             auto mat = static_cast<uint32_t>(m.face_material[t]);
             vec3 wo = f.ortho ? -f.forward : glm::normalize(f.eye - out.world);
-            bool front = glm::dot(ng, wo) > 0.0f;
             Bsdf scratch;
             out.color = light_point(f, material_at(f, mat, out.uv, vec2(0.0f), vec2(0.0f), scratch),
-                                    out.world, wo, ng, out.normal, front);
+                                    out.world, wo, ng, out.normal);
         }
     });
 }
@@ -380,10 +375,10 @@ bool setup_triangle(const FrameState& f, const ScreenVertex* sv[3], const uint32
     }
     int64_t area = signed_area2(t.x, t.y);
     if (area == 0) return false;  // degenerate on the screen: covers no sample
-    t.front = area > 0 ? 1 : 0;
+    t.front = front_facing(area) ? 1 : 0;
     t.inv_area = 1.0f / static_cast<float>(std::abs(area));
-    if (!t.front) {
-        if (f.scene->render.raster.cull_back_faces) return false;
+    if (!t.front && f.scene->render.raster.cull_back_faces) return false;
+    if (area < 0) {  // wound so that the area is positive, as the edge functions want
         std::swap(t.x[1], t.x[2]);
         std::swap(t.y[1], t.y[2]);
         std::swap(t.z[1], t.z[2]);
@@ -412,12 +407,12 @@ bool setup_triangle(const FrameState& f, const ScreenVertex* sv[3], const uint32
 }
 
 /// A normal of the counter-clockwise side of a set-up triangle (world space, twice the area
-/// long), from its vertices A, B, C in the wound order (swapped for back faces: the sign
+/// long), from its vertices A, B, C in the wound order (reversed for front faces: the sign
 /// undoes it exactly).
 vec3 face_cross(const SetupTriangle& t, const ClipVertex& A, const ClipVertex& B,
                 const ClipVertex& C) {
     vec3 n = glm::cross(B.world - A.world, C.world - A.world);
-    return t.front ? n : -n;
+    return t.front ? -n : n;
 }
 
 /// The same, of unit length ((0, 0, 1) for a triangle of no area).
@@ -436,7 +431,7 @@ Color flat_colour(const FrameState& f, const uint32_t idx[3], uint32_t material)
     vec3 wo = f.ortho ? -f.forward : glm::normalize(f.eye - p);
     Bsdf scratch;
     return light_point(f, material_at(f, material, uv, vec2(0.0f), vec2(0.0f), scratch), p, wo, ng,
-                       ng, glm::dot(ng, wo) > 0.0f);
+                       ng);
 }
 
 /// A triangle to bin: its id and the tiles its bounds touch, [tx0, tx1] x [ty0, ty1].
@@ -1002,9 +997,7 @@ ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& 
     vec3 wo = f.ortho ? -f.forward : glm::normalize(f.eye - p);
     if (want_aovs || f.mode == Mode::Normal || f.mode == Mode::Depth) {
         r.distance = f.ortho ? glm::dot(p - f.eye, f.forward) : glm::length(p - f.eye);
-        vec3 n = glm::dot(ng, wo) >= 0.0f ? ng : -ng;
-        r.normal = glm::dot(ns, n) < 0.0f ? -ns : ns;
-        if (glm::dot(r.normal, wo) <= 0.0f) r.normal = n;
+        r.normal = make_shading_frame(ng, ns, wo).ns;
     }
     vec2 uv = b0 * A.uv + b1 * B.uv + b2 * C.uv;
     switch (f.mode) {
@@ -1054,7 +1047,7 @@ ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& 
             }
             Bsdf scratch;
             const Bsdf& bsdf = material_at(f, t.material, uv, dx, dy, scratch);
-            r.color = light_point(f, bsdf, p, wo, ng, ns, t.front);
+            r.color = light_point(f, bsdf, p, wo, ng, ns);
             if (want_aovs) {
                 r.albedo = bsdf.has_lobes()                        ? bsdf.diffuse
                            : bsdf.model == Bsdf::Model::Dielectric ? Color(1.0f)

@@ -62,10 +62,11 @@ std::vector<VirtualLight> triangle_vpls(const EmitterTriangles& tris) {
     return out;
 }
 
-Color shade_point(const Bsdf& bsdf, vec3 p, vec3 ng, vec3 ns, vec3 wo, bool front,
+Color shade_point(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame, vec3 wo,
                   const RasterLights& lights, Color ambient, Color background) {
+    const vec3 ng = frame.ng, ns = frame.ns;
     Color L(0.0f);
-    if (bsdf.model == Bsdf::Model::Emissive && front) L += bsdf.emission;
+    if (bsdf.model == Bsdf::Model::Emissive && frame.front) L += bsdf.emission;
     L += bsdf.ambient * ambient;
     // Ideal mirrors and glass see the uniform environment (the background) only: a
     // rasterizer has no other surfaces to show in them. Glass without absorption passes all

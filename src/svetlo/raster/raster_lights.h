@@ -9,6 +9,7 @@
 
 #include "svetlo/scene/scene.h"
 #include "svetlo/shading/bsdf.h"
+#include "svetlo/shading/shading_frame.h"
 
 namespace svetlo {
 
@@ -37,9 +38,8 @@ struct RasterLights {
 };
 
 /// Outgoing radiance toward wo at p: emission (front side), the ambient term, direct light
-/// from every light, and for mirrors and glass the uniform environment `background`. ng and
-/// ns must already face wo (two-sided shading).
-Color shade_point(const Bsdf& bsdf, vec3 p, vec3 ng, vec3 ns, vec3 wo, bool front,
+/// from every light, and for mirrors and glass the uniform environment `background`.
+Color shade_point(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame, vec3 wo,
                   const RasterLights& lights, Color ambient, Color background);
 
 }  // namespace svetlo

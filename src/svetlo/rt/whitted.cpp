@@ -11,6 +11,7 @@
 #include "svetlo/rt/rt_scene.h"
 #include "svetlo/shading/bsdf.h"
 #include "svetlo/shading/lights.h"
+#include "svetlo/shading/shading_frame.h"
 
 namespace svetlo {
 
@@ -48,11 +49,9 @@ public:
         SurfaceHit sh = g.surface(ray, hit);
         Bsdf bsdf = make_bsdf(rt_.materials()[sh.material], sh.uv, scene_.textures);
         vec3 wo = -glm::normalize(ray.d);
-        bool front = glm::dot(sh.ng, wo) > 0.0f;
-        // Two-sided shading: both normals turned toward the viewer.
-        vec3 ng = front ? sh.ng : -sh.ng;
-        vec3 ns = front ? sh.ns : -sh.ns;
-        if (glm::dot(ns, wo) <= 0.0f) ns = ng;  // interpolated normal facing away: use the face's
+        const ShadingFrame frame = make_shading_frame(sh.ng, sh.ns, wo);
+        const bool front = frame.front;
+        const vec3 ng = frame.ng, ns = frame.ns;
 
         if (aov) {
             aov->depth = hit.t * glm::length(ray.d);
