@@ -6,8 +6,8 @@
 
 #include "svetlo/core/rng.h"
 #include "svetlo/core/sampling.h"
-#include "svetlo/rt/accel.h"
-#include "svetlo/rt/bvh.h"
+#include "svetlo/geometry/accel.h"
+#include "svetlo/geometry/bvh.h"
 #include "svetlo/scene/mesh_file.h"
 
 namespace svetlo {

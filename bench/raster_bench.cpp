@@ -27,7 +27,7 @@
 
 #include "svetlo/raster/camera_matrices.h"
 #include "svetlo/raster/raster_engine.h"
-#include "svetlo/rt/tessellate.h"
+#include "svetlo/geometry/tessellate.h"
 
 namespace svetlo {
 namespace {

@@ -22,7 +22,7 @@
 #include "svetlo/raster/raster_lights.h"
 #include "svetlo/raster/simd_shading.h"
 #include "svetlo/raster/stencil.h"
-#include "svetlo/rt/tessellate.h"
+#include "svetlo/geometry/tessellate.h"
 #include "svetlo/shading/shading_frame.h"
 #include "svetlo/shading/texture.h"
 

@@ -1,6 +1,6 @@
 // The rasterization pipeline in software (`"engine": "raster"`), model to pixel:
 //
-//   1. tessellate every object in its own space (rt/tessellate.h);
+//   1. tessellate every object in its own space (geometry/tessellate.h);
 //   2. vertex stage: model, view and projection matrices to clip space, normals by the
 //      inverse transpose, Gouraud lighting at the vertices; vertices inside the clip volume
 //      are divided by w, put through the viewport and snapped to 1/256 pixel once here;

@@ -4,7 +4,7 @@
 // ((i, i+1)/W, (j, j+1)/H).
 #pragma once
 
-#include "svetlo/rt/ray.h"
+#include "svetlo/geometry/ray.h"
 #include "svetlo/scene/scene.h"
 
 namespace svetlo {

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "svetlo/rt/accel.h"
-#include "svetlo/rt/emitters.h"
+#include "svetlo/geometry/accel.h"
+#include "svetlo/geometry/emitters.h"
 #include "svetlo/scene/scene.h"
 
 namespace svetlo {

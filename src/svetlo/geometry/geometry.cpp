@@ -1,0 +1,85 @@
+#include "svetlo/geometry/geometry.h"
+
+namespace svetlo {
+
+namespace {
+
+bool is_bounded(const AnalyticShape& s) {
+    if (s.kind == ShapeKind::Plane) return false;
+    Bounds3 b = shape_bounds(s);
+    return std::isfinite(b.min.x + b.min.y + b.min.z + b.max.x + b.max.y + b.max.z);
+}
+
+}  // namespace
+
+std::vector<uint32_t> Geometry::bounded_primitives() const { return bounded_primitives_from(0); }
+
+std::vector<uint32_t> Geometry::bounded_primitives_from(uint32_t first) const {
+    std::vector<uint32_t> ids;
+    ids.reserve(primitive_count() - std::min(first, primitive_count()));
+    for (uint32_t id = first; id < primitive_count(); ++id) {
+        if (is_triangle(id) || is_bounded(shape(id))) ids.push_back(id);
+    }
+    return ids;
+}
+
+std::vector<uint32_t> Geometry::unbounded_primitives() const {
+    std::vector<uint32_t> ids;
+    for (uint32_t id = triangle_count(); id < primitive_count(); ++id) {
+        if (!is_bounded(shape(id))) ids.push_back(id);
+    }
+    return ids;
+}
+
+Bounds3 Geometry::primitive_bounds(uint32_t id) const {
+    if (!is_triangle(id)) return shape_bounds(shape(id));
+    Bounds3 b;
+    for (int k = 0; k < 3; ++k) b.extend(positions[indices[3 * static_cast<size_t>(id) + k]]);
+    return b;
+}
+
+SurfaceHit Geometry::surface(const Ray& ray, const Hit& hit) const {
+    SurfaceHit s;
+    s.material = material(hit.prim);
+    if (!is_triangle(hit.prim)) {
+        ShapeHit sh;
+        sh.t = hit.t;
+        sh.part = hit.part;
+        sh.sub = hit.sub;
+        sh.u = hit.u;
+        sh.v = hit.v;
+        ShapeSurface ss = shape_surface(shape(hit.prim), ray, sh);
+        s.p = ss.p;
+        s.ng = ss.n;
+        s.ns = ss.ns;
+        s.uv = ss.uv;
+        s.material = ss.material;
+        return s;
+    }
+    const uint32_t* tri = &indices[3 * static_cast<size_t>(hit.prim)];
+    vec3 p0 = positions[tri[0]], p1 = positions[tri[1]], p2 = positions[tri[2]];
+    float b0 = 1.0f - hit.u - hit.v;
+    // The barycentric point is more accurate than o + t d (pbrt-v4, section 6.8.6).
+    s.p = b0 * p0 + hit.u * p1 + hit.v * p2;
+    s.ng = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+    s.ns = s.ng;
+    if (!normals.empty()) {
+        vec3 n = b0 * normals[tri[0]] + hit.u * normals[tri[1]] + hit.v * normals[tri[2]];
+        float len = glm::length(n);
+        if (len > 1e-12f) s.ns = glm::dot(n, s.ng) < 0.0f ? -n / len : n / len;
+    }
+    if (!uvs.empty()) {
+        s.uv = b0 * uvs[tri[0]] + hit.u * uvs[tri[1]] + hit.v * uvs[tri[2]];
+    } else {
+        s.uv = vec2(hit.u, hit.v);
+    }
+    return s;
+}
+
+size_t Geometry::memory_bytes() const {
+    return positions.size() * sizeof(vec3) + normals.size() * sizeof(vec3) +
+           uvs.size() * sizeof(vec2) + indices.size() * sizeof(uint32_t) +
+           triangle_material.size() * sizeof(uint32_t) + shapes.size() * sizeof(AnalyticShape);
+}
+
+}  // namespace svetlo

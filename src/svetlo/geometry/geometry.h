@@ -1,0 +1,105 @@
+// Everything a ray can hit, in world space: the triangles of all meshes (transforms baked
+// in) and the analytic shapes. Primitive ids: [0, T) are triangles, [T, T + S) shapes.
+// Acceleration structures index the bounded primitives; infinite planes are tested apart.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "svetlo/geometry/shapes.h"
+#include "svetlo/geometry/triangle.h"
+
+namespace svetlo {
+
+/// The shading geometry of a hit.
+struct SurfaceHit {
+    vec3 p{0.0f};   // world-space point on the surface
+    vec3 ng{0.0f};  // unit geometric normal: a triangle's CCW side, a shape's outside
+    vec3 ns{0.0f};  // unit shading normal (interpolated on smooth meshes), same side as ng
+    vec2 uv{0.0f};
+    uint32_t material = 0;
+};
+
+class Geometry {
+public:
+    // Triangles: three indices each into the vertex arrays.
+    std::vector<vec3> positions;
+    std::vector<vec3> normals;  // empty, or per vertex (zero where the mesh has none)
+    std::vector<vec2> uvs;      // empty, or per vertex
+    std::vector<uint32_t> indices;
+    std::vector<uint32_t> triangle_material;
+    std::vector<AnalyticShape> shapes;
+
+    uint32_t triangle_count() const { return static_cast<uint32_t>(triangle_material.size()); }
+    uint32_t primitive_count() const {
+        return triangle_count() + static_cast<uint32_t>(shapes.size());
+    }
+    bool is_triangle(uint32_t id) const { return id < triangle_count(); }
+    const AnalyticShape& shape(uint32_t id) const { return shapes[id - triangle_count()]; }
+    /// The material of a primitive; a CSG shape's leaves may differ (SurfaceHit has the one hit).
+    uint32_t material(uint32_t id) const {
+        return is_triangle(id) ? triangle_material[id] : shape(id).material;
+    }
+
+    /// Ids of the primitives with finite bounds (what acceleration structures hold), and of
+    /// the infinite ones (planes), which every query tests directly.
+    std::vector<uint32_t> bounded_primitives() const;
+    /// The bounded primitives with ids from `first` on (shapes only, from triangle_count()).
+    std::vector<uint32_t> bounded_primitives_from(uint32_t first) const;
+    std::vector<uint32_t> unbounded_primitives() const;
+
+    Bounds3 primitive_bounds(uint32_t id) const;
+
+    /// Tests one primitive; on a hit closer than hit.t (initially the ray's tmax) updates hit.
+    bool intersect(uint32_t id, const Ray& ray, const RayPrecomputed& pre, Hit& hit) const {
+        if (id < triangle_count()) {
+            const uint32_t* tri = &indices[3 * static_cast<size_t>(id)];
+            float t, b1, b2;
+            if (!intersect_triangle(ray, pre, positions[tri[0]], positions[tri[1]],
+                                    positions[tri[2]], hit.t, t, b1, b2)) {
+                return false;
+            }
+            hit.t = t;
+            hit.prim = id;
+            hit.u = b1;
+            hit.v = b2;
+            hit.part = 0;
+            hit.sub = 0;
+            return true;
+        }
+        ShapeHit sh;
+        if (!intersect_shape(shape(id), ray, hit.t, sh)) return false;
+        hit.t = sh.t;
+        hit.prim = id;
+        hit.u = sh.u;
+        hit.v = sh.v;
+        hit.part = sh.part;
+        hit.sub = sh.sub;
+        return true;
+    }
+
+    /// The closest hit among primitives ids[0, count), closer than hit.t; updates hit.
+    bool intersect(const uint32_t* ids, size_t count, const Ray& ray, const RayPrecomputed& pre,
+                   Hit& hit) const {
+        bool found = false;
+        for (size_t k = 0; k < count; ++k) found |= intersect(ids[k], ray, pre, hit);
+        return found;
+    }
+    /// True when any of primitives ids[0, count) lies on the ray at 0 < t < ray.tmax.
+    bool occludes(const uint32_t* ids, size_t count, const Ray& ray,
+                  const RayPrecomputed& pre) const {
+        for (size_t k = 0; k < count; ++k) {
+            Hit hit;
+            hit.t = ray.tmax;
+            if (intersect(ids[k], ray, pre, hit)) return true;
+        }
+        return false;
+    }
+
+    SurfaceHit surface(const Ray& ray, const Hit& hit) const;
+
+    /// Bytes held by the triangle and shape arrays.
+    size_t memory_bytes() const;
+};
+
+}  // namespace svetlo

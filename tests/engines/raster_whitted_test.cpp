@@ -1,0 +1,99 @@
+// The rasterizer against the ray tracer: the same scene through both engines gives the same
+// image, up to the tessellation of curved shapes, and the same coverage.
+#include <gtest/gtest.h>
+
+#include "svetlo/raster/raster_engine.h"
+#include "svetlo/rt/whitted.h"
+#include "svetlo/scene/scene_loader.h"
+
+namespace svetlo {
+namespace {
+
+using json = nlohmann::json;
+
+RenderResult render(const json& j, const std::string& engine, std::vector<std::string> aovs) {
+    Scene scene = scene_from_json(j, "test.json");
+    RenderOptions options;
+    options.threads = 2;
+    options.aovs = std::move(aovs);
+    if (engine == "whitted") return WhittedRenderer().render(scene, options);
+    return RasterRenderer().render(scene, options);
+}
+
+json floor_quad(float half, const char* material) {
+    return {{"type", "quad"},
+            {"corner", {-half, 0, -half}},
+            {"edge_u", {0, 0, 2 * half}},
+            {"edge_v", {2 * half, 0, 0}},
+            {"material", material}};
+}
+
+TEST(RasterAgainstWhitted, PhongShadedSphereMatchesTheRayTracer) {
+    json j = {
+        {"camera", {{"position", {0, 0.5, 4}}, {"look_at", {0, 0, 0}}, {"fov", 35}}},
+        {"film", {{"width", 96}, {"height", 96}}},
+        {"render", {{"spp", 1}, {"max_depth", 0}, {"ambient", 0.05}}},
+        {"materials",
+         {{"m",
+           {{"type", "blinn_phong"}, {"kd", 0.6}, {"ks", 0.3}, {"shininess", 30}, {"ka", 1}}}}},
+        {"lights", {{{"type", "point"}, {"position", {2, 3, 3}}, {"intensity", 20}}}},
+        {"objects",
+         {{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1}, {"material", "m"}}}}};
+    RenderResult ras = render(j, "raster", {"depth"});
+    RenderResult ray = render(j, "whitted", {"depth"});
+    const Image& dr = ras.aovs.at("depth");
+    const Image& dt = ray.aovs.at("depth");
+    // Differences relative to the brightest pixel (relative ones explode at the terminator).
+    float peak = 0.0f;
+    for (const Color& c : ray.color.pixels) peak = std::max(peak, luminance(c));
+    double sum = 0.0;
+    int n = 0;
+    float worst = 0.0f;
+    for (int y = 1; y < 95; ++y) {
+        for (int x = 1; x < 95; ++x) {
+            bool inside = true;  // the pixel and its neighbours are on the sphere in both
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx)
+                    inside = inside && dr.at(x + dx, y + dy).r > 0 && dt.at(x + dx, y + dy).r > 0;
+            if (!inside) continue;
+            float rel =
+                std::abs(luminance(ras.color.at(x, y)) - luminance(ray.color.at(x, y))) / peak;
+            worst = std::max(worst, rel);
+            sum += rel;
+            ++n;
+        }
+    }
+    ASSERT_GT(n, 3000);
+    EXPECT_LT(sum / n, 0.005);  // 0.5 % of the peak on average
+    EXPECT_LT(worst, 0.02f);    // 2 % at worst (the default 64 x 32 tessellation)
+}
+TEST(RasterAgainstWhitted, NearPlaneClippingMatchesTheRayTracersCoverage) {
+    // A camera close to a floor that extends far behind it: triangles cross the camera plane.
+    json j = {
+        {"camera", {{"position", {0, 0.3, 0}}, {"look_at", {0, 0.1, -1}}, {"fov", 70}}},
+        {"film", {{"width", 64}, {"height", 48}}},
+        {"render", {{"spp", 1}, {"max_depth", 0}}},
+        {"materials", {{"m", {{"type", "lambert"}, {"albedo", 0.5}}}}},
+        {"lights", {{{"type", "directional"}, {"direction", {0, -1, 0}}, {"irradiance", 1}}}},
+        {"objects",
+         {floor_quad(20.0f, "m"),
+          {{"type", "box"}, {"min", {-0.5, 0, -2}}, {"max", {0.5, 0.6, 0.5}}, {"material", "m"}}}}};
+    RenderResult ras = render(j, "raster", {"depth"});
+    RenderResult ray = render(j, "whitted", {"depth"});
+    const Image& a = ras.aovs.at("depth");
+    const Image& b = ray.aovs.at("depth");
+    int covered = 0;
+    for (int y = 0; y < 48; ++y) {
+        for (int x = 0; x < 64; ++x) {
+            bool hit_a = a.at(x, y).r > 0.0f, hit_b = b.at(x, y).r > 0.0f;
+            covered += hit_b;
+            ASSERT_EQ(hit_a, hit_b) << x << "," << y;
+            if (hit_b) {
+                ASSERT_NEAR(a.at(x, y).r, b.at(x, y).r, 2e-3f * b.at(x, y).r) << x << "," << y;
+            }
+        }
+    }
+    EXPECT_GT(covered, 1000);
+}
+}  // namespace
+}  // namespace svetlo

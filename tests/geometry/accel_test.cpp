@@ -1,0 +1,188 @@
+#include <gtest/gtest.h>
+
+#define GLM_ENABLE_EXPERIMENTAL
+#include <glm/gtx/string_cast.hpp>
+
+#include "svetlo/core/rng.h"
+#include "svetlo/geometry/bvh.h"
+#include "svetlo/geometry/grid.h"
+#include "svetlo/geometry/octree.h"
+#include "svetlo/geometry/wide_bvh.h"
+
+namespace svetlo {
+namespace {
+
+/// A random soup of small triangles and shapes (some transformed) in the unit cube.
+Geometry random_geometry(int triangles, int shapes, uint64_t seed) {
+    Rng rng(seed, 1);
+    auto rnd = [&] { return rng.next_float(); };
+    Geometry g;
+    for (int k = 0; k < triangles; ++k) {
+        vec3 c(rnd(), rnd(), rnd());
+        for (int v = 0; v < 3; ++v) {
+            g.positions.push_back(c + 0.05f * vec3(rnd() - 0.5f, rnd() - 0.5f, rnd() - 0.5f));
+            g.indices.push_back(static_cast<uint32_t>(g.positions.size() - 1));
+        }
+        g.triangle_material.push_back(0);
+    }
+    for (int k = 0; k < shapes; ++k) {
+        vec3 c(rnd(), rnd(), rnd());
+        Transform t;
+        if (k % 3 == 0) {
+            t.matrix =
+                glm::rotate(mat4(1.0f), rnd() * 3.0f, glm::normalize(vec3(rnd(), rnd(), 1.0f)));
+            t.is_identity = false;
+        }
+        Shape s;
+        switch (k % 4) {
+            case 0:
+                s = Sphere{c, 0.02f + 0.03f * rnd()};
+                break;
+            case 1:
+                s = Box{c, c + vec3(0.04f)};
+                break;
+            case 2:
+                s = Cylinder{c, vec3(0.0f, 0.05f, 0.01f), 0.02f};
+                break;
+            default:
+                s = Cone{c, vec3(0.01f, 0.05f, 0.0f), 0.03f};
+                break;
+        }
+        g.shapes.push_back(make_analytic_shape(s, t, 0));
+    }
+    // A few CSG and implicit shapes: their bounds must hold them for every structure.
+    for (int k = 0; k < shapes / 20; ++k) {
+        vec3 c(rnd(), rnd(), rnd());
+        Object body, cut;
+        body.shape = Sphere{c, 0.04f};
+        body.material = cut.material = 0;
+        cut.shape = Box{c, c + vec3(0.05f)};
+        g.shapes.push_back(
+            make_analytic_shape(Csg{CsgOp::Difference, {body, cut}}, Transform{}, 0));
+        SdfNode a, b, blend;
+        a.op = b.op = SdfOp::Sphere;
+        a.a = c + vec3(0.0f, 0.0f, 0.1f);
+        b.a = c + vec3(0.03f, 0.0f, 0.1f);
+        a.r1 = b.r1 = 0.02f;
+        blend.op = SdfOp::Union;
+        blend.smooth = 0.02f;
+        blend.children = {a, b};
+        g.shapes.push_back(make_analytic_shape(Implicit{blend}, Transform{}, 0));
+    }
+    return g;
+}
+
+/// Every acceleration structure against brute force on the same random rays: the same hit
+/// distances and primitive ids (bit for bit), and the same answers to any-hit queries.
+class EveryAccel : public testing::TestWithParam<std::string> {};
+
+TEST_P(EveryAccel, SameHitsAsBruteForceOnRandomRays) {
+    Geometry g = random_geometry(3000, 200, 42);
+    std::unique_ptr<Accel> accel = make_accel(GetParam(), g, 2);
+    ASSERT_TRUE(accel);
+    BruteForce brute(g);
+    Rng rng(7, 7);
+    int hits = 0;
+    for (int k = 0; k < 20000; ++k) {
+        vec3 o(rng.next_float() * 1.4f - 0.2f, rng.next_float() * 1.4f - 0.2f,
+               rng.next_float() * 1.4f - 0.2f);
+        vec3 d(rng.next_float() - 0.5f, rng.next_float() - 0.5f, rng.next_float() - 0.5f);
+        if (k % 10 == 0) d = vec3(0.0f, 0.0f, d.z);  // axis-parallel rays too
+        if (glm::length(d) == 0.0f) continue;
+        Ray ray{o, glm::normalize(d), k % 5 == 0 ? 0.3f : kInfinity};
+        Hit a, b;
+        bool ha = accel->intersect(ray, a), hb = brute.intersect(ray, b);
+        ASSERT_EQ(ha, hb) << "ray " << k << " prim " << b.prim << " t " << b.t << " kind "
+                          << (g.is_triangle(b.prim) ? -1 : static_cast<int>(g.shape(b.prim).kind))
+                          << " p " << glm::to_string(ray.o + b.t * ray.d) << " part " << b.part;
+        if (ha) {
+            ++hits;
+            EXPECT_EQ(a.t, b.t) << "ray " << k;
+            EXPECT_EQ(a.prim, b.prim) << "ray " << k;
+            EXPECT_EQ(a.u, b.u) << "ray " << k;
+            EXPECT_EQ(a.part, b.part) << "ray " << k;
+        }
+        ASSERT_EQ(accel->occluded(ray), hb) << "ray " << k;
+    }
+    EXPECT_GT(hits, 2000);  // the test exercises real hits
+}
+
+TEST_P(EveryAccel, EmptyAndDegenerateInputs) {
+    Geometry empty;
+    std::unique_ptr<Accel> none = make_accel(GetParam(), empty, 1);
+    Hit hit;
+    EXPECT_FALSE(none->intersect(Ray{}, hit));
+    EXPECT_FALSE(none->occluded(Ray{}));
+    Geometry g;  // 100 identical triangles in a plane: centroids coincide, bounds are flat
+    for (int k = 0; k < 100; ++k) {
+        g.positions.insert(g.positions.end(), {vec3(0, 0, 0), vec3(1, 0, 0), vec3(0, 1, 0)});
+        for (int v = 0; v < 3; ++v) g.indices.push_back(static_cast<uint32_t>(3 * k + v));
+        g.triangle_material.push_back(0);
+    }
+    std::unique_ptr<Accel> accel = make_accel(GetParam(), g, 1);
+    ASSERT_TRUE(accel->intersect(Ray{vec3(0.2f, 0.2f, 1.0f), vec3(0, 0, -1)}, hit));
+    EXPECT_EQ(hit.t, 1.0f);
+    EXPECT_LT(hit.prim, 100u);  // coincident triangles: any of them
+    EXPECT_FALSE(accel->intersect(Ray{vec3(0.8f, 0.8f, 1.0f), vec3(0, 0, -1)}, hit));
+    EXPECT_TRUE(accel->occluded(Ray{vec3(0.2f, 0.2f, -1.0f), vec3(0, 0, 1)}));
+}
+
+INSTANTIATE_TEST_SUITE_P(Accel, EveryAccel, testing::ValuesIn(accel_names()),
+                         [](const testing::TestParamInfo<std::string>& param) {
+                             return param.param;
+                         });
+
+TEST(Accel, NamesIncludeEveryStructure) {
+    std::vector<std::string> names = accel_names();
+    for (const char* name : {"none", "grid", "octree", "bvh2", "bvh"}) {
+        EXPECT_NE(std::find(names.begin(), names.end(), name), names.end()) << name;
+    }
+    EXPECT_EQ(make_accel("kd-tree", Geometry{}), nullptr);
+}
+
+TEST(Bvh, StructureIsValid) {
+    Geometry g = random_geometry(5000, 50, 3);
+    Bvh bvh(g, 1);
+    const auto& nodes = bvh.nodes();
+    std::vector<int> seen(g.primitive_count(), 0);
+    // Every primitive sits in exactly one leaf whose box contains it.
+    for (const BvhNode& n : nodes) {
+        if (n.count == 0) {
+            for (uint32_t c : {n.first, n.first + 1}) {
+                EXPECT_TRUE(glm::all(glm::lessThanEqual(n.min, nodes[c].min)));
+                EXPECT_TRUE(glm::all(glm::greaterThanEqual(n.max, nodes[c].max)));
+            }
+            continue;
+        }
+        EXPECT_LE(n.count, 8u);
+        for (uint32_t k = n.first; k < n.first + n.count; ++k) {
+            uint32_t id = bvh.primitives()[k];
+            seen[id]++;
+            Bounds3 b = g.primitive_bounds(id);
+            EXPECT_TRUE(glm::all(glm::lessThanEqual(n.min, b.min)));
+            EXPECT_TRUE(glm::all(glm::greaterThanEqual(n.max, b.max)));
+        }
+    }
+    for (int s : seen) EXPECT_EQ(s, 1);
+    EXPECT_LT(bvh.depth(), 64);
+}
+
+TEST(Bvh, DegenerateInputsBuild) {
+    Geometry g;
+    for (int k = 0; k < 100; ++k) {  // 100 identical triangles: centroids coincide
+        g.positions.insert(g.positions.end(), {vec3(0, 0, 0), vec3(1, 0, 0), vec3(0, 1, 0)});
+        for (int v = 0; v < 3; ++v) g.indices.push_back(static_cast<uint32_t>(3 * k + v));
+        g.triangle_material.push_back(0);
+    }
+    Bvh bvh(g);
+    Hit hit;
+    EXPECT_TRUE(bvh.intersect(Ray{vec3(0.2f, 0.2f, 1.0f), vec3(0, 0, -1)}, hit));
+    EXPECT_NEAR(hit.t, 1.0f, 1e-6f);
+    Geometry empty;
+    Bvh none(empty);
+    EXPECT_FALSE(none.intersect(Ray{}, hit));
+    EXPECT_FALSE(none.occluded(Ray{}));
+}
+
+}  // namespace
+}  // namespace svetlo
