@@ -54,13 +54,14 @@ int run_render(const RenderArgs& args) {
 
     Scene scene = load_scene(args.scene, overrides);
     std::unique_ptr<Renderer> renderer = make_renderer(scene.render.engine, args.scene);
-    const std::string& shadows = scene.render.shadows;
-    if (!args.quiet && scene.render.engine == "raster" && shadows != "none" && shadows != "raytraced") {
+    const ShadowTechnique shadows = scene.render.shadows;
+    if (!args.quiet && scene.render.engine == "raster" && shadows != ShadowTechnique::None &&
+        shadows != ShadowTechnique::Raytraced) {
         // Said once, not an error: the image is right but for the shadows.
         std::fprintf(stderr,
                      "svetlo: warning: %s: render.shadows '%s' is not built yet: the raster engine "
                      "draws no shadows\n",
-                     args.scene.c_str(), shadows.c_str());
+                     args.scene.c_str(), std::string(name_of(kShadowTechniques, shadows)).c_str());
     }
     RenderOptions options;
     options.threads = args.threads;

@@ -224,3 +224,49 @@ TEST(SceneLoader, CsgAndImplicitErrorsNameThePlace) {
 
 }  // namespace
 }  // namespace svetlo
+
+namespace svetlo {
+namespace {
+
+/// Every name of a closed set parses to its value, and the value prints as its name.
+template <class E, size_t N>
+void expect_every_name_parses(const EnumName<E> (&names)[N], const std::string& section,
+                              const std::string& key) {
+    for (const auto& [name, value] : names) {
+        EXPECT_EQ(name_of(names, value), name);
+        json j = minimal();
+        json& where = section == "render" ? j["render"] : j["render"][section];
+        where[key] = std::string(name);
+        EXPECT_EQ(error_of(j), "no error") << key << "=" << name;
+    }
+}
+
+TEST(SceneLoader, ClosedSetsParseToEnumsOnceAndRefuseTypos) {
+    json j = minimal();
+    j["render"] = {{"shading", "gouraud"},    {"shadows", "volume"},
+                   {"visibility", "painter"}, {"wireframe", "wu"},
+                   {"cull", "back"},          {"shadow_map", {{"filter", "pcss"}}}};
+    Scene s = scene_from_json(j, "s.json");
+    EXPECT_EQ(s.render.shading, ShadingMode::Gouraud);
+    EXPECT_EQ(s.render.shadows, ShadowTechnique::Volume);
+    EXPECT_EQ(s.render.raster.visibility, VisibilityMethod::Painter);
+    EXPECT_EQ(s.render.raster.wireframe, WireframeMode::Wu);
+    EXPECT_TRUE(s.render.raster.cull_back_faces);
+    EXPECT_EQ(s.render.shadow_map.filter, ShadowFilter::Pcss);
+    expect_every_name_parses(kShadingModes, "render", "shading");
+    expect_every_name_parses(kShadowTechniques, "render", "shadows");
+    expect_every_name_parses(kVisibilityMethods, "render", "visibility");
+    expect_every_name_parses(kWireframeModes, "render", "wireframe");
+    expect_every_name_parses(kShadowFilters, "shadow_map", "filter");
+    j = minimal();
+    j["render"]["shading"] = "phnog";
+    EXPECT_EQ(error_of(j),
+              "render.shading: unknown value 'phnog' (expected one of: flat, gouraud, phong, "
+              "depth, normal, overdraw)");
+    j = minimal();
+    j["render"]["shadow_map"] = {{"filter", "PCF"}};
+    EXPECT_NE(error_of(j).find("render.shadow_map.filter: unknown value 'PCF'"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace svetlo

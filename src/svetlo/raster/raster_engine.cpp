@@ -15,6 +15,7 @@
 #include "svetlo/core/progress.h"
 #include "svetlo/core/rng.h"
 #include "svetlo/core/sampling.h"
+#include "svetlo/geometry/tessellate.h"
 #include "svetlo/raster/camera_matrices.h"
 #include "svetlo/raster/clipper.h"
 #include "svetlo/raster/edge_function.h"
@@ -22,7 +23,6 @@
 #include "svetlo/raster/raster_lights.h"
 #include "svetlo/raster/simd_shading.h"
 #include "svetlo/raster/stencil.h"
-#include "svetlo/geometry/tessellate.h"
 #include "svetlo/shading/shading_frame.h"
 #include "svetlo/shading/texture.h"
 
@@ -39,7 +39,7 @@ constexpr uint32_t kNone = ~0u;          // no triangle in a sample
 constexpr uint32_t kExtra = 1u << 31;    // a vertex made by clipping (chunk-local until fixed up)
 constexpr uint64_t kMaxTriangles = 1u << 25;  // 33.5 M triangles: about 6 GiB of pipeline state
 
-enum class Mode { Flat, Gouraud, Phong, Depth, Normal, Overdraw };
+using Mode = ShadingMode;
 
 /// The overdraw view: a pixel's value is the fragments rasterized there, divided by this.
 constexpr float kOverdrawPerUnit = 8.0f;
@@ -155,15 +155,6 @@ bool any_source(const Material& m, F&& f) {
             }
         },
         m);
-}
-
-Mode parse_mode(const std::string& s) {
-    if (s == "flat") return Mode::Flat;
-    if (s == "gouraud") return Mode::Gouraud;
-    if (s == "depth") return Mode::Depth;
-    if (s == "normal") return Mode::Normal;
-    if (s == "overdraw") return Mode::Overdraw;
-    return Mode::Phong;
 }
 
 struct DrawMesh {
@@ -1069,7 +1060,7 @@ ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& 
 /// Stage 7: wireframe overlay on the tile's resolved colours (edges whose depth passes
 /// against the deepest sample of the pixel).
 void draw_wireframe(const FrameState& f, const Tile& tile, TileBuffers& buf, int S) {
-    const std::string& algo = f.scene->render.raster.wireframe;
+    const WireframeMode algo = f.scene->render.raster.wireframe;
     Color wire = f.scene->render.raster.wireframe_color;
     int tw = tile.x1 - tile.x0;
     size_t ti = static_cast<size_t>(tile.y0 / kTile) * f.tiles_x + tile.x0 / kTile;
@@ -1089,7 +1080,7 @@ void draw_wireframe(const FrameState& f, const Tile& tile, TileBuffers& buf, int
                     if (z > deepest + 1e-4f * std::abs(deepest)) return;
                     buf.color[pixel] += std::min(coverage, 1.0f) * (wire - buf.color[pixel]);
                 };
-                if (algo == "wu")
+                if (algo == WireframeMode::Wu)
                     draw_line_wu(pa, pb, plot);
                 else
                     draw_line_bresenham(pa, pb, plot);
@@ -1138,7 +1129,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     f.tris = std::move(buffers_->tris);
     f.flat = std::move(buffers_->flat);
     f.scene = &scene;
-    f.mode = parse_mode(scene.render.shading);
+    f.mode = scene.render.shading;
     f.materials = scene.materials;
 
     std::vector<DrawMesh> meshes = tessellate_scene(scene, f, threads);
@@ -1181,7 +1172,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     for (int first = 0; first < scene.render.spp; first += kMaxSamplesPerPass)
         passes.push_back(
             pattern(scene, first, std::min(kMaxSamplesPerPass, scene.render.spp - first)));
-    if (scene.render.raster.wireframe == "none") {
+    if (scene.render.raster.wireframe == WireframeMode::None) {
         auto& b = f.sample_bounds;
         b = {glm::ivec2(kSubpixel), glm::ivec2(-1), 0};
         for (const SamplePattern& sp : passes) {
@@ -1203,13 +1194,14 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     vertex_stage(meshes, f, base, threads);
     assemble(meshes, base, f, threads);
     meshes.clear();
-    if (f.scene->render.raster.visibility == "painter") bin_back_to_front(f, threads);
+    const bool painter = scene.render.raster.visibility == VisibilityMethod::Painter;
+    if (painter) bin_back_to_front(f, threads);
 
     const int spp = scene.render.spp;
     const bool msaa = scene.render.raster.msaa;
     const bool simd = f.mode == Mode::Phong && !msaa && !targets.any && f.simd_lights_ok;
     DrawState state;
-    state.depth_test = scene.render.raster.visibility != "painter";
+    state.depth_test = !painter;
     if (f.mode == Mode::Overdraw) {
         // The stencil buffer counts every fragment, whether the depth test keeps it or not.
         state.stencil.enabled = true;
@@ -1469,7 +1461,8 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                     for (auto& a : buf.aov) a[pixel] *= inv;
                 }
             }
-            if (scene.render.raster.wireframe != "none") draw_wireframe(f, tile, buf, S);
+            if (scene.render.raster.wireframe != WireframeMode::None)
+                draw_wireframe(f, tile, buf, S);
             for (int j = tile.y0; j < tile.y1; ++j) {
                 auto row = static_cast<std::ptrdiff_t>(j - tile.y0) * tw;
                 std::copy_n(buf.color.begin() + row, tw, &result.color.at(tile.x0, j));

@@ -4,9 +4,8 @@
 // object which keys it takes, which are required and what values they admit.
 #pragma once
 
-#include <nlohmann/json.hpp>
-
 #include <initializer_list>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -39,19 +38,30 @@ public:
     /// The member `key`; fails with "missing key" when absent.
     JsonNode at(const std::string& key) const;
     std::optional<JsonNode> find(const std::string& key) const;
-    size_t size() const;          // of an array
+    size_t size() const;              // of an array
     JsonNode at(size_t index) const;  // of an array
 
     double as_number() const;  // finite
     float as_float() const { return static_cast<float>(as_number()); }
-    float as_positive() const;      // > 0
-    float as_non_negative() const;  // >= 0
+    float as_positive() const;                      // > 0
+    float as_non_negative() const;                  // >= 0
     float as_in_range(double lo, double hi) const;  // in [lo, hi]
     long long as_integer(long long lo, long long hi) const;
     bool as_bool() const;
     std::string as_string() const;
     /// One of `choices`; fails listing them.
     std::string as_choice(std::initializer_list<std::string_view> choices) const;
+    /// One of a closed set, by name: `names` pairs each name with its value.
+    template <class E, size_t N>
+    E as_enum(const std::pair<std::string_view, E> (&names)[N]) const {
+        std::string s = as_string();
+        std::string list;
+        for (const auto& [name, value] : names) {
+            if (s == name) return value;
+            list += (list.empty() ? "" : ", ") + std::string(name);
+        }
+        fail("unknown value '" + s + "' (expected one of: " + list + ")");
+    }
     vec3 as_vec3() const;
     vec3 as_direction() const;  // non-zero, returned normalised
     /// A colour: one number (grey) or [r, g, b], each finite and >= 0.

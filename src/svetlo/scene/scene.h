@@ -7,6 +7,8 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -216,30 +218,77 @@ struct Film {
     int width = 512, height = 512;
 };
 
+// ---- closed sets of settings: enums, parsed once by the loader from these names ------------
+
+template <class E>
+using EnumName = std::pair<std::string_view, E>;
+
+/// The name of `value` in `names` (for messages).
+template <class E, size_t N>
+std::string_view name_of(const EnumName<E> (&names)[N], E value) {
+    for (const auto& [name, v] : names) {
+        if (v == value) return name;
+    }
+    return "?";
+}
+
+/// render.shading (raster): how fragments are coloured, or a debug view.
+enum class ShadingMode { Flat, Gouraud, Phong, Depth, Normal, Overdraw };
+inline constexpr EnumName<ShadingMode> kShadingModes[] = {
+    {"flat", ShadingMode::Flat},     {"gouraud", ShadingMode::Gouraud},
+    {"phong", ShadingMode::Phong},   {"depth", ShadingMode::Depth},
+    {"normal", ShadingMode::Normal}, {"overdraw", ShadingMode::Overdraw}};
+
+/// render.shadows: the rasterizer's shadow technique (the ray tracers always trace).
+enum class ShadowTechnique { None, Planar, Volume, Map, Raytraced };
+inline constexpr EnumName<ShadowTechnique> kShadowTechniques[] = {
+    {"none", ShadowTechnique::None},
+    {"planar", ShadowTechnique::Planar},
+    {"volume", ShadowTechnique::Volume},
+    {"map", ShadowTechnique::Map},
+    {"raytraced", ShadowTechnique::Raytraced}};
+
+/// render.shadow_map.filter.
+enum class ShadowFilter { None, Pcf, Pcss };
+inline constexpr EnumName<ShadowFilter> kShadowFilters[] = {
+    {"none", ShadowFilter::None}, {"pcf", ShadowFilter::Pcf}, {"pcss", ShadowFilter::Pcss}};
+
+/// render.visibility (raster): hidden surfaces by z-buffer or by the painter's algorithm.
+enum class VisibilityMethod { ZBuffer, Painter };
+inline constexpr EnumName<VisibilityMethod> kVisibilityMethods[] = {
+    {"zbuffer", VisibilityMethod::ZBuffer}, {"painter", VisibilityMethod::Painter}};
+
+/// render.wireframe (raster): an overlay of triangle edges, and its line algorithm.
+enum class WireframeMode { None, Bresenham, Wu };
+inline constexpr EnumName<WireframeMode> kWireframeModes[] = {
+    {"none", WireframeMode::None},
+    {"bresenham", WireframeMode::Bresenham},
+    {"wu", WireframeMode::Wu}};
+
 struct ShadowMapSettings {
     int resolution = 2048;
     float bias = 0.002f;
-    std::string filter = "pcf";  // none, pcf, pcss
+    ShadowFilter filter = ShadowFilter::Pcf;
     int kernel = 5;
 };
 
 /// Settings of the rasterizer (svetlo extensions, docs/raster.md).
 struct RasterSettings {
-    std::string visibility = "zbuffer";  // zbuffer, painter
-    bool cull_back_faces = false;        // contract: surfaces are two-sided by default
-    bool msaa = false;                   // false: supersampling (shade every sample)
-    std::string wireframe = "none";      // none, bresenham, wu: an overlay of triangle edges
+    VisibilityMethod visibility = VisibilityMethod::ZBuffer;
+    bool cull_back_faces = false;  // contract: surfaces are two-sided by default
+    bool msaa = false;             // false: supersampling (shade every sample)
+    WireframeMode wireframe = WireframeMode::None;
     Color wireframe_color{1.0f};
     int tessellation = 64;  // segments around spheres, cylinders and cones
 };
 
 struct RenderSettings {
-    std::string engine = "whitted";
+    std::string engine = "whitted";  // an open set: engines are made by name (apps/svetlo)
     int spp = 1;
     int max_depth = 5;
     uint64_t seed = 0;
-    std::string shading = "phong";      // raster: flat, gouraud, phong, depth, normal
-    std::string shadows = "raytraced";  // raster: none, planar, volume, map, raytraced
+    ShadingMode shading = ShadingMode::Phong;
+    ShadowTechnique shadows = ShadowTechnique::Raytraced;
     ShadowMapSettings shadow_map;
     Color ambient{0.0f};
     Color background{0.0f};

@@ -54,20 +54,15 @@ RenderSettings parse_render(const JsonNode& node) {
     if (auto n = node.find("spp")) r.spp = static_cast<int>(n->as_integer(1, 1 << 20));
     if (auto n = node.find("max_depth")) r.max_depth = static_cast<int>(n->as_integer(0, 1000));
     if (auto n = node.find("seed")) r.seed = static_cast<uint64_t>(n->as_integer(0, 1LL << 53));
-    if (auto n = node.find("shading")) {
-        r.shading = n->as_choice({"flat", "gouraud", "phong", "depth", "normal", "overdraw"});
-    }
-    if (auto n = node.find("shadows")) {
-        r.shadows = n->as_choice({"none", "planar", "volume", "map", "raytraced"});
-    }
+    if (auto n = node.find("shading")) r.shading = n->as_enum(kShadingModes);
+    if (auto n = node.find("shadows")) r.shadows = n->as_enum(kShadowTechniques);
     if (auto sm = node.find("shadow_map")) {
         sm->expect_object({"resolution", "bias", "filter", "kernel"});
         if (auto n = sm->find("resolution")) {
             r.shadow_map.resolution = static_cast<int>(n->as_integer(1, 16384));
         }
         if (auto n = sm->find("bias")) r.shadow_map.bias = n->as_non_negative();
-        if (auto n = sm->find("filter"))
-            r.shadow_map.filter = n->as_choice({"none", "pcf", "pcss"});
+        if (auto n = sm->find("filter")) r.shadow_map.filter = n->as_enum(kShadowFilters);
         if (auto n = sm->find("kernel"))
             r.shadow_map.kernel = static_cast<int>(n->as_integer(1, 64));
     }
@@ -79,13 +74,11 @@ RenderSettings parse_render(const JsonNode& node) {
     if (auto n = node.find("light_samples")) {
         r.light_samples = static_cast<int>(n->as_integer(1, 4096));
     }
-    if (auto n = node.find("visibility"))
-        r.raster.visibility = n->as_choice({"zbuffer", "painter"});
+    if (auto n = node.find("visibility")) r.raster.visibility = n->as_enum(kVisibilityMethods);
     if (auto n = node.find("cull"))
         r.raster.cull_back_faces = n->as_choice({"none", "back"}) == "back";
     if (auto n = node.find("antialias")) r.raster.msaa = n->as_choice({"ssaa", "msaa"}) == "msaa";
-    if (auto n = node.find("wireframe"))
-        r.raster.wireframe = n->as_choice({"none", "bresenham", "wu"});
+    if (auto n = node.find("wireframe")) r.raster.wireframe = n->as_enum(kWireframeModes);
     if (auto n = node.find("wireframe_color")) r.raster.wireframe_color = n->as_color();
     if (auto n = node.find("tessellation"))
         r.raster.tessellation = static_cast<int>(n->as_integer(3, 4096));
