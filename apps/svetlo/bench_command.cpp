@@ -13,6 +13,7 @@
 #include "svetlo/core/parallel.h"
 #include "svetlo/core/rng.h"
 #include "svetlo/core/sampling.h"
+#include "svetlo/geometry/scene_geometry.h"
 #include "svetlo/rt/camera.h"
 #include "svetlo/rt/rt_scene.h"
 
@@ -95,9 +96,8 @@ int run_bench(const BenchArgs& args) {
         names.push_back(name);
     }
     Scene scene = load_scene(args.scene, overrides);
-    std::vector<Material> materials;
-    std::vector<Emitter> emitters;
-    Geometry g = build_geometry(scene, materials, emitters);
+    LightSet lights(scene);
+    Geometry g = build_geometry(object_pointers(scene.objects, lights.area_light_quads()));
     std::unique_ptr<Accel> reference = make_accel("bvh", g, args.threads);
     std::vector<Ray> rays = make_rays(scene, g, *reference, args.rays == "diffuse", args.threads);
     reference.reset();

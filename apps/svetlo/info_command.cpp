@@ -2,6 +2,7 @@
 #include <cstdio>
 
 #include "commands.h"
+#include "svetlo/geometry/scene_geometry.h"
 #include "svetlo/raster/raster_engine.h"
 #include "svetlo/rt/rt_scene.h"
 
@@ -32,9 +33,8 @@ const char* material_name(const Material& m) {
 
 int run_info(const InfoArgs& args) {
     Scene scene = load_scene(args.scene, parse_sets(args.sets, args.scene));
-    std::vector<Material> materials;
-    std::vector<Emitter> emitters;
-    Geometry g = build_geometry(scene, materials, emitters);
+    LightSet lights(scene);
+    Geometry g = build_geometry(object_pointers(scene.objects, lights.area_light_quads()));
     Bounds3 bounds;
     for (uint32_t id : g.bounded_primitives()) bounds.extend(g.primitive_bounds(id));
     const Camera& c = scene.camera;
@@ -66,9 +66,9 @@ int run_info(const InfoArgs& args) {
                     material_name(scene.materials[k]));
     }
     std::printf("lights     %zu (+ %zu emissive objects)\n", scene.lights.size(),
-                emitters.size() - static_cast<size_t>(std::count_if(
-                                      emitters.begin(), emitters.end(),
-                                      [](const Emitter& e) { return e.light_index >= 0; })));
+                static_cast<size_t>(
+                    std::count_if(lights.sources().begin(), lights.sources().end(),
+                                  [](const LightSet::Source& s) { return s.light_index < 0; })));
     for (size_t k = 0; k < scene.lights.size(); ++k) {
         std::printf("  lights[%zu] %s\n", k, light_name(scene.lights[k]));
     }

@@ -95,5 +95,31 @@ TEST(RasterAgainstWhitted, NearPlaneClippingMatchesTheRayTracersCoverage) {
     }
     EXPECT_GT(covered, 1000);
 }
+/// A floor seen from straight above, under an emissive sphere or the same sphere made by CSG.
+json glowing_sphere_over_floor(bool csg) {
+    json sphere = {{"type", "sphere"}, {"center", {0, 2, 0}}, {"radius", 0.5}};
+    json glow = csg ? json{{"type", "csg"}, {"op", "union"}, {"children", {sphere}}} : sphere;
+    glow["material"] = "glow";
+    return {{"camera",
+             {{"position", {0, 1.2, 0}}, {"look_at", {0, 0, 0}}, {"up", {0, 0, -1}}, {"fov", 30}}},
+            {"film", {{"width", 9}, {"height", 9}}},
+            {"render", {{"spp", 1}, {"max_depth", 0}, {"light_samples", 256}}},
+            {"materials",
+             {{"white", {{"type", "lambert"}, {"albedo", 0.6}}},
+              {"glow", {{"type", "emissive"}, {"radiance", 5}}}}},
+            {"objects", {floor_quad(4.0f, "white"), glow}}};
+}
+
+TEST(RasterAgainstWhitted, AnEmissiveSphereLightsTheFloorAlikeAndACsgOneInNeither) {
+    // Below the sphere's centre at height d: E = pi L (R / d)^2, and L_floor = albedo / pi E.
+    const float expected = 0.6f * 5.0f * 0.25f / 4.0f;
+    for (const char* engine : {"raster", "whitted"}) {
+        RenderResult lit = render(glowing_sphere_over_floor(false), engine, {});
+        EXPECT_NEAR(lit.color.at(4, 4).r, expected, 0.03f * expected) << engine;
+        RenderResult csg = render(glowing_sphere_over_floor(true), engine, {});
+        EXPECT_EQ(csg.color.at(4, 4).r, 0.0f) << engine;
+    }
+}
+
 }  // namespace
 }  // namespace svetlo

@@ -90,7 +90,7 @@ struct FrameState {
     std::vector<char> textured;         // per material: some colour depends on uv
     std::vector<char> needs_footprint;  // per material: some texture is trilinear
     std::vector<MipChain> mips;
-    RasterLights lights;
+    std::optional<RasterLights> lights;       // made by tessellate_scene
     SimdLights simd_lights;                   // the same lights for the fast path,
     bool simd_lights_ok = false;              // when they are all point or directional
     std::vector<SimdMaterial> simd_material;  // per material, and whether the fast path takes it
@@ -186,7 +186,7 @@ void split_vertices_by_material(Mesh& m) {
 }
 
 /// Stage 1: every object tessellated in its own space, plus the area lights as one-sided
-/// emissive quads (the ray tracer shows them too). Fills the lights' VPLs.
+/// emissive quads (the ray tracer shows them too). Makes the light set and its VPLs.
 std::vector<DrawMesh> tessellate_scene(const Scene& scene, FrameState& f, int threads) {
     TessellationOptions options;
     options.segments = scene.render.raster.tessellation;
@@ -199,50 +199,19 @@ std::vector<DrawMesh> tessellate_scene(const Scene& scene, FrameState& f, int th
                     "the scene would make " + std::to_string(total) + " triangles (at most " +
                         std::to_string(kMaxTriangles) + "); lower render.tessellation");
     }
-    std::vector<DrawMesh> meshes(scene.objects.size());
-    parallel_indices(scene.objects.size(), threads, [&](size_t k) {
-        Object local = scene.objects[k];
+    f.lights.emplace(scene);
+    f.materials = f.lights->set.materials();
+    const std::vector<Object>& quads = f.lights->set.area_light_quads();
+    std::vector<DrawMesh> meshes(scene.objects.size() + quads.size());
+    parallel_indices(meshes.size(), threads, [&](size_t k) {
+        const Object& obj =
+            k < scene.objects.size() ? scene.objects[k] : quads[k - scene.objects.size()];
+        Object local = obj;
         local.transform = Transform{};
         meshes[k].mesh = tessellate(local, options);
-        meshes[k].model = scene.objects[k].transform.matrix;
+        meshes[k].model = obj.transform.matrix;
         if (f.mode == Mode::Gouraud) split_vertices_by_material(meshes[k].mesh);
     });
-    for (const Light& light : scene.lights) {
-        if (const auto* a = std::get_if<AreaLight>(&light)) {
-            EmissiveMaterial m;
-            m.radiance = ColorSource::constant(a->radiance);
-            f.materials.push_back(m);
-            Object quad;
-            quad.shape = Quad{a->corner, a->edge_u, a->edge_v};
-            quad.material = static_cast<int>(f.materials.size() - 1);
-            meshes.push_back({tessellate(quad, options), mat4(1.0f)});
-            auto vpls = area_light_vpls(*a);
-            f.lights.vpls.insert(f.lights.vpls.end(), vpls.begin(), vpls.end());
-        } else {
-            f.lights.punctual.push_back(&light);
-        }
-    }
-    // Emissive objects light the scene through VPLs over their emitting faces.
-    for (size_t k = 0; k < scene.objects.size(); ++k) {
-        const DrawMesh& d = meshes[k];
-        EmitterTriangles tris;
-        for (size_t t = 0; t < d.mesh.triangle_count(); ++t) {
-            int m = d.mesh.face_material[t];
-            if (m < 0) continue;
-            const auto* e = std::get_if<EmissiveMaterial>(&f.materials[static_cast<size_t>(m)]);
-            if (!e) continue;
-            vec2 uv(0.0f);
-            if (!d.mesh.uvs.empty()) uv = d.mesh.uvs[d.mesh.indices[3 * t]];
-            Color radiance = eval_color(e->radiance, uv, scene.textures);
-            if (is_black(radiance)) continue;
-            for (int v = 0; v < 3; ++v)
-                tris.p.push_back(
-                    vec3(d.model * vec4(d.mesh.positions[d.mesh.indices[3 * t + v]], 1.0f)));
-            tris.radiance.push_back(radiance);
-        }
-        auto vpls = triangle_vpls(tris);
-        f.lights.vpls.insert(f.lights.vpls.end(), vpls.begin(), vpls.end());
-    }
     return meshes;
 }
 
@@ -259,7 +228,7 @@ const Bsdf& material_at(const FrameState& f, uint32_t m, vec2 uv, vec2 duv_dx, v
 /// Lit colour at a point with unit geometric normal ng (the counter-clockwise side) and
 /// shading normal ns (unit or zero), seen from the camera along -wo (shading_frame.h).
 Color light_point(const FrameState& f, const Bsdf& bsdf, vec3 p, vec3 wo, vec3 ng, vec3 ns) {
-    return shade_point(bsdf, p, make_shading_frame(ng, ns, wo), wo, f.lights,
+    return shade_point(bsdf, p, make_shading_frame(ng, ns, wo), wo, *f.lights,
                        f.scene->render.ambient, f.scene->render.background);
 }
 
@@ -1103,7 +1072,6 @@ Bounds3 drawn_bounds(const std::vector<DrawMesh>& meshes) {
 CameraMatrices raster_camera(const Scene& scene) {
     FrameState f;
     f.scene = &scene;
-    f.materials = scene.materials;
     return camera_matrices(scene.camera, scene.film.width, scene.film.height,
                            drawn_bounds(tessellate_scene(scene, f, 0)));
 }
@@ -1130,7 +1098,6 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     f.flat = std::move(buffers_->flat);
     f.scene = &scene;
     f.mode = scene.render.shading;
-    f.materials = scene.materials;
 
     std::vector<DrawMesh> meshes = tessellate_scene(scene, f, threads);
     // Materials: constant BRDFs made once; mip chains when a texture is filtered with them.
@@ -1146,8 +1113,10 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     }
     // The SIMD fast path: constant Lambert and Phong-family materials under point and
     // directional lights only.
-    f.simd_lights_ok = f.lights.vpls.empty();
-    for (const Light* light : f.lights.punctual) {
+    f.simd_lights_ok = !f.lights->any_vpl;
+    for (const LightSet::Source& source : f.lights->set.sources()) {
+        if (!source.delta) continue;
+        const Light* light = &scene.lights[static_cast<size_t>(source.light_index)];
         if (const auto* pl = std::get_if<PointLight>(light)) {
             f.simd_lights.points.push_back({pl->position, pl->intensity});
         } else if (const auto* dl = std::get_if<DirectionalLight>(light)) {

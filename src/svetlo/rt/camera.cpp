@@ -8,7 +8,7 @@ CameraRays::CameraRays(const Camera& camera, int width, int height) : camera_(ca
     up_ = glm::cross(right_, forward_);
     float aspect = static_cast<float>(width) / static_cast<float>(height);
     half_h_ = camera.type == Camera::Type::Perspective ? std::tan(radians(camera.fov_deg) * 0.5f)
-                                                        : camera.height * 0.5f;
+                                                       : camera.height * 0.5f;
     half_w_ = half_h_ * aspect;
 }
 

@@ -10,7 +10,7 @@
 #include "svetlo/rt/camera.h"
 #include "svetlo/rt/rt_scene.h"
 #include "svetlo/shading/bsdf.h"
-#include "svetlo/shading/lights.h"
+#include "svetlo/shading/direct_light.h"
 #include "svetlo/shading/shading_frame.h"
 
 namespace svetlo {
@@ -33,10 +33,10 @@ struct AovSample {
 class Tracer {
 public:
     Tracer(const RtScene& rt, bool want_visibility)
-        : rt_(rt), scene_(rt.scene()), want_visibility_(want_visibility) {
-        for (const Emitter& e : rt.emitters())
-            light0_emitter_ = e.light_index == 0 ? &e : light0_emitter_;
-    }
+        : rt_(rt),
+          scene_(rt.scene()),
+          want_visibility_(want_visibility),
+          light0_(rt.lights().source_of_light(0)) {}
 
     uint64_t rays = 0;
     Rng* aov_rng = nullptr;  // the visibility AOV's own stream, so AOVs never change the image
@@ -56,16 +56,15 @@ public:
         if (aov) {
             aov->depth = hit.t * glm::length(ray.d);
             aov->normal = ns;
-            aov->albedo = bsdf.has_lobes()                        ? bsdf.diffuse
-                          : bsdf.model == Bsdf::Model::Dielectric ? Color(1.0f)
-                                                                  : bsdf.reflect;
+            aov->albedo = albedo_of(bsdf);
             if (want_visibility_) aov->visibility = light0_visibility(sh.p, ng, *aov_rng);
         }
 
-        Color L(0.0f);
-        if (bsdf.model == Bsdf::Model::Emissive && front) L += bsdf.emission;
-        L += bsdf.ambient * scene_.render.ambient;
-        if (bsdf.has_lobes()) L += direct_light(sh.p, ng, ns, wo, bsdf, rng);
+        Color L = emitted_and_ambient(bsdf, frame, scene_.render.ambient);
+        L += direct_light(
+            rt_.lights(), bsdf, sh.p, frame, wo,
+            TracedSampling(rt_.lights(), rng, scene_.render.light_samples),
+            [&](size_t, const LightSample& s) { return blocked(sh.p, ng, s) ? 0.0f : 1.0f; });
         if (depth >= scene_.render.max_depth) return L;
 
         auto follow = [&](Color scale, vec3 dir) {
@@ -123,65 +122,45 @@ private:
         return rt_.occluded(Ray{offset_ray_origin(p, ng, direction), direction, kInfinity});
     }
 
-    /// Shadow test toward a punctual light sample (directional lights lie at infinity).
-    bool blocked(vec3 p, vec3 ng, const PunctualSample& s) {
-        return std::isinf(s.distance) ? blocked_at_infinity(p, ng, s.wi)
-                                      : blocked(p, ng, p + s.wi * s.distance, s.wi);
+    /// Shadow test toward a light sample: a point on a light with area is itself offset off
+    /// its surface; directional lights lie at infinity.
+    bool blocked(vec3 p, vec3 ng, const LightSample& s) {
+        if (std::isinf(s.distance)) return blocked_at_infinity(p, ng, s.wi);
+        vec3 target = s.delta ? s.p : offset_ray_origin(s.p, s.n, -s.wi);
+        return blocked(p, ng, target, s.wi);
     }
 
-    Color direct_light(vec3 p, vec3 ng, vec3 ns, vec3 wo, const Bsdf& bsdf, Rng& rng) {
-        Color L(0.0f);
-        for (int index : rt_.punctual_lights()) {
-            const Light& light = scene_.lights[static_cast<size_t>(index)];
-            PunctualSample s = sample_punctual(light, p);
-            float cos_theta = glm::dot(ns, s.wi);
-            if (cos_theta <= 0.0f || glm::dot(ng, s.wi) <= 0.0f || is_black(s.irradiance)) continue;
-            if (!blocked(p, ng, s)) L += eval_bsdf(bsdf, ns, wo, s.wi) * s.irradiance * cos_theta;
+    /// Lights with area take render.light_samples stratified samples per shading point.
+    struct TracedSampling {
+        const LightSet& lights;
+        Rng& rng;
+        int n;
+        TracedSampling(const LightSet& l, Rng& r, int samples) : lights(l), rng(r), n(samples) {}
+        int count(const LightSet::Source& s) const { return s.delta ? 1 : n; }
+        LightSample sample(const LightSet::Source& s, int k, vec3 p) {
+            if (s.delta) return lights.sample(s, p, vec2(0.0f), 0.0f);
+            vec2 u = stratified_sample(k, n, vec2(rng.next_float(), rng.next_float()));
+            return lights.sample(s, p, u, rng.next_float());
         }
-        int n = scene_.render.light_samples;
-        const Geometry& g = rt_.geometry();
-        for (const Emitter& emitter : rt_.emitters()) {
-            Color sum(0.0f);
-            for (int k = 0; k < n; ++k) {
-                vec2 u = stratified_sample(k, n, vec2(rng.next_float(), rng.next_float()));
-                EmitterSample e = sample_emitter(emitter, g, u, rng.next_float());
-                vec3 d = e.p - p;
-                float dist2 = glm::dot(d, d);
-                if (dist2 <= 0.0f) continue;
-                vec3 wi = d / std::sqrt(dist2);
-                float cos_theta = glm::dot(ns, wi), cos_light = -glm::dot(e.n, wi);
-                if (cos_theta <= 0.0f || cos_light <= 0.0f || glm::dot(ng, wi) <= 0.0f) continue;
-                Bsdf light = make_bsdf(rt_.materials()[g.material(e.prim)], e.uv, scene_.textures);
-                if (is_black(light.emission)) continue;
-                if (blocked(p, ng, offset_ray_origin(e.p, e.n, -wi), wi)) continue;
-                // Area form of the rendering equation: G = cos cos' / d^2, pdf per m^2.
-                sum += eval_bsdf(bsdf, ns, wo, wi) * light.emission *
-                       (cos_theta * cos_light / (dist2 * e.pdf_area));
-            }
-            L += sum / static_cast<float>(n);
-        }
-        return L;
-    }
+    };
 
     /// The fraction of light 0 that reaches p (contract: the visibility AOV).
     float light0_visibility(vec3 p, vec3 ng, Rng& rng) {
-        const Light& light = scene_.lights[0];
-        if (!std::holds_alternative<AreaLight>(light)) {
-            PunctualSample s = sample_punctual(light, p);
+        const LightSet& lights = rt_.lights();
+        if (!light0_) return 1.0f;  // an area light of no area
+        if (light0_->delta) {
+            LightSample s = lights.sample(*light0_, p, vec2(0.0f), 0.0f);
             if (glm::dot(ng, s.wi) <= 0.0f) return 1.0f;  // faces away from the light
             return blocked(p, ng, s) ? 0.0f : 1.0f;
         }
-        const Emitter* emitter = light0_emitter_;
-        if (!emitter) return 1.0f;
         int n = std::max(scene_.render.light_samples, 16);
         int facing = 0, visible = 0;
         for (int k = 0; k < n; ++k) {
             vec2 u = stratified_sample(k, n, vec2(rng.next_float(), rng.next_float()));
-            EmitterSample e = sample_emitter(*emitter, rt_.geometry(), u, 0.5f);
-            vec3 wi = glm::normalize(e.p - p);
-            if (glm::dot(ng, wi) <= 0.0f || glm::dot(e.n, wi) >= 0.0f) continue;
+            LightSample s = lights.sample_at(lights.sample_area(*light0_, u, 0.5f), p);
+            if (glm::dot(ng, s.wi) <= 0.0f || glm::dot(s.n, s.wi) >= 0.0f) continue;
             ++facing;
-            if (!blocked(p, ng, offset_ray_origin(e.p, e.n, -wi), wi)) ++visible;
+            if (!blocked(p, ng, s)) ++visible;
         }
         return facing == 0 ? 1.0f : static_cast<float>(visible) / static_cast<float>(facing);
     }
@@ -189,7 +168,7 @@ private:
     const RtScene& rt_;
     const Scene& scene_;
     bool want_visibility_;
-    const Emitter* light0_emitter_ = nullptr;  // the emitter of lights[0] when it is an area light
+    const LightSet::Source* light0_;  // the light set's source for lights[0]
 };
 
 }  // namespace

@@ -55,6 +55,13 @@ Bsdf make_bsdf(const Material& material, vec2 uv, const TextureLookup& lookup);
 /// f(wo, wi) for a shading normal n; zero unless wo and wi are both above the surface.
 Color eval_bsdf(const Bsdf& bsdf, vec3 n, vec3 wo, vec3 wi);
 
+/// The albedo AOV: the diffuse colour of a material with lobes, else its mirror reflectance
+/// (1 for glass).
+inline Color albedo_of(const Bsdf& b) {
+    if (b.has_lobes()) return b.diffuse;
+    return b.model == Bsdf::Model::Dielectric ? Color(1.0f) : b.reflect;
+}
+
 /// Unpolarised Fresnel reflectance of a dielectric interface. cos_i is the cosine of the
 /// incident angle (> 0), eta = n_transmitted / n_incident. Returns 1 under total internal
 /// reflection.

@@ -8,9 +8,9 @@
 namespace svetlo {
 
 struct PunctualSample {
-    vec3 wi{0.0f};             // unit, from p toward the light
+    vec3 wi{0.0f};               // unit, from p toward the light
     float distance = kInfinity;  // to the light (infinite for a directional light)
-    Color irradiance{0.0f};    // W/m^2 on a surface facing the light, before occlusion
+    Color irradiance{0.0f};      // W/m^2 on a surface facing the light, before occlusion
 };
 
 /// Smooth cone factor of a spot light for the direction from the light to the point:

@@ -1,4 +1,4 @@
-#include "svetlo/geometry/emitters.h"
+#include "svetlo/geometry/surface_sampling.h"
 
 #include "svetlo/core/sampling.h"
 
@@ -81,19 +81,10 @@ float primitive_area(const Geometry& g, uint32_t id) {
     return shape_area(g.shape(id));
 }
 
-EmitterSample sample_emitter(const Emitter& emitter, const Geometry& g, vec2 u, float u_pick) {
-    EmitterSample s;
-    // Pick a primitive by area, then reuse the remainder of u_pick for the shape's part.
-    size_t k = static_cast<size_t>(
-        std::upper_bound(emitter.cdf.begin(), emitter.cdf.end(), u_pick) - emitter.cdf.begin());
-    k = std::min(k, emitter.prims.size() - 1);
-    float lo = k == 0 ? 0.0f : emitter.cdf[k - 1];
-    float width = emitter.cdf[k] - lo;
-    float u_rest = width > 0.0f ? std::clamp((u_pick - lo) / width, 0.0f, 0.99999994f) : 0.5f;
-    s.prim = emitter.prims[k];
-    s.pdf_area = 1.0f / emitter.area;
-    if (g.is_triangle(s.prim)) {
-        const uint32_t* t = &g.indices[3 * static_cast<size_t>(s.prim)];
+SurfaceSample sample_primitive(const Geometry& g, uint32_t id, vec2 u, float u_part) {
+    SurfaceSample s;
+    if (g.is_triangle(id)) {
+        const uint32_t* t = &g.indices[3 * static_cast<size_t>(id)];
         vec2 b = sample_triangle(u);
         float b0 = 1.0f - b.x - b.y;
         s.p = b0 * g.positions[t[0]] + b.x * g.positions[t[1]] + b.y * g.positions[t[2]];
@@ -102,7 +93,7 @@ EmitterSample sample_emitter(const Emitter& emitter, const Geometry& g, vec2 u, 
         s.uv = g.uvs.empty() ? b : b0 * g.uvs[t[0]] + b.x * g.uvs[t[1]] + b.y * g.uvs[t[2]];
         return s;
     }
-    const AnalyticShape& shape = g.shape(s.prim);
+    const AnalyticShape& shape = g.shape(id);
     if (shape.kind == ShapeKind::Quad) {
         s.p = shape.p0 + u.x * shape.p1 + u.y * shape.p2;
         s.n = shape.frame.n;
@@ -111,7 +102,7 @@ EmitterSample sample_emitter(const Emitter& emitter, const Geometry& g, vec2 u, 
     }
     vec3 p, n;
     int part;
-    sample_shape_local(shape, u, u_rest, p, n, part);
+    sample_shape_local(shape, u, u_part, p, n, part);
     if (shape.transformed) {
         p = vec3(shape.to_world * vec4(p, 1.0f));
         n = glm::normalize(shape.normal_to_world * n);

@@ -1,0 +1,69 @@
+#include "svetlo/geometry/scene_geometry.h"
+
+namespace svetlo {
+
+namespace {
+
+void add_mesh(const Mesh& mesh, const Object& obj, Geometry& g) {
+    auto base = static_cast<uint32_t>(g.positions.size());
+    mat3 normal_matrix = glm::transpose(glm::inverse(mat3(obj.transform.matrix)));
+    for (const vec3& p : mesh.positions) g.positions.push_back(obj.transform.point(p));
+    if (!mesh.normals.empty() || !g.normals.empty()) {
+        g.normals.resize(base, vec3(0.0f));
+        for (const vec3& n : mesh.normals) {
+            g.normals.push_back(obj.transform.is_identity ? n : glm::normalize(normal_matrix * n));
+        }
+        g.normals.resize(g.positions.size(), vec3(0.0f));
+    }
+    if (!mesh.uvs.empty() || !g.uvs.empty()) {
+        g.uvs.resize(base, vec2(0.0f));
+        g.uvs.insert(g.uvs.end(), mesh.uvs.begin(), mesh.uvs.end());
+        g.uvs.resize(g.positions.size(), vec2(0.0f));
+    }
+    for (size_t t = 0; t < mesh.triangle_count(); ++t) {
+        for (int k = 0; k < 3; ++k) g.indices.push_back(base + mesh.indices[3 * t + k]);
+        int m = obj.material >= 0 ? obj.material : mesh.face_material[t];
+        g.triangle_material.push_back(static_cast<uint32_t>(m));
+    }
+}
+
+}  // namespace
+
+Geometry build_geometry(const std::vector<const Object*>& objects,
+                        std::vector<PrimitiveRange>* ranges) {
+    Geometry g;
+    size_t triangles = 0;
+    for (const Object* obj : objects) {
+        if (const auto* mesh = std::get_if<Mesh>(&obj->shape)) triangles += mesh->triangle_count();
+    }
+    g.indices.reserve(3 * triangles);
+    g.triangle_material.reserve(triangles);
+    if (ranges) ranges->assign(objects.size(), {});
+    for (size_t k = 0; k < objects.size(); ++k) {
+        const Object& obj = *objects[k];
+        const auto* mesh = std::get_if<Mesh>(&obj.shape);
+        if (!mesh) continue;
+        uint32_t first = g.triangle_count();
+        add_mesh(*mesh, obj, g);
+        if (ranges) (*ranges)[k] = {first, g.triangle_count()};
+    }
+    for (size_t k = 0; k < objects.size(); ++k) {
+        const Object& obj = *objects[k];
+        if (std::holds_alternative<Mesh>(obj.shape)) continue;
+        g.shapes.push_back(
+            make_analytic_shape(obj.shape, obj.transform, static_cast<uint32_t>(obj.material)));
+        if (ranges) (*ranges)[k] = {g.primitive_count() - 1, g.primitive_count()};
+    }
+    return g;
+}
+
+std::vector<const Object*> object_pointers(const std::vector<Object>& objects,
+                                           const std::vector<Object>& more) {
+    std::vector<const Object*> out;
+    out.reserve(objects.size() + more.size());
+    for (const Object& o : objects) out.push_back(&o);
+    for (const Object& o : more) out.push_back(&o);
+    return out;
+}
+
+}  // namespace svetlo

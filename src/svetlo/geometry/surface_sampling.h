@@ -1,0 +1,26 @@
+// Points sampled uniformly by area on the primitives of a Geometry: what lights with area
+// (area lights, emissive objects) need for direct lighting (shading/light_set.h), and what
+// radiosity's patches will need.
+#pragma once
+
+#include <cstdint>
+
+#include "svetlo/geometry/geometry.h"
+
+namespace svetlo {
+
+struct SurfaceSample {
+    vec3 p{0.0f};  // world-space point on the primitive
+    vec3 n{0.0f};  // its unit front normal (a triangle's counter-clockwise side, a shape's outside)
+    vec2 uv{0.0f};
+};
+
+/// A point of primitive `id`, uniformly distributed by area: u in [0,1)^2, and u_part in
+/// [0,1) picks the face of a box, cylinder or cone in proportion to its area. Exact for
+/// untransformed shapes and under uniform scaling.
+SurfaceSample sample_primitive(const Geometry& geometry, uint32_t id, vec2 u, float u_part);
+
+/// Area of one primitive in world space (m^2).
+float primitive_area(const Geometry& geometry, uint32_t id);
+
+}  // namespace svetlo

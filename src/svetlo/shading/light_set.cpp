@@ -1,0 +1,178 @@
+#include "svetlo/shading/light_set.h"
+
+#include <algorithm>
+
+#include "svetlo/core/error.h"
+#include "svetlo/geometry/scene_geometry.h"
+#include "svetlo/shading/bsdf.h"
+#include "svetlo/shading/lights.h"
+
+namespace svetlo {
+
+namespace {
+
+bool emits(const Material& m) {
+    const auto* e = std::get_if<EmissiveMaterial>(&m);
+    return e && !e->radiance.is_black();
+}
+
+/// True when the linear part is a rotation times a uniform scale (areas scale uniformly).
+bool is_similarity(const mat4& m) {
+    mat3 a(m);
+    mat3 g = glm::transpose(a) * a;
+    float s = (g[0][0] + g[1][1] + g[2][2]) / 3.0f;
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) {
+            if (std::abs(g[i][j] - (i == j ? s : 0.0f)) > 1e-4f * s) return false;
+        }
+    }
+    return true;
+}
+
+/// Fills a source's area CDF over its primitives; false when it has no area.
+bool finish_source(LightSet::Source& s, const Geometry& g) {
+    double total = 0.0;
+    for (uint32_t id : s.prims) {
+        total += primitive_area(g, id);
+        s.cdf.push_back(static_cast<float>(total));
+    }
+    if (!(total > 0.0)) return false;  // degenerate: nothing to sample
+    for (float& c : s.cdf) c = static_cast<float>(c / total);
+    s.cdf.back() = 1.0f;
+    s.area = static_cast<float>(total);
+    return true;
+}
+
+}  // namespace
+
+LightSet::LightSet(const Scene& scene) : scene_(scene), materials_(scene.materials) {
+    // Area lights: visible, one-sided emissive quads with a material of their own.
+    for (const Light& light : scene.lights) {
+        const auto* a = std::get_if<AreaLight>(&light);
+        if (!a) continue;
+        EmissiveMaterial m;
+        m.radiance = ColorSource::constant(a->radiance);
+        materials_.push_back(m);
+        Object quad;
+        quad.name = "lights[" + std::to_string(&light - scene.lights.data()) + "]";
+        quad.shape = Quad{a->corner, a->edge_u, a->edge_v};
+        quad.material = static_cast<int>(materials_.size() - 1);
+        area_quads_.push_back(std::move(quad));
+    }
+    // The emitters' geometry: every emissive object, then the area lights' quads.
+    std::vector<const Object*> emitters;
+    for (const Object& obj : scene.objects) {
+        bool any = false;
+        if (const auto* mesh = std::get_if<Mesh>(&obj.shape); mesh && obj.material < 0) {
+            for (int m : mesh->face_material)
+                any = any || emits(materials_[static_cast<size_t>(m)]);
+        } else if (obj.material >= 0) {
+            any = emits(materials_[static_cast<size_t>(obj.material)]);
+        }
+        if (!any || std::holds_alternative<Csg>(obj.shape) ||
+            std::holds_alternative<Implicit>(obj.shape)) {
+            continue;  // CSG and implicit surfaces glow but are no lights (see the header)
+        }
+        if (std::holds_alternative<Plane>(obj.shape)) {
+            throw Error(scene.path.string(), obj.name,
+                        "an emissive plane is infinite and cannot be a light; use a quad");
+        }
+        // Meshes and quads are baked into world space; the other shapes are sampled in their own.
+        bool baked =
+            std::holds_alternative<Mesh>(obj.shape) || std::holds_alternative<Quad>(obj.shape);
+        if (!baked && !obj.transform.is_identity && !is_similarity(obj.transform.matrix)) {
+            throw Error(scene.path.string(), obj.name + ".transform",
+                        "an emissive shape needs a uniform scale to be sampled as a light");
+        }
+        emitters.push_back(&obj);
+    }
+    const size_t object_emitters = emitters.size();
+    for (const Object& quad : area_quads_) emitters.push_back(&quad);
+    std::vector<PrimitiveRange> ranges;
+    geometry_ = build_geometry(emitters, &ranges);
+
+    int area_light = 0;
+    for (size_t k = 0; k < scene.lights.size(); ++k) {
+        Source s;
+        s.light_index = static_cast<int>(k);
+        if (std::holds_alternative<AreaLight>(scene.lights[k])) {
+            s.delta = false;
+            s.prims.push_back(ranges[object_emitters + static_cast<size_t>(area_light++)].first);
+            if (!finish_source(s, geometry_)) continue;  // no area: it emits nothing
+        }
+        sources_.push_back(std::move(s));
+    }
+    for (size_t k = 0; k < object_emitters; ++k) {
+        Source s;
+        s.delta = false;
+        for (uint32_t id = ranges[k].first; id < ranges[k].end; ++id) {
+            if (emits(materials_[geometry_.material(id)])) s.prims.push_back(id);
+        }
+        if (finish_source(s, geometry_)) sources_.push_back(std::move(s));
+    }
+}
+
+const LightSet::Source* LightSet::source_of_light(int index) const {
+    for (const Source& s : sources_) {
+        if (s.light_index == index) return &s;
+    }
+    return nullptr;
+}
+
+AreaPoint LightSet::sample_area(const Source& source, vec2 u, float u_pick) const {
+    // Pick a primitive by area, then reuse the remainder of u_pick for the shape's face.
+    size_t k = static_cast<size_t>(std::upper_bound(source.cdf.begin(), source.cdf.end(), u_pick) -
+                                   source.cdf.begin());
+    k = std::min(k, source.prims.size() - 1);
+    float lo = k == 0 ? 0.0f : source.cdf[k - 1];
+    float width = source.cdf[k] - lo;
+    float u_rest = width > 0.0f ? std::clamp((u_pick - lo) / width, 0.0f, 0.99999994f) : 0.5f;
+    uint32_t prim = source.prims[k];
+    AreaPoint a;
+    a.surface = sample_primitive(geometry_, prim, u, u_rest);
+    a.pdf_area = 1.0f / source.area;
+    a.radiance =
+        make_bsdf(materials_[geometry_.material(prim)], a.surface.uv, scene_.textures).emission;
+    return a;
+}
+
+LightSample LightSet::sample_at(const AreaPoint& a, vec3 p, float min_dist2) const {
+    LightSample s;
+    s.delta = false;
+    s.p = a.surface.p;
+    s.n = a.surface.n;
+    vec3 d = s.p - p;
+    float dist2 = glm::dot(d, d);
+    if (!(dist2 > 0.0f)) return s;
+    s.distance = std::sqrt(dist2);
+    s.wi = d / s.distance;
+    float cos_light = -glm::dot(s.n, s.wi);
+    if (cos_light <= 0.0f) return s;  // its back: it emits nothing this way
+    // E = L cos' / (d^2 pdf_area): the area form of the rendering equation.
+    s.irradiance = a.radiance * (cos_light / (std::max(dist2, min_dist2) * a.pdf_area));
+    s.pdf = a.pdf_area * dist2 / cos_light;
+    return s;
+}
+
+LightSample LightSet::sample(const Source& source, vec3 p, vec2 u, float u_pick) const {
+    if (!source.delta) return sample_at(sample_area(source, u, u_pick), p);
+    const Light& light = scene_.lights[static_cast<size_t>(source.light_index)];
+    PunctualSample ps = sample_punctual(light, p);
+    LightSample s;
+    s.wi = ps.wi;
+    s.distance = ps.distance;
+    s.p = std::isinf(ps.distance) ? p : p + ps.wi * ps.distance;
+    s.irradiance = ps.irradiance;
+    return s;
+}
+
+float LightSet::pdf(const Source& source, vec3 p, vec3 q, vec3 nq) const {
+    if (source.delta) return 0.0f;
+    vec3 d = q - p;
+    float dist2 = glm::dot(d, d);
+    float cos_light = -glm::dot(nq, d) / std::sqrt(dist2);
+    if (!(dist2 > 0.0f) || cos_light <= 0.0f) return 0.0f;
+    return dist2 / (cos_light * source.area);
+}
+
+}  // namespace svetlo

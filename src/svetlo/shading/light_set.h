@@ -1,0 +1,86 @@
+// The light set: every light of a scene, built once and sampled the same way by every engine.
+//
+//   point, spot     delta in position: E = I / d^2 (times the spot's cone factor)
+//   directional     delta in direction: E = irradiance
+//   area            a one-sided emitting parallelogram (it is also drawn, as a visible quad)
+//   emissive object every quad, mesh, sphere, box, cylinder and cone whose material emits:
+//                   its emitting primitives, picked in proportion to area, then sampled
+//                   uniformly by area (pdf_area = 1 / total area)
+//
+// A sample of a light with area estimates the irradiance by E = L cos' / (d^2 pdf_area), the
+// area form of the rendering equation; its pdf per steradian is pdf_area d^2 / cos'. CSG and
+// implicit surfaces with an emissive material glow where they are seen but light nothing, in
+// every engine: their area has no closed form to sample by (docs/scene-format.md). Units:
+// radiance W/(m^2 sr), irradiance W/m^2, pdfs per m^2 or per sr.
+#pragma once
+
+#include <vector>
+
+#include "svetlo/geometry/geometry.h"
+#include "svetlo/geometry/surface_sampling.h"
+#include "svetlo/scene/scene.h"
+
+namespace svetlo {
+
+/// A light as seen from a shading point p.
+struct LightSample {
+    vec3 p{0.0f};                // the point on the light (a point or spot light's position)
+    vec3 n{0.0f};                // the unit emitting normal there (lights with area)
+    vec3 wi{0.0f};               // unit, from p toward the light
+    float distance = kInfinity;  // from p to the light (infinite for a directional light)
+    Color irradiance{0.0f};      // W/m^2 on a surface facing wi, before occlusion
+    float pdf = 1.0f;            // of wi, per steradian (1 for the delta lights)
+    bool delta = true;           // a point, spot or directional light
+};
+
+/// A point on a light with area.
+struct AreaPoint {
+    SurfaceSample surface;  // point, front normal, uv
+    Color radiance{0.0f};   // emitted toward the front side, W/(m^2 sr)
+    float pdf_area = 0.0f;  // 1 / m^2
+};
+
+class LightSet {
+public:
+    struct Source {
+        bool delta = true;            // point, spot or directional (else a light with area)
+        int light_index = -1;         // index into Scene::lights; -1 for an emissive object
+        std::vector<uint32_t> prims;  // lights with area: primitives of the set's geometry
+        std::vector<float> cdf;       // cumulative area over prims, ending at 1
+        float area = 0.0f;            // m^2
+    };
+
+    /// Throws Error for an emitter it cannot sample (an emissive plane, or an emissive shape
+    /// under a non-uniform scale).
+    explicit LightSet(const Scene& scene);
+
+    /// The scene's materials, then one emissive material per area light.
+    const std::vector<Material>& materials() const { return materials_; }
+    /// The area lights as visible one-sided quads (with those materials): engines draw them.
+    const std::vector<Object>& area_light_quads() const { return area_quads_; }
+    /// Scene lights in their order, then emissive objects in theirs.
+    const std::vector<Source>& sources() const { return sources_; }
+    /// The source of Scene::lights[index], or null.
+    const Source* source_of_light(int index) const;
+
+    /// A point uniformly distributed by area on a light with area: u in [0,1)^2, u_pick in
+    /// [0,1) chooses the primitive (and the face of a box, cylinder or cone).
+    AreaPoint sample_area(const Source& source, vec2 u, float u_pick) const;
+    /// The light as seen from p: for lights with area, through sample_area(u, u_pick).
+    LightSample sample(const Source& source, vec3 p, vec2 u, float u_pick) const;
+    /// A point on a light with area as seen from p; d^2 is clamped below by min_dist2 (the
+    /// rasterizer's virtual point lights stand for a patch of that area).
+    LightSample sample_at(const AreaPoint& a, vec3 p, float min_dist2 = 0.0f) const;
+    /// The pdf per steradian with which sample() picks the direction from p to the point q
+    /// (normal nq) of a light with area: pdf_area d^2 / cos', 0 behind it.
+    float pdf(const Source& source, vec3 p, vec3 q, vec3 nq) const;
+
+private:
+    const Scene& scene_;
+    std::vector<Material> materials_;
+    std::vector<Object> area_quads_;
+    Geometry geometry_;  // the emitters' primitives, world space
+    std::vector<Source> sources_;
+};
+
+}  // namespace svetlo

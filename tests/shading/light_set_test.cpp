@@ -1,0 +1,164 @@
+// The light set against closed forms: the irradiance its samples estimate, their pdfs, and
+// which objects are lights.
+#include "svetlo/shading/light_set.h"
+
+#include <gtest/gtest.h>
+
+#include "svetlo/core/error.h"
+#include "svetlo/core/rng.h"
+#include "svetlo/scene/scene_loader.h"
+
+namespace svetlo {
+namespace {
+
+using json = nlohmann::json;
+
+json base() {
+    return {{"camera", {{"position", {0, 1, 5}}, {"look_at", {0, 1, 0}}}},
+            {"materials",
+             {{"white", {{"type", "lambert"}, {"albedo", 0.5}}},
+              {"glow", {{"type", "emissive"}, {"radiance", 2}}}}},
+            {"lights", json::array()},
+            {"objects", json::array()}};
+}
+
+/// Irradiance at p (normal n) from a uniform emitter of radiance L over the polygon `v`, seen
+/// from its front: Lambert's formula, E = L/2 sum_i gamma_i n . unit(v_i x v_i+1).
+float polygon_irradiance(vec3 p, vec3 n, const std::vector<vec3>& v, float L) {
+    double sum = 0.0;
+    for (size_t i = 0; i < v.size(); ++i) {
+        vec3 a = glm::normalize(v[i] - p), b = glm::normalize(v[(i + 1) % v.size()] - p);
+        double gamma = std::acos(std::clamp(glm::dot(a, b), -1.0f, 1.0f));
+        sum += gamma * glm::dot(n, glm::normalize(glm::cross(a, b)));
+    }
+    return static_cast<float>(std::abs(0.5 * L * sum));
+}
+
+/// The mean of E cos(theta) over n samples of source k: an estimate of the irradiance at p.
+double estimate(const LightSet& lights, size_t k, vec3 p, vec3 n, int count) {
+    Rng rng(7, 3);
+    double sum = 0.0;
+    for (int i = 0; i < count; ++i) {
+        vec2 u(rng.next_float(), rng.next_float());
+        LightSample s = lights.sample(lights.sources()[k], p, u, rng.next_float());
+        sum += s.irradiance.r * std::max(0.0f, glm::dot(n, s.wi));
+    }
+    return sum / count;
+}
+
+TEST(LightSet, AreaLightSamplesEstimateLambertsPolygonFormula) {
+    json j = base();
+    j["lights"] = {{{"type", "area"},
+                    {"corner", {-0.5, 2, -0.5}},
+                    {"edge_u", {1, 0, 0}},
+                    {"edge_v", {0, 0, 1}},
+                    {"radiance", 3}}};
+    Scene scene = scene_from_json(j, "t.json");
+    LightSet lights(scene);
+    ASSERT_EQ(lights.sources().size(), 1u);
+    EXPECT_FALSE(lights.sources()[0].delta);
+    EXPECT_EQ(lights.sources()[0].light_index, 0);
+    EXPECT_FLOAT_EQ(lights.sources()[0].area, 1.0f);
+    // edge_u x edge_v = (0, 0, 1) x ... = -y: it shines down, onto the floor.
+    std::vector<vec3> quad = {vec3(-0.5f, 2, -0.5f), vec3(0.5f, 2, -0.5f), vec3(0.5f, 2, 0.5f),
+                              vec3(-0.5f, 2, 0.5f)};
+    for (vec3 p : {vec3(0.0f), vec3(0.7f, 0.3f, -0.2f)}) {
+        float exact = polygon_irradiance(p, vec3(0, 1, 0), quad, 3.0f);
+        EXPECT_NEAR(estimate(lights, 0, p, vec3(0, 1, 0), 200000), exact, 0.01 * exact);
+    }
+    // Seen from above, the light shows its back: nothing.
+    EXPECT_EQ(estimate(lights, 0, vec3(0, 3, 0), vec3(0, -1, 0), 100), 0.0);
+    // The visible quad carries its own emissive material.
+    ASSERT_EQ(lights.area_light_quads().size(), 1u);
+    EXPECT_EQ(lights.materials().size(), scene.materials.size() + 1);
+}
+
+TEST(LightSet, EmissiveSphereGivesPiLTimesTheSolidAngleFactor) {
+    json j = base();
+    j["objects"] = {
+        {{"type", "sphere"}, {"center", {0, 3, 0}}, {"radius", 0.5}, {"material", "glow"}},
+        {{"type", "sphere"}, {"center", {5, 0, 0}}, {"radius", 1}, {"material", "white"}}};
+    Scene scene = scene_from_json(j, "t.json");
+    LightSet lights(scene);
+    ASSERT_EQ(lights.sources().size(), 1u);  // the white sphere is no light
+    EXPECT_EQ(lights.sources()[0].light_index, -1);
+    // A surface facing the sphere's centre from distance d: E = pi L (R / d)^2.
+    float exact = kPi * 2.0f * 0.25f / 9.0f;
+    EXPECT_NEAR(estimate(lights, 0, vec3(0.0f), vec3(0, 1, 0), 400000), exact, 0.01 * exact);
+}
+
+TEST(LightSet, SamplePdfMatchesPdfAndIntegratesToOne) {
+    json j = base();
+    j["objects"] = {{{"type", "box"},
+                     {"min", {-0.3, 2, -0.2}},
+                     {"max", {0.4, 2.5, 0.3}},
+                     {"material", "glow"}}};
+    Scene scene = scene_from_json(j, "t.json");
+    LightSet lights(scene);
+    const LightSet::Source& box = lights.sources().at(0);
+    EXPECT_NEAR(box.area, 2.0f * (0.7f * 0.5f + 0.5f * 0.5f + 0.7f * 0.5f), 1e-5f);
+    Rng rng(1, 2);
+    vec3 p(0.1f, 0.0f, 0.05f);
+    double solid_angle = 0.0;  // E[1 / pdf] over directions that reach the light's front
+    const int n = 200000;
+    for (int i = 0; i < n; ++i) {
+        LightSample s =
+            lights.sample(box, p, vec2(rng.next_float(), rng.next_float()), rng.next_float());
+        if (s.pdf <= 0.0f || is_black(s.irradiance)) continue;
+        EXPECT_NEAR(lights.pdf(box, p, s.p, s.n), s.pdf, 1e-4f * s.pdf);
+        solid_angle += 1.0 / s.pdf;
+    }
+    // The box seen from p covers the solid angle of its bottom face (the only face it sees),
+    // here by a fine quadrature of the face: d omega = cos' dA / d^2.
+    double omega = 0.0;
+    const int g = 400;
+    for (int a = 0; a < g; ++a) {
+        for (int b = 0; b < g; ++b) {
+            vec3 q(-0.3f + 0.7f * (a + 0.5f) / g, 2.0f, -0.2f + 0.5f * (b + 0.5f) / g);
+            vec3 d = q - p;
+            float d2 = glm::dot(d, d);
+            omega += (0.7 * 0.5 / (g * g)) * (d.y / std::sqrt(d2)) / d2;
+        }
+    }
+    EXPECT_NEAR(solid_angle / n, omega, 0.01 * omega);
+}
+
+TEST(LightSet, CsgAndImplicitEmittersGlowButAreNoLights) {
+    json j = base();
+    json sphere = {{"type", "sphere"}, {"center", {0, 2, 0}}, {"radius", 0.5}};
+    j["objects"] = {
+        {{"type", "csg"}, {"op", "union"}, {"children", {sphere}}, {"material", "glow"}},
+        {{"type", "implicit"},
+         {"sdf", {{"op", "sphere"}, {"center", {0, 2, 0}}, {"radius", 0.5}}},
+         {"material", "glow"}}};
+    EXPECT_TRUE(LightSet(scene_from_json(j, "t.json")).sources().empty());
+}
+
+TEST(LightSet, EmittersItCannotSampleAreRefusedWithTheirPlace) {
+    json j = base();
+    j["objects"] = {
+        {{"type", "plane"}, {"point", {0, 0, 0}}, {"normal", {0, 1, 0}}, {"material", "glow"}}};
+    try {
+        LightSet lights(scene_from_json(j, "t.json"));
+        FAIL() << "no error";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.where(), "objects[0]");
+    }
+    j["objects"] = {{{"type", "sphere"},
+                     {"center", {0, 0, 0}},
+                     {"radius", 1},
+                     {"material", "glow"},
+                     {"transform", {{"scale", {1, 2, 1}}}}}};
+    EXPECT_THROW(LightSet(scene_from_json(j, "t.json")), Error);
+    // A quad is baked into world space: any transform will do.
+    j["objects"] = {{{"type", "quad"},
+                     {"corner", {0, 0, 0}},
+                     {"edge_u", {1, 0, 0}},
+                     {"edge_v", {0, 0, 1}},
+                     {"material", "glow"},
+                     {"transform", {{"scale", {1, 2, 3}}}}}};
+    EXPECT_EQ(LightSet(scene_from_json(j, "t.json")).sources().size(), 1u);
+}
+
+}  // namespace
+}  // namespace svetlo
