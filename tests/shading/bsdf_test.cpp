@@ -1,8 +1,9 @@
+#include "svetlo/shading/bsdf.h"
+
 #include <gtest/gtest.h>
 
 #include "svetlo/core/rng.h"
 #include "svetlo/core/sampling.h"
-#include "svetlo/shading/bsdf.h"
 
 namespace svetlo {
 namespace {

@@ -1,6 +1,6 @@
-#include <gtest/gtest.h>
-
 #include "svetlo/shading/lights.h"
+
+#include <gtest/gtest.h>
 
 namespace svetlo {
 namespace {

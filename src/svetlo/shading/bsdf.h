@@ -4,12 +4,19 @@
 //
 //   lambert       f = albedo / pi
 //   phong         f = kd/pi + ks (n+2)/(2 pi) max(0, r.v)^n            (normalised Phong,
-//   blinn_phong   f = kd/pi + ks (n+8)/(8 pi) max(0, n.h)^n             Lafortune & Willems 1994)
+//   blinn_phong   f = kd/pi + ks (n+8)/(8 pi) max(0, n.h)^n             Lafortune & Willems 1994;
+//                 (n+8)/(8 pi) is approximate: kd + ks = 1 can reflect 1.027 at n = 40)
 //   oren_nayar    f = albedo/pi (A + B max(0, cos(phi_i - phi_o)) sin(alpha) tan(beta))
 //                 (Oren & Nayar 1994, the qualitative model)
 //   cook_torrance glTF 2.0 metallic-roughness: GGX D (Walter et al. 2007), height-correlated
 //                 Smith V (Heitz 2014), Schlick F; diffuse (1 - F) c_diff / pi
-//   mirror, dielectric: delta BRDFs, handled by the engines through reflect/refract/fresnel.
+//   mirror        delta reflection, weight = reflectance
+//   dielectric    delta reflection and refraction, chosen by the Fresnel reflectance
+//
+// sample_bsdf draws wi with its pdf (bsdf_sampling.cpp): cosine-weighted for the diffuse parts,
+// the (n+1)/(2 pi) cos^n lobe about the mirror direction (Phong) or the half vector
+// (Blinn-Phong), GGX visible normals (Heitz 2018) for Cook-Torrance, and the delta lobes
+// (mirror, glass, phong's `reflect` and `transmit`) by their weights.
 #pragma once
 
 #include <vector>
@@ -61,6 +68,24 @@ inline Color albedo_of(const Bsdf& b) {
     if (b.has_lobes()) return b.diffuse;
     return b.model == Bsdf::Model::Dielectric ? Color(1.0f) : b.reflect;
 }
+
+/// A direction drawn from a BSDF.
+struct BsdfSample {
+    vec3 wi{0.0f};       // unit, world space, away from the surface
+    Color f{0.0f};       // f(wo, wi) of the non-delta lobes (0 for a delta lobe)
+    Color weight{0.0f};  // f |cos| / pdf: what the sample multiplies incoming radiance by
+    float pdf = 0.0f;    // per steradian; for a delta lobe, the probability of choosing it
+    bool delta = false;  // a mirror or refraction direction
+    bool valid() const { return pdf > 0.0f; }
+};
+
+/// Draws wi for wo. n is the shading normal turned toward wo (shading_frame.h); `front` says
+/// whether wo lies on the surface's front side (glass is entered from the front). u in
+/// [0,1)^2 samples the lobe, u_lobe in [0,1) picks it.
+BsdfSample sample_bsdf(const Bsdf& bsdf, vec3 n, vec3 wo, bool front, vec2 u, float u_lobe);
+
+/// The pdf per steradian with which sample_bsdf draws wi through its non-delta lobes.
+float pdf_bsdf(const Bsdf& bsdf, vec3 n, vec3 wo, vec3 wi);
 
 /// Unpolarised Fresnel reflectance of a dielectric interface. cos_i is the cosine of the
 /// incident angle (> 0), eta = n_transmitted / n_incident. Returns 1 under total internal
