@@ -9,6 +9,9 @@ CameraMatrices camera_matrices(const Camera& camera, int width, int height, cons
     m.width = width;
     m.height = height;
     m.view = glm::lookAt(camera.position, camera.look_at, camera.up);
+    m.eye = camera.position;
+    m.forward = glm::normalize(camera.look_at - camera.position);
+    m.orthographic = camera.type == Camera::Type::Orthographic;
     // Depth range of the scene in front of the camera: -z in view space of the bounds' corners.
     float zmin = kInfinity, zmax = -kInfinity;
     bool finite = std::isfinite(bounds.min.x + bounds.min.y + bounds.min.z + bounds.max.x +

@@ -14,6 +14,9 @@ struct CameraMatrices {
     mat4 projection{1.0f};
     float near = 0.1f, far = 100.0f;  // clip plane distances along the view direction
     int width = 1, height = 1;        // viewport in pixels
+    vec3 eye{0.0f};                   // the camera's position, world space
+    vec3 forward{0.0f, 0.0f, -1.0f};  // unit viewing direction, world space
+    bool orthographic = false;
 
     mat4 view_projection() const { return projection * view; }
     /// Normalised device coordinates to pixels (x right, y down from the top-left corner).

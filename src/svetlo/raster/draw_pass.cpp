@@ -1,0 +1,96 @@
+#include "svetlo/raster/draw_pass.h"
+
+#include <tbb/enumerable_thread_specific.h>
+
+#include <algorithm>
+
+#include "svetlo/raster/pipeline.h"
+
+namespace svetlo {
+
+void RenderTargets::clear(int w, int h, int samples_per_pixel, bool with_stencil,
+                          bool with_primitives) {
+    width = w;
+    height = h;
+    samples = std::clamp(samples_per_pixel, 1, raster::kMaxSamplesPerPass);
+    size_t n = static_cast<size_t>(w) * static_cast<size_t>(h) * static_cast<size_t>(samples);
+    depth.assign(n, kInfinity);
+    stencil.assign(with_stencil ? n : 0, 0);
+    primitive.assign(with_primitives ? n : 0, kNoPrimitive);
+}
+
+namespace raster {
+
+void prepare_pass(const std::vector<DrawMesh>& list, const CameraMatrices& camera,
+                  const PipelineState& state, FrameState& f, int threads) {
+    f.cam = camera;
+    f.eye = camera.eye;
+    f.forward = camera.forward;
+    f.ortho = camera.orthographic;
+    f.cull = state.cull;
+    std::vector<uint32_t> base;
+    vertex_stage(list, f, base, threads);
+    assemble(list, base, f, threads);
+}
+
+/// The tight bounds of a pattern's sample offsets in their pixel (setup_triangle's bounds).
+void fit_sample_bounds(FrameState& f, const std::vector<SamplePattern>& passes) {
+    auto& b = f.sample_bounds;
+    b = {glm::ivec2(kSubpixel), glm::ivec2(-1), 0};
+    for (const SamplePattern& sp : passes) {
+        for (int k = 0; k < sp.count; ++k) {
+            b.lo = glm::min(b.lo, glm::ivec2(sp.ox[k], sp.oy[k]));
+            b.hi = glm::max(b.hi, glm::ivec2(sp.ox[k], sp.oy[k]));
+        }
+    }
+}
+
+}  // namespace raster
+
+void draw_pass(const std::vector<DrawMesh>& list, const CameraMatrices& camera,
+               const PipelineState& state, RenderTargets& targets, int threads, uint64_t seed) {
+    using namespace raster;
+    const int S = targets.samples;
+    const SamplePattern sp = sample_pattern(S, seed, 0, S);
+    FrameState f;
+    fit_sample_bounds(f, {sp});
+    prepare_pass(list, camera, state, f, threads);
+    const bool stencil = state.stencil.enabled && !targets.stencil.empty();
+    const bool items = !targets.primitive.empty();
+    tbb::enumerable_thread_specific<TileBuffers> buffers;
+    parallel_tiles(
+        targets.width, targets.height, kTile, threads,
+        [&](const Tile& tile) {
+            TileBuffers& buf = buffers.local();
+            const int tw = tile.x1 - tile.x0;
+            const size_t pixels = static_cast<size_t>(tw) * (tile.y1 - tile.y0);
+            buf.reset(pixels * static_cast<size_t>(S), pixels, false, stencil);
+            // The tile's part of the targets in, rasterized, and out (rows of tw x S samples).
+            const size_t row = static_cast<size_t>(tw) * S;
+            for (int j = tile.y0; j < tile.y1; ++j) {
+                size_t from = targets.index(tile.x0, j),
+                       to = static_cast<size_t>(j - tile.y0) * row;
+                std::copy_n(targets.depth.begin() + from, row, buf.depth.begin() + to);
+                if (stencil)
+                    std::copy_n(targets.stencil.begin() + from, row, buf.stencil.begin() + to);
+            }
+            PipelineState tile_state = state;
+            tile_state.stencil.enabled = stencil;
+            rasterize_tile(f, tile, sp, tile_state, buf);
+            for (int j = tile.y0; j < tile.y1; ++j) {
+                size_t to = targets.index(tile.x0, j),
+                       from = static_cast<size_t>(j - tile.y0) * row;
+                if (state.depth_write)
+                    std::copy_n(buf.depth.begin() + from, row, targets.depth.begin() + to);
+                if (stencil)
+                    std::copy_n(buf.stencil.begin() + from, row, targets.stencil.begin() + to);
+                for (size_t k = 0; k < row && items; ++k) {
+                    uint32_t id = buf.tri[from + k];
+                    if (id != kNone) targets.primitive[to + k] = f.source(id);
+                }
+            }
+        },
+        {});
+}
+
+}  // namespace svetlo

@@ -1,0 +1,68 @@
+// The rasterizer's one entry point for a pass: draw this list of triangles, through these
+// camera matrices, with this pipeline state, into these targets. The frame's colour pass
+// (raster_engine.cpp) and the passes of the shadow techniques (a depth pass from a light, a
+// stencil pass over shadow volumes) and of radiosity (a hemicube's item buffer) are each a
+// call or two of it. OpenGL's conventions: the state is that of glDepthFunc(GL_LESS),
+// glDepthMask, glCullFace and glStencilFuncSeparate / glStencilOpSeparate.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "svetlo/raster/camera_matrices.h"
+#include "svetlo/raster/stencil.h"
+#include "svetlo/scene/scene.h"
+
+namespace svetlo {
+
+/// Which faces a pass drops: the side is decided once, by the screen winding (front_facing in
+/// edge_function.h), the same rule as shading_frame.h.
+enum class CullMode { None, Back, Front };
+
+struct PipelineState {
+    bool depth_test = true;   // keep a sample only where it is nearer than the stored depth
+    bool depth_write = true;  // store the depth of the samples kept
+    CullMode cull = CullMode::None;
+    StencilState stencil;  // the stencil test and its per-face operations (off by default)
+};
+
+/// An object's triangles in its own space (a Mesh: positions, optional normals and uvs,
+/// indices, per-face materials), placed in the world by `model`.
+struct DrawMesh {
+    Mesh mesh;
+    mat4 model{1.0f};
+};
+
+/// Per-sample buffers that persist from pass to pass, samples x width x height, sample s of
+/// pixel (i, j) at ((j * width + i) * samples + s). Depth holds the pipeline's depth key:
+/// -1/w for a perspective camera (w the distance along the view axis), window z in [0, 1]
+/// for an orthographic one; smaller is nearer, and +infinity is cleared.
+struct RenderTargets {
+    static constexpr uint32_t kNoPrimitive = ~0u;
+
+    int width = 0, height = 0, samples = 1;
+    std::vector<float> depth;
+    std::vector<uint8_t> stencil;
+    std::vector<uint32_t> primitive;  // the item buffer: the draw list's triangle per sample,
+                                      // counted over the meshes in order, or kNoPrimitive
+
+    /// Sizes and clears the buffers a pass will use (depth to +infinity, stencil to 0, the
+    /// item buffer to kNoPrimitive). samples: 1 (the pixel centre) up to 16.
+    void clear(int w, int h, int samples_per_pixel = 1, bool with_stencil = false,
+               bool with_primitives = false);
+    size_t index(int i, int j, int s = 0) const {
+        return (static_cast<size_t>(j) * static_cast<size_t>(width) + static_cast<size_t>(i)) *
+                   static_cast<size_t>(samples) +
+               static_cast<size_t>(s);
+    }
+};
+
+/// Rasterizes `list` as `camera` sees it (camera.width x camera.height must match the
+/// targets), with `state`, into `targets`: depth (tested and written as the state says),
+/// stencil (when the state enables it), and the item buffer (when it is sized). Samples lie
+/// at the pixel centre for one sample per pixel, else on the frame's stratified pattern of
+/// `seed`. Parallel over 64 x 64 tiles: the result is the same on any thread count.
+void draw_pass(const std::vector<DrawMesh>& list, const CameraMatrices& camera,
+               const PipelineState& state, RenderTargets& targets, int threads, uint64_t seed = 0);
+
+}  // namespace svetlo

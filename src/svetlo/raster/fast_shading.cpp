@@ -1,0 +1,124 @@
+// Stage 6's fast path: constant Lambert and Phong-family materials under point and
+// directional lights, lit eight (AVX2) or four samples at a time by simd_kernel.inc. Samples
+// of other materials go through the scalar shading (fragment.cpp). With one sample per pixel,
+// runs of one triangle along a row have their weights stepped exactly (edge functions are
+// affine); small triangles' samples keep the barycentrics rasterize_small left.
+#include <immintrin.h>
+
+#include "svetlo/raster/fragment.h"
+
+namespace svetlo::raster {
+
+void shade_tile_fast(const FrameState& f, const Tile& tile, const SamplePattern& sp,
+                     bool small_left_weights, TileBuffers& buf) {
+    const int tw = tile.x1 - tile.x0, th = tile.y1 - tile.y0, S = sp.count;
+    const size_t pixels = static_cast<size_t>(tw) * th;
+    const Color background = f.scene->render.background, ambient = f.scene->render.ambient;
+    EdgeCache edges(f);
+    size_t count = pixels * static_cast<size_t>(S);
+    buf.sample_color.resize(count);
+    ShadeBatch batch;
+    const int batch_size = simd_lanes();
+    size_t lane_of[ShadeBatch::kCapacity];
+    Color lit[ShadeBatch::kCapacity];
+    auto flush = [&] {
+        shade_batch(batch, f.simd_lights, f.eye, f.ortho, f.forward, ambient, lit);
+        for (int k = 0; k < batch.count; ++k) buf.sample_color[lane_of[k]] = lit[k];
+        batch.count = 0;
+    };
+    // Gathers sample i of triangle t, at screen barycentrics l, into the batch.
+    auto add_to_batch = [&](size_t i, vec2 l, const SetupTriangle& t) {
+        const ClipVertex& A = f.vertex(t.v[0]);
+        const ClipVertex& B = f.vertex(t.v[1]);
+        const ClipVertex& C = f.vertex(t.v[2]);
+        Weights w = perspective_weights(l, A, B, C);
+        lane_of[batch.count] = i;
+        batch.add(w.b[0] * A.world + w.b[1] * B.world + w.b[2] * C.world,
+                  w.b[0] * A.normal + w.b[1] * B.normal + w.b[2] * C.normal, face_cross(t, A, B, C),
+                  &f.simd_material[t.material]);
+        if (batch.count == batch_size) flush();
+    };
+    // A sample the batches do not take: the background, or a material off the
+    // fast path (shaded alone). True when it is done.
+    auto shade_apart = [&](size_t i, uint32_t tri, int64_t sx, int64_t sy) {
+        if (tri == kNone) {
+            buf.sample_color[i] = background;
+            return true;
+        }
+        if (f.simd_ok[f.tri(tri).material]) return false;
+        buf.sample_color[i] = shade_one(f, tri, edges, sx, sy);
+        return true;
+    };
+    // One sample per pixel: runs of one triangle along each row, their weights
+    // stepped exactly (edge functions are affine), shaded four pixels at a time.
+    for (int row = 0; row < th && S == 1; ++row) {
+        const size_t row_start = static_cast<size_t>(row) * tw;
+        const int64_t sy = static_cast<int64_t>(tile.y0 + row) * kSubpixel + sp.oy[0];
+        for (int px = 0; px < tw; ++px) {
+            const size_t i = row_start + static_cast<size_t>(px);
+            const int64_t sx = static_cast<int64_t>(tile.x0 + px) * kSubpixel + sp.ox[0];
+            uint32_t tri = buf.tri[i];
+            // The vertices of the triangle a few pixels on are fetched ahead:
+            // a tile's vertices are scattered over the frame's.
+            constexpr size_t kAhead = 8;
+            if (i + kAhead < pixels) {
+                uint32_t next = buf.tri[i + kAhead];
+                if (next != kNone && next != tri) {
+                    for (uint32_t v : f.tri(next).v)
+                        _mm_prefetch(reinterpret_cast<const char*>(&f.vertex(v)), _MM_HINT_T0);
+                }
+            }
+            if (shade_apart(i, tri, sx, sy)) continue;
+            const SetupTriangle& t = f.tri(tri);
+            if (small_left_weights && t.small) {
+                // Short runs: straight into a batch, with the barycentrics
+                // rasterize_small left.
+                add_to_batch(i, vec2(buf.l1[i], buf.l2[i]), t);
+                continue;
+            }
+            int end = px;
+            while (end < tw && buf.tri[row_start + static_cast<size_t>(end)] == tri) ++end;
+            // Groups of four along the run are shaded as spans; what is left
+            // joins the batch, which gathers samples of small triangles.
+            int spans_end = px + (end - px) / 4 * 4;
+            if (spans_end > px) {
+                const TriangleEdges& e = edges.of(tri);
+                TriangleRun q;
+                for (int v = 0; v < 3; ++v) {
+                    q.invw[v] = f.vertex(t.v[v]).invw;
+                    q.world[v] = f.vertex(t.v[v]).world;
+                    q.normal[v] = f.vertex(t.v[v]).normal;
+                }
+                q.l1 = static_cast<float>(static_cast<double>(e.e[1].at(sx, sy)) * e.inv_area);
+                q.l2 = static_cast<float>(static_cast<double>(e.e[2].at(sx, sy)) * e.inv_area);
+                auto dl1 =
+                    static_cast<float>(static_cast<double>(e.e[1].a * kSubpixel) * e.inv_area);
+                auto dl2 =
+                    static_cast<float>(static_cast<double>(e.e[2].a * kSubpixel) * e.inv_area);
+                shade_run(q, dl1, dl2, (spans_end - px) / 4, f.simd_material[t.material],
+                          face_cross(t, f.vertex(t.v[0]), f.vertex(t.v[1]), f.vertex(t.v[2])),
+                          f.simd_lights, f.eye, f.ortho, f.forward, ambient, &buf.sample_color[i]);
+            }
+            for (int x = spans_end; x < end; ++x) {
+                add_to_batch(
+                    row_start + static_cast<size_t>(x),
+                    edges.of(tri).weights(sx + static_cast<int64_t>(x - px) * kSubpixel, sy), t);
+            }
+            px = end - 1;
+        }
+    }
+    for (size_t i = 0; i < count && S > 1; ++i) {
+        uint32_t tri = buf.tri[i];
+        size_t pixel = i / static_cast<size_t>(S);
+        int s = static_cast<int>(i % static_cast<size_t>(S));
+        if (shade_apart(i, tri, sample_x(tile, pixel, sp, s), sample_y(tile, pixel, sp, s)))
+            continue;
+        const SetupTriangle& t = f.tri(tri);
+        add_to_batch(
+            i, edges.of(tri).weights(sample_x(tile, pixel, sp, s), sample_y(tile, pixel, sp, s)),
+            t);
+    }
+    if (batch.count > 0) flush();
+}
+
+}  // namespace svetlo::raster

@@ -1,0 +1,212 @@
+#include "svetlo/raster/fragment.h"
+
+#include <algorithm>
+
+#include "svetlo/shading/shading_frame.h"
+#include "svetlo/shading/texture.h"
+
+namespace svetlo::raster {
+
+const Bsdf& material_at(const FrameState& f, uint32_t m, vec2 uv, vec2 duv_dx, vec2 duv_dy,
+                        Bsdf& scratch) {
+    if (!f.textured[m]) return f.constant_bsdf[m];
+    TextureLookup lookup{f.scene->textures, f.mips.empty() ? nullptr : &f.mips, duv_dx, duv_dy};
+    scratch = make_bsdf(f.materials[m], uv, lookup);
+    return scratch;
+}
+
+Color light_point(const FrameState& f, const Bsdf& bsdf, vec3 p, vec3 wo, vec3 ng, vec3 ns) {
+    return shade_point(bsdf, p, make_shading_frame(ng, ns, wo), wo, *f.lights,
+                       f.scene->render.ambient, f.scene->render.background);
+}
+
+Color flat_colour(const FrameState& f, const uint32_t idx[3], uint32_t material) {
+    const ClipVertex* cv[3] = {&f.vertices[idx[0]], &f.vertices[idx[1]], &f.vertices[idx[2]]};
+    vec3 p = (cv[0]->world + cv[1]->world + cv[2]->world) / 3.0f;
+    vec3 ng = unit_or_z(glm::cross(cv[1]->world - cv[0]->world, cv[2]->world - cv[0]->world));
+    vec2 uv = (cv[0]->uv + cv[1]->uv + cv[2]->uv) / 3.0f;
+    vec3 wo = f.ortho ? -f.forward : glm::normalize(f.eye - p);
+    Bsdf scratch;
+    return light_point(f, material_at(f, material, uv, vec2(0.0f), vec2(0.0f), scratch), p, wo, ng,
+                       ng);
+}
+
+Weights perspective_weights(vec2 l, const ClipVertex& A, const ClipVertex& B, const ClipVertex& C) {
+    Weights w;
+    w.q[0] = (1.0f - l.x - l.y) * A.invw;
+    w.q[1] = l.x * B.invw;
+    w.q[2] = l.y * C.invw;
+    float inv_q = 1.0f / (w.q[0] + w.q[1] + w.q[2]);
+    for (int k = 0; k < 3; ++k) w.b[k] = w.q[k] * inv_q;
+    return w;
+}
+
+namespace {
+
+struct ShadeResult {
+    Color color{0.0f};
+    float distance = 0.0f;
+    vec3 normal{0.0f};
+    Color albedo{0.0f};
+};
+
+/// Stage 6: the colour of a visible sample of triangle `ti` with screen barycentrics (l1, l2).
+ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& edges, int64_t sx,
+                         int64_t sy, bool want_aovs) {
+    const SetupTriangle& t = f.tri(ti);
+    if (f.mode == Mode::Flat && !want_aovs) {
+        ShadeResult flat;
+        flat.color = f.flat_color(ti);
+        return flat;
+    }
+    const ClipVertex& A = f.vertex(t.v[0]);
+    const ClipVertex& B = f.vertex(t.v[1]);
+    const ClipVertex& C = f.vertex(t.v[2]);
+    Weights w = perspective_weights(edges.weights(sx, sy), A, B, C);
+    float b0 = w.b[0], b1 = w.b[1], b2 = w.b[2];
+    float q0 = w.q[0], q1 = w.q[1], q2 = w.q[2];
+    ShadeResult r;
+    vec3 p = b0 * A.world + b1 * B.world + b2 * C.world;
+    vec3 ng = face_normal(t, A, B, C);
+    vec3 ns = b0 * A.normal + b1 * B.normal + b2 * C.normal;
+    ns = glm::length(ns) > 0.0f ? glm::normalize(ns) : ng;
+    vec3 wo = f.ortho ? -f.forward : glm::normalize(f.eye - p);
+    if (want_aovs || f.mode == Mode::Normal || f.mode == Mode::Depth) {
+        r.distance = f.ortho ? glm::dot(p - f.eye, f.forward) : glm::length(p - f.eye);
+        r.normal = make_shading_frame(ng, ns, wo).ns;
+    }
+    vec2 uv = b0 * A.uv + b1 * B.uv + b2 * C.uv;
+    switch (f.mode) {
+        case Mode::Flat:
+            r.color = f.flat_color(ti);
+            break;
+        case Mode::Gouraud:
+            r.color = b0 * A.color + b1 * B.color + b2 * C.color;
+            break;
+        case Mode::Depth: {
+            float depth = f.ortho ? r.distance : glm::dot(p - f.eye, f.forward);
+            r.color = Color(
+                std::clamp(1.0f - (depth - f.cam.near) / (f.cam.far - f.cam.near), 0.0f, 1.0f));
+            break;
+        }
+        case Mode::Normal:
+            r.color = 0.5f * r.normal + vec3(0.5f);
+            break;
+        case Mode::Overdraw:  // the stencil buffer's count, not a colour of the surface
+            break;
+        case Mode::Phong: {
+            vec2 dx(0.0f), dy(0.0f);
+            if (f.needs_footprint[t.material]) {
+                // d(uv)/dx and d(uv)/dy: the screen-space barycentric gradients (a / area per
+                // pixel) through the perspective division.
+                Edge e[3] = {Edge::make(t.x[1], t.y[1], t.x[2], t.y[2]),
+                             Edge::make(t.x[2], t.y[2], t.x[0], t.y[0]),
+                             Edge::make(t.x[0], t.y[0], t.x[1], t.y[1])};
+                auto area = static_cast<float>(signed_area2(t.x, t.y));
+                float q[3] = {q0, q1, q2};
+                const vec2* uvs[3] = {&A.uv, &B.uv, &C.uv};
+                const float invw[3] = {A.invw, B.invw, C.invw};
+                for (int axis = 0; axis < 2; ++axis) {
+                    float dq[3], dsum = 0.0f;
+                    for (int i = 0; i < 3; ++i) {
+                        float dl =
+                            static_cast<float>(axis == 0 ? e[i].a : e[i].b) * kSubpixel / area;
+                        dq[i] = dl * invw[i];
+                        dsum += dq[i];
+                    }
+                    vec2 d(0.0f);
+                    float sum = q0 + q1 + q2;
+                    for (int i = 0; i < 3; ++i)
+                        d += ((dq[i] * sum - q[i] * dsum) / (sum * sum)) * *uvs[i];
+                    (axis == 0 ? dx : dy) = d;
+                }
+            }
+            Bsdf scratch;
+            const Bsdf& bsdf = material_at(f, t.material, uv, dx, dy, scratch);
+            r.color = light_point(f, bsdf, p, wo, ng, ns);
+            if (want_aovs) {
+                r.albedo = bsdf.has_lobes()                        ? bsdf.diffuse
+                           : bsdf.model == Bsdf::Model::Dielectric ? Color(1.0f)
+                                                                   : bsdf.reflect;
+            }
+            return r;
+        }
+    }
+    if (want_aovs) {
+        Bsdf scratch;
+        const Bsdf& bsdf = material_at(f, t.material, uv, vec2(0.0f), vec2(0.0f), scratch);
+        r.albedo = albedo_of(bsdf);
+    }
+    return r;
+}
+
+}  // namespace
+
+Color shade_one(const FrameState& f, uint32_t tri, EdgeCache& edges, int64_t sx, int64_t sy) {
+    return shade_sample(f, tri, edges.of(tri), sx, sy, false).color;
+}
+
+void shade_tile(const FrameState& f, const Tile& tile, const SamplePattern& sp, bool msaa,
+                bool aovs, TileBuffers& buf) {
+    const int S = sp.count;
+    const size_t pixels = static_cast<size_t>(tile.x1 - tile.x0) * (tile.y1 - tile.y0);
+    const Color background = f.scene->render.background;
+    EdgeCache edges(f);
+    auto shade = [&](uint32_t tri, size_t pixel, int s, bool want_aovs) {
+        return shade_sample(f, tri, edges.of(tri), sample_x(tile, pixel, sp, s),
+                            sample_y(tile, pixel, sp, s), want_aovs);
+    };
+    for (size_t pixel = 0; pixel < pixels; ++pixel) {
+        Color sum(0.0f);
+        ShadeResult aov_sum;
+        float visibility = 0.0f;
+        for (int s = 0; s < S; ++s) {
+            size_t i = pixel * static_cast<size_t>(S) + static_cast<size_t>(s);
+            uint32_t tri = buf.tri[i];
+            visibility += 1.0f;
+            if (f.mode == Mode::Overdraw) {
+                sum += Color(static_cast<float>(buf.stencil[i]) / kOverdrawPerUnit);
+                if (tri == kNone || !aovs) continue;
+                ShadeResult r = shade(tri, pixel, s, true);
+                aov_sum.distance += r.distance;
+                aov_sum.normal += r.normal;
+                aov_sum.albedo += r.albedo;
+                continue;
+            }
+            if (tri == kNone) {
+                sum += background;
+                continue;
+            }
+            float w = 1.0f;
+            if (msaa) {
+                bool seen = false;  // already shaded for an earlier sample?
+                for (int k = 0; k < s && !seen; ++k) seen = buf.tri[pixel * S + k] == tri;
+                if (seen) continue;
+                int covered = 0;
+                for (int k = s; k < S; ++k) covered += buf.tri[pixel * S + k] == tri ? 1 : 0;
+                w = static_cast<float>(covered);
+            }
+            ShadeResult r = shade(tri, pixel, s, aovs);
+            if (msaa) {
+                sum += w * r.color;
+                aov_sum.distance += w * r.distance;
+                aov_sum.normal += w * r.normal;
+                aov_sum.albedo += w * r.albedo;
+            } else {
+                sum += r.color;
+                aov_sum.distance += r.distance;
+                aov_sum.normal += r.normal;
+                aov_sum.albedo += r.albedo;
+            }
+        }
+        buf.color[pixel] += sum;
+        if (aovs) {
+            buf.aov[0][pixel] += Color(aov_sum.distance);
+            buf.aov[1][pixel] += aov_sum.normal;
+            buf.aov[2][pixel] += aov_sum.albedo;
+            buf.aov[3][pixel] += Color(visibility);
+        }
+    }
+}
+
+}  // namespace svetlo::raster

@@ -1,0 +1,61 @@
+// Stage 6: the colour of the visible samples, by shading mode: flat (one colour per face,
+// lit at its centroid), Gouraud (vertex colours, interpolated), Phong (normals interpolated,
+// lit per sample), the depth and normal views, the overdraw count; perspective-correct
+// interpolation of every attribute; textures filtered with the pixel's footprint. The
+// lighting is shading/'s (shade_point in raster_lights.h); the SIMD fast path
+// (fast_shading.cpp) computes the same for the commonest materials.
+#pragma once
+
+#include "svetlo/raster/pipeline.h"
+#include "svetlo/scene/renderer.h"
+
+namespace svetlo::raster {
+
+/// The material's BRDF at a point: the per-material constant one, or (in `scratch`) textures
+/// evaluated with the footprint when the rasterizer has one.
+const Bsdf& material_at(const FrameState& f, uint32_t m, vec2 uv, vec2 duv_dx, vec2 duv_dy,
+                        Bsdf& scratch);
+
+/// Lit colour at a point with unit geometric normal ng (the counter-clockwise side) and
+/// shading normal ns (unit or zero), seen from the camera along -wo (shading_frame.h).
+Color light_point(const FrameState& f, const Bsdf& bsdf, vec3 p, vec3 wo, vec3 ng, vec3 ns);
+
+/// Flat shading: one normal and one colour per face, lit at the centroid of the triangle of
+/// vertices `idx` (in the vertex stage's output).
+Color flat_colour(const FrameState& f, const uint32_t idx[3], uint32_t material);
+
+/// Perspective-correct weights of a sample: the screen barycentrics over w (q), and
+/// renormalised (b): b interpolates any attribute of the vertices.
+struct Weights {
+    float q[3], b[3];
+};
+Weights perspective_weights(vec2 l, const ClipVertex& A, const ClipVertex& B, const ClipVertex& C);
+
+/// Stage 6 for the samples the fast path does not take, and for every mode but the fast
+/// Phong path: shades the tile's visible samples and adds them (per pixel) into buf.color
+/// and, when `aovs`, buf.aov; MSAA shades once per pixel and triangle.
+void shade_tile(const FrameState& f, const Tile& tile, const SamplePattern& sp, bool msaa,
+                bool aovs, TileBuffers& buf);
+
+/// One visible sample alone: its colour (for the fast path's exceptions).
+Color shade_one(const FrameState& f, uint32_t tri, EdgeCache& edges, int64_t sx, int64_t sy);
+
+/// Stage 6's fast path (fast_shading.cpp): constant Lambert and Phong-family materials under
+/// point and directional lights, eight samples at a time, into buf.sample_color.
+/// `small_weights`: rasterize_small left the barycentrics of its samples in buf.l1, buf.l2.
+void shade_tile_fast(const FrameState& f, const Tile& tile, const SamplePattern& sp,
+                     bool small_weights, TileBuffers& buf);
+
+/// Stage 7 (resolve.cpp): the wireframe overlay on the tile's resolved colours (edges whose
+/// depth passes against the deepest sample of the pixel).
+void draw_wireframe(const FrameState& f, const Tile& tile, TileBuffers& buf, int S);
+
+/// Adds each pixel's samples in buf.sample_color (`samples` per pixel) into out[pixel].
+void accumulate_samples(const TileBuffers& buf, size_t pixels, int samples, Color* out);
+
+/// Stage 7: divides the accumulated colours and AOVs by spp, draws the wireframe, and copies
+/// the tile into `color` and the AOV images.
+void resolve_tile(const FrameState& f, const Tile& tile, int spp, int last_pass_samples,
+                  const AovTargets& targets, TileBuffers& buf, Image& color);
+
+}  // namespace svetlo::raster

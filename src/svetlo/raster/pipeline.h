@@ -1,0 +1,284 @@
+// The rasterization pipeline's internal state, shared by its stages (one file each):
+//
+//   vertex_stage.cpp    stage 2: model, view, projection; projection and snapping; Gouraud
+//   clipper.cpp         stage 3: clipping in homogeneous coordinates
+//   setup_binning.cpp   stages 3-4: setup (area, facing, culling, bounds) and binning in tiles
+//   rasterize.cpp       stage 5: edge functions, the stencil and depth tests, per tile
+//   fragment.cpp        stage 6: shading of the visible samples, by mode
+//   fast_shading.cpp    stage 6's SIMD fast path (simd_kernel.inc)
+//   resolve.cpp         stage 7: the mean of the samples, the AOVs, and the wireframe
+//   draw_pass.cpp       the entry point: a draw list through a camera, a state, into targets
+//
+// raster_engine.cpp (stage 1, tessellation, and the frame as a sequence of passes) and the
+// passes of the shadow techniques build on these. Not a public interface: include
+// draw_pass.h or raster_engine.h instead.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include "svetlo/core/large_array.h"
+#include "svetlo/core/parallel.h"
+#include "svetlo/raster/camera_matrices.h"
+#include "svetlo/raster/clipper.h"
+#include "svetlo/raster/draw_pass.h"
+#include "svetlo/raster/edge_function.h"
+#include "svetlo/raster/raster_lights.h"
+#include "svetlo/raster/simd_shading.h"
+#include "svetlo/shading/mipmap.h"
+
+namespace svetlo::raster {
+
+constexpr int kTile = 64;                // pixels per side of a binning tile
+constexpr int kSmall = 32;               // pixels: the largest side of a "small" triangle
+constexpr int kMaxSamplesPerPass = 16;   // samples per pixel held at once; more take passes
+constexpr size_t kChunk = 4096;          // triangles per unit of parallel setup and binning
+constexpr float kGuardPixels = 4096.0f;  // guard band beyond each side of the viewport
+constexpr uint32_t kNone = ~0u;          // no triangle in a sample
+constexpr uint32_t kExtra = 1u << 31;    // a vertex made by clipping (chunk-local until fixed up)
+constexpr uint64_t kMaxTriangles = 1u << 25;  // 33.5 M triangles: about 6 GiB of pipeline state
+
+using Mode = ShadingMode;
+
+/// The overdraw view: a pixel's value is the fragments rasterized there, divided by this.
+constexpr float kOverdrawPerUnit = 8.0f;
+
+/// A vertex after projection: fixed-point pixels and the depth key (setup_triangle).
+struct ScreenVertex {
+    int32_t x = 0, y = 0;
+    float z = 0.0f;
+    // 1 when inside every clip plane: a triangle of three such vertices skips clipping.
+    uint32_t inside = 0;
+};
+
+/// A triangle after clipping, projection and snapping, ready to rasterize: one cache line,
+/// since the tiles stream through a million of them.
+struct SetupTriangle {
+    int32_t x[3], y[3];  // fixed-point pixels, wound so that the area is positive
+    float z[3];          // depth key, affine in screen space, smaller is nearer (project)
+    uint32_t v[3];       // vertex indices, in the wound order
+    // Pixels [bx0, bx1] x [by0, by1] that may hold a covered sample (inclusive: a film is at
+    // most 65,536 pixels wide); bx0 > bx1 when the slot holds no triangle.
+    uint16_t bx0 = 1, by0 = 0, bx1 = 0, by1 = 0;
+    uint32_t material : 30 = 0;
+    uint32_t front : 1 = 1;  // the camera sees the front side (front_facing); v is then reversed
+    uint32_t small : 1 = 0;  // fits rasterize_small: at most kSmall pixels on each side
+    float inv_area = 0.0f;   // 1 / twice the fixed-point area
+
+    int x0() const { return bx0; }
+    int x1() const { return bx1 + 1; }
+    int y0() const { return by0; }
+    int y1() const { return by1 + 1; }
+    bool empty() const { return bx0 > bx1; }
+    void make_empty() {
+        bx0 = 1;
+        bx1 = 0;
+    }
+};
+static_assert(sizeof(SetupTriangle) == 64);
+
+/// Everything the tiles of a pass read, made once per pass: the set-up triangles in their
+/// bins, and for the frame's colour pass the shading state.
+struct FrameState {
+    // The pass.
+    CameraMatrices cam;
+    vec3 eye{0.0f}, forward{0.0f, 0.0f, -1.0f};  // from cam
+    bool ortho = false;
+    CullMode cull = CullMode::None;
+    // The shading (a pass without colour leaves it empty, with mode Depth).
+    const Scene* scene = nullptr;
+    Mode mode = Mode::Depth;
+    std::vector<Material> materials;    // the light set's: the scene's, then the area lights'
+    std::vector<Bsdf> constant_bsdf;    // per material, when it has no texture
+    std::vector<char> textured;         // per material: some colour depends on uv
+    std::vector<char> needs_footprint;  // per material: some texture is trilinear
+    std::vector<MipChain> mips;
+    std::optional<RasterLights> lights;       // made by tessellate_scene
+    SimdLights simd_lights;                   // the same lights for the fast path,
+    bool simd_lights_ok = false;              // when they are all point or directional
+    std::vector<SimdMaterial> simd_material;  // per material, and whether the fast path takes it
+    std::vector<char> simd_ok;
+    // Stages 2 to 4.
+    LargeArray<ClipVertex> vertices;       // the vertex stage's output, mesh after mesh
+    LargeArray<ScreenVertex> screen;       // the same vertices projected (when inside)
+    std::vector<ClipVertex> extra;         // vertices made by clipping (index bit kExtra)
+    LargeArray<SetupTriangle> tris;        // one slot per input triangle (empty when culled)
+    std::vector<SetupTriangle> clipped;    // triangles of clipped polygons, after the slots
+    LargeArray<Color> flat;                // flat shading: each slot's face colour
+    std::vector<Color> clipped_flat;       // and each clipped triangle's
+    std::vector<uint32_t> clipped_source;  // the input triangle each clipped one comes from
+    std::vector<std::pair<uint32_t, uint32_t>> clipped_range;  // per chunk, into `clipped`
+    size_t triangle_count = 0;                                 // set up and drawn
+    struct SampleBounds {
+        glm::ivec2 lo{0}, hi{kSubpixel - 1};  // the samples' offsets in their pixel, fixed point
+        int margin = 1;                       // pixels added on each side of a triangle's bounds
+    } sample_bounds;
+    struct Bins {                     // per chunk of triangles in drawing order:
+        std::vector<uint32_t> start;  // tile k's triangles are ids[start[k] .. start[k+1])
+        std::vector<uint32_t> ids;
+    };
+    std::vector<Bins> bins;
+    int tiles_x = 0, tiles_y = 0;
+
+    const ClipVertex& vertex(uint32_t v) const {
+        return (v & kExtra) ? extra[v & ~kExtra] : vertices[v];
+    }
+    const SetupTriangle& tri(uint32_t id) const {
+        return id < tris.size() ? tris[id] : clipped[id - tris.size()];
+    }
+    /// The input triangle of the draw list that set-up triangle `id` comes from.
+    uint32_t source(uint32_t id) const {
+        return id < tris.size() ? id : clipped_source[id - tris.size()];
+    }
+    Color flat_color(uint32_t id) const {
+        return id < tris.size() ? flat[id] : clipped_flat[id - tris.size()];
+    }
+};
+
+/// A face normal made unit, or +z for a face of no area.
+inline vec3 unit_or_z(vec3 n) {
+    return glm::length(n) > 0.0f ? glm::normalize(n) : vec3(0.0f, 0.0f, 1.0f);
+}
+
+/// A normal of the counter-clockwise side of a set-up triangle (world space, twice the area
+/// long), from its vertices A, B, C in the wound order (reversed for front faces: the sign
+/// undoes it exactly).
+inline vec3 face_cross(const SetupTriangle& t, const ClipVertex& A, const ClipVertex& B,
+                       const ClipVertex& C) {
+    vec3 n = glm::cross(B.world - A.world, C.world - A.world);
+    return t.front ? -n : n;
+}
+
+/// The same, of unit length ((0, 0, 1) for a triangle of no area).
+inline vec3 face_normal(const SetupTriangle& t, const ClipVertex& A, const ClipVertex& B,
+                        const ClipVertex& C) {
+    return unit_or_z(face_cross(t, A, B, C));
+}
+
+/// hierarchical z-buffer: a triangle nearer nowhere than that is skipped for the block).
+struct TileBuffers {
+    static constexpr int kBlock = 8;
+    static constexpr size_t kPad = 4;  // samples past the end, for four-wide loads and stores
+    std::vector<float> depth;
+    std::vector<uint32_t> tri;
+    std::vector<uint8_t> stencil;     // per sample, when a pass uses it
+    std::vector<float> l1, l2;        // screen barycentrics of vertices 1 and 2 per sample,
+                                      // written by rasterize_small (one sample per pixel)
+    std::vector<float> block_far;     // per block: max depth over its samples
+    std::vector<Color> color;         // resolved colour per pixel, accumulated over passes
+    std::vector<Color> sample_color;  // the fast path's colour per sample
+    std::vector<Color> aov[4];        // depth, normal, albedo, visibility per pixel
+    void reset(size_t samples, size_t pixels, bool aovs, bool stencil_used) {
+        depth.assign(samples + kPad, kInfinity);
+        tri.assign(samples + kPad, kNone);
+        if (stencil_used) stencil.assign(samples, 0);
+        if (l1.size() != samples + kPad) {
+            l1.resize(samples + kPad);
+            l2.resize(samples + kPad);
+        }
+        block_far.assign(static_cast<size_t>(kTile / kBlock) * (kTile / kBlock), kInfinity);
+        if (color.size() != pixels) color.resize(pixels);
+        if (aovs) {
+            for (auto& a : aov) a.resize(pixels);
+        }
+    }
+};
+
+struct SamplePattern {
+    int count = 1;
+    int32_t ox[kMaxSamplesPerPass], oy[kMaxSamplesPerPass];  // fixed-point offsets in the pixel
+    vec2 offset[kMaxSamplesPerPass];
+};
+
+/// Samples [first, first + count) of a frame's stratified, jittered pattern of spp samples
+/// per pixel: the same in every pixel, fixed by the seed (the pixel centre when spp is 1).
+SamplePattern sample_pattern(int spp, uint64_t seed, int first, int count);
+
+/// The triangle's edges, in the order of the barycentric weights of vertices 0, 1, 2.
+struct TriangleEdges {
+    Edge e[3];
+    double inv_area;
+    explicit TriangleEdges(const SetupTriangle& t)
+        : e{Edge::make(t.x[1], t.y[1], t.x[2], t.y[2]), Edge::make(t.x[2], t.y[2], t.x[0], t.y[0]),
+            Edge::make(t.x[0], t.y[0], t.x[1], t.y[1])},
+          inv_area(t.inv_area) {}
+    /// Screen-space barycentrics of vertices 1 and 2 at fixed-point (x, y).
+    vec2 weights(int64_t x, int64_t y) const {
+        return vec2(static_cast<float>(static_cast<double>(e[1].at(x, y)) * inv_area),
+                    static_cast<float>(static_cast<double>(e[2].at(x, y)) * inv_area));
+    }
+    /// The depth plane per pixel: z = z0 + dzdx (x - x0) + dzdy (y - y0), (x0, y0) vertex 0,
+    /// from the gradients of the weights of vertices 1 and 2.
+    void depth_gradient(const SetupTriangle& t, double& dzdx, double& dzdy) const {
+        double per_pixel = static_cast<double>(kSubpixel) * inv_area;
+        double z1 = t.z[1] - t.z[0], z2 = t.z[2] - t.z[0];
+        dzdx = (static_cast<double>(e[1].a) * z1 + static_cast<double>(e[2].a) * z2) * per_pixel;
+        dzdy = (static_cast<double>(e[1].b) * z1 + static_cast<double>(e[2].b) * z2) * per_pixel;
+    }
+};
+
+/// The pixels of a tile a triangle's bounds cover: [xs, xe) x [ys, ye).
+struct PixelSpan {
+    int xs, xe, ys, ye;
+};
+
+/// The fixed-point position of sample s of pixel `pixel` (row-major in the tile).
+inline int64_t sample_x(const Tile& tile, size_t pixel, const SamplePattern& sp, int s) {
+    auto tw = static_cast<size_t>(tile.x1 - tile.x0);
+    return static_cast<int64_t>(tile.x0 + static_cast<int>(pixel % tw)) * kSubpixel + sp.ox[s];
+}
+inline int64_t sample_y(const Tile& tile, size_t pixel, const SamplePattern& sp, int s) {
+    auto tw = static_cast<size_t>(tile.x1 - tile.x0);
+    return static_cast<int64_t>(tile.y0 + static_cast<int>(pixel / tw)) * kSubpixel + sp.oy[s];
+}
+
+/// The edges of the last triangle asked for: neighbouring samples mostly share a triangle.
+class EdgeCache {
+public:
+    explicit EdgeCache(const FrameState& f) : f_(f) {}
+    const TriangleEdges& of(uint32_t id) {
+        if (id != id_) {
+            edges_.emplace(f_.tri(id));
+            id_ = id;
+        }
+        return *edges_;
+    }
+
+private:
+    const FrameState& f_;
+    uint32_t id_ = kNone;
+    std::optional<TriangleEdges> edges_;
+};
+
+/// The guard band in clip space: |x| <= guard_x w, |y| <= guard_y w.
+inline float guard_x(const FrameState& f) {
+    return 1.0f + 2.0f * kGuardPixels / static_cast<float>(f.cam.width);
+}
+inline float guard_y(const FrameState& f) {
+    return 1.0f + 2.0f * kGuardPixels / static_cast<float>(f.cam.height);
+}
+
+/// Stage 2 for positions: perspective division, viewport and snapping of a vertex inside the
+/// near plane (w > 0).
+ScreenVertex project(const FrameState& f, const ClipVertex& cv);
+/// Stages 2 to 4 of a draw (draw_pass.cpp): the camera and the state into f, then the vertex
+/// stage, clipping, setup and binning.
+void prepare_pass(const std::vector<DrawMesh>& list, const CameraMatrices& camera,
+                  const PipelineState& state, FrameState& f, int threads);
+/// Bounds of triangles tight around the samples of `passes` (none but the wireframe's margin).
+void fit_sample_bounds(FrameState& f, const std::vector<SamplePattern>& passes);
+
+/// Stage 2 (vertex_stage.cpp): the vertex stage over every mesh; `base` receives each mesh's
+/// first vertex.
+void vertex_stage(const std::vector<DrawMesh>& meshes, FrameState& f, std::vector<uint32_t>& base,
+                  int threads);
+/// Stages 3 and 4 (setup_binning.cpp): clipping, setup and binning in drawing order.
+void assemble(const std::vector<DrawMesh>& meshes, const std::vector<uint32_t>& base, FrameState& f,
+              int threads);
+/// Stage 4 for the painter's algorithm: binned again, back to front.
+void bin_back_to_front(FrameState& f, int threads);
+/// Stage 5 (rasterize.cpp): every triangle binned in the tile, in order, into its buffers.
+void rasterize_tile(const FrameState& f, const Tile& tile, const SamplePattern& sp,
+                    const PipelineState& state, TileBuffers& buf);
+
+}  // namespace svetlo::raster

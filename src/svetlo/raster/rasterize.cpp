@@ -1,0 +1,311 @@
+// Stage 5: rasterization of the set-up triangles into a tile's buffers: Pineda's edge
+// functions with the top-left rule (edge_function.h), the stencil test (stencil.h) and the
+// depth test.
+#include <immintrin.h>
+
+#include <algorithm>
+
+#include "svetlo/core/rng.h"
+#include "svetlo/core/sampling.h"
+#include "svetlo/raster/pipeline.h"
+
+namespace svetlo::raster {
+
+namespace {
+
+/// Stage 5 for small triangles and one sample per pixel: edge functions relative to the
+/// triangle's corner fit in 32 bits, so four pixels are tested and depth-tested at once, and
+/// each written sample keeps its screen barycentrics for the shading. The blocks' deepest
+/// depths are left as they were: larger than the truth, which is safe.
+void rasterize_small(uint32_t id, const SetupTriangle& t, PixelSpan span, const Tile& tile,
+                     const SamplePattern& sp, bool depth_test, TileBuffers& buf) {
+    const auto [xs, xe, ys, ye] = span;
+    // Edge k, of vertex k's weight, runs from vertex i = k + 1 to j = k + 2 (Edge::make):
+    // E(x, y) = dx (y - y_i) - dy (x - x_i). Relative to vertex i, over the box |E| <=
+    // (|dx| + |dy|) (kSmall + 2) 256 with |dx|, |dy| <= kSmall 256: below 2^28, and the steps
+    // of four pixels below 2^24, so 32 bits hold everything exactly.
+    const int32_t ox = xs * kSubpixel + sp.ox[0], oy = ys * kSubpixel + sp.oy[0];
+    __m128i w_row[3], step_x[3], step_y[3];
+    int32_t a[3], bias[3];
+    for (int k = 0; k < 3; ++k) {
+        int i = (k + 1) % 3, j = (k + 2) % 3;
+        int32_t dx = t.x[j] - t.x[i], dy = t.y[j] - t.y[i];
+        bias[k] = (-dy > 0 || (dy == 0 && dx > 0)) ? 0 : -1;  // the top-left rule
+        int32_t origin = dx * (oy - t.y[i]) - dy * (ox - t.x[i]) + bias[k];
+        a[k] = -dy;
+        int32_t ax = a[k] * kSubpixel;
+        w_row[k] = _mm_add_epi32(_mm_set1_epi32(origin), _mm_set_epi32(3 * ax, 2 * ax, ax, 0));
+        step_x[k] = _mm_set1_epi32(4 * ax);
+        step_y[k] = _mm_set1_epi32(dx * kSubpixel);
+    }
+    // The depth plane (TriangleEdges::depth_gradient with these coefficients).
+    double per_pixel = static_cast<double>(kSubpixel) * static_cast<double>(t.inv_area);
+    double z1 = t.z[1] - t.z[0], z2 = t.z[2] - t.z[0];
+    auto dzdx = static_cast<float>(
+        (static_cast<double>(a[1]) * z1 + static_cast<double>(a[2]) * z2) * per_pixel);
+    auto dzdy = static_cast<float>(
+        (static_cast<double>(t.x[0] - t.x[2]) * z1 + static_cast<double>(t.x[1] - t.x[0]) * z2) *
+        per_pixel);
+    float z_origin = t.z[0] +
+                     dzdx * static_cast<float>(static_cast<double>(ox - t.x[0]) / kSubpixel) +
+                     dzdy * static_cast<float>(static_cast<double>(oy - t.y[0]) / kSubpixel);
+    const __m128 z_steps = _mm_mul_ps(_mm_set1_ps(dzdx), _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f));
+    const __m128 z_step4 = _mm_set1_ps(4.0f * dzdx);
+    const int tw = tile.x1 - tile.x0;
+    const __m128i lane = _mm_set_epi32(3, 2, 1, 0);
+    const __m128i id4 = _mm_set1_epi32(static_cast<int32_t>(id));
+    // The barycentrics the shading reads back: E / (2 area), without the fill rule's bias.
+    const __m128i bias1 = _mm_set1_epi32(bias[1]), bias2 = _mm_set1_epi32(bias[2]);
+    const __m128 inv_area = _mm_set1_ps(t.inv_area);
+    auto blend = [](__m128 mask, __m128 yes, __m128 no) {  // yes where mask, else no
+        return _mm_or_ps(_mm_and_ps(mask, yes), _mm_andnot_ps(mask, no));
+    };
+    for (int py = ys; py < ye; ++py) {
+        __m128i w0 = w_row[0], w1 = w_row[1], w2 = w_row[2];
+        __m128 z4 = _mm_add_ps(_mm_set1_ps(z_origin + dzdy * static_cast<float>(py - ys)), z_steps);
+        for (int px = xs; px < xe; px += 4) {
+            // Covered (every edge function's sign bit clear) and within the span.
+            __m128i outside = _mm_srai_epi32(_mm_or_si128(_mm_or_si128(w0, w1), w2), 31);
+            __m128i in_span = _mm_cmplt_epi32(lane, _mm_set1_epi32(xe - px));
+            __m128 covered = _mm_castsi128_ps(_mm_andnot_si128(outside, in_span));
+            // Four samples at once, without a branch (whether any is covered is hard to
+            // predict); the lanes not written write back what they read (the buffers have room
+            // for four samples past the tile).
+            size_t i = static_cast<size_t>(py - tile.y0) * tw + (px - tile.x0);
+            __m128 old_z = _mm_loadu_ps(&buf.depth[i]);
+            __m128i old_id = _mm_loadu_si128(reinterpret_cast<const __m128i*>(&buf.tri[i]));
+            __m128 pass = depth_test ? _mm_and_ps(covered, _mm_cmplt_ps(z4, old_z)) : covered;
+            __m128i pass_i = _mm_castps_si128(pass);
+            _mm_storeu_ps(&buf.depth[i], blend(pass, z4, old_z));
+            _mm_storeu_si128(
+                reinterpret_cast<__m128i*>(&buf.tri[i]),
+                _mm_or_si128(_mm_and_si128(pass_i, id4), _mm_andnot_si128(pass_i, old_id)));
+            __m128 l1 = _mm_mul_ps(_mm_cvtepi32_ps(_mm_sub_epi32(w1, bias1)), inv_area);
+            __m128 l2 = _mm_mul_ps(_mm_cvtepi32_ps(_mm_sub_epi32(w2, bias2)), inv_area);
+            _mm_storeu_ps(&buf.l1[i], blend(pass, l1, _mm_loadu_ps(&buf.l1[i])));
+            _mm_storeu_ps(&buf.l2[i], blend(pass, l2, _mm_loadu_ps(&buf.l2[i])));
+            w0 = _mm_add_epi32(w0, step_x[0]);
+            w1 = _mm_add_epi32(w1, step_x[1]);
+            w2 = _mm_add_epi32(w2, step_x[2]);
+            z4 = _mm_add_ps(z4, z_step4);
+        }
+        for (int k = 0; k < 3; ++k) w_row[k] = _mm_add_epi32(w_row[k], step_y[k]);
+    }
+}
+
+/// Stage 5: rasterizes triangle `id` into the tile's visibility buffer, 8 x 8 blocks at a
+/// time: a block where the triangle's nearest depth lies behind everything stored is skipped.
+/// Depth is the plane z(x, y) of the depth keys, stepped incrementally along each row.
+void rasterize(uint32_t id, const SetupTriangle& t, const TriangleEdges& te, PixelSpan span,
+               const Tile& tile, const SamplePattern& sp, bool depth_test, TileBuffers& buf) {
+    const auto [xs, xe, ys, ye] = span;
+    const Edge& e0 = te.e[0];
+    const Edge& e1 = te.e[1];
+    const Edge& e2 = te.e[2];
+    auto px_per_fixed = static_cast<double>(kSubpixel);
+    double dzdx, dzdy;
+    te.depth_gradient(t, dzdx, dzdy);
+    float zmin = std::min({t.z[0], t.z[1], t.z[2]});
+    const int tw = tile.x1 - tile.x0, S = sp.count, kB = TileBuffers::kBlock, bw = kTile / kB;
+    const int64_t d0 = e0.a * kSubpixel, d1 = e1.a * kSubpixel, d2 = e2.a * kSubpixel;
+    for (int by = (ys - tile.y0) / kB; by <= (ye - 1 - tile.y0) / kB; ++by) {
+        for (int bx = (xs - tile.x0) / kB; bx <= (xe - 1 - tile.x0) / kB; ++bx) {
+            float& far = buf.block_far[static_cast<size_t>(by) * bw + bx];
+            if (depth_test && zmin >= far) continue;  // hidden in the whole block
+            int x0 = std::max(xs, tile.x0 + bx * kB), x1 = std::min(xe, tile.x0 + (bx + 1) * kB);
+            int y0 = std::max(ys, tile.y0 + by * kB), y1 = std::min(ye, tile.y0 + (by + 1) * kB);
+            bool wrote = false;
+            // A block whose every sample is inside all three edges (the edge functions are
+            // linear: checking the corners suffices) needs only the depth test, four pixels
+            // at a time.
+            bool full = S == 1;
+            for (int k = 0; k < 3 && full; ++k) {
+                const Edge& e = te.e[k];
+                int64_t xa = static_cast<int64_t>(x0) * kSubpixel,
+                        xb = static_cast<int64_t>(x1) * kSubpixel - 1;
+                int64_t ya = static_cast<int64_t>(y0) * kSubpixel,
+                        yb = static_cast<int64_t>(y1) * kSubpixel - 1;
+                int64_t lowest = std::min(std::min(e.at(xa, ya), e.at(xb, ya)),
+                                          std::min(e.at(xa, yb), e.at(xb, yb)));
+                full = lowest + e.bias >= 0;
+            }
+            if (full) {
+                const __m128 steps = _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f);
+                const __m128i ids = _mm_set1_epi32(static_cast<int>(id));
+                auto dz = static_cast<float>(dzdx);
+                for (int py = y0; py < y1; ++py) {
+                    double fx = static_cast<double>(static_cast<int64_t>(x0) * kSubpixel +
+                                                    sp.ox[0] - t.x[0]) /
+                                px_per_fixed;
+                    double fy = static_cast<double>(static_cast<int64_t>(py) * kSubpixel +
+                                                    sp.oy[0] - t.y[0]) /
+                                px_per_fixed;
+                    auto z = static_cast<float>(t.z[0] + dzdx * fx + dzdy * fy);
+                    size_t i = static_cast<size_t>(py - tile.y0) * tw + (x0 - tile.x0);
+                    int px = x0;
+                    for (; px + 4 <= x1; px += 4, i += 4, z += 4.0f * dz) {
+                        __m128 z4 = _mm_add_ps(_mm_set1_ps(z), _mm_mul_ps(_mm_set1_ps(dz), steps));
+                        __m128 d = _mm_loadu_ps(&buf.depth[i]);
+                        __m128 m =
+                            depth_test ? _mm_cmplt_ps(z4, d) : _mm_castsi128_ps(_mm_set1_epi32(-1));
+                        if (_mm_movemask_ps(m) == 0) continue;
+                        _mm_storeu_ps(&buf.depth[i],
+                                      _mm_or_ps(_mm_and_ps(m, z4), _mm_andnot_ps(m, d)));
+                        auto* tp = reinterpret_cast<__m128i*>(&buf.tri[i]);
+                        __m128i mi = _mm_castps_si128(m);
+                        _mm_storeu_si128(tp,
+                                         _mm_or_si128(_mm_and_si128(mi, ids),
+                                                      _mm_andnot_si128(mi, _mm_loadu_si128(tp))));
+                        wrote = true;
+                    }
+                    for (; px < x1; ++px, ++i, z += dz) {
+                        if (depth_test && !(z < buf.depth[i])) continue;
+                        buf.depth[i] = z;
+                        buf.tri[i] = id;
+                        wrote = true;
+                    }
+                }
+            }
+            for (int py = y0; py < y1 && !full; ++py) {
+                for (int s = 0; s < S; ++s) {
+                    int64_t sy = static_cast<int64_t>(py) * kSubpixel + sp.oy[s];
+                    int64_t sx = static_cast<int64_t>(x0) * kSubpixel + sp.ox[s];
+                    int64_t w0 = e0.at(sx, sy) + e0.bias, w1 = e1.at(sx, sy) + e1.bias,
+                            w2 = e2.at(sx, sy) + e2.bias;
+                    double fx = static_cast<double>(sx - t.x[0]) / px_per_fixed,
+                           fy = static_cast<double>(sy - t.y[0]) / px_per_fixed;
+                    auto z = static_cast<float>(t.z[0] + dzdx * fx + dzdy * fy);
+                    auto dz = static_cast<float>(dzdx);
+                    size_t i = (static_cast<size_t>(py - tile.y0) * tw + (x0 - tile.x0)) * S + s;
+                    for (int px = x0; px < x1;
+                         ++px, w0 += d0, w1 += d1, w2 += d2, z += dz, i += S) {
+                        if ((w0 | w1 | w2) < 0) continue;
+                        if (depth_test && !(z < buf.depth[i])) continue;
+                        buf.depth[i] = z;
+                        buf.tri[i] = id;
+                        wrote = true;
+                    }
+                }
+            }
+            if (wrote && depth_test) {
+                // The block's deepest sample may have come nearer: the max over its rows, four
+                // lanes at a time (each row of the block is contiguous).
+                __m128 deepest = _mm_set1_ps(-kInfinity);
+                float tail = -kInfinity;
+                int px0 = bx * kB, px1 = std::min(tw, (bx + 1) * kB);
+                for (int py = tile.y0 + by * kB; py < std::min(tile.y1, tile.y0 + (by + 1) * kB);
+                     ++py) {
+                    const float* row =
+                        buf.depth.data() + (static_cast<size_t>(py - tile.y0) * tw + px0) * S;
+                    size_t n = static_cast<size_t>(px1 - px0) * S, i = 0;
+                    for (; i + 4 <= n; i += 4) deepest = _mm_max_ps(deepest, _mm_loadu_ps(row + i));
+                    for (; i < n; ++i) tail = std::max(tail, row[i]);
+                }
+                alignas(16) float lanes[4];
+                _mm_store_ps(lanes, deepest);
+                far = std::max({lanes[0], lanes[1], lanes[2], lanes[3], tail});
+            }
+        }
+    }
+}
+
+/// What a pass does with the samples a triangle covers (OpenGL's depth and stencil state).
+
+/// Stage 5, the plain form a student can follow: per sample, the stencil test and its
+/// operations around the depth test (stencil.h), and the depth written only when the state
+/// says so. Used when the stencil is on or depth writes are off; no hierarchical z, and the
+/// blocks' deepest depths are left as they were (larger than the truth: safe).
+void rasterize_plain(uint32_t id, const SetupTriangle& t, const TriangleEdges& te, PixelSpan span,
+                     const Tile& tile, const SamplePattern& sp, const PipelineState& state,
+                     TileBuffers& buf) {
+    const auto [xs, xe, ys, ye] = span;
+    const StencilState& st = state.stencil;
+    const StencilFace& face = t.front ? st.front : st.back;
+    double dzdx, dzdy;
+    te.depth_gradient(t, dzdx, dzdy);
+    const int tw = tile.x1 - tile.x0, S = sp.count;
+    for (int py = ys; py < ye; ++py) {
+        for (int px = xs; px < xe; ++px) {
+            for (int s = 0; s < S; ++s) {
+                int64_t sx = static_cast<int64_t>(px) * kSubpixel + sp.ox[s];
+                int64_t sy = static_cast<int64_t>(py) * kSubpixel + sp.oy[s];
+                bool covered = true;
+                for (const Edge& e : te.e) covered = covered && e.at(sx, sy) + e.bias >= 0;
+                if (!covered) continue;
+                size_t i = (static_cast<size_t>(py - tile.y0) * tw + (px - tile.x0)) * S + s;
+                uint8_t unused = 0;
+                uint8_t& stencil = st.enabled ? buf.stencil[i] : unused;
+                if (st.enabled && !stencil_test(face.func, st.ref, stencil, st.read_mask)) {
+                    stencil = stencil_apply(face.fail, stencil, st.ref, st.write_mask);
+                    continue;
+                }
+                auto z = static_cast<float>(t.z[0] +
+                                            dzdx * static_cast<double>(sx - t.x[0]) / kSubpixel +
+                                            dzdy * static_cast<double>(sy - t.y[0]) / kSubpixel);
+                if (state.depth_test && !(z < buf.depth[i])) {
+                    if (st.enabled)
+                        stencil = stencil_apply(face.depth_fail, stencil, st.ref, st.write_mask);
+                    continue;
+                }
+                if (st.enabled) stencil = stencil_apply(face.pass, stencil, st.ref, st.write_mask);
+                if (state.depth_write) buf.depth[i] = z;
+                buf.tri[i] = id;
+            }
+        }
+    }
+}
+
+/// Stage 5 for one triangle in one tile: the small-triangle path or the general one.
+void draw_triangle(uint32_t id, const SetupTriangle& t, const Tile& tile, const SamplePattern& sp,
+                   const PipelineState& state, TileBuffers& buf) {
+    const bool depth_test = state.depth_test;
+    PixelSpan span{std::max(t.x0(), tile.x0), std::min(t.x1(), tile.x1), std::max(t.y0(), tile.y0),
+                   std::min(t.y1(), tile.y1)};
+    if (span.xs >= span.xe || span.ys >= span.ye) return;
+    if (state.stencil.enabled || !state.depth_write) {
+        rasterize_plain(id, t, TriangleEdges(t), span, tile, sp, state, buf);
+    } else if (t.small && sp.count == 1) {
+        rasterize_small(id, t, span, tile, sp, depth_test, buf);
+    } else {
+        rasterize(id, t, TriangleEdges(t), span, tile, sp, depth_test, buf);
+    }
+}
+
+/// Perspective-correct weights of a sample: the screen barycentrics over w (q), and
+
+}  // namespace
+
+SamplePattern sample_pattern(int spp, uint64_t seed, int first, int count) {
+    SamplePattern p;
+    p.count = count;
+    for (int s = 0; s < count; ++s) {
+        int k = first + s;
+        vec2 o(0.5f);
+        if (spp > 1) {
+            Rng rng(seed * 0x9e3779b97f4a7c15ULL + static_cast<uint64_t>(k), 0x5ca1ab1eULL);
+            o = stratified_sample(k, spp, vec2(rng.next_float(), rng.next_float()));
+        }
+        p.ox[s] = std::min(kSubpixel - 1, static_cast<int32_t>(o.x * kSubpixel));
+        p.oy[s] = std::min(kSubpixel - 1, static_cast<int32_t>(o.y * kSubpixel));
+        p.offset[s] = vec2(static_cast<float>(p.ox[s]), static_cast<float>(p.oy[s])) /
+                      static_cast<float>(kSubpixel);
+    }
+    return p;
+}
+
+void rasterize_tile(const FrameState& f, const Tile& tile, const SamplePattern& sp,
+                    const PipelineState& state, TileBuffers& buf) {
+    size_t ti = static_cast<size_t>(tile.y0 / kTile) * f.tiles_x + tile.x0 / kTile;
+    for (const FrameState::Bins& b : f.bins) {
+        const uint32_t end = b.start[ti + 1];
+        for (uint32_t k = b.start[ti]; k < end; ++k) {
+            // The triangles of a tile are scattered over the frame's: fetch ahead.
+            constexpr uint32_t kAhead = 8;
+            if (k + kAhead < end)
+                _mm_prefetch(reinterpret_cast<const char*>(&f.tri(b.ids[k + kAhead])), _MM_HINT_T0);
+            draw_triangle(b.ids[k], f.tri(b.ids[k]), tile, sp, state, buf);
+        }
+    }
+}
+
+}  // namespace svetlo::raster

@@ -1,0 +1,237 @@
+// Stages 3 and 4: primitive assembly, clipping, setup, and binning into tiles.
+#include <algorithm>
+
+#include "svetlo/core/parallel.h"
+#include "svetlo/raster/fragment.h"
+#include "svetlo/raster/pipeline.h"
+
+namespace svetlo::raster {
+
+namespace {
+
+/// Stage 3 for one triangle: screen area, culling and bounds. False when it draws nothing.
+bool setup_triangle(const FrameState& f, const ScreenVertex* sv[3], const uint32_t index[3],
+                    uint32_t material, SetupTriangle& t) {
+    t.make_empty();  // until set up
+    for (int i = 0; i < 3; ++i) {
+        t.x[i] = sv[i]->x;
+        t.y[i] = sv[i]->y;
+        t.z[i] = sv[i]->z;
+        t.v[i] = index[i];
+    }
+    int64_t area = signed_area2(t.x, t.y);
+    if (area == 0) return false;  // degenerate on the screen: covers no sample
+    t.front = front_facing(area) ? 1 : 0;
+    t.inv_area = 1.0f / static_cast<float>(std::abs(area));
+    if ((f.cull == CullMode::Back && !t.front) || (f.cull == CullMode::Front && t.front))
+        return false;
+    if (area < 0) {  // wound so that the area is positive, as the edge functions want
+        std::swap(t.x[1], t.x[2]);
+        std::swap(t.y[1], t.y[2]);
+        std::swap(t.z[1], t.z[2]);
+        std::swap(t.v[1], t.v[2]);
+    }
+    int32_t xmin = std::min({t.x[0], t.x[1], t.x[2]}), xmax = std::max({t.x[0], t.x[1], t.x[2]});
+    int32_t ymin = std::min({t.y[0], t.y[1], t.y[2]}), ymax = std::max({t.y[0], t.y[1], t.y[2]});
+    // Pixel i's samples lie at i + o, o in [lo, hi] (f.sample_bounds, fixed point): it may hold
+    // a covered one when i >= ceil((min - hi) / 256) and i <= floor((max - lo) / 256). The
+    // wireframe wants a pixel more on each side (Wu's lines spread to the neighbours, and
+    // triangles that cover no sample still have edges).
+    const auto& b = f.sample_bounds;
+    int32_t x0 = std::max(0, -((b.hi.x - xmin) >> kSubpixelBits) - b.margin),
+            y0 = std::max(0, -((b.hi.y - ymin) >> kSubpixelBits) - b.margin);
+    int32_t x1 = std::min(f.cam.width, ((xmax - b.lo.x) >> kSubpixelBits) + 1 + b.margin),
+            y1 = std::min(f.cam.height, ((ymax - b.lo.y) >> kSubpixelBits) + 1 + b.margin);
+    if (x0 >= x1 || y0 >= y1) return false;
+    t.bx0 = static_cast<uint16_t>(x0);
+    t.by0 = static_cast<uint16_t>(y0);
+    t.bx1 = static_cast<uint16_t>(x1 - 1);
+    t.by1 = static_cast<uint16_t>(y1 - 1);
+    t.material = material;
+    // The triangle itself, not its bounds clamped to the film: the edge coefficients grow with it.
+    t.small = xmax - xmin <= kSmall * kSubpixel && ymax - ymin <= kSmall * kSubpixel ? 1 : 0;
+    return true;
+}
+
+/// A normal of the counter-clockwise side of a set-up triangle (world space, twice the area
+
+/// A triangle to bin: its id and the tiles its bounds touch, [tx0, tx1] x [ty0, ty1].
+struct Binned {
+    uint32_t id;
+    uint16_t tx0, ty0, tx1, ty1;
+};
+
+Binned binned(uint32_t id, const SetupTriangle& t) {
+    return {id, static_cast<uint16_t>(t.x0() / kTile), static_cast<uint16_t>(t.y0() / kTile),
+            static_cast<uint16_t>((t.x1() - 1) / kTile),
+            static_cast<uint16_t>((t.y1() - 1) / kTile)};
+}
+
+/// Stage 4 for one chunk: its triangles (in drawing order) into tiles, as compressed rows:
+/// tile k's triangles are b.ids[b.start[k] .. b.start[k + 1]).
+void bin_chunk(const FrameState& f, const std::vector<Binned>& tris, FrameState::Bins& b) {
+    size_t tiles = static_cast<size_t>(f.tiles_x) * f.tiles_y;
+    b.start.assign(tiles + 1, 0);
+    auto each = [&](auto&& visit) {
+        for (const Binned& t : tris) {
+            for (size_t ty = t.ty0; ty <= t.ty1; ++ty) {
+                for (size_t tx = t.tx0; tx <= t.tx1; ++tx) visit(ty * f.tiles_x + tx, t.id);
+            }
+        }
+    };
+    each([&](size_t tile, uint32_t) { b.start[tile + 1]++; });
+    for (size_t k = 0; k < tiles; ++k) b.start[k + 1] += b.start[k];
+    b.ids.resize(b.start[tiles]);
+    std::vector<uint32_t> fill(b.start.begin(), b.start.end() - 1);
+    each([&](size_t tile, uint32_t id) { b.ids[fill[tile]++] = id; });
+}
+
+}  // namespace
+
+/// Stage 3: primitive assembly, clipping and setup of every triangle, in chunks of kChunk
+/// triangles. An unclipped triangle is set up in its own slot; the pieces of clipped ones go
+/// to per-chunk lists appended after the slots, so the order never depends on threads.
+void assemble(const std::vector<DrawMesh>& meshes, const std::vector<uint32_t>& base, FrameState& f,
+              int threads) {
+    // Triangle s of the frame is triangle s - first_tri[k] of mesh k.
+    std::vector<size_t> first_tri(meshes.size() + 1, 0);
+    for (size_t k = 0; k < meshes.size(); ++k)
+        first_tri[k + 1] = first_tri[k] + meshes[k].mesh.triangle_count();
+    const size_t total = first_tri.back();
+    size_t chunks = (total + kChunk - 1) / kChunk;
+    f.tris.reuse(total);
+    std::vector<std::vector<SetupTriangle>> clipped(chunks);
+    std::vector<std::vector<ClipVertex>> extra(chunks);
+    std::vector<size_t> counts(chunks, 0);
+    f.tiles_x = (f.cam.width + kTile - 1) / kTile;
+    f.tiles_y = (f.cam.height + kTile - 1) / kTile;
+    f.bins.assign(chunks, {});
+    float gx = guard_x(f), gy = guard_y(f);
+    const bool flat_mode = f.mode == Mode::Flat;
+    if (flat_mode) f.flat.reuse(total);
+    std::vector<std::vector<Color>> clipped_flat(chunks);
+    std::vector<std::vector<uint32_t>> clipped_source(chunks);
+    parallel_indices(chunks, threads, [&](size_t c) {
+        const size_t begin = c * kChunk, end = std::min(total, (c + 1) * kChunk);
+        std::vector<Binned> to_bin(end - begin);  // binned while the chunk is in cache, below
+        size_t binned_count = 0;
+        size_t mesh = static_cast<size_t>(
+            std::upper_bound(first_tri.begin(), first_tri.end(), begin) - first_tri.begin() - 1);
+        for (size_t s = begin; s < end;) {
+            while (s >= first_tri[mesh + 1]) ++mesh;  // skips empty meshes too
+            // The chunk's triangles of this mesh, with its arrays held in locals (the stores
+            // below could otherwise alias them, and they would be reloaded every time).
+            const Mesh& m = meshes[mesh].mesh;
+            const uint32_t* indices = m.indices.data() + 3 * (s - first_tri[mesh]);
+            const int* face_material = m.face_material.data() + (s - first_tri[mesh]);
+            const uint32_t vertex_base = base[mesh];
+            for (const size_t mesh_end = std::min(end, first_tri[mesh + 1]); s < mesh_end;
+                 ++s, indices += 3, ++face_material) {
+                uint32_t idx[3];
+                const ScreenVertex* sv[3];
+                for (int i = 0; i < 3; ++i) {
+                    idx[i] = vertex_base + indices[i];
+                    sv[i] = &f.screen[idx[i]];
+                }
+                auto material = static_cast<uint32_t>(*face_material);
+                SetupTriangle& slot = f.tris[s];
+                if (flat_mode) f.flat[s] = flat_colour(f, idx, material);
+                if (sv[0]->inside & sv[1]->inside & sv[2]->inside) {
+                    if (setup_triangle(f, sv, idx, material, slot))
+                        to_bin[binned_count++] = binned(static_cast<uint32_t>(s), slot);
+                    continue;
+                }
+                slot.make_empty();
+                ClipPolygon poly = clip_triangle(f.vertices[idx[0]], f.vertices[idx[1]],
+                                                 f.vertices[idx[2]], gx, gy);
+                if (poly.count < 3) continue;
+                auto first = static_cast<uint32_t>(extra[c].size());
+                std::array<ScreenVertex, std::tuple_size_v<decltype(ClipPolygon::v)>> ps;
+                for (int k = 0; k < poly.count; ++k) {
+                    extra[c].push_back(poly.v[static_cast<size_t>(k)]);
+                    ps[k] = project(f, poly.v[static_cast<size_t>(k)]);
+                }
+                for (int k = 1; k + 1 < poly.count; ++k) {
+                    const ScreenVertex* fv[3] = {&ps[0], &ps[k], &ps[k + 1]};
+                    SetupTriangle piece;
+                    // Chunk-local vertex indices for now: fixed up when the chunks are joined.
+                    uint32_t local[3] = {kExtra | first,
+                                         kExtra | (first + static_cast<uint32_t>(k)),
+                                         kExtra | (first + static_cast<uint32_t>(k) + 1)};
+                    if (setup_triangle(f, fv, local, material, piece)) {
+                        clipped[c].push_back(piece);
+                        clipped_source[c].push_back(static_cast<uint32_t>(s));
+                        if (flat_mode) clipped_flat[c].push_back(f.flat[s]);
+                    }
+                }
+            }
+        }
+        // Its slots, then its pieces (ids chunk-local until the pieces are concatenated below).
+        to_bin.resize(binned_count);
+        counts[c] = binned_count;
+        for (size_t k = 0; k < clipped[c].size(); ++k)
+            to_bin.push_back(binned(kExtra | static_cast<uint32_t>(k), clipped[c][k]));
+        bin_chunk(f, to_bin, f.bins[c]);
+    });
+    // Concatenate the clipped pieces and their vertices, chunk after chunk.
+    for (size_t c = 0; c < chunks; ++c) {
+        auto offset = static_cast<uint32_t>(f.extra.size());
+        f.extra.insert(f.extra.end(), extra[c].begin(), extra[c].end());
+        auto begin = static_cast<uint32_t>(f.clipped.size());
+        for (SetupTriangle t : clipped[c]) {
+            for (uint32_t& v : t.v) v = kExtra | (offset + (v & ~kExtra));
+            f.clipped.push_back(t);
+        }
+        f.clipped_flat.insert(f.clipped_flat.end(), clipped_flat[c].begin(), clipped_flat[c].end());
+        f.clipped_source.insert(f.clipped_source.end(), clipped_source[c].begin(),
+                                clipped_source[c].end());
+        f.clipped_range.emplace_back(begin, static_cast<uint32_t>(f.clipped.size()));
+        f.triangle_count += counts[c] + clipped[c].size();
+    }
+    auto main_count = static_cast<uint32_t>(f.tris.size());
+    parallel_indices(chunks, threads, [&](size_t c) {
+        if (clipped[c].empty()) return;
+        for (uint32_t& id : f.bins[c].ids) {
+            if (id & kExtra) id = main_count + f.clipped_range[c].first + (id & ~kExtra);
+        }
+    });
+}
+
+/// Stage 4 for the painter's algorithm: every triangle sorted back to front by the
+/// centroid's depth (ties keep the submission order), then binned again chunk by chunk.
+/// (The z-buffer's bins are made by `assemble`, each chunk's right after its setup.)
+void bin_back_to_front(FrameState& f, int threads) {
+    std::vector<uint32_t> order;
+    order.reserve(f.triangle_count);
+    auto main_count = static_cast<uint32_t>(f.tris.size());
+    for (size_t c = 0; c < f.clipped_range.size(); ++c) {  // the submission order
+        for (uint32_t id = static_cast<uint32_t>(c * kChunk);
+             id < std::min<size_t>(main_count, (c + 1) * kChunk); ++id) {
+            if (!f.tris[id].empty()) order.push_back(id);
+        }
+        for (uint32_t k = f.clipped_range[c].first; k < f.clipped_range[c].second; ++k)
+            order.push_back(main_count + k);
+    }
+    // The centroid's distance along the view axis: mean w (perspective) or mean z (orthographic).
+    std::vector<float> key(f.tris.size() + f.clipped.size());
+    for (uint32_t id : order) {
+        const SetupTriangle& t = f.tri(id);
+        float sum = 0.0f;
+        for (uint32_t v : t.v) sum += f.ortho ? f.vertex(v).clip.z : f.vertex(v).clip.w;
+        key[id] = sum / 3.0f;
+    }
+    std::stable_sort(order.begin(), order.end(),
+                     [&](uint32_t a, uint32_t b) { return key[a] > key[b]; });
+    size_t chunks = (order.size() + kChunk - 1) / kChunk;
+    f.bins.assign(chunks, {});
+    parallel_indices(chunks, threads, [&](size_t c) {
+        std::vector<Binned> to_bin;
+        for (size_t k = c * kChunk; k < std::min(order.size(), (c + 1) * kChunk); ++k)
+            to_bin.push_back(binned(order[k], f.tri(order[k])));
+        bin_chunk(f, to_bin, f.bins[c]);
+    });
+}
+
+/// Per-thread buffers of a tile: the visibility buffer (depth and triangle per sample), and
+
+}  // namespace svetlo::raster

@@ -1,0 +1,147 @@
+// The pass entry point (draw_pass.h): depth-only passes against the closed form of the depth
+// key, depth writes off, the stencil's per-face operations and culling by the side the
+// camera sees, the item buffer through clipping, and the same targets on one thread and two.
+#include "svetlo/raster/draw_pass.h"
+
+#include <gtest/gtest.h>
+
+namespace svetlo {
+namespace {
+
+/// A square of half size `h` at depth z (world), facing +z (the camera) or -z.
+DrawMesh square(float z, float h, bool toward_camera) {
+    DrawMesh d;
+    d.mesh.positions = {vec3(-h, -h, z), vec3(h, -h, z), vec3(h, h, z), vec3(-h, h, z)};
+    d.mesh.indices = toward_camera ? std::vector<uint32_t>{0, 1, 2, 0, 2, 3}
+                                   : std::vector<uint32_t>{0, 2, 1, 0, 3, 2};
+    d.mesh.face_material = {0, 0};
+    return d;
+}
+
+/// A camera at (0, 0, 5) looking down -z, 32 x 32 pixels, near and far around z in [-5, 4].
+CameraMatrices camera(Camera::Type type = Camera::Type::Perspective) {
+    Camera c;
+    c.type = type;
+    c.position = vec3(0, 0, 5);
+    c.look_at = vec3(0.0f);
+    c.fov_deg = 40.0f;
+    c.height = 4.0f;
+    return camera_matrices(c, 32, 32, Bounds3{vec3(-3, -3, -5), vec3(3, 3, 4)});
+}
+
+TEST(DrawPass, ADepthPassStoresTheDepthKeyOfTheNearestSurface) {
+    for (auto type : {Camera::Type::Perspective, Camera::Type::Orthographic}) {
+        CameraMatrices cam = camera(type);
+        RenderTargets t;
+        t.clear(32, 32);
+        // Two squares: the nearer (z = 1, 4 from the camera) drawn last; the depth test keeps it.
+        draw_pass({square(-2.0f, 1.8f, true), square(1.0f, 0.5f, true)}, cam, PipelineState{}, t,
+                  2);
+        float key_near, key_far;
+        if (type == Camera::Type::Perspective) {  // -1/w, w the distance along the view axis
+            key_near = -1.0f / 4.0f;
+            key_far = -1.0f / 7.0f;
+        } else {  // window z: (d - near) / (far - near)
+            key_near = (4.0f - cam.near) / (cam.far - cam.near);
+            key_far = (7.0f - cam.near) / (cam.far - cam.near);
+        }
+        EXPECT_NEAR(t.depth[t.index(16, 16)], key_near, 1e-5f);
+        // The far square shows around the near one, and nothing beyond both.
+        float half_near_px = 0.5f / (std::tan(radians(20.0f)) * 4.0f) * 16.0f;
+        int x =
+            type == Camera::Type::Perspective ? 16 + static_cast<int>(half_near_px) + 2 : 16 + 6;
+        EXPECT_NEAR(t.depth[t.index(x, 16)], key_far, 1e-5f);
+        EXPECT_EQ(t.depth[t.index(0, 0)], kInfinity);
+    }
+}
+
+TEST(DrawPass, DepthWritesOffLeaveTheDepthButStillTestIt) {
+    RenderTargets t;
+    t.clear(32, 32, 1, false, true);
+    draw_pass({square(-2.0f, 1.0f, true)}, camera(), PipelineState{}, t, 1);
+    std::vector<float> before = t.depth;
+    PipelineState state;
+    state.depth_write = false;
+    // A nearer square of two triangles (ids 0 and 1 of this list) is kept where it passes,
+    // without changing the depth; a farther one is rejected everywhere.
+    t.primitive.assign(t.primitive.size(), RenderTargets::kNoPrimitive);
+    draw_pass({square(-3.0f, 1.0f, true), square(1.0f, 0.3f, true)}, camera(), state, t, 1);
+    EXPECT_EQ(t.depth, before);
+    EXPECT_NE(t.primitive[t.index(16, 16)], RenderTargets::kNoPrimitive);  // the near square
+    EXPECT_GE(t.primitive[t.index(16, 16)], 2u);
+    int far_kept = 0;
+    for (uint32_t p : t.primitive) far_kept += p < 2u ? 1 : 0;
+    EXPECT_EQ(far_kept, 0);
+}
+
+/// Stencil state that adds 1 where a front face passes and subtracts 1 where a back face does
+/// (with wrapping, as z-pass shadow volumes count).
+PipelineState counting_state() {
+    PipelineState s;
+    s.depth_write = false;
+    s.stencil.enabled = true;
+    s.stencil.front = {StencilFunc::Always, StencilOp::Keep, StencilOp::Keep, StencilOp::IncrWrap};
+    s.stencil.back = {StencilFunc::Always, StencilOp::Keep, StencilOp::Keep, StencilOp::DecrWrap};
+    return s;
+}
+
+TEST(DrawPass, TheStencilCountsUpOnFrontFacesAndDownOnBackFaces) {
+    for (int threads : {1, 2}) {
+        RenderTargets t;
+        t.clear(32, 32, 1, true);
+        // A large square facing the camera, a small one facing away in front of it.
+        draw_pass({square(-1.0f, 1.5f, true), square(0.5f, 0.4f, false)}, camera(),
+                  counting_state(), t, threads);
+        EXPECT_EQ(t.stencil[t.index(16, 16)], 0);  // both: +1 - 1
+        EXPECT_EQ(t.stencil[t.index(16, 22)], 1);  // the front face only
+        EXPECT_EQ(t.stencil[t.index(0, 0)], 0);    // neither
+        // The back face alone, with wrapping: 0 - 1 = 255.
+        RenderTargets back;
+        back.clear(32, 32, 1, true);
+        draw_pass({square(0.5f, 0.4f, false)}, camera(), counting_state(), back, threads);
+        EXPECT_EQ(back.stencil[back.index(16, 16)], 255);
+    }
+}
+
+TEST(DrawPass, CullingDropsTheSideItNames) {
+    for (CullMode cull : {CullMode::None, CullMode::Back, CullMode::Front}) {
+        for (bool toward : {true, false}) {
+            RenderTargets t;
+            t.clear(32, 32);
+            PipelineState state;
+            state.cull = cull;
+            draw_pass({square(0.0f, 1.0f, toward)}, camera(), state, t, 2);
+            bool drawn = t.depth[t.index(16, 16)] < kInfinity;
+            bool expected = cull == CullMode::None || (cull == CullMode::Back) == toward;
+            EXPECT_EQ(drawn, expected) << static_cast<int>(cull) << " toward=" << toward;
+        }
+    }
+}
+
+TEST(DrawPass, TheItemBufferNamesTheInputTriangleThroughClipping) {
+    // A floor from under the camera to far ahead: its triangles cross the near plane, and
+    // their clipped pieces still report the input triangle.
+    DrawMesh floor;
+    floor.mesh.positions = {vec3(-4, -1, 6), vec3(4, -1, 6), vec3(4, -1, -5), vec3(-4, -1, -5)};
+    floor.mesh.indices = {0, 1, 2, 0, 2, 3};
+    floor.mesh.face_material = {0, 0};
+    RenderTargets one, two;
+    one.clear(32, 32, 4, false, true);
+    two.clear(32, 32, 4, false, true);
+    draw_pass({square(0.0f, 0.3f, true), floor}, camera(), PipelineState{}, one, 1, 7);
+    draw_pass({square(0.0f, 0.3f, true), floor}, camera(), PipelineState{}, two, 2, 7);
+    EXPECT_EQ(one.primitive, two.primitive);
+    EXPECT_EQ(one.depth, two.depth);
+    int seen[4] = {0, 0, 0, 0};
+    for (uint32_t p : one.primitive) {
+        ASSERT_TRUE(p == RenderTargets::kNoPrimitive || p < 4u) << p;
+        if (p < 4u) ++seen[p];
+    }
+    for (int k = 0; k < 4; ++k) EXPECT_GT(seen[k], 0) << k;  // square 0, 1; floor 2, 3
+    // The bottom row sees the floor's near end, clipped at the near plane.
+    uint32_t bottom = one.primitive[one.index(16, 31)];
+    EXPECT_TRUE(bottom == 2u || bottom == 3u);
+}
+
+}  // namespace
+}  // namespace svetlo
