@@ -8,14 +8,34 @@
 namespace svetlo {
 namespace {
 
-/// A square of half size `h` at depth z (world), facing +z (the camera) or -z.
-DrawMesh square(float z, float h, bool toward_camera) {
-    DrawMesh d;
-    d.mesh.positions = {vec3(-h, -h, z), vec3(h, -h, z), vec3(h, h, z), vec3(-h, h, z)};
-    d.mesh.indices = toward_camera ? std::vector<uint32_t>{0, 1, 2, 0, 2, 3}
-                                   : std::vector<uint32_t>{0, 2, 1, 0, 3, 2};
-    d.mesh.face_material = {0, 0};
-    return d;
+/// Appends the quad a, b, c, d (counter-clockwise seen from its front) as two triangles.
+void add_quad(TriangleList& list, vec3 a, vec3 b, vec3 c, vec3 d) {
+    auto base = static_cast<uint32_t>(list.positions.size());
+    for (vec3 p : {a, b, c, d}) {
+        list.positions.push_back(p);
+        list.normals.push_back(vec3(0.0f));
+        list.uvs.push_back(vec2(0.0f));
+    }
+    for (uint32_t i : {0u, 1u, 2u, 0u, 2u, 3u}) list.indices.push_back(base + i);
+    list.material.insert(list.material.end(), {0u, 0u});
+}
+
+/// A square of half size h at depth z (world), facing +z (the camera) or -z.
+struct Square {
+    float z, h;
+    bool toward_camera;
+};
+
+TriangleList squares(std::initializer_list<Square> list) {
+    TriangleList out;
+    for (const Square& q : list) {
+        vec3 a(-q.h, -q.h, q.z), b(q.h, -q.h, q.z), c(q.h, q.h, q.z), d(-q.h, q.h, q.z);
+        if (q.toward_camera)
+            add_quad(out, a, b, c, d);
+        else
+            add_quad(out, a, d, c, b);
+    }
+    return out;
 }
 
 /// A camera at (0, 0, 5) looking down -z, 32 x 32 pixels, near and far around z in [-5, 4].
@@ -35,8 +55,7 @@ TEST(DrawPass, ADepthPassStoresTheDepthKeyOfTheNearestSurface) {
         RenderTargets t;
         t.clear(32, 32);
         // Two squares: the nearer (z = 1, 4 from the camera) drawn last; the depth test keeps it.
-        draw_pass({square(-2.0f, 1.8f, true), square(1.0f, 0.5f, true)}, cam, PipelineState{}, t,
-                  2);
+        draw_pass(squares({{-2.0f, 1.8f, true}, {1.0f, 0.5f, true}}), cam, PipelineState{}, t, 2);
         float key_near, key_far;
         if (type == Camera::Type::Perspective) {  // -1/w, w the distance along the view axis
             key_near = -1.0f / 4.0f;
@@ -58,14 +77,14 @@ TEST(DrawPass, ADepthPassStoresTheDepthKeyOfTheNearestSurface) {
 TEST(DrawPass, DepthWritesOffLeaveTheDepthButStillTestIt) {
     RenderTargets t;
     t.clear(32, 32, 1, false, true);
-    draw_pass({square(-2.0f, 1.0f, true)}, camera(), PipelineState{}, t, 1);
+    draw_pass(squares({{-2.0f, 1.0f, true}}), camera(), PipelineState{}, t, 1);
     std::vector<float> before = t.depth;
     PipelineState state;
     state.depth_write = false;
     // A nearer square of two triangles (ids 0 and 1 of this list) is kept where it passes,
     // without changing the depth; a farther one is rejected everywhere.
     t.primitive.assign(t.primitive.size(), RenderTargets::kNoPrimitive);
-    draw_pass({square(-3.0f, 1.0f, true), square(1.0f, 0.3f, true)}, camera(), state, t, 1);
+    draw_pass(squares({{-3.0f, 1.0f, true}, {1.0f, 0.3f, true}}), camera(), state, t, 1);
     EXPECT_EQ(t.depth, before);
     EXPECT_NE(t.primitive[t.index(16, 16)], RenderTargets::kNoPrimitive);  // the near square
     EXPECT_GE(t.primitive[t.index(16, 16)], 2u);
@@ -90,15 +109,15 @@ TEST(DrawPass, TheStencilCountsUpOnFrontFacesAndDownOnBackFaces) {
         RenderTargets t;
         t.clear(32, 32, 1, true);
         // A large square facing the camera, a small one facing away in front of it.
-        draw_pass({square(-1.0f, 1.5f, true), square(0.5f, 0.4f, false)}, camera(),
-                  counting_state(), t, threads);
+        draw_pass(squares({{-1.0f, 1.5f, true}, {0.5f, 0.4f, false}}), camera(), counting_state(),
+                  t, threads);
         EXPECT_EQ(t.stencil[t.index(16, 16)], 0);  // both: +1 - 1
         EXPECT_EQ(t.stencil[t.index(16, 22)], 1);  // the front face only
         EXPECT_EQ(t.stencil[t.index(0, 0)], 0);    // neither
         // The back face alone, with wrapping: 0 - 1 = 255.
         RenderTargets back;
         back.clear(32, 32, 1, true);
-        draw_pass({square(0.5f, 0.4f, false)}, camera(), counting_state(), back, threads);
+        draw_pass(squares({{0.5f, 0.4f, false}}), camera(), counting_state(), back, threads);
         EXPECT_EQ(back.stencil[back.index(16, 16)], 255);
     }
 }
@@ -110,7 +129,7 @@ TEST(DrawPass, CullingDropsTheSideItNames) {
             t.clear(32, 32);
             PipelineState state;
             state.cull = cull;
-            draw_pass({square(0.0f, 1.0f, toward)}, camera(), state, t, 2);
+            draw_pass(squares({{0.0f, 1.0f, toward}}), camera(), state, t, 2);
             bool drawn = t.depth[t.index(16, 16)] < kInfinity;
             bool expected = cull == CullMode::None || (cull == CullMode::Back) == toward;
             EXPECT_EQ(drawn, expected) << static_cast<int>(cull) << " toward=" << toward;
@@ -121,15 +140,13 @@ TEST(DrawPass, CullingDropsTheSideItNames) {
 TEST(DrawPass, TheItemBufferNamesTheInputTriangleThroughClipping) {
     // A floor from under the camera to far ahead: its triangles cross the near plane, and
     // their clipped pieces still report the input triangle.
-    DrawMesh floor;
-    floor.mesh.positions = {vec3(-4, -1, 6), vec3(4, -1, 6), vec3(4, -1, -5), vec3(-4, -1, -5)};
-    floor.mesh.indices = {0, 1, 2, 0, 2, 3};
-    floor.mesh.face_material = {0, 0};
+    TriangleList list = squares({{0.0f, 0.3f, true}});
+    add_quad(list, vec3(-4, -1, 6), vec3(4, -1, 6), vec3(4, -1, -5), vec3(-4, -1, -5));
     RenderTargets one, two;
     one.clear(32, 32, 4, false, true);
     two.clear(32, 32, 4, false, true);
-    draw_pass({square(0.0f, 0.3f, true), floor}, camera(), PipelineState{}, one, 1, 7);
-    draw_pass({square(0.0f, 0.3f, true), floor}, camera(), PipelineState{}, two, 2, 7);
+    draw_pass(list, camera(), PipelineState{}, one, 1, 7);
+    draw_pass(list, camera(), PipelineState{}, two, 2, 7);
     EXPECT_EQ(one.primitive, two.primitive);
     EXPECT_EQ(one.depth, two.depth);
     int seen[4] = {0, 0, 0, 0};

@@ -96,15 +96,17 @@ void quadric(Mesh& m, vec3 base, vec3 axis, float r, bool cone, const Tessellati
     float h = glm::length(axis);
     Frame f = Frame::from_normal(axis / h);
     float k = cone ? r / h : 0.0f;  // slope of the normal along the axis for a cone
-    parametric(m, o.segments, cone ? o.segments / 2 : 1, false, [&](vec2 uv, vec3& p, vec3& n) {
+    auto lateral = [&](vec2 uv, vec3& p, vec3& n) {
         float phi = 2.0f * kPi * (uv.x == 1.0f ? 0.0f : uv.x);
         float z = h * uv.y;
         float rad = cone ? r * (1.0f - uv.y) : r;
         vec3 dir = f.to_world(vec3(std::cos(phi), std::sin(phi), 0.0f));
         p = base + rad * dir + z * f.n;
         n = glm::normalize(dir + k * f.n);
-    });
-    // Caps: fans around the centre, facing -axis (base) and +axis (top, cylinder only).
+    };
+    parametric(m, o.segments, cone ? o.segments / 2 : 1, false, lateral);
+    // Caps: fans around the centre, facing -axis (base) and +axis (top, cylinder only). Their
+    // rims are the lateral surface's first and last rows, bit for bit: the solid is closed.
     for (int cap = 0; cap < (cone ? 1 : 2); ++cap) {
         vec3 c = cap == 0 ? base : base + axis;
         vec3 n = cap == 0 ? -f.n : f.n;
@@ -113,7 +115,9 @@ void quadric(Mesh& m, vec3 base, vec3 axis, float r, bool cone, const Tessellati
         for (int i = 0; i <= o.segments; ++i) {
             float phi = 2.0f * kPi * static_cast<float>(i % o.segments) / o.segments;
             vec2 q(std::cos(phi), std::sin(phi));
-            vertex(m, c + r * f.to_world(vec3(q, 0.0f)), n, vec2(0.5f) + 0.5f * q);
+            vec3 p, unused;
+            lateral(vec2(static_cast<float>(i) / o.segments, cap == 0 ? 0.0f : 1.0f), p, unused);
+            vertex(m, p, n, vec2(0.5f) + 0.5f * q);
         }
         for (int i = 0; i < o.segments; ++i) {
             uint32_t a = first + static_cast<uint32_t>(i), b = a + 1;

@@ -21,16 +21,15 @@ void RenderTargets::clear(int w, int h, int samples_per_pixel, bool with_stencil
 
 namespace raster {
 
-void prepare_pass(const std::vector<DrawMesh>& list, const CameraMatrices& camera,
+void prepare_pass(const TriangleList& list, const CameraMatrices& camera,
                   const PipelineState& state, FrameState& f, int threads) {
     f.cam = camera;
     f.eye = camera.eye;
     f.forward = camera.forward;
     f.ortho = camera.orthographic;
     f.cull = state.cull;
-    std::vector<uint32_t> base;
-    vertex_stage(list, f, base, threads);
-    assemble(list, base, f, threads);
+    vertex_stage(list, f, threads);
+    assemble(list, f, threads);
 }
 
 /// The tight bounds of a pattern's sample offsets in their pixel (setup_triangle's bounds).
@@ -47,8 +46,8 @@ void fit_sample_bounds(FrameState& f, const std::vector<SamplePattern>& passes) 
 
 }  // namespace raster
 
-void draw_pass(const std::vector<DrawMesh>& list, const CameraMatrices& camera,
-               const PipelineState& state, RenderTargets& targets, int threads, uint64_t seed) {
+void draw_pass(const TriangleList& list, const CameraMatrices& camera, const PipelineState& state,
+               RenderTargets& targets, int threads, uint64_t seed) {
     using namespace raster;
     const int S = targets.samples;
     const SamplePattern sp = sample_pattern(S, seed, 0, S);

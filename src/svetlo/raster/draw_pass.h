@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "svetlo/geometry/triangle_list.h"
 #include "svetlo/raster/camera_matrices.h"
 #include "svetlo/raster/stencil.h"
 #include "svetlo/scene/scene.h"
@@ -26,13 +27,6 @@ struct PipelineState {
     StencilState stencil;  // the stencil test and its per-face operations (off by default)
 };
 
-/// An object's triangles in its own space (a Mesh: positions, optional normals and uvs,
-/// indices, per-face materials), placed in the world by `model`.
-struct DrawMesh {
-    Mesh mesh;
-    mat4 model{1.0f};
-};
-
 /// Per-sample buffers that persist from pass to pass, samples x width x height, sample s of
 /// pixel (i, j) at ((j * width + i) * samples + s). Depth holds the pipeline's depth key:
 /// -1/w for a perspective camera (w the distance along the view axis), window z in [0, 1]
@@ -43,8 +37,8 @@ struct RenderTargets {
     int width = 0, height = 0, samples = 1;
     std::vector<float> depth;
     std::vector<uint8_t> stencil;
-    std::vector<uint32_t> primitive;  // the item buffer: the draw list's triangle per sample,
-                                      // counted over the meshes in order, or kNoPrimitive
+    std::vector<uint32_t> primitive;  // the item buffer: the list's triangle per sample, or
+                                      // kNoPrimitive
 
     /// Sizes and clears the buffers a pass will use (depth to +infinity, stencil to 0, the
     /// item buffer to kNoPrimitive). samples: 1 (the pixel centre) up to 16.
@@ -62,7 +56,7 @@ struct RenderTargets {
 /// stencil (when the state enables it), and the item buffer (when it is sized). Samples lie
 /// at the pixel centre for one sample per pixel, else on the frame's stratified pattern of
 /// `seed`. Parallel over 64 x 64 tiles: the result is the same on any thread count.
-void draw_pass(const std::vector<DrawMesh>& list, const CameraMatrices& camera,
-               const PipelineState& state, RenderTargets& targets, int threads, uint64_t seed = 0);
+void draw_pass(const TriangleList& list, const CameraMatrices& camera, const PipelineState& state,
+               RenderTargets& targets, int threads, uint64_t seed = 0);
 
 }  // namespace svetlo

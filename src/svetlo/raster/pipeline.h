@@ -263,18 +263,15 @@ inline float guard_y(const FrameState& f) {
 ScreenVertex project(const FrameState& f, const ClipVertex& cv);
 /// Stages 2 to 4 of a draw (draw_pass.cpp): the camera and the state into f, then the vertex
 /// stage, clipping, setup and binning.
-void prepare_pass(const std::vector<DrawMesh>& list, const CameraMatrices& camera,
+void prepare_pass(const TriangleList& list, const CameraMatrices& camera,
                   const PipelineState& state, FrameState& f, int threads);
 /// Bounds of triangles tight around the samples of `passes` (none but the wireframe's margin).
 void fit_sample_bounds(FrameState& f, const std::vector<SamplePattern>& passes);
 
-/// Stage 2 (vertex_stage.cpp): the vertex stage over every mesh; `base` receives each mesh's
-/// first vertex.
-void vertex_stage(const std::vector<DrawMesh>& meshes, FrameState& f, std::vector<uint32_t>& base,
-                  int threads);
+/// Stage 2 (vertex_stage.cpp): the vertex stage over every vertex of the list.
+void vertex_stage(const TriangleList& list, FrameState& f, int threads);
 /// Stages 3 and 4 (setup_binning.cpp): clipping, setup and binning in drawing order.
-void assemble(const std::vector<DrawMesh>& meshes, const std::vector<uint32_t>& base, FrameState& f,
-              int threads);
+void assemble(const TriangleList& list, FrameState& f, int threads);
 /// Stage 4 for the painter's algorithm: binned again, back to front.
 void bin_back_to_front(FrameState& f, int threads);
 /// Stage 5 (rasterize.cpp): every triangle binned in the tile, in order, into its buffers.

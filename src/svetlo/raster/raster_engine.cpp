@@ -51,30 +51,30 @@ bool any_source(const Material& m, F&& f) {
 
 /// Gouraud shading lights each vertex once: a vertex shared by faces of different materials
 /// is given one copy per material, as a GPU's vertex buffer would hold it.
-void split_vertices_by_material(Mesh& m) {
-    std::vector<int> material_of(m.positions.size(), -1);  // of the vertex's first face
-    std::unordered_map<uint64_t, uint32_t> copies;         // (vertex, material) -> copy
-    for (size_t t = 0; t < m.triangle_count(); ++t) {
-        int mat = m.face_material[t];
+void split_vertices_by_material(TriangleList& list) {
+    std::vector<int64_t> material_of(list.positions.size(), -1);  // of the vertex's first face
+    std::unordered_map<uint64_t, uint32_t> copies;                // (vertex, material) -> copy
+    for (size_t t = 0; t < list.triangle_count(); ++t) {
+        const uint32_t mat = list.material[t];
         for (int c = 0; c < 3; ++c) {
-            uint32_t& v = m.indices[3 * t + c];
+            uint32_t& v = list.indices[3 * t + c];
             if (material_of[v] < 0) material_of[v] = mat;
             if (material_of[v] == mat) continue;
-            uint64_t key = (uint64_t{v} << 32) | static_cast<uint32_t>(mat);
-            auto [it, made] = copies.try_emplace(key, static_cast<uint32_t>(m.positions.size()));
+            uint64_t key = (uint64_t{v} << 32) | mat;
+            auto [it, made] = copies.try_emplace(key, static_cast<uint32_t>(list.positions.size()));
             if (made) {
-                m.positions.push_back(m.positions[v]);
-                if (!m.normals.empty()) m.normals.push_back(m.normals[v]);
-                if (!m.uvs.empty()) m.uvs.push_back(m.uvs[v]);
+                list.positions.push_back(list.positions[v]);
+                list.normals.push_back(list.normals[v]);
+                list.uvs.push_back(list.uvs[v]);
             }
             v = it->second;
         }
     }
 }
 
-/// Stage 1: every object tessellated in its own space, plus the area lights as one-sided
+/// Stage 1: the scene-wide triangle list of every object, then the area lights as one-sided
 /// emissive quads (the ray tracer shows them too). Makes the light set and its VPLs.
-std::vector<DrawMesh> tessellate_scene(const Scene& scene, FrameState& f, int threads) {
+TriangleList tessellate_scene(const Scene& scene, FrameState& f, int threads) {
     TessellationOptions options;
     options.segments = scene.render.raster.tessellation;
     options.rings = std::max(2, options.segments / 2);
@@ -88,18 +88,10 @@ std::vector<DrawMesh> tessellate_scene(const Scene& scene, FrameState& f, int th
     }
     f.lights.emplace(scene);
     f.materials = f.lights->set.materials();
-    const std::vector<Object>& quads = f.lights->set.area_light_quads();
-    std::vector<DrawMesh> meshes(scene.objects.size() + quads.size());
-    parallel_indices(meshes.size(), threads, [&](size_t k) {
-        const Object& obj =
-            k < scene.objects.size() ? scene.objects[k] : quads[k - scene.objects.size()];
-        Object local = obj;
-        local.transform = Transform{};
-        meshes[k].mesh = tessellate(local, options);
-        meshes[k].model = obj.transform.matrix;
-        if (f.mode == Mode::Gouraud) split_vertices_by_material(meshes[k].mesh);
-    });
-    return meshes;
+    TriangleList list = build_triangle_list(
+        object_pointers(scene.objects, f.lights->set.area_light_quads()), options, threads);
+    if (f.mode == Mode::Gouraud) split_vertices_by_material(list);
+    return list;
 }
 
 /// The shading state of the frame's colour pass: constant BRDFs made once, mip chains when a
@@ -139,11 +131,9 @@ void prepare_shading(const Scene& scene, FrameState& f) {
 }
 
 /// World bounds of everything drawn: the near and far planes enclose them.
-Bounds3 drawn_bounds(const std::vector<DrawMesh>& meshes) {
+Bounds3 drawn_bounds(const TriangleList& list) {
     Bounds3 bounds;
-    for (const DrawMesh& d : meshes) {
-        for (vec3 p : d.mesh.positions) bounds.extend(vec3(d.model * vec4(p, 1.0f)));
-    }
+    for (vec3 p : list.positions) bounds.extend(p);
     return bounds;
 }
 
@@ -193,10 +183,9 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     f.flat = std::move(buffers_->flat);
     f.scene = &scene;
     f.mode = scene.render.shading;
-    std::vector<DrawMesh> meshes = tessellate_scene(scene, f, threads);
+    TriangleList list = tessellate_scene(scene, f, threads);
     prepare_shading(scene, f);
-    const CameraMatrices camera =
-        camera_matrices(scene.camera, width, height, drawn_bounds(meshes));
+    const CameraMatrices camera = camera_matrices(scene.camera, width, height, drawn_bounds(list));
     // The frame's sample positions, pass by pass (the same in every pixel).
     std::vector<SamplePattern> passes;
     for (int first = 0; first < spp; first += kMaxSamplesPerPass)
@@ -214,8 +203,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     // sample pass, the shading of its visible samples, and the resolve.
     auto t1 = Clock::now();
     const PipelineState state = colour_pass_state(scene);
-    prepare_pass(meshes, camera, state, f, threads);
-    meshes.clear();
+    prepare_pass(list, camera, state, f, threads);
     if (!state.depth_test) bin_back_to_front(f, threads);  // the painter's algorithm
 
     const bool msaa = scene.render.raster.msaa;

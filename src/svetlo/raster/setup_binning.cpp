@@ -91,13 +91,8 @@ void bin_chunk(const FrameState& f, const std::vector<Binned>& tris, FrameState:
 /// Stage 3: primitive assembly, clipping and setup of every triangle, in chunks of kChunk
 /// triangles. An unclipped triangle is set up in its own slot; the pieces of clipped ones go
 /// to per-chunk lists appended after the slots, so the order never depends on threads.
-void assemble(const std::vector<DrawMesh>& meshes, const std::vector<uint32_t>& base, FrameState& f,
-              int threads) {
-    // Triangle s of the frame is triangle s - first_tri[k] of mesh k.
-    std::vector<size_t> first_tri(meshes.size() + 1, 0);
-    for (size_t k = 0; k < meshes.size(); ++k)
-        first_tri[k + 1] = first_tri[k] + meshes[k].mesh.triangle_count();
-    const size_t total = first_tri.back();
+void assemble(const TriangleList& list, FrameState& f, int threads) {
+    const size_t total = list.triangle_count();
     size_t chunks = (total + kChunk - 1) / kChunk;
     f.tris.reuse(total);
     std::vector<std::vector<SetupTriangle>> clipped(chunks);
@@ -115,54 +110,45 @@ void assemble(const std::vector<DrawMesh>& meshes, const std::vector<uint32_t>& 
         const size_t begin = c * kChunk, end = std::min(total, (c + 1) * kChunk);
         std::vector<Binned> to_bin(end - begin);  // binned while the chunk is in cache, below
         size_t binned_count = 0;
-        size_t mesh = static_cast<size_t>(
-            std::upper_bound(first_tri.begin(), first_tri.end(), begin) - first_tri.begin() - 1);
-        for (size_t s = begin; s < end;) {
-            while (s >= first_tri[mesh + 1]) ++mesh;  // skips empty meshes too
-            // The chunk's triangles of this mesh, with its arrays held in locals (the stores
-            // below could otherwise alias them, and they would be reloaded every time).
-            const Mesh& m = meshes[mesh].mesh;
-            const uint32_t* indices = m.indices.data() + 3 * (s - first_tri[mesh]);
-            const int* face_material = m.face_material.data() + (s - first_tri[mesh]);
-            const uint32_t vertex_base = base[mesh];
-            for (const size_t mesh_end = std::min(end, first_tri[mesh + 1]); s < mesh_end;
-                 ++s, indices += 3, ++face_material) {
-                uint32_t idx[3];
-                const ScreenVertex* sv[3];
-                for (int i = 0; i < 3; ++i) {
-                    idx[i] = vertex_base + indices[i];
-                    sv[i] = &f.screen[idx[i]];
-                }
-                auto material = static_cast<uint32_t>(*face_material);
-                SetupTriangle& slot = f.tris[s];
-                if (flat_mode) f.flat[s] = flat_colour(f, idx, material);
-                if (sv[0]->inside & sv[1]->inside & sv[2]->inside) {
-                    if (setup_triangle(f, sv, idx, material, slot))
-                        to_bin[binned_count++] = binned(static_cast<uint32_t>(s), slot);
-                    continue;
-                }
-                slot.make_empty();
-                ClipPolygon poly = clip_triangle(f.vertices[idx[0]], f.vertices[idx[1]],
-                                                 f.vertices[idx[2]], gx, gy);
-                if (poly.count < 3) continue;
-                auto first = static_cast<uint32_t>(extra[c].size());
-                std::array<ScreenVertex, std::tuple_size_v<decltype(ClipPolygon::v)>> ps;
-                for (int k = 0; k < poly.count; ++k) {
-                    extra[c].push_back(poly.v[static_cast<size_t>(k)]);
-                    ps[k] = project(f, poly.v[static_cast<size_t>(k)]);
-                }
-                for (int k = 1; k + 1 < poly.count; ++k) {
-                    const ScreenVertex* fv[3] = {&ps[0], &ps[k], &ps[k + 1]};
-                    SetupTriangle piece;
-                    // Chunk-local vertex indices for now: fixed up when the chunks are joined.
-                    uint32_t local[3] = {kExtra | first,
-                                         kExtra | (first + static_cast<uint32_t>(k)),
-                                         kExtra | (first + static_cast<uint32_t>(k) + 1)};
-                    if (setup_triangle(f, fv, local, material, piece)) {
-                        clipped[c].push_back(piece);
-                        clipped_source[c].push_back(static_cast<uint32_t>(s));
-                        if (flat_mode) clipped_flat[c].push_back(f.flat[s]);
-                    }
+        // The list's arrays held in locals (the stores below could otherwise alias them, and
+        // they would be reloaded every time).
+        const uint32_t* indices = list.indices.data() + 3 * begin;
+        const uint32_t* materials = list.material.data() + begin;
+        for (size_t s = begin; s < end; ++s, indices += 3, ++materials) {
+            uint32_t idx[3];
+            const ScreenVertex* sv[3];
+            for (int i = 0; i < 3; ++i) {
+                idx[i] = indices[i];
+                sv[i] = &f.screen[idx[i]];
+            }
+            const uint32_t material = *materials;
+            SetupTriangle& slot = f.tris[s];
+            if (flat_mode) f.flat[s] = flat_colour(f, idx, material);
+            if (sv[0]->inside & sv[1]->inside & sv[2]->inside) {
+                if (setup_triangle(f, sv, idx, material, slot))
+                    to_bin[binned_count++] = binned(static_cast<uint32_t>(s), slot);
+                continue;
+            }
+            slot.make_empty();
+            ClipPolygon poly =
+                clip_triangle(f.vertices[idx[0]], f.vertices[idx[1]], f.vertices[idx[2]], gx, gy);
+            if (poly.count < 3) continue;
+            auto first = static_cast<uint32_t>(extra[c].size());
+            std::array<ScreenVertex, std::tuple_size_v<decltype(ClipPolygon::v)>> ps;
+            for (int k = 0; k < poly.count; ++k) {
+                extra[c].push_back(poly.v[static_cast<size_t>(k)]);
+                ps[k] = project(f, poly.v[static_cast<size_t>(k)]);
+            }
+            for (int k = 1; k + 1 < poly.count; ++k) {
+                const ScreenVertex* fv[3] = {&ps[0], &ps[k], &ps[k + 1]};
+                SetupTriangle piece;
+                // Chunk-local vertex indices for now: fixed up when the chunks are joined.
+                uint32_t local[3] = {kExtra | first, kExtra | (first + static_cast<uint32_t>(k)),
+                                     kExtra | (first + static_cast<uint32_t>(k) + 1)};
+                if (setup_triangle(f, fv, local, material, piece)) {
+                    clipped[c].push_back(piece);
+                    clipped_source[c].push_back(static_cast<uint32_t>(s));
+                    if (flat_mode) clipped_flat[c].push_back(f.flat[s]);
                 }
             }
         }

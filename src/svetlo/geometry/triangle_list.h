@@ -1,0 +1,43 @@
+// The scene as one list of world-space triangles, built once per render: what the rasterizer
+// draws, and what shadow volumes (silhouette edges) and radiosity meshing read. Every object
+// is tessellated (tessellate.h) in its own space and then placed by its transform, so that
+// the ray tracer and the rasterizer see the same surfaces.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "svetlo/geometry/scene_geometry.h"
+#include "svetlo/geometry/tessellate.h"
+
+namespace svetlo {
+
+struct TriangleList {
+    static constexpr uint32_t kOpen = ~0u;  // no neighbour across an edge
+
+    std::vector<vec3> positions;          // world space
+    std::vector<vec3> normals;            // per vertex: unit, or zero where there is none
+    std::vector<vec2> uvs;                // per vertex
+    std::vector<uint32_t> indices;        // 3 per triangle, counter-clockwise seen from its front
+    std::vector<uint32_t> material;       // per triangle, an index into the scene's materials
+    std::vector<PrimitiveRange> objects;  // per object: its triangles [first, end)
+    /// Edge adjacency (build_adjacency): for edge e of triangle t, from its vertex e to vertex
+    /// e + 1, neighbour[3 t + e] is the triangle across it, or kOpen.
+    std::vector<uint32_t> neighbour;
+
+    size_t triangle_count() const { return material.size(); }
+};
+
+/// Tessellates and places every object, in order (one range each in `objects`); `threads`
+/// tessellate objects in parallel. Normals are carried by the inverse transpose and made unit.
+TriangleList build_triangle_list(const std::vector<const Object*>& objects,
+                                 const TessellationOptions& options, int threads);
+
+/// Fills `neighbour`. Vertices are welded by exact position first (a mesh's seams, where uvs
+/// or normals differ, still join). An edge joins two triangles when exactly two use it, in
+/// opposite directions (a consistently wound 2-manifold); an edge of one triangle (a hole, a
+/// quad's border), of more than two, or of two wound the same way is open. Triangles with two
+/// welded vertices alike have no area and no neighbours.
+void build_adjacency(TriangleList& list);
+
+}  // namespace svetlo
