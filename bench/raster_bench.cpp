@@ -25,9 +25,9 @@
 #include <GL/osmesa.h>
 #endif
 
+#include "svetlo/geometry/tessellate.h"
 #include "svetlo/raster/camera_matrices.h"
 #include "svetlo/raster/raster_engine.h"
-#include "svetlo/geometry/tessellate.h"
 
 namespace svetlo {
 namespace {

@@ -57,7 +57,8 @@ TEST(ImageIo, PfmRoundTripIsExactAndBottomUp) {
 
 TEST(ImageIo, ExrRoundTripIsExact) {
     Image image(4, 3);
-    for (size_t k = 0; k < image.pixels.size(); ++k) image.pixels[k] = Color(k * 0.37f, 1e-3f * k, 17.5f);
+    for (size_t k = 0; k < image.pixels.size(); ++k)
+        image.pixels[k] = Color(k * 0.37f, 1e-3f * k, 17.5f);
     fs::path path = temp_file("round.exr");
     write_image(path, image, PixelMeaning::Radiance, 1.0f, "test");
     Image back = read_image(path, false, "test");
@@ -79,8 +80,9 @@ TEST(ImageIo, UnknownExtensionAndMissingFolderAreErrors) {
     EXPECT_THROW(image_format_for("out.jpg", "-o"), Error);
     EXPECT_THROW(check_writable("/nonexistent-folder/out.png", "-o"), Error);
     Image image(1, 1);
-    EXPECT_THROW(write_image("/nonexistent-folder/out.png", image, PixelMeaning::Radiance, 1.0f, "-o"),
-                 Error);
+    EXPECT_THROW(
+        write_image("/nonexistent-folder/out.png", image, PixelMeaning::Radiance, 1.0f, "-o"),
+        Error);
 }
 
 TEST(ImageIo, FailedWriteLeavesTheOldFile) {

@@ -1,7 +1,8 @@
+#include "svetlo/core/sampling.h"
+
 #include <gtest/gtest.h>
 
 #include "svetlo/core/rng.h"
-#include "svetlo/core/sampling.h"
 
 namespace svetlo {
 namespace {

@@ -1,8 +1,9 @@
 // Known-answer scenes for the Whitted engine: every expected value is a closed form computed
 // here, independently of the renderer.
+#include "svetlo/rt/whitted.h"
+
 #include <gtest/gtest.h>
 
-#include "svetlo/rt/whitted.h"
 #include "svetlo/scene/scene_loader.h"
 
 namespace svetlo {
@@ -21,8 +22,12 @@ RenderResult render(const json& j, std::vector<std::string> aovs = {}, int threa
 /// An orthographic camera looking straight down at the square [-half, half]^2 of the y = 0
 /// plane; pixel (i, j) centres map to x = -half + (i + 0.5) 2 half / n, z likewise (up = -z).
 json top_down(int n, float half) {
-    return {{"camera", {{"type", "orthographic"}, {"position", {0, 10, 0}}, {"look_at", {0, 0, 0}},
-                        {"up", {0, 0, -1}}, {"height", 2 * half}}},
+    return {{"camera",
+             {{"type", "orthographic"},
+              {"position", {0, 10, 0}},
+              {"look_at", {0, 0, 0}},
+              {"up", {0, 0, -1}},
+              {"height", 2 * half}}},
             {"film", {{"width", n}, {"height", n}}},
             {"render", {{"engine", "whitted"}, {"spp", 1}, {"max_depth", 0}}}};
 }
@@ -33,8 +38,11 @@ vec3 pixel_point(int i, int j, int n, float half) {
 }
 
 json floor_quad(float half, const char* material) {
-    return {{"type", "quad"}, {"corner", {-half, 0, -half}}, {"edge_u", {0, 0, 2 * half}},
-            {"edge_v", {2 * half, 0, 0}}, {"material", material}};
+    return {{"type", "quad"},
+            {"corner", {-half, 0, -half}},
+            {"edge_u", {0, 0, 2 * half}},
+            {"edge_v", {2 * half, 0, 0}},
+            {"material", material}};
 }
 
 TEST(Whitted, LambertQuadUnderPointLightPerPixel) {
@@ -61,19 +69,24 @@ TEST(Whitted, PhongAndBlinnPhongUnderDirectionalLight) {
     const int n = 8;
     for (bool blinn : {false, true}) {
         json j = top_down(n, 1.0f);
-        j["materials"] = {{"shiny", {{"type", blinn ? "blinn_phong" : "phong"}, {"kd", 0.4},
-                                     {"ks", 0.5}, {"shininess", 8}, {"ka", 0.25}}}};
+        j["materials"] = {{"shiny",
+                           {{"type", blinn ? "blinn_phong" : "phong"},
+                            {"kd", 0.4},
+                            {"ks", 0.5},
+                            {"shininess", 8},
+                            {"ka", 0.25}}}};
         vec3 travel = glm::normalize(vec3(0.3f, -1.0f, 0.1f));
-        j["lights"] = {{{"type", "directional"}, {"direction", {travel.x, travel.y, travel.z}},
+        j["lights"] = {{{"type", "directional"},
+                        {"direction", {travel.x, travel.y, travel.z}},
                         {"irradiance", 2.0}}};
         j["render"]["ambient"] = 0.1;
         j["objects"] = {floor_quad(1.0f, "shiny")};
         RenderResult r = render(j);
         vec3 nrm(0, 1, 0), l = -travel, v(0, 1, 0);  // orthographic: the eye is straight up
         float cos_t = l.y;
-        float spec = blinn ? 16.0f / (8.0f * kPi) * std::pow(glm::normalize(l + v).y, 8.0f)
-                           : 10.0f / (2.0f * kPi) *
-                                 std::pow(glm::dot(2.0f * cos_t * nrm - l, v), 8.0f);
+        float spec =
+            blinn ? 16.0f / (8.0f * kPi) * std::pow(glm::normalize(l + v).y, 8.0f)
+                  : 10.0f / (2.0f * kPi) * std::pow(glm::dot(2.0f * cos_t * nrm - l, v), 8.0f);
         float expected = 0.25f * 0.1f + (0.4f / kPi + 0.5f * spec) * 2.0f * cos_t;
         for (const Color& c : r.color.pixels) ASSERT_NEAR(c.g, expected, 1e-5f * expected) << blinn;
     }
@@ -82,15 +95,24 @@ TEST(Whitted, PhongAndBlinnPhongUnderDirectionalLight) {
 TEST(Whitted, FresnelThroughASlabAtNormalIncidence) {
     // An emitter of radiance 1 seen through a glass slab (n = 1.5) at normal incidence: the
     // transmitted series (1 - R)^2 (1 + R^2 + R^4 ...) sums to (1 - R) / (1 + R), R = 0.04.
-    json j = {{"camera", {{"type", "orthographic"}, {"position", {0, 0, 5}}, {"look_at", {0, 0, 0}},
-                          {"height", 1}}},
-              {"film", {{"width", 4}, {"height", 4}}},
-              {"render", {{"max_depth", 30}}},
-              {"materials", {{"glass", {{"type", "dielectric"}, {"ior", 1.5}}},
-                             {"light", {{"type", "emissive"}, {"radiance", 1}}}}},
-              {"objects", {{{"type", "box"}, {"min", {-5, -5, 0}}, {"max", {5, 5, 0.5}}, {"material", "glass"}},
-                           {{"type", "quad"}, {"corner", {-5, -5, -2}}, {"edge_u", {10, 0, 0}},
-                            {"edge_v", {0, 10, 0}}, {"material", "light"}}}}};
+    json j = {
+        {"camera",
+         {{"type", "orthographic"},
+          {"position", {0, 0, 5}},
+          {"look_at", {0, 0, 0}},
+          {"height", 1}}},
+        {"film", {{"width", 4}, {"height", 4}}},
+        {"render", {{"max_depth", 30}}},
+        {"materials",
+         {{"glass", {{"type", "dielectric"}, {"ior", 1.5}}},
+          {"light", {{"type", "emissive"}, {"radiance", 1}}}}},
+        {"objects",
+         {{{"type", "box"}, {"min", {-5, -5, 0}}, {"max", {5, 5, 0.5}}, {"material", "glass"}},
+          {{"type", "quad"},
+           {"corner", {-5, -5, -2}},
+           {"edge_u", {10, 0, 0}},
+           {"edge_v", {0, 10, 0}},
+           {"material", "light"}}}}};
     RenderResult r = render(j);
     const float R = 0.04f;
     for (const Color& c : r.color.pixels) EXPECT_NEAR(c.r, (1 - R) / (1 + R), 2e-5f);
@@ -101,17 +123,28 @@ TEST(Whitted, FresnelThroughASlabAtNormalIncidence) {
 }
 
 TEST(Whitted, MirrorReflectsAnEmitterAndEmittersAreOneSided) {
-    json j = {{"camera", {{"type", "orthographic"}, {"position", {0, 0, 5}}, {"look_at", {0, 0, 0}},
-                          {"height", 1}}},
+    json j = {{"camera",
+               {{"type", "orthographic"},
+                {"position", {0, 0, 5}},
+                {"look_at", {0, 0, 0}},
+                {"height", 1}}},
               {"film", {{"width", 4}, {"height", 4}}},
               {"render", {{"max_depth", 1}}},
-              {"materials", {{"mirror", {{"type", "mirror"}, {"reflectance", {0.7, 0.5, 0.3}}}},
-                             {"light", {{"type", "emissive"}, {"radiance", 2}}}}},
+              {"materials",
+               {{"mirror", {{"type", "mirror"}, {"reflectance", {0.7, 0.5, 0.3}}}},
+                {"light", {{"type", "emissive"}, {"radiance", 2}}}}},
               // The emitter faces -z (toward the mirror), behind the camera's near side.
-              {"objects", {{{"type", "quad"}, {"corner", {-5, -5, 0}}, {"edge_u", {10, 0, 0}},
-                            {"edge_v", {0, 10, 0}}, {"material", "mirror"}},
-                           {{"type", "quad"}, {"corner", {-5, -5, 8}}, {"edge_u", {0, 10, 0}},
-                            {"edge_v", {10, 0, 0}}, {"material", "light"}}}}};
+              {"objects",
+               {{{"type", "quad"},
+                 {"corner", {-5, -5, 0}},
+                 {"edge_u", {10, 0, 0}},
+                 {"edge_v", {0, 10, 0}},
+                 {"material", "mirror"}},
+                {{"type", "quad"},
+                 {"corner", {-5, -5, 8}},
+                 {"edge_u", {0, 10, 0}},
+                 {"edge_v", {10, 0, 0}},
+                 {"material", "light"}}}}};
     RenderResult r = render(j);
     EXPECT_NEAR(r.color.pixels[5].r, 1.4f, 1e-6f);
     EXPECT_NEAR(r.color.pixels[5].b, 0.6f, 1e-6f);
@@ -128,9 +161,11 @@ TEST(Whitted, HardShadowOfASphereMatchesTheExactShadow) {
     vec3 light(1.5f, 3.0f, 0.5f), centre(0.0f, 1.0f, 0.0f);
     const float radius = 0.6f;
     j["materials"] = {{"white", {{"type", "lambert"}, {"albedo", 0.5}}}};
-    j["lights"] = {{{"type", "point"}, {"position", {light.x, light.y, light.z}}, {"intensity", 10}}};
-    j["objects"] = {floor_quad(half, "white"),
-                    {{"type", "sphere"}, {"center", {0, 1, 0}}, {"radius", radius}, {"material", "white"}}};
+    j["lights"] = {
+        {{"type", "point"}, {"position", {light.x, light.y, light.z}}, {"intensity", 10}}};
+    j["objects"] = {
+        floor_quad(half, "white"),
+        {{"type", "sphere"}, {"center", {0, 1, 0}}, {"radius", radius}, {"material", "white"}}};
     // The camera sees the floor except where the sphere hides it (depth < 10).
     RenderResult r = render(j, {"visibility", "depth"});
     const Image& vis = r.aovs.at("visibility");
@@ -167,8 +202,12 @@ TEST(Whitted, SpotLightCones) {
     const float half = 3.0f;
     json j = top_down(n, half);
     j["materials"] = {{"white", {{"type", "lambert"}, {"albedo", 1.0}}}};
-    j["lights"] = {{{"type", "spot"}, {"position", {0, 2, 0}}, {"direction", {0, -1, 0}},
-                    {"intensity", 5}, {"inner_angle", 20}, {"outer_angle", 40}}};
+    j["lights"] = {{{"type", "spot"},
+                    {"position", {0, 2, 0}},
+                    {"direction", {0, -1, 0}},
+                    {"intensity", 5},
+                    {"inner_angle", 20},
+                    {"outer_angle", 40}}};
     j["objects"] = {floor_quad(half, "white")};
     RenderResult r = render(j);
     float ci = std::cos(radians(20.0f)), co = std::cos(radians(40.0f));
@@ -201,11 +240,17 @@ TEST(Whitted, SoftShadowVisibilityIsTheVisibleFractionOfTheLight) {
     j["camera"]["position"] = {0, 0.5, 0};  // between floor and plate
     j["render"]["light_samples"] = 1024;
     j["materials"] = {{"white", {{"type", "lambert"}, {"albedo", 0.5}}}};
-    j["lights"] = {{{"type", "area"}, {"corner", {-1, 2, -1}}, {"edge_u", {2, 0, 0}},
-                    {"edge_v", {0, 0, 2}}, {"radiance", 1}}};
+    j["lights"] = {{{"type", "area"},
+                    {"corner", {-1, 2, -1}},
+                    {"edge_u", {2, 0, 0}},
+                    {"edge_v", {0, 0, 2}},
+                    {"radiance", 1}}};
     j["objects"] = {floor_quad(half, "white"),
-                    {{"type", "quad"}, {"corner", {-10, 1, -10}}, {"edge_u", {10, 0, 0}},
-                     {"edge_v", {0, 0, 20}}, {"material", "white"}}};
+                    {{"type", "quad"},
+                     {"corner", {-10, 1, -10}},
+                     {"edge_u", {10, 0, 0}},
+                     {"edge_v", {0, 0, 20}},
+                     {"material", "white"}}};
     RenderResult r = render(j, {"visibility"});
     const Image& vis = r.aovs.at("visibility");
     double max_error = 0.0;
@@ -213,7 +258,8 @@ TEST(Whitted, SoftShadowVisibilityIsTheVisibleFractionOfTheLight) {
         for (int i = 0; i < n; ++i) {
             float x0 = pixel_point(i, jj, n, half).x;
             float expected = 0.5f * (1.0f + std::clamp(x0, -1.0f, 1.0f));
-            max_error = std::max(max_error, static_cast<double>(std::abs(vis.at(i, jj).r - expected)));
+            max_error =
+                std::max(max_error, static_cast<double>(std::abs(vis.at(i, jj).r - expected)));
         }
     }
     // 32 x 32 stratified samples: one column of 32 strata straddles the shadow's edge, so
@@ -227,8 +273,11 @@ TEST(Whitted, AreaLightIrradianceMatchesTheDiskLikeClosedForm) {
     json j = top_down(1, 0.001f);
     j["render"]["light_samples"] = 4096;
     j["materials"] = {{"white", {{"type", "lambert"}, {"albedo", 1.0}}}};
-    j["lights"] = {{{"type", "area"}, {"corner", {-1, 1, -1}}, {"edge_u", {2, 0, 0}},
-                    {"edge_v", {0, 0, 2}}, {"radiance", 3}}};
+    j["lights"] = {{{"type", "area"},
+                    {"corner", {-1, 1, -1}},
+                    {"edge_u", {2, 0, 0}},
+                    {"edge_v", {0, 0, 2}},
+                    {"radiance", 3}}};
     j["objects"] = {floor_quad(5.0f, "white")};
     j["camera"]["position"] = {0, 0.5, 0};
     RenderResult r = render(j);
@@ -244,16 +293,21 @@ TEST(Whitted, SameImageWhateverTheThreadCount) {
     j["render"]["light_samples"] = 2;
     j["materials"] = {{"white", {{"type", "lambert"}, {"albedo", 0.5}}},
                       {"glass", {{"type", "dielectric"}, {"ior", 1.5}}}};
-    j["lights"] = {{{"type", "area"}, {"corner", {-1, 3, -1}}, {"edge_u", {2, 0, 0}},
-                    {"edge_v", {0, 0, 2}}, {"radiance", 2}}};
-    j["objects"] = {floor_quad(2.0f, "white"),
-                    {{"type", "sphere"}, {"center", {0, 1, 0}}, {"radius", 0.7}, {"material", "glass"}}};
+    j["lights"] = {{{"type", "area"},
+                    {"corner", {-1, 3, -1}},
+                    {"edge_u", {2, 0, 0}},
+                    {"edge_v", {0, 0, 2}},
+                    {"radiance", 2}}};
+    j["objects"] = {
+        floor_quad(2.0f, "white"),
+        {{"type", "sphere"}, {"center", {0, 1, 0}}, {"radius", 0.7}, {"material", "glass"}}};
     RenderResult one = render(j, {"visibility"}, 1), two = render(j, {"visibility"}, 2);
     ASSERT_EQ(one.color.pixels.size(), two.color.pixels.size());
     EXPECT_EQ(0, std::memcmp(one.color.pixels.data(), two.color.pixels.data(),
                              one.color.pixels.size() * sizeof(Color)));
-    EXPECT_EQ(0, std::memcmp(one.aovs["visibility"].pixels.data(), two.aovs["visibility"].pixels.data(),
-                             one.color.pixels.size() * sizeof(Color)));
+    EXPECT_EQ(
+        0, std::memcmp(one.aovs["visibility"].pixels.data(), two.aovs["visibility"].pixels.data(),
+                       one.color.pixels.size() * sizeof(Color)));
     // Asking for AOVs does not change the image.
     RenderResult plain = render(j, {}, 2);
     EXPECT_EQ(0, std::memcmp(one.color.pixels.data(), plain.color.pixels.data(),
@@ -264,7 +318,8 @@ TEST(Whitted, EmitterSeenDirectlyShowsItsRadianceAndBackgroundFillsMisses) {
     json j = top_down(4, 1.0f);
     j["render"]["background"] = {0.1, 0.2, 0.3};
     j["materials"] = {{"glow", {{"type", "emissive"}, {"radiance", {1, 2, 3}}}}};
-    j["objects"] = {{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 0.5}, {"material", "glow"}}};
+    j["objects"] = {
+        {{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 0.5}, {"material", "glow"}}};
     RenderResult r = render(j);
     EXPECT_EQ(r.color.at(2, 2), Color(1, 2, 3));
     EXPECT_EQ(r.color.at(0, 0), Color(0.1f, 0.2f, 0.3f));

@@ -128,8 +128,8 @@ Image read_exr(const fs::path& path) {
     Image image(w, h);
     Imf::FrameBuffer frame;
     char* base = reinterpret_cast<char*>(image.pixels.data()) -
-                 (static_cast<ptrdiff_t>(window.min.x) +
-                  static_cast<ptrdiff_t>(window.min.y) * w) * static_cast<ptrdiff_t>(sizeof(Color));
+                 (static_cast<ptrdiff_t>(window.min.x) + static_cast<ptrdiff_t>(window.min.y) * w) *
+                     static_cast<ptrdiff_t>(sizeof(Color));
     const char* names[3] = {"R", "G", "B"};
     for (int c = 0; c < 3; ++c) {
         frame.insert(names[c], Imf::Slice(Imf::FLOAT, base + c * sizeof(float), sizeof(Color),
@@ -189,15 +189,21 @@ void check_writable(const fs::path& path, const std::string& where) {
     fs::remove(tmp, ec);
 }
 
-void write_image(const fs::path& path, const Image& image, PixelMeaning meaning,
-                 float exposure, const std::string& where) {
+void write_image(const fs::path& path, const Image& image, PixelMeaning meaning, float exposure,
+                 const std::string& where) {
     ImageFormat format = image_format_for(path, where);
     fs::path tmp = temporary_path(path);
     try {
         switch (format) {
-            case ImageFormat::Png: write_png(tmp, image, meaning, exposure); break;
-            case ImageFormat::Pfm: write_pfm(tmp, image); break;
-            case ImageFormat::Exr: write_exr(tmp, image); break;
+            case ImageFormat::Png:
+                write_png(tmp, image, meaning, exposure);
+                break;
+            case ImageFormat::Pfm:
+                write_pfm(tmp, image);
+                break;
+            case ImageFormat::Exr:
+                write_exr(tmp, image);
+                break;
         }
         fs::rename(tmp, path);
     } catch (const std::exception& e) {

@@ -2,11 +2,10 @@
 // precision (glm::vec3); accumulators that sum many samples use double where it matters.
 #pragma once
 
-#include <glm/glm.hpp>
-#include <glm/gtc/matrix_transform.hpp>
-
 #include <algorithm>
 #include <cmath>
+#include <glm/glm.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 #include <limits>
 
 namespace svetlo {
@@ -27,9 +26,7 @@ inline constexpr float kInfinity = std::numeric_limits<float>::infinity();
 inline float radians(float degrees) { return degrees * (kPi / 180.0f); }
 inline float max_component(vec3 v) { return std::max(v.x, std::max(v.y, v.z)); }
 inline float min_component(vec3 v) { return std::min(v.x, std::min(v.y, v.z)); }
-inline int max_dimension(vec3 v) {
-    return v.x > v.y ? (v.x > v.z ? 0 : 2) : (v.y > v.z ? 1 : 2);
-}
+inline int max_dimension(vec3 v) { return v.x > v.y ? (v.x > v.z ? 0 : 2) : (v.y > v.z ? 1 : 2); }
 inline float luminance(Color c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
 inline bool is_black(Color c) { return c.r == 0.0f && c.g == 0.0f && c.b == 0.0f; }
 inline float square(float x) { return x * x; }

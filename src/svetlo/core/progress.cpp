@@ -45,8 +45,8 @@ void Progress::draw(int64_t done, bool /*final*/) {
     char bar[kWidth + 1];
     for (int k = 0; k < kWidth; ++k) bar[k] = k < filled ? '#' : '.';
     bar[kWidth] = '\0';
-    std::fprintf(stderr, "\r%s [%s] %5.1f%%  %.1fs elapsed, ETA %.1fs\033[K", label_.c_str(),
-                 bar, 100.0 * fraction, elapsed, eta);
+    std::fprintf(stderr, "\r%s [%s] %5.1f%%  %.1fs elapsed, ETA %.1fs\033[K", label_.c_str(), bar,
+                 100.0 * fraction, elapsed, eta);
     std::fflush(stderr);
 }
 

@@ -52,15 +52,20 @@ public:
     double component(size_t index, int c) const {
         const unsigned char* p = data_ + index * stride_ + static_cast<size_t>(c) * component_size_;
         switch (component_type_) {
-            case TINYGLTF_COMPONENT_TYPE_FLOAT: return load<float>(p);
+            case TINYGLTF_COMPONENT_TYPE_FLOAT:
+                return load<float>(p);
             case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
                 return normalized_ ? load<uint8_t>(p) / 255.0 : load<uint8_t>(p);
             case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
                 return normalized_ ? load<uint16_t>(p) / 65535.0 : load<uint16_t>(p);
-            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: return load<uint32_t>(p);
-            case TINYGLTF_COMPONENT_TYPE_BYTE: return load<int8_t>(p);
-            case TINYGLTF_COMPONENT_TYPE_SHORT: return load<int16_t>(p);
-            default: throw std::runtime_error("unsupported component type");
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+                return load<uint32_t>(p);
+            case TINYGLTF_COMPONENT_TYPE_BYTE:
+                return load<int8_t>(p);
+            case TINYGLTF_COMPONENT_TYPE_SHORT:
+                return load<int16_t>(p);
+            default:
+                throw std::runtime_error("unsupported component type");
         }
     }
 
@@ -85,8 +90,8 @@ mat4 node_matrix(const tinygltf::Node& node) {
     }
     mat4 t(1.0f), r(1.0f), s(1.0f);
     if (node.translation.size() == 3) {
-        t = glm::translate(mat4(1.0f), vec3(node.translation[0], node.translation[1],
-                                            node.translation[2]));
+        t = glm::translate(mat4(1.0f),
+                           vec3(node.translation[0], node.translation[1], node.translation[2]));
     }
     if (node.rotation.size() == 4) {
         glm::quat q(static_cast<float>(node.rotation[3]), static_cast<float>(node.rotation[0]),
@@ -111,7 +116,8 @@ Material material_from_gltf(const tinygltf::Material& m) {
     }
     auto strength = m.extensions.find("KHR_materials_emissive_strength");
     if (strength != m.extensions.end() && strength->second.Has("emissiveStrength")) {
-        emission *= static_cast<float>(strength->second.Get("emissiveStrength").GetNumberAsDouble());
+        emission *=
+            static_cast<float>(strength->second.Get("emissiveStrength").GetNumberAsDouble());
     }
     if (max_component(emission) > 0.0f) {
         EmissiveMaterial e;
@@ -183,7 +189,8 @@ struct Flattener {
         for (const tinygltf::Primitive& prim : model.meshes[mesh_index].primitives) {
             if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != -1) continue;
             auto pos = prim.attributes.find("POSITION");
-            if (pos == prim.attributes.end()) throw std::runtime_error("primitive without POSITION");
+            if (pos == prim.attributes.end())
+                throw std::runtime_error("primitive without POSITION");
             AccessorView positions(model, pos->second, 3);
             auto base = static_cast<uint32_t>(mesh.positions.size());
             for (size_t k = 0; k < positions.count(); ++k) {
@@ -197,7 +204,8 @@ struct Flattener {
                 if (normals.count() != positions.count()) throw std::runtime_error("NORMAL count");
                 mesh.normals.resize(base);
                 for (size_t k = 0; k < normals.count(); ++k) {
-                    vec3 n(normals.component(k, 0), normals.component(k, 1), normals.component(k, 2));
+                    vec3 n(normals.component(k, 0), normals.component(k, 1),
+                           normals.component(k, 2));
                     mesh.normals.push_back(glm::normalize(normal_matrix * n));
                 }
             }
@@ -227,10 +235,10 @@ struct Flattener {
                 }
             }
             if ((mesh.indices.size() - first) % 3 != 0) throw std::runtime_error("index count");
-            int material = prim.material >= 0 &&
-                                   static_cast<size_t>(prim.material) < file.materials.size()
-                               ? prim.material
-                               : -1;
+            int material =
+                prim.material >= 0 && static_cast<size_t>(prim.material) < file.materials.size()
+                    ? prim.material
+                    : -1;
             mesh.face_material.resize(mesh.indices.size() / 3, material);
         }
     }
@@ -259,7 +267,8 @@ MeshFile read_gltf(const std::filesystem::path& path) {
     if (static_cast<size_t>(scene) < model.scenes.size()) {
         for (int node : model.scenes[scene].nodes) flattener.visit(node, mat4(1.0f));
     } else {
-        for (size_t n = 0; n < model.nodes.size(); ++n) flattener.visit(static_cast<int>(n), mat4(1.0f));
+        for (size_t n = 0; n < model.nodes.size(); ++n)
+            flattener.visit(static_cast<int>(n), mat4(1.0f));
     }
     Mesh& mesh = file.mesh;
     if (mesh.indices.empty()) throw std::runtime_error("glTF file has no triangles");

@@ -28,7 +28,8 @@ MeshFile read_mesh_file(const fs::path& path) {
 }
 
 void validate_mesh(const Mesh& mesh) {
-    if (mesh.indices.size() % 3 != 0) throw std::runtime_error("index count is not a multiple of 3");
+    if (mesh.indices.size() % 3 != 0)
+        throw std::runtime_error("index count is not a multiple of 3");
     for (size_t k = 0; k < mesh.positions.size(); ++k) {
         const vec3& p = mesh.positions[k];
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {

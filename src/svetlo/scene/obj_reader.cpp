@@ -87,25 +87,24 @@ MeshFile read_obj(const std::filesystem::path& path) {
                     mesh.positions.emplace_back(p[0], p[1], p[2]);
                     if (has_normals) {
                         mesh.normals.push_back(
-                            idx.normal_index < 0
-                                ? vec3(0.0f)
-                                : vec3(attrib.normals[3 * idx.normal_index],
-                                       attrib.normals[3 * idx.normal_index + 1],
-                                       attrib.normals[3 * idx.normal_index + 2]));
+                            idx.normal_index < 0 ? vec3(0.0f)
+                                                 : vec3(attrib.normals[3 * idx.normal_index],
+                                                        attrib.normals[3 * idx.normal_index + 1],
+                                                        attrib.normals[3 * idx.normal_index + 2]));
                     }
                     if (has_uvs) {
-                        mesh.uvs.push_back(idx.texcoord_index < 0
-                                               ? vec2(0.0f)
-                                               : vec2(attrib.texcoords[2 * idx.texcoord_index],
-                                                      attrib.texcoords[2 * idx.texcoord_index + 1]));
+                        mesh.uvs.push_back(
+                            idx.texcoord_index < 0
+                                ? vec2(0.0f)
+                                : vec2(attrib.texcoords[2 * idx.texcoord_index],
+                                       attrib.texcoords[2 * idx.texcoord_index + 1]));
                     }
                 }
                 mesh.indices.push_back(it->second);
             }
             int m = shape.mesh.material_ids.empty() ? -1 : shape.mesh.material_ids[f];
-            mesh.face_material.push_back(m >= 0 && static_cast<size_t>(m) < file.materials.size()
-                                             ? m
-                                             : -1);
+            mesh.face_material.push_back(
+                m >= 0 && static_cast<size_t>(m) < file.materials.size() ? m : -1);
         }
     }
     if (mesh.indices.empty()) throw std::runtime_error("OBJ file has no faces");

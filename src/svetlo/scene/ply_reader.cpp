@@ -113,17 +113,22 @@ MeshFile read_ply(const std::filesystem::path& path) {
         if (word == "format") {
             std::string f;
             words >> f;
-            if (f == "ascii") format = Format::Ascii;
-            else if (f == "binary_little_endian") format = Format::BinaryLittle;
-            else if (f == "binary_big_endian") format = Format::BinaryBig;
-            else bad("unknown format '" + f + "'");
+            if (f == "ascii")
+                format = Format::Ascii;
+            else if (f == "binary_little_endian")
+                format = Format::BinaryLittle;
+            else if (f == "binary_big_endian")
+                format = Format::BinaryBig;
+            else
+                bad("unknown format '" + f + "'");
         } else if (word == "element") {
             Element e;
             long long count = -1;
             words >> e.name >> count;
             if (!words || count < 0) bad("bad element line");
             // Every element item takes at least one byte in any format.
-            if (static_cast<uint64_t>(count) > file_size) bad("element count exceeds the file size");
+            if (static_cast<uint64_t>(count) > file_size)
+                bad("element count exceeds the file size");
             e.count = static_cast<uint64_t>(count);
             elements.push_back(e);
         } else if (word == "property") {
@@ -187,7 +192,8 @@ MeshFile read_ply(const std::filesystem::path& path) {
                 for (int j = 0; j < static_cast<int>(n); ++j) {
                     double v = source.read(p.type);
                     if (keep) {
-                        if (v < 0 || v >= 4294967295.0) throw std::runtime_error("bad vertex index");
+                        if (v < 0 || v >= 4294967295.0)
+                            throw std::runtime_error("bad vertex index");
                         polygon.push_back(static_cast<uint32_t>(v));
                     }
                 }
@@ -200,7 +206,8 @@ MeshFile read_ply(const std::filesystem::path& path) {
                 if (tu >= 0 && tv >= 0) mesh.uvs.emplace_back(values[tu], values[tv]);
             } else if (is_face) {
                 for (size_t j = 2; j < polygon.size(); ++j) {  // fan triangulation
-                    mesh.indices.insert(mesh.indices.end(), {polygon[0], polygon[j - 1], polygon[j]});
+                    mesh.indices.insert(mesh.indices.end(),
+                                        {polygon[0], polygon[j - 1], polygon[j]});
                 }
             }
         }

@@ -127,7 +127,8 @@ Scene scene_from_json(const nlohmann::json& root, const fs::path& path) {
     if (auto render = top.find("render")) scene.render = parse_render(*render);
     if (auto materials = top.find("materials")) parse_materials(*materials, scene);
     if (auto lights = top.find("lights")) {
-        for (size_t k = 0; k < lights->size(); ++k) scene.lights.push_back(parse_light(lights->at(k)));
+        for (size_t k = 0; k < lights->size(); ++k)
+            scene.lights.push_back(parse_light(lights->at(k)));
     }
     if (auto objects = top.find("objects")) {
         for (size_t k = 0; k < objects->size(); ++k) parse_object(objects->at(k), scene);

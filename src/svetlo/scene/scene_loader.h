@@ -3,9 +3,8 @@
 // and the JSON path; nothing is allocated from a size the file states before it is checked.
 #pragma once
 
-#include <nlohmann/json.hpp>
-
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
 #include <vector>
