@@ -86,6 +86,11 @@ LightSet::LightSet(const Scene& scene) : scene_(scene), materials_(scene.materia
         }
         emitters.push_back(&obj);
     }
+    for (const Material& m : materials_) {
+        const auto* e = std::get_if<EmissiveMaterial>(&m);
+        emission_textured_.push_back(e && e->radiance.kind != ColorSource::Kind::Constant);
+        emission_.push_back(e && !emission_textured_.back() ? e->radiance.value : Color(0.0f));
+    }
     const size_t object_emitters = emitters.size();
     for (const Object& quad : area_quads_) emitters.push_back(&quad);
     std::vector<PrimitiveRange> ranges;
@@ -131,8 +136,10 @@ AreaPoint LightSet::sample_area(const Source& source, vec2 u, float u_pick) cons
     AreaPoint a;
     a.surface = sample_primitive(geometry_, prim, u, u_rest);
     a.pdf_area = 1.0f / source.area;
-    a.radiance =
-        make_bsdf(materials_[geometry_.material(prim)], a.surface.uv, scene_.textures).emission;
+    const uint32_t m = geometry_.material(prim);
+    a.radiance = emission_textured_[m]
+                     ? make_bsdf(materials_[m], a.surface.uv, scene_.textures).emission
+                     : emission_[m];
     return a;
 }
 

@@ -80,6 +80,10 @@ private:
     std::vector<Material> materials_;
     std::vector<Object> area_quads_;
     Geometry geometry_;  // the emitters' primitives, world space
+    // Per material: the emitted radiance when it is constant (no texture), else evaluated
+    // at each sample's uv.
+    std::vector<Color> emission_;
+    std::vector<char> emission_textured_;
     std::vector<Source> sources_;
 };
 
