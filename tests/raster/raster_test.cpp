@@ -14,6 +14,7 @@
 #include "svetlo/raster/edge_function.h"
 #include "svetlo/raster/lines.h"
 #include "svetlo/raster/raster_engine.h"
+#include "svetlo/raster/raster_lights.h"
 #include "svetlo/raster/simd_shading.h"
 #include "svetlo/scene/scene_loader.h"
 #include "svetlo/shading/mipmap.h"
@@ -623,8 +624,8 @@ TEST(Raster, FourAndEightLaneKernelsAgree) {
     q.normal[1] = glm::normalize(vec3(0.3f, 0, 1));
     q.normal[2] = glm::normalize(vec3(0, 0.4f, 1));
     SimdLights lights;
-    lights.points.push_back({vec3(0.5f, 1.5f, 2), Color(6, 5, 4)});
-    lights.directionals.push_back({glm::normalize(vec3(0.2f, 0.5f, 1)), Color(0.7f)});
+    lights.points.push_back({vec3(0.5f, 1.5f, 2), Color(6, 5, 4), 0});
+    lights.directionals.push_back({glm::normalize(vec3(0.2f, 0.5f, 1)), Color(0.7f), 1});
     for (int variant = 0; variant < 4; ++variant) {
         bool blinn = variant % 2 == 1;
         float shininess = variant < 2 ? 24.0f : 24.5f;  // repeated squaring, or exp2 and log2
@@ -642,6 +643,94 @@ TEST(Raster, FourAndEightLaneKernelsAgree) {
                     << k << " lanes " << simd_lanes();
             }
         }
+    }
+}
+
+TEST(Raster, TheKernelMultipliesEachLightByItsVisibility) {
+    // A shadow technique's masks through the fast path: V = 0.25 for the point light and a
+    // ramp for the directional one must give what lights of those strengths give unmasked,
+    // for runs and batches, on four lanes and on the processor's best.
+    TriangleRun q;
+    q.l1 = 0.05f;
+    q.l2 = 0.1f;
+    q.invw[0] = 0.5f;
+    q.invw[1] = 0.25f;
+    q.invw[2] = 0.4f;
+    q.world[0] = vec3(-1, 0, 0);
+    q.world[1] = vec3(1, 0, -0.5f);
+    q.world[2] = vec3(0, 1, 0.3f);
+    for (vec3& n : q.normal) n = vec3(0, 0, 1);
+    vec3 ng(0, 0, 1), eye(0, 0.2f, 3), forward(0, 0, -1);
+    SimdMaterial m(Color(0.0f), Color(0.5f, 0.4f, 0.3f), Color(0.4f), 16.0f, true, true);
+    SimdLights lights;
+    lights.points.push_back({vec3(0.5f, 1.5f, 2), Color(6, 5, 4), 0});
+    lights.directionals.push_back({glm::normalize(vec3(0.2f, 0.5f, 1)), Color(0.7f), 1});
+    constexpr int kSamples = 32;
+    std::vector<float> mask(2 * kSamples);
+    for (int k = 0; k < kSamples; ++k) {
+        mask[k] = 0.25f;
+        mask[kSamples + k] = static_cast<float>(k) / kSamples;
+    }
+    LightVisibility vis{mask.data(), kSamples};
+    for (int lanes : {4, 0}) {
+        Color masked[kSamples], point_only[kSamples], sun_only[kSamples];
+        shade_run(q, 0.01f, 0.008f, kSamples / 4, m, ng, lights, eye, false, forward, Color(0.0f),
+                  masked, lanes, vis);
+        SimdLights point = lights, sun = lights;
+        point.directionals.clear();
+        sun.points.clear();
+        shade_run(q, 0.01f, 0.008f, kSamples / 4, m, ng, point, eye, false, forward, Color(0.0f),
+                  point_only, lanes);
+        shade_run(q, 0.01f, 0.008f, kSamples / 4, m, ng, sun, eye, false, forward, Color(0.0f),
+                  sun_only, lanes);
+        for (int k = 0; k < kSamples; ++k) {
+            Color expected = 0.25f * point_only[k] + mask[kSamples + k] * sun_only[k];
+            for (int c = 0; c < 3; ++c)
+                EXPECT_NEAR(masked[k][c], expected[c], 1e-5f * expected[c] + 1e-7f) << k;
+        }
+        // The same samples gathered into a batch, in reverse order: each lane reads its own
+        // sample's visibility.
+        ShadeBatch batch;
+        Color lit[ShadeBatch::kCapacity];
+        for (int k = 7; k >= 0; --k) {
+            float l1 = q.l1 + 0.01f * k, l2 = q.l2 + 0.008f * k, l0 = 1.0f - l1 - l2;
+            float w0 = l0 * q.invw[0], w1 = l1 * q.invw[1], w2 = l2 * q.invw[2];
+            float inv = 1.0f / (w0 + w1 + w2);
+            vec3 p = (w0 * q.world[0] + w1 * q.world[1] + w2 * q.world[2]) * inv;
+            batch.add(p, vec3(0, 0, 1), ng, &m, static_cast<uint32_t>(k));
+        }
+        shade_batch(batch, lights, eye, false, forward, Color(0.0f), lit, vis);
+        for (int k = 0; k < 8; ++k) {
+            Color expected = 0.25f * point_only[7 - k] + mask[kSamples + 7 - k] * sun_only[7 - k];
+            for (int c = 0; c < 3; ++c)
+                EXPECT_NEAR(lit[k][c], expected[c], 1e-4f * expected[c] + 1e-6f) << k;
+        }
+    }
+}
+
+TEST(Raster, TheScalarShadingMultipliesEachLightByItsVisibility) {
+    // shade_point with a mask per light: the direct light of each is scaled by its V, the
+    // emission and the ambient term are not.
+    json j = oblique(8, 8);
+    j["lights"] = {{{"type", "point"}, {"position", {0, 2, 0}}, {"intensity", 4}},
+                   {{"type", "directional"}, {"direction", {0, -1, 0}}, {"irradiance", 2}}};
+    j["render"]["ambient"] = 0.5;
+    Scene scene = scene_from_json(j, "test.json");
+    RasterLights lights(scene);
+    LambertMaterial m;
+    m.albedo = ColorSource::constant(Color(0.6f));
+    Bsdf bsdf = make_bsdf(Material{m}, vec2(0.0f), scene.textures);
+    ShadingFrame frame = make_shading_frame(vec3(0, 1, 0), vec3(0, 1, 0), vec3(0, 1, 0));
+    const float mask[4] = {0.0f, 0.25f,  // the point light at samples 0 and 1
+                           1.0f, 0.5f};  // the directional light
+    LightVisibility vis{mask, 2};
+    for (size_t sample : {0u, 1u}) {
+        Color L = shade_point(bsdf, vec3(0.0f), frame, vec3(0, 1, 0), lights, Color(0.5f),
+                              Color(0.0f), vis, sample);
+        // ka I_a + albedo/pi (V_point I / d^2 + V_sun E).
+        float expected =
+            0.6f * 0.5f + 0.6f / kPi * (mask[sample] * 4.0f / 4.0f + mask[2 + sample] * 2.0f);
+        EXPECT_NEAR(L.r, expected, 1e-6f) << sample;
     }
 }
 

@@ -16,13 +16,14 @@ void shade_tile_fast(const FrameState& f, const Tile& tile, const SamplePattern&
     const Color background = f.scene->render.background, ambient = f.scene->render.ambient;
     EdgeCache edges(f);
     size_t count = pixels * static_cast<size_t>(S);
+    const LightVisibility vis = light_visibility(buf, count);
     buf.sample_color.resize(count);
     ShadeBatch batch;
     const int batch_size = simd_lanes();
     size_t lane_of[ShadeBatch::kCapacity];
     Color lit[ShadeBatch::kCapacity];
     auto flush = [&] {
-        shade_batch(batch, f.simd_lights, f.eye, f.ortho, f.forward, ambient, lit);
+        shade_batch(batch, f.simd_lights, f.eye, f.ortho, f.forward, ambient, lit, vis);
         for (int k = 0; k < batch.count; ++k) buf.sample_color[lane_of[k]] = lit[k];
         batch.count = 0;
     };
@@ -35,7 +36,7 @@ void shade_tile_fast(const FrameState& f, const Tile& tile, const SamplePattern&
         lane_of[batch.count] = i;
         batch.add(w.b[0] * A.world + w.b[1] * B.world + w.b[2] * C.world,
                   w.b[0] * A.normal + w.b[1] * B.normal + w.b[2] * C.normal, face_cross(t, A, B, C),
-                  &f.simd_material[t.material]);
+                  &f.simd_material[t.material], static_cast<uint32_t>(i));
         if (batch.count == batch_size) flush();
     };
     // A sample the batches do not take: the background, or a material off the
@@ -46,7 +47,7 @@ void shade_tile_fast(const FrameState& f, const Tile& tile, const SamplePattern&
             return true;
         }
         if (f.simd_ok[f.tri(tri).material]) return false;
-        buf.sample_color[i] = shade_one(f, tri, edges, sx, sy);
+        buf.sample_color[i] = shade_one(f, tri, edges, sx, sy, vis, i);
         return true;
     };
     // One sample per pixel: runs of one triangle along each row, their weights
@@ -89,6 +90,7 @@ void shade_tile_fast(const FrameState& f, const Tile& tile, const SamplePattern&
                     q.world[v] = f.vertex(t.v[v]).world;
                     q.normal[v] = f.vertex(t.v[v]).normal;
                 }
+                q.first_sample = static_cast<uint32_t>(i);
                 q.l1 = static_cast<float>(static_cast<double>(e.e[1].at(sx, sy)) * e.inv_area);
                 q.l2 = static_cast<float>(static_cast<double>(e.e[2].at(sx, sy)) * e.inv_area);
                 auto dl1 =
@@ -97,7 +99,8 @@ void shade_tile_fast(const FrameState& f, const Tile& tile, const SamplePattern&
                     static_cast<float>(static_cast<double>(e.e[2].a * kSubpixel) * e.inv_area);
                 shade_run(q, dl1, dl2, (spans_end - px) / 4, f.simd_material[t.material],
                           face_cross(t, f.vertex(t.v[0]), f.vertex(t.v[1]), f.vertex(t.v[2])),
-                          f.simd_lights, f.eye, f.ortho, f.forward, ambient, &buf.sample_color[i]);
+                          f.simd_lights, f.eye, f.ortho, f.forward, ambient, &buf.sample_color[i],
+                          0, vis);
             }
             for (int x = spans_end; x < end; ++x) {
                 add_to_batch(

@@ -15,9 +15,10 @@ const Bsdf& material_at(const FrameState& f, uint32_t m, vec2 uv, vec2 duv_dx, v
     return scratch;
 }
 
-Color light_point(const FrameState& f, const Bsdf& bsdf, vec3 p, vec3 wo, vec3 ng, vec3 ns) {
+Color light_point(const FrameState& f, const Bsdf& bsdf, vec3 p, vec3 wo, vec3 ng, vec3 ns,
+                  const LightVisibility& vis, size_t sample) {
     return shade_point(bsdf, p, make_shading_frame(ng, ns, wo), wo, *f.lights,
-                       f.scene->render.ambient, f.scene->render.background);
+                       f.scene->render.ambient, f.scene->render.background, vis, sample);
 }
 
 Color flat_colour(const FrameState& f, const uint32_t idx[3], uint32_t material) {
@@ -51,8 +52,9 @@ struct ShadeResult {
 };
 
 /// Stage 6: the colour of a visible sample of triangle `ti` with screen barycentrics (l1, l2).
+/// `vis` and `sample`: the lights' visibility at this sample of the tile.
 ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& edges, int64_t sx,
-                         int64_t sy, bool want_aovs) {
+                         int64_t sy, bool want_aovs, const LightVisibility& vis, size_t sample) {
     const SetupTriangle& t = f.tri(ti);
     if (f.mode == Mode::Flat && !want_aovs) {
         ShadeResult flat;
@@ -123,7 +125,7 @@ ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& 
             }
             Bsdf scratch;
             const Bsdf& bsdf = material_at(f, t.material, uv, dx, dy, scratch);
-            r.color = light_point(f, bsdf, p, wo, ng, ns);
+            r.color = light_point(f, bsdf, p, wo, ng, ns, vis, sample);
             if (want_aovs) {
                 r.albedo = bsdf.has_lobes()                        ? bsdf.diffuse
                            : bsdf.model == Bsdf::Model::Dielectric ? Color(1.0f)
@@ -142,8 +144,9 @@ ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& 
 
 }  // namespace
 
-Color shade_one(const FrameState& f, uint32_t tri, EdgeCache& edges, int64_t sx, int64_t sy) {
-    return shade_sample(f, tri, edges.of(tri), sx, sy, false).color;
+Color shade_one(const FrameState& f, uint32_t tri, EdgeCache& edges, int64_t sx, int64_t sy,
+                const LightVisibility& vis, size_t sample) {
+    return shade_sample(f, tri, edges.of(tri), sx, sy, false, vis, sample).color;
 }
 
 void shade_tile(const FrameState& f, const Tile& tile, const SamplePattern& sp, bool msaa,
@@ -152,9 +155,11 @@ void shade_tile(const FrameState& f, const Tile& tile, const SamplePattern& sp, 
     const size_t pixels = static_cast<size_t>(tile.x1 - tile.x0) * (tile.y1 - tile.y0);
     const Color background = f.scene->render.background;
     EdgeCache edges(f);
+    const LightVisibility vis = light_visibility(buf, pixels * static_cast<size_t>(S));
     auto shade = [&](uint32_t tri, size_t pixel, int s, bool want_aovs) {
         return shade_sample(f, tri, edges.of(tri), sample_x(tile, pixel, sp, s),
-                            sample_y(tile, pixel, sp, s), want_aovs);
+                            sample_y(tile, pixel, sp, s), want_aovs, vis,
+                            pixel * static_cast<size_t>(S) + static_cast<size_t>(s));
     };
     for (size_t pixel = 0; pixel < pixels; ++pixel) {
         Color sum(0.0f);
@@ -163,7 +168,10 @@ void shade_tile(const FrameState& f, const Tile& tile, const SamplePattern& sp, 
         for (int s = 0; s < S; ++s) {
             size_t i = pixel * static_cast<size_t>(S) + static_cast<size_t>(s);
             uint32_t tri = buf.tri[i];
-            visibility += 1.0f;
+            // The visibility AOV: light 0's mask, 1 where nothing is hit.
+            visibility += tri == kNone || f.light0_source < 0
+                              ? 1.0f
+                              : vis.at(static_cast<size_t>(f.light0_source), i);
             if (f.mode == Mode::Overdraw) {
                 sum += Color(static_cast<float>(buf.stencil[i]) / kOverdrawPerUnit);
                 if (tri == kNone || !aovs) continue;

@@ -18,7 +18,9 @@ const Bsdf& material_at(const FrameState& f, uint32_t m, vec2 uv, vec2 duv_dx, v
 
 /// Lit colour at a point with unit geometric normal ng (the counter-clockwise side) and
 /// shading normal ns (unit or zero), seen from the camera along -wo (shading_frame.h).
-Color light_point(const FrameState& f, const Bsdf& bsdf, vec3 p, vec3 wo, vec3 ng, vec3 ns);
+/// Each light's term is multiplied by its visibility at `sample` of the tile.
+Color light_point(const FrameState& f, const Bsdf& bsdf, vec3 p, vec3 wo, vec3 ng, vec3 ns,
+                  const LightVisibility& vis = {}, size_t sample = 0);
 
 /// Flat shading: one normal and one colour per face, lit at the centroid of the triangle of
 /// vertices `idx` (in the vertex stage's output).
@@ -38,7 +40,8 @@ void shade_tile(const FrameState& f, const Tile& tile, const SamplePattern& sp, 
                 bool aovs, TileBuffers& buf);
 
 /// One visible sample alone: its colour (for the fast path's exceptions).
-Color shade_one(const FrameState& f, uint32_t tri, EdgeCache& edges, int64_t sx, int64_t sy);
+Color shade_one(const FrameState& f, uint32_t tri, EdgeCache& edges, int64_t sx, int64_t sy,
+                const LightVisibility& vis, size_t sample);
 
 /// Stage 6's fast path (fast_shading.cpp): constant Lambert and Phong-family materials under
 /// point and directional lights, eight samples at a time, into buf.sample_color.

@@ -94,6 +94,7 @@ struct FrameState {
     std::vector<char> needs_footprint;  // per material: some texture is trilinear
     std::vector<MipChain> mips;
     std::optional<RasterLights> lights;       // made by tessellate_scene
+    int light0_source = -1;                   // the light set's index of Scene::lights[0]
     SimdLights simd_lights;                   // the same lights for the fast path,
     bool simd_lights_ok = false;              // when they are all point or directional
     std::vector<SimdMaterial> simd_material;  // per material, and whether the fast path takes it
@@ -168,6 +169,9 @@ struct TileBuffers {
     std::vector<Color> color;         // resolved colour per pixel, accumulated over passes
     std::vector<Color> sample_color;  // the fast path's colour per sample
     std::vector<Color> aov[4];        // depth, normal, albedo, visibility per pixel
+    // The visibility of each light of the light set at each sample (a shadow technique's
+    // masks, row by row: light_visibility()); empty: every light visible.
+    std::vector<float> visibility;
     void reset(size_t samples, size_t pixels, bool aovs, bool stencil_used) {
         depth.assign(samples + kPad, kInfinity);
         tri.assign(samples + kPad, kNone);
@@ -221,6 +225,12 @@ struct TriangleEdges {
 struct PixelSpan {
     int xs, xe, ys, ye;
 };
+
+/// The tile's light visibility for the shading (simd_shading.h), `samples` samples a row.
+inline LightVisibility light_visibility(const TileBuffers& buf, size_t samples) {
+    return buf.visibility.empty() ? LightVisibility{}
+                                  : LightVisibility{buf.visibility.data(), samples};
+}
 
 /// The fixed-point position of sample s of pixel `pixel` (row-major in the tile).
 inline int64_t sample_x(const Tile& tile, size_t pixel, const SamplePattern& sp, int s) {

@@ -110,13 +110,17 @@ void prepare_shading(const Scene& scene, FrameState& f) {
     }
     // The fast path takes point and directional lights only.
     f.simd_lights_ok = !f.lights->any_vpl;
-    for (const LightSet::Source& source : f.lights->set.sources()) {
-        if (!source.delta) continue;
-        const Light* light = &scene.lights[static_cast<size_t>(source.light_index)];
+    const auto& sources = f.lights->set.sources();
+    if (const LightSet::Source* s = f.lights->set.source_of_light(0))
+        f.light0_source = static_cast<int>(s - sources.data());
+    for (uint32_t index = 0; index < sources.size(); ++index) {
+        if (!sources[index].delta) continue;
+        const Light* light = &scene.lights[static_cast<size_t>(sources[index].light_index)];
         if (const auto* pl = std::get_if<PointLight>(light)) {
-            f.simd_lights.points.push_back({pl->position, pl->intensity});
+            f.simd_lights.points.push_back({pl->position, pl->intensity, index});
         } else if (const auto* dl = std::get_if<DirectionalLight>(light)) {
-            f.simd_lights.directionals.push_back({-glm::normalize(dl->direction), dl->irradiance});
+            f.simd_lights.directionals.push_back(
+                {-glm::normalize(dl->direction), dl->irradiance, index});
         } else {
             f.simd_lights_ok = false;
         }

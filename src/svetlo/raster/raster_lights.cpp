@@ -51,15 +51,17 @@ RasterLights::RasterLights(const Scene& scene) : set(scene) {
 }
 
 Color shade_point(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame, vec3 wo,
-                  const RasterLights& lights, Color ambient, Color background) {
+                  const RasterLights& lights, Color ambient, Color background,
+                  const LightVisibility& vis, size_t sample) {
     Color L = emitted_and_ambient(bsdf, frame, ambient);
     // Ideal mirrors and glass see the uniform environment (the background) only: a
     // rasterizer has no other surfaces to show in them. Glass without absorption passes all
     // of it, reflected or transmitted.
     if (bsdf.model == Bsdf::Model::Mirror) L += bsdf.reflect * background;
     if (bsdf.model == Bsdf::Model::Dielectric) L += background;
-    return L + direct_light(lights.set, bsdf, p, frame, wo, VplSampling{lights},
-                            [](size_t, const LightSample&) { return 1.0f; });
+    return L +
+           direct_light(lights.set, bsdf, p, frame, wo, VplSampling{lights},
+                        [&](size_t source, const LightSample&) { return vis.at(source, sample); });
 }
 
 }  // namespace svetlo

@@ -8,6 +8,7 @@
 
 #include <vector>
 
+#include "svetlo/raster/simd_shading.h"
 #include "svetlo/scene/scene.h"
 #include "svetlo/shading/bsdf.h"
 #include "svetlo/shading/light_set.h"
@@ -29,7 +30,9 @@ struct RasterLights {
 
 /// Outgoing radiance toward wo at p: emission (front side), the ambient term, direct light
 /// from every light, and for mirrors and glass the uniform environment `background`.
+/// Each light's term is multiplied by its visibility at `sample`.
 Color shade_point(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame, vec3 wo,
-                  const RasterLights& lights, Color ambient, Color background);
+                  const RasterLights& lights, Color ambient, Color background,
+                  const LightVisibility& vis = {}, size_t sample = 0);
 
 }  // namespace svetlo

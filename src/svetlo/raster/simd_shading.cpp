@@ -15,10 +15,11 @@ namespace svetlo {
 // The AVX2 build of the kernel (simd_shading_avx2.cpp), when the compiler made one.
 #ifdef SVETLO_HAS_AVX2_KERNEL
 void shade_batch_avx2(const ShadeBatch& b, const SimdLights& lights, vec3 eye, bool ortho,
-                      vec3 forward, Color ambient, Color* out);
+                      vec3 forward, Color ambient, const LightVisibility& vis, Color* out);
 void shade_run_avx2(const TriangleRun& q, float dl1, float dl2, int first, int groups,
                     const SimdMaterial& mat, vec3 ng, const SimdLights& lights, vec3 eye,
-                    bool ortho, vec3 forward, Color ambient, Color* out);
+                    bool ortho, vec3 forward, Color ambient, const LightVisibility& vis,
+                    Color* out);
 #endif
 
 namespace {
@@ -61,32 +62,33 @@ void pow4(const float x[4], const float n[4], float out[4]) {
 }
 
 void shade_batch(const ShadeBatch& b, const SimdLights& lights, vec3 eye, bool ortho, vec3 forward,
-                 Color ambient, Color* out) {
+                 Color ambient, Color* out, const LightVisibility& vis) {
 #ifdef SVETLO_HAS_AVX2_KERNEL
     if (cpu_has_avx2() && b.count > 4) {
-        shade_batch_avx2(b, lights, eye, ortho, forward, ambient, out);
+        shade_batch_avx2(b, lights, eye, ortho, forward, ambient, vis, out);
         return;
     }
 #endif
     for (int first = 0; first < b.count; first += 4) {
-        shade_batch_kernel(b, first, lights, eye, ortho, forward, ambient, out);
+        shade_batch_kernel(b, first, lights, eye, ortho, forward, ambient, vis, out);
     }
 }
 
 void shade_run(const TriangleRun& q, float dl1, float dl2, int groups, const SimdMaterial& mat,
                vec3 ng, const SimdLights& lights, vec3 eye, bool ortho, vec3 forward, Color ambient,
-               Color* out, int lanes) {
+               Color* out, int lanes, const LightVisibility& vis) {
     int first = 0;
 #ifdef SVETLO_HAS_AVX2_KERNEL
     if (lanes != 4 && cpu_has_avx2() && groups >= 2) {
         // Eight lanes where the processor has them; a last group of four with four.
         int eights = groups / 2;
-        shade_run_avx2(q, dl1, dl2, 0, eights, mat, ng, lights, eye, ortho, forward, ambient, out);
+        shade_run_avx2(q, dl1, dl2, 0, eights, mat, ng, lights, eye, ortho, forward, ambient, vis,
+                       out);
         first = 8 * eights;
     }
 #endif
     int left = groups - first / 4;
-    shade_run_kernel(q, dl1, dl2, first, left, mat, ng, lights, eye, ortho, forward, ambient,
+    shade_run_kernel(q, dl1, dl2, first, left, mat, ng, lights, eye, ortho, forward, ambient, vis,
                      out + first);
 }
 

@@ -20,13 +20,23 @@ struct SimdLights {
     struct Point {
         vec3 position;
         Color intensity;  // W/sr
+        uint32_t source;  // its index in the light set: its row of a LightVisibility
     };
     struct Directional {
         vec3 to_light;     // unit, opposite to the direction of travel
         Color irradiance;  // W/m^2
+        uint32_t source;
     };
     std::vector<Point> points;
     std::vector<Directional> directionals;
+};
+
+/// The visibility V in [0, 1] of each light at each sample of a tile (a shadow technique's
+/// mask): row `source` (the light set's index) of `stride` samples. Null: every light visible.
+struct LightVisibility {
+    const float* v = nullptr;
+    size_t stride = 0;
+    float at(size_t source, size_t sample) const { return v ? v[source * stride + sample] : 1.0f; }
 };
 
 /// A constant material in the fast path's terms, with what the kernel derives from it once.
@@ -49,22 +59,24 @@ struct ShadeBatch {
     int count = 0;
     float p[3][kCapacity], ns[3][kCapacity], ng[3][kCapacity];
     const SimdMaterial* material[kCapacity] = {};
+    uint32_t sample[kCapacity] = {};  // each lane's sample in the tile (for the visibility)
 
     /// Appends a sample; the caller flushes a full batch.
-    void add(vec3 position, vec3 normal, vec3 geometric, const SimdMaterial* m) {
+    void add(vec3 position, vec3 normal, vec3 geometric, const SimdMaterial* m, uint32_t s = 0) {
         for (int c = 0; c < 3; ++c) {
             p[c][count] = position[c];
             ns[c][count] = normal[c];
             ng[c][count] = geometric[c];
         }
+        sample[count] = s;
         material[count++] = m;
     }
 };
 
 /// Radiance toward the camera at each sample of the batch (eight lanes at once with AVX2,
-/// else four at a time).
+/// else four at a time), each light's term times its visibility at the lane's sample.
 void shade_batch(const ShadeBatch& batch, const SimdLights& lights, vec3 eye, bool ortho,
-                 vec3 forward, Color ambient, Color* out);
+                 vec3 forward, Color ambient, Color* out, const LightVisibility& vis = {});
 
 /// Samples of one triangle: the screen barycentrics of vertices 1 and 2 of the first, and the
 /// triangle's 1/w, world positions and normals per vertex.
@@ -72,6 +84,7 @@ struct TriangleRun {
     float l1 = 0.0f, l2 = 0.0f;
     float invw[3];
     vec3 world[3], normal[3];
+    uint32_t first_sample = 0;  // the run's first sample in the tile (for the visibility)
 };
 
 /// A run of 4 `groups` consecutive samples of one triangle along a row: the weights of the
@@ -81,7 +94,7 @@ struct TriangleRun {
 /// (simd_lanes()) unless `lanes` is 4 (the tests of the four-lane build ask for it).
 void shade_run(const TriangleRun& q, float dl1, float dl2, int groups, const SimdMaterial& m,
                vec3 ng, const SimdLights& lights, vec3 eye, bool ortho, vec3 forward, Color ambient,
-               Color* out, int lanes = 0);
+               Color* out, int lanes = 0, const LightVisibility& vis = {});
 
 /// The lanes shade_run uses on this processor: 8 with AVX2, else 4.
 int simd_lanes();

@@ -17,14 +17,15 @@ namespace svetlo {
 #include "svetlo/raster/simd_kernel.inc"
 
 void shade_batch_avx2(const ShadeBatch& b, const SimdLights& lights, vec3 eye, bool ortho,
-                      vec3 forward, Color ambient, Color* out) {
-    shade_batch_kernel(b, 0, lights, eye, ortho, forward, ambient, out);
+                      vec3 forward, Color ambient, const LightVisibility& vis, Color* out) {
+    shade_batch_kernel(b, 0, lights, eye, ortho, forward, ambient, vis, out);
 }
 
 void shade_run_avx2(const TriangleRun& q, float dl1, float dl2, int first, int groups,
                     const SimdMaterial& mat, vec3 ng, const SimdLights& lights, vec3 eye,
-                    bool ortho, vec3 forward, Color ambient, Color* out) {
-    shade_run_kernel(q, dl1, dl2, first, groups, mat, ng, lights, eye, ortho, forward, ambient,
+                    bool ortho, vec3 forward, Color ambient, const LightVisibility& vis,
+                    Color* out) {
+    shade_run_kernel(q, dl1, dl2, first, groups, mat, ng, lights, eye, ortho, forward, ambient, vis,
                      out);
 }
 
