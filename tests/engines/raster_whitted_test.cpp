@@ -5,6 +5,7 @@
 #include "svetlo/raster/raster_engine.h"
 #include "svetlo/rt/whitted.h"
 #include "svetlo/scene/scene_loader.h"
+#include "test_scenes.h"
 
 namespace svetlo {
 namespace {
@@ -20,13 +21,7 @@ RenderResult render(const json& j, const std::string& engine, std::vector<std::s
     return RasterRenderer().render(scene, options);
 }
 
-json floor_quad(float half, const char* material) {
-    return {{"type", "quad"},
-            {"corner", {-half, 0, -half}},
-            {"edge_u", {0, 0, 2 * half}},
-            {"edge_v", {2 * half, 0, 0}},
-            {"material", material}};
-}
+using test_scenes::floor_quad;
 
 TEST(RasterAgainstWhitted, PhongShadedSphereMatchesTheRayTracer) {
     json j = {

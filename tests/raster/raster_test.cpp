@@ -18,6 +18,7 @@
 #include "svetlo/raster/simd_shading.h"
 #include "svetlo/scene/scene_loader.h"
 #include "svetlo/shading/mipmap.h"
+#include "test_scenes.h"
 
 namespace svetlo {
 namespace {
@@ -41,13 +42,7 @@ json oblique(int w, int h) {
             {"render", {{"engine", "raster"}, {"spp", 1}, {"max_depth", 0}}}};
 }
 
-json floor_quad(float half, const char* material) {
-    return {{"type", "quad"},
-            {"corner", {-half, 0, -half}},
-            {"edge_u", {0, 0, 2 * half}},
-            {"edge_v", {2 * half, 0, 0}},
-            {"material", material}};
-}
+using test_scenes::floor_quad;
 
 /// Where the ray through the centre of pixel (i, j) meets y = 0 (false if it does not).
 bool floor_point(const Scene& scene, int i, int j, vec3& p) {
@@ -608,9 +603,9 @@ TEST(Raster, AMeshOfSmallTrianglesHasNoCracks) {
     EXPECT_GT(covered, 8000);
 }
 
-TEST(Raster, FourAndEightLaneKernelsAgree) {
-    // A run of 64 samples of one triangle through the four-lane kernel and through the best
-    // one of this processor (eight lanes with AVX2): the same colours.
+/// A run of one triangle for the kernel tests: the weights of its first sample, 1/w and
+/// world positions of its vertices.
+TriangleRun test_run() {
     TriangleRun q;
     q.l1 = 0.05f;
     q.l2 = 0.1f;
@@ -620,6 +615,13 @@ TEST(Raster, FourAndEightLaneKernelsAgree) {
     q.world[0] = vec3(-1, 0, 0);
     q.world[1] = vec3(1, 0, -0.5f);
     q.world[2] = vec3(0, 1, 0.3f);
+    return q;
+}
+
+TEST(Raster, FourAndEightLaneKernelsAgree) {
+    // A run of 64 samples of one triangle through the four-lane kernel and through the best
+    // one of this processor (eight lanes with AVX2): the same colours.
+    TriangleRun q = test_run();
     q.normal[0] = glm::normalize(vec3(-0.2f, 0.1f, 1));
     q.normal[1] = glm::normalize(vec3(0.3f, 0, 1));
     q.normal[2] = glm::normalize(vec3(0, 0.4f, 1));
@@ -650,15 +652,7 @@ TEST(Raster, TheKernelMultipliesEachLightByItsVisibility) {
     // A shadow technique's masks through the fast path: V = 0.25 for the point light and a
     // ramp for the directional one must give what lights of those strengths give unmasked,
     // for runs and batches, on four lanes and on the processor's best.
-    TriangleRun q;
-    q.l1 = 0.05f;
-    q.l2 = 0.1f;
-    q.invw[0] = 0.5f;
-    q.invw[1] = 0.25f;
-    q.invw[2] = 0.4f;
-    q.world[0] = vec3(-1, 0, 0);
-    q.world[1] = vec3(1, 0, -0.5f);
-    q.world[2] = vec3(0, 1, 0.3f);
+    TriangleRun q = test_run();
     for (vec3& n : q.normal) n = vec3(0, 0, 1);
     vec3 ng(0, 0, 1), eye(0, 0.2f, 3), forward(0, 0, -1);
     SimdMaterial m(Color(0.0f), Color(0.5f, 0.4f, 0.3f), Color(0.4f), 16.0f, true, true);

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "svetlo/scene/scene_loader.h"
+#include "test_scenes.h"
 
 namespace svetlo {
 namespace {
@@ -37,13 +38,7 @@ vec3 pixel_point(int i, int j, int n, float half) {
     return vec3(-half + (i + 0.5f) * s, 0.0f, -half + (j + 0.5f) * s);
 }
 
-json floor_quad(float half, const char* material) {
-    return {{"type", "quad"},
-            {"corner", {-half, 0, -half}},
-            {"edge_u", {0, 0, 2 * half}},
-            {"edge_v", {2 * half, 0, 0}},
-            {"material", material}};
-}
+using test_scenes::floor_quad;
 
 TEST(Whitted, LambertQuadUnderPointLightPerPixel) {
     const int n = 32;

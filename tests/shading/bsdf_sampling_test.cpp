@@ -2,20 +2,13 @@
 // chi-square test, the samples against eval and pdf, and white-furnace energy tests.
 #include <gtest/gtest.h>
 
+#include "bsdf_test_support.h"
 #include "svetlo/core/rng.h"
 #include "svetlo/core/sampling.h"
 #include "svetlo/shading/bsdf.h"
 
 namespace svetlo {
 namespace {
-
-const std::vector<Image> kNoTextures;
-const vec3 kN(0.0f, 0.0f, 1.0f);
-
-vec3 dir(float theta_deg, float phi_deg) {
-    float t = radians(theta_deg), p = radians(phi_deg);
-    return vec3(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t));
-}
 
 Bsdf make(const Material& m) { return make_bsdf(m, vec2(0.0f), kNoTextures); }
 
@@ -129,20 +122,23 @@ std::vector<Case> glossy_cases() {
             {"cook_torrance mid", cook_torrance(0.45f, 0.5f)}};
 }
 
+/// sample_bsdf as chi_square_test draws: the direction, and whether there is one.
+auto bsdf_sampler(const Bsdf& b, vec3 wo) {
+    return [&b, wo](Rng& rng, vec3& w) {
+        BsdfSample s = sample_bsdf(b, kN, wo, true, vec2(rng.next_float(), rng.next_float()),
+                                   rng.next_float());
+        w = s.wi;
+        return s.valid();
+    };
+}
+
 TEST(BsdfSampling, EverySamplerFollowsItsPdfChiSquare) {
     for (const Case& c : glossy_cases()) {
         Bsdf b = make(c.material);
         for (float theta : {10.0f, 45.0f, 75.0f}) {
             vec3 wo = dir(theta, 30.0f);
-            double p = chi_square_test(
-                [&](Rng& rng, vec3& w) {
-                    BsdfSample s =
-                        sample_bsdf(b, kN, wo, true, vec2(rng.next_float(), rng.next_float()),
-                                    rng.next_float());
-                    w = s.wi;
-                    return s.valid();
-                },
-                [&](vec3 wi) { return pdf_bsdf(b, kN, wo, wi); });
+            double p = chi_square_test(bsdf_sampler(b, wo),
+                                       [&](vec3 wi) { return pdf_bsdf(b, kN, wo, wi); });
             // 27 tests: a true sampler fails one of them at this level once in 4,000 runs.
             EXPECT_GT(p, 1e-5) << c.name << " theta_o=" << theta;
         }
@@ -162,16 +158,9 @@ TEST(BsdfSampling, TheChiSquareTestCatchesASamplerThatDisagreesWithItsPdf) {
                   },
                   [](vec3 wi) { return wi.z > 0.0f ? 0.5f * kInvPi : 0.0f; }),
               1e-9);
-    EXPECT_LT(chi_square_test(
-                  [&](Rng& rng, vec3& w) {
-                      BsdfSample s =
-                          sample_bsdf(b, kN, wo, true, vec2(rng.next_float(), rng.next_float()),
-                                      rng.next_float());
-                      w = s.wi;
-                      return s.valid();
-                  },
-                  [&](vec3 wi) { return pdf_bsdf(wrong, kN, wo, wi); }),
-              1e-9);
+    EXPECT_LT(
+        chi_square_test(bsdf_sampler(b, wo), [&](vec3 wi) { return pdf_bsdf(wrong, kN, wo, wi); }),
+        1e-9);
 }
 
 TEST(BsdfSampling, SamplesCarryEvalAndPdf) {

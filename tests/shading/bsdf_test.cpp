@@ -2,19 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include "bsdf_test_support.h"
 #include "svetlo/core/rng.h"
 #include "svetlo/core/sampling.h"
 
 namespace svetlo {
 namespace {
-
-const std::vector<Image> kNoTextures;
-const vec3 kN(0.0f, 0.0f, 1.0f);
-
-vec3 dir(float theta_deg, float phi_deg) {
-    float t = radians(theta_deg), p = radians(phi_deg);
-    return vec3(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t));
-}
 
 /// Directional albedo: integral of f cos over the hemisphere, by cosine-weighted Monte Carlo.
 Color albedo(const Bsdf& b, vec3 wo, int n = 200000) {
