@@ -73,8 +73,8 @@ uint64_t trace_all(const Accel& accel, const std::vector<Ray>& rays, int threads
 
 int run_bench(const BenchArgs& args) {
     std::vector<Override> overrides = parse_sets(args.sets, args.scene);
-    if (args.width > 0) overrides.push_back({"film.width", std::to_string(args.width)});
-    if (args.height > 0) overrides.push_back({"film.height", std::to_string(args.height)});
+    add_flag_overrides(args.scene, args.width, args.height, overrides);
+    const int threads = flag_threads(args.scene, args.threads);
     if (args.rays != "primary" && args.rays != "diffuse") {
         throw Error(args.scene, "--rays", "expected primary or diffuse, not '" + args.rays + "'");
     }
@@ -98,14 +98,14 @@ int run_bench(const BenchArgs& args) {
     Scene scene = load_scene(args.scene, overrides);
     LightSet lights(scene);
     Geometry g = build_geometry(object_pointers(scene.objects, lights.area_light_quads()));
-    std::unique_ptr<Accel> reference = make_accel("bvh", g, args.threads);
-    std::vector<Ray> rays = make_rays(scene, g, *reference, args.rays == "diffuse", args.threads);
+    std::unique_ptr<Accel> reference = make_accel("bvh", g, threads);
+    std::vector<Ray> rays = make_rays(scene, g, *reference, args.rays == "diffuse", threads);
     reference.reset();
     std::fprintf(stderr, "svetlo bench: %zu %s rays, %u primitives, %d threads\n", rays.size(),
-                 args.rays.c_str(), g.primitive_count(), resolve_threads(args.threads));
+                 args.rays.c_str(), g.primitive_count(), resolve_threads(threads));
     for (const std::string& name : names) {
         auto t0 = Clock::now();
-        std::unique_ptr<Accel> accel = make_accel(name, g, args.threads);
+        std::unique_ptr<Accel> accel = make_accel(name, g, threads);
         double build_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
         // Repeat the trace until 0.3 s have passed for a stable figure (one pass at least).
         uint64_t hits = 0;
@@ -113,7 +113,7 @@ int run_bench(const BenchArgs& args) {
         double seconds = 0.0;
         do {
             auto t1 = Clock::now();
-            hits = trace_all(*accel, rays, args.threads);
+            hits = trace_all(*accel, rays, threads);
             seconds += std::chrono::duration<double>(Clock::now() - t1).count();
             ++passes;
         } while (seconds < 0.3 && passes < 50);

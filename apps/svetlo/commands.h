@@ -9,13 +9,13 @@
 
 namespace svetlo {
 
+// Numeric flags are kept as given (empty when absent) and checked by the commands (flags.h),
+// so that a bad value gets one line naming the flag.
 struct RenderArgs {
     std::string scene;
     std::string output = "out.png";
     std::string engine;
-    int width = 0, height = 0, spp = 0;
-    long long seed = -1;
-    int threads = 0;
+    std::string width, height, spp, seed, threads;
     std::vector<std::string> sets;  // KEY=VALUE
     std::vector<std::string> aovs;  // NAME=FILE
     bool quiet = false;
@@ -31,8 +31,7 @@ struct BenchArgs {
     std::string scene;
     std::string accels;  // empty: every structure built in except brute force
     std::string rays = "primary";
-    int threads = 0;
-    int width = 0, height = 0;
+    std::string threads, width, height;
     std::vector<std::string> sets;
 };
 
@@ -40,7 +39,15 @@ int run_render(const RenderArgs& args);
 int run_info(const InfoArgs& args);
 int run_bench(const BenchArgs& args);
 
-/// --set KEY=VALUE strings (and the flags that stand for scene keys) as overrides.
+/// --set KEY=VALUE strings as overrides.
 std::vector<Override> parse_sets(const std::vector<std::string>& sets, const std::string& file);
+
+/// The flags that stand for scene keys (-W, -H, and for render --spp and --seed), checked, as
+/// overrides after the --set ones: the flags win.
+void add_flag_overrides(const std::string& file, const std::string& width,
+                        const std::string& height, std::vector<Override>& overrides);
+
+/// The thread count a -t flag asks for (0: every core; empty: 0).
+int flag_threads(const std::string& file, const std::string& text);
 
 }  // namespace svetlo

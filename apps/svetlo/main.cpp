@@ -22,13 +22,11 @@ int main(int argc, char** argv) {
     r->add_option("scene", render.scene, "Scene file (JSON)")->required();
     r->add_option("-o,--output", render.output, "Output image: .png, .pfm or .exr");
     r->add_option("-e,--engine", render.engine, "raster, whitted, path or radiosity");
-    r->add_option("-W,--width", render.width, "Film width in pixels")->check(CLI::PositiveNumber);
-    r->add_option("-H,--height", render.height, "Film height in pixels")
-        ->check(CLI::PositiveNumber);
-    r->add_option("-s,--spp", render.spp, "Samples per pixel")->check(CLI::PositiveNumber);
-    r->add_option("-t,--threads", render.threads, "Threads (0 = all cores)")
-        ->check(CLI::NonNegativeNumber);
-    r->add_option("--seed", render.seed, "Random seed")->check(CLI::NonNegativeNumber);
+    r->add_option("-W,--width", render.width, "Film width in pixels");
+    r->add_option("-H,--height", render.height, "Film height in pixels");
+    r->add_option("-s,--spp", render.spp, "Samples per pixel");
+    r->add_option("-t,--threads", render.threads, "Threads (0 = all cores)");
+    r->add_option("--seed", render.seed, "Random seed");
     r->add_option("--set", render.sets, "Override a scene key: KEY=VALUE (dotted path)");
     r->add_option("--aov", render.aovs,
                   "Also write an AOV: NAME=FILE (depth, normal, albedo, visibility)");
@@ -49,18 +47,19 @@ int main(int argc, char** argv) {
         "--accel", bench.accels,
         "Comma-separated list of none, grid, octree, bvh2, bvh, embree (default: all built)");
     b->add_option("--rays", bench.rays, "primary or diffuse");
-    b->add_option("-t,--threads", bench.threads, "Threads (0 = all cores)")
-        ->check(CLI::NonNegativeNumber);
-    b->add_option("-W,--width", bench.width, "Film width (rays per row)")
-        ->check(CLI::PositiveNumber);
-    b->add_option("-H,--height", bench.height, "Film height")->check(CLI::PositiveNumber);
+    b->add_option("-t,--threads", bench.threads, "Threads (0 = all cores)");
+    b->add_option("-W,--width", bench.width, "Film width (rays per row)");
+    b->add_option("-H,--height", bench.height, "Film height");
     b->add_option("--set", bench.sets, "Override a scene key: KEY=VALUE");
 
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        if (e.get_exit_code() != 0) std::fputs(app.help().c_str(), stderr);
-        return app.exit(e);
+        if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+        // One line in the contract's format; `svetlo SUBCOMMAND --help` shows the usage.
+        std::fprintf(stderr, "svetlo: error: svetlo: command line: %s (see svetlo --help)\n",
+                     e.what());
+        return 2;
     }
 
     try {

@@ -5,6 +5,7 @@
 
 #include "commands.h"
 #include "engines.h"
+#include "flags.h"
 #include "svetlo/core/error.h"
 #include "svetlo/core/image_io.h"
 #include "svetlo/core/parallel.h"
@@ -24,14 +25,36 @@ std::vector<Override> parse_sets(const std::vector<std::string>& sets, const std
     return out;
 }
 
+void add_flag_overrides(const std::string& file, const std::string& width,
+                        const std::string& height, std::vector<Override>& overrides) {
+    if (!width.empty()) {
+        overrides.push_back(
+            {"film.width", std::to_string(flag_integer(file, "-W", width, 1, kMaxFilmSide))});
+    }
+    if (!height.empty()) {
+        overrides.push_back(
+            {"film.height", std::to_string(flag_integer(file, "-H", height, 1, kMaxFilmSide))});
+    }
+}
+
+int flag_threads(const std::string& file, const std::string& text) {
+    return text.empty() ? 0 : static_cast<int>(flag_integer(file, "-t", text, 0, kMaxThreads));
+}
+
 int run_render(const RenderArgs& args) {
     std::vector<Override> overrides = parse_sets(args.sets, args.scene);
     // The flags override the scene and any --set.
     if (!args.engine.empty()) overrides.push_back({"render.engine", "\"" + args.engine + "\""});
-    if (args.width > 0) overrides.push_back({"film.width", std::to_string(args.width)});
-    if (args.height > 0) overrides.push_back({"film.height", std::to_string(args.height)});
-    if (args.spp > 0) overrides.push_back({"render.spp", std::to_string(args.spp)});
-    if (args.seed >= 0) overrides.push_back({"render.seed", std::to_string(args.seed)});
+    add_flag_overrides(args.scene, args.width, args.height, overrides);
+    if (!args.spp.empty()) {
+        overrides.push_back({"render.spp", std::to_string(flag_integer(args.scene, "--spp",
+                                                                       args.spp, 1, kMaxSpp))});
+    }
+    if (!args.seed.empty()) {
+        overrides.push_back({"render.seed", std::to_string(flag_integer(args.scene, "--seed",
+                                                                        args.seed, 0, kMaxSeed))});
+    }
+    const int threads = flag_threads(args.scene, args.threads);
 
     // Check every output before the (possibly long) render.
     check_writable(args.output, "-o");
@@ -51,6 +74,20 @@ int run_render(const RenderArgs& args) {
         aovs.emplace_back(name, spec.substr(eq + 1));
         check_writable(aovs.back().second, "--aov " + name);
     }
+    // Two outputs to one file: the later would overwrite the earlier.
+    auto same_file = [](const std::string& a, const std::string& b) {
+        std::error_code ec;
+        return std::filesystem::weakly_canonical(a, ec) == std::filesystem::weakly_canonical(b, ec);
+    };
+    for (size_t k = 0; k < aovs.size(); ++k) {
+        const auto& [name, file] = aovs[k];
+        if (same_file(file, args.output))
+            throw Error(file, "--aov " + name, "is also the image's file (-o)");
+        for (size_t m = 0; m < k; ++m) {
+            if (same_file(file, aovs[m].second))
+                throw Error(file, "--aov " + name, "is also the file of --aov " + aovs[m].first);
+        }
+    }
 
     Scene scene = load_scene(args.scene, overrides);
     std::unique_ptr<Renderer> renderer = make_renderer(scene.render.engine, args.scene);
@@ -64,7 +101,7 @@ int run_render(const RenderArgs& args) {
                      args.scene.c_str(), std::string(name_of(kShadowTechniques, shadows)).c_str());
     }
     RenderOptions options;
-    options.threads = args.threads;
+    options.threads = threads;
     options.progress = !args.quiet && stderr_is_terminal();
     for (const auto& aov : aovs) options.aovs.push_back(aov.first);
     RenderResult result = renderer->render(scene, options);
@@ -98,7 +135,7 @@ int run_render(const RenderArgs& args) {
         std::fprintf(
             stderr, "svetlo: %s %dx%d, %d spp, %d threads: setup %.3f s, render %.3f s, %s -> %s\n",
             scene.render.engine.c_str(), scene.film.width, scene.film.height, scene.render.spp,
-            resolve_threads(args.threads), result.stats.setup_seconds, result.stats.seconds, rate,
+            resolve_threads(threads), result.stats.setup_seconds, result.stats.seconds, rate,
             args.output.c_str());
     }
     return 0;

@@ -113,8 +113,6 @@ done
 "$svetlo" info "$work/good.json" --matrices | grep -q '^projection' && pass || fail "info --matrices"
 
 # --- bad command lines ---
-"$svetlo" render "$work/good.json" --frobnicate > /dev/null 2> "$work/stderr"
-[ $? -ne 0 ] && grep -qi usage "$work/stderr" && pass || fail "unknown flag"
 "$svetlo" > /dev/null 2>&1 && fail "no subcommand" || pass
 expect_error "unknown engine" "render.engine" render "$work/good.json" -o "$work/keep.png" --engine foo
 expect_error "engine not built" "render.engine" render "$work/good.json" -o "$work/keep.png" --engine radiosity
@@ -125,6 +123,30 @@ expect_error "unknown aov" "--aov" render "$work/good.json" -o "$work/keep.png" 
 expect_error "unwritable output" "-o" render "$work/good.json" -o "$work/no/such/dir/out.png"
 expect_error "unknown extension" "-o" render "$work/good.json" -o "$work/out.jpg"
 expect_error "missing scene" "file" render "$work/nothing.json" -o "$work/keep.png"
+# Flags get the scene keys' treatment: one line naming the flag, its rule and the value.
+expect_error "--spp 0" "--spp: must be >= 1 \(is 0\)" render "$work/good.json" -o "$work/keep.png" --spp 0
+expect_error "--seed -1" "--seed: must be >= 0 \(is -1\)" render "$work/good.json" -o "$work/keep.png" --seed -1
+expect_error "-t abc" "-t: must be a whole number \(is 'abc'\)" render "$work/good.json" -o "$work/keep.png" -t abc
+expect_error "-W 0" "-W: must be >= 1 \(is 0\)" render "$work/good.json" -o "$work/keep.png" -W 0
+expect_error "-H huge" "-H: must be <= 65536 \(is [0-9]{24}\.\.\.\)$" render "$work/good.json" -o "$work/keep.png" -H "$(printf '9%.0s' $(seq 309))"
+expect_error "bench -t -1" "-t: must be >= 0" bench "$work/good.json" -t -1
+expect_error "unknown flag" "command line: .*--bogus" render "$work/good.json" -o "$work/keep.png" --bogus
+expect_error "no scene" "command line: .*scene" render
+expect_error "aov over the image" "--aov depth: is also the image's file" render "$work/good.json" -o "$work/keep.png" --aov depth="$work/keep.png"
+expect_error "two aovs, one file" "--aov normal: is also the file of --aov depth" render "$work/good.json" -o "$work/keep.png" --aov depth="$work/d.pfm" --aov normal="$work/d.pfm"
+# More threads than cores run on the cores, silently with -q, and the summary says how many.
+if "$svetlo" render "$work/good.json" -o "$work/t.png" -q -t 64 2> "$work/stderr" && [ ! -s "$work/stderr" ]; then
+    pass
+else
+    fail "-t 64 -q printed: $(cat "$work/stderr")"
+fi
+"$svetlo" render "$work/good.json" -o "$work/t.png" -t 64 2> "$work/stderr"
+cores=$(nproc)
+if grep -q " $cores threads" "$work/stderr" && ! grep -qi "warning" "$work/stderr"; then
+    pass
+else
+    fail "-t 64 summary: $(cat "$work/stderr")"
+fi
 
 # --- bad scenes ---
 render_bad "malformed JSON" "line 1, column" 'scene = "{\"camera\": [1,,2]}"'

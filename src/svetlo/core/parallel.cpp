@@ -10,7 +10,10 @@
 namespace svetlo {
 
 int resolve_threads(int threads) {
-    return threads > 0 ? threads : std::max(1, tbb::info::default_concurrency());
+    // More threads than cores would only wait for one another (and TBB warns that it cannot
+    // start them): the machine's cores are the most that run. Results do not depend on it.
+    const int cores = std::max(1, tbb::info::default_concurrency());
+    return threads > 0 ? std::min(threads, cores) : cores;
 }
 
 void parallel_tiles(int width, int height, int threads,

@@ -29,7 +29,7 @@ void parallel_indices(size_t count, int threads, const std::function<void(size_t
 /// Runs body(begin, end) over [0, count) in chunks on `threads` threads (0 = all cores).
 void parallel_ranges(size_t count, int threads, const std::function<void(size_t, size_t)>& body);
 
-/// The number of threads that `threads` (0 = all cores) resolves to.
+/// The number of threads that `threads` (0 = all cores) resolves to: at most the cores.
 int resolve_threads(int threads);
 
 }  // namespace svetlo

@@ -23,6 +23,11 @@ struct Override {
 /// Largest film, in pixels, that svetlo accepts (8192 x 8192); larger ones are refused
 /// before anything is allocated.
 inline constexpr long long kMaxFilmPixels = 8192LL * 8192LL;
+/// The ranges of the film's sides, of samples per pixel and of seeds (the flags that stand for
+/// these keys check the same ranges).
+inline constexpr long long kMaxFilmSide = 65536;
+inline constexpr long long kMaxSpp = 1LL << 20;
+inline constexpr long long kMaxSeed = 1LL << 53;  // seeds are exact as JSON numbers (doubles)
 
 Scene load_scene(const std::filesystem::path& path, const std::vector<Override>& overrides = {});
 

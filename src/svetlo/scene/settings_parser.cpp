@@ -34,8 +34,8 @@ Camera parse_camera(const JsonNode& node) {
 Film parse_film(const JsonNode& node) {
     node.expect_object({"width", "height"});
     Film f;
-    if (auto w = node.find("width")) f.width = static_cast<int>(w->as_integer(1, 65536));
-    if (auto h = node.find("height")) f.height = static_cast<int>(h->as_integer(1, 65536));
+    if (auto w = node.find("width")) f.width = static_cast<int>(w->as_integer(1, kMaxFilmSide));
+    if (auto h = node.find("height")) f.height = static_cast<int>(h->as_integer(1, kMaxFilmSide));
     long long pixels = static_cast<long long>(f.width) * f.height;
     if (pixels > kMaxFilmPixels) {
         node.fail("film of " + std::to_string(f.width) + " x " + std::to_string(f.height) +
@@ -51,9 +51,9 @@ RenderSettings parse_render(const JsonNode& node) {
     RenderSettings r;
     if (auto n = node.find("engine"))
         r.engine = n->as_choice({"raster", "whitted", "path", "radiosity"});
-    if (auto n = node.find("spp")) r.spp = static_cast<int>(n->as_integer(1, 1 << 20));
+    if (auto n = node.find("spp")) r.spp = static_cast<int>(n->as_integer(1, kMaxSpp));
     if (auto n = node.find("max_depth")) r.max_depth = static_cast<int>(n->as_integer(0, 1000));
-    if (auto n = node.find("seed")) r.seed = static_cast<uint64_t>(n->as_integer(0, 1LL << 53));
+    if (auto n = node.find("seed")) r.seed = static_cast<uint64_t>(n->as_integer(0, kMaxSeed));
     if (auto n = node.find("shading")) r.shading = n->as_enum(kShadingModes);
     if (auto n = node.find("shadows")) r.shadows = n->as_enum(kShadowTechniques);
     if (auto sm = node.find("shadow_map")) {

@@ -1,0 +1,28 @@
+#include "flags.h"
+
+#include <cerrno>
+#include <cstdlib>
+
+#include "svetlo/core/error.h"
+
+namespace svetlo {
+
+long long flag_integer(const std::string& file, const std::string& flag, const std::string& text,
+                       long long lo, long long hi) {
+    // The text as given, cut short: a 309-digit number is not worth echoing whole.
+    std::string shown = text.size() > 24 ? text.substr(0, 24) + "..." : text;
+    char* end = nullptr;
+    errno = 0;
+    long long value = std::strtoll(text.c_str(), &end, 10);
+    bool whole = !text.empty() && end == text.c_str() + text.size() &&
+                 text.find_first_of(" \t") == std::string::npos;
+    if (!whole) throw Error(file, flag, "must be a whole number (is '" + shown + "')");
+    if (errno == ERANGE || value > hi) {
+        throw Error(file, flag, "must be <= " + std::to_string(hi) + " (is " + shown + ")");
+    }
+    if (value < lo)
+        throw Error(file, flag, "must be >= " + std::to_string(lo) + " (is " + shown + ")");
+    return value;
+}
+
+}  // namespace svetlo
