@@ -132,11 +132,15 @@ int run_render(const RenderArgs& args) {
             std::snprintf(rate, sizeof rate, "%.2f Mrays/s",
                           static_cast<double>(result.stats.rays) * per_second);
         }
+        std::string dropped;  // samples that were not finite, left out of their pixels
+        if (result.stats.nonfinite > 0)
+            dropped = ", " + std::to_string(result.stats.nonfinite) + " non-finite samples dropped";
         std::fprintf(
-            stderr, "svetlo: %s %dx%d, %d spp, %d threads: setup %.3f s, render %.3f s, %s -> %s\n",
+            stderr,
+            "svetlo: %s %dx%d, %d spp, %d threads: setup %.3f s, render %.3f s, %s%s -> %s\n",
             scene.render.engine.c_str(), scene.film.width, scene.film.height, scene.render.spp,
             resolve_threads(threads), result.stats.setup_seconds, result.stats.seconds, rate,
-            args.output.c_str());
+            dropped.c_str(), args.output.c_str());
     }
     return 0;
 }

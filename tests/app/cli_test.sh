@@ -161,6 +161,34 @@ render_bad "negative radius" "objects\[0\].radius: must be > 0" 'scene["objects"
 render_bad "zero radius" "objects\[0\].radius: must be > 0" 'scene["objects"][0]["radius"] = 0'
 render_bad "non-finite" "line 1, column [0-9]+: malformed JSON: number overflow" 'scene = json.dumps(scene).replace("[0, 1, 0], \"radius\"", "[0, 1e999, 0], \"radius\"")'
 render_bad "degenerate camera" "camera.look_at" 'scene["camera"]["look_at"] = scene["camera"]["position"]'
+# Finite JSON numbers beyond a float's range name their key (they crashed the BVH, or made NaN).
+render_bad "inline position past float range" "objects\[0\].positions\[1\]\[0\]: must be at most 3.4e38" \
+    'scene["objects"][0] = {"type": "mesh", "positions": [[0, 0, 0], [3.5e38, 0, 0], [0, 1, 0]], "indices": [0, 1, 2], "material": "white"}'
+render_bad "look_at past float range" "camera.look_at\[0\]: must be at most 3.4e38" 'scene["camera"]["look_at"] = [-1e39, 0, 0]'
+render_bad "position past float range" "camera.position\[1\]: must be at most 3.4e38" 'scene["camera"]["position"] = [0, 1e39, 0]'
+render_bad "area corner past float range" "lights\[1\].corner\[2\]: must be at most 3.4e38" 'scene["lights"][1]["corner"] = [0, 0, 1e39]'
+# Huge but representable coordinates: a triangle 6e38 wide, whose float cross product
+# overflows. No crash, and nothing that is not finite reaches an image or an AOV (a sample
+# that is not finite would be dropped and counted in the summary).
+scene_with 'scene["objects"].append({"type": "mesh", "positions": [[-3e38, 0, 0], [3e38, 0, 0], [0, 1, 0]], "indices": [0, 1, 2], "material": "white"}); scene["film"] = {"width": 96, "height": 64}; scene["materials"]["glass"] = {"type": "dielectric", "ior": 1.5}; scene["objects"][0]["material"] = "glass"'
+for engine in whitted raster; do
+    "$svetlo" render "$work/bad.json" --engine $engine -o "$work/huge.pfm" --aov normal="$work/huge_n.pfm" \
+        --aov depth="$work/huge_d.pfm" 2> "$work/stderr" || fail "huge coordinates, $engine: exit $?"
+    if python3 - "$work/huge.pfm" "$work/huge_n.pfm" "$work/huge_d.pfm" <<'PY'
+import math, struct, sys
+for path in sys.argv[1:]:
+    data = open(path, "rb").read()
+    header_end = [i for i, b in enumerate(data) if b == 10][2] + 1
+    values = struct.unpack("<%df" % ((len(data) - header_end) // 4), data[header_end:])
+    if not all(math.isfinite(v) for v in values):
+        sys.exit(1)
+PY
+    then pass; else fail "huge coordinates, $engine: a value that is not finite in the image"; fi
+done
+"$svetlo" bench "$work/bad.json" --rays diffuse > /dev/null 2>&1 && pass || fail "huge coordinates: bench exit $?"
+scene_with 'scene["objects"][0]["center"] = [1e39, 1, 1]'
+expect_error "info past float range" "objects\[0\].center\[0\]" info "$work/bad.json"
+expect_error "bench past float range" "objects\[0\].center\[0\]" bench "$work/bad.json"
 render_bad "film too large" "film: .*too large" 'scene["film"] = {"width": 65536, "height": 65536}'
 render_bad "missing mesh file" "objects\[0\].file" 'scene["objects"][0] = {"type": "mesh", "file": "nothing.obj", "material": "white"}'
 render_bad "unknown key" "objects\[0\].raduis: unknown key" 'scene["objects"][0]["raduis"] = 1'

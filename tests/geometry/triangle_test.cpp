@@ -71,3 +71,20 @@ TEST(Triangle, RespectsTmax) {
 
 }  // namespace
 }  // namespace svetlo
+
+namespace svetlo {
+namespace {
+
+TEST(TriangleNormal, AnyTriangleAFloatHoldsHasAFiniteUnitNormal) {
+    // 6e38 wide: the float cross product overflows (inf * 0 = NaN); double precision does not.
+    vec3 n = triangle_normal(vec3(-3e38f, 0, 0), vec3(3e38f, 0, 0), vec3(0, 1, 0));
+    EXPECT_EQ(n, vec3(0, 0, 1));
+    // Ordinary triangles: the same bits as normalising the float cross product.
+    vec3 a(0.1f, 0.2f, 0.3f), b(1.7f, -0.4f, 0.9f), c(-0.3f, 1.1f, 0.25f);
+    EXPECT_EQ(triangle_normal(a, b, c), glm::normalize(glm::cross(b - a, c - a)));
+    // No area: +z.
+    EXPECT_EQ(triangle_normal(a, a, c), vec3(0, 0, 1));
+}
+
+}  // namespace
+}  // namespace svetlo

@@ -27,6 +27,25 @@ inline float radians(float degrees) { return degrees * (kPi / 180.0f); }
 inline float max_component(vec3 v) { return std::max(v.x, std::max(v.y, v.z)); }
 inline float min_component(vec3 v) { return std::min(v.x, std::min(v.y, v.z)); }
 inline int max_dimension(vec3 v) { return v.x > v.y ? (v.x > v.z ? 0 : 2) : (v.y > v.z ? 1 : 2); }
+/// The unit normal of the counter-clockwise side of triangle (a, b, c). In double precision
+/// when the float cross product overflows (a triangle wider than about 1e19 units), so that
+/// every triangle a float can hold has a finite normal; (0, 0, 1) for a triangle of no area.
+inline vec3 triangle_normal(vec3 a, vec3 b, vec3 c) {
+    vec3 n = glm::cross(b - a, c - a);
+    float len2 = glm::dot(n, n);
+    if (len2 > 0.0f && std::isfinite(len2))
+        return n * (1.0f / std::sqrt(len2));  // as glm::normalize
+    glm::dvec3 da(a), db(b), dc(c);
+    glm::dvec3 dn = glm::cross(db - da, dc - da);
+    double dlen = glm::length(dn);
+    return dlen > 0.0 && std::isfinite(dlen) ? vec3(dn / dlen) : vec3(0.0f, 0.0f, 1.0f);
+}
+
+/// True when every channel is a finite number (no NaN, no infinity).
+inline bool is_finite(Color c) {
+    return std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b);
+}
+
 inline float luminance(Color c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
 inline bool is_black(Color c) { return c.r == 0.0f && c.g == 0.0f && c.b == 0.0f; }
 inline float square(float x) { return x * x; }

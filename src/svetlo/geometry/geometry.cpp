@@ -61,7 +61,7 @@ SurfaceHit Geometry::surface(const Ray& ray, const Hit& hit) const {
     float b0 = 1.0f - hit.u - hit.v;
     // The barycentric point is more accurate than o + t d (pbrt-v4, section 6.8.6).
     s.p = b0 * p0 + hit.u * p1 + hit.v * p2;
-    s.ng = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+    s.ng = triangle_normal(p0, p1, p2);
     s.ns = s.ng;
     if (!normals.empty()) {
         vec3 n = b0 * normals[tri[0]] + hit.u * normals[tri[1]] + hit.v * normals[tri[2]];

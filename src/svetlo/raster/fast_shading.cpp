@@ -122,6 +122,12 @@ void shade_tile_fast(const FrameState& f, const Tile& tile, const SamplePattern&
             t);
     }
     if (batch.count > 0) flush();
+    // A sample that is not finite never reaches the pixel: dropped (black) and counted.
+    for (size_t i = 0; i < count; ++i) {
+        if (is_finite(buf.sample_color[i])) continue;
+        buf.sample_color[i] = Color(0.0f);
+        ++buf.nonfinite;
+    }
 }
 
 }  // namespace svetlo::raster

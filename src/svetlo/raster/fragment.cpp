@@ -195,6 +195,10 @@ void shade_tile(const FrameState& f, const Tile& tile, const SamplePattern& sp, 
                 w = static_cast<float>(covered);
             }
             ShadeResult r = shade(tri, pixel, s, aovs);
+            if (!is_finite(r.color)) {  // dropped (black) and counted
+                ++buf.nonfinite;
+                continue;
+            }
             if (msaa) {
                 sum += w * r.color;
                 aov_sum.distance += w * r.distance;

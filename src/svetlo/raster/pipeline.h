@@ -172,6 +172,7 @@ struct TileBuffers {
     // The visibility of each light of the light set at each sample (a shadow technique's
     // masks, row by row: light_visibility()); empty: every light visible.
     std::vector<float> visibility;
+    uint64_t nonfinite = 0;  // samples dropped (black) for a colour that was not finite
     void reset(size_t samples, size_t pixels, bool aovs, bool stencil_used) {
         depth.assign(samples + kPad, kInfinity);
         tri.assign(samples + kPad, kNone);

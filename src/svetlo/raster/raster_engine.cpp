@@ -250,6 +250,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     result.stats.setup_seconds = std::chrono::duration<double>(t1 - t0).count();
     result.stats.seconds = std::chrono::duration<double>(Clock::now() - t1).count();
     result.stats.triangles = f.triangle_count;
+    for (TileBuffers& buf : buffers) result.stats.nonfinite += buf.nonfinite;
     buffers_->vertices = std::move(f.vertices);
     buffers_->screen = std::move(f.screen);
     buffers_->tris = std::move(f.tris);

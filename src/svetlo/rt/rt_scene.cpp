@@ -17,7 +17,18 @@ RtScene::RtScene(const Scene& scene, const std::string& accel, int threads)
     }
 }
 
+namespace {
+
+/// A ray whose origin or direction is not finite meets nothing (and never reaches the
+/// accelerators, whose traversal assumes numbers).
+bool traceable(const Ray& ray) {
+    return std::isfinite(ray.o.x + ray.o.y + ray.o.z + ray.d.x + ray.d.y + ray.d.z);
+}
+
+}  // namespace
+
 bool RtScene::intersect(const Ray& ray, Hit& hit) const {
+    if (!traceable(ray)) return false;
     bool found = accel_->intersect(ray, hit);
     if (unbounded_.empty()) return found;
     if (!found) hit.t = ray.tmax;
@@ -26,6 +37,7 @@ bool RtScene::intersect(const Ray& ray, Hit& hit) const {
 }
 
 bool RtScene::occluded(const Ray& ray) const {
+    if (!traceable(ray)) return false;
     if (!unbounded_.empty() &&
         geometry_.occludes(unbounded_.data(), unbounded_.size(), ray, RayPrecomputed(ray))) {
         return true;

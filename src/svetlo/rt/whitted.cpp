@@ -39,6 +39,7 @@ public:
           light0_(rt.lights().source_of_light(0)) {}
 
     uint64_t rays = 0;
+    uint64_t nonfinite = 0;  // camera samples dropped for a radiance that is not finite
     Rng* aov_rng = nullptr;  // the visibility AOV's own stream, so AOVs never change the image
 
     Color trace(const Ray& ray, int depth, float weight, Rng& rng, AovSample* aov) {
@@ -185,7 +186,7 @@ RenderResult WhittedRenderer::render(const Scene& scene, const RenderOptions& op
     const AovTargets targets = prepare_result(result, options.aovs, width, height);
     bool want_visibility = targets.want[3] && !scene.lights.empty();
     CameraRays camera(scene.camera, width, height);
-    std::atomic<uint64_t> rays{0};
+    std::atomic<uint64_t> rays{0}, nonfinite{0};
     Progress progress("whitted", static_cast<int64_t>(width) * height, options.progress);
 
     parallel_tiles(
@@ -208,8 +209,15 @@ RenderResult WhittedRenderer::render(const Scene& scene, const RenderOptions& op
                         Ray ray = camera.generate((static_cast<float>(i) + offset.x) / width,
                                                   (static_cast<float>(j) + offset.y) / height);
                         AovSample aov;
-                        sum += glm::dvec3(
-                            tracer.trace(ray, 0, 1.0f, rng, targets.any ? &aov : nullptr));
+                        Color c = tracer.trace(ray, 0, 1.0f, rng, targets.any ? &aov : nullptr);
+                        // A sample that is not finite never reaches the pixel: it is dropped
+                        // (black) and counted.
+                        if (!is_finite(c) || !is_finite(aov.normal) || !is_finite(aov.albedo) ||
+                            !std::isfinite(aov.depth)) {
+                            ++tracer.nonfinite;
+                            continue;
+                        }
+                        sum += glm::dvec3(c);
                         if (targets.any) {
                             aov_sum.depth += aov.depth;
                             aov_sum.normal += aov.normal;
@@ -227,12 +235,14 @@ RenderResult WhittedRenderer::render(const Scene& scene, const RenderOptions& op
                 }
             }
             rays += tracer.rays;
+            nonfinite += tracer.nonfinite;
         },
         [&](int pixels) { progress.advance(pixels); });
     progress.finish();
     result.stats.setup_seconds = std::chrono::duration<double>(t1 - t0).count();
     result.stats.seconds = std::chrono::duration<double>(Clock::now() - t1).count();
     result.stats.rays = rays.load();
+    result.stats.nonfinite = nonfinite.load();
     return result;
 }
 

@@ -1,6 +1,7 @@
 #include "svetlo/scene/json_node.h"
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace svetlo {
@@ -86,18 +87,25 @@ double JsonNode::as_number() const {
     return x;
 }
 
+float JsonNode::as_float() const {
+    double x = as_number();
+    if (std::abs(x) > static_cast<double>(std::numeric_limits<float>::max())) {
+        fail("must be at most 3.4e38 in magnitude, the range of a float (is " + format_number(x) +
+             ")");
+    }
+    return static_cast<float>(x);
+}
+
 float JsonNode::as_positive() const {
     double x = as_number();
     if (!(x > 0.0)) fail("must be > 0 (is " + format_number(x) + ")");
-    if (x > 3.0e38) fail("is too large");
-    return static_cast<float>(x);
+    return as_float();
 }
 
 float JsonNode::as_non_negative() const {
     double x = as_number();
     if (x < 0.0) fail("must be >= 0 (is " + format_number(x) + ")");
-    if (x > 3.0e38) fail("is too large");
-    return static_cast<float>(x);
+    return as_float();
 }
 
 float JsonNode::as_in_range(double lo, double hi) const {

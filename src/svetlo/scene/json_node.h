@@ -42,7 +42,8 @@ public:
     JsonNode at(size_t index) const;  // of an array
 
     double as_number() const;  // finite
-    float as_float() const { return static_cast<float>(as_number()); }
+    /// A number that a float represents: finite, and at most kMaxFloat in magnitude.
+    float as_float() const;
     float as_positive() const;                      // > 0
     float as_non_negative() const;                  // >= 0
     float as_in_range(double lo, double hi) const;  // in [lo, hi]

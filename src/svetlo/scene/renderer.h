@@ -30,6 +30,7 @@ struct RenderStats {
     double setup_seconds = 0.0;  // acceleration structure build and the like
     uint64_t rays = 0;           // all rays traced (camera, shadow, secondary)
     uint64_t triangles = 0;      // triangles set up for rasterization
+    uint64_t nonfinite = 0;      // samples whose radiance was NaN or infinite: dropped (black)
 };
 
 struct RenderResult {
