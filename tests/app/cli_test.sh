@@ -198,6 +198,26 @@ for f in broken.ply lying_header.ply bad_index.obj broken.gltf not_a_mesh.txt; d
     render_bad "malformed mesh $f" "objects\[0\].file: cannot read mesh" \
         "scene['objects'][0] = {'type': 'mesh', 'file': '$f', 'material': 'white'}"
 done
+# Files that are not files: refused at once, saying what they are (they were read until
+# memory ran out).
+expect_error "scene is a device" "file: is not a regular file" render /dev/zero -o "$work/keep.png"
+render_bad "mesh is a device" "objects\[0\].file: cannot read mesh '/dev/zero': is not a regular file" \
+    'scene["objects"][0] = {"type": "mesh", "file": "/dev/zero", "material": "white"}'
+printf 'mtllib /dev/zero\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' > "$work/zero_mtl.obj"
+render_bad "mtllib is a device" "mtllib '/dev/zero' is not a regular file" \
+    'scene["objects"][0] = {"type": "mesh", "file": "zero_mtl.obj"}'
+render_bad "texture is a device" "materials.white.albedo.texture: .*is not a regular file" \
+    'scene["materials"]["white"]["albedo"] = {"texture": "/dev/zero"}'
+render_bad "texture is a directory" "materials.white.albedo.texture: .*is a directory" \
+    'scene["materials"]["white"]["albedo"] = {"texture": "."}'
+python3 - "$data/triangle.gltf" "$work/no_uri.gltf" <<'PY'
+import json, sys
+g = json.load(open(sys.argv[1]))
+g["buffers"][0]["uri"] = ""
+json.dump(g, open(sys.argv[2], "w"))
+PY
+render_bad "glTF buffer without uri (one line)" "objects\[0\].file: cannot read mesh 'no_uri.gltf'" \
+    'scene["objects"][0] = {"type": "mesh", "file": "no_uri.gltf"}'
 render_bad "emissive plane" "objects\[1\]: an emissive plane" \
     'scene["materials"]["glow"] = {"type": "emissive", "radiance": 1}; scene["objects"][1]["material"] = "glow"'
 expect_error "bench unknown accel" "--accel" bench "$work/good.json" --accel kd-tree

@@ -19,6 +19,7 @@
 #include <sstream>
 
 #include "svetlo/core/error.h"
+#include "svetlo/core/input_file.h"
 
 namespace svetlo {
 namespace fs = std::filesystem;
@@ -214,8 +215,8 @@ void write_image(const fs::path& path, const Image& image, PixelMeaning meaning,
 }
 
 Image read_image(const fs::path& path, bool srgb, const std::string& where) {
-    std::error_code ec;
-    if (!fs::is_regular_file(path, ec)) throw Error(path.string(), where, "no such image file");
+    std::string problem = input_file_problem(path);
+    if (!problem.empty()) throw Error(path.string(), where, problem);
     try {
         std::string ext = lower_extension(path);
         if (ext == ".pfm") return read_pfm(path);

@@ -8,6 +8,7 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <stdexcept>
 
+#include "svetlo/core/input_file.h"
 #include "svetlo/scene/mesh_file.h"
 
 namespace svetlo {
@@ -244,17 +245,34 @@ struct Flattener {
     }
 };
 
+/// tinygltf's file reading with every file checked first (buffers and images a glTF names),
+/// as svetlo checks every input file.
+bool read_checked_file(std::vector<unsigned char>* out, std::string* err, const std::string& path,
+                       void* user_data) {
+    std::string problem = input_file_problem(path);
+    if (!problem.empty()) {
+        if (err) *err += "'" + path + "' " + problem + "\n";
+        return false;
+    }
+    return tinygltf::ReadWholeFile(out, err, path, user_data);
+}
+
 }  // namespace
 
 MeshFile read_gltf(const std::filesystem::path& path) {
     tinygltf::TinyGLTF loader;
+    loader.SetFsCallbacks({&tinygltf::FileExists, &tinygltf::ExpandFilePath, &read_checked_file,
+                           &tinygltf::WriteWholeFile, nullptr});
     tinygltf::Model model;
     std::string err, warn;
     bool binary = path.extension() == ".glb" || path.extension() == ".GLB";
     bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path.string())
                      : loader.LoadASCIIFromFile(&model, &err, &warn, path.string());
     if (!ok) {
+        // tinygltf may say several things, a line each: one line, joined.
         while (!err.empty() && (err.back() == '\n' || err.back() == '\r')) err.pop_back();
+        for (size_t k = err.find('\n'); k != std::string::npos; k = err.find('\n', k))
+            err.replace(k, 1, "; ");
         throw std::runtime_error(err.empty() ? "cannot parse glTF" : err);
     }
     MeshFile file;

@@ -4,12 +4,13 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "svetlo/core/input_file.h"
+
 namespace svetlo {
 namespace fs = std::filesystem;
 
 MeshFile read_mesh_file(const fs::path& path) {
-    std::error_code ec;
-    if (!fs::is_regular_file(path, ec)) throw std::runtime_error("no such file");
+    require_input_file(path);
     std::string ext = path.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(),
                    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });

@@ -4,10 +4,12 @@
 // dielectric (Ni); otherwise phong with Ka, Kd, Ks, Ns.
 #include <tiny_obj_loader.h>
 
+#include <fstream>
 #include <map>
 #include <stdexcept>
 #include <tuple>
 
+#include "svetlo/core/input_file.h"
 #include "svetlo/scene/mesh_file.h"
 
 namespace svetlo {
@@ -42,22 +44,48 @@ Material material_from_mtl(const tinyobj::material_t& m) {
     return p;
 }
 
+/// Reads the MTL files an OBJ names (mtllib), each checked first as every input file is: a
+/// device or a pipe named there would otherwise be read until memory runs out.
+class CheckedMtlReader : public tinyobj::MaterialReader {
+public:
+    explicit CheckedMtlReader(std::filesystem::path dir) : dir_(std::move(dir)) {}
+    bool operator()(const std::string& name, std::vector<tinyobj::material_t>* materials,
+                    std::map<std::string, int>* names, std::string* warn,
+                    std::string* err) override {
+        std::filesystem::path path = dir_ / name;
+        std::string problem = input_file_problem(path);
+        if (problem == "no such file") {  // as OBJ readers do: the mesh without its materials
+            if (warn) *warn += "material file '" + name + "' not found\n";
+            return false;
+        }
+        if (!problem.empty()) throw std::runtime_error("mtllib '" + name + "' " + problem);
+        std::ifstream in(path);
+        tinyobj::LoadMtl(names, materials, &in, warn, err);
+        return true;
+    }
+
+private:
+    std::filesystem::path dir_;
+};
+
 }  // namespace
 
 MeshFile read_obj(const std::filesystem::path& path) {
-    tinyobj::ObjReaderConfig config;
-    config.triangulate = true;
-    config.vertex_color = false;
-    config.mtl_search_path = path.parent_path().string();
-    tinyobj::ObjReader reader;
-    if (!reader.ParseFromFile(path.string(), config)) {
-        std::string err = reader.Error();
-        while (!err.empty() && (err.back() == '\n' || err.back() == '\r')) err.pop_back();
+    std::ifstream in(path);
+    if (!in) throw std::runtime_error("cannot open");
+    CheckedMtlReader mtl(path.parent_path());
+    tinyobj::attrib_t attrib;
+    std::vector<tinyobj::shape_t> shapes;
+    std::vector<tinyobj::material_t> materials;
+    std::string warn, err;
+    if (!tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, &in, &mtl,
+                          /*triangulate=*/true, /*default_vcols_fallback=*/false)) {
+        // tinyobjloader's message may run over several lines: the first says what is wrong.
+        err = err.substr(0, err.find('\n'));
         throw std::runtime_error(err.empty() ? "cannot parse OBJ" : err);
     }
-    const tinyobj::attrib_t& attrib = reader.GetAttrib();
     MeshFile file;
-    for (const tinyobj::material_t& m : reader.GetMaterials()) {
+    for (const tinyobj::material_t& m : materials) {
         file.materials.push_back(material_from_mtl(m));
         file.material_names.push_back(m.name);
     }
@@ -67,7 +95,7 @@ MeshFile read_obj(const std::filesystem::path& path) {
     Mesh& mesh = file.mesh;
     size_t nv = attrib.vertices.size() / 3, nn = attrib.normals.size() / 3;
     size_t nt = attrib.texcoords.size() / 2;
-    for (const tinyobj::shape_t& shape : reader.GetShapes()) {
+    for (const tinyobj::shape_t& shape : shapes) {
         const auto& indices = shape.mesh.indices;
         for (size_t f = 0; f < shape.mesh.num_face_vertices.size(); ++f) {
             if (shape.mesh.num_face_vertices[f] != 3) throw std::runtime_error("bad face");

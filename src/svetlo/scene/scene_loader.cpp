@@ -5,6 +5,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "svetlo/core/input_file.h"
 #include "svetlo/scene/json_node.h"
 #include "svetlo/scene/scene_parts.h"
 
@@ -13,8 +14,8 @@ namespace fs = std::filesystem;
 
 nlohmann::json read_scene_json(const fs::path& path) {
     std::string file = path.string();
-    std::error_code ec;
-    if (fs::is_directory(path, ec)) throw Error(file, "file", "is a directory");
+    std::string problem = input_file_problem(path, kMaxSceneBytes);
+    if (!problem.empty()) throw Error(file, "file", problem);
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error(file, "file", std::string("cannot open: ") + std::strerror(errno));
     std::stringstream buffer;
