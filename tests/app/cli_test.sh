@@ -218,6 +218,45 @@ json.dump(g, open(sys.argv[2], "w"))
 PY
 render_bad "glTF buffer without uri (one line)" "objects\[0\].file: cannot read mesh 'no_uri.gltf'" \
     'scene["objects"][0] = {"type": "mesh", "file": "no_uri.gltf"}'
+# Values read from files are checked as the scene's own: nothing that is not a finite,
+# non-negative colour reaches a pixel.
+python3 - "$work" <<'PY'
+import struct, sys
+work = sys.argv[1]
+for name, texel in (("nan", float("nan")), ("negative", -0.5)):
+    pixels = [0.5] * 12
+    pixels[4] = texel
+    with open(f"{work}/{name}.pfm", "wb") as f:
+        f.write(b"PF\n2 2\n-1.0\n" + struct.pack("<12f", *pixels))
+for name, kd in (("huge", "1e39 0.5 0.5"), ("negative", "-1 0.5 0.5")):
+    open(f"{work}/{name}.mtl", "w").write(f"newmtl m\nKd {kd}\n")
+    open(f"{work}/{name}_kd.obj", "w").write(f"mtllib {name}.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl m\nf 1 2 3\n")
+PY
+for t in nan negative; do
+    render_bad "texture with $t texels" "materials.white.albedo.texture: cannot read texture '$t.pfm': texel \\(1, 1\\)" \
+        "scene['materials']['white']['albedo'] = {'texture': '$t.pfm'}"
+done
+for m in huge negative; do
+    render_bad "MTL Kd $m" "material 'm' Kd .*must be finite and >= 0" \
+        "scene['objects'][0] = {'type': 'mesh', 'file': '${m}_kd.obj'}"
+done
+gltf_with() {  # gltf_with NAME EDIT: $work/NAME.gltf from triangle.gltf through a python edit
+    python3 - "$data/triangle.gltf" "$work/$1.gltf" "$2" <<'PY'
+import json, sys
+g = json.load(open(sys.argv[1]))
+exec(sys.argv[3])
+json.dump(g, open(sys.argv[2], "w"))
+PY
+}
+gltf_with base_color 'g["materials"] = [{"pbrMetallicRoughness": {"baseColorFactor": [-1, 2, 1e39, 1]}}]; g["meshes"][0]["primitives"][0]["material"] = 0'
+gltf_with emission 'g["materials"] = [{"emissiveFactor": [1e39, 1, 1]}]; g["meshes"][0]["primitives"][0]["material"] = 0'
+gltf_with light 'g["extensions"]["KHR_lights_punctual"]["lights"][0]["intensity"] = 1e39'
+render_bad "glTF baseColorFactor" "baseColorFactor \\(-1, 2, 1e\\+39\\)" \
+    'scene["objects"][0] = {"type": "mesh", "file": "base_color.gltf"}'
+render_bad "glTF emissiveFactor" "emissiveFactor times emissiveStrength \\(1e\\+39" \
+    'scene["objects"][0] = {"type": "mesh", "file": "emission.gltf"}'
+render_bad "glTF light intensity" "light 0 color times intensity" \
+    'scene["objects"][0] = {"type": "mesh", "file": "light.gltf", "material": "white"}'
 render_bad "emissive plane" "objects\[1\]: an emissive plane" \
     'scene["materials"]["glow"] = {"type": "emissive", "radiance": 1}; scene["objects"][1]["material"] = "glow"'
 expect_error "bench unknown accel" "--accel" bench "$work/good.json" --accel kd-tree

@@ -217,14 +217,29 @@ void write_image(const fs::path& path, const Image& image, PixelMeaning meaning,
 Image read_image(const fs::path& path, bool srgb, const std::string& where) {
     std::string problem = input_file_problem(path);
     if (!problem.empty()) throw Error(path.string(), where, problem);
+    Image image;
     try {
         std::string ext = lower_extension(path);
-        if (ext == ".pfm") return read_pfm(path);
-        if (ext == ".exr") return read_exr(path);
-        return read_stb(path, srgb);
+        image = ext == ".pfm"   ? read_pfm(path)
+                : ext == ".exr" ? read_exr(path)
+                                : read_stb(path, srgb);
     } catch (const std::exception& e) {
         throw Error(path.string(), where, std::string("cannot read image: ") + e.what());
     }
+    // Floating-point files may hold anything: a texel that is not a finite, non-negative
+    // colour would reach the pixels as NaN or as negative light.
+    for (int j = 0; j < image.height; ++j) {
+        for (int i = 0; i < image.width; ++i) {
+            Color c = image.at(i, j);
+            if (is_finite(c) && c.r >= 0.0f && c.g >= 0.0f && c.b >= 0.0f) continue;
+            char text[160];
+            std::snprintf(text, sizeof text,
+                          "texel (%d, %d) is (%g, %g, %g): an image must be finite and >= 0", i, j,
+                          c.r, c.g, c.b);
+            throw Error(path.string(), where, text);
+        }
+    }
+    return image;
 }
 
 }  // namespace svetlo

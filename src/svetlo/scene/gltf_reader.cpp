@@ -107,18 +107,22 @@ mat4 node_matrix(const tinygltf::Node& node) {
 
 Material material_from_gltf(const tinygltf::Material& m) {
     const auto& pbr = m.pbrMetallicRoughness;
+    // Every factor checked (file_color): [-1, 2, 1e39] or an emission of 1e39 is refused.
+    const std::string name = "material '" + m.name + "'";
     Color base(1.0f);
     if (pbr.baseColorFactor.size() >= 3) {
-        base = Color(pbr.baseColorFactor[0], pbr.baseColorFactor[1], pbr.baseColorFactor[2]);
+        base = file_color(pbr.baseColorFactor[0], pbr.baseColorFactor[1], pbr.baseColorFactor[2],
+                          name + " baseColorFactor");
     }
+    double strength = 1.0;
+    auto ext = m.extensions.find("KHR_materials_emissive_strength");
+    if (ext != m.extensions.end() && ext->second.Has("emissiveStrength"))
+        strength = ext->second.Get("emissiveStrength").GetNumberAsDouble();
     Color emission(0.0f);
     if (m.emissiveFactor.size() == 3) {
-        emission = Color(m.emissiveFactor[0], m.emissiveFactor[1], m.emissiveFactor[2]);
-    }
-    auto strength = m.extensions.find("KHR_materials_emissive_strength");
-    if (strength != m.extensions.end() && strength->second.Has("emissiveStrength")) {
-        emission *=
-            static_cast<float>(strength->second.Get("emissiveStrength").GetNumberAsDouble());
+        emission = file_color(strength * m.emissiveFactor[0], strength * m.emissiveFactor[1],
+                              strength * m.emissiveFactor[2],
+                              name + " emissiveFactor times emissiveStrength");
     }
     if (max_component(emission) > 0.0f) {
         EmissiveMaterial e;
@@ -159,9 +163,14 @@ struct Flattener {
             throw std::runtime_error("light " + std::to_string(index) + " missing");
         }
         const tinygltf::Light& l = model.lights[index];
-        Color c(1.0f);
-        if (l.color.size() == 3) c = Color(l.color[0], l.color[1], l.color[2]);
-        c *= static_cast<float>(l.intensity);
+        double r = 1.0, g = 1.0, b = 1.0;
+        if (l.color.size() == 3) {
+            r = l.color[0];
+            g = l.color[1];
+            b = l.color[2];
+        }
+        Color c = file_color(r * l.intensity, g * l.intensity, b * l.intensity,
+                             "light " + std::to_string(index) + " color times intensity");
         vec3 position = vec3(world * vec4(0.0f, 0.0f, 0.0f, 1.0f));
         vec3 direction = glm::normalize(vec3(world * vec4(0.0f, 0.0f, -1.0f, 0.0f)));
         if (l.type == "point") {

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <stdexcept>
 
 #include "svetlo/core/input_file.h"
@@ -26,6 +28,19 @@ MeshFile read_mesh_file(const fs::path& path) {
     }
     validate_mesh(file.mesh);
     return file;
+}
+
+Color file_color(double r, double g, double b, const std::string& what) {
+    const double max = std::numeric_limits<float>::max();
+    for (double c : {r, g, b}) {
+        if (!(c >= 0.0 && c <= max)) {  // also false for NaN
+            char value[96];
+            std::snprintf(value, sizeof value, "(%g, %g, %g)", r, g, b);
+            throw std::runtime_error(what + " " + value +
+                                     ": a colour must be finite and >= 0 in every component");
+        }
+    }
+    return Color(static_cast<float>(r), static_cast<float>(g), static_cast<float>(b));
 }
 
 void validate_mesh(const Mesh& mesh) {

@@ -20,6 +20,11 @@ struct MeshFile {
     std::vector<Light> lights;  // glTF punctual lights, in the file's space
 };
 
+/// A colour read from a mesh file (MTL Kd, glTF baseColorFactor, a light's intensity...):
+/// every component finite, >= 0 and within a float's range, as the scene's own colours.
+/// Throws std::runtime_error naming `what` and the value otherwise.
+Color file_color(double r, double g, double b, const std::string& what);
+
 /// Reads .obj, .ply, .gltf or .glb by extension.
 MeshFile read_mesh_file(const std::filesystem::path& path);
 

@@ -4,6 +4,7 @@
 // dielectric (Ni); otherwise phong with Ka, Kd, Ks, Ns.
 #include <tiny_obj_loader.h>
 
+#include <cmath>
 #include <fstream>
 #include <map>
 #include <stdexcept>
@@ -16,19 +17,25 @@ namespace svetlo {
 
 namespace {
 
-Color to_color(const tinyobj::real_t c[3]) { return Color(c[0], c[1], c[2]); }
-
 Material material_from_mtl(const tinyobj::material_t& m) {
-    Color ke = to_color(m.emission);
+    // Every colour of the MTL checked (file_color): 'Kd 1e39' or 'Kd -1 0.5 0.5' is refused.
+    auto color = [&](const tinyobj::real_t c[3], const char* key) {
+        return file_color(c[0], c[1], c[2], "material '" + m.name + "' " + key);
+    };
+    const Color ke = color(m.emission, "Ke"), kd = color(m.diffuse, "Kd"),
+                ks = color(m.specular, "Ks"), ka = color(m.ambient, "Ka");
+    if (!std::isfinite(m.shininess) || !std::isfinite(m.ior) || !std::isfinite(m.dissolve)) {
+        throw std::runtime_error("material '" + m.name + "': Ns, Ni and d must be finite");
+    }
     if (max_component(ke) > 0.0f) {
         EmissiveMaterial e;
         e.radiance = ColorSource::constant(ke);
-        e.albedo = ColorSource::constant(to_color(m.diffuse));
+        e.albedo = ColorSource::constant(kd);
         return e;
     }
     if (m.illum == 3 || m.illum == 5) {
         MirrorMaterial mirror;
-        mirror.reflectance = ColorSource::constant(to_color(m.specular));
+        mirror.reflectance = ColorSource::constant(ks);
         return mirror;
     }
     if (m.illum == 4 || m.illum == 6 || m.illum == 7 || m.dissolve < 1.0f) {
@@ -37,9 +44,9 @@ Material material_from_mtl(const tinyobj::material_t& m) {
         return d;
     }
     PhongMaterial p;
-    p.ka = ColorSource::constant(to_color(m.ambient));
-    p.kd = ColorSource::constant(to_color(m.diffuse));
-    p.ks = ColorSource::constant(to_color(m.specular));
+    p.ka = ColorSource::constant(ka);
+    p.kd = ColorSource::constant(kd);
+    p.ks = ColorSource::constant(ks);
     p.shininess = m.shininess > 0.0f ? m.shininess : 1.0f;
     return p;
 }
