@@ -232,6 +232,18 @@ for name, kd in (("huge", "1e39 0.5 0.5"), ("negative", "-1 0.5 0.5")):
     open(f"{work}/{name}.mtl", "w").write(f"newmtl m\nKd {kd}\n")
     open(f"{work}/{name}_kd.obj", "w").write(f"mtllib {name}.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl m\nf 1 2 3\n")
 PY
+# An image past 8192 x 8192 pixels is refused from its header, before it is decoded (a
+# 1 MB PNG of 16384 x 16384 took 3.8 GB per material), and a texture that several materials
+# use is read once.
+python3 - "$work/huge.png" <<'PY'
+import struct, sys, zlib
+def chunk(kind, data):
+    return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+header = struct.pack(">IIBBBBB", 16384, 16384, 8, 2, 0, 0, 0)
+open(sys.argv[1], "wb").write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header))
+PY
+render_bad "texture too large" "cannot read texture 'huge.png': .*16384 x 16384 pixels, more than the 8192 x 8192" \
+    "scene['materials']['white']['albedo'] = {'texture': 'huge.png'}"
 for t in nan negative; do
     render_bad "texture with $t texels" "materials.white.albedo.texture: cannot read texture '$t.pfm': texel \\(1, 1\\)" \
         "scene['materials']['white']['albedo'] = {'texture': '$t.pfm'}"

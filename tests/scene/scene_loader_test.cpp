@@ -270,3 +270,35 @@ TEST(SceneLoader, ClosedSetsParseToEnumsOnceAndRefuseTypos) {
 
 }  // namespace
 }  // namespace svetlo
+
+namespace svetlo {
+namespace {
+
+TEST(SceneLoader, ATextureIsReadOncePerFileAndColourSpace) {
+    // A 2 x 2 PFM named by four colours of three materials, once through another path: one
+    // texture. A fourth material asks for the file as linear data: a second (the key is the
+    // file and the colour space asked for).
+    std::filesystem::path dir = std::filesystem::temp_directory_path() / "svetlo_texture_once";
+    std::filesystem::create_directories(dir / "sub");
+    {
+        std::ofstream f(dir / "t.pfm", std::ios::binary);
+        f << "PF\n2 2\n-1.0\n";
+        const float texels[12] = {0.1f, 0.2f, 0.3f, 0.4f, 0.5f, 0.6f,
+                                  0.7f, 0.8f, 0.9f, 1.0f, 0.5f, 0.25f};
+        f.write(reinterpret_cast<const char*>(texels), sizeof texels);
+    }
+    json j = minimal();
+    j["materials"] = {
+        {"a", {{"type", "lambert"}, {"albedo", {{"texture", "t.pfm"}}}}},
+        {"b", {{"type", "lambert"}, {"albedo", {{"texture", "sub/../t.pfm"}}}}},
+        {"c", {{"type", "phong"}, {"kd", {{"texture", "t.pfm"}}}, {"ks", {{"texture", "t.pfm"}}}}},
+        {"d", {{"type", "lambert"}, {"albedo", {{"texture", "t.pfm"}, {"srgb", false}}}}}};
+    j["objects"][0]["material"] = "a";
+    Scene s = scene_from_json(j, dir / "s.json");
+    EXPECT_EQ(s.textures.size(), 2u);
+    EXPECT_EQ(s.texture_sources.size(), 2u);
+    std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace svetlo

@@ -91,6 +91,14 @@ void write_exr(const fs::path& path, const Image& image) {
     file.writePixels(image.height);
 }
 
+/// Refuses an image past kMaxImagePixels before it is decoded.
+void check_image_size(long long w, long long h) {
+    if (w * h > kMaxImagePixels) {
+        throw std::runtime_error("is " + std::to_string(w) + " x " + std::to_string(h) +
+                                 " pixels, more than the 8192 x 8192 svetlo reads");
+    }
+}
+
 Image read_pfm(const fs::path& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw std::runtime_error(std::strerror(errno));
@@ -104,6 +112,7 @@ Image read_pfm(const fs::path& path) {
         throw std::runtime_error("not a PFM file");
     }
     if (scale > 0.0) throw std::runtime_error("big-endian PFM is not supported");
+    check_image_size(w, h);
     Image image(static_cast<int>(w), static_cast<int>(h));
     std::vector<float> row(static_cast<size_t>(w) * channels);
     for (long long j = h - 1; j >= 0; --j) {
@@ -123,9 +132,8 @@ Image read_exr(const fs::path& path) {
     Imath::Box2i window = file.header().dataWindow();
     int w = window.max.x - window.min.x + 1;
     int h = window.max.y - window.min.y + 1;
-    if (w <= 0 || h <= 0 || static_cast<long long>(w) * h > (1LL << 28)) {
-        throw std::runtime_error("bad EXR size");
-    }
+    if (w <= 0 || h <= 0) throw std::runtime_error("bad EXR size");
+    check_image_size(w, h);
     Image image(w, h);
     Imf::FrameBuffer frame;
     char* base = reinterpret_cast<char*>(image.pixels.data()) -
@@ -144,7 +152,7 @@ Image read_exr(const fs::path& path) {
 Image read_stb(const fs::path& path, bool srgb) {
     int w = 0, h = 0, n = 0;
     if (!stbi_info(path.c_str(), &w, &h, &n)) throw std::runtime_error(stbi_failure_reason());
-    if (static_cast<long long>(w) * h > (1LL << 28)) throw std::runtime_error("image too large");
+    check_image_size(w, h);
     if (stbi_is_hdr(path.c_str())) {
         std::unique_ptr<float, void (*)(void*)> data(stbi_loadf(path.c_str(), &w, &h, &n, 3),
                                                      stbi_image_free);

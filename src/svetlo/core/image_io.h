@@ -34,4 +34,8 @@ void write_image(const std::filesystem::path& path, const Image& image, PixelMea
 /// (linear) into linear RGB with rows from the top. Throws Error(path, where, ...).
 Image read_image(const std::filesystem::path& path, bool srgb, const std::string& where);
 
+/// The largest image svetlo reads, in pixels (8192 x 8192: 768 MiB as float RGB), checked
+/// from the file's header before anything is decoded.
+inline constexpr long long kMaxImagePixels = 1LL << 26;
+
 }  // namespace svetlo

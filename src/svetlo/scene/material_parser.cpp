@@ -1,4 +1,5 @@
 // materials section and material colours (constants, textures, checkers).
+#include <algorithm>
 #include <map>
 
 #include "svetlo/core/image_io.h"
@@ -97,24 +98,25 @@ ColorSource parse_color_source(const JsonNode& node, Scene& scene) {
     std::filesystem::path file = scene.path.parent_path() / tex.as_string();
     bool srgb = true;
     if (auto n = node.find("srgb")) srgb = n->as_bool();
-    if (auto n = node.find("filter")) {
-        std::string f = n->as_choice({"nearest", "bilinear", "trilinear", "anisotropic"});
-        s.filter = f == "nearest"     ? TextureFilter::Nearest
-                   : f == "bilinear"  ? TextureFilter::Bilinear
-                   : f == "trilinear" ? TextureFilter::Trilinear
-                                      : TextureFilter::Anisotropic;
-    }
+    if (auto n = node.find("filter")) s.filter = n->as_enum(kTextureFilters);
     if (auto n = node.find("max_anisotropy"))
         s.max_anisotropy = static_cast<int>(n->as_integer(1, 64));
-    if (auto n = node.find("wrap")) {
-        s.wrap = n->as_choice({"repeat", "clamp"}) == "repeat" ? TextureWrap::Repeat
-                                                               : TextureWrap::Clamp;
+    if (auto n = node.find("wrap")) s.wrap = n->as_enum(kTextureWraps);
+    // One read per file and colour space, however many materials use it.
+    std::error_code ec;
+    std::string source =
+        std::filesystem::weakly_canonical(file, ec).string() + (srgb ? " (sRGB)" : " (linear)");
+    auto known = std::find(scene.texture_sources.begin(), scene.texture_sources.end(), source);
+    if (known != scene.texture_sources.end()) {
+        s.texture = static_cast<int>(known - scene.texture_sources.begin());
+        return s;
     }
     try {
         scene.textures.push_back(read_image(file, srgb, tex.path()));
     } catch (const Error& e) {
         tex.fail("cannot read texture '" + tex.as_string() + "': " + e.message());
     }
+    scene.texture_sources.push_back(source);
     s.texture = static_cast<int>(scene.textures.size()) - 1;
     return s;
 }

@@ -232,6 +232,15 @@ std::string_view name_of(const EnumName<E> (&names)[N], E value) {
     return "?";
 }
 
+/// A texture's filter and wrap mode.
+inline constexpr EnumName<TextureFilter> kTextureFilters[] = {
+    {"nearest", TextureFilter::Nearest},
+    {"bilinear", TextureFilter::Bilinear},
+    {"trilinear", TextureFilter::Trilinear},
+    {"anisotropic", TextureFilter::Anisotropic}};
+inline constexpr EnumName<TextureWrap> kTextureWraps[] = {{"repeat", TextureWrap::Repeat},
+                                                          {"clamp", TextureWrap::Clamp}};
+
 /// render.shading (raster): how fragments are coloured, or a debug view.
 enum class ShadingMode { Flat, Gouraud, Phong, Depth, Normal, Overdraw };
 inline constexpr EnumName<ShadingMode> kShadingModes[] = {
@@ -306,6 +315,9 @@ struct Scene {
     std::vector<Material> materials;
     std::vector<std::string> material_names;
     std::vector<Image> textures;  // linear RGB, rows from the top
+    // Per texture, the file and colour space it was read from: each is read once, however
+    // many materials use it.
+    std::vector<std::string> texture_sources;
     std::vector<Light> lights;
     std::vector<Object> objects;
 };
