@@ -116,5 +116,25 @@ TEST(RasterAgainstWhitted, AnEmissiveSphereLightsTheFloorAlikeAndACsgOneInNeithe
     }
 }
 
+TEST(RasterAgainstWhitted, AnObjectAMillionUnitsAwayClipsNothingNear) {
+    // A far object used to push the near plane to 10 units (far / 10^5): the sphere 4 units
+    // away vanished. The near plane now depends on what is near; the far plane is infinite.
+    json j = {
+        {"camera", {{"position", {0, 0, 5}}, {"look_at", {0, 0, 0}}, {"fov", 30}}},
+        {"film", {{"width", 32}, {"height", 32}}},
+        {"render", {{"spp", 1}, {"max_depth", 0}}},
+        {"materials", {{"m", {{"type", "lambert"}, {"albedo", 0.5}}}}},
+        {"lights", {{{"type", "directional"}, {"direction", {0, 0, -1}}, {"irradiance", 1}}}},
+        {"objects",
+         {{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1}, {"material", "m"}},
+          {{"type", "sphere"}, {"center", {0, 0, -1e6}}, {"radius", 1000}, {"material", "m"}}}}};
+    RenderResult ras = render(j, "raster", {"depth"});
+    RenderResult ray = render(j, "whitted", {"depth"});
+    // The near sphere at the centre: depth 4, L = 0.5 / pi; and the far one around it.
+    EXPECT_NEAR(ras.aovs.at("depth").at(16, 16).r, 4.0f, 1e-2f);  // tessellated: within 0.01
+    EXPECT_NEAR(ras.color.at(16, 16).r, ray.color.at(16, 16).r, 1e-3f);
+    EXPECT_NEAR(ras.color.at(16, 16).r, 0.5f / kPi, 1e-3f);
+}
+
 }  // namespace
 }  // namespace svetlo

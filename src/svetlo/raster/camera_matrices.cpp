@@ -4,7 +4,8 @@
 
 namespace svetlo {
 
-CameraMatrices camera_matrices(const Camera& camera, int width, int height, const Bounds3& bounds) {
+CameraMatrices camera_matrices(const Camera& camera, int width, int height, const Bounds3& bounds,
+                               float nearest) {
     CameraMatrices m;
     m.width = width;
     m.height = height;
@@ -32,8 +33,11 @@ CameraMatrices camera_matrices(const Camera& camera, int width, int height, cons
     float margin = 0.01f * std::max(zmax - zmin, 1e-3f);
     m.far = std::max(zmax + margin, 1e-3f);
     if (camera.type == Camera::Type::Perspective) {
-        m.near = std::max(zmin - margin, m.far * 1e-5f);
-        m.projection = glm::perspective(radians(camera.fov_deg), aspect, m.near, m.far);
+        float in_front = nearest > 0.0f ? 0.5f * nearest : zmin > 0.0f ? 0.5f * zmin : 0.0f;
+        m.near = std::max(in_front, m.far * 1e-9f);
+        // An infinite far plane: nothing is clipped behind, however far, and near may be
+        // small (the depth key is -1/w, whose precision is relative at every distance).
+        m.projection = glm::infinitePerspective(radians(camera.fov_deg), aspect, m.near);
     } else {
         m.near = std::max(zmin - margin, 0.0f);  // as the ray tracer: what lies in front only
         float h = 0.5f * camera.height, w = h * aspect;

@@ -26,10 +26,15 @@ struct CameraMatrices {
     }
 };
 
-/// The camera's matrices for a width x height film. The near and far planes enclose `bounds`
-/// (the scene's, world space) with a margin; near is at least far / 10^5 for perspective
-/// cameras, which keeps float depth precise enough.
-CameraMatrices camera_matrices(const Camera& camera, int width, int height, const Bounds3& bounds);
+/// The camera's matrices for a width x height film. `far` encloses `bounds` (the scene's,
+/// world space) with a margin. A perspective camera's projection has an infinite far plane,
+/// and its near plane lies at half `nearest` when that is given (> 0): a lower bound on the
+/// distance of anything visible, such as the distance from the eye to the nearest plane of a
+/// triangle; else at half the bounds' distance in front. Near never depends on far (an object
+/// a million units away must not clip the rest): the depth key -1/w is as precise at every
+/// distance. Near is at least far / 10^9. Orthographic cameras clip to [near, far].
+CameraMatrices camera_matrices(const Camera& camera, int width, int height, const Bounds3& bounds,
+                               float nearest = 0.0f);
 
 /// The inverse transpose of the model matrix's linear part: it carries normals.
 mat3 normal_matrix(const mat4& model);

@@ -141,6 +141,31 @@ Bounds3 drawn_bounds(const TriangleList& list) {
     return bounds;
 }
 
+/// A lower bound on the distance of anything the camera sees (0: none): the distance from the
+/// eye to the nearest plane of a triangle not wholly behind it. The near plane goes at half
+/// of it (camera_matrices), so that nothing visible is clipped.
+float nearest_depth(const TriangleList& list, const Camera& camera) {
+    const vec3 eye = camera.position, forward = glm::normalize(camera.look_at - eye);
+    float nearest = kInfinity;
+    for (size_t t = 0; t < list.triangle_count(); ++t) {
+        const vec3 a = list.positions[list.indices[3 * t]],
+                   b = list.positions[list.indices[3 * t + 1]],
+                   c = list.positions[list.indices[3 * t + 2]];
+        if (glm::dot(a - eye, forward) <= 0.0f && glm::dot(b - eye, forward) <= 0.0f &&
+            glm::dot(c - eye, forward) <= 0.0f)
+            continue;  // behind the camera
+        vec3 n = triangle_normal(a, b, c);
+        nearest = std::min(nearest, std::abs(glm::dot(n, eye - a)));
+    }
+    return std::isfinite(nearest) ? nearest : 0.0f;
+}
+
+/// The camera matrices of the frame, near and far around what it draws.
+CameraMatrices frame_camera(const Scene& scene, const TriangleList& list) {
+    return camera_matrices(scene.camera, scene.film.width, scene.film.height, drawn_bounds(list),
+                           nearest_depth(list, scene.camera));
+}
+
 /// The pipeline state of the frame's colour pass.
 PipelineState colour_pass_state(const Scene& scene) {
     PipelineState state;
@@ -161,8 +186,7 @@ PipelineState colour_pass_state(const Scene& scene) {
 CameraMatrices raster_camera(const Scene& scene) {
     FrameState f;
     f.scene = &scene;
-    return camera_matrices(scene.camera, scene.film.width, scene.film.height,
-                           drawn_bounds(tessellate_scene(scene, f, 0)));
+    return frame_camera(scene, tessellate_scene(scene, f, 0));
 }
 
 struct RasterRenderer::Buffers {
@@ -189,7 +213,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     f.mode = scene.render.shading;
     TriangleList list = tessellate_scene(scene, f, threads);
     prepare_shading(scene, f);
-    const CameraMatrices camera = camera_matrices(scene.camera, width, height, drawn_bounds(list));
+    const CameraMatrices camera = frame_camera(scene, list);
     // The frame's sample positions, pass by pass (the same in every pixel).
     std::vector<SamplePattern> passes;
     for (int first = 0; first < spp; first += kMaxSamplesPerPass)
