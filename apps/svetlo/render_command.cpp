@@ -113,10 +113,17 @@ int run_render(const RenderArgs& args) {
         if (png && name == "normal") {
             for (Color& c : image.pixels) c = 0.5f * c + Color(0.5f);  // [-1,1] -> [0,1]
         } else if (png && name == "depth") {
-            float far = 0.0f;  // normalised by the farthest hit
-            for (const Color& c : image.pixels) far = std::max(far, c.r);
-            if (far > 0.0f) {
-                for (Color& c : image.pixels) c /= far;
+            // Normalised by the 90th percentile of the hits' depths, not the farthest hit: an
+            // infinite plane's horizon, thousands of units away, would leave the rest black.
+            // Farther hits are white.
+            std::vector<float> hits;
+            for (const Color& c : image.pixels) {
+                if (c.r > 0.0f) hits.push_back(c.r);
+            }
+            if (!hits.empty()) {
+                auto k = hits.begin() + static_cast<std::ptrdiff_t>(hits.size() * 9 / 10);
+                std::nth_element(hits.begin(), k, hits.end());
+                for (Color& c : image.pixels) c = glm::min(c / *k, Color(1.0f));
             }
         }
         write_image(file, image, name == "albedo" ? PixelMeaning::Radiance : PixelMeaning::Data,

@@ -198,6 +198,44 @@ for f in broken.ply lying_header.ply bad_index.obj broken.gltf not_a_mesh.txt; d
     render_bad "malformed mesh $f" "objects\[0\].file: cannot read mesh" \
         "scene['objects'][0] = {'type': 'mesh', 'file': '$f', 'material': 'white'}"
 done
+# Every accelerator gives the same image of the Cornell box, whose OBJ holds two faces twice.
+cp "$data/CornellBox-Original.obj" "$data/CornellBox-Original.mtl" "$work/"
+scene_with 'scene["objects"] = [{"type": "mesh", "file": "CornellBox-Original.obj"}]; scene["lights"] = []; scene["camera"] = {"position": [0, 1, 3.5], "look_at": [0, 1, 0], "fov": 40}'
+for accel in bvh bvh2 grid octree embree; do
+    "$svetlo" render "$work/bad.json" -o "$work/cornell_$accel.pfm" -q --set render.accel=$accel || fail "cornell $accel"
+done
+same=1
+for accel in bvh2 grid octree embree; do
+    cmp -s "$work/cornell_bvh.pfm" "$work/cornell_$accel.pfm" || same=0
+done
+[ $same -eq 1 ] && pass || fail "the accelerators disagree on the Cornell box"
+# A depth AOV as PNG with an infinite plane in view is not black.
+"$svetlo" render "$work/good.json" -o "$work/d.png" -q -W 240 -H 160 --aov depth="$work/depth.png"
+python3 - "$work/depth.png" <<'PY' && pass || fail "the depth PNG is black where the sphere is"
+import sys, zlib, struct
+data = open(sys.argv[1], "rb").read()
+# PNG: concatenate IDAT, inflate, skip each row's filter byte; the centre row's mean.
+pos, idat, w, h = 8, b"", 0, 0
+while pos < len(data):
+    n, kind = struct.unpack(">I4s", data[pos:pos + 8])
+    body = data[pos + 8:pos + 8 + n]
+    if kind == b"IHDR": w, h = struct.unpack(">II", body[:8])
+    if kind == b"IDAT": idat += body
+    pos += 12 + n
+raw, stride, prev, rows = zlib.decompress(idat), 3 * w, bytearray(3 * w), []
+for j in range(h):  # undo each row's filter (PNG spec, section 9)
+    f, line = raw[j * (stride + 1)], bytearray(raw[j * (stride + 1) + 1:(j + 1) * (stride + 1)])
+    for i in range(stride):
+        a = line[i - 3] if i >= 3 else 0
+        b, c = prev[i], prev[i - 3] if i >= 3 else 0
+        p = a + b - c
+        pred = [0, a, b, (a + b) // 2, a if abs(p - a) <= min(abs(p - b), abs(p - c)) else b if abs(p - b) <= abs(p - c) else c][f]
+        line[i] = (line[i] + pred) & 255
+    rows.append(line)
+    prev = line
+centre = rows[h // 2][3 * (w // 2)]  # the sphere, 4 units away
+sys.exit(0 if centre > 10 else 1)
+PY
 # Files that are not files: refused at once, saying what they are (they were read until
 # memory ran out).
 expect_error "scene is a device" "file: is not a regular file" render /dev/zero -o "$work/keep.png"
