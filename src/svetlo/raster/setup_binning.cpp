@@ -130,6 +130,13 @@ void assemble(const TriangleList& list, FrameState& f, int threads) {
                 continue;
             }
             slot.make_empty();
+            // A vertex whose clip coordinates overflowed (world coordinates near a float's
+            // limit) cannot be clipped or snapped: its triangle is not drawn.
+            const vec4 &c0 = f.vertices[idx[0]].clip, &c1 = f.vertices[idx[1]].clip,
+                       &c2 = f.vertices[idx[2]].clip;
+            if (!std::isfinite(c0.x + c0.y + c0.z + c0.w + c1.x + c1.y + c1.z + c1.w + c2.x + c2.y +
+                               c2.z + c2.w))
+                continue;
             ClipPolygon poly =
                 clip_triangle(f.vertices[idx[0]], f.vertices[idx[1]], f.vertices[idx[2]], gx, gy);
             if (poly.count < 3) continue;
