@@ -5,7 +5,7 @@ BUILD := build
 SVETLO := $(BUILD)/svetlo
 DEMO_SCENES := $(wildcard scenes/*.json)
 
-.PHONY: all build test demo bench setup clean format
+.PHONY: all build test demo bench setup clean format fuzz
 
 all: build
 
@@ -43,7 +43,25 @@ bench: build
 	$(SVETLO) bench scenes/bunny.json --rays diffuse --threads $(JOBS)
 
 format:
-	clang-format -i $$(git ls-files '*.cpp' '*.h')
+	clang-format -i $$(git ls-files '*.cpp' '*.h' '*.inc')
+
+# Fuzz each loader for FUZZ_SECONDS (clang's libFuzzer, with ASan and UBSan). New inputs go to
+# build-fuzz/found/TARGET; copy the ones that broke svetlo into tests/fuzz/corpus/TARGET with
+# the fix, and the test suite replays them.
+FUZZ_SECONDS ?= 60
+FUZZ_TARGETS := scene obj ply gltf image
+fuzz:
+	@scripts/setup fuzz
+	cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
+	    -DSVETLO_FUZZ=ON -DSVETLO_TESTS=OFF -DSVETLO_BENCH=OFF
+	cmake --build build-fuzz -j $(JOBS) --target $(addprefix fuzz_,$(FUZZ_TARGETS))
+	@for t in $(FUZZ_TARGETS); do \
+	    mkdir -p build-fuzz/found/$$t; \
+	    echo "fuzz $$t for $(FUZZ_SECONDS) s"; \
+	    build-fuzz/tests/fuzz/fuzz_$$t build-fuzz/found/$$t tests/fuzz/corpus/$$t \
+	        -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -timeout=10 -rss_limit_mb=4096 \
+	        -artifact_prefix=build-fuzz/found/$$t- || exit 1; \
+	done
 
 clean:
 	rm -rf $(BUILD) out
