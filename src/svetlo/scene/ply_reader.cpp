@@ -186,13 +186,14 @@ MeshFile read_ply(const std::filesystem::path& path) {
                     continue;
                 }
                 double n = source.read(p.count_type);
-                if (n < 0 || n > 1e6) throw std::runtime_error("bad list length");
+                // Written so that NaN fails too (a float count type may hold one).
+                if (!(n >= 0.0 && n <= 1e6)) throw std::runtime_error("bad list length");
                 bool keep = is_face && static_cast<int>(k) == fi;
                 if (keep) polygon.clear();
                 for (int j = 0; j < static_cast<int>(n); ++j) {
                     double v = source.read(p.type);
                     if (keep) {
-                        if (v < 0 || v >= 4294967295.0)
+                        if (!(v >= 0.0 && v < 4294967295.0))
                             throw std::runtime_error("bad vertex index");
                         polygon.push_back(static_cast<uint32_t>(v));
                     }
