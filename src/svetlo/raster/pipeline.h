@@ -100,7 +100,7 @@ struct FrameState {
     std::vector<SimdMaterial> simd_material;  // per material, and whether the fast path takes it
     std::vector<char> simd_ok;
     // Stages 2 to 4.
-    LargeArray<ClipVertex> vertices;       // the vertex stage's output, mesh after mesh
+    LargeArray<ClipVertex> vertices;       // the vertex stage's output, one per list vertex
     LargeArray<ScreenVertex> screen;       // the same vertices projected (when inside)
     std::vector<ClipVertex> extra;         // vertices made by clipping (index bit kExtra)
     LargeArray<SetupTriangle> tris;        // one slot per input triangle (empty when culled)
