@@ -17,15 +17,11 @@ vec2 r2(int k) {
 /// Each source sampled at its fixed VPLs.
 struct VplSampling {
     const RasterLights& lights;
-    size_t index(const LightSet::Source& s) const {
-        return static_cast<size_t>(&s - lights.set.sources().data());
+    int count(size_t i, const LightSet::Source& s) const {
+        return s.delta ? 1 : static_cast<int>(lights.vpls[i].size());
     }
-    int count(const LightSet::Source& s) const {
-        return s.delta ? 1 : static_cast<int>(lights.vpls[index(s)].size());
-    }
-    LightSample sample(const LightSet::Source& s, int k, vec3 p) const {
+    LightSample sample(size_t i, const LightSet::Source& s, int k, vec3 p) const {
         if (s.delta) return lights.set.sample(s, p, vec2(0.0f), 0.0f);
-        size_t i = index(s);
         return lights.set.sample_at(lights.vpls[i][static_cast<size_t>(k)], p, lights.min_dist2[i]);
     }
 };

@@ -137,8 +137,8 @@ private:
         Rng& rng;
         int n;
         TracedSampling(const LightSet& l, Rng& r, int samples) : lights(l), rng(r), n(samples) {}
-        int count(const LightSet::Source& s) const { return s.delta ? 1 : n; }
-        LightSample sample(const LightSet::Source& s, int k, vec3 p) {
+        int count(size_t, const LightSet::Source& s) const { return s.delta ? 1 : n; }
+        LightSample sample(size_t, const LightSet::Source& s, int k, vec3 p) {
             if (s.delta) return lights.sample(s, p, vec2(0.0f), 0.0f);
             vec2 u = stratified_sample(k, n, vec2(rng.next_float(), rng.next_float()));
             return lights.sample(s, p, u, rng.next_float());

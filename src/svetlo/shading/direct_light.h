@@ -33,10 +33,10 @@ inline Color unoccluded_light(const Bsdf& bsdf, const ShadingFrame& frame, vec3 
     return eval_bsdf(bsdf, frame.ns, wo, s.wi) * s.irradiance * cos_theta;
 }
 
-/// The direct light at p. `sampling` says how each source is sampled: `int count(source)`
-/// samples, and `LightSample sample(source, k, p)` for the k-th. `visible(index, sample)`
-/// returns V in [0, 1] for source `index` of lights.sources(); it is asked only for samples
-/// that bring light.
+/// The direct light at p. `sampling` says how each source is sampled: `int count(index,
+/// source)` samples, and `LightSample sample(index, source, k, p)` for the k-th, `index` being
+/// the source's in lights.sources(). `visible(index, sample)` returns V in [0, 1]; it is asked
+/// only for samples that bring light.
 template <class Sampling, class Visibility>
 Color direct_light(const LightSet& lights, const Bsdf& bsdf, vec3 p, const ShadingFrame& frame,
                    vec3 wo, Sampling&& sampling, Visibility&& visible) {
@@ -45,10 +45,10 @@ Color direct_light(const LightSet& lights, const Bsdf& bsdf, vec3 p, const Shadi
     const auto& sources = lights.sources();
     for (size_t index = 0; index < sources.size(); ++index) {
         const LightSet::Source& source = sources[index];
-        const int n = sampling.count(source);
+        const int n = sampling.count(index, source);
         Color sum(0.0f);
         for (int k = 0; k < n; ++k) {
-            LightSample s = sampling.sample(source, k, p);
+            LightSample s = sampling.sample(index, source, k, p);
             Color c = unoccluded_light(bsdf, frame, wo, s);
             if (is_black(c)) continue;
             float v = visible(index, s);

@@ -143,26 +143,13 @@ AreaPoint LightSet::sample_area(const Source& source, vec2 u, float u_pick) cons
     return a;
 }
 
-LightSample LightSet::sample_at(const AreaPoint& a, vec3 p, float min_dist2) const {
-    LightSample s;
-    s.delta = false;
-    s.p = a.surface.p;
-    s.n = a.surface.n;
-    vec3 d = s.p - p;
-    float dist2 = glm::dot(d, d);
-    if (!(dist2 > 0.0f)) return s;
-    s.distance = std::sqrt(dist2);
-    s.wi = d / s.distance;
-    float cos_light = -glm::dot(s.n, s.wi);
-    if (cos_light <= 0.0f) return s;  // its back: it emits nothing this way
-    // E = L cos' / (d^2 pdf_area): the area form of the rendering equation.
-    s.irradiance = a.radiance * (cos_light / (std::max(dist2, min_dist2) * a.pdf_area));
-    s.pdf = a.pdf_area * dist2 / cos_light;
-    return s;
-}
-
 LightSample LightSet::sample(const Source& source, vec3 p, vec2 u, float u_pick) const {
-    if (!source.delta) return sample_at(sample_area(source, u, u_pick), p);
+    if (!source.delta) {
+        LightSample s = sample_at(sample_area(source, u, u_pick), p);
+        float cos_light = -glm::dot(s.n, s.wi);
+        if (!is_black(s.irradiance)) s.pdf = s.distance * s.distance / (cos_light * source.area);
+        return s;
+    }
     const Light& light = scene_.lights[static_cast<size_t>(source.light_index)];
     PunctualSample ps = sample_punctual(light, p);
     LightSample s;

@@ -69,7 +69,7 @@ public:
     /// The light as seen from p: for lights with area, through sample_area(u, u_pick).
     LightSample sample(const Source& source, vec3 p, vec2 u, float u_pick) const;
     /// A point on a light with area as seen from p; d^2 is clamped below by min_dist2 (the
-    /// rasterizer's virtual point lights stand for a patch of that area).
+    /// rasterizer's virtual point lights stand for a patch of that area). Its pdf is not set.
     LightSample sample_at(const AreaPoint& a, vec3 p, float min_dist2 = 0.0f) const;
     /// The pdf per steradian with which sample() picks the direction from p to the point q
     /// (normal nq) of a light with area: pdf_area d^2 / cos', 0 behind it.
@@ -86,5 +86,23 @@ private:
     std::vector<char> emission_textured_;
     std::vector<Source> sources_;
 };
+
+// Inline: the rasterizer calls it for every virtual point light at every sample.
+inline LightSample LightSet::sample_at(const AreaPoint& a, vec3 p, float min_dist2) const {
+    LightSample s;
+    s.delta = false;
+    s.p = a.surface.p;
+    s.n = a.surface.n;
+    vec3 d = s.p - p;
+    float dist2 = glm::dot(d, d);
+    if (!(dist2 > 0.0f)) return s;
+    s.distance = std::sqrt(dist2);
+    s.wi = d / s.distance;
+    float cos_light = -glm::dot(s.n, s.wi);
+    if (cos_light <= 0.0f) return s;  // its back: it emits nothing this way
+    // E = L cos' / (d^2 pdf_area): the area form of the rendering equation.
+    s.irradiance = a.radiance * (cos_light / (std::max(dist2, min_dist2) * a.pdf_area));
+    return s;  // pdf: left to sample(), which needs it (the rasterizer's VPLs do not)
+}
 
 }  // namespace svetlo
