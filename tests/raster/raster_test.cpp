@@ -728,6 +728,37 @@ TEST(Raster, TheScalarShadingMultipliesEachLightByItsVisibility) {
     }
 }
 
+TEST(Raster, FlatAndGouraudModulateTheirLightByTheTexturePerSample) {
+    // A checkered Lambert floor under a directional light (the same light at every vertex):
+    // flat and Gouraud shading, lighting a white floor and multiplying by the texture at each
+    // sample (OpenGL's GL_MODULATE), give Phong's image. They sampled the texture at the
+    // vertices or the centroid only, and lost the checkers.
+    json j = oblique(96, 64);
+    j["materials"] = {
+        {"c",
+         {{"type", "lambert"},
+          {"albedo", {{"checker", {{"a", 0.1}, {"b", {0.9, 0.6, 0.3}}, {"scale", 6}}}}}}}};
+    j["lights"] = {{{"type", "directional"}, {"direction", {0.3, -1, 0.2}}, {"irradiance", 2}}};
+    j["render"]["ambient"] = 0.1;
+    j["objects"] = {floor_quad(1.5f, "c")};
+    RenderResult phong = render(j);
+    for (const char* mode : {"gouraud", "flat"}) {
+        j["render"]["shading"] = mode;
+        RenderResult r = render(j);
+        int dark = 0, bright = 0;
+        for (size_t k = 0; k < phong.color.pixels.size(); ++k) {
+            for (int c = 0; c < 3; ++c) {
+                float e = phong.color.pixels[k][c];
+                ASSERT_NEAR(r.color.pixels[k][c], e, 1e-5f * (1.0f + e)) << mode << " " << k;
+            }
+            dark += phong.color.pixels[k].b > 0.0f && phong.color.pixels[k].r < 0.1f ? 1 : 0;
+            bright += phong.color.pixels[k].r > 0.3f ? 1 : 0;
+        }
+        EXPECT_GT(dark, 500);  // both checker colours are on screen
+        EXPECT_GT(bright, 500);
+    }
+}
+
 TEST(Raster, OverdrawCountsEveryFragmentInTheStencilBuffer) {
     // Three stacked squares, y = 0, 0.1, 0.2, of half sizes 1, 0.6, 0.3: a pixel's count is
     // the number of squares its centre's ray crosses, hidden ones included (the stencil

@@ -15,6 +15,12 @@ const Bsdf& material_at(const FrameState& f, uint32_t m, vec2 uv, vec2 duv_dx, v
     return scratch;
 }
 
+const Bsdf& material_for_vertices(const FrameState& f, uint32_t m, vec2 uv, Bsdf& scratch) {
+    if (!f.modulate[m]) return material_at(f, m, uv, vec2(0.0f), vec2(0.0f), scratch);
+    scratch = make_bsdf(f.lit_white[m], uv, TextureLookup{f.scene->textures});
+    return scratch;
+}
+
 Color light_point(const FrameState& f, const Bsdf& bsdf, vec3 p, vec3 wo, vec3 ng, vec3 ns,
                   const LightVisibility& vis, size_t sample) {
     return shade_point(bsdf, p, make_shading_frame(ng, ns, wo), wo, *f.lights,
@@ -28,8 +34,7 @@ Color flat_colour(const FrameState& f, const uint32_t idx[3], uint32_t material)
     vec2 uv = (cv[0]->uv + cv[1]->uv + cv[2]->uv) / 3.0f;
     vec3 wo = f.ortho ? -f.forward : glm::normalize(f.eye - p);
     Bsdf scratch;
-    return light_point(f, material_at(f, material, uv, vec2(0.0f), vec2(0.0f), scratch), p, wo, ng,
-                       ng);
+    return light_point(f, material_for_vertices(f, material, uv, scratch), p, wo, ng, ng);
 }
 
 Weights perspective_weights(vec2 l, const ClipVertex& A, const ClipVertex& B, const ClipVertex& C) {
@@ -56,7 +61,7 @@ struct ShadeResult {
 ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& edges, int64_t sx,
                          int64_t sy, bool want_aovs, const LightVisibility& vis, size_t sample) {
     const SetupTriangle& t = f.tri(ti);
-    if (f.mode == Mode::Flat && !want_aovs) {
+    if (f.mode == Mode::Flat && !want_aovs && !f.modulate[t.material]) {
         ShadeResult flat;
         flat.color = f.flat_color(ti);
         return flat;
@@ -78,12 +83,43 @@ ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& 
         r.normal = make_shading_frame(ng, ns, wo).ns;
     }
     vec2 uv = b0 * A.uv + b1 * B.uv + b2 * C.uv;
+    // d(uv)/dx and d(uv)/dy, for the filters that need the pixel's footprint: the screen-space
+    // barycentric gradients (a / area per pixel) through the perspective division.
+    vec2 dx(0.0f), dy(0.0f);
+    if (f.needs_footprint[t.material]) {
+        Edge e[3] = {Edge::make(t.x[1], t.y[1], t.x[2], t.y[2]),
+                     Edge::make(t.x[2], t.y[2], t.x[0], t.y[0]),
+                     Edge::make(t.x[0], t.y[0], t.x[1], t.y[1])};
+        auto area = static_cast<float>(signed_area2(t.x, t.y));
+        float q[3] = {q0, q1, q2};
+        const vec2* uvs[3] = {&A.uv, &B.uv, &C.uv};
+        const float invw[3] = {A.invw, B.invw, C.invw};
+        for (int axis = 0; axis < 2; ++axis) {
+            float dq[3], dsum = 0.0f;
+            for (int i = 0; i < 3; ++i) {
+                float dl = static_cast<float>(axis == 0 ? e[i].a : e[i].b) * kSubpixel / area;
+                dq[i] = dl * invw[i];
+                dsum += dq[i];
+            }
+            vec2 d(0.0f);
+            float sum = q0 + q1 + q2;
+            for (int i = 0; i < 3; ++i) d += ((dq[i] * sum - q[i] * dsum) / (sum * sum)) * *uvs[i];
+            (axis == 0 ? dx : dy) = d;
+        }
+    }
+    // GL_MODULATE: flat and Gouraud light times the base colour's texture at this sample.
+    auto modulated = [&](Color lit) {
+        const ColorSource* base = f.modulate[t.material];
+        if (!base) return lit;
+        TextureLookup lookup{f.scene->textures, f.mips.empty() ? nullptr : &f.mips, dx, dy};
+        return lit * eval_color(*base, uv, lookup);
+    };
     switch (f.mode) {
         case Mode::Flat:
-            r.color = f.flat_color(ti);
+            r.color = modulated(f.flat_color(ti));
             break;
         case Mode::Gouraud:
-            r.color = b0 * A.color + b1 * B.color + b2 * C.color;
+            r.color = modulated(b0 * A.color + b1 * B.color + b2 * C.color);
             break;
         case Mode::Depth: {
             float depth = f.ortho ? r.distance : glm::dot(p - f.eye, f.forward);
@@ -97,40 +133,10 @@ ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& 
         case Mode::Overdraw:  // the stencil buffer's count, not a colour of the surface
             break;
         case Mode::Phong: {
-            vec2 dx(0.0f), dy(0.0f);
-            if (f.needs_footprint[t.material]) {
-                // d(uv)/dx and d(uv)/dy: the screen-space barycentric gradients (a / area per
-                // pixel) through the perspective division.
-                Edge e[3] = {Edge::make(t.x[1], t.y[1], t.x[2], t.y[2]),
-                             Edge::make(t.x[2], t.y[2], t.x[0], t.y[0]),
-                             Edge::make(t.x[0], t.y[0], t.x[1], t.y[1])};
-                auto area = static_cast<float>(signed_area2(t.x, t.y));
-                float q[3] = {q0, q1, q2};
-                const vec2* uvs[3] = {&A.uv, &B.uv, &C.uv};
-                const float invw[3] = {A.invw, B.invw, C.invw};
-                for (int axis = 0; axis < 2; ++axis) {
-                    float dq[3], dsum = 0.0f;
-                    for (int i = 0; i < 3; ++i) {
-                        float dl =
-                            static_cast<float>(axis == 0 ? e[i].a : e[i].b) * kSubpixel / area;
-                        dq[i] = dl * invw[i];
-                        dsum += dq[i];
-                    }
-                    vec2 d(0.0f);
-                    float sum = q0 + q1 + q2;
-                    for (int i = 0; i < 3; ++i)
-                        d += ((dq[i] * sum - q[i] * dsum) / (sum * sum)) * *uvs[i];
-                    (axis == 0 ? dx : dy) = d;
-                }
-            }
             Bsdf scratch;
             const Bsdf& bsdf = material_at(f, t.material, uv, dx, dy, scratch);
             r.color = light_point(f, bsdf, p, wo, ng, ns, vis, sample);
-            if (want_aovs) {
-                r.albedo = bsdf.has_lobes()                        ? bsdf.diffuse
-                           : bsdf.model == Bsdf::Model::Dielectric ? Color(1.0f)
-                                                                   : bsdf.reflect;
-            }
+            if (want_aovs) r.albedo = albedo_of(bsdf);
             return r;
         }
     }

@@ -16,6 +16,10 @@ namespace svetlo::raster {
 const Bsdf& material_at(const FrameState& f, uint32_t m, vec2 uv, vec2 duv_dx, vec2 duv_dy,
                         Bsdf& scratch);
 
+/// The same for lighting a vertex or a face in flat and Gouraud shading: with the base colour's
+/// texture made white, when the fragments modulate by it (FrameState::modulate).
+const Bsdf& material_for_vertices(const FrameState& f, uint32_t m, vec2 uv, Bsdf& scratch);
+
 /// Lit colour at a point with unit geometric normal ng (the counter-clockwise side) and
 /// shading normal ns (unit or zero), seen from the camera along -wo (shading_frame.h).
 /// Each light's term is multiplied by its visibility at `sample` of the tile.

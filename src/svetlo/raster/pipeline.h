@@ -93,6 +93,11 @@ struct FrameState {
     std::vector<char> textured;         // per material: some colour depends on uv
     std::vector<char> needs_footprint;  // per material: some texture is trilinear
     std::vector<MipChain> mips;
+    // Flat and Gouraud shading modulate their light by the base colour's texture per sample, as
+    // OpenGL's GL_MODULATE: per material, that texture (null: none), and the material with it
+    // made white, which the vertices and faces are lit with.
+    std::vector<const ColorSource*> modulate;
+    std::vector<Material> lit_white;
     std::optional<RasterLights> lights;       // made by tessellate_scene
     int light0_source = -1;                   // the light set's index of Scene::lights[0]
     SimdLights simd_lights;                   // the same lights for the fast path,

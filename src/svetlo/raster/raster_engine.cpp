@@ -94,10 +94,42 @@ TriangleList tessellate_scene(const Scene& scene, FrameState& f, int threads) {
     return list;
 }
 
+/// The base colour that flat and Gouraud shading modulate their light by (null: none). Not
+/// an emissive material's albedo: its emission is not to be modulated.
+template <class M>  // Material or const Material
+auto* base_color(M& material) {
+    using Source = std::conditional_t<std::is_const_v<M>, const ColorSource, ColorSource>;
+    return std::visit(
+        [](auto& mat) -> Source* {
+            using T = std::decay_t<decltype(mat)>;
+            if constexpr (std::is_same_v<T, LambertMaterial> ||
+                          std::is_same_v<T, OrenNayarMaterial>) {
+                return &mat.albedo;
+            } else if constexpr (std::is_same_v<T, PhongMaterial>) {
+                return &mat.kd;
+            } else if constexpr (std::is_same_v<T, CookTorranceMaterial>) {
+                return &mat.base_color;
+            } else {
+                return nullptr;
+            }
+        },
+        material);
+}
+
 /// The shading state of the frame's colour pass: constant BRDFs made once, mip chains when a
 /// texture is filtered with them, and what the SIMD fast path takes (constant Lambert and
 /// Phong-family materials under point and directional lights only).
 void prepare_shading(const Scene& scene, FrameState& f) {
+    // GL_MODULATE for flat and Gouraud shading: the base colour's texture, if any.
+    for (const Material& m : f.materials) {
+        const ColorSource* base = base_color(m);
+        bool textured = base && base->kind != ColorSource::Kind::Constant;
+        f.modulate.push_back(textured ? base : nullptr);
+        Material white = m;
+        if (ColorSource* white_base = base_color(white); textured && white_base)
+            *white_base = ColorSource::constant(Color(1.0f));
+        f.lit_white.push_back(std::move(white));
+    }
     bool any_mips = false;
     for (const Material& m : f.materials) {
         f.textured.push_back(any_source(m, is_textured) ? 1 : 0);

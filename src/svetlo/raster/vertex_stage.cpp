@@ -70,9 +70,8 @@ void vertex_stage(const TriangleList& list, FrameState& f, int threads) {
             ClipVertex& out = f.vertices[v];
             vec3 wo = f.ortho ? -f.forward : glm::normalize(f.eye - out.world);
             Bsdf scratch;
-            out.color = light_point(
-                f, material_at(f, list.material[t], out.uv, vec2(0.0f), vec2(0.0f), scratch),
-                out.world, wo, ng, out.normal);
+            out.color = light_point(f, material_for_vertices(f, list.material[t], out.uv, scratch),
+                                    out.world, wo, ng, out.normal);
         }
     });
 }
