@@ -25,8 +25,6 @@ void require(bool ok, const char* what) {
     }
 }
 
-bool finite(vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
 /// The bytes as a file of this process (the readers take paths), removed afterwards.
 class TempFile {
 public:
@@ -47,7 +45,7 @@ private:
 };
 
 void check_mesh(const Mesh& m) {
-    for (vec3 p : m.positions) require(finite(p), "a position that is not finite");
+    for (vec3 p : m.positions) require(is_finite(p), "a position that is not finite");
     for (uint32_t i : m.indices) require(i < m.positions.size(), "an index out of range");
     require(m.indices.size() % 3 == 0, "indices not in threes");
 }
@@ -62,7 +60,8 @@ void scene(const uint8_t* data, size_t size) {
     } catch (const Error&) {
         return;  // refused, with its one line
     }
-    require(finite(s.camera.position) && finite(s.camera.look_at), "a camera that is not finite");
+    require(is_finite(s.camera.position) && is_finite(s.camera.look_at),
+            "a camera that is not finite");
     require(s.film.width >= 1 && s.film.height >= 1, "an empty film");
     for (const Object& o : s.objects) {
         if (const auto* m = std::get_if<Mesh>(&o.shape)) check_mesh(*m);

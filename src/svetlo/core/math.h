@@ -27,6 +27,9 @@ inline float radians(float degrees) { return degrees * (kPi / 180.0f); }
 inline float max_component(vec3 v) { return std::max(v.x, std::max(v.y, v.z)); }
 inline float min_component(vec3 v) { return std::min(v.x, std::min(v.y, v.z)); }
 inline int max_dimension(vec3 v) { return v.x > v.y ? (v.x > v.z ? 0 : 2) : (v.y > v.z ? 1 : 2); }
+/// The inverse transpose of a transform's linear part: it carries normals.
+inline mat3 normal_matrix(const mat4& m) { return glm::transpose(glm::inverse(mat3(m))); }
+
 /// The unit normal of the counter-clockwise side of triangle (a, b, c). In double precision
 /// when the float cross product overflows (a triangle wider than about 1e19 units), so that
 /// every triangle a float can hold has a finite normal; (0, 0, 1) for a triangle of no area.

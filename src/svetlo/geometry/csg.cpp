@@ -113,9 +113,9 @@ uint32_t CsgShape::add(const Object& obj, const mat4& parent, uint32_t inherited
     t.is_identity = to_world == mat4(1.0f);
     if (const auto* mesh = std::get_if<Mesh>(&obj.shape)) {
         auto g = std::make_unique<Geometry>();
-        mat3 normal_matrix = glm::transpose(glm::inverse(mat3(to_world)));
+        mat3 nm = normal_matrix(to_world);
         for (vec3 p : mesh->positions) g->positions.push_back(t.point(p));
-        for (vec3 n : mesh->normals) g->normals.push_back(glm::normalize(normal_matrix * n));
+        for (vec3 n : mesh->normals) g->normals.push_back(glm::normalize(nm * n));
         g->uvs = mesh->uvs;
         g->indices = mesh->indices;
         for (size_t k = 0; k < mesh->triangle_count(); ++k) {

@@ -6,12 +6,12 @@ namespace {
 
 void add_mesh(const Mesh& mesh, const Object& obj, Geometry& g) {
     auto base = static_cast<uint32_t>(g.positions.size());
-    mat3 normal_matrix = glm::transpose(glm::inverse(mat3(obj.transform.matrix)));
+    mat3 nm = normal_matrix(obj.transform.matrix);
     for (const vec3& p : mesh.positions) g.positions.push_back(obj.transform.point(p));
     if (!mesh.normals.empty() || !g.normals.empty()) {
         g.normals.resize(base, vec3(0.0f));
         for (const vec3& n : mesh.normals) {
-            g.normals.push_back(obj.transform.is_identity ? n : glm::normalize(normal_matrix * n));
+            g.normals.push_back(obj.transform.is_identity ? n : glm::normalize(nm * n));
         }
         g.normals.resize(g.positions.size(), vec3(0.0f));
     }

@@ -180,7 +180,7 @@ AnalyticShape make_analytic_shape(const Shape& shape, const Transform& transform
     s.transformed = !transform.is_identity;
     s.to_world = transform.matrix;
     s.to_local = glm::inverse(transform.matrix);
-    s.normal_to_world = glm::transpose(glm::inverse(mat3(transform.matrix)));
+    s.normal_to_world = normal_matrix(transform.matrix);
     if (const auto* sp = std::get_if<Sphere>(&shape)) {
         s.kind = ShapeKind::Sphere;
         s.p0 = sp->center;

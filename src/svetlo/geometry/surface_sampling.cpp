@@ -88,8 +88,7 @@ SurfaceSample sample_primitive(const Geometry& g, uint32_t id, vec2 u, float u_p
         vec2 b = sample_triangle(u);
         float b0 = 1.0f - b.x - b.y;
         s.p = b0 * g.positions[t[0]] + b.x * g.positions[t[1]] + b.y * g.positions[t[2]];
-        s.n = glm::normalize(glm::cross(g.positions[t[1]] - g.positions[t[0]],
-                                        g.positions[t[2]] - g.positions[t[0]]));
+        s.n = triangle_normal(g.positions[t[0]], g.positions[t[1]], g.positions[t[2]]);
         s.uv = g.uvs.empty() ? b : b0 * g.uvs[t[0]] + b.x * g.uvs[t[1]] + b.y * g.uvs[t[2]];
         return s;
     }

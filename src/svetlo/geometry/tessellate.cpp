@@ -234,7 +234,7 @@ void surface_nets(Mesh& m, Bounds3 bounds, int grid, Inside&& inside, Crossing&&
 
 void transform_mesh(Mesh& m, size_t first_vertex, const Transform& t) {
     if (t.is_identity) return;
-    mat3 nm = glm::transpose(glm::inverse(mat3(t.matrix)));
+    mat3 nm = normal_matrix(t.matrix);
     bool mirror = glm::determinant(mat3(t.matrix)) < 0.0f;
     for (size_t k = first_vertex; k < m.positions.size(); ++k) {
         m.positions[k] = t.point(m.positions[k]);

@@ -40,7 +40,7 @@ TriangleList build_triangle_list(const std::vector<const Object*>& objects,
     parallel_indices(objects.size(), threads, [&](size_t k) {
         const Mesh& m = meshes[k];
         const mat4& model = objects[k]->transform.matrix;
-        const mat3 nm = glm::transpose(glm::inverse(mat3(model)));
+        const mat3 nm = normal_matrix(model);
         const size_t base = first_vertex[k];
         for (size_t v = 0; v < m.positions.size(); ++v) {
             list.positions[base + v] = vec3(model * vec4(m.positions[v], 1.0f));

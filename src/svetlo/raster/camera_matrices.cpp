@@ -46,6 +46,4 @@ CameraMatrices camera_matrices(const Camera& camera, int width, int height, cons
     return m;
 }
 
-mat3 normal_matrix(const mat4& model) { return glm::transpose(glm::inverse(mat3(model))); }
-
 }  // namespace svetlo

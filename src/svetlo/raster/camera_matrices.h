@@ -36,7 +36,4 @@ struct CameraMatrices {
 CameraMatrices camera_matrices(const Camera& camera, int width, int height, const Bounds3& bounds,
                                float nearest = 0.0f);
 
-/// The inverse transpose of the model matrix's linear part: it carries normals.
-mat3 normal_matrix(const mat4& model);
-
 }  // namespace svetlo

@@ -24,9 +24,6 @@ namespace raster {
 void prepare_pass(const TriangleList& list, const CameraMatrices& camera,
                   const PipelineState& state, FrameState& f, int threads) {
     f.cam = camera;
-    f.eye = camera.eye;
-    f.forward = camera.forward;
-    f.ortho = camera.orthographic;
     f.cull = state.cull;
     vertex_stage(list, f, threads);
     assemble(list, f, threads);

@@ -23,7 +23,8 @@ void shade_tile_fast(const FrameState& f, const Tile& tile, const SamplePattern&
     size_t lane_of[ShadeBatch::kCapacity];
     Color lit[ShadeBatch::kCapacity];
     auto flush = [&] {
-        shade_batch(batch, f.simd_lights, f.eye, f.ortho, f.forward, ambient, lit, vis);
+        shade_batch(batch, f.simd_lights, f.cam.eye, f.cam.orthographic, f.cam.forward, ambient,
+                    lit, vis);
         for (int k = 0; k < batch.count; ++k) buf.sample_color[lane_of[k]] = lit[k];
         batch.count = 0;
     };
@@ -99,8 +100,8 @@ void shade_tile_fast(const FrameState& f, const Tile& tile, const SamplePattern&
                     static_cast<float>(static_cast<double>(e.e[2].a * kSubpixel) * e.inv_area);
                 shade_run(q, dl1, dl2, (spans_end - px) / 4, f.simd_material[t.material],
                           face_cross(t, f.vertex(t.v[0]), f.vertex(t.v[1]), f.vertex(t.v[2])),
-                          f.simd_lights, f.eye, f.ortho, f.forward, ambient, &buf.sample_color[i],
-                          0, vis);
+                          f.simd_lights, f.cam.eye, f.cam.orthographic, f.cam.forward, ambient,
+                          &buf.sample_color[i], 0, vis);
             }
             for (int x = spans_end; x < end; ++x) {
                 add_to_batch(

@@ -32,7 +32,7 @@ Color flat_colour(const FrameState& f, const uint32_t idx[3], uint32_t material)
     vec3 p = (cv[0]->world + cv[1]->world + cv[2]->world) / 3.0f;
     vec3 ng = unit_or_z(glm::cross(cv[1]->world - cv[0]->world, cv[2]->world - cv[0]->world));
     vec2 uv = (cv[0]->uv + cv[1]->uv + cv[2]->uv) / 3.0f;
-    vec3 wo = f.ortho ? -f.forward : glm::normalize(f.eye - p);
+    vec3 wo = view_direction(f, p);
     Bsdf scratch;
     return light_point(f, material_for_vertices(f, material, uv, scratch), p, wo, ng, ng);
 }
@@ -77,9 +77,10 @@ ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& 
     vec3 ng = face_normal(t, A, B, C);
     vec3 ns = b0 * A.normal + b1 * B.normal + b2 * C.normal;
     ns = glm::length(ns) > 0.0f ? glm::normalize(ns) : ng;
-    vec3 wo = f.ortho ? -f.forward : glm::normalize(f.eye - p);
+    vec3 wo = view_direction(f, p);
     if (want_aovs || f.mode == Mode::Normal || f.mode == Mode::Depth) {
-        r.distance = f.ortho ? glm::dot(p - f.eye, f.forward) : glm::length(p - f.eye);
+        r.distance = f.cam.orthographic ? glm::dot(p - f.cam.eye, f.cam.forward)
+                                        : glm::length(p - f.cam.eye);
         r.normal = make_shading_frame(ng, ns, wo).ns;
     }
     vec2 uv = b0 * A.uv + b1 * B.uv + b2 * C.uv;
@@ -122,7 +123,7 @@ ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& 
             r.color = modulated(b0 * A.color + b1 * B.color + b2 * C.color);
             break;
         case Mode::Depth: {
-            float depth = f.ortho ? r.distance : glm::dot(p - f.eye, f.forward);
+            float depth = f.cam.orthographic ? r.distance : glm::dot(p - f.cam.eye, f.cam.forward);
             r.color = Color(
                 std::clamp(1.0f - (depth - f.cam.near) / (f.cam.far - f.cam.near), 0.0f, 1.0f));
             break;

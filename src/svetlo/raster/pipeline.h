@@ -82,8 +82,6 @@ static_assert(sizeof(SetupTriangle) == 64);
 struct FrameState {
     // The pass.
     CameraMatrices cam;
-    vec3 eye{0.0f}, forward{0.0f, 0.0f, -1.0f};  // from cam
-    bool ortho = false;
     CullMode cull = CullMode::None;
     // The shading (a pass without colour leaves it empty, with mode Depth).
     const Scene* scene = nullptr;
@@ -265,6 +263,11 @@ private:
     uint32_t id_ = kNone;
     std::optional<TriangleEdges> edges_;
 };
+
+/// The unit direction from world point p toward the camera.
+inline vec3 view_direction(const FrameState& f, vec3 p) {
+    return f.cam.orthographic ? -f.cam.forward : glm::normalize(f.cam.eye - p);
+}
 
 /// The guard band in clip space: |x| <= guard_x w, |y| <= guard_y w.
 inline float guard_x(const FrameState& f) {

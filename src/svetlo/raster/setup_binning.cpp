@@ -210,7 +210,7 @@ void bin_back_to_front(FrameState& f, int threads) {
     for (uint32_t id : order) {
         const SetupTriangle& t = f.tri(id);
         float sum = 0.0f;
-        for (uint32_t v : t.v) sum += f.ortho ? f.vertex(v).clip.z : f.vertex(v).clip.w;
+        for (uint32_t v : t.v) sum += f.cam.orthographic ? f.vertex(v).clip.z : f.vertex(v).clip.w;
         key[id] = sum / 3.0f;
     }
     std::stable_sort(order.begin(), order.end(),

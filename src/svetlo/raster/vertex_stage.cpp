@@ -15,7 +15,7 @@ ScreenVertex project(const FrameState& f, const ClipVertex& cv) {
     // Depth key, smaller is nearer: -1/w for perspective (1/w is affine in screen space and
     // keeps float's relative precision at every distance, unlike z/w), window z for
     // orthographic cameras (w = 1, z/w linear in distance).
-    s.z = f.ortho ? 0.5f * ndc.z + 0.5f : -cv.invw;
+    s.z = f.cam.orthographic ? 0.5f * ndc.z + 0.5f : -cv.invw;
     return s;
 }
 
@@ -68,7 +68,7 @@ void vertex_stage(const TriangleList& list, FrameState& f, int threads) {
             vec3 ng =
                 unit_or_z(glm::cross(tv[1]->world - tv[0]->world, tv[2]->world - tv[0]->world));
             ClipVertex& out = f.vertices[v];
-            vec3 wo = f.ortho ? -f.forward : glm::normalize(f.eye - out.world);
+            vec3 wo = view_direction(f, out.world);
             Bsdf scratch;
             out.color = light_point(f, material_for_vertices(f, list.material[t], out.uv, scratch),
                                     out.world, wo, ng, out.normal);

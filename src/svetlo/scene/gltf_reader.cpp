@@ -194,7 +194,7 @@ struct Flattener {
         if (static_cast<size_t>(mesh_index) >= model.meshes.size()) {
             throw std::runtime_error("mesh " + std::to_string(mesh_index) + " missing");
         }
-        mat3 normal_matrix = glm::transpose(glm::inverse(mat3(world)));
+        mat3 nm = normal_matrix(world);
         Mesh& mesh = file.mesh;
         for (const tinygltf::Primitive& prim : model.meshes[mesh_index].primitives) {
             if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != -1) continue;
@@ -216,7 +216,7 @@ struct Flattener {
                 for (size_t k = 0; k < normals.count(); ++k) {
                     vec3 n(normals.component(k, 0), normals.component(k, 1),
                            normals.component(k, 2));
-                    mesh.normals.push_back(glm::normalize(normal_matrix * n));
+                    mesh.normals.push_back(glm::normalize(nm * n));
                 }
             }
             auto tex = prim.attributes.find("TEXCOORD_0");

@@ -60,11 +60,12 @@ public:
                     std::map<std::string, int>* names, std::string* warn,
                     std::string* err) override {
         std::filesystem::path path = dir_ / name;
-        std::string problem = input_file_problem(path);
-        if (problem == "no such file") {  // as OBJ readers do: the mesh without its materials
+        std::error_code ec;
+        if (!std::filesystem::exists(path, ec)) {  // as OBJ readers do: the mesh, no materials
             if (warn) *warn += "material file '" + name + "' not found\n";
             return false;
         }
+        std::string problem = input_file_problem(path);
         if (!problem.empty()) throw std::runtime_error("mtllib '" + name + "' " + problem);
         std::ifstream in(path);
         tinyobj::LoadMtl(names, materials, &in, warn, err);

@@ -146,8 +146,7 @@ AreaPoint LightSet::sample_area(const Source& source, vec2 u, float u_pick) cons
 LightSample LightSet::sample(const Source& source, vec3 p, vec2 u, float u_pick) const {
     if (!source.delta) {
         LightSample s = sample_at(sample_area(source, u, u_pick), p);
-        float cos_light = -glm::dot(s.n, s.wi);
-        if (!is_black(s.irradiance)) s.pdf = s.distance * s.distance / (cos_light * source.area);
+        if (!is_black(s.irradiance)) s.pdf = pdf(source, p, s.p, s.n);
         return s;
     }
     const Light& light = scene_.lights[static_cast<size_t>(source.light_index)];
