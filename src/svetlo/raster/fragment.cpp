@@ -30,7 +30,7 @@ Color light_point(const FrameState& f, const Bsdf& bsdf, vec3 p, vec3 wo, vec3 n
 Color flat_colour(const FrameState& f, const uint32_t idx[3], uint32_t material) {
     const ClipVertex* cv[3] = {&f.vertices[idx[0]], &f.vertices[idx[1]], &f.vertices[idx[2]]};
     vec3 p = (cv[0]->world + cv[1]->world + cv[2]->world) / 3.0f;
-    vec3 ng = unit_or_z(glm::cross(cv[1]->world - cv[0]->world, cv[2]->world - cv[0]->world));
+    vec3 ng = triangle_normal(cv[0]->world, cv[1]->world, cv[2]->world);
     vec2 uv = (cv[0]->uv + cv[1]->uv + cv[2]->uv) / 3.0f;
     vec3 wo = view_direction(f, p);
     Bsdf scratch;

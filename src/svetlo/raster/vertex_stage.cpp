@@ -65,8 +65,7 @@ void vertex_stage(const TriangleList& list, FrameState& f, int threads) {
             size_t t = face_of[v];
             const ClipVertex* tv[3];
             for (int k = 0; k < 3; ++k) tv[k] = &f.vertices[list.indices[3 * t + k]];
-            vec3 ng =
-                unit_or_z(glm::cross(tv[1]->world - tv[0]->world, tv[2]->world - tv[0]->world));
+            vec3 ng = triangle_normal(tv[0]->world, tv[1]->world, tv[2]->world);
             ClipVertex& out = f.vertices[v];
             vec3 wo = view_direction(f, out.world);
             Bsdf scratch;
