@@ -66,10 +66,13 @@ int run_render(const RenderArgs& args) {
             throw Error(spec, "--aov", "expected NAME=FILE");
         }
         const auto& names = aov_names();
-        if (std::find(names.begin(), names.end(), name) == names.end()) {
+        const auto& debug = debug_aov_names();
+        if (std::find(names.begin(), names.end(), name) == names.end() &&
+            std::find(debug.begin(), debug.end(), name) == debug.end()) {
             throw Error(
                 spec, "--aov",
-                "unknown AOV '" + name + "' (expected depth, normal, albedo or visibility)");
+                "unknown AOV '" + name +
+                    "' (expected depth, normal, albedo, visibility, shadow_map or stencil)");
         }
         aovs.emplace_back(name, spec.substr(eq + 1));
         check_writable(aovs.back().second, "--aov " + name);
@@ -91,19 +94,24 @@ int run_render(const RenderArgs& args) {
 
     Scene scene = load_scene(args.scene, overrides);
     std::unique_ptr<Renderer> renderer = make_renderer(scene.render.engine, args.scene);
-    const ShadowTechnique shadows = scene.render.shadows;
-    if (!args.quiet && scene.render.engine == "raster" && shadows != ShadowTechnique::None &&
-        shadows != ShadowTechnique::Raytraced) {
-        // Said once, not an error: the image is right but for the shadows.
-        std::fprintf(stderr,
-                     "svetlo: warning: %s: render.shadows '%s' is not built yet: the raster engine "
-                     "draws no shadows\n",
-                     args.scene.c_str(), std::string(name_of(kShadowTechniques, shadows)).c_str());
-    }
     RenderOptions options;
     options.threads = threads;
     options.progress = !args.quiet && stderr_is_terminal();
-    for (const auto& aov : aovs) options.aovs.push_back(aov.first);
+    for (const auto& [name, file] : aovs) {
+        if (name != "shadow_map" && name != "stencil") {
+            options.aovs.push_back(name);
+            continue;
+        }
+        // The rasterizer's teaching buffers exist for one technique each.
+        const ShadowTechnique needs =
+            name == "shadow_map" ? ShadowTechnique::Map : ShadowTechnique::Volume;
+        if (scene.render.engine != "raster" || scene.render.shadows != needs) {
+            throw Error(file, "--aov " + name,
+                        "needs render.engine raster with render.shadows " +
+                            std::string(name_of(kShadowTechniques, needs)));
+        }
+        options.debug_aovs.push_back(name);
+    }
     RenderResult result = renderer->render(scene, options);
 
     write_image(args.output, result.color, PixelMeaning::Radiance, scene.render.exposure, "-o");
@@ -112,7 +120,14 @@ int run_render(const RenderArgs& args) {
         bool png = image_format_for(file, "--aov") == ImageFormat::Png;
         if (png && name == "normal") {
             for (Color& c : image.pixels) c = 0.5f * c + Color(0.5f);  // [-1,1] -> [0,1]
-        } else if (png && name == "depth") {
+        } else if (png && name == "stencil") {
+            // Counts of a few: scaled by the largest magnitude, so that 1 is visible.
+            float most = 0.0f;
+            for (const Color& c : image.pixels) most = std::max(most, std::abs(c.r));
+            if (most > 0.0f) {
+                for (Color& c : image.pixels) c = glm::abs(c) / most;
+            }
+        } else if (png && (name == "depth" || name == "shadow_map")) {
             // Normalised by the 90th percentile of the hits' depths, not the farthest hit: an
             // infinite plane's horizon, thousands of units away, would leave the rest black.
             // Farther hits are white.

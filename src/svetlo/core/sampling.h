@@ -48,6 +48,13 @@ inline vec2 sample_triangle(vec2 u) {
     return vec2(b0, b1);
 }
 
+/// The k-th point of the R2 low-discrepancy sequence (Roberts 2018) in [0,1)^2.
+inline vec2 r2_sequence(int k) {
+    constexpr double g = 1.32471795724474602596;  // the plastic number
+    double x = 0.5 + k / g, y = 0.5 + k / (g * g);
+    return vec2(static_cast<float>(x - std::floor(x)), static_cast<float>(y - std::floor(y)));
+}
+
 /// Stratum `index` of `count` in the unit square, jittered by u: a sqrt(count) grid when count
 /// is a perfect square, otherwise `count` strips along x with a free y.
 inline vec2 stratified_sample(int index, int count, vec2 u) {

@@ -24,6 +24,9 @@ struct TriangleList {
     /// Edge adjacency (build_adjacency): for edge e of triangle t, from its vertex e to vertex
     /// e + 1, neighbour[3 t + e] is the triangle across it, or kOpen.
     std::vector<uint32_t> neighbour;
+    /// Homogeneous weight per vertex, or empty for 1 everywhere: a vertex of weight 0 is the
+    /// point at infinity in the direction positions[v] (a shadow volume's extrusion).
+    std::vector<float> w;
 
     size_t triangle_count() const { return material.size(); }
 };

@@ -11,6 +11,7 @@ ClipVertex lerp(const ClipVertex& a, const ClipVertex& b, float t) {
     r.normal = a.normal + t * (b.normal - a.normal);
     r.uv = a.uv + t * (b.uv - a.uv);
     r.color = a.color + t * (b.color - a.color);
+    r.wh = a.wh + t * (b.wh - a.wh);
     return r;
 }
 

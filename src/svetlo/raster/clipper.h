@@ -22,6 +22,7 @@ struct ClipVertex {
     vec2 uv{0.0f};
     Color color{0.0f};  // Gouraud: the lit vertex colour
     float invw = 0.0f;  // 1 / clip.w (set for the vertex stage's and the clipper's outputs)
+    float wh = 1.0f;    // the world point's homogeneous weight (0: a point at infinity)
 };
 
 /// A convex polygon of at most 3 + 6 vertices (each plane adds at most one).

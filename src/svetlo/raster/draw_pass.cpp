@@ -43,11 +43,12 @@ void fit_sample_bounds(FrameState& f, const std::vector<SamplePattern>& passes) 
 
 }  // namespace raster
 
-void draw_pass(const TriangleList& list, const CameraMatrices& camera, const PipelineState& state,
-               RenderTargets& targets, int threads, uint64_t seed) {
-    using namespace raster;
+namespace raster {
+
+void draw_samples(const TriangleList& list, const CameraMatrices& camera,
+                  const PipelineState& state, RenderTargets& targets, int threads,
+                  const SamplePattern& sp) {
     const int S = targets.samples;
-    const SamplePattern sp = sample_pattern(S, seed, 0, S);
     FrameState f;
     fit_sample_bounds(f, {sp});
     prepare_pass(list, camera, state, f, threads);
@@ -87,6 +88,15 @@ void draw_pass(const TriangleList& list, const CameraMatrices& camera, const Pip
             }
         },
         {});
+}
+
+}  // namespace raster
+
+void draw_pass(const TriangleList& list, const CameraMatrices& camera, const PipelineState& state,
+               RenderTargets& targets, int threads, uint64_t seed) {
+    const int S = targets.samples;
+    raster::draw_samples(list, camera, state, targets, threads,
+                         raster::sample_pattern(S, seed, 0, S));
 }
 
 }  // namespace svetlo

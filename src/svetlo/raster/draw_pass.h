@@ -25,6 +25,10 @@ struct PipelineState {
     bool depth_write = true;  // store the depth of the samples kept
     CullMode cull = CullMode::None;
     StencilState stencil;  // the stencil test and its per-face operations (off by default)
+    // glPolygonOffset's role: the depth tested is moved this fraction of itself farther (the
+    // depth key's magnitude), so that a surface drawn again in a later pass, rasterized by
+    // another path, is not nearer than itself. Taken by the stencil and no-depth-write path.
+    float depth_bias = 0.0f;
 };
 
 /// Per-sample buffers that persist from pass to pass, samples x width x height, sample s of

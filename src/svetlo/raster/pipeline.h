@@ -284,6 +284,11 @@ ScreenVertex project(const FrameState& f, const ClipVertex& cv);
 /// stage, clipping, setup and binning.
 void prepare_pass(const TriangleList& list, const CameraMatrices& camera,
                   const PipelineState& state, FrameState& f, int threads);
+/// draw_pass with the samples of `sp` (sp.count == targets.samples): a pass of the frame's
+/// own sample pattern, such as the shadow techniques' depth and stencil passes.
+void draw_samples(const TriangleList& list, const CameraMatrices& camera,
+                  const PipelineState& state, RenderTargets& targets, int threads,
+                  const SamplePattern& sp);
 /// Bounds of triangles tight around the samples of `passes` (none but the wireframe's margin).
 void fit_sample_bounds(FrameState& f, const std::vector<SamplePattern>& passes);
 

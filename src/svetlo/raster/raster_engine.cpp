@@ -11,6 +11,7 @@
 #include "svetlo/geometry/tessellate.h"
 #include "svetlo/raster/fragment.h"
 #include "svetlo/raster/pipeline.h"
+#include "svetlo/raster/shadow_masks.h"
 
 namespace svetlo {
 
@@ -91,6 +92,7 @@ TriangleList tessellate_scene(const Scene& scene, FrameState& f, int threads) {
     TriangleList list = build_triangle_list(
         object_pointers(scene.objects, f.lights->set.area_light_quads()), options, threads);
     if (f.mode == Mode::Gouraud) split_vertices_by_material(list);
+    if (scene.render.shadows == ShadowTechnique::Volume) build_adjacency(list);  // silhouettes
     return list;
 }
 
@@ -265,6 +267,12 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     const PipelineState state = colour_pass_state(scene);
     prepare_pass(list, camera, state, f, threads);
     if (!state.depth_test) bin_back_to_front(f, threads);  // the painter's algorithm
+    // The shadow technique's maps, volumes or stencil masks, before the colour pass reads them
+    // (for the lit modes, and for the visibility AOV).
+    const bool lit_mode = f.mode == Mode::Phong || f.mode == Mode::Gouraud || f.mode == Mode::Flat;
+    std::unique_ptr<ShadowTechniqueState> shadows;
+    if (lit_mode || targets.want[3] || !options.debug_aovs.empty())
+        shadows = make_shadow_technique(scene, list, f, passes, threads);
 
     const bool msaa = scene.render.raster.msaa;
     const bool simd = f.mode == Mode::Phong && !msaa && !targets.any && f.simd_lights_ok;
@@ -283,11 +291,13 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
             if (targets.any) {
                 for (auto& a : buf.aov) a.assign(pixels, Color(0.0f));
             }
-            for (const SamplePattern& sp : passes) {
+            for (size_t pass = 0; pass < passes.size(); ++pass) {
+                const SamplePattern& sp = passes[pass];
                 const int S = sp.count;
                 buf.reset(pixels * static_cast<size_t>(S), pixels, targets.any,
                           state.stencil.enabled);
                 rasterize_tile(f, tile, sp, state, buf);
+                if (shadows) fill_masks(*shadows, f, tile, sp, static_cast<int>(pass), buf);
                 if (!simd) {
                     shade_tile(f, tile, sp, msaa, targets.any, buf);
                 } else {
@@ -307,6 +317,17 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     result.stats.seconds = std::chrono::duration<double>(Clock::now() - t1).count();
     result.stats.triangles = f.triangle_count;
     for (TileBuffers& buf : buffers) result.stats.nonfinite += buf.nonfinite;
+    for (const std::string& name : options.debug_aovs) {
+        Image image = !shadows               ? Image()
+                      : name == "shadow_map" ? shadows->shadow_map_image()
+                                             : shadows->stencil_image();
+        if (image.width == 0) {
+            throw Error(scene.path.string(), "render.shadows",
+                        "the " + name + " AOV needs render.shadows " +
+                            (name == "shadow_map" ? "map" : "volume"));
+        }
+        result.aovs[name] = std::move(image);
+    }
     buffers_->vertices = std::move(f.vertices);
     buffers_->screen = std::move(f.screen);
     buffers_->tris = std::move(f.tris);

@@ -7,13 +7,6 @@ namespace svetlo {
 
 namespace {
 
-/// The k-th point of the R2 low-discrepancy sequence (Roberts 2018) in [0,1)^2.
-vec2 r2(int k) {
-    constexpr double g = 1.32471795724474602596;  // the plastic number
-    double x = 0.5 + k / g, y = 0.5 + k / (g * g);
-    return vec2(static_cast<float>(x - std::floor(x)), static_cast<float>(y - std::floor(y)));
-}
-
 /// Each source sampled at its fixed VPLs.
 struct VplSampling {
     const RasterLights& lights;
@@ -36,8 +29,8 @@ RasterLights::RasterLights(const Scene& scene) : set(scene) {
             // picked by area from a low-discrepancy sequence (so that the grid's rows do not
             // all land on one primitive).
             for (int k = 0; k < kVplsPerEmitter; ++k) {
-                points.push_back(
-                    set.sample_area(s, stratified_sample(k, kVplsPerEmitter, vec2(0.5f)), r2(k).x));
+                points.push_back(set.sample_area(
+                    s, stratified_sample(k, kVplsPerEmitter, vec2(0.5f)), r2_sequence(k).x));
             }
             any_vpl = true;
         }

@@ -242,7 +242,7 @@ void rasterize_plain(uint32_t id, const SetupTriangle& t, const TriangleEdges& t
                 auto z = static_cast<float>(t.z[0] +
                                             dzdx * static_cast<double>(sx - t.x[0]) / kSubpixel +
                                             dzdy * static_cast<double>(sy - t.y[0]) / kSubpixel);
-                if (state.depth_test && !(z < buf.depth[i])) {
+                if (state.depth_test && !(z + state.depth_bias * std::abs(z) < buf.depth[i])) {
                     if (st.enabled)
                         stencil = stencil_apply(face.depth_fail, stencil, st.ref, st.write_mask);
                     continue;

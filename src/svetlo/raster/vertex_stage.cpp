@@ -15,7 +15,8 @@ ScreenVertex project(const FrameState& f, const ClipVertex& cv) {
     // Depth key, smaller is nearer: -1/w for perspective (1/w is affine in screen space and
     // keeps float's relative precision at every distance, unlike z/w), window z for
     // orthographic cameras (w = 1, z/w linear in distance).
-    s.z = f.cam.orthographic ? 0.5f * ndc.z + 0.5f : -cv.invw;
+    // (A point at infinity, of weight 0, has the key 0: farther than any other.)
+    s.z = f.cam.orthographic ? 0.5f * ndc.z + 0.5f : -cv.wh * cv.invw;
     return s;
 }
 
@@ -35,7 +36,8 @@ void vertex_stage(const TriangleList& list, FrameState& f, int threads) {
         for (size_t v = c * kVertexChunk; v < std::min(count, (c + 1) * kVertexChunk); ++v) {
             ClipVertex& out = f.vertices[v];
             out.world = list.positions[v];
-            out.clip = vp * vec4(out.world, 1.0f);
+            out.wh = list.w.empty() ? 1.0f : list.w[v];
+            out.clip = vp * vec4(out.world, out.wh);
             out.normal = list.normals[v];
             out.uv = list.uvs[v];
             out.color = Color(0.0f);
@@ -44,7 +46,7 @@ void vertex_stage(const TriangleList& list, FrameState& f, int threads) {
             ScreenVertex& sv = f.screen[v];
             out.invw = 0.0f;
             sv = ScreenVertex{};
-            if (inside(out.clip, gx, gy)) {
+            if (out.clip.w > 0.0f && inside(out.clip, gx, gy)) {
                 out.invw = 1.0f / out.clip.w;
                 sv = project(f, out);
                 sv.inside = 1;

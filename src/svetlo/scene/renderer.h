@@ -19,10 +19,18 @@ inline const std::vector<std::string>& aov_names() {
     return names;
 }
 
+/// The rasterizer's teaching buffers (docs/shadows.md): light 0's shadow map (a cube map
+/// unfolded), and the shadow-volume stencil count per pixel.
+inline const std::vector<std::string>& debug_aov_names() {
+    static const std::vector<std::string> names = {"shadow_map", "stencil"};
+    return names;
+}
+
 struct RenderOptions {
-    int threads = 0;                // 0 = all cores
-    bool progress = false;          // draw a progress bar on stderr
-    std::vector<std::string> aovs;  // which of aov_names() to fill
+    int threads = 0;                      // 0 = all cores
+    bool progress = false;                // draw a progress bar on stderr
+    std::vector<std::string> aovs;        // which of aov_names() to fill
+    std::vector<std::string> debug_aovs;  // which of debug_aov_names() to make
 };
 
 struct RenderStats {

@@ -274,11 +274,14 @@ inline constexpr EnumName<WireframeMode> kWireframeModes[] = {
     {"bresenham", WireframeMode::Bresenham},
     {"wu", WireframeMode::Wu}};
 
+/// render.shadow_map (docs/shadows.md).
 struct ShadowMapSettings {
-    int resolution = 2048;
-    float bias = 0.002f;
+    int resolution = 2048;  // texels per side of each map (a cube map's face)
+    float bias = 0.002f;    // m: a receiver counts as lit up to this far behind the stored depth
+    float normal_offset = 1.0f;  // texels: the lookup moves this far off the surface, along n
     ShadowFilter filter = ShadowFilter::Pcf;
-    int kernel = 5;
+    int kernel = 5;    // PCF taps per side; PCSS: taps per side of the search and the filter
+    int cascades = 1;  // directional lights: maps over slices of the camera's depth range
 };
 
 /// Settings of the rasterizer (svetlo extensions, docs/raster.md).
@@ -302,8 +305,9 @@ struct RenderSettings {
     Color ambient{0.0f};
     Color background{0.0f};
     float exposure = 1.0f;
-    std::string accel = "bvh";  // none, grid, octree, bvh2, bvh (wide), embree
-    int light_samples = 1;      // shadow rays per area light and shading point
+    std::string accel = "bvh";    // none, grid, octree, bvh2, bvh (wide), embree
+    int light_samples = 1;        // shadow rays per area light and shading point
+    int area_shadow_points = 16;  // raster map and volume: point casters per light with area
     RasterSettings raster;
 };
 

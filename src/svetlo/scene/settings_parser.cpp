@@ -46,8 +46,9 @@ Film parse_film(const JsonNode& node) {
 
 RenderSettings parse_render(const JsonNode& node) {
     node.expect_object({"engine", "spp", "max_depth", "seed", "shading", "shadows", "shadow_map",
-                        "ambient", "background", "exposure", "accel", "light_samples", "visibility",
-                        "cull", "antialias", "wireframe", "wireframe_color", "tessellation"});
+                        "ambient", "background", "exposure", "accel", "light_samples",
+                        "area_shadow_points", "visibility", "cull", "antialias", "wireframe",
+                        "wireframe_color", "tessellation"});
     RenderSettings r;
     if (auto n = node.find("engine"))
         r.engine = n->as_choice({"raster", "whitted", "path", "radiosity"});
@@ -57,14 +58,17 @@ RenderSettings parse_render(const JsonNode& node) {
     if (auto n = node.find("shading")) r.shading = n->as_enum(kShadingModes);
     if (auto n = node.find("shadows")) r.shadows = n->as_enum(kShadowTechniques);
     if (auto sm = node.find("shadow_map")) {
-        sm->expect_object({"resolution", "bias", "filter", "kernel"});
+        sm->expect_object({"resolution", "bias", "normal_offset", "filter", "kernel", "cascades"});
         if (auto n = sm->find("resolution")) {
             r.shadow_map.resolution = static_cast<int>(n->as_integer(1, 16384));
         }
         if (auto n = sm->find("bias")) r.shadow_map.bias = n->as_non_negative();
+        if (auto n = sm->find("normal_offset")) r.shadow_map.normal_offset = n->as_non_negative();
         if (auto n = sm->find("filter")) r.shadow_map.filter = n->as_enum(kShadowFilters);
         if (auto n = sm->find("kernel"))
             r.shadow_map.kernel = static_cast<int>(n->as_integer(1, 64));
+        if (auto n = sm->find("cascades"))
+            r.shadow_map.cascades = static_cast<int>(n->as_integer(1, 8));
     }
     if (auto n = node.find("ambient")) r.ambient = n->as_color();
     if (auto n = node.find("background")) r.background = n->as_color();
@@ -74,6 +78,8 @@ RenderSettings parse_render(const JsonNode& node) {
     if (auto n = node.find("light_samples")) {
         r.light_samples = static_cast<int>(n->as_integer(1, 4096));
     }
+    if (auto n = node.find("area_shadow_points"))
+        r.area_shadow_points = static_cast<int>(n->as_integer(1, 256));
     if (auto n = node.find("visibility")) r.raster.visibility = n->as_enum(kVisibilityMethods);
     if (auto n = node.find("cull"))
         r.raster.cull_back_faces = n->as_choice({"none", "back"}) == "back";

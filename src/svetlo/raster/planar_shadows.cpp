@@ -1,0 +1,258 @@
+// render.shadows "planar": projected shadows (Blinn, "Me and My (Fake) Shadow", IEEE CG&A
+// 1988). The occluders are flattened onto each planar receiver by the projection matrix of
+// the pair (light, plane), and drawn from the camera through the stencil buffer:
+//
+//   1. receivers: per object, its triangles grouped by plane; a group of at least 1% of the
+//      object's area is a receiver (a quad, a plane, a box's faces, a flat mesh, a cylinder's
+//      caps). Curved surfaces have no such group: they receive no planar shadow, which is the
+//      technique's known limit.
+//   2. per sample pass, a pass from the camera with an item buffer, and per caster the
+//      stencil set to the receiver's number (1 to 127) on the samples it covers;
+//   3. per receiver, every other triangle is clipped to the slab between the plane and the
+//      caster, which removes the false shadows of occluders behind the light and on the far
+//      side of the receiver, projected onto the plane, and drawn with the stencil test
+//      "equal to the receiver's number" (so the shadow stays on the receiver's own pixels,
+//      with no depth test and no z-fighting), setting the top bit (so it never darkens twice).
+#include <array>
+
+#include "svetlo/core/error.h"
+#include "svetlo/raster/shadow_techniques.h"
+
+namespace svetlo::raster {
+
+namespace {
+
+constexpr uint64_t kMaxMaskBytes = uint64_t{2} << 30;
+constexpr int kReceiversPerRound = 127;  // stencil values 1..127; bit 7 marks the shadow
+
+struct Receiver {
+    vec3 normal{0.0f};    // unit
+    float offset = 0.0f;  // the plane: dot(normal, x) = offset
+    float area = 0.0f;
+    std::vector<uint32_t> triangles;
+};
+
+/// The planar receivers of every object (see the file's comment).
+std::vector<Receiver> find_receivers(const TriangleList& list, float diameter) {
+    constexpr size_t kMaxPlanesPerObject = 256;
+    std::vector<Receiver> receivers;
+    for (const PrimitiveRange& range : list.objects) {
+        std::vector<Receiver> planes;
+        float total = 0.0f;
+        for (uint32_t t = range.first; t < range.end; ++t) {
+            vec3 a = list.positions[list.indices[3 * t]],
+                 b = list.positions[list.indices[3 * t + 1]],
+                 c = list.positions[list.indices[3 * t + 2]];
+            vec3 cr = glm::cross(b - a, c - a);
+            float area = 0.5f * glm::length(cr);
+            if (!(area > 0.0f)) continue;
+            total += area;
+            vec3 n = cr / (2.0f * area);
+            float d = glm::dot(n, a);
+            Receiver* match = nullptr;
+            for (Receiver& r : planes) {
+                if (glm::dot(r.normal, n) > 1.0f - 1e-4f &&
+                    std::abs(r.offset - d) <= 1e-5f * diameter) {
+                    match = &r;
+                    break;
+                }
+            }
+            if (!match) {
+                if (planes.size() == kMaxPlanesPerObject) continue;  // a curved surface
+                planes.push_back({n, d, 0.0f, {}});
+                match = &planes.back();
+            }
+            match->area += area;
+            match->triangles.push_back(t);
+        }
+        for (Receiver& r : planes) {
+            if (r.area >= 0.01f * total &&
+                (r.triangles.size() >= 2 || range.end - range.first == 1))
+                receivers.push_back(std::move(r));
+        }
+    }
+    return receivers;
+}
+
+/// The projection onto the plane dot(n, x) = d from the homogeneous light position l (w = 1
+/// for a point, 0 for a direction of travel's opposite): M = (P . l) I - l P^T, with the plane
+/// P = (n, -d) (Blinn 1988). A point x maps to M x, the point where the line from the light
+/// through x meets the plane.
+mat4 planar_projection(vec3 n, float d, vec4 l) {
+    const vec4 plane(n, -d);
+    const float dot = glm::dot(plane, l);
+    mat4 m(0.0f);
+    for (int col = 0; col < 4; ++col) {
+        for (int row = 0; row < 4; ++row)
+            m[col][row] = (row == col ? dot : 0.0f) - l[row] * plane[col];
+    }
+    return m;
+}
+
+/// Clips polygon `in` to dist(x) >= 0 (Sutherland-Hodgman), dist affine.
+template <class Dist>
+int clip(const std::array<vec3, 8>& in, int count, std::array<vec3, 8>& out, Dist&& dist) {
+    int n = 0;
+    for (int k = 0; k < count; ++k) {
+        vec3 a = in[static_cast<size_t>(k)], b = in[static_cast<size_t>((k + 1) % count)];
+        float da = dist(a), db = dist(b);
+        if (da >= 0.0f) out[static_cast<size_t>(n++)] = a;
+        if ((da >= 0.0f) != (db >= 0.0f))
+            out[static_cast<size_t>(n++)] = a + (da / (da - db)) * (b - a);
+    }
+    return n;
+}
+
+class PlanarShadows final : public ShadowTechniqueState {
+public:
+    PlanarShadows(const Scene& scene, const TriangleList& list, const FrameState& f,
+                  const std::vector<SamplePattern>& passes, int threads)
+        : width_(f.cam.width), height_(f.cam.height) {
+        Bounds3 bounds;
+        for (vec3 p : list.positions) bounds.extend(p);
+        const float diameter =
+            bounds.empty() ? 1.0f : std::max(glm::length(bounds.extent()), 1e-6f);
+        casters_ =
+            shadow_casters(scene, f.lights->set, scene.render.area_shadow_points, 1e-4f * diameter);
+        uint64_t samples = 0;
+        for (const SamplePattern& sp : passes)
+            samples += static_cast<uint64_t>(width_) * static_cast<uint64_t>(height_) *
+                       static_cast<uint64_t>(sp.count);
+        if (samples * (casters_.size() + 4) > kMaxMaskBytes) {
+            throw Error(scene.path.string(), "render.area_shadow_points",
+                        "the planar shadows' masks would take " +
+                            std::to_string(samples * (casters_.size() + 4) >> 20) +
+                            " MiB (at most " + std::to_string(kMaxMaskBytes >> 20) +
+                            " MiB); lower render.spp or render.area_shadow_points");
+        }
+        receivers_ = find_receivers(list, diameter);
+        std::vector<uint32_t> receiver_of(list.triangle_count(), 0);  // 0: none, else r + 1
+        for (size_t r = 0; r < receivers_.size(); ++r) {
+            for (uint32_t t : receivers_[r].triangles)
+                receiver_of[t] = static_cast<uint32_t>(r + 1);
+        }
+        PipelineState item_state;
+        item_state.cull = f.cull;
+        lit_.resize(casters_.size());
+        for (const SamplePattern& sp : passes) {
+            RenderTargets targets;
+            targets.clear(width_, height_, sp.count, true, true);
+            draw_samples(list, f.cam, item_state, targets, threads, sp);
+            std::vector<uint32_t> receiver(targets.primitive.size(), 0);
+            for (size_t i = 0; i < receiver.size(); ++i) {
+                uint32_t t = targets.primitive[i];
+                receiver[i] = t == RenderTargets::kNoPrimitive ? 0 : receiver_of[t];
+            }
+            for (size_t k = 0; k < casters_.size(); ++k) {
+                std::vector<uint8_t> lit(receiver.size(), 1);
+                for (size_t first = 0; first < receivers_.size(); first += kReceiversPerRound) {
+                    const size_t last = std::min(receivers_.size(), first + kReceiversPerRound);
+                    // The stencil holds each sample's receiver number within this round.
+                    for (size_t i = 0; i < receiver.size(); ++i) {
+                        uint32_t r = receiver[i];
+                        targets.stencil[i] =
+                            r > first && r <= last ? static_cast<uint8_t>(r - first) : uint8_t{0};
+                    }
+                    for (size_t r = first; r < last; ++r) {
+                        TriangleList shadow = projected(list, receivers_[r], casters_[k], diameter);
+                        if (shadow.indices.empty()) continue;
+                        PipelineState state;
+                        state.depth_test = false;
+                        state.depth_write = false;
+                        state.stencil.enabled = true;
+                        state.stencil.ref = static_cast<uint8_t>(0x80 | (r - first + 1));
+                        state.stencil.read_mask = 0x7f;
+                        state.stencil.write_mask = 0x80;
+                        state.stencil.front = {StencilFunc::Equal, StencilOp::Keep, StencilOp::Keep,
+                                               StencilOp::Replace};
+                        state.stencil.back = state.stencil.front;
+                        draw_samples(shadow, f.cam, state, targets, threads, sp);
+                    }
+                    for (size_t i = 0; i < lit.size(); ++i) {
+                        if (targets.stencil[i] & 0x80) lit[i] = 0;
+                    }
+                }
+                lit_[k].push_back(std::move(lit));
+            }
+        }
+    }
+
+    float lit(size_t k, const ShadowSample& at) const override {
+        const std::vector<uint8_t>& mask = lit_[k][static_cast<size_t>(at.pass)];
+        const size_t samples = mask.size() / (static_cast<size_t>(width_) * height_);
+        size_t i =
+            (static_cast<size_t>(at.j) * static_cast<size_t>(width_) + static_cast<size_t>(at.i)) *
+                samples +
+            static_cast<size_t>(at.s);
+        return static_cast<float>(mask[i]);
+    }
+
+private:
+    /// Every triangle but the receiver's, clipped to the slab between the receiver's plane and
+    /// the caster, flattened onto the plane from the caster.
+    static TriangleList projected(const TriangleList& list, const Receiver& r,
+                                  const ShadowCaster& c, float diameter) {
+        TriangleList out;
+        const bool directional = c.kind == ShadowCaster::Kind::Directional;
+        // The plane turned toward the caster; none when the caster lies in it or behind
+        // nothing (a direction parallel to it).
+        vec3 n = r.normal;
+        float d = r.offset;
+        float light_height = directional ? -glm::dot(n, c.direction) : glm::dot(n, c.position) - d;
+        if (light_height < 0.0f) {
+            n = -n;
+            d = -d;
+            light_height = -light_height;
+        }
+        if (!(light_height > 1e-6f * (directional ? 1.0f : diameter))) return out;
+        const vec4 light = directional ? vec4(-c.direction, 0.0f) : vec4(c.position, 1.0f);
+        const mat4 project = planar_projection(n, d, light);
+        const float epsilon = 1e-5f * diameter;
+        std::vector<char> own(list.triangle_count(), 0);
+        for (uint32_t t : r.triangles) own[t] = 1;
+        for (size_t t = 0; t < list.triangle_count(); ++t) {
+            if (own[t]) continue;
+            std::array<vec3, 8> a{}, b{};
+            for (int k = 0; k < 3; ++k)
+                a[static_cast<size_t>(k)] =
+                    list.positions[list.indices[3 * t + static_cast<size_t>(k)]];
+            // Above the plane (the far side casts nothing), and below the light (what lies
+            // beyond it would project to the wrong side).
+            int count = clip(a, 3, b, [&](vec3 x) { return glm::dot(n, x) - d - epsilon; });
+            if (!directional && count >= 3)
+                count = clip(b, count, a,
+                             [&](vec3 x) { return light_height - (glm::dot(n, x) - d) - epsilon; });
+            else
+                a = b;
+            if (count < 3) continue;
+            auto first = static_cast<uint32_t>(out.positions.size());
+            for (int k = 0; k < count; ++k) {
+                vec4 h = project * vec4(a[static_cast<size_t>(k)], 1.0f);
+                out.positions.push_back(vec3(h) / h.w);
+            }
+            for (int k = 1; k + 1 < count; ++k)
+                out.indices.insert(out.indices.end(), {first, first + static_cast<uint32_t>(k),
+                                                       first + static_cast<uint32_t>(k) + 1});
+        }
+        out.material.assign(out.indices.size() / 3, 0);
+        out.normals.assign(out.positions.size(), vec3(0.0f));
+        out.uvs.assign(out.positions.size(), vec2(0.0f));
+        return out;
+    }
+
+    int width_, height_;
+    std::vector<Receiver> receivers_;
+    std::vector<std::vector<std::vector<uint8_t>>> lit_;  // per caster, per pass, per sample
+};
+
+}  // namespace
+
+std::unique_ptr<ShadowTechniqueState> make_planar_shadows(const Scene& scene,
+                                                          const TriangleList& list,
+                                                          const FrameState& f,
+                                                          const std::vector<SamplePattern>& passes,
+                                                          int threads) {
+    return std::make_unique<PlanarShadows>(scene, list, f, passes, threads);
+}
+
+}  // namespace svetlo::raster

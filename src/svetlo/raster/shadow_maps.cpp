@@ -1,0 +1,428 @@
+// render.shadows "map": shadow maps (Williams, "Casting Curved Shadows on Curved Surfaces",
+// SIGGRAPH 1978). Each caster renders the scene's depth from its own position through the
+// rasterizer's pass entry point (draw_pass.h), and a sample is lit where it is no farther
+// from the caster than the depth the map stores in its direction.
+//
+//   spot light         one perspective map around the cone
+//   point light        a cube map: six perspective maps of 90 degrees (plus a margin)
+//   point on an area   a cube map, at resolution / sqrt(N) for N points, so that a light's
+//                      maps hold as many texels as one point light's
+//   directional light  orthographic maps fitted to what the camera sees: the camera's depth
+//                      range is cut into `cascades` slices (the practical split scheme, Zhang
+//                      et al. 2006), and each slice's frustum, clipped to the scene, gets a map
+//                      (cascaded shadow maps)
+//
+// Perspective maps store the radial distance from the caster, orthographic ones the depth
+// along the light; both in metres (+infinity where nothing was drawn).
+//
+// Bias: the lookup moves off the surface along its normal by `normal_offset` texels at the
+// receiver (normal offset), and a receiver counts as lit up to `bias` metres plus one texel
+// times tan(theta) per texel of filter radius behind the stored depth (slope-scaled bias).
+//
+// Filters: `none` compares one texel; `pcf` (Reeves, Salesin and Cook 1987) averages
+// kernel x kernel bilinear comparisons, as OpenGL's sampler2DShadow with GL_LINEAR does per
+// tap; `pcss` (Fernando 2005) searches the map for blockers, estimates the penumbra from the
+// light's width, the blockers' mean distance and the receiver's, and filters that wide. Delta
+// lights have no width: PCSS falls back to PCF for them.
+#include <algorithm>
+#include <array>
+
+#include "svetlo/core/error.h"
+#include "svetlo/raster/shadow_techniques.h"
+
+namespace svetlo::raster {
+
+namespace {
+
+constexpr uint64_t kMaxShadowMapBytes = uint64_t{2} << 30;  // all maps of a frame together
+
+/// One depth map: the caster's camera and what it saw.
+struct DepthMap {
+    CameraMatrices cam;
+    mat4 view_projection{1.0f};
+    int res = 0;
+    std::vector<float> distance;  // res x res, rows from the top (m; +infinity: nothing)
+    float texel = 0.0f;           // perspective: texel width per metre of distance (2 t / res);
+                                  // orthographic: texel width in metres
+
+    float at(int x, int y) const {
+        x = std::clamp(x, 0, res - 1);
+        y = std::clamp(y, 0, res - 1);
+        return distance[static_cast<size_t>(y) * static_cast<size_t>(res) + static_cast<size_t>(x)];
+    }
+    /// The receiver's distance in the map's terms: radial, or along the axis.
+    float receiver(vec3 q) const {
+        return cam.orthographic ? glm::dot(q - cam.eye, cam.forward) : glm::length(q - cam.eye);
+    }
+    /// A texel's width in metres at the receiver's distance d.
+    float texel_at(float d) const { return cam.orthographic ? texel : texel * d; }
+};
+
+/// How many texels of filter the maps must hold beyond the cube faces' 90 degrees.
+int margin_texels(const ShadowMapSettings& sm, int res) {
+    int m = sm.filter == ShadowFilter::Pcss ? std::max(res / 16, sm.kernel) : sm.kernel / 2 + 2;
+    return std::clamp(m, 0, std::max(0, res / 4));
+}
+
+/// Renders `list`'s depth through `cam` (res x res) into a map.
+DepthMap render_map(const TriangleList& list, const CameraMatrices& cam, float tan_half,
+                    int threads) {
+    DepthMap m;
+    m.cam = cam;
+    m.view_projection = cam.view_projection();
+    m.res = cam.width;
+    RenderTargets targets;
+    targets.clear(m.res, m.res);
+    PipelineState state;  // depth test and write, both sides
+    draw_pass(list, cam, state, targets, threads);
+    m.distance.resize(targets.depth.size());
+    const float inv = 1.0f / static_cast<float>(m.res);
+    for (int y = 0; y < m.res; ++y) {
+        for (int x = 0; x < m.res; ++x) {
+            size_t i = targets.index(x, y);
+            float key = targets.depth[i];
+            if (std::isinf(key)) {
+                m.distance[i] = kInfinity;
+            } else if (cam.orthographic) {
+                m.distance[i] = cam.near + key * (cam.far - cam.near);  // window z is linear
+            } else {
+                // key = -1/w, w the depth along the axis; radial through the texel's centre.
+                float a = (2.0f * (static_cast<float>(x) + 0.5f) * inv - 1.0f) * tan_half;
+                float b = (1.0f - 2.0f * (static_cast<float>(y) + 0.5f) * inv) * tan_half;
+                m.distance[i] = (-1.0f / key) * std::sqrt(1.0f + a * a + b * b);
+            }
+        }
+    }
+    m.texel = cam.orthographic ? 0.0f : 2.0f * tan_half * inv;
+    return m;
+}
+
+/// A perspective view from `eye` along `forward`, `tan_half` the tangent of half its square
+/// field of view.
+CameraMatrices perspective_view(vec3 eye, vec3 forward, float tan_half, int res, float near) {
+    CameraMatrices cam;
+    vec3 up = std::abs(forward.y) < 0.9f ? vec3(0.0f, 1.0f, 0.0f) : vec3(1.0f, 0.0f, 0.0f);
+    cam.view = glm::lookAt(eye, eye + forward, up);
+    cam.projection = glm::infinitePerspective(2.0f * std::atan(tan_half), 1.0f, near);
+    cam.near = near;
+    cam.far = kInfinity;
+    cam.width = cam.height = res;
+    cam.eye = eye;
+    cam.forward = forward;
+    return cam;
+}
+
+/// The eight corners of the camera's view volume between depths z0 and z1 (world space).
+std::array<vec3, 8> frustum_slice(const CameraMatrices& cam, float z0, float z1) {
+    const mat4 to_world = glm::inverse(cam.view);
+    const float sx = 1.0f / cam.projection[0][0], sy = 1.0f / cam.projection[1][1];
+    std::array<vec3, 8> corners;
+    for (int k = 0; k < 8; ++k) {
+        float z = (k & 4) ? z1 : z0;
+        float x = (k & 1) ? 1.0f : -1.0f, y = (k & 2) ? 1.0f : -1.0f;
+        vec3 v = cam.orthographic ? vec3(x * sx, y * sy, -z) : vec3(x * sx * z, y * sy * z, -z);
+        corners[static_cast<size_t>(k)] = vec3(to_world * vec4(v, 1.0f));
+    }
+    return corners;
+}
+
+/// Every map of one caster, and how a point picks its map.
+struct CasterMaps {
+    enum class Layout { Single, Cube, Cascades } layout = Layout::Single;
+    std::vector<DepthMap> maps;
+    std::vector<float> splits;  // cascades: the far camera depth of each slice
+
+    const DepthMap& pick(vec3 p, const ShadowCaster& c, const CameraMatrices& camera) const {
+        if (layout == Layout::Cube) {
+            vec3 d = p - c.position, a = glm::abs(d);
+            int axis = a.x >= a.y && a.x >= a.z ? 0 : a.y >= a.z ? 1 : 2;
+            return maps[static_cast<size_t>(2 * axis + (d[axis] < 0.0f ? 1 : 0))];
+        }
+        if (layout == Layout::Cascades) {
+            float z = glm::dot(p - camera.eye, camera.forward);
+            for (size_t k = 0; k + 1 < maps.size(); ++k) {
+                if (z <= splits[k]) return maps[k];
+            }
+            return maps.back();
+        }
+        return maps[0];
+    }
+};
+
+class ShadowMaps final : public ShadowTechniqueState {
+public:
+    ShadowMaps(const Scene& scene, const TriangleList& list, const FrameState& f, int threads)
+        : settings_(scene.render.shadow_map), camera_(f.cam) {
+        Bounds3 bounds;
+        for (vec3 p : list.positions) bounds.extend(p);
+        const float diameter =
+            bounds.empty() ? 1.0f : std::max(glm::length(bounds.extent()), 1e-6f);
+        const bool pcss = settings_.filter == ShadowFilter::Pcss;
+        const int area_points = pcss ? 0 : scene.render.area_shadow_points;
+        area_points_ = std::max(area_points, 1);
+        casters_ = shadow_casters(scene, f.lights->set, area_points, 1e-4f * diameter);
+        const float near = 1e-4f * diameter;
+        // The memory of every map, before any is made.
+        uint64_t texels = 0;
+        for (const ShadowCaster& c : casters_) {
+            uint64_t r = static_cast<uint64_t>(resolution(c));
+            texels += r * r *
+                      (c.kind == ShadowCaster::Kind::Spot ? 1
+                       : c.kind == ShadowCaster::Kind::Directional
+                           ? static_cast<uint64_t>(settings_.cascades)
+                           : 6);
+        }
+        // Each map's distances, and its depth targets while it is drawn.
+        if (texels * 8 > kMaxShadowMapBytes) {
+            throw Error(scene.path.string(), "render.shadow_map.resolution",
+                        "the shadow maps would take " + std::to_string(texels * 8 >> 20) +
+                            " MiB (at most " + std::to_string(kMaxShadowMapBytes >> 20) +
+                            " MiB); lower the resolution or render.area_shadow_points");
+        }
+        for (const ShadowCaster& c : casters_)
+            maps_.push_back(make_maps(c, list, bounds, near, threads));
+    }
+
+    float lit(size_t k, const ShadowSample& at) const override {
+        const ShadowCaster& c = casters_[k];
+        const CasterMaps& cm = maps_[k];
+        const DepthMap& m = cm.pick(at.p, c, camera_);
+        const vec3 wi = c.to_light(at.p);
+        // Normal offset: the lookup point moves off the surface by normal_offset texels.
+        const float texel = m.texel_at(m.receiver(at.p));
+        const vec3 q = at.p + at.n * (settings_.normal_offset * texel);
+        const float receiver = m.receiver(q);
+        vec4 clip = m.view_projection * vec4(q, 1.0f);
+        if (!(clip.w > 0.0f)) return 1.0f;  // behind a spot's map: outside its cone
+        vec2 px = m.cam.to_pixels(vec2(clip) / clip.w);
+        if (!(px.x >= 0.0f && px.y >= 0.0f && px.x <= static_cast<float>(m.res) &&
+              px.y <= static_cast<float>(m.res)))
+            return 1.0f;  // outside the map: a spot's cone, or beyond the fitted view
+        // Slope-scaled: the depth of the receiver's plane changes by tan(theta) texels per
+        // texel of offset.
+        const float cos_theta = std::clamp(glm::dot(at.n, wi), 0.1f, 1.0f);
+        const float tan_theta = std::sqrt(1.0f - cos_theta * cos_theta) / cos_theta;
+        const float slope = texel * tan_theta;
+        switch (settings_.filter) {
+            case ShadowFilter::None:
+                return compare(m.at(static_cast<int>(px.x), static_cast<int>(px.y)), receiver,
+                               settings_.bias + slope);
+            case ShadowFilter::Pcf:
+                return pcf(m, px, receiver, 0.5f * static_cast<float>(settings_.kernel - 1), slope);
+            case ShadowFilter::Pcss:
+                return c.size > 0.0f && !m.cam.orthographic
+                           ? pcss(m, c, px, receiver, slope)
+                           : pcf(m, px, receiver, 0.5f * static_cast<float>(settings_.kernel - 1),
+                                 slope);
+        }
+        return 1.0f;
+    }
+
+    Image shadow_map_image() const override {
+        // Light 0's first caster; a cube map unfolded as a cross (+y above, -y below the row
+        // -x +z +x -z).
+        for (size_t k = 0; k < casters_.size(); ++k) {
+            if (casters_[k].source != 0 || maps_[k].maps.empty()) continue;
+            const CasterMaps& cm = maps_[k];
+            const int r = cm.maps[0].res;
+            auto put = [](Image& image, const DepthMap& m, int ox, int oy) {
+                for (int y = 0; y < m.res; ++y) {
+                    for (int x = 0; x < m.res; ++x) {
+                        float d = m.at(x, y);
+                        image.at(ox + x, oy + y) = Color(std::isinf(d) ? 0.0f : d);
+                    }
+                }
+            };
+            if (cm.layout == CasterMaps::Layout::Cube) {
+                Image image(4 * r, 3 * r);
+                const int cells[6][2] = {{2, 1}, {0, 1}, {1, 0}, {1, 2}, {1, 1}, {3, 1}};
+                for (int face = 0; face < 6; ++face)
+                    put(image, cm.maps[static_cast<size_t>(face)], cells[face][0] * r,
+                        cells[face][1] * r);
+                return image;
+            }
+            Image image(r * static_cast<int>(cm.maps.size()), r);
+            for (size_t i = 0; i < cm.maps.size(); ++i)
+                put(image, cm.maps[i], static_cast<int>(i) * r, 0);
+            return image;
+        }
+        return {};
+    }
+
+private:
+    int resolution(const ShadowCaster& c) const {
+        int r = settings_.resolution;
+        if (glm::length(c.normal) > 0.0f && settings_.filter != ShadowFilter::Pcss) {
+            auto n = static_cast<float>(area_points_);
+            r = std::max(16, static_cast<int>(static_cast<float>(r) / std::sqrt(n)));
+        }
+        return r;
+    }
+
+    CasterMaps make_maps(const ShadowCaster& c, const TriangleList& list, const Bounds3& bounds,
+                         float near, int threads) const {
+        CasterMaps cm;
+        const int res = resolution(c);
+        const int margin = margin_texels(settings_, res);
+        if (c.kind == ShadowCaster::Kind::Directional) {
+            cm.layout = CasterMaps::Layout::Cascades;
+            make_cascades(c, list, bounds, res, threads, cm);
+            return cm;
+        }
+        const float spread =
+            1.0f / (1.0f - 2.0f * static_cast<float>(margin) / static_cast<float>(res));
+        if (c.kind == ShadowCaster::Kind::Spot && c.cos_outer > std::cos(radians(80.0f))) {
+            float tan_half = std::tan(std::acos(c.cos_outer)) * spread;
+            cm.maps.push_back(
+                render_map(list, perspective_view(c.position, c.direction, tan_half, res, near),
+                           tan_half, threads));
+            return cm;
+        }
+        cm.layout = CasterMaps::Layout::Cube;
+        const vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+        for (vec3 axis : axes) {
+            cm.maps.push_back(render_map(
+                list, perspective_view(c.position, axis, spread, res, near), spread, threads));
+        }
+        return cm;
+    }
+
+    /// Cascaded orthographic maps for a directional caster.
+    void make_cascades(const ShadowCaster& c, const TriangleList& list, const Bounds3& bounds,
+                       int res, int threads, CasterMaps& cm) const {
+        const vec3 centre = bounds.center();
+        const float radius = 0.5f * std::max(glm::length(bounds.extent()), 1e-6f);
+        const vec3 up = std::abs(c.direction.y) < 0.9f ? vec3(0, 1, 0) : vec3(1, 0, 0);
+        const vec3 eye = centre - c.direction * (2.0f * radius);
+        const mat4 view = glm::lookAt(eye, centre, up);
+        // The scene's extent in the light's space.
+        vec3 lo(kInfinity), hi(-kInfinity);
+        for (int k = 0; k < 8; ++k) {
+            vec3 corner((k & 1) ? bounds.max.x : bounds.min.x,
+                        (k & 2) ? bounds.max.y : bounds.min.y,
+                        (k & 4) ? bounds.max.z : bounds.min.z);
+            vec3 v = vec3(view * vec4(corner, 1.0f));
+            lo = glm::min(lo, v);
+            hi = glm::max(hi, v);
+        }
+        const int n = settings_.cascades;
+        const float z0 = std::max(camera_.near, 1e-6f * camera_.far), z1 = camera_.far;
+        for (int i = 0; i < n; ++i) {
+            // The practical split: the mean of the logarithmic and the uniform split.
+            auto split = [&](int k) {
+                float t = static_cast<float>(k) / static_cast<float>(n);
+                return 0.5f * (z0 * std::pow(z1 / z0, t)) + 0.5f * (z0 + (z1 - z0) * t);
+            };
+            float a = i == 0 ? 0.0f : split(i), b = split(i + 1);
+            vec2 flo(kInfinity), fhi(-kInfinity);
+            for (vec3 corner : frustum_slice(camera_, std::max(a, z0), b)) {
+                vec2 v = vec2(view * vec4(corner, 1.0f));
+                flo = glm::min(flo, v);
+                fhi = glm::max(fhi, v);
+            }
+            // The slice clipped to the scene (or the whole scene where they miss each other).
+            flo = glm::max(flo, vec2(lo));
+            fhi = glm::min(fhi, vec2(hi));
+            if (!(flo.x < fhi.x && flo.y < fhi.y)) {
+                flo = vec2(lo);
+                fhi = vec2(hi);
+            }
+            // A square map, a margin of the filter's taps around it.
+            float side = std::max(std::max(fhi.x - flo.x, fhi.y - flo.y), 1e-6f * radius);
+            side *= 1.0f + 2.0f * static_cast<float>(margin_texels(settings_, res)) /
+                               static_cast<float>(res);
+            vec2 mid = 0.5f * (flo + fhi);
+            CameraMatrices cam;
+            cam.view = view;
+            cam.near = std::max(0.0f, -hi.z - 1e-3f * radius);
+            cam.far = -lo.z + 1e-3f * radius;
+            cam.projection =
+                glm::ortho(mid.x - 0.5f * side, mid.x + 0.5f * side, mid.y - 0.5f * side,
+                           mid.y + 0.5f * side, cam.near, cam.far);
+            cam.width = cam.height = res;
+            cam.eye = eye;
+            cam.forward = c.direction;
+            cam.orthographic = true;
+            DepthMap m = render_map(list, cam, 0.0f, threads);
+            m.texel = side / static_cast<float>(res);
+            cm.maps.push_back(std::move(m));
+            cm.splits.push_back(b);
+        }
+    }
+
+    /// 1 where the stored distance is not nearer than the receiver's, less the bias.
+    static float compare(float stored, float receiver, float bias) {
+        return stored >= receiver - bias ? 1.0f : 0.0f;
+    }
+
+    /// Four texels around pixel position px, compared and weighted bilinearly.
+    float bilinear(const DepthMap& m, vec2 px, float receiver, float bias) const {
+        vec2 t = px - vec2(0.5f);
+        int x = static_cast<int>(std::floor(t.x)), y = static_cast<int>(std::floor(t.y));
+        float fx = t.x - static_cast<float>(x), fy = t.y - static_cast<float>(y);
+        float a = compare(m.at(x, y), receiver, bias), b = compare(m.at(x + 1, y), receiver, bias);
+        float c = compare(m.at(x, y + 1), receiver, bias),
+              d = compare(m.at(x + 1, y + 1), receiver, bias);
+        return (a * (1.0f - fx) + b * fx) * (1.0f - fy) + (c * (1.0f - fx) + d * fx) * fy;
+    }
+
+    /// kernel x kernel bilinear taps spread over [-radius, radius] texels around px.
+    float pcf(const DepthMap& m, vec2 px, float receiver, float radius, float slope) const {
+        const int n = settings_.kernel;
+        const float step = n > 1 ? 2.0f * radius / static_cast<float>(n - 1) : 0.0f;
+        const float bias = settings_.bias + slope * (radius + 1.0f);
+        float sum = 0.0f;
+        for (int v = 0; v < n; ++v) {
+            for (int u = 0; u < n; ++u) {
+                vec2 o(static_cast<float>(u) * step - radius,
+                       static_cast<float>(v) * step - radius);
+                sum += bilinear(m, px + o, receiver, bias);
+            }
+        }
+        return sum / static_cast<float>(n * n);
+    }
+
+    /// Percentage-closer soft shadows for a caster of width c.size.
+    float pcss(const DepthMap& m, const ShadowCaster& c, vec2 px, float receiver,
+               float slope) const {
+        const float max_radius = static_cast<float>(margin_texels(settings_, m.res));
+        // Blockers lie in the cone from the receiver to the light: at the near plane, the
+        // light's half-width times (d_r - near) / (d_r near), in tan units.
+        const float near = m.cam.near;
+        float search = 0.5f * c.size * (receiver - near) / (receiver * near) / m.texel;
+        search = std::min(search, max_radius);
+        const int n = settings_.kernel;
+        const float step = n > 1 ? 2.0f * search / static_cast<float>(n - 1) : 0.0f;
+        float blockers = 0.0f, count = 0.0f;
+        for (int v = 0; v < n; ++v) {
+            for (int u = 0; u < n; ++u) {
+                vec2 o(static_cast<float>(u) * step - search,
+                       static_cast<float>(v) * step - search);
+                float d = m.at(static_cast<int>(px.x + o.x), static_cast<int>(px.y + o.y));
+                if (d < receiver - settings_.bias - slope * (search + 1.0f)) {
+                    blockers += d;
+                    count += 1.0f;
+                }
+            }
+        }
+        if (count == 0.0f) return 1.0f;
+        const float blocker = blockers / count;
+        // The penumbra's half-width at the receiver, W (d_r - d_b) / (2 d_b), in tan units.
+        float radius = 0.5f * c.size * (receiver - blocker) / (blocker * receiver) / m.texel;
+        return pcf(m, px, receiver, std::clamp(radius, 0.5f, max_radius), slope);
+    }
+
+    ShadowMapSettings settings_;
+    int area_points_ = 1;  // casters per light with area
+    CameraMatrices camera_;
+    std::vector<CasterMaps> maps_;  // per caster
+};
+
+}  // namespace
+
+std::unique_ptr<ShadowTechniqueState> make_shadow_maps(const Scene& scene, const TriangleList& list,
+                                                       const FrameState& f, int threads) {
+    return std::make_unique<ShadowMaps>(scene, list, f, threads);
+}
+
+}  // namespace svetlo::raster

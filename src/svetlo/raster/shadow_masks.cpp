@@ -1,0 +1,80 @@
+#include "svetlo/raster/shadow_masks.h"
+
+#include "svetlo/raster/fragment.h"
+#include "svetlo/raster/shadow_techniques.h"
+#include "svetlo/shading/shading_frame.h"
+
+namespace svetlo::raster {
+
+std::unique_ptr<ShadowTechniqueState> make_shadow_technique(
+    const Scene& scene, const TriangleList& list, const FrameState& f,
+    const std::vector<SamplePattern>& passes, int threads) {
+    switch (scene.render.shadows) {
+        case ShadowTechnique::None:
+            return nullptr;
+        case ShadowTechnique::Raytraced:
+            return make_raytraced_shadows(scene, list, f, threads);
+        case ShadowTechnique::Map:
+            return make_shadow_maps(scene, list, f, threads);
+        case ShadowTechnique::Volume:
+            return make_shadow_volumes(scene, list, f, passes, threads);
+        case ShadowTechnique::Planar:
+            return make_planar_shadows(scene, list, f, passes, threads);
+    }
+    return nullptr;
+}
+
+void fill_masks(const ShadowTechniqueState& technique, const FrameState& f, const Tile& tile,
+                const SamplePattern& sp, int pass, TileBuffers& buf) {
+    const int S = sp.count;
+    const int tw = tile.x1 - tile.x0;
+    const size_t pixels = static_cast<size_t>(tw) * (tile.y1 - tile.y0);
+    const size_t samples = pixels * static_cast<size_t>(S);
+    const size_t sources = f.lights->set.sources().size();
+    buf.visibility.assign(sources * samples, 1.0f);
+    const std::vector<ShadowCaster>& casters = technique.casters();
+    if (casters.empty()) return;
+    std::vector<TriangleEdges> edges;  // the last triangle's (neighbours mostly share one)
+    edges.reserve(1);
+    uint32_t edges_of = kNone;
+    std::vector<float> sum(sources), count(sources);
+    for (size_t pixel = 0; pixel < pixels; ++pixel) {
+        for (int s = 0; s < S; ++s) {
+            const size_t i = pixel * static_cast<size_t>(S) + static_cast<size_t>(s);
+            const uint32_t id = buf.tri[i];
+            if (id == kNone) continue;
+            ShadowSample at;
+            const SetupTriangle& t = f.tri(id);
+            const ClipVertex& A = f.vertex(t.v[0]);
+            const ClipVertex& B = f.vertex(t.v[1]);
+            const ClipVertex& C = f.vertex(t.v[2]);
+            const int64_t sx = sample_x(tile, pixel, sp, s), sy = sample_y(tile, pixel, sp, s);
+            if (id != edges_of) {
+                edges.clear();
+                edges.emplace_back(t);
+                edges_of = id;
+            }
+            Weights w = perspective_weights(edges[0].weights(sx, sy), A, B, C);
+            at.p = w.b[0] * A.world + w.b[1] * B.world + w.b[2] * C.world;
+            vec3 ng = face_normal(t, A, B, C);
+            at.n = glm::dot(ng, view_direction(f, at.p)) >= 0.0f ? ng : -ng;
+            at.pass = pass;
+            at.i = tile.x0 + static_cast<int>(pixel % static_cast<size_t>(tw));
+            at.j = tile.y0 + static_cast<int>(pixel / static_cast<size_t>(tw));
+            at.s = s;
+            std::fill(sum.begin(), sum.end(), 0.0f);
+            std::fill(count.begin(), count.end(), 0.0f);
+            for (size_t k = 0; k < casters.size(); ++k) {
+                const ShadowCaster& c = casters[k];
+                if (!c.faces(at.p, at.n)) continue;
+                sum[c.source] += technique.lit(k, at);
+                count[c.source] += 1.0f;
+            }
+            for (size_t src = 0; src < sources; ++src) {
+                if (count[src] > 0.0f) buf.visibility[src * samples + i] = sum[src] / count[src];
+            }
+        }
+    }
+}
+
+}  // namespace svetlo::raster

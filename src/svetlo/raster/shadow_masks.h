@@ -1,0 +1,65 @@
+// The rasterizer's shadow techniques (render.shadows; docs/shadows.md). Each gives every
+// light of the light set its own mask, the visibility V of each of its samples, and the
+// shading multiplies that light's term by it: L = Le + ka Ia + sum f E cos V (direct_light.h).
+// The finished image is never darkened afterwards, which would be wrong wherever two lights
+// overlap.
+//
+//   raytraced  shadow rays from each visible sample through a BVH of the drawn triangles
+//              (shadow_raytraced.cpp): the ground truth inside the rasterizer
+//   map        depth maps from each caster, with bias, PCF and PCSS (shadow_maps.cpp)
+//   volume     stencil shadow volumes, z-fail (shadow_volumes.cpp)
+//   planar     projected shadows on planar receivers, through the stencil (planar_shadows.cpp)
+//
+// Every technique answers one question, whether caster k (shadow_casters.h) lights a sample,
+// and fill_masks turns the answers into the masks, the same way for all of them.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "svetlo/core/image.h"
+#include "svetlo/raster/pipeline.h"
+#include "svetlo/raster/shadow_casters.h"
+
+namespace svetlo::raster {
+
+/// A visible sample as the shadow techniques see it: its world position, the unit geometric
+/// normal of the side the camera sees, and where it lies in the frame.
+struct ShadowSample {
+    vec3 p{0.0f}, n{0.0f};
+    int pass = 0;      // the frame's sample pass
+    int i = 0, j = 0;  // the pixel
+    int s = 0;         // the sample within the pass
+};
+
+class ShadowTechniqueState {
+public:
+    virtual ~ShadowTechniqueState() = default;
+    const std::vector<ShadowCaster>& casters() const { return casters_; }
+    /// How much of caster k's light reaches the sample, from 0 (shadowed) to 1 (lit). Called
+    /// only for casters the sample faces; concurrently from many tiles.
+    virtual float lit(size_t k, const ShadowSample& sample) const = 0;
+    /// The debug AOVs (docs/shadows.md): light 0's depth map, with a cube map unfolded, and
+    /// the shadow-volume count per pixel; empty images where the technique has none.
+    virtual Image shadow_map_image() const { return {}; }
+    virtual Image stencil_image() const { return {}; }
+
+protected:
+    std::vector<ShadowCaster> casters_;
+};
+
+/// The state of the scene's technique for this frame (its maps, volumes or stencil masks),
+/// made after the colour pass's setup (f.cam, f.lights); null for `none`. `passes`: the
+/// frame's sample passes. Throws Error for settings it cannot honour (a memory limit).
+std::unique_ptr<ShadowTechniqueState> make_shadow_technique(
+    const Scene& scene, const TriangleList& list, const FrameState& f,
+    const std::vector<SamplePattern>& passes, int threads);
+
+/// Fills buf.visibility (one row of the tile's samples per source of the light set) for the
+/// tile's samples of sample pass `pass`, after its rasterization: for each visible sample and
+/// light, the mean of `lit` over the light's casters that the sample faces; 1 where it faces
+/// none and where no surface was drawn.
+void fill_masks(const ShadowTechniqueState& technique, const FrameState& f, const Tile& tile,
+                const SamplePattern& sp, int pass, TileBuffers& buf);
+
+}  // namespace svetlo::raster

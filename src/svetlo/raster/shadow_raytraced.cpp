@@ -1,0 +1,54 @@
+// render.shadows "raytraced" in the rasterizer: the camera's visibility is rasterized, and each
+// visible sample casts a shadow ray to each caster through a BVH of the same triangles the
+// rasterizer drew (so that a sample never hits the surface it lies on), as hybrid real-time
+// renderers do. Lights with area cast from the rasterizer's own VPLs, so that V is the
+// fraction of the very points the shading sums that reach the sample.
+#include "svetlo/geometry/accel.h"
+#include "svetlo/geometry/ray.h"
+#include "svetlo/raster/shadow_techniques.h"
+
+namespace svetlo::raster {
+
+namespace {
+
+class RaytracedShadows final : public ShadowTechniqueState {
+public:
+    RaytracedShadows(const Scene& scene, const TriangleList& list, const FrameState& f,
+                     int threads) {
+        casters_ = shadow_casters(scene, f.lights->set, f.lights->vpls);
+        geometry_.positions = list.positions;
+        geometry_.indices = list.indices;
+        geometry_.triangle_material = list.material;
+        accel_ = make_accel("bvh", geometry_, threads);
+    }
+
+    float lit(size_t k, const ShadowSample& at) const override {
+        const ShadowCaster& c = casters_[k];
+        const vec3 wi = c.to_light(at.p);
+        Ray ray{offset_ray_origin(at.p, at.n, wi), wi, kInfinity};
+        if (c.kind != ShadowCaster::Kind::Directional) {
+            // To the caster (a point on an emitter is moved off its own surface first).
+            vec3 target = glm::length(c.normal) > 0.0f
+                              ? offset_ray_origin(c.position, c.normal, -wi)
+                              : c.position;
+            ray.d = target - ray.o;
+            ray.tmax = 1.0f;
+        }
+        if (!std::isfinite(ray.o.x + ray.o.y + ray.o.z + ray.d.x + ray.d.y + ray.d.z)) return 1.0f;
+        return accel_->occluded(ray) ? 0.0f : 1.0f;
+    }
+
+private:
+    Geometry geometry_;
+    std::unique_ptr<Accel> accel_;
+};
+
+}  // namespace
+
+std::unique_ptr<ShadowTechniqueState> make_raytraced_shadows(const Scene& scene,
+                                                             const TriangleList& list,
+                                                             const FrameState& f, int threads) {
+    return std::make_unique<RaytracedShadows>(scene, list, f, threads);
+}
+
+}  // namespace svetlo::raster

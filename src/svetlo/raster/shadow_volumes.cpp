@@ -1,0 +1,229 @@
+// render.shadows "volume": stencil shadow volumes (Crow, "Shadow Algorithms for Computer
+// Graphics", SIGGRAPH 1977; Heidmann 1991), counted with z-fail, Carmack's reverse (Everitt
+// and Kilgard, "Practical and Robust Stenciled Shadow Volumes", 2002), always: it stays right
+// with the camera inside a volume, which z-pass does not.
+//
+// Per sample pass of the frame: a depth pass from the camera (the same samples as the colour
+// pass), then per caster a stencil pass over its volume with the depth test on and depth
+// writes off, back faces incrementing and front faces decrementing where the depth test fails,
+// with wrapping. A sample is lit by the caster where the count is 0.
+//
+// The volume of a caster: every triangle turned toward the caster (flipped when it faces
+// away) bounds the region it hides, closed by itself (the near cap), its projection to
+// infinity (the far cap) and one quad per edge (the sides); the shadow is the union of those
+// regions, and a sample's count is the number of them it lies in. A side shared by two such
+// regions with opposite orientation cancels in the count and is not drawn, so a closed,
+// consistently wound mesh draws its silhouette edges only (found from the triangle list's
+// adjacency), and its triangles facing the caster are left out: its region starts at the
+// faces away from the light (as in Doom 3), so no cap lies on a lit surface. Open meshes (a
+// quad, a mesh with a hole) keep every triangle, which is why they cast right; their lit
+// faces are their own near caps, drawn with a small depth bias (as glPolygonOffset) so that
+// they count as behind themselves.
+//
+// Points at infinity are homogeneous vertices of weight 0 (TriangleList::w) for a
+// perspective camera, whose far plane is at infinity (nothing is clipped behind). An
+// orthographic camera's volumes end instead at four scene diameters, and its depth and
+// stencil passes use a view whose near and far planes enclose them (as depth clamping would).
+#include "svetlo/core/error.h"
+#include "svetlo/raster/shadow_techniques.h"
+
+namespace svetlo::raster {
+
+namespace {
+
+constexpr uint64_t kMaxMaskBytes = uint64_t{2} << 30;  // every caster's mask, every pass
+
+/// Whether each object of the list is closed: every edge of its triangles has a neighbour.
+std::vector<char> closed_objects(const TriangleList& list) {
+    std::vector<char> closed(list.objects.size(), 1);
+    for (size_t o = 0; o < list.objects.size(); ++o) {
+        for (uint32_t t = list.objects[o].first; t < list.objects[o].end && closed[o]; ++t) {
+            for (int e = 0; e < 3; ++e) {
+                if (list.neighbour[3 * t + e] == TriangleList::kOpen) closed[o] = 0;
+            }
+        }
+    }
+    return closed;
+}
+
+class ShadowVolumes final : public ShadowTechniqueState {
+public:
+    ShadowVolumes(const Scene& scene, const TriangleList& list, const FrameState& f,
+                  const std::vector<SamplePattern>& passes, int threads)
+        : width_(f.cam.width), height_(f.cam.height) {
+        Bounds3 bounds;
+        for (vec3 p : list.positions) bounds.extend(p);
+        diameter_ = bounds.empty() ? 1.0f : std::max(glm::length(bounds.extent()), 1e-6f);
+        casters_ = shadow_casters(scene, f.lights->set, scene.render.area_shadow_points,
+                                  1e-4f * diameter_);
+        uint64_t samples = 0;
+        for (const SamplePattern& sp : passes)
+            samples += static_cast<uint64_t>(width_) * static_cast<uint64_t>(height_) *
+                       static_cast<uint64_t>(sp.count);
+        if (samples * casters_.size() > kMaxMaskBytes) {
+            throw Error(scene.path.string(), "render.area_shadow_points",
+                        "the shadow volumes' masks would take " +
+                            std::to_string(samples * casters_.size() >> 20) + " MiB (at most " +
+                            std::to_string(kMaxMaskBytes >> 20) +
+                            " MiB); lower render.spp or render.area_shadow_points");
+        }
+        closed_ = closed_objects(list);
+        object_of_.resize(list.triangle_count());
+        for (size_t o = 0; o < list.objects.size(); ++o) {
+            for (uint32_t t = list.objects[o].first; t < list.objects[o].end; ++t)
+                object_of_[t] = static_cast<uint32_t>(o);
+        }
+        // The depth and stencil passes' camera: the frame's, or for an orthographic one the
+        // same view with its depth range around the finite volumes.
+        CameraMatrices cam = f.cam;
+        if (cam.orthographic) {
+            float reach = 5.0f * diameter_;
+            cam.near -= reach;
+            cam.far += reach;
+            const float sx = 1.0f / cam.projection[0][0], sy = 1.0f / cam.projection[1][1];
+            const float cx = -cam.projection[3][0] * sx, cy = -cam.projection[3][1] * sy;
+            cam.projection = glm::ortho(cx - sx, cx + sx, cy - sy, cy + sy, cam.near, cam.far);
+        }
+        PipelineState depth_state;
+        depth_state.cull = f.cull;
+        PipelineState stencil_state;
+        stencil_state.depth_write = false;
+        stencil_state.depth_bias = 1.0f / 65536.0f;  // an open surface's own cap lies behind it
+        stencil_state.stencil.enabled = true;
+        stencil_state.stencil.back = {StencilFunc::Always, StencilOp::Keep, StencilOp::IncrWrap,
+                                      StencilOp::Keep};
+        stencil_state.stencil.front = {StencilFunc::Always, StencilOp::Keep, StencilOp::DecrWrap,
+                                       StencilOp::Keep};
+        lit_.resize(casters_.size());
+        std::vector<TriangleList> volumes;
+        for (const ShadowCaster& c : casters_) volumes.push_back(volume(list, c, cam.orthographic));
+        for (const SamplePattern& sp : passes) {
+            RenderTargets targets;
+            targets.clear(width_, height_, sp.count, true);
+            draw_samples(list, cam, depth_state, targets, threads, sp);
+            for (size_t k = 0; k < casters_.size(); ++k) {
+                std::fill(targets.stencil.begin(), targets.stencil.end(), uint8_t{0});
+                draw_samples(volumes[k], cam, stencil_state, targets, threads, sp);
+                std::vector<uint8_t> lit(targets.stencil.size());
+                for (size_t i = 0; i < lit.size(); ++i) lit[i] = targets.stencil[i] == 0 ? 1 : 0;
+                lit_[k].push_back(std::move(lit));
+                if (k == 0 && stencil_.width == 0) stencil_ = stencil_counts(targets);
+            }
+        }
+    }
+
+    float lit(size_t k, const ShadowSample& at) const override {
+        const std::vector<uint8_t>& mask = lit_[k][static_cast<size_t>(at.pass)];
+        const size_t samples = mask.size() / (static_cast<size_t>(width_) * height_);
+        size_t i =
+            (static_cast<size_t>(at.j) * static_cast<size_t>(width_) + static_cast<size_t>(at.i)) *
+                samples +
+            static_cast<size_t>(at.s);
+        return static_cast<float>(mask[i]);
+    }
+
+    Image stencil_image() const override { return stencil_; }
+
+private:
+    /// The shadow volume of caster c over every triangle of `list`.
+    TriangleList volume(const TriangleList& list, const ShadowCaster& c, bool finite) const {
+        const size_t n = list.positions.size();
+        const bool directional = c.kind == ShadowCaster::Kind::Directional;
+        TriangleList v;
+        v.positions = list.positions;
+        // The extruded vertices follow the finite ones: n of them (one for a directional light
+        // with points at infinity, which all meet in its direction).
+        const bool one_direction = directional && !finite;
+        const size_t extruded = one_direction ? 1 : n;
+        v.positions.resize(n + extruded);
+        for (size_t i = 0; i < extruded; ++i) {
+            vec3 d = directional ? c.direction : list.positions[i] - c.position;
+            if (finite) {
+                float len = glm::length(d);
+                d = len > 0.0f ? list.positions[i] + d * (4.0f * diameter_ / len)
+                               : list.positions[i];
+            }
+            v.positions[n + i] = d;
+        }
+        if (!finite) {
+            v.w.assign(n + extruded, 1.0f);
+            std::fill(v.w.begin() + static_cast<std::ptrdiff_t>(n), v.w.end(), 0.0f);
+        }
+        auto far = [&](uint32_t i) { return static_cast<uint32_t>(n + (one_direction ? 0 : i)); };
+        // Which triangles bound a region, and which of them are flipped toward the caster.
+        const size_t T = list.triangle_count();
+        std::vector<char> used(T, 0), flipped(T, 0);
+        for (size_t t = 0; t < T; ++t) {
+            const uint32_t* idx = &list.indices[3 * t];
+            vec3 a = list.positions[idx[0]], b = list.positions[idx[1]],
+                 cc = list.positions[idx[2]];
+            vec3 normal = glm::cross(b - a, cc - a);
+            if (!(glm::dot(normal, normal) > 0.0f)) continue;  // no area: bounds nothing
+            float side =
+                directional ? -glm::dot(normal, c.direction) : glm::dot(normal, c.position - a);
+            bool facing = side > 0.0f;
+            // A closed object's region is bounded by its faces away from the caster (the
+            // lit faces are then on no volume's boundary, and no rounding can shadow them).
+            if (facing && closed_[object_of_[t]]) continue;
+            used[t] = 1;
+            flipped[t] = facing ? 0 : 1;
+        }
+        auto add = [&](uint32_t a, uint32_t b, uint32_t cc) {
+            v.indices.insert(v.indices.end(), {a, b, cc});
+        };
+        for (size_t t = 0; t < T; ++t) {
+            if (!used[t]) continue;
+            uint32_t o[3] = {list.indices[3 * t], list.indices[3 * t + 1], list.indices[3 * t + 2]};
+            if (flipped[t]) std::swap(o[1], o[2]);
+            add(o[0], o[1], o[2]);                 // near cap, facing the caster
+            add(far(o[0]), far(o[2]), far(o[1]));  // far cap, facing away
+            for (int e = 0; e < 3; ++e) {
+                // Edge e of the original triangle runs from vertex e to e + 1.
+                uint32_t nb = list.neighbour[3 * t + static_cast<size_t>(e)];
+                if (nb != TriangleList::kOpen && used[nb] && flipped[nb] == flipped[t]) continue;
+                uint32_t from = list.indices[3 * t + static_cast<size_t>(e)];
+                uint32_t to = list.indices[3 * t + static_cast<size_t>((e + 1) % 3)];
+                if (flipped[t]) std::swap(from, to);
+                add(from, far(from), far(to));  // the side, facing out of the region
+                add(from, far(to), to);
+            }
+        }
+        v.material.assign(v.indices.size() / 3, 0);
+        v.normals.assign(v.positions.size(), vec3(0.0f));
+        v.uvs.assign(v.positions.size(), vec2(0.0f));
+        return v;
+    }
+
+    /// The signed stencil count per pixel, averaged over its samples (the debug AOV).
+    Image stencil_counts(const RenderTargets& t) const {
+        Image image(width_, height_);
+        for (int j = 0; j < height_; ++j) {
+            for (int i = 0; i < width_; ++i) {
+                float sum = 0.0f;
+                for (int s = 0; s < t.samples; ++s)
+                    sum += static_cast<float>(static_cast<int8_t>(t.stencil[t.index(i, j, s)]));
+                image.at(i, j) = Color(sum / static_cast<float>(t.samples));
+            }
+        }
+        return image;
+    }
+
+    int width_, height_;
+    float diameter_ = 1.0f;
+    std::vector<char> closed_;
+    std::vector<uint32_t> object_of_;
+    std::vector<std::vector<std::vector<uint8_t>>> lit_;  // per caster, per pass, per sample
+    Image stencil_;
+};
+
+}  // namespace
+
+std::unique_ptr<ShadowTechniqueState> make_shadow_volumes(const Scene& scene,
+                                                          const TriangleList& list,
+                                                          const FrameState& f,
+                                                          const std::vector<SamplePattern>& passes,
+                                                          int threads) {
+    return std::make_unique<ShadowVolumes>(scene, list, f, passes, threads);
+}
+
+}  // namespace svetlo::raster
