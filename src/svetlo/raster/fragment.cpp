@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "svetlo/core/small_vector.h"
 #include "svetlo/shading/shading_frame.h"
 #include "svetlo/shading/texture.h"
 
@@ -27,14 +28,31 @@ Color light_point(const FrameState& f, const Bsdf& bsdf, vec3 p, vec3 wo, vec3 n
                        f.scene->render.ambient, f.scene->render.background, vis, sample);
 }
 
-Color flat_colour(const FrameState& f, const uint32_t idx[3], uint32_t material) {
+Color light_point_per_light(const FrameState& f, const Bsdf& bsdf, vec3 p, vec3 wo, vec3 ng,
+                            vec3 ns, Color* per_light) {
+    // One light let through at a time (a mask of one row per light, one sample).
+    SmallVector<float, 16> mask;
+    for (size_t k = 0; k < f.sources; ++k) mask.push_back(0.0f);
+    const LightVisibility one{&mask[0], 1};
+    const Color base = light_point(f, bsdf, p, wo, ng, ns, one, 0);
+    for (size_t k = 0; k < f.sources; ++k) {
+        mask[k] = 1.0f;
+        per_light[k] = light_point(f, bsdf, p, wo, ng, ns, one, 0) - base;
+        mask[k] = 0.0f;
+    }
+    return base;
+}
+
+Color flat_colour(const FrameState& f, const uint32_t idx[3], uint32_t material, Color* per_light) {
     const ClipVertex* cv[3] = {&f.vertices[idx[0]], &f.vertices[idx[1]], &f.vertices[idx[2]]};
     vec3 p = (cv[0]->world + cv[1]->world + cv[2]->world) / 3.0f;
     vec3 ng = triangle_normal(cv[0]->world, cv[1]->world, cv[2]->world);
     vec2 uv = (cv[0]->uv + cv[1]->uv + cv[2]->uv) / 3.0f;
     vec3 wo = view_direction(f, p);
     Bsdf scratch;
-    return light_point(f, material_for_vertices(f, material, uv, scratch), p, wo, ng, ng);
+    const Bsdf& bsdf = material_for_vertices(f, material, uv, scratch);
+    if (per_light) return light_point_per_light(f, bsdf, p, wo, ng, ng, per_light);
+    return light_point(f, bsdf, p, wo, ng, ng);
 }
 
 Weights perspective_weights(vec2 l, const ClipVertex& A, const ClipVertex& B, const ClipVertex& C) {
@@ -61,7 +79,7 @@ struct ShadeResult {
 ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& edges, int64_t sx,
                          int64_t sy, bool want_aovs, const LightVisibility& vis, size_t sample) {
     const SetupTriangle& t = f.tri(ti);
-    if (f.mode == Mode::Flat && !want_aovs && !f.modulate[t.material]) {
+    if (f.mode == Mode::Flat && !want_aovs && !f.modulate[t.material] && !f.per_light) {
         ShadeResult flat;
         flat.color = f.flat_color(ti);
         return flat;
@@ -116,12 +134,37 @@ ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& 
         return lit * eval_color(*base, uv, lookup);
     };
     switch (f.mode) {
-        case Mode::Flat:
-            r.color = modulated(f.flat_color(ti));
+        case Mode::Flat: {
+            Color lit = f.flat_color(ti);
+            if (f.per_light) {
+                const Color* terms = &f.face_light[f.source(ti) * f.sources];
+                for (size_t k = 0; k < f.sources; ++k) lit += vis.at(k, sample) * terms[k];
+            }
+            r.color = modulated(lit);
             break;
-        case Mode::Gouraud:
-            r.color = modulated(b0 * A.color + b1 * B.color + b2 * C.color);
+        }
+        case Mode::Gouraud: {
+            Color lit = b0 * A.color + b1 * B.color + b2 * C.color;
+            if (f.per_light) {
+                // Each light's vertex terms, interpolated over the list's own triangle (the
+                // sample's barycentrics there, by areas: clipping made A, B, C).
+                const uint32_t* v = &f.list->indices[3 * static_cast<size_t>(f.source(ti))];
+                const vec3 a = f.list->positions[v[0]], b = f.list->positions[v[1]],
+                           c = f.list->positions[v[2]];
+                const vec3 n = glm::cross(b - a, c - a);
+                const float inv = 1.0f / std::max(glm::dot(n, n), 1e-30f);
+                const float wb = glm::dot(glm::cross(p - a, c - a), n) * inv;
+                const float wc = glm::dot(glm::cross(b - a, p - a), n) * inv;
+                const float wa = 1.0f - wb - wc;
+                for (size_t k = 0; k < f.sources; ++k) {
+                    lit += vis.at(k, sample) * (wa * f.vertex_light[v[0] * f.sources + k] +
+                                                wb * f.vertex_light[v[1] * f.sources + k] +
+                                                wc * f.vertex_light[v[2] * f.sources + k]);
+                }
+            }
+            r.color = modulated(lit);
             break;
+        }
         case Mode::Depth: {
             float depth = f.cam.orthographic ? r.distance : glm::dot(p - f.cam.eye, f.cam.forward);
             r.color = Color(

@@ -27,8 +27,15 @@ Color light_point(const FrameState& f, const Bsdf& bsdf, vec3 p, vec3 wo, vec3 n
                   const LightVisibility& vis = {}, size_t sample = 0);
 
 /// Flat shading: one normal and one colour per face, lit at the centroid of the triangle of
-/// vertices `idx` (in the vertex stage's output).
-Color flat_colour(const FrameState& f, const uint32_t idx[3], uint32_t material);
+/// vertices `idx` (in the vertex stage's output). With f.per_light, emission and ambient only,
+/// and each light's term into `per_light` (f.sources of them).
+Color flat_colour(const FrameState& f, const uint32_t idx[3], uint32_t material,
+                  Color* per_light = nullptr);
+
+/// Emission and ambient at a point, and each light's term alone into per_light[0, f.sources)
+/// (flat and Gouraud shading under a shadow technique).
+Color light_point_per_light(const FrameState& f, const Bsdf& bsdf, vec3 p, vec3 wo, vec3 ng,
+                            vec3 ns, Color* per_light);
 
 /// Perspective-correct weights of a sample: the screen barycentrics over w (q), and
 /// renormalised (b): b interpolates any attribute of the vertices.

@@ -102,6 +102,15 @@ struct FrameState {
     bool simd_lights_ok = false;              // when they are all point or directional
     std::vector<SimdMaterial> simd_material;  // per material, and whether the fast path takes it
     std::vector<char> simd_ok;
+    // Flat and Gouraud shading under a shadow technique light each face or vertex once per
+    // light, so that each light's term can be multiplied by its mask per sample (as OpenGL's
+    // one additive pass per light): the vertex colours and face colours then hold emission and
+    // ambient only, and these each light's term, `sources` per vertex or triangle of the list.
+    bool per_light = false;
+    size_t sources = 0;
+    const TriangleList* list = nullptr;
+    std::vector<Color> vertex_light;  // Gouraud: per list vertex
+    LargeArray<Color> face_light;     // flat: per list triangle
     // Stages 2 to 4.
     LargeArray<ClipVertex> vertices;       // the vertex stage's output, one per list vertex
     LargeArray<ScreenVertex> screen;       // the same vertices projected (when inside)

@@ -248,6 +248,10 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     TriangleList list = tessellate_scene(scene, f, threads);
     prepare_shading(scene, f);
     const CameraMatrices camera = frame_camera(scene, list);
+    f.list = &list;
+    f.sources = f.lights->set.sources().size();
+    f.per_light = scene.render.shadows != ShadowTechnique::None &&
+                  (f.mode == Mode::Flat || f.mode == Mode::Gouraud);
     // The frame's sample positions, pass by pass (the same in every pixel).
     std::vector<SamplePattern> passes;
     for (int first = 0; first < spp; first += kMaxSamplesPerPass)

@@ -104,6 +104,7 @@ void assemble(const TriangleList& list, FrameState& f, int threads) {
     float gx = guard_x(f), gy = guard_y(f);
     const bool flat_mode = f.mode == Mode::Flat;
     if (flat_mode) f.flat.reuse(total);
+    if (flat_mode && f.per_light) f.face_light.reuse(total * f.sources);
     std::vector<std::vector<Color>> clipped_flat(chunks);
     std::vector<std::vector<uint32_t>> clipped_source(chunks);
     parallel_indices(chunks, threads, [&](size_t c) {
@@ -123,7 +124,9 @@ void assemble(const TriangleList& list, FrameState& f, int threads) {
             }
             const uint32_t material = *materials;
             SetupTriangle& slot = f.tris[s];
-            if (flat_mode) f.flat[s] = flat_colour(f, idx, material);
+            if (flat_mode)
+                f.flat[s] = flat_colour(f, idx, material,
+                                        f.per_light ? &f.face_light[s * f.sources] : nullptr);
             if (sv[0]->inside & sv[1]->inside & sv[2]->inside) {
                 if (setup_triangle(f, sv, idx, material, slot))
                     to_bin[binned_count++] = binned(static_cast<uint32_t>(s), slot);

@@ -18,7 +18,10 @@
 // faces away from the light (as in Doom 3), so no cap lies on a lit surface. Open meshes (a
 // quad, a mesh with a hole) keep every triangle, which is why they cast right; their lit
 // faces are their own near caps, drawn with a small depth bias (as glPolygonOffset) so that
-// they count as behind themselves.
+// they count as behind themselves. A near cap is always drawn as the list's own triangle, in
+// its own winding (a flipped one in a second draw with the faces' operations swapped), so
+// that clipping and snapping make exactly the triangle the depth pass drew: a reversed
+// triangle is clipped into another fan, whose snapped depth can differ by more than any bias.
 //
 // Points at infinity are homogeneous vertices of weight 0 (TriangleList::w) for a
 // perspective camera, whose far plane is at infinity (nothing is clipped behind). An
@@ -94,8 +97,12 @@ public:
                                       StencilOp::Keep};
         stencil_state.stencil.front = {StencilFunc::Always, StencilOp::Keep, StencilOp::DecrWrap,
                                        StencilOp::Keep};
+        // The flipped near caps are drawn as the list's own triangles, in their own winding,
+        // with the faces' operations swapped: rasterized exactly as the depth pass drew them.
+        PipelineState flipped_state = stencil_state;
+        std::swap(flipped_state.stencil.front, flipped_state.stencil.back);
         lit_.resize(casters_.size());
-        std::vector<TriangleList> volumes;
+        std::vector<std::pair<TriangleList, TriangleList>> volumes;
         for (const ShadowCaster& c : casters_) volumes.push_back(volume(list, c, cam.orthographic));
         for (const SamplePattern& sp : passes) {
             RenderTargets targets;
@@ -103,7 +110,9 @@ public:
             draw_samples(list, cam, depth_state, targets, threads, sp);
             for (size_t k = 0; k < casters_.size(); ++k) {
                 std::fill(targets.stencil.begin(), targets.stencil.end(), uint8_t{0});
-                draw_samples(volumes[k], cam, stencil_state, targets, threads, sp);
+                draw_samples(volumes[k].first, cam, stencil_state, targets, threads, sp);
+                if (!volumes[k].second.indices.empty())
+                    draw_samples(volumes[k].second, cam, flipped_state, targets, threads, sp);
                 std::vector<uint8_t> lit(targets.stencil.size());
                 for (size_t i = 0; i < lit.size(); ++i) lit[i] = targets.stencil[i] == 0 ? 1 : 0;
                 lit_[k].push_back(std::move(lit));
@@ -125,8 +134,10 @@ public:
     Image stencil_image() const override { return stencil_; }
 
 private:
-    /// The shadow volume of caster c over every triangle of `list`.
-    TriangleList volume(const TriangleList& list, const ShadowCaster& c, bool finite) const {
+    /// The shadow volume of caster c over every triangle of `list`: its sides, far caps and
+    /// unflipped near caps, and apart the flipped near caps in the list's winding.
+    std::pair<TriangleList, TriangleList> volume(const TriangleList& list, const ShadowCaster& c,
+                                                 bool finite) const {
         const size_t n = list.positions.size();
         const bool directional = c.kind == ShadowCaster::Kind::Directional;
         TriangleList v;
@@ -168,14 +179,20 @@ private:
             used[t] = 1;
             flipped[t] = facing ? 0 : 1;
         }
+        TriangleList flipped_caps;
+        flipped_caps.positions = list.positions;
         auto add = [&](uint32_t a, uint32_t b, uint32_t cc) {
             v.indices.insert(v.indices.end(), {a, b, cc});
         };
         for (size_t t = 0; t < T; ++t) {
             if (!used[t]) continue;
             uint32_t o[3] = {list.indices[3 * t], list.indices[3 * t + 1], list.indices[3 * t + 2]};
-            if (flipped[t]) std::swap(o[1], o[2]);
-            add(o[0], o[1], o[2]);                 // near cap, facing the caster
+            if (flipped[t]) {
+                flipped_caps.indices.insert(flipped_caps.indices.end(), o, o + 3);
+                std::swap(o[1], o[2]);
+            } else {
+                add(o[0], o[1], o[2]);  // near cap, facing the caster
+            }
             add(far(o[0]), far(o[2]), far(o[1]));  // far cap, facing away
             for (int e = 0; e < 3; ++e) {
                 // Edge e of the original triangle runs from vertex e to e + 1.
@@ -188,10 +205,12 @@ private:
                 add(from, far(to), to);
             }
         }
-        v.material.assign(v.indices.size() / 3, 0);
-        v.normals.assign(v.positions.size(), vec3(0.0f));
-        v.uvs.assign(v.positions.size(), vec2(0.0f));
-        return v;
+        for (TriangleList* l : {&v, &flipped_caps}) {
+            l->material.assign(l->indices.size() / 3, 0);
+            l->normals.assign(l->positions.size(), vec3(0.0f));
+            l->uvs.assign(l->positions.size(), vec2(0.0f));
+        }
+        return {std::move(v), std::move(flipped_caps)};
     }
 
     /// The signed stencil count per pixel, averaged over its samples (the debug AOV).

@@ -54,6 +54,7 @@ void vertex_stage(const TriangleList& list, FrameState& f, int threads) {
         }
     });
     if (f.mode != Mode::Gouraud) return;
+    if (f.per_light) f.vertex_light.assign(count * f.sources, Color(0.0f));
     std::vector<uint32_t> face_of(count, kNone);
     for (size_t t = 0; t < list.triangle_count(); ++t) {
         for (int c = 0; c < 3; ++c) {
@@ -71,8 +72,10 @@ void vertex_stage(const TriangleList& list, FrameState& f, int threads) {
             ClipVertex& out = f.vertices[v];
             vec3 wo = view_direction(f, out.world);
             Bsdf scratch;
-            out.color = light_point(f, material_for_vertices(f, list.material[t], out.uv, scratch),
-                                    out.world, wo, ng, out.normal);
+            const Bsdf& bsdf = material_for_vertices(f, list.material[t], out.uv, scratch);
+            out.color = f.per_light ? light_point_per_light(f, bsdf, out.world, wo, ng, out.normal,
+                                                            &f.vertex_light[v * f.sources])
+                                    : light_point(f, bsdf, out.world, wo, ng, out.normal);
         }
     });
 }
