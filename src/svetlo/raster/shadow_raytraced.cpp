@@ -25,7 +25,12 @@ public:
     float lit(size_t k, const ShadowSample& at) const override {
         const ShadowCaster& c = casters_[k];
         const vec3 wi = c.to_light(at.p);
-        Ray ray{offset_ray_origin(at.p, at.n, wi), wi, kInfinity};
+        // Off the surface along its normal, and a little toward the light: a rasterized
+        // point is interpolated, and near a concave edge it can lie a rounding error behind
+        // the other face, which a ray leaving along the normal alone would then meet.
+        const vec3 a = glm::abs(at.p);
+        const float toward = std::max(std::max(a.x, a.y), std::max(a.z, 1.0f)) / 65536.0f;
+        Ray ray{offset_ray_origin(at.p, at.n, wi) + toward * wi, wi, kInfinity};
         if (c.kind != ShadowCaster::Kind::Directional) {
             // To the caster (a point on an emitter is moved off its own surface first).
             vec3 target = glm::length(c.normal) > 0.0f
