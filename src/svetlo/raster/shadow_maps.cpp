@@ -409,7 +409,24 @@ private:
         const float blocker = blockers / count;
         // The penumbra's half-width at the receiver, W (d_r - d_b) / (2 d_b), in tan units.
         float radius = 0.5f * c.size * (receiver - blocker) / (blocker * receiver) / m.texel;
-        return pcf(m, px, receiver, std::clamp(radius, 0.5f, max_radius), slope);
+        radius = std::clamp(radius, 0.5f, max_radius);
+        // A penumbra many texels wide, filtered by a regular grid of taps, shows the grid as
+        // bands: the taps lie instead on a Vogel (golden-angle) disc, turned by an angle that
+        // depends on the receiver's texel, which trades the bands for fine, fixed noise.
+        const int taps = n * n;
+        const float bias = settings_.bias + slope * (radius + 1.0f);
+        const auto cell = glm::ivec2(glm::floor(px));
+        const uint32_t h = (static_cast<uint32_t>(cell.x) * 73856093u) ^
+                           (static_cast<uint32_t>(cell.y) * 19349663u);
+        const float turn = static_cast<float>((h * 2654435761u) >> 8) * (6.2831853f / 16777216.0f);
+        constexpr float kGolden = 2.39996323f;  // radians
+        float sum = 0.0f;
+        for (int k = 0; k < taps; ++k) {
+            float r = radius * std::sqrt((static_cast<float>(k) + 0.5f) / static_cast<float>(taps));
+            float a = static_cast<float>(k) * kGolden + turn;
+            sum += bilinear(m, px + r * vec2(std::cos(a), std::sin(a)), receiver, bias);
+        }
+        return sum / static_cast<float>(taps);
     }
 
     ShadowMapSettings settings_;
