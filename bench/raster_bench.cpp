@@ -99,6 +99,7 @@ double svetlo_frame_ms(const Workload& w, int threads, int frames) {
     scene.camera = w.camera;
     scene.film = Film{kWidth, kHeight};
     scene.render.engine = "raster";
+    scene.render.shadows = ShadowTechnique::None;  // the GL side draws none
     scene.render.ambient = Color(kAmbient);
     PhongMaterial m;
     m.blinn = true;

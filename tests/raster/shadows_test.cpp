@@ -260,6 +260,43 @@ TEST(ShadowVolumes, TheCameraInsideAShadowVolumeSeesTheSameShadows) {
     EXPECT_GT(shadowed, 500);
 }
 
+TEST(ShadowVolumes, ZPassCountsWrongWithTheCameraInsideAndZFailRight) {
+    // The teaching switch render.shadow_volume.count: z-pass is what the docs show failing.
+    json j = sphere_on_floor(kPoint, "raytraced");
+    j["camera"] = {{"position", {-0.3, 0.3, -0.2}}, {"look_at", {-2, 0, -3}}, {"fov", 60}};
+    const Image truth = render(j).aovs.at("visibility");
+    j["render"]["shadows"] = "volume";
+    j["render"]["shadow_volume"] = {{"count", "zpass"}};
+    EXPECT_LT(shadow_iou(render(j).aovs.at("visibility"), truth), 0.5);
+    // From outside every volume both counts agree.
+    j["camera"] = sphere_on_floor(kPoint, "volume")["camera"];
+    const Image outside = render(j).aovs.at("visibility");
+    j["render"]["shadows"] = "raytraced";
+    EXPECT_GT(shadow_iou(outside, render(j).aovs.at("visibility")), 0.99);
+}
+
+TEST(PlanarShadows, WithoutTheSlabAnOccluderAboveTheLightCastsAFalseShadow) {
+    // A quad 2 m above the point light: clipped away it casts nothing; projected whole
+    // through the light it lands, mirrored, on the floor (render.planar_shadows.clip false,
+    // the docs' picture).
+    json j = sphere_on_floor(kPoint, "planar");
+    j["objects"] = {{{"type", "quad"},
+                     {"corner", {0.5, 6, 0}},
+                     {"edge_u", {1, 0, 0}},
+                     {"edge_v", {0, 0, 1}},
+                     {"material", "m"}},
+                    floor_quad(5.0f, "m")};
+    auto shadowed = [&] {
+        const RenderResult r = render(j);
+        int n = 0;
+        for (const Color& c : r.aovs.at("visibility").pixels) n += c.r < 0.5f;
+        return n;
+    };
+    EXPECT_EQ(shadowed(), 0);
+    j["render"]["planar_shadows"] = {{"clip", false}};
+    EXPECT_GT(shadowed(), 100);
+}
+
 TEST(ShadowTechniques, OpenOccludersCastTheirShadows) {
     // A quad, a box without its top (an open mesh), and a box with a hole in its bottom.
     json open_box = {{"type", "mesh"},

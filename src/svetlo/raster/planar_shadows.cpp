@@ -154,7 +154,8 @@ public:
                             r > first && r <= last ? static_cast<uint8_t>(r - first) : uint8_t{0};
                     }
                     for (size_t r = first; r < last; ++r) {
-                        TriangleList shadow = projected(list, receivers_[r], casters_[k], diameter);
+                        TriangleList shadow = projected(list, receivers_[r], casters_[k], diameter,
+                                                        scene.render.shadow_teaching.planar_clip);
                         if (shadow.indices.empty()) continue;
                         PipelineState state;
                         state.depth_test = false;
@@ -191,7 +192,7 @@ private:
     /// Every triangle but the receiver's, clipped to the slab between the receiver's plane and
     /// the caster, flattened onto the plane from the caster.
     static TriangleList projected(const TriangleList& list, const Receiver& r,
-                                  const ShadowCaster& c, float diameter) {
+                                  const ShadowCaster& c, float diameter, bool clip_to_slab) {
         TriangleList out;
         const bool directional = c.kind == ShadowCaster::Kind::Directional;
         // The plane turned toward the caster; none when the caster lies in it or behind
@@ -218,12 +219,25 @@ private:
                     list.positions[list.indices[3 * t + static_cast<size_t>(k)]];
             // Above the plane (the far side casts nothing), and below the light (what lies
             // beyond it would project to the wrong side).
-            int count = clip(a, 3, b, [&](vec3 x) { return glm::dot(n, x) - d - epsilon; });
-            if (!directional && count >= 3)
-                count = clip(b, count, a,
-                             [&](vec3 x) { return light_height - (glm::dot(n, x) - d) - epsilon; });
-            else
-                a = b;
+            int count = 3;
+            if (clip_to_slab) {
+                count = clip(a, 3, b, [&](vec3 x) { return glm::dot(n, x) - d - epsilon; });
+                if (!directional && count >= 3)
+                    count = clip(b, count, a, [&](vec3 x) {
+                        return light_height - (glm::dot(n, x) - d) - epsilon;
+                    });
+                else
+                    a = b;
+            } else {
+                // Without the fix (render.planar_shadows.clip false, for the docs' picture):
+                // the whole triangle is projected, and what lies beyond the light lands on
+                // the wrong side; only a vertex level with the light (w = 0) is left out.
+                bool level = false;
+                for (int k = 0; k < 3; ++k)
+                    level |=
+                        std::abs((project * vec4(a[static_cast<size_t>(k)], 1.0f)).w) < epsilon;
+                if (level) continue;
+            }
             if (count < 3) continue;
             auto first = static_cast<uint32_t>(out.positions.size());
             for (int k = 0; k < count; ++k) {

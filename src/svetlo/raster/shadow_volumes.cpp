@@ -97,6 +97,14 @@ public:
                                       StencilOp::Keep};
         stencil_state.stencil.front = {StencilFunc::Always, StencilOp::Keep, StencilOp::DecrWrap,
                                        StencilOp::Keep};
+        if (scene.render.shadow_teaching.volume_count == VolumeCount::ZPass) {
+            // Heidmann's z-pass, for the docs' picture of its failure: front faces in front
+            // of the surface count up, back faces down; wrong wherever the camera is inside.
+            stencil_state.stencil.front = {StencilFunc::Always, StencilOp::Keep, StencilOp::Keep,
+                                           StencilOp::IncrWrap};
+            stencil_state.stencil.back = {StencilFunc::Always, StencilOp::Keep, StencilOp::Keep,
+                                          StencilOp::DecrWrap};
+        }
         // The flipped near caps are drawn as the list's own triangles, in their own winding,
         // with the faces' operations swapped: rasterized exactly as the depth pass drew them.
         PipelineState flipped_state = stencil_state;

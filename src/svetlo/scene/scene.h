@@ -284,6 +284,18 @@ struct ShadowMapSettings {
     int cascades = 1;  // directional lights: maps over slices of the camera's depth range
 };
 
+/// render.shadow_volume.count: how a stencil shadow volume is counted (docs/shadows.md).
+enum class VolumeCount { ZFail, ZPass };
+inline constexpr EnumName<VolumeCount> kVolumeCounts[] = {{"zfail", VolumeCount::ZFail},
+                                                          {"zpass", VolumeCount::ZPass}};
+
+/// Switches for the shadow techniques' teaching pictures (docs/shadows.md): the defaults are
+/// the robust forms, and the others show what goes wrong without them.
+struct ShadowTeachingSettings {
+    VolumeCount volume_count = VolumeCount::ZFail;  // z-pass fails with the camera in a volume
+    bool planar_clip = true;  // clip occluders to the slab between receiver and light
+};
+
 /// Settings of the rasterizer (svetlo extensions, docs/raster.md).
 struct RasterSettings {
     VisibilityMethod visibility = VisibilityMethod::ZBuffer;
@@ -308,6 +320,7 @@ struct RenderSettings {
     std::string accel = "bvh";    // none, grid, octree, bvh2, bvh (wide), embree
     int light_samples = 1;        // shadow rays per area light and shading point
     int area_shadow_points = 16;  // raster map and volume: point casters per light with area
+    ShadowTeachingSettings shadow_teaching;
     RasterSettings raster;
 };
 

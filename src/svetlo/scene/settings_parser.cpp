@@ -45,10 +45,27 @@ Film parse_film(const JsonNode& node) {
 }
 
 RenderSettings parse_render(const JsonNode& node) {
-    node.expect_object({"engine", "spp", "max_depth", "seed", "shading", "shadows", "shadow_map",
-                        "ambient", "background", "exposure", "accel", "light_samples",
-                        "area_shadow_points", "visibility", "cull", "antialias", "wireframe",
-                        "wireframe_color", "tessellation"});
+    node.expect_object({"engine",
+                        "spp",
+                        "max_depth",
+                        "seed",
+                        "shading",
+                        "shadows",
+                        "shadow_map",
+                        "ambient",
+                        "background",
+                        "exposure",
+                        "accel",
+                        "light_samples",
+                        "area_shadow_points",
+                        "shadow_volume",
+                        "planar_shadows",
+                        "visibility",
+                        "cull",
+                        "antialias",
+                        "wireframe",
+                        "wireframe_color",
+                        "tessellation"});
     RenderSettings r;
     if (auto n = node.find("engine"))
         r.engine = n->as_choice({"raster", "whitted", "path", "radiosity"});
@@ -77,6 +94,14 @@ RenderSettings parse_render(const JsonNode& node) {
         r.accel = n->as_choice({"none", "grid", "octree", "bvh2", "bvh", "embree"});
     if (auto n = node.find("light_samples")) {
         r.light_samples = static_cast<int>(n->as_integer(1, 4096));
+    }
+    if (auto sv = node.find("shadow_volume")) {
+        sv->expect_object({"count"});
+        if (auto n = sv->find("count")) r.shadow_teaching.volume_count = n->as_enum(kVolumeCounts);
+    }
+    if (auto ps = node.find("planar_shadows")) {
+        ps->expect_object({"clip"});
+        if (auto n = ps->find("clip")) r.shadow_teaching.planar_clip = n->as_bool();
     }
     if (auto n = node.find("area_shadow_points"))
         r.area_shadow_points = static_cast<int>(n->as_integer(1, 256));
