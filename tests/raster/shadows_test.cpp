@@ -415,8 +415,8 @@ TEST(ShadowTechniques, TheDebugBuffersShowTheMapAndTheCount) {
 
 TEST(ShadowSettings, BadValuesAreRefusedNamingTheKey) {
     const std::pair<const char*, json> bad[] = {
-        {"resolution", 0}, {"bias", -0.1},  {"kernel", 0},        {"kernel", 65},
-        {"filter", "box"}, {"cascades", 9}, {"normal_offset", -1}};
+        {"resolution", 0}, {"bias", -0.1},  {"kernel", 0},         {"kernel", 65},
+        {"filter", "box"}, {"cascades", 9}, {"normal_offset", -1}, {"slope_bias", -1}};
     for (const auto& [key, value] : bad) {
         json j = sphere_on_floor(kPoint, "map");
         j["render"]["shadow_map"] = {{key, value}};

@@ -17,7 +17,8 @@
 //
 // Bias: the lookup moves off the surface along its normal by `normal_offset` texels at the
 // receiver (normal offset), and a receiver counts as lit up to `bias` metres plus one texel
-// times tan(theta) per texel of filter radius behind the stored depth (slope-scaled bias).
+// times tan(theta) per texel of filter radius behind the stored depth, times `slope_bias`
+// (slope-scaled bias). All three at 0 show the acne that bias exists to remove.
 //
 // Filters: `none` compares one texel; `pcf` (Reeves, Salesin and Cook 1987) averages
 // kernel x kernel bilinear comparisons, as OpenGL's sampler2DShadow with GL_LINEAR does per
@@ -98,10 +99,10 @@ DepthMap render_map(const TriangleList& list, const CameraMatrices& cam, float t
 }
 
 /// A perspective view from `eye` along `forward`, `tan_half` the tangent of half its square
-/// field of view.
-CameraMatrices perspective_view(vec3 eye, vec3 forward, float tan_half, int res, float near) {
+/// field of view; `up` (not parallel to forward) is the image's top.
+CameraMatrices perspective_view(vec3 eye, vec3 forward, vec3 up, float tan_half, int res,
+                                float near) {
     CameraMatrices cam;
-    vec3 up = std::abs(forward.y) < 0.9f ? vec3(0.0f, 1.0f, 0.0f) : vec3(1.0f, 0.0f, 0.0f);
     cam.view = glm::lookAt(eye, eye + forward, up);
     cam.projection = glm::infinitePerspective(2.0f * std::atan(tan_half), 1.0f, near);
     cam.near = near;
@@ -202,7 +203,7 @@ public:
         // texel of offset.
         const float cos_theta = std::clamp(glm::dot(at.n, wi), 0.1f, 1.0f);
         const float tan_theta = std::sqrt(1.0f - cos_theta * cos_theta) / cos_theta;
-        const float slope = texel * tan_theta;
+        const float slope = settings_.slope_bias * texel * tan_theta;
         switch (settings_.filter) {
             case ShadowFilter::None:
                 return compare(m.at(static_cast<int>(px.x), static_cast<int>(px.y)), receiver,
@@ -219,8 +220,8 @@ public:
     }
 
     Image shadow_map_image() const override {
-        // Light 0's first caster; a cube map unfolded as a cross (+y above, -y below the row
-        // -x +z +x -z).
+        // Light 0's first caster; a cube map unfolded as a cross: the row -x -z +x +z (turning
+        // right from the left), +y above -z and -y below it; each face with its filter margin.
         for (size_t k = 0; k < casters_.size(); ++k) {
             if (casters_[k].source != 0 || maps_[k].maps.empty()) continue;
             const CasterMaps& cm = maps_[k];
@@ -235,7 +236,7 @@ public:
             };
             if (cm.layout == CasterMaps::Layout::Cube) {
                 Image image(4 * r, 3 * r);
-                const int cells[6][2] = {{2, 1}, {0, 1}, {1, 0}, {1, 2}, {1, 1}, {3, 1}};
+                const int cells[6][2] = {{2, 1}, {0, 1}, {1, 0}, {1, 2}, {3, 1}, {1, 1}};
                 for (int face = 0; face < 6; ++face)
                     put(image, cm.maps[static_cast<size_t>(face)], cells[face][0] * r,
                         cells[face][1] * r);
@@ -273,16 +274,23 @@ private:
             1.0f / (1.0f - 2.0f * static_cast<float>(margin) / static_cast<float>(res));
         if (c.kind == ShadowCaster::Kind::Spot && c.cos_outer > std::cos(radians(80.0f))) {
             float tan_half = std::tan(std::acos(c.cos_outer)) * spread;
-            cm.maps.push_back(
-                render_map(list, perspective_view(c.position, c.direction, tan_half, res, near),
-                           tan_half, threads));
+            cm.maps.push_back(render_map(
+                list,
+                perspective_view(c.position, c.direction,
+                                 std::abs(c.direction.y) < 0.9f ? vec3(0, 1, 0) : vec3(1, 0, 0),
+                                 tan_half, res, near),
+                tan_half, threads));
             return cm;
         }
         cm.layout = CasterMaps::Layout::Cube;
+        // +x, -x, +y, -y, +z, -z, each with the top that lets them unfold into a cross
+        // (shadow_map_image): the four sideways faces upright, +y and -y joined to -z.
         const vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-        for (vec3 axis : axes) {
+        const vec3 ups[6] = {{0, 1, 0}, {0, 1, 0}, {0, 0, 1}, {0, 0, -1}, {0, 1, 0}, {0, 1, 0}};
+        for (int face = 0; face < 6; ++face) {
             cm.maps.push_back(render_map(
-                list, perspective_view(c.position, axis, spread, res, near), spread, threads));
+                list, perspective_view(c.position, axes[face], ups[face], spread, res, near),
+                spread, threads));
         }
         return cm;
     }

@@ -279,6 +279,7 @@ struct ShadowMapSettings {
     int resolution = 2048;  // texels per side of each map (a cube map's face)
     float bias = 0.002f;    // m: a receiver counts as lit up to this far behind the stored depth
     float normal_offset = 1.0f;  // texels: the lookup moves this far off the surface, along n
+    float slope_bias = 1.0f;     // texels of depth per texel of offset, times tan(theta)
     ShadowFilter filter = ShadowFilter::Pcf;
     int kernel = 5;    // PCF taps per side; PCSS: taps per side of the search and the filter
     int cascades = 1;  // directional lights: maps over slices of the camera's depth range

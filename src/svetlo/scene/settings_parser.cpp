@@ -75,12 +75,14 @@ RenderSettings parse_render(const JsonNode& node) {
     if (auto n = node.find("shading")) r.shading = n->as_enum(kShadingModes);
     if (auto n = node.find("shadows")) r.shadows = n->as_enum(kShadowTechniques);
     if (auto sm = node.find("shadow_map")) {
-        sm->expect_object({"resolution", "bias", "normal_offset", "filter", "kernel", "cascades"});
+        sm->expect_object(
+            {"resolution", "bias", "normal_offset", "slope_bias", "filter", "kernel", "cascades"});
         if (auto n = sm->find("resolution")) {
             r.shadow_map.resolution = static_cast<int>(n->as_integer(1, 16384));
         }
         if (auto n = sm->find("bias")) r.shadow_map.bias = n->as_non_negative();
         if (auto n = sm->find("normal_offset")) r.shadow_map.normal_offset = n->as_non_negative();
+        if (auto n = sm->find("slope_bias")) r.shadow_map.slope_bias = n->as_non_negative();
         if (auto n = sm->find("filter")) r.shadow_map.filter = n->as_enum(kShadowFilters);
         if (auto n = sm->find("kernel"))
             r.shadow_map.kernel = static_cast<int>(n->as_integer(1, 64));
