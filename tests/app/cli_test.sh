@@ -111,6 +111,19 @@ done
 "$svetlo" render "$work/solids.json" --engine raster -o "$work/rp.png" -q --set render.visibility=painter \
     --set render.cull=back --set render.wireframe=bresenham && pass || fail "raster painter"
 "$svetlo" info "$work/good.json" --matrices | grep -q '^projection' && pass || fail "info --matrices"
+# Every shadow technique, and the teaching AOVs (PNG and PFM).
+for t in none raytraced map volume planar; do
+    "$svetlo" render "$work/solids.json" --engine raster -o "$work/s_$t.png" -q --set render.shadows=$t \
+        --aov visibility="$work/sv_$t.pfm" && [ -s "$work/s_$t.png" ] && pass || fail "raster shadows $t"
+done
+"$svetlo" render "$work/solids.json" --engine raster -o "$work/sm.png" -q --set render.shadows=map \
+    --set render.shadow_map.resolution=64 --aov shadow_map="$work/map.png" --aov stencil="$work/st.png" \
+    2> /dev/null && fail "stencil AOV without volumes" || pass
+"$svetlo" render "$work/solids.json" --engine raster -o "$work/sm.png" -q --set render.shadows=map \
+    --set render.shadow_map.resolution=64 --aov shadow_map="$work/map.png" &&
+    [ -s "$work/map.png" ] && pass || fail "shadow_map AOV"
+"$svetlo" render "$work/solids.json" --engine raster -o "$work/sv.png" -q --set render.shadows=volume \
+    --aov stencil="$work/st.pfm" && [ -s "$work/st.pfm" ] && pass || fail "stencil AOV"
 
 # --- bad command lines ---
 "$svetlo" > /dev/null 2>&1 && fail "no subcommand" || pass
@@ -120,6 +133,10 @@ expect_error "bad --set" "--set" render "$work/good.json" -o "$work/keep.png" --
 expect_error "--set into a number" "--set camera.fov.x" render "$work/good.json" -o "$work/keep.png" --set camera.fov.x=1
 expect_error "non-finite --set" "camera.fov: must be a number" render "$work/good.json" -o "$work/keep.png" --set camera.fov=1e999
 expect_error "unknown aov" "--aov" render "$work/good.json" -o "$work/keep.png" --aov shine="$work/s.png"
+expect_error "shadow_map aov of whitted" "--aov shadow_map: needs render.engine raster" render "$work/good.json" -o "$work/keep.png" --aov shadow_map="$work/s.png"
+expect_error "shadow map kernel 0" "render.shadow_map.kernel" render "$work/good.json" -o "$work/keep.png" --set render.shadow_map.kernel=0
+expect_error "shadow map filter" "render.shadow_map.filter" render "$work/good.json" -o "$work/keep.png" --set render.shadow_map.filter=box
+expect_error "shadow map too large" "render.shadow_map.resolution: the shadow maps would take" render "$work/good.json" -o "$work/keep.png" --engine raster --set render.shadows=map --set render.shadow_map.resolution=16384
 expect_error "unwritable output" "-o" render "$work/good.json" -o "$work/no/such/dir/out.png"
 expect_error "unknown extension" "-o" render "$work/good.json" -o "$work/out.jpg"
 expect_error "missing scene" "file" render "$work/nothing.json" -o "$work/keep.png"
