@@ -18,13 +18,8 @@
 #include <string>
 #include <vector>
 
-#ifdef SVETLO_HAS_OSMESA
-#define GL_GLEXT_PROTOTYPES 1
-#include <GL/gl.h>
-#include <GL/glext.h>
-#include <GL/osmesa.h>
-#endif
-
+#include "bench_common.h"
+#include "shadow_bench.h"
 #include "svetlo/geometry/tessellate.h"
 #include "svetlo/raster/camera_matrices.h"
 #include "svetlo/raster/raster_engine.h"
@@ -32,7 +27,9 @@
 namespace svetlo {
 namespace {
 
-constexpr int kWidth = 1920, kHeight = 1080;
+using bench::kHeight;
+using bench::kWidth;
+using bench::median;
 
 struct Workload {
     std::string name;
@@ -88,11 +85,6 @@ Workload fragment_heavy() {
 constexpr float kKd = 0.6f, kKs = 0.3f, kShininess = 32.0f, kAmbient = 0.05f;
 const vec3 kLightPos(2.0f, 3.0f, 4.0f);
 constexpr float kIntensity = 30.0f;
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v[v.size() / 2];
-}
 
 double svetlo_frame_ms(const Workload& w, int threads, int frames) {
     Scene scene;
@@ -159,45 +151,11 @@ void main() {
     color = vec4(vec3(ambient + f * intensity * cos_t / d2), 1.0);
 })";
 
-GLuint compile(GLenum type, const char* source) {
-    GLuint s = glCreateShader(type);
-    glShaderSource(s, 1, &source, nullptr);
-    glCompileShader(s);
-    GLint ok = 0;
-    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[1024];
-        glGetShaderInfoLog(s, sizeof log, nullptr, log);
-        std::fprintf(stderr, "shader: %s\n", log);
-        std::exit(1);
-    }
-    return s;
-}
-
 double llvmpipe_frame_ms(const Workload& w, int threads, int frames) {
-    setenv("LP_NUM_THREADS", std::to_string(threads).c_str(), 1);  // before the first context
-    const int attribs[] = {OSMESA_FORMAT,
-                           OSMESA_RGBA,
-                           OSMESA_DEPTH_BITS,
-                           24,
-                           OSMESA_PROFILE,
-                           OSMESA_CORE_PROFILE,
-                           OSMESA_CONTEXT_MAJOR_VERSION,
-                           3,
-                           OSMESA_CONTEXT_MINOR_VERSION,
-                           3,
-                           0};
-    OSMesaContext ctx = OSMesaCreateContextAttribs(attribs, nullptr);
-    if (!ctx) {
-        std::fprintf(stderr, "OSMesa: no OpenGL 3.3 core context\n");
-        return 0.0;
-    }
-    std::vector<unsigned char> buffer(static_cast<size_t>(kWidth) * kHeight * 4);
-    OSMesaMakeCurrent(ctx, buffer.data(), GL_UNSIGNED_BYTE, kWidth, kHeight);
-    GLuint program = glCreateProgram();
-    glAttachShader(program, compile(GL_VERTEX_SHADER, kVertexShader));
-    glAttachShader(program, compile(GL_FRAGMENT_SHADER, kFragmentShader));
-    glLinkProgram(program);
+    std::vector<unsigned char> buffer;
+    OSMesaContext ctx = bench::gl_context(threads, buffer);
+    if (!ctx) return 0.0;
+    GLuint program = bench::program(kVertexShader, nullptr, kFragmentShader);
     glUseProgram(program);
     GLuint vao, vbo[2], ibo;
     glGenVertexArrays(1, &vao);
@@ -272,5 +230,6 @@ int main(int argc, char** argv) {
 #endif
         std::fflush(stdout);
     }
+    bench::shadow_benchmarks(threads, frames);
     return 0;
 }
