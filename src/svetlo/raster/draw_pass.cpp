@@ -53,7 +53,7 @@ void draw_samples(const TriangleList& list, const CameraMatrices& camera,
     fit_sample_bounds(f, {sp});
     prepare_pass(list, camera, state, f, threads);
     const bool stencil = state.stencil.enabled && !targets.stencil.empty();
-    const bool items = !targets.primitive.empty();
+    const bool items = !targets.primitive.empty() && state.write_items;
     tbb::enumerable_thread_specific<TileBuffers> buffers;
     parallel_tiles(
         targets.width, targets.height, kTile, threads,
@@ -70,6 +70,27 @@ void draw_samples(const TriangleList& list, const CameraMatrices& camera,
                 std::copy_n(targets.depth.begin() + from, row, buf.depth.begin() + to);
                 if (stencil)
                     std::copy_n(targets.stencil.begin() + from, row, buf.stencil.begin() + to);
+            }
+            // The nearest stored depth per 8 x 8 block, for a pass that tests depth without
+            // writing it (rasterize_plain skips blocks its triangles are wholly in front of).
+            buf.block_near.clear();
+            if (state.depth_test && !state.depth_write) {
+                constexpr int kB = TileBuffers::kBlock;
+                const size_t blocks = static_cast<size_t>(kTile / kB) * (kTile / kB);
+                buf.block_near.assign(blocks, kInfinity);
+                buf.block_far.assign(blocks, -kInfinity);
+                for (int j = tile.y0; j < tile.y1; ++j) {
+                    const float* d = buf.depth.data() + static_cast<size_t>(j - tile.y0) * row;
+                    for (int i = 0; i < tw; ++i) {
+                        const size_t b = static_cast<size_t>((j - tile.y0) / kB) * (kTile / kB) +
+                                         static_cast<size_t>(i / kB);
+                        for (int s = 0; s < S; ++s) {
+                            float z = d[static_cast<size_t>(i) * S + s];
+                            buf.block_near[b] = std::min(buf.block_near[b], z);
+                            buf.block_far[b] = std::max(buf.block_far[b], z);
+                        }
+                    }
+                }
             }
             PipelineState tile_state = state;
             tile_state.stencil.enabled = stencil;

@@ -29,6 +29,10 @@ struct PipelineState {
     // depth key's magnitude), so that a surface drawn again in a later pass, rasterized by
     // another path, is not nearer than itself. Taken by the stencil and no-depth-write path.
     float depth_bias = 0.0f;
+    // The item buffer (RenderTargets::primitive) written where samples pass, as glColorMask
+    // for the visibility buffer; a pass that writes neither it nor depth may skip samples that
+    // would only pass.
+    bool write_items = true;
 };
 
 /// Per-sample buffers that persist from pass to pass, samples x width x height, sample s of

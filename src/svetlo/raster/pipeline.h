@@ -178,6 +178,9 @@ struct TileBuffers {
     std::vector<float> l1, l2;        // screen barycentrics of vertices 1 and 2 per sample,
                                       // written by rasterize_small (one sample per pixel)
     std::vector<float> block_far;     // per block: max depth over its samples
+    std::vector<float> block_near;    // per block: min depth over its samples, when a pass
+                                      // that writes no depth keeps it (else empty; block_far
+                                      // is then exact too)
     std::vector<Color> color;         // resolved colour per pixel, accumulated over passes
     std::vector<Color> sample_color;  // the fast path's colour per sample
     std::vector<Color> aov[4];        // depth, normal, albedo, visibility per pixel

@@ -160,6 +160,7 @@ public:
                         PipelineState state;
                         state.depth_test = false;
                         state.depth_write = false;
+                        state.write_items = false;
                         state.stencil.enabled = true;
                         state.stencil.ref = static_cast<uint8_t>(0x80 | (r - first + 1));
                         state.stencil.read_mask = 0x7f;
@@ -177,6 +178,8 @@ public:
             }
         }
     }
+
+    bool needs_surface() const override { return false; }
 
     float lit(size_t k, const ShadowSample& at) const override {
         const std::vector<uint8_t>& mask = lit_[k][static_cast<size_t>(at.pass)];

@@ -213,8 +213,14 @@ void rasterize(uint32_t id, const SetupTriangle& t, const TriangleEdges& te, Pix
 
 /// Stage 5, the plain form a student can follow: per sample, the stencil test and its
 /// operations around the depth test (stencil.h), and the depth written only when the state
-/// says so. Used when the stencil is on or depth writes are off; no hierarchical z, and the
-/// blocks' deepest depths are left as they were (larger than the truth: safe).
+/// says so. Used when the stencil is on or depth writes are off; the blocks' deepest depths
+/// are left as they were (larger than the truth: safe). Two shortcuts per 8 x 8 block, which
+/// shadow volumes' long sides need: a block no edge lets in is skipped, and so is a block
+/// where every sample would pass the depth test and passing changes nothing (no depth or item
+/// writes, the stencil's pass operation Keep): the triangle's farthest depth over the block is
+/// nearer than the block's nearest stored depth (TileBuffers::block_near, when a pass keeps it).
+/// And where the triangle's nearest depth over the block is behind the block's farthest,
+/// every covered sample fails the depth test: no depth is computed.
 void rasterize_plain(uint32_t id, const SetupTriangle& t, const TriangleEdges& te, PixelSpan span,
                      const Tile& tile, const SamplePattern& sp, const PipelineState& state,
                      TileBuffers& buf) {
@@ -223,33 +229,141 @@ void rasterize_plain(uint32_t id, const SetupTriangle& t, const TriangleEdges& t
     const StencilFace& face = t.front ? st.front : st.back;
     double dzdx, dzdy;
     te.depth_gradient(t, dzdx, dzdy);
-    const int tw = tile.x1 - tile.x0, S = sp.count;
-    for (int py = ys; py < ye; ++py) {
-        for (int px = xs; px < xe; ++px) {
-            for (int s = 0; s < S; ++s) {
-                int64_t sx = static_cast<int64_t>(px) * kSubpixel + sp.ox[s];
-                int64_t sy = static_cast<int64_t>(py) * kSubpixel + sp.oy[s];
-                bool covered = true;
-                for (const Edge& e : te.e) covered = covered && e.at(sx, sy) + e.bias >= 0;
-                if (!covered) continue;
-                size_t i = (static_cast<size_t>(py - tile.y0) * tw + (px - tile.x0)) * S + s;
-                uint8_t unused = 0;
-                uint8_t& stencil = st.enabled ? buf.stencil[i] : unused;
-                if (st.enabled && !stencil_test(face.func, st.ref, stencil, st.read_mask)) {
-                    stencil = stencil_apply(face.fail, stencil, st.ref, st.write_mask);
-                    continue;
+    const int tw = tile.x1 - tile.x0, S = sp.count, kB = TileBuffers::kBlock, bw = kTile / kB;
+    const bool passing_is_idle =
+        state.depth_test && !state.depth_write && !state.write_items && !buf.block_near.empty() &&
+        (!st.enabled || (face.pass == StencilOp::Keep && face.func == StencilFunc::Always));
+    // The depth plane at pixel position (px, py), in pixels.
+    const double x0f = static_cast<double>(t.x[0]) / kSubpixel,
+                 y0f = static_cast<double>(t.y[0]) / kSubpixel;
+    auto plane = [&](double px, double py) { return t.z[0] + dzdx * (px - x0f) + dzdy * (py - y0f); };
+    for (int by = (ys - tile.y0) / kB; by <= (ye - 1 - tile.y0) / kB; ++by) {
+        // The columns of this row of blocks the triangle can reach: each edge bounds x on one
+        // side over the rows' y range (a long, thin shadow-volume side crosses a tile's
+        // bounding box on a few blocks of each row).
+        const int ry0 = std::max(ys, tile.y0 + by * kB), ry1 = std::min(ye, tile.y0 + (by + 1) * kB);
+        double left = -1e30, right = 1e30;
+        for (const Edge& e : te.e) {
+            const double ya = static_cast<double>(ry0) * kSubpixel,
+                         yb = static_cast<double>(ry1) * kSubpixel;
+            const double ea = static_cast<double>(e.b) * ya + static_cast<double>(e.c + e.bias),
+                         eb = static_cast<double>(e.b) * yb + static_cast<double>(e.c + e.bias);
+            if (e.a == 0) {
+                if (std::max(ea, eb) < 0.0) right = -1e30;  // the whole row is outside
+            } else if (e.a > 0) {  // inside where x >= -E(0, y) / a, for some y of the rows
+                const double a = static_cast<double>(e.a);
+                left = std::max(left, std::min(-ea / a, -eb / a));
+            } else {  // inside where x <= -E(0, y) / a
+                const double a = static_cast<double>(e.a);
+                right = std::min(right, std::max(-ea / a, -eb / a));
+            }
+        }
+        const int cx0 = std::max(xs, static_cast<int>(std::max(left / kSubpixel - 1.0, -1e9)));
+        const int cx1 = std::min(xe, static_cast<int>(std::min(right / kSubpixel + 2.0, 1e9)));
+        if (cx0 >= cx1) continue;
+        for (int bx = (cx0 - tile.x0) / kB; bx <= (cx1 - 1 - tile.x0) / kB; ++bx) {
+            const int x0 = std::max(xs, tile.x0 + bx * kB), x1 = std::min(xe, tile.x0 + (bx + 1) * kB);
+            const int y0 = ry0, y1 = ry1;
+            // Outside one edge at all four corners of the block: nothing covered.
+            const int64_t xa = static_cast<int64_t>(x0) * kSubpixel,
+                          xb = static_cast<int64_t>(x1) * kSubpixel - 1;
+            const int64_t ya = static_cast<int64_t>(y0) * kSubpixel,
+                          yb = static_cast<int64_t>(y1) * kSubpixel - 1;
+            bool outside = false, inside = true;
+            for (const Edge& e : te.e) {
+                const int64_t c[4] = {e.at(xa, ya), e.at(xb, ya), e.at(xa, yb), e.at(xb, yb)};
+                outside = outside || std::max({c[0], c[1], c[2], c[3]}) + e.bias < 0;
+                inside = inside && std::min({c[0], c[1], c[2], c[3]}) + e.bias >= 0;
+            }
+            if (outside) continue;
+            bool all_fail = false;
+            if (passing_is_idle) {
+                const double c[4] = {plane(x0, y0), plane(x1, y0), plane(x0, y1), plane(x1, y1)};
+                auto zmax = static_cast<float>(std::max({c[0], c[1], c[2], c[3]}));
+                auto zmin = static_cast<float>(std::min({c[0], c[1], c[2], c[3]}));
+                const size_t b = static_cast<size_t>(by) * bw + bx;
+                // (z + bias |z| grows with z: the corners bound it too.)
+                if (zmax + state.depth_bias * std::abs(zmax) < buf.block_near[b])
+                    continue;  // every sample passes, and passing does nothing
+                all_fail = zmin >= buf.block_far[b];
+            }
+            if (all_fail && inside && st.enabled && face.func == StencilFunc::Always) {
+                // Every sample of the block covered and failing: one operation on a run of
+                // bytes per row (a shadow volume's count behind the scene, the common case).
+                for (int py = y0; py < y1; ++py) {
+                    uint8_t* row = buf.stencil.data() +
+                                   (static_cast<size_t>(py - tile.y0) * tw + (x0 - tile.x0)) * S;
+                    const size_t n = static_cast<size_t>(x1 - x0) * S;
+                    if (face.depth_fail == StencilOp::IncrWrap && st.write_mask == 0xff) {
+                        for (size_t k = 0; k < n; ++k) row[k] = static_cast<uint8_t>(row[k] + 1);
+                    } else if (face.depth_fail == StencilOp::DecrWrap && st.write_mask == 0xff) {
+                        for (size_t k = 0; k < n; ++k) row[k] = static_cast<uint8_t>(row[k] - 1);
+                    } else {
+                        for (size_t k = 0; k < n; ++k)
+                            row[k] = stencil_apply(face.depth_fail, row[k], st.ref, st.write_mask);
+                    }
                 }
-                auto z = static_cast<float>(t.z[0] +
-                                            dzdx * static_cast<double>(sx - t.x[0]) / kSubpixel +
-                                            dzdy * static_cast<double>(sy - t.y[0]) / kSubpixel);
-                if (state.depth_test && !(z + state.depth_bias * std::abs(z) < buf.depth[i])) {
-                    if (st.enabled)
-                        stencil = stencil_apply(face.depth_fail, stencil, st.ref, st.write_mask);
-                    continue;
+                continue;
+            }
+            if (all_fail) {
+                // Coverage and the stencil only: each covered sample takes the depth-fail
+                // operation (or the stencil test's failing one).
+                for (int py = y0; py < y1; ++py) {
+                    for (int s = 0; s < S; ++s) {
+                        const int64_t sx = static_cast<int64_t>(x0) * kSubpixel + sp.ox[s];
+                        const int64_t sy = static_cast<int64_t>(py) * kSubpixel + sp.oy[s];
+                        int64_t w0 = te.e[0].at(sx, sy) + te.e[0].bias,
+                                w1 = te.e[1].at(sx, sy) + te.e[1].bias,
+                                w2 = te.e[2].at(sx, sy) + te.e[2].bias;
+                        const int64_t d0 = te.e[0].a * kSubpixel, d1 = te.e[1].a * kSubpixel,
+                                      d2 = te.e[2].a * kSubpixel;
+                        size_t i = (static_cast<size_t>(py - tile.y0) * tw + (x0 - tile.x0)) * S + s;
+                        for (int px = x0; px < x1; ++px, w0 += d0, w1 += d1, w2 += d2, i += S) {
+                            if ((w0 | w1 | w2) < 0 || !st.enabled) continue;
+                            uint8_t& stencil = buf.stencil[i];
+                            const bool passes = stencil_test(face.func, st.ref, stencil, st.read_mask);
+                            stencil = stencil_apply(passes ? face.depth_fail : face.fail, stencil,
+                                                    st.ref, st.write_mask);
+                        }
+                    }
                 }
-                if (st.enabled) stencil = stencil_apply(face.pass, stencil, st.ref, st.write_mask);
-                if (state.depth_write) buf.depth[i] = z;
-                buf.tri[i] = id;
+                continue;
+            }
+            for (int py = y0; py < y1; ++py) {
+                for (int s = 0; s < S; ++s) {
+                    const int64_t sx = static_cast<int64_t>(x0) * kSubpixel + sp.ox[s];
+                    const int64_t sy = static_cast<int64_t>(py) * kSubpixel + sp.oy[s];
+                    int64_t w0 = te.e[0].at(sx, sy) + te.e[0].bias,
+                            w1 = te.e[1].at(sx, sy) + te.e[1].bias,
+                            w2 = te.e[2].at(sx, sy) + te.e[2].bias;
+                    const int64_t d0 = te.e[0].a * kSubpixel, d1 = te.e[1].a * kSubpixel,
+                                  d2 = te.e[2].a * kSubpixel;
+                    size_t i = (static_cast<size_t>(py - tile.y0) * tw + (x0 - tile.x0)) * S + s;
+                    for (int px = x0; px < x1; ++px, w0 += d0, w1 += d1, w2 += d2, i += S) {
+                        if ((w0 | w1 | w2) < 0) continue;
+                        uint8_t unused = 0;
+                        uint8_t& stencil = st.enabled ? buf.stencil[i] : unused;
+                        if (st.enabled && !stencil_test(face.func, st.ref, stencil, st.read_mask)) {
+                            stencil = stencil_apply(face.fail, stencil, st.ref, st.write_mask);
+                            continue;
+                        }
+                        const int64_t x = static_cast<int64_t>(px) * kSubpixel + sp.ox[s];
+                        auto z = static_cast<float>(
+                            t.z[0] + dzdx * static_cast<double>(x - t.x[0]) / kSubpixel +
+                            dzdy * static_cast<double>(sy - t.y[0]) / kSubpixel);
+                        if (state.depth_test &&
+                            !(z + state.depth_bias * std::abs(z) < buf.depth[i])) {
+                            if (st.enabled)
+                                stencil =
+                                    stencil_apply(face.depth_fail, stencil, st.ref, st.write_mask);
+                            continue;
+                        }
+                        if (st.enabled)
+                            stencil = stencil_apply(face.pass, stencil, st.ref, st.write_mask);
+                        if (state.depth_write) buf.depth[i] = z;
+                        buf.tri[i] = id;
+                    }
+                }
             }
         }
     }

@@ -44,6 +44,18 @@ void fill_masks(const ShadowTechniqueState& technique, const FrameState& f, cons
             const uint32_t id = buf.tri[i];
             if (id == kNone) continue;
             ShadowSample at;
+            at.pass = pass;
+            at.i = tile.x0 + static_cast<int>(pixel % static_cast<size_t>(tw));
+            at.j = tile.y0 + static_cast<int>(pixel / static_cast<size_t>(tw));
+            at.s = s;
+            if (!technique.needs_surface()) {
+                // A screen-space mask: where every caster lights the sample, V is 1 whether
+                // it faces them or not; the surface is needed only where one does not.
+                bool all_lit = true;
+                for (size_t k = 0; k < casters.size() && all_lit; ++k)
+                    all_lit = technique.lit(k, at) == 1.0f;
+                if (all_lit) continue;
+            }
             const SetupTriangle& t = f.tri(id);
             const ClipVertex& A = f.vertex(t.v[0]);
             const ClipVertex& B = f.vertex(t.v[1]);
@@ -58,10 +70,6 @@ void fill_masks(const ShadowTechniqueState& technique, const FrameState& f, cons
             at.p = w.b[0] * A.world + w.b[1] * B.world + w.b[2] * C.world;
             vec3 ng = face_normal(t, A, B, C);
             at.n = glm::dot(ng, view_direction(f, at.p)) >= 0.0f ? ng : -ng;
-            at.pass = pass;
-            at.i = tile.x0 + static_cast<int>(pixel % static_cast<size_t>(tw));
-            at.j = tile.y0 + static_cast<int>(pixel / static_cast<size_t>(tw));
-            at.s = s;
             std::fill(sum.begin(), sum.end(), 0.0f);
             std::fill(count.begin(), count.end(), 0.0f);
             for (size_t k = 0; k < casters.size(); ++k) {

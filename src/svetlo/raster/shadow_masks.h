@@ -39,6 +39,9 @@ public:
     /// How much of caster k's light reaches the sample, from 0 (shadowed) to 1 (lit). Called
     /// only for casters the sample faces; concurrently from many tiles.
     virtual float lit(size_t k, const ShadowSample& sample) const = 0;
+    /// Whether lit() reads the sample's position and normal (false: only where it lies in the
+    /// frame, as the stencil techniques' masks).
+    virtual bool needs_surface() const { return true; }
     /// The debug AOVs (docs/shadows.md): light 0's depth map, with a cube map unfolded, and
     /// the shadow-volume count per pixel; empty images where the technique has none.
     virtual Image shadow_map_image() const { return {}; }

@@ -91,6 +91,7 @@ public:
         depth_state.cull = f.cull;
         PipelineState stencil_state;
         stencil_state.depth_write = false;
+        stencil_state.write_items = false;
         stencil_state.depth_bias = 1.0f / 65536.0f;  // an open surface's own cap lies behind it
         stencil_state.stencil.enabled = true;
         stencil_state.stencil.back = {StencilFunc::Always, StencilOp::Keep, StencilOp::IncrWrap,
@@ -128,6 +129,8 @@ public:
             }
         }
     }
+
+    bool needs_surface() const override { return false; }
 
     float lit(size_t k, const ShadowSample& at) const override {
         const std::vector<uint8_t>& mask = lit_[k][static_cast<size_t>(at.pass)];
@@ -187,6 +190,39 @@ private:
             used[t] = 1;
             flipped[t] = facing ? 0 : 1;
         }
+        // Far caps at infinity as a fan: the far caps of an object's regions, seen from the
+        // caster, cover the directions its silhouette encloses; the stencil counts winding
+        // numbers, so a fan from one direction A over the object's side edges counts the same
+        // as one far cap per triangle, with a triangle per side edge instead of one per cap.
+        // It holds where every direction from the caster to the object lies within 90 degrees
+        // of A (the fan's triangles are then the small spherical ones): a point or spot caster
+        // outside the object. Else, and for finite volumes, one far cap per triangle.
+        std::vector<uint32_t> apex(list.objects.size(), TriangleList::kOpen);
+        if (!finite && !directional) {
+            for (size_t o = 0; o < list.objects.size(); ++o) {
+                const PrimitiveRange r = list.objects[o];
+                vec3 centre(0.0f);
+                float count = 0.0f;
+                for (uint32_t t = r.first; t < r.end; ++t) {
+                    if (!used[t]) continue;
+                    for (int k = 0; k < 3; ++k) centre += list.positions[list.indices[3 * t + k]];
+                    count += 3.0f;
+                }
+                if (count == 0.0f) continue;
+                const vec3 a = centre / count - c.position;
+                bool within = glm::dot(a, a) > 0.0f;
+                for (uint32_t t = r.first; t < r.end && within; ++t) {
+                    for (int k = 0; k < 3 && used[t]; ++k) {
+                        vec3 d = list.positions[list.indices[3 * t + k]] - c.position;
+                        within = within && glm::dot(d, a) > 1e-3f * glm::length(d) * glm::length(a);
+                    }
+                }
+                if (!within) continue;
+                apex[o] = static_cast<uint32_t>(v.positions.size());
+                v.positions.push_back(a);
+                v.w.push_back(0.0f);
+            }
+        }
         TriangleList flipped_caps;
         flipped_caps.positions = list.positions;
         auto add = [&](uint32_t a, uint32_t b, uint32_t cc) {
@@ -194,6 +230,7 @@ private:
         };
         for (size_t t = 0; t < T; ++t) {
             if (!used[t]) continue;
+            const uint32_t fan = apex[object_of_[t]];
             uint32_t o[3] = {list.indices[3 * t], list.indices[3 * t + 1], list.indices[3 * t + 2]};
             if (flipped[t]) {
                 flipped_caps.indices.insert(flipped_caps.indices.end(), o, o + 3);
@@ -201,7 +238,8 @@ private:
             } else {
                 add(o[0], o[1], o[2]);  // near cap, facing the caster
             }
-            add(far(o[0]), far(o[2]), far(o[1]));  // far cap, facing away
+            if (fan == TriangleList::kOpen)
+                add(far(o[0]), far(o[2]), far(o[1]));  // far cap, facing away
             for (int e = 0; e < 3; ++e) {
                 // Edge e of the original triangle runs from vertex e to e + 1.
                 uint32_t nb = list.neighbour[3 * t + static_cast<size_t>(e)];
@@ -211,6 +249,7 @@ private:
                 if (flipped[t]) std::swap(from, to);
                 add(from, far(from), far(to));  // the side, facing out of the region
                 add(from, far(to), to);
+                if (fan != TriangleList::kOpen) add(fan, far(to), far(from));  // far cap's fan
             }
         }
         for (TriangleList* l : {&v, &flipped_caps}) {
