@@ -150,8 +150,8 @@ CameraMatrices spot_view(const SpotLight& spot, int res) {
     cam.view = glm::lookAt(spot.position, spot.position + spot.direction, up);
     cam.near = 0.05f;
     cam.far = 100.0f;
-    cam.projection = glm::perspective(2.0f * radians(spot.outer_deg) * 1.05f, 1.0f, cam.near,
-                                      cam.far);
+    cam.projection =
+        glm::perspective(2.0f * radians(spot.outer_deg) * 1.05f, 1.0f, cam.near, cam.far);
     cam.width = cam.height = res;
     cam.eye = spot.position;
     cam.forward = spot.direction;
@@ -167,11 +167,12 @@ double depth_pass_ms(const ShadowScene& s, int threads, int frames, size_t& tria
     triangles = list.triangle_count();
     const CameraMatrices cam = spot_view(std::get<SpotLight>(s.light), kMapResolution);
     RenderTargets targets;
+    PassMemory memory;  // kept from pass to pass, as a GL context keeps its buffers
     std::vector<double> ms;
     for (int k = 0; k < frames + 1; ++k) {
         targets.clear(kMapResolution, kMapResolution);
         auto t0 = std::chrono::steady_clock::now();
-        draw_pass(list, cam, PipelineState{}, targets, threads);
+        draw_pass(list, cam, PipelineState{}, targets, threads, 0, &memory);
         double frame =
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
                 .count();
@@ -406,9 +407,8 @@ double timed_frames(int frames, Frame&& frame) {
         auto t0 = std::chrono::steady_clock::now();
         frame();
         glFinish();
-        double t =
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
-                .count();
+        double t = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                       .count();
         if (k > 0) ms.push_back(t);
     }
     return median(ms);
@@ -565,9 +565,9 @@ void shadow_benchmarks(int threads, int frames) {
     std::printf("  svetlo: %.1f M triangles/s per thread\n",
                 static_cast<double>(triangles) / (depth * 1e3) / threads);
     std::printf("\nsvetlo alone, %s, ms per frame:\n", volume.name.c_str());
-    for (ShadowTechnique t : {ShadowTechnique::None, ShadowTechnique::Raytraced,
-                              ShadowTechnique::Map, ShadowTechnique::Volume,
-                              ShadowTechnique::Planar}) {
+    for (ShadowTechnique t :
+         {ShadowTechnique::None, ShadowTechnique::Raytraced, ShadowTechnique::Map,
+          ShadowTechnique::Volume, ShadowTechnique::Planar}) {
         std::printf("  %-10s %8.1f\n", std::string(name_of(kShadowTechniques, t)).c_str(),
                     svetlo_ms(svetlo_scene(volume, t), threads, frames));
     }

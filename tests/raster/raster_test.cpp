@@ -514,16 +514,22 @@ TEST(Raster, SimdPowMatchesStdPow) {
 
 TEST(Raster, SimdFastPathAgreesWithTheScalarShading) {
     // The same frame shaded four samples at a time (no AOVs) and one by one (an AOV asked for
-    // sends every sample through the scalar path): Lambert, Phong and Blinn-Phong, a point and
-    // a directional light, seen from both sides; a whole shininess (powers by repeated
-    // squaring) and a fractional one (exp2 and log2).
+    // sends every sample through the scalar path): Lambert, Phong and Blinn-Phong, a point, a
+    // directional and a spot light (its cone's edge across the scene), seen from both sides; a
+    // whole shininess (powers by repeated squaring) and a fractional one (exp2 and log2).
     json j = oblique(64, 48);
     j["materials"] = {
         {"l", {{"type", "lambert"}, {"albedo", {0.7, 0.5, 0.3}}}},
         {"p", {{"type", "phong"}, {"ka", 0.3}, {"kd", 0.5}, {"ks", 0.4}, {"shininess", 40}}},
         {"b", {{"type", "blinn_phong"}, {"kd", 0.2}, {"ks", 0.6}, {"shininess", 12.5}}}};
     j["lights"] = {{{"type", "point"}, {"position", {0.5, 1.5, 0.8}}, {"intensity", {5, 4, 3}}},
-                   {{"type", "directional"}, {"direction", {0.3, -1, -0.4}}, {"irradiance", 0.8}}};
+                   {{"type", "directional"}, {"direction", {0.3, -1, -0.4}}, {"irradiance", 0.8}},
+                   {{"type", "spot"},
+                    {"position", {-0.5, 2, 1}},
+                    {"direction", {0.3, -1, -0.3}},
+                    {"intensity", {6, 6, 8}},
+                    {"inner_angle", 15},
+                    {"outer_angle", 30}}};
     j["render"]["ambient"] = 0.1;
     j["render"]["spp"] = 4;
     j["objects"] = {

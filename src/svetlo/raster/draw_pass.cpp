@@ -43,13 +43,23 @@ void fit_sample_bounds(FrameState& f, const std::vector<SamplePattern>& passes) 
 
 }  // namespace raster
 
+PassMemory::PassMemory() : buffers(std::make_unique<Buffers>()) {}
+PassMemory::~PassMemory() = default;
+PassMemory::PassMemory(PassMemory&&) noexcept = default;
+PassMemory& PassMemory::operator=(PassMemory&&) noexcept = default;
+
 namespace raster {
 
 void draw_samples(const TriangleList& list, const CameraMatrices& camera,
                   const PipelineState& state, RenderTargets& targets, int threads,
-                  const SamplePattern& sp) {
+                  const SamplePattern& sp, PassMemory* memory) {
     const int S = targets.samples;
     FrameState f;
+    if (memory) {  // the last pass's memory, given back below
+        f.vertices = std::move(memory->buffers->vertices);
+        f.screen = std::move(memory->buffers->screen);
+        f.tris = std::move(memory->buffers->tris);
+    }
     fit_sample_bounds(f, {sp});
     prepare_pass(list, camera, state, f, threads);
     const bool stencil = state.stencil.enabled && !targets.stencil.empty();
@@ -109,15 +119,20 @@ void draw_samples(const TriangleList& list, const CameraMatrices& camera,
             }
         },
         {});
+    if (memory) {
+        memory->buffers->vertices = std::move(f.vertices);
+        memory->buffers->screen = std::move(f.screen);
+        memory->buffers->tris = std::move(f.tris);
+    }
 }
 
 }  // namespace raster
 
 void draw_pass(const TriangleList& list, const CameraMatrices& camera, const PipelineState& state,
-               RenderTargets& targets, int threads, uint64_t seed) {
+               RenderTargets& targets, int threads, uint64_t seed, PassMemory* memory) {
     const int S = targets.samples;
     raster::draw_samples(list, camera, state, targets, threads,
-                         raster::sample_pattern(S, seed, 0, S));
+                         raster::sample_pattern(S, seed, 0, S), memory);
 }
 
 }  // namespace svetlo

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "svetlo/geometry/triangle_list.h"
@@ -59,12 +60,28 @@ struct RenderTargets {
     }
 };
 
+/// The pipeline's working memory for passes (transformed vertices, set-up triangles), kept from
+/// pass to pass as a GL context keeps its buffers: a pass given one reuses its pages instead
+/// of faulting in new ones (for a million triangles, most of a depth pass's time). One pass
+/// at a time per PassMemory.
+class PassMemory {
+public:
+    PassMemory();
+    ~PassMemory();
+    PassMemory(PassMemory&&) noexcept;
+    PassMemory& operator=(PassMemory&&) noexcept;
+
+    struct Buffers;  // pipeline.h
+    std::unique_ptr<Buffers> buffers;
+};
+
 /// Rasterizes `list` as `camera` sees it (camera.width x camera.height must match the
 /// targets), with `state`, into `targets`: depth (tested and written as the state says),
 /// stencil (when the state enables it), and the item buffer (when it is sized). Samples lie
 /// at the pixel centre for one sample per pixel, else on the frame's stratified pattern of
 /// `seed`. Parallel over 64 x 64 tiles: the result is the same on any thread count.
 void draw_pass(const TriangleList& list, const CameraMatrices& camera, const PipelineState& state,
-               RenderTargets& targets, int threads, uint64_t seed = 0);
+               RenderTargets& targets, int threads, uint64_t seed = 0,
+               PassMemory* memory = nullptr);
 
 }  // namespace svetlo

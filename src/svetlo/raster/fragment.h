@@ -55,7 +55,7 @@ Color shade_one(const FrameState& f, uint32_t tri, EdgeCache& edges, int64_t sx,
                 const LightVisibility& vis, size_t sample);
 
 /// Stage 6's fast path (fast_shading.cpp): constant Lambert and Phong-family materials under
-/// point and directional lights, eight samples at a time, into buf.sample_color.
+/// point, spot and directional lights, eight samples at a time, into buf.sample_color.
 /// `small_weights`: rasterize_small left the barycentrics of its samples in buf.l1, buf.l2.
 void shade_tile_fast(const FrameState& f, const Tile& tile, const SamplePattern& sp,
                      bool small_weights, TileBuffers& buf);

@@ -77,6 +77,20 @@ struct SetupTriangle {
 };
 static_assert(sizeof(SetupTriangle) == 64);
 
+}  // namespace svetlo::raster
+
+namespace svetlo {
+
+struct PassMemory::Buffers {
+    LargeArray<ClipVertex> vertices;
+    LargeArray<raster::ScreenVertex> screen;
+    LargeArray<raster::SetupTriangle> tris;
+};
+
+}  // namespace svetlo
+
+namespace svetlo::raster {
+
 /// Everything the tiles of a pass read, made once per pass: the set-up triangles in their
 /// bins, and for the frame's colour pass the shading state.
 struct FrameState {
@@ -300,7 +314,7 @@ void prepare_pass(const TriangleList& list, const CameraMatrices& camera,
 /// own sample pattern, such as the shadow techniques' depth and stencil passes.
 void draw_samples(const TriangleList& list, const CameraMatrices& camera,
                   const PipelineState& state, RenderTargets& targets, int threads,
-                  const SamplePattern& sp);
+                  const SamplePattern& sp, PassMemory* memory = nullptr);
 /// Bounds of triangles tight around the samples of `passes` (none but the wireframe's margin).
 void fit_sample_bounds(FrameState& f, const std::vector<SamplePattern>& passes);
 

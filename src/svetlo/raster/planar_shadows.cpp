@@ -106,7 +106,7 @@ int clip(const std::array<vec3, 8>& in, int count, std::array<vec3, 8>& out, Dis
 class PlanarShadows final : public ShadowTechniqueState {
 public:
     PlanarShadows(const Scene& scene, const TriangleList& list, const FrameState& f,
-                  const std::vector<SamplePattern>& passes, int threads)
+                  const std::vector<SamplePattern>& passes, int threads, PassMemory* memory)
         : width_(f.cam.width), height_(f.cam.height) {
         Bounds3 bounds;
         for (vec3 p : list.positions) bounds.extend(p);
@@ -137,7 +137,7 @@ public:
         for (const SamplePattern& sp : passes) {
             RenderTargets targets;
             targets.clear(width_, height_, sp.count, true, true);
-            draw_samples(list, f.cam, item_state, targets, threads, sp);
+            draw_samples(list, f.cam, item_state, targets, threads, sp, memory);
             std::vector<uint32_t> receiver(targets.primitive.size(), 0);
             for (size_t i = 0; i < receiver.size(); ++i) {
                 uint32_t t = targets.primitive[i];
@@ -168,7 +168,7 @@ public:
                         state.stencil.front = {StencilFunc::Equal, StencilOp::Keep, StencilOp::Keep,
                                                StencilOp::Replace};
                         state.stencil.back = state.stencil.front;
-                        draw_samples(shadow, f.cam, state, targets, threads, sp);
+                        draw_samples(shadow, f.cam, state, targets, threads, sp, memory);
                     }
                     for (size_t i = 0; i < lit.size(); ++i) {
                         if (targets.stencil[i] & 0x80) lit[i] = 0;
@@ -268,8 +268,8 @@ std::unique_ptr<ShadowTechniqueState> make_planar_shadows(const Scene& scene,
                                                           const TriangleList& list,
                                                           const FrameState& f,
                                                           const std::vector<SamplePattern>& passes,
-                                                          int threads) {
-    return std::make_unique<PlanarShadows>(scene, list, f, passes, threads);
+                                                          int threads, PassMemory* memory) {
+    return std::make_unique<PlanarShadows>(scene, list, f, passes, threads, memory);
 }
 
 }  // namespace svetlo::raster

@@ -120,7 +120,7 @@ auto* base_color(M& material) {
 
 /// The shading state of the frame's colour pass: constant BRDFs made once, mip chains when a
 /// texture is filtered with them, and what the SIMD fast path takes (constant Lambert and
-/// Phong-family materials under point and directional lights only).
+/// Phong-family materials under point, spot and directional lights only).
 void prepare_shading(const Scene& scene, FrameState& f) {
     // GL_MODULATE for flat and Gouraud shading: the base colour's texture, if any.
     for (const Material& m : f.materials) {
@@ -142,7 +142,7 @@ void prepare_shading(const Scene& scene, FrameState& f) {
     if (any_mips) {
         for (const Image& image : scene.textures) f.mips.push_back(build_mip_chain(image));
     }
-    // The fast path takes point and directional lights only.
+    // The fast path takes point, spot and directional lights only.
     f.simd_lights_ok = !f.lights->any_vpl;
     const auto& sources = f.lights->set.sources();
     if (const LightSet::Source* s = f.lights->set.source_of_light(0))
@@ -155,6 +155,13 @@ void prepare_shading(const Scene& scene, FrameState& f) {
         } else if (const auto* dl = std::get_if<DirectionalLight>(light)) {
             f.simd_lights.directionals.push_back(
                 {-glm::normalize(dl->direction), dl->irradiance, index});
+        } else if (const auto* sl = std::get_if<SpotLight>(light)) {
+            const float cos_inner = std::cos(radians(sl->inner_deg)),
+                        cos_outer = std::cos(radians(sl->outer_deg));
+            const float width = cos_inner - cos_outer;
+            f.simd_lights.spots.push_back({sl->position, glm::normalize(sl->direction),
+                                           sl->intensity, cos_outer,
+                                           width > 0.0f ? 1.0f / width : 1e30f, index});
         } else {
             f.simd_lights_ok = false;
         }
@@ -228,6 +235,7 @@ struct RasterRenderer::Buffers {
     LargeArray<ScreenVertex> screen;
     LargeArray<SetupTriangle> tris;
     LargeArray<Color> flat;
+    PassMemory passes;  // the shadow techniques' passes
 };
 
 RasterRenderer::RasterRenderer() : buffers_(std::make_unique<Buffers>()) {}
@@ -276,7 +284,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     const bool lit_mode = f.mode == Mode::Phong || f.mode == Mode::Gouraud || f.mode == Mode::Flat;
     std::unique_ptr<ShadowTechniqueState> shadows;
     if (lit_mode || targets.want[3] || !options.debug_aovs.empty())
-        shadows = make_shadow_technique(scene, list, f, passes, threads);
+        shadows = make_shadow_technique(scene, list, f, passes, threads, &buffers_->passes);
 
     const bool msaa = scene.render.raster.msaa;
     const bool simd = f.mode == Mode::Phong && !msaa && !targets.any && f.simd_lights_ok;

@@ -236,12 +236,15 @@ void rasterize_plain(uint32_t id, const SetupTriangle& t, const TriangleEdges& t
     // The depth plane at pixel position (px, py), in pixels.
     const double x0f = static_cast<double>(t.x[0]) / kSubpixel,
                  y0f = static_cast<double>(t.y[0]) / kSubpixel;
-    auto plane = [&](double px, double py) { return t.z[0] + dzdx * (px - x0f) + dzdy * (py - y0f); };
+    auto plane = [&](double px, double py) {
+        return t.z[0] + dzdx * (px - x0f) + dzdy * (py - y0f);
+    };
     for (int by = (ys - tile.y0) / kB; by <= (ye - 1 - tile.y0) / kB; ++by) {
         // The columns of this row of blocks the triangle can reach: each edge bounds x on one
         // side over the rows' y range (a long, thin shadow-volume side crosses a tile's
         // bounding box on a few blocks of each row).
-        const int ry0 = std::max(ys, tile.y0 + by * kB), ry1 = std::min(ye, tile.y0 + (by + 1) * kB);
+        const int ry0 = std::max(ys, tile.y0 + by * kB),
+                  ry1 = std::min(ye, tile.y0 + (by + 1) * kB);
         double left = -1e30, right = 1e30;
         for (const Edge& e : te.e) {
             const double ya = static_cast<double>(ry0) * kSubpixel,
@@ -262,7 +265,8 @@ void rasterize_plain(uint32_t id, const SetupTriangle& t, const TriangleEdges& t
         const int cx1 = std::min(xe, static_cast<int>(std::min(right / kSubpixel + 2.0, 1e9)));
         if (cx0 >= cx1) continue;
         for (int bx = (cx0 - tile.x0) / kB; bx <= (cx1 - 1 - tile.x0) / kB; ++bx) {
-            const int x0 = std::max(xs, tile.x0 + bx * kB), x1 = std::min(xe, tile.x0 + (bx + 1) * kB);
+            const int x0 = std::max(xs, tile.x0 + bx * kB),
+                      x1 = std::min(xe, tile.x0 + (bx + 1) * kB);
             const int y0 = ry0, y1 = ry1;
             // Outside one edge at all four corners of the block: nothing covered.
             const int64_t xa = static_cast<int64_t>(x0) * kSubpixel,
@@ -317,11 +321,13 @@ void rasterize_plain(uint32_t id, const SetupTriangle& t, const TriangleEdges& t
                                 w2 = te.e[2].at(sx, sy) + te.e[2].bias;
                         const int64_t d0 = te.e[0].a * kSubpixel, d1 = te.e[1].a * kSubpixel,
                                       d2 = te.e[2].a * kSubpixel;
-                        size_t i = (static_cast<size_t>(py - tile.y0) * tw + (x0 - tile.x0)) * S + s;
+                        size_t i =
+                            (static_cast<size_t>(py - tile.y0) * tw + (x0 - tile.x0)) * S + s;
                         for (int px = x0; px < x1; ++px, w0 += d0, w1 += d1, w2 += d2, i += S) {
                             if ((w0 | w1 | w2) < 0 || !st.enabled) continue;
                             uint8_t& stencil = buf.stencil[i];
-                            const bool passes = stencil_test(face.func, st.ref, stencil, st.read_mask);
+                            const bool passes =
+                                stencil_test(face.func, st.ref, stencil, st.read_mask);
                             stencil = stencil_apply(passes ? face.depth_fail : face.fail, stencil,
                                                     st.ref, st.write_mask);
                         }

@@ -67,7 +67,7 @@ int margin_texels(const ShadowMapSettings& sm, int res) {
 
 /// Renders `list`'s depth through `cam` (res x res) into a map.
 DepthMap render_map(const TriangleList& list, const CameraMatrices& cam, float tan_half,
-                    int threads) {
+                    int threads, PassMemory* memory) {
     DepthMap m;
     m.cam = cam;
     m.view_projection = cam.view_projection();
@@ -75,13 +75,13 @@ DepthMap render_map(const TriangleList& list, const CameraMatrices& cam, float t
     RenderTargets targets;
     targets.clear(m.res, m.res);
     PipelineState state;  // depth test and write, both sides
-    draw_pass(list, cam, state, targets, threads);
-    m.distance.resize(targets.depth.size());
+    draw_pass(list, cam, state, targets, threads, 0, memory);
+    m.distance = std::move(targets.depth);  // converted in place
     const float inv = 1.0f / static_cast<float>(m.res);
     for (int y = 0; y < m.res; ++y) {
         for (int x = 0; x < m.res; ++x) {
             size_t i = targets.index(x, y);
-            float key = targets.depth[i];
+            float key = m.distance[i];
             if (std::isinf(key)) {
                 m.distance[i] = kInfinity;
             } else if (cam.orthographic) {
@@ -152,8 +152,9 @@ struct CasterMaps {
 
 class ShadowMaps final : public ShadowTechniqueState {
 public:
-    ShadowMaps(const Scene& scene, const TriangleList& list, const FrameState& f, int threads)
-        : settings_(scene.render.shadow_map), camera_(f.cam) {
+    ShadowMaps(const Scene& scene, const TriangleList& list, const FrameState& f, int threads,
+               PassMemory* memory)
+        : settings_(scene.render.shadow_map), camera_(f.cam), memory_(memory) {
         Bounds3 bounds;
         for (vec3 p : list.positions) bounds.extend(p);
         const float diameter =
@@ -279,7 +280,7 @@ private:
                 perspective_view(c.position, c.direction,
                                  std::abs(c.direction.y) < 0.9f ? vec3(0, 1, 0) : vec3(1, 0, 0),
                                  tan_half, res, near),
-                tan_half, threads));
+                tan_half, threads, memory_));
             return cm;
         }
         cm.layout = CasterMaps::Layout::Cube;
@@ -290,7 +291,7 @@ private:
         for (int face = 0; face < 6; ++face) {
             cm.maps.push_back(render_map(
                 list, perspective_view(c.position, axes[face], ups[face], spread, res, near),
-                spread, threads));
+                spread, threads, memory_));
         }
         return cm;
     }
@@ -351,7 +352,7 @@ private:
             cam.eye = eye;
             cam.forward = c.direction;
             cam.orthographic = true;
-            DepthMap m = render_map(list, cam, 0.0f, threads);
+            DepthMap m = render_map(list, cam, 0.0f, threads, memory_);
             m.texel = side / static_cast<float>(res);
             cm.maps.push_back(std::move(m));
             cm.splits.push_back(b);
@@ -379,6 +380,26 @@ private:
         const int n = settings_.kernel;
         const float step = n > 1 ? 2.0f * radius / static_cast<float>(n - 1) : 0.0f;
         const float bias = settings_.bias + slope * (radius + 1.0f);
+        if (n > 1 && step == 1.0f) {
+            // Taps one texel apart share their bilinear fractions: their n^2 bilinear
+            // comparisons add up to (n + 1)^2 comparisons weighted 1 inside and by the
+            // fractions on the border (the same sum, each texel compared once).
+            const vec2 base = px - vec2(0.5f + radius);
+            const int x0 = static_cast<int>(std::floor(base.x)),
+                      y0 = static_cast<int>(std::floor(base.y));
+            const float fx = base.x - static_cast<float>(x0), fy = base.y - static_cast<float>(y0);
+            float sum = 0.0f;
+            for (int v = 0; v <= n; ++v) {
+                const float wy = v == 0 ? 1.0f - fy : v == n ? fy : 1.0f;
+                float row = 0.0f;
+                for (int u = 0; u <= n; ++u) {
+                    const float wx = u == 0 ? 1.0f - fx : u == n ? fx : 1.0f;
+                    row += wx * compare(m.at(x0 + u, y0 + v), receiver, bias);
+                }
+                sum += wy * row;
+            }
+            return sum / static_cast<float>(n * n);
+        }
         float sum = 0.0f;
         for (int v = 0; v < n; ++v) {
             for (int u = 0; u < n; ++u) {
@@ -440,14 +461,16 @@ private:
     ShadowMapSettings settings_;
     int area_points_ = 1;  // casters per light with area
     CameraMatrices camera_;
+    PassMemory* memory_;            // while the maps are made
     std::vector<CasterMaps> maps_;  // per caster
 };
 
 }  // namespace
 
 std::unique_ptr<ShadowTechniqueState> make_shadow_maps(const Scene& scene, const TriangleList& list,
-                                                       const FrameState& f, int threads) {
-    return std::make_unique<ShadowMaps>(scene, list, f, threads);
+                                                       const FrameState& f, int threads,
+                                                       PassMemory* memory) {
+    return std::make_unique<ShadowMaps>(scene, list, f, threads, memory);
 }
 
 }  // namespace svetlo::raster

@@ -8,18 +8,18 @@ namespace svetlo::raster {
 
 std::unique_ptr<ShadowTechniqueState> make_shadow_technique(
     const Scene& scene, const TriangleList& list, const FrameState& f,
-    const std::vector<SamplePattern>& passes, int threads) {
+    const std::vector<SamplePattern>& passes, int threads, PassMemory* memory) {
     switch (scene.render.shadows) {
         case ShadowTechnique::None:
             return nullptr;
         case ShadowTechnique::Raytraced:
-            return make_raytraced_shadows(scene, list, f, threads);
+            return make_raytraced_shadows(scene, list, f, threads, memory);
         case ShadowTechnique::Map:
-            return make_shadow_maps(scene, list, f, threads);
+            return make_shadow_maps(scene, list, f, threads, memory);
         case ShadowTechnique::Volume:
-            return make_shadow_volumes(scene, list, f, passes, threads);
+            return make_shadow_volumes(scene, list, f, passes, threads, memory);
         case ShadowTechnique::Planar:
-            return make_planar_shadows(scene, list, f, passes, threads);
+            return make_planar_shadows(scene, list, f, passes, threads, memory);
     }
     return nullptr;
 }

@@ -53,10 +53,11 @@ protected:
 
 /// The state of the scene's technique for this frame (its maps, volumes or stencil masks),
 /// made after the colour pass's setup (f.cam, f.lights); null for `none`. `passes`: the
-/// frame's sample passes. Throws Error for settings it cannot honour (a memory limit).
+/// frame's sample passes; `memory`: the pipeline memory its passes reuse. Throws Error for
+/// settings it cannot honour (a memory limit).
 std::unique_ptr<ShadowTechniqueState> make_shadow_technique(
     const Scene& scene, const TriangleList& list, const FrameState& f,
-    const std::vector<SamplePattern>& passes, int threads);
+    const std::vector<SamplePattern>& passes, int threads, PassMemory* memory);
 
 /// Fills buf.visibility (one row of the tile's samples per source of the light set) for the
 /// tile's samples of sample pass `pass`, after its rasterization: for each visible sample and

@@ -52,7 +52,8 @@ private:
 
 std::unique_ptr<ShadowTechniqueState> make_raytraced_shadows(const Scene& scene,
                                                              const TriangleList& list,
-                                                             const FrameState& f, int threads) {
+                                                             const FrameState& f, int threads,
+                                                             PassMemory*) {
     return std::make_unique<RaytracedShadows>(scene, list, f, threads);
 }
 

@@ -52,7 +52,7 @@ std::vector<char> closed_objects(const TriangleList& list) {
 class ShadowVolumes final : public ShadowTechniqueState {
 public:
     ShadowVolumes(const Scene& scene, const TriangleList& list, const FrameState& f,
-                  const std::vector<SamplePattern>& passes, int threads)
+                  const std::vector<SamplePattern>& passes, int threads, PassMemory* memory)
         : width_(f.cam.width), height_(f.cam.height) {
         Bounds3 bounds;
         for (vec3 p : list.positions) bounds.extend(p);
@@ -116,12 +116,13 @@ public:
         for (const SamplePattern& sp : passes) {
             RenderTargets targets;
             targets.clear(width_, height_, sp.count, true);
-            draw_samples(list, cam, depth_state, targets, threads, sp);
+            draw_samples(list, cam, depth_state, targets, threads, sp, memory);
             for (size_t k = 0; k < casters_.size(); ++k) {
                 std::fill(targets.stencil.begin(), targets.stencil.end(), uint8_t{0});
-                draw_samples(volumes[k].first, cam, stencil_state, targets, threads, sp);
+                draw_samples(volumes[k].first, cam, stencil_state, targets, threads, sp, memory);
                 if (!volumes[k].second.indices.empty())
-                    draw_samples(volumes[k].second, cam, flipped_state, targets, threads, sp);
+                    draw_samples(volumes[k].second, cam, flipped_state, targets, threads, sp,
+                                 memory);
                 std::vector<uint8_t> lit(targets.stencil.size());
                 for (size_t i = 0; i < lit.size(); ++i) lit[i] = targets.stencil[i] == 0 ? 1 : 0;
                 lit_[k].push_back(std::move(lit));
@@ -288,8 +289,8 @@ std::unique_ptr<ShadowTechniqueState> make_shadow_volumes(const Scene& scene,
                                                           const TriangleList& list,
                                                           const FrameState& f,
                                                           const std::vector<SamplePattern>& passes,
-                                                          int threads) {
-    return std::make_unique<ShadowVolumes>(scene, list, f, passes, threads);
+                                                          int threads, PassMemory* memory) {
+    return std::make_unique<ShadowVolumes>(scene, list, f, passes, threads, memory);
 }
 
 }  // namespace svetlo::raster

@@ -1,5 +1,5 @@
 // Four samples lit at once with SSE: the rasterizer's fast path for the commonest case, a
-// constant Lambert, Phong or Blinn-Phong material under point and directional lights. It
+// constant Lambert, Phong or Blinn-Phong material under point, spot and directional lights. It
 // computes exactly the formulas of shading/bsdf.cpp and raster_lights.cpp (two-sided normals,
 // E = I cos / d^2, f = kd/pi + ks (n+2)/(2 pi) (r.v)^n or ks (n+8)/(8 pi) (n.h)^n, plus
 // ka * ambient), four lanes per instruction. pow is exp2(n log2 x) with polynomials accurate
@@ -27,8 +27,19 @@ struct SimdLights {
         Color irradiance;  // W/m^2
         uint32_t source;
     };
+    /// A spot light: a point light times the cone's smoothstep (shading/lights.h,
+    /// spot_cone_factor) between cos_outer and cos_inner of the angle from its axis.
+    struct Spot {
+        vec3 position;
+        vec3 axis;  // unit
+        Color intensity;
+        float cos_outer;
+        float inv_width;  // 1 / (cos_inner - cos_outer), or a large number for a hard cone
+        uint32_t source;
+    };
     std::vector<Point> points;
     std::vector<Directional> directionals;
+    std::vector<Spot> spots;
 };
 
 /// The visibility V in [0, 1] of each light at each sample of a tile (a shadow technique's
