@@ -275,6 +275,18 @@ TEST(ShadowVolumes, ZPassCountsWrongWithTheCameraInsideAndZFailRight) {
     EXPECT_GT(shadow_iou(outside, render(j).aovs.at("visibility")), 0.99);
 }
 
+TEST(ShadowVolumes, ZPassWhereTheNearPlaneIsOutsideEveryVolumeCountsAsZFail) {
+    // `auto` (the default) counts each light's volumes z-pass unless they may reach the near
+    // plane: from outside, the same masks as z-fail, for every light type.
+    for (const json& light : {kPoint, kSpot, kDirectional}) {
+        json j = sphere_on_floor(light, "volume");
+        const Image automatic = render(j).aovs.at("visibility");
+        j["render"]["shadow_volume"] = {{"count", "zfail"}};
+        const Image zfail = render(j).aovs.at("visibility");
+        EXPECT_EQ(automatic.pixels, zfail.pixels) << light.dump();
+    }
+}
+
 TEST(PlanarShadows, WithoutTheSlabAnOccluderAboveTheLightCastsAFalseShadow) {
     // A quad 2 m above the point light: clipped away it casts nothing; projected whole
     // through the light it lands, mirrored, on the floor (render.planar_shadows.clip false,

@@ -220,7 +220,8 @@ void rasterize(uint32_t id, const SetupTriangle& t, const TriangleEdges& te, Pix
 /// writes, the stencil's pass operation Keep): the triangle's farthest depth over the block is
 /// nearer than the block's nearest stored depth (TileBuffers::block_near, when a pass keeps it).
 /// And where the triangle's nearest depth over the block is behind the block's farthest,
-/// every covered sample fails the depth test: no depth is computed.
+/// every covered sample fails the depth test: the block is skipped when failing does nothing
+/// (z-pass), else no depth is computed.
 void rasterize_plain(uint32_t id, const SetupTriangle& t, const TriangleEdges& te, PixelSpan span,
                      const Tile& tile, const SamplePattern& sp, const PipelineState& state,
                      TileBuffers& buf) {
@@ -230,9 +231,13 @@ void rasterize_plain(uint32_t id, const SetupTriangle& t, const TriangleEdges& t
     double dzdx, dzdy;
     te.depth_gradient(t, dzdx, dzdy);
     const int tw = tile.x1 - tile.x0, S = sp.count, kB = TileBuffers::kBlock, bw = kTile / kB;
+    const bool block_depths = state.depth_test && !state.depth_write && !buf.block_near.empty();
     const bool passing_is_idle =
-        state.depth_test && !state.depth_write && !state.write_items && !buf.block_near.empty() &&
+        block_depths && !state.write_items &&
         (!st.enabled || (face.pass == StencilOp::Keep && face.func == StencilFunc::Always));
+    const bool failing_is_idle =
+        block_depths &&
+        (!st.enabled || (face.depth_fail == StencilOp::Keep && face.func == StencilFunc::Always));
     // The depth plane at pixel position (px, py), in pixels.
     const double x0f = static_cast<double>(t.x[0]) / kSubpixel,
                  y0f = static_cast<double>(t.y[0]) / kSubpixel;
@@ -281,15 +286,16 @@ void rasterize_plain(uint32_t id, const SetupTriangle& t, const TriangleEdges& t
             }
             if (outside) continue;
             bool all_fail = false;
-            if (passing_is_idle) {
+            if (block_depths) {
                 const double c[4] = {plane(x0, y0), plane(x1, y0), plane(x0, y1), plane(x1, y1)};
                 auto zmax = static_cast<float>(std::max({c[0], c[1], c[2], c[3]}));
                 auto zmin = static_cast<float>(std::min({c[0], c[1], c[2], c[3]}));
                 const size_t b = static_cast<size_t>(by) * bw + bx;
                 // (z + bias |z| grows with z: the corners bound it too.)
-                if (zmax + state.depth_bias * std::abs(zmax) < buf.block_near[b])
+                if (passing_is_idle && zmax + state.depth_bias * std::abs(zmax) < buf.block_near[b])
                     continue;  // every sample passes, and passing does nothing
                 all_fail = zmin >= buf.block_far[b];
+                if (all_fail && failing_is_idle) continue;  // every sample fails, to no effect
             }
             if (all_fail && inside && st.enabled && face.func == StencilFunc::Always) {
                 // Every sample of the block covered and failing: one operation on a run of

@@ -29,7 +29,7 @@ struct ShadowCaster {
     /// Whether light from the caster reaches a surface at p with unit normal n (the side the
     /// camera sees) from the front: n faces it, and a point of an emitter faces p.
     bool faces(vec3 p, vec3 n) const {
-        vec3 wi = to_light(p);
+        vec3 wi = kind == Kind::Directional ? -direction : position - p;  // (signs only)
         return glm::dot(n, wi) > 0.0f && !(glm::dot(normal, wi) > 0.0f);
     }
     /// The distance from p to the caster (infinite for a directional light).

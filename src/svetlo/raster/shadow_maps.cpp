@@ -189,9 +189,11 @@ public:
         const ShadowCaster& c = casters_[k];
         const CasterMaps& cm = maps_[k];
         const DepthMap& m = cm.pick(at.p, c, camera_);
-        const vec3 wi = c.to_light(at.p);
+        // (A perspective map's eye is its caster's position.)
+        const float distance = m.receiver(at.p);
+        const vec3 wi = m.cam.orthographic ? -c.direction : (m.cam.eye - at.p) / distance;
         // Normal offset: the lookup point moves off the surface by normal_offset texels.
-        const float texel = m.texel_at(m.receiver(at.p));
+        const float texel = m.texel_at(distance);
         const vec3 q = at.p + at.n * (settings_.normal_offset * texel);
         const float receiver = m.receiver(q);
         vec4 clip = m.view_projection * vec4(q, 1.0f);
@@ -388,13 +390,24 @@ private:
             const int x0 = static_cast<int>(std::floor(base.x)),
                       y0 = static_cast<int>(std::floor(base.y));
             const float fx = base.x - static_cast<float>(x0), fy = base.y - static_cast<float>(y0);
+            const float limit = receiver - bias;
+            const bool inside = x0 >= 0 && y0 >= 0 && x0 + n < m.res && y0 + n < m.res;
             float sum = 0.0f;
             for (int v = 0; v <= n; ++v) {
                 const float wy = v == 0 ? 1.0f - fy : v == n ? fy : 1.0f;
+                // Lit texels of the row: the inner ones count 1, the two ends by the fractions.
                 float row = 0.0f;
-                for (int u = 0; u <= n; ++u) {
-                    const float wx = u == 0 ? 1.0f - fx : u == n ? fx : 1.0f;
-                    row += wx * compare(m.at(x0 + u, y0 + v), receiver, bias);
+                if (inside) {
+                    const float* d = m.distance.data() +
+                                     static_cast<size_t>(y0 + v) * static_cast<size_t>(m.res) +
+                                     static_cast<size_t>(x0);
+                    for (int u = 1; u < n; ++u) row += d[u] >= limit ? 1.0f : 0.0f;
+                    row += (d[0] >= limit ? 1.0f - fx : 0.0f) + (d[n] >= limit ? fx : 0.0f);
+                } else {
+                    for (int u = 0; u <= n; ++u) {
+                        const float wx = u == 0 ? 1.0f - fx : u == n ? fx : 1.0f;
+                        row += wx * compare(m.at(x0 + u, y0 + v), receiver, bias);
+                    }
                 }
                 sum += wy * row;
             }

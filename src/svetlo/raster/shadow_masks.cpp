@@ -37,49 +37,56 @@ void fill_masks(const ShadowTechniqueState& technique, const FrameState& f, cons
     std::vector<TriangleEdges> edges;  // the last triangle's (neighbours mostly share one)
     edges.reserve(1);
     uint32_t edges_of = kNone;
+    vec3 ng(0.0f);  // and its unit normal
     std::vector<float> sum(sources), count(sources);
-    for (size_t pixel = 0; pixel < pixels; ++pixel) {
-        for (int s = 0; s < S; ++s) {
-            const size_t i = pixel * static_cast<size_t>(S) + static_cast<size_t>(s);
-            const uint32_t id = buf.tri[i];
-            if (id == kNone) continue;
-            ShadowSample at;
-            at.pass = pass;
-            at.i = tile.x0 + static_cast<int>(pixel % static_cast<size_t>(tw));
-            at.j = tile.y0 + static_cast<int>(pixel / static_cast<size_t>(tw));
-            at.s = s;
-            if (!technique.needs_surface()) {
-                // A screen-space mask: where every caster lights the sample, V is 1 whether
-                // it faces them or not; the surface is needed only where one does not.
-                bool all_lit = true;
-                for (size_t k = 0; k < casters.size() && all_lit; ++k)
-                    all_lit = technique.lit(k, at) == 1.0f;
-                if (all_lit) continue;
-            }
-            const SetupTriangle& t = f.tri(id);
-            const ClipVertex& A = f.vertex(t.v[0]);
-            const ClipVertex& B = f.vertex(t.v[1]);
-            const ClipVertex& C = f.vertex(t.v[2]);
-            const int64_t sx = sample_x(tile, pixel, sp, s), sy = sample_y(tile, pixel, sp, s);
-            if (id != edges_of) {
-                edges.clear();
-                edges.emplace_back(t);
-                edges_of = id;
-            }
-            Weights w = perspective_weights(edges[0].weights(sx, sy), A, B, C);
-            at.p = w.b[0] * A.world + w.b[1] * B.world + w.b[2] * C.world;
-            vec3 ng = face_normal(t, A, B, C);
-            at.n = glm::dot(ng, view_direction(f, at.p)) >= 0.0f ? ng : -ng;
-            std::fill(sum.begin(), sum.end(), 0.0f);
-            std::fill(count.begin(), count.end(), 0.0f);
-            for (size_t k = 0; k < casters.size(); ++k) {
-                const ShadowCaster& c = casters[k];
-                if (!c.faces(at.p, at.n)) continue;
-                sum[c.source] += technique.lit(k, at);
-                count[c.source] += 1.0f;
-            }
-            for (size_t src = 0; src < sources; ++src) {
-                if (count[src] > 0.0f) buf.visibility[src * samples + i] = sum[src] / count[src];
+    size_t i = 0;  // the sample's index in the tile
+    for (int py = tile.y0; py < tile.y1; ++py) {
+        for (int px = tile.x0; px < tile.x1; ++px) {
+            for (int s = 0; s < S; ++s, ++i) {
+                const uint32_t id = buf.tri[i];
+                if (id == kNone) continue;
+                ShadowSample at;
+                at.pass = pass;
+                at.i = px;
+                at.j = py;
+                at.s = s;
+                if (!technique.needs_surface()) {
+                    // A screen-space mask: where every caster lights the sample, V is 1 whether
+                    // it faces them or not; the surface is needed only where one does not.
+                    bool all_lit = true;
+                    for (size_t k = 0; k < casters.size() && all_lit; ++k)
+                        all_lit = technique.lit(k, at) == 1.0f;
+                    if (all_lit) continue;
+                }
+                const SetupTriangle& t = f.tri(id);
+                const ClipVertex& A = f.vertex(t.v[0]);
+                const ClipVertex& B = f.vertex(t.v[1]);
+                const ClipVertex& C = f.vertex(t.v[2]);
+                const int64_t sx = static_cast<int64_t>(px) * kSubpixel + sp.ox[s],
+                              sy = static_cast<int64_t>(py) * kSubpixel + sp.oy[s];
+                if (id != edges_of) {
+                    edges.clear();
+                    edges.emplace_back(t);
+                    edges_of = id;
+                    ng = face_normal(t, A, B, C);
+                }
+                Weights w = perspective_weights(edges[0].weights(sx, sy), A, B, C);
+                at.p = w.b[0] * A.world + w.b[1] * B.world + w.b[2] * C.world;
+                // The side the camera sees (the sign of ng . wo, wo not made unit).
+                const vec3 toward_eye = f.cam.orthographic ? -f.cam.forward : f.cam.eye - at.p;
+                at.n = glm::dot(ng, toward_eye) >= 0.0f ? ng : -ng;
+                std::fill(sum.begin(), sum.end(), 0.0f);
+                std::fill(count.begin(), count.end(), 0.0f);
+                for (size_t k = 0; k < casters.size(); ++k) {
+                    const ShadowCaster& c = casters[k];
+                    if (!c.faces(at.p, at.n)) continue;
+                    sum[c.source] += technique.lit(k, at);
+                    count[c.source] += 1.0f;
+                }
+                for (size_t src = 0; src < sources; ++src) {
+                    if (count[src] > 0.0f)
+                        buf.visibility[src * samples + i] = sum[src] / count[src];
+                }
             }
         }
     }

@@ -89,40 +89,51 @@ public:
         }
         PipelineState depth_state;
         depth_state.cull = f.cull;
-        PipelineState stencil_state;
-        stencil_state.depth_write = false;
-        stencil_state.write_items = false;
-        stencil_state.depth_bias = 1.0f / 65536.0f;  // an open surface's own cap lies behind it
-        stencil_state.stencil.enabled = true;
-        stencil_state.stencil.back = {StencilFunc::Always, StencilOp::Keep, StencilOp::IncrWrap,
-                                      StencilOp::Keep};
-        stencil_state.stencil.front = {StencilFunc::Always, StencilOp::Keep, StencilOp::DecrWrap,
-                                       StencilOp::Keep};
-        if (scene.render.shadow_teaching.volume_count == VolumeCount::ZPass) {
-            // Heidmann's z-pass, for the docs' picture of its failure: front faces in front
-            // of the surface count up, back faces down; wrong wherever the camera is inside.
-            stencil_state.stencil.front = {StencilFunc::Always, StencilOp::Keep, StencilOp::Keep,
-                                           StencilOp::IncrWrap};
-            stencil_state.stencil.back = {StencilFunc::Always, StencilOp::Keep, StencilOp::Keep,
-                                          StencilOp::DecrWrap};
-        }
-        // The flipped near caps are drawn as the list's own triangles, in their own winding,
-        // with the faces' operations swapped: rasterized exactly as the depth pass drew them.
-        PipelineState flipped_state = stencil_state;
-        std::swap(flipped_state.stencil.front, flipped_state.stencil.back);
+        // z-fail (Carmack's reverse): back faces count up and front faces down where the
+        // depth test fails; z-pass (Heidmann): front faces up and back faces down where it
+        // passes. Both give the same count unless the camera's near plane cuts a volume,
+        // where only z-fail is right; z-pass draws far fewer samples when the volumes
+        // stretch far behind the scene (every sample a side covers behind the floor counts in
+        // z-fail), so each caster gets z-pass where its volumes cannot reach the near plane.
+        PipelineState zfail;
+        zfail.depth_write = false;
+        zfail.write_items = false;
+        zfail.depth_bias = 1.0f / 65536.0f;  // an open surface's own cap lies behind it
+        zfail.stencil.enabled = true;
+        zfail.stencil.back = {StencilFunc::Always, StencilOp::Keep, StencilOp::IncrWrap,
+                              StencilOp::Keep};
+        zfail.stencil.front = {StencilFunc::Always, StencilOp::Keep, StencilOp::DecrWrap,
+                               StencilOp::Keep};
+        PipelineState zpass = zfail;
+        zpass.stencil.front = {StencilFunc::Always, StencilOp::Keep, StencilOp::Keep,
+                               StencilOp::IncrWrap};
+        zpass.stencil.back = {StencilFunc::Always, StencilOp::Keep, StencilOp::Keep,
+                              StencilOp::DecrWrap};
         lit_.resize(casters_.size());
         std::vector<std::pair<TriangleList, TriangleList>> volumes;
-        for (const ShadowCaster& c : casters_) volumes.push_back(volume(list, c, cam.orthographic));
+        for (const ShadowCaster& c : casters_) {
+            volumes.push_back(volume(list, c, cam.orthographic));
+            const VolumeCount count = scene.render.shadow_teaching.volume_count;
+            bool use_zfail = count == VolumeCount::ZFail ||
+                             (count == VolumeCount::Auto &&
+                              (cam.orthographic || near_plane_may_be_shadowed(list, c, f.cam)));
+            zfail_.push_back(use_zfail ? 1 : 0);
+        }
         for (const SamplePattern& sp : passes) {
             RenderTargets targets;
             targets.clear(width_, height_, sp.count, true);
             draw_samples(list, cam, depth_state, targets, threads, sp, memory);
             for (size_t k = 0; k < casters_.size(); ++k) {
                 std::fill(targets.stencil.begin(), targets.stencil.end(), uint8_t{0});
-                draw_samples(volumes[k].first, cam, stencil_state, targets, threads, sp, memory);
+                const PipelineState& state = zfail_[k] ? zfail : zpass;
+                draw_samples(volumes[k].first, cam, state, targets, threads, sp, memory);
+                // The flipped near caps are drawn as the list's own triangles, in their own
+                // winding, with the faces' operations swapped: rasterized exactly as the
+                // depth pass drew them.
+                PipelineState flipped = state;
+                std::swap(flipped.stencil.front, flipped.stencil.back);
                 if (!volumes[k].second.indices.empty())
-                    draw_samples(volumes[k].second, cam, flipped_state, targets, threads, sp,
-                                 memory);
+                    draw_samples(volumes[k].second, cam, flipped, targets, threads, sp, memory);
                 std::vector<uint8_t> lit(targets.stencil.size());
                 for (size_t i = 0; i < lit.size(); ++i) lit[i] = targets.stencil[i] == 0 ? 1 : 0;
                 lit_[k].push_back(std::move(lit));
@@ -146,6 +157,65 @@ public:
     Image stencil_image() const override { return stencil_; }
 
 private:
+    /// Whether a volume of caster c may contain a point of the camera's near-plane rectangle:
+    /// some object's bounds meet the region between the caster and that rectangle (a pyramid
+    /// with the light at its apex, or a prism toward a directional light; Everitt and
+    /// Kilgard 2002). Conservative: true may be wrong, false never is.
+    static bool near_plane_may_be_shadowed(const TriangleList& list, const ShadowCaster& c,
+                                           const CameraMatrices& cam) {
+        const mat4 to_world = glm::inverse(cam.view);
+        const float sx = 1.0f / cam.projection[0][0], sy = 1.0f / cam.projection[1][1];
+        vec3 corner[4];
+        const float xs[4] = {-1, 1, 1, -1}, ys[4] = {-1, -1, 1, 1};
+        for (int k = 0; k < 4; ++k)
+            corner[k] = vec3(to_world *
+                             vec4(xs[k] * sx * cam.near, ys[k] * sy * cam.near, -cam.near, 1.0f));
+        const bool directional = c.kind == ShadowCaster::Kind::Directional;
+        Bounds3 all;
+        for (vec3 p : list.positions) all.extend(p);
+        const float reach = 2.0f * glm::length(all.extent()) + 1.0f;
+        // Toward the light from the rectangle's centre: a point inside the region.
+        const vec3 centre = 0.25f * (corner[0] + corner[1] + corner[2] + corner[3]);
+        const vec3 inside =
+            directional ? centre - c.direction * reach : 0.5f * (centre + c.position);
+        std::vector<vec4> planes;  // (n, d): n . x + d >= 0 inside
+        auto plane = [&](vec3 a, vec3 b, vec3 q) {
+            vec3 n = glm::cross(b - a, q - a);
+            if (!(glm::dot(n, n) > 0.0f)) return;
+            if (glm::dot(n, inside - a) < 0.0f) n = -n;
+            planes.push_back(vec4(n, -glm::dot(n, a)));
+        };
+        for (int k = 0; k < 4; ++k) {
+            vec3 a = corner[k], b = corner[(k + 1) % 4];
+            plane(a, b, directional ? a - c.direction : c.position);
+        }
+        plane(corner[0], corner[1], corner[2]);  // the near plane's side toward the light
+        if (!directional) {
+            // Nothing behind the light: the plane through it facing the rectangle.
+            vec3 n = centre - c.position;
+            if (glm::dot(n, n) > 0.0f) planes.push_back(vec4(n, -glm::dot(n, c.position)));
+        }
+        for (const PrimitiveRange& range : list.objects) {
+            Bounds3 b;
+            for (uint32_t t = range.first; t < range.end; ++t) {
+                for (int k = 0; k < 3; ++k) b.extend(list.positions[list.indices[3 * t + k]]);
+            }
+            if (b.empty()) continue;
+            bool separated = false;
+            for (const vec4& pl : planes) {
+                // The box's corner farthest along the plane's normal is outside: all are.
+                vec3 far(pl.x >= 0.0f ? b.max.x : b.min.x, pl.y >= 0.0f ? b.max.y : b.min.y,
+                         pl.z >= 0.0f ? b.max.z : b.min.z);
+                if (glm::dot(vec3(pl), far) + pl.w < 0.0f) {
+                    separated = true;
+                    break;
+                }
+            }
+            if (!separated) return true;
+        }
+        return false;
+    }
+
     /// The shadow volume of caster c over every triangle of `list`: its sides, far caps and
     /// unflipped near caps, and apart the flipped near caps in the list's winding.
     std::pair<TriangleList, TriangleList> volume(const TriangleList& list, const ShadowCaster& c,
@@ -280,6 +350,7 @@ private:
     std::vector<char> closed_;
     std::vector<uint32_t> object_of_;
     std::vector<std::vector<std::vector<uint8_t>>> lit_;  // per caster, per pass, per sample
+    std::vector<char> zfail_;                             // per caster: counted with z-fail
     Image stencil_;
 };
 

@@ -285,15 +285,17 @@ struct ShadowMapSettings {
     int cascades = 1;  // directional lights: maps over slices of the camera's depth range
 };
 
-/// render.shadow_volume.count: how a stencil shadow volume is counted (docs/shadows.md).
-enum class VolumeCount { ZFail, ZPass };
-inline constexpr EnumName<VolumeCount> kVolumeCounts[] = {{"zfail", VolumeCount::ZFail},
-                                                          {"zpass", VolumeCount::ZPass}};
+/// render.shadow_volume.count: how a stencil shadow volume is counted (docs/shadows.md):
+/// per light, z-fail where the camera's near plane may be inside one of its volumes and z-pass
+/// elsewhere (`auto`), or always one of them.
+enum class VolumeCount { Auto, ZFail, ZPass };
+inline constexpr EnumName<VolumeCount> kVolumeCounts[] = {
+    {"auto", VolumeCount::Auto}, {"zfail", VolumeCount::ZFail}, {"zpass", VolumeCount::ZPass}};
 
 /// Switches for the shadow techniques' teaching pictures (docs/shadows.md): the defaults are
 /// the robust forms, and the others show what goes wrong without them.
 struct ShadowTeachingSettings {
-    VolumeCount volume_count = VolumeCount::ZFail;  // z-pass fails with the camera in a volume
+    VolumeCount volume_count = VolumeCount::Auto;  // z-pass fails with the camera in a volume
     bool planar_clip = true;  // clip occluders to the slab between receiver and light
 };
 
