@@ -287,6 +287,23 @@ TEST(ShadowVolumes, ZPassWhereTheNearPlaneIsOutsideEveryVolumeCountsAsZFail) {
     }
 }
 
+TEST(ShadowVolumes, ObjectsSharingAnEdgeCloseTheirVolumesWithTheCameraInside) {
+    // A wall standing on the floor's back edge (the adjacency joins them across objects, so
+    // their sides there cancel), under an area light whose own quad's volume holds the camera
+    // (z-fail): each object's far caps at infinity must still close on that edge. They did
+    // not, and a quarter of the floor went dark.
+    json j = area_light_scene("volume");
+    j["objects"].push_back({{"type", "quad"},
+                            {"corner", {-5, 0, -5}},
+                            {"edge_u", {10, 0, 0}},
+                            {"edge_v", {0, 4, 0}},
+                            {"material", "m"}});
+    const Image v = render(j).aovs.at("visibility");
+    j["render"]["shadows"] = "raytraced";
+    const Image truth = render(j).aovs.at("visibility");
+    EXPECT_LT(mean_difference(v, truth), 0.01);
+}
+
 TEST(PlanarShadows, WithoutTheSlabAnOccluderAboveTheLightCastsAFalseShadow) {
     // A quad 2 m above the point light: clipped away it casts nothing; projected whole
     // through the light it lands, mirrored, on the floor (render.planar_shadows.clip false,

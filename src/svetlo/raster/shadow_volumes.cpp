@@ -314,13 +314,21 @@ private:
             for (int e = 0; e < 3; ++e) {
                 // Edge e of the original triangle runs from vertex e to e + 1.
                 uint32_t nb = list.neighbour[3 * t + static_cast<size_t>(e)];
-                if (nb != TriangleList::kOpen && used[nb] && flipped[nb] == flipped[t]) continue;
+                const bool cancels =
+                    nb != TriangleList::kOpen && used[nb] && flipped[nb] == flipped[t];
+                // The fan closes this object's far caps alone: an edge it shares with another
+                // object (their sides cancel) is on its boundary all the same.
+                const bool fan_edge =
+                    fan != TriangleList::kOpen && (!cancels || object_of_[nb] != object_of_[t]);
+                if (cancels && !fan_edge) continue;
                 uint32_t from = list.indices[3 * t + static_cast<size_t>(e)];
                 uint32_t to = list.indices[3 * t + static_cast<size_t>((e + 1) % 3)];
                 if (flipped[t]) std::swap(from, to);
-                add(from, far(from), far(to));  // the side, facing out of the region
-                add(from, far(to), to);
-                if (fan != TriangleList::kOpen) add(fan, far(to), far(from));  // far cap's fan
+                if (!cancels) {
+                    add(from, far(from), far(to));  // the side, facing out of the region
+                    add(from, far(to), to);
+                }
+                if (fan_edge) add(fan, far(to), far(from));  // the far caps' fan
             }
         }
         for (TriangleList* l : {&v, &flipped_caps}) {
