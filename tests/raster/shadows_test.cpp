@@ -287,6 +287,28 @@ TEST(ShadowVolumes, ZPassWhereTheNearPlaneIsOutsideEveryVolumeCountsAsZFail) {
     }
 }
 
+TEST(ShadowVolumes, AQuadCulledFromTheCameraStillCastsItsShadow) {
+    // With back faces culled, a quad the camera sees from behind is not in the depth buffer:
+    // z-pass must then count its near cap (without culling it draws the sides alone).
+    for (const char* cull : {"none", "back"}) {
+        json j = sphere_on_floor(kPoint, "volume");
+        j["render"]["cull"] = cull;
+        // Its front (edge_u x edge_v) faces down and away from the camera, toward the floor.
+        j["objects"] = {{{"type", "quad"},
+                         {"corner", {-0.5, 1.5, 0.5}},
+                         {"edge_u", {0, 0, -1}},
+                         {"edge_v", {1, 0, 0}},
+                         {"material", "m"}},
+                        floor_quad(5.0f, "m")};
+        const Image v = render(j).aovs.at("visibility");
+        j["render"]["shadows"] = "raytraced";
+        const Image truth = render(j).aovs.at("visibility");
+        int shadowed = 0;
+        EXPECT_GT(shadow_iou(v, truth, &shadowed), 0.98) << cull;
+        EXPECT_GT(shadowed, 200) << cull;
+    }
+}
+
 TEST(ShadowVolumes, ObjectsSharingAnEdgeCloseTheirVolumesWithTheCameraInside) {
     // A wall standing on the floor's back edge (the adjacency joins them across objects, so
     // their sides there cancel), under an area light whose own quad's volume holds the camera

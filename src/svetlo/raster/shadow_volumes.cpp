@@ -112,12 +112,18 @@ public:
         lit_.resize(casters_.size());
         std::vector<std::pair<TriangleList, TriangleList>> volumes;
         for (const ShadowCaster& c : casters_) {
-            volumes.push_back(volume(list, c, cam.orthographic));
             const VolumeCount count = scene.render.shadow_teaching.volume_count;
             bool use_zfail = count == VolumeCount::ZFail ||
                              (count == VolumeCount::Auto &&
                               (cam.orthographic || near_plane_may_be_shadowed(list, c, f.cam)));
             zfail_.push_back(use_zfail ? 1 : 0);
+            // z-pass counts no cap: a near cap is a triangle of the scene, never nearer than
+            // what the depth pass kept there (and drawn a little farther), and the far caps
+            // lie at infinity. It draws the sides alone, unless the depth pass culled back
+            // faces (an open mesh seen from behind is then not in the depth buffer, and its
+            // caps count).
+            volumes.push_back(
+                volume(list, c, cam.orthographic, use_zfail || f.cull != CullMode::None));
         }
         for (const SamplePattern& sp : passes) {
             RenderTargets targets;
@@ -217,9 +223,10 @@ private:
     }
 
     /// The shadow volume of caster c over every triangle of `list`: its sides, far caps and
-    /// unflipped near caps, and apart the flipped near caps in the list's winding.
+    /// unflipped near caps, and apart the flipped near caps in the list's winding (with
+    /// `caps` false, the sides alone).
     std::pair<TriangleList, TriangleList> volume(const TriangleList& list, const ShadowCaster& c,
-                                                 bool finite) const {
+                                                 bool finite, bool caps) const {
         const size_t n = list.positions.size();
         const bool directional = c.kind == ShadowCaster::Kind::Directional;
         TriangleList v;
@@ -304,12 +311,12 @@ private:
             const uint32_t fan = apex[object_of_[t]];
             uint32_t o[3] = {list.indices[3 * t], list.indices[3 * t + 1], list.indices[3 * t + 2]};
             if (flipped[t]) {
-                flipped_caps.indices.insert(flipped_caps.indices.end(), o, o + 3);
+                if (caps) flipped_caps.indices.insert(flipped_caps.indices.end(), o, o + 3);
                 std::swap(o[1], o[2]);
-            } else {
+            } else if (caps) {
                 add(o[0], o[1], o[2]);  // near cap, facing the caster
             }
-            if (fan == TriangleList::kOpen)
+            if (caps && fan == TriangleList::kOpen)
                 add(far(o[0]), far(o[2]), far(o[1]));  // far cap, facing away
             for (int e = 0; e < 3; ++e) {
                 // Edge e of the original triangle runs from vertex e to e + 1.
@@ -328,7 +335,7 @@ private:
                     add(from, far(from), far(to));  // the side, facing out of the region
                     add(from, far(to), to);
                 }
-                if (fan_edge) add(fan, far(to), far(from));  // the far caps' fan
+                if (caps && fan_edge) add(fan, far(to), far(from));  // the far caps' fan
             }
         }
         for (TriangleList* l : {&v, &flipped_caps}) {
