@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "svetlo/raster/raster_engine.h"
+
 #ifdef SVETLO_HAS_OSMESA
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/gl.h>
@@ -24,7 +26,35 @@ inline double median(std::vector<double> v) {
     return v.empty() ? 0.0 : v[v.size() / 2];
 }
 
+/// svetlo's rasterizer on `scene`: the median of `frames` frames in ms, by one renderer frame
+/// after frame (it keeps its buffers, as a GL context does; the first frame, which
+/// allocates them, is not counted, as GL's first, which compiles the shaders, is not).
+inline double svetlo_frame_ms(const Scene& scene, int threads, int frames) {
+    RenderOptions options;
+    options.threads = threads;
+    RasterRenderer renderer;
+    std::vector<double> ms;
+    for (int k = 0; k < frames + 1; ++k) {
+        double frame = renderer.render(scene, options).stats.seconds * 1e3;
+        if (k > 0) ms.push_back(frame);
+    }
+    return median(ms);
+}
+
 #ifdef SVETLO_HAS_OSMESA
+
+/// World-space positions and normals in, world position and normal out to the fragments.
+inline const char* const kSceneVertexShader = R"(#version 330 core
+layout(location = 0) in vec3 position;
+layout(location = 1) in vec3 normal;
+uniform mat4 view_projection;
+out vec3 world;
+out vec3 n;
+void main() {
+    world = position;
+    n = normal;
+    gl_Position = view_projection * vec4(position, 1.0);
+})";
 
 /// An OpenGL 3.3 core context drawing into `buffer` (kWidth x kHeight RGBA), with a depth and
 /// a stencil buffer, on `threads` llvmpipe threads (LP_NUM_THREADS is read once per process).

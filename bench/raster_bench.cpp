@@ -106,30 +106,10 @@ double svetlo_frame_ms(const Workload& w, int threads, int frames) {
     o.shape = w.mesh;
     o.material = 0;
     scene.objects = {o};
-    RenderOptions options;
-    options.threads = threads;
-    std::vector<double> ms;
-    RasterRenderer renderer;                // one renderer, frame after frame, as one GL context
-    for (int k = 0; k < frames + 1; ++k) {  // the first frame allocates: not counted
-        double frame_ms = renderer.render(scene, options).stats.seconds * 1e3;
-        if (k > 0) ms.push_back(frame_ms);
-    }
-    return median(ms);
+    return bench::svetlo_frame_ms(scene, threads, frames);
 }
 
 #ifdef SVETLO_HAS_OSMESA
-
-const char* kVertexShader = R"(#version 330 core
-layout(location = 0) in vec3 position;
-layout(location = 1) in vec3 normal;
-uniform mat4 view_projection;
-out vec3 world;
-out vec3 n;
-void main() {
-    world = position;
-    n = normal;
-    gl_Position = view_projection * vec4(position, 1.0);
-})";
 
 const char* kFragmentShader = R"(#version 330 core
 in vec3 world;
@@ -155,7 +135,7 @@ double llvmpipe_frame_ms(const Workload& w, int threads, int frames) {
     std::vector<unsigned char> buffer;
     OSMesaContext ctx = bench::gl_context(threads, buffer);
     if (!ctx) return 0.0;
-    GLuint program = bench::program(kVertexShader, nullptr, kFragmentShader);
+    GLuint program = bench::program(bench::kSceneVertexShader, nullptr, kFragmentShader);
     glUseProgram(program);
     GLuint vao, vbo[2], ibo;
     glGenVertexArrays(1, &vao);

@@ -132,18 +132,6 @@ Scene svetlo_scene(const ShadowScene& s, ShadowTechnique technique, int kernel =
     return scene;
 }
 
-double svetlo_ms(const Scene& scene, int threads, int frames) {
-    RenderOptions options;
-    options.threads = threads;
-    RasterRenderer renderer;
-    std::vector<double> ms;
-    for (int k = 0; k < frames + 1; ++k) {
-        double frame = renderer.render(scene, options).stats.seconds * 1e3;
-        if (k > 0) ms.push_back(frame);
-    }
-    return median(ms);
-}
-
 /// The spot light's view for its map (as svetlo's: around the cone, a margin for the filter).
 CameraMatrices spot_view(const SpotLight& spot, int res) {
     CameraMatrices cam;
@@ -183,18 +171,6 @@ double depth_pass_ms(const ShadowScene& s, int threads, int frames, size_t& tria
 }
 
 #ifdef SVETLO_HAS_OSMESA
-
-const char* kSceneVertex = R"(#version 330 core
-layout(location = 0) in vec3 position;
-layout(location = 1) in vec3 normal;
-uniform mat4 view_projection;
-out vec3 world;
-out vec3 n;
-void main() {
-    world = position;
-    n = normal;
-    gl_Position = view_projection * vec4(position, 1.0);
-})";
 
 // Blinn-Phong, normalised as svetlo's, two-sided; a point light or a spot light (smoothstep
 // between the cones' cosines), its term times the visibility `v`.
@@ -422,7 +398,7 @@ double llvmpipe_map_ms(const ShadowScene& s, int threads, int frames, double* de
     const Mesh m = whole(s);
     GlMesh g = upload(m, false);
     GLuint depth_program = program(kDepthVertex, nullptr, kEmptyFragment);
-    GLuint main_program = program(kSceneVertex, nullptr, kMapFragment.c_str());
+    GLuint main_program = program(kSceneVertexShader, nullptr, kMapFragment.c_str());
     // The map: a 24-bit depth texture that compares (sampler2DShadow), filtered bilinearly.
     GLuint tex, fbo;
     glGenTextures(1, &tex);
@@ -484,9 +460,9 @@ double llvmpipe_volume_ms(const ShadowScene& s, int threads, int frames) {
     const Mesh m = whole(s);
     GlMesh g = upload(m, true);
     const CameraMatrices cam = frame_camera(m, s.camera);
-    GLuint ambient_program = program(kSceneVertex, nullptr, kAmbientFragment);
+    GLuint ambient_program = program(kSceneVertexShader, nullptr, kAmbientFragment);
     GLuint volume_program = program(kVolumeVertex, kVolumeGeometry, kEmptyFragment);
-    GLuint lit_program = program(kSceneVertex, nullptr, kLitFragment.c_str());
+    GLuint lit_program = program(kSceneVertexShader, nullptr, kLitFragment.c_str());
     set_lighting(ambient_program, s, cam);
     set_lighting(volume_program, s, cam);
     set_lighting(lit_program, s, cam);
@@ -556,13 +532,13 @@ void shadow_benchmarks(int threads, int frames) {
 #endif
     std::printf("\n%-46s %7s %12s %12s %10s\n", "shadows, 1920x1080", "threads", "svetlo ms",
                 "llvmpipe ms", "ratio");
-    row(map.name, threads, svetlo_ms(svetlo_scene(map, ShadowTechnique::Map), threads, frames),
-        gl_map);
+    row(map.name, threads,
+        svetlo_frame_ms(svetlo_scene(map, ShadowTechnique::Map), threads, frames), gl_map);
     Scene zfail = svetlo_scene(volume, ShadowTechnique::Volume);
     zfail.render.shadow_teaching.volume_count = VolumeCount::ZFail;  // as the GL side
-    row(volume.name, threads, svetlo_ms(zfail, threads, frames), gl_volume);
+    row(volume.name, threads, svetlo_frame_ms(zfail, threads, frames), gl_volume);
     row("  the same, count auto (z-pass here)", threads,
-        svetlo_ms(svetlo_scene(volume, ShadowTechnique::Volume), threads, frames), gl_volume);
+        svetlo_frame_ms(svetlo_scene(volume, ShadowTechnique::Volume), threads, frames), gl_volume);
     size_t triangles = 0;
     const double depth = depth_pass_ms(map, threads, frames, triangles);
     row("depth-only pass, 1M tris at 2048^2", threads, depth, gl_depth);
@@ -573,12 +549,13 @@ void shadow_benchmarks(int threads, int frames) {
          {ShadowTechnique::None, ShadowTechnique::Raytraced, ShadowTechnique::Map,
           ShadowTechnique::Volume, ShadowTechnique::Planar}) {
         std::printf("  %-10s %8.1f\n", std::string(name_of(kShadowTechniques, t)).c_str(),
-                    svetlo_ms(svetlo_scene(volume, t), threads, frames));
+                    svetlo_frame_ms(svetlo_scene(volume, t), threads, frames));
     }
     std::printf("\nsvetlo alone, %s, ms per frame against the PCF kernel:\n", map.name.c_str());
     for (int kernel : {1, 3, 5, 7, 9}) {
-        std::printf("  %dx%d %8.1f\n", kernel, kernel,
-                    svetlo_ms(svetlo_scene(map, ShadowTechnique::Map, kernel), threads, frames));
+        std::printf(
+            "  %dx%d %8.1f\n", kernel, kernel,
+            svetlo_frame_ms(svetlo_scene(map, ShadowTechnique::Map, kernel), threads, frames));
     }
 }
 

@@ -22,7 +22,6 @@ namespace svetlo::raster {
 
 namespace {
 
-constexpr uint64_t kMaxMaskBytes = uint64_t{2} << 30;
 constexpr int kReceiversPerRound = 127;  // stencil values 1..127; bit 7 marks the shadow
 
 struct Receiver {
@@ -103,28 +102,15 @@ int clip(const std::array<vec3, 8>& in, int count, std::array<vec3, 8>& out, Dis
     return n;
 }
 
-class PlanarShadows final : public ShadowTechniqueState {
+class PlanarShadows final : public StencilMasks {
 public:
     PlanarShadows(const Scene& scene, const TriangleList& list, const FrameState& f,
-                  const std::vector<SamplePattern>& passes, int threads, PassMemory* memory)
-        : width_(f.cam.width), height_(f.cam.height) {
-        Bounds3 bounds;
-        for (vec3 p : list.positions) bounds.extend(p);
-        const float diameter =
-            bounds.empty() ? 1.0f : std::max(glm::length(bounds.extent()), 1e-6f);
+                  const std::vector<SamplePattern>& passes, int threads, PassMemory* memory) {
+        const float diameter = scene_diameter(list);
         casters_ =
             shadow_casters(scene, f.lights->set, scene.render.area_shadow_points, 1e-4f * diameter);
-        uint64_t samples = 0;
-        for (const SamplePattern& sp : passes)
-            samples += static_cast<uint64_t>(width_) * static_cast<uint64_t>(height_) *
-                       static_cast<uint64_t>(sp.count);
-        if (samples * (casters_.size() + 4) > kMaxMaskBytes) {
-            throw Error(scene.path.string(), "render.area_shadow_points",
-                        "the planar shadows' masks would take " +
-                            std::to_string(samples * (casters_.size() + 4) >> 20) +
-                            " MiB (at most " + std::to_string(kMaxMaskBytes >> 20) +
-                            " MiB); lower render.spp or render.area_shadow_points");
-        }
+        // (The depth, stencil and item targets and each sample's receiver: 13 bytes.)
+        reserve(scene, f.cam.width, f.cam.height, passes, 13, "planar shadows' masks");
         receivers_ = find_receivers(list, diameter);
         std::vector<uint32_t> receiver_of(list.triangle_count(), 0);  // 0: none, else r + 1
         for (size_t r = 0; r < receivers_.size(); ++r) {
@@ -133,7 +119,6 @@ public:
         }
         PipelineState item_state;
         item_state.cull = f.cull;
-        lit_.resize(casters_.size());
         for (const SamplePattern& sp : passes) {
             RenderTargets targets;
             targets.clear(width_, height_, sp.count, true, true);
@@ -177,18 +162,6 @@ public:
                 lit_[k].push_back(std::move(lit));
             }
         }
-    }
-
-    bool needs_surface() const override { return false; }
-
-    float lit(size_t k, const ShadowSample& at) const override {
-        const std::vector<uint8_t>& mask = lit_[k][static_cast<size_t>(at.pass)];
-        const size_t samples = mask.size() / (static_cast<size_t>(width_) * height_);
-        size_t i =
-            (static_cast<size_t>(at.j) * static_cast<size_t>(width_) + static_cast<size_t>(at.i)) *
-                samples +
-            static_cast<size_t>(at.s);
-        return static_cast<float>(mask[i]);
     }
 
 private:
@@ -257,9 +230,7 @@ private:
         return out;
     }
 
-    int width_, height_;
     std::vector<Receiver> receivers_;
-    std::vector<std::vector<std::vector<uint8_t>>> lit_;  // per caster, per pass, per sample
 };
 
 }  // namespace

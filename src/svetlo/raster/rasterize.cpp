@@ -315,32 +315,7 @@ void rasterize_plain(uint32_t id, const SetupTriangle& t, const TriangleEdges& t
                 }
                 continue;
             }
-            if (all_fail) {
-                // Coverage and the stencil only: each covered sample takes the depth-fail
-                // operation (or the stencil test's failing one).
-                for (int py = y0; py < y1; ++py) {
-                    for (int s = 0; s < S; ++s) {
-                        const int64_t sx = static_cast<int64_t>(x0) * kSubpixel + sp.ox[s];
-                        const int64_t sy = static_cast<int64_t>(py) * kSubpixel + sp.oy[s];
-                        int64_t w0 = te.e[0].at(sx, sy) + te.e[0].bias,
-                                w1 = te.e[1].at(sx, sy) + te.e[1].bias,
-                                w2 = te.e[2].at(sx, sy) + te.e[2].bias;
-                        const int64_t d0 = te.e[0].a * kSubpixel, d1 = te.e[1].a * kSubpixel,
-                                      d2 = te.e[2].a * kSubpixel;
-                        size_t i =
-                            (static_cast<size_t>(py - tile.y0) * tw + (x0 - tile.x0)) * S + s;
-                        for (int px = x0; px < x1; ++px, w0 += d0, w1 += d1, w2 += d2, i += S) {
-                            if ((w0 | w1 | w2) < 0 || !st.enabled) continue;
-                            uint8_t& stencil = buf.stencil[i];
-                            const bool passes =
-                                stencil_test(face.func, st.ref, stencil, st.read_mask);
-                            stencil = stencil_apply(passes ? face.depth_fail : face.fail, stencil,
-                                                    st.ref, st.write_mask);
-                        }
-                    }
-                }
-                continue;
-            }
+            // Per sample: coverage, the stencil test, the depth test (none where all fail).
             for (int py = y0; py < y1; ++py) {
                 for (int s = 0; s < S; ++s) {
                     const int64_t sx = static_cast<int64_t>(x0) * kSubpixel + sp.ox[s];
@@ -357,6 +332,12 @@ void rasterize_plain(uint32_t id, const SetupTriangle& t, const TriangleEdges& t
                         uint8_t& stencil = st.enabled ? buf.stencil[i] : unused;
                         if (st.enabled && !stencil_test(face.func, st.ref, stencil, st.read_mask)) {
                             stencil = stencil_apply(face.fail, stencil, st.ref, st.write_mask);
+                            continue;
+                        }
+                        if (all_fail) {
+                            if (st.enabled)
+                                stencil =
+                                    stencil_apply(face.depth_fail, stencil, st.ref, st.write_mask);
                             continue;
                         }
                         const int64_t x = static_cast<int64_t>(px) * kSubpixel + sp.ox[s];

@@ -1,5 +1,6 @@
 #include "svetlo/raster/shadow_masks.h"
 
+#include "svetlo/core/error.h"
 #include "svetlo/raster/fragment.h"
 #include "svetlo/raster/shadow_techniques.h"
 #include "svetlo/shading/shading_frame.h"
@@ -22,6 +23,42 @@ std::unique_ptr<ShadowTechniqueState> make_shadow_technique(
             return make_planar_shadows(scene, list, f, passes, threads, memory);
     }
     return nullptr;
+}
+
+void StencilMasks::reserve(const Scene& scene, int width, int height,
+                           const std::vector<SamplePattern>& passes, uint64_t working,
+                           const char* what) {
+    constexpr uint64_t kMaxMaskBytes = uint64_t{2} << 30;  // every caster's mask, every pass
+    width_ = width;
+    height_ = height;
+    uint64_t samples = 0;
+    for (const SamplePattern& sp : passes)
+        samples += static_cast<uint64_t>(width) * static_cast<uint64_t>(height) *
+                   static_cast<uint64_t>(sp.count);
+    const uint64_t bytes = samples * (casters_.size() + working);
+    if (bytes > kMaxMaskBytes) {
+        throw Error(scene.path.string(), "render.area_shadow_points",
+                    std::string("the ") + what + " would take " + std::to_string(bytes >> 20) +
+                        " MiB (at most " + std::to_string(kMaxMaskBytes >> 20) +
+                        " MiB); lower render.spp or render.area_shadow_points");
+    }
+    lit_.assign(casters_.size(), {});
+}
+
+float StencilMasks::lit(size_t k, const ShadowSample& at) const {
+    const std::vector<uint8_t>& mask = lit_[k][static_cast<size_t>(at.pass)];
+    const size_t samples = mask.size() / (static_cast<size_t>(width_) * height_);
+    const size_t i =
+        (static_cast<size_t>(at.j) * static_cast<size_t>(width_) + static_cast<size_t>(at.i)) *
+            samples +
+        static_cast<size_t>(at.s);
+    return static_cast<float>(mask[i]);
+}
+
+float scene_diameter(const TriangleList& list) {
+    Bounds3 bounds;
+    for (vec3 p : list.positions) bounds.extend(p);
+    return bounds.empty() ? 1.0f : std::max(glm::length(bounds.extent()), 1e-6f);
 }
 
 void fill_masks(const ShadowTechniqueState& technique, const FrameState& f, const Tile& tile,

@@ -51,6 +51,29 @@ protected:
     std::vector<ShadowCaster> casters_;
 };
 
+/// The stencil techniques' state (volumes, planar projection): one byte per caster and sample
+/// of each sample pass of a width x height frame, 1 where the caster lights the sample, read
+/// back by the sample's place in the frame.
+class StencilMasks : public ShadowTechniqueState {
+public:
+    bool needs_surface() const override { return false; }
+    float lit(size_t k, const ShadowSample& at) const override;
+
+protected:
+    /// For casters_ (set before) over `passes`: refuses with an Error naming
+    /// render.area_shadow_points what would pass the memory limit, counting `working` more
+    /// bytes per sample for the passes themselves. `what` names the technique's masks.
+    void reserve(const Scene& scene, int width, int height,
+                 const std::vector<SamplePattern>& passes, uint64_t working, const char* what);
+
+    int width_ = 0, height_ = 0;
+    std::vector<std::vector<std::vector<uint8_t>>> lit_;  // per caster, per pass, per sample
+};
+
+/// The length of the diagonal of the list's bounds (1 when it has none), m: the scale of the
+/// techniques' small offsets.
+float scene_diameter(const TriangleList& list);
+
 /// The state of the scene's technique for this frame (its maps, volumes or stencil masks),
 /// made after the colour pass's setup (f.cam, f.lights); null for `none`. `passes`: the
 /// frame's sample passes; `memory`: the pipeline memory its passes reuse. Throws Error for

@@ -34,8 +34,6 @@ namespace svetlo::raster {
 
 namespace {
 
-constexpr uint64_t kMaxMaskBytes = uint64_t{2} << 30;  // every caster's mask, every pass
-
 /// Whether each object of the list is closed: every edge of its triangles has a neighbour.
 std::vector<char> closed_objects(const TriangleList& list) {
     std::vector<char> closed(list.objects.size(), 1);
@@ -49,27 +47,15 @@ std::vector<char> closed_objects(const TriangleList& list) {
     return closed;
 }
 
-class ShadowVolumes final : public ShadowTechniqueState {
+class ShadowVolumes final : public StencilMasks {
 public:
     ShadowVolumes(const Scene& scene, const TriangleList& list, const FrameState& f,
                   const std::vector<SamplePattern>& passes, int threads, PassMemory* memory)
-        : width_(f.cam.width), height_(f.cam.height) {
-        Bounds3 bounds;
-        for (vec3 p : list.positions) bounds.extend(p);
-        diameter_ = bounds.empty() ? 1.0f : std::max(glm::length(bounds.extent()), 1e-6f);
+        : diameter_(scene_diameter(list)) {
         casters_ = shadow_casters(scene, f.lights->set, scene.render.area_shadow_points,
                                   1e-4f * diameter_);
-        uint64_t samples = 0;
-        for (const SamplePattern& sp : passes)
-            samples += static_cast<uint64_t>(width_) * static_cast<uint64_t>(height_) *
-                       static_cast<uint64_t>(sp.count);
-        if (samples * casters_.size() > kMaxMaskBytes) {
-            throw Error(scene.path.string(), "render.area_shadow_points",
-                        "the shadow volumes' masks would take " +
-                            std::to_string(samples * casters_.size() >> 20) + " MiB (at most " +
-                            std::to_string(kMaxMaskBytes >> 20) +
-                            " MiB); lower render.spp or render.area_shadow_points");
-        }
+        // (The depth and stencil targets: 4 + 1 bytes per sample of a pass.)
+        reserve(scene, f.cam.width, f.cam.height, passes, 5, "shadow volumes' masks");
         closed_ = closed_objects(list);
         object_of_.resize(list.triangle_count());
         for (size_t o = 0; o < list.objects.size(); ++o) {
@@ -109,7 +95,6 @@ public:
                                StencilOp::IncrWrap};
         zpass.stencil.back = {StencilFunc::Always, StencilOp::Keep, StencilOp::Keep,
                               StencilOp::DecrWrap};
-        lit_.resize(casters_.size());
         std::vector<std::pair<TriangleList, TriangleList>> volumes;
         for (const ShadowCaster& c : casters_) {
             const VolumeCount count = scene.render.shadow_teaching.volume_count;
@@ -146,18 +131,6 @@ public:
                 if (k == 0 && stencil_.width == 0) stencil_ = stencil_counts(targets);
             }
         }
-    }
-
-    bool needs_surface() const override { return false; }
-
-    float lit(size_t k, const ShadowSample& at) const override {
-        const std::vector<uint8_t>& mask = lit_[k][static_cast<size_t>(at.pass)];
-        const size_t samples = mask.size() / (static_cast<size_t>(width_) * height_);
-        size_t i =
-            (static_cast<size_t>(at.j) * static_cast<size_t>(width_) + static_cast<size_t>(at.i)) *
-                samples +
-            static_cast<size_t>(at.s);
-        return static_cast<float>(mask[i]);
     }
 
     Image stencil_image() const override { return stencil_; }
@@ -360,12 +333,10 @@ private:
         return image;
     }
 
-    int width_, height_;
     float diameter_ = 1.0f;
     std::vector<char> closed_;
     std::vector<uint32_t> object_of_;
-    std::vector<std::vector<std::vector<uint8_t>>> lit_;  // per caster, per pass, per sample
-    std::vector<char> zfail_;                             // per caster: counted with z-fail
+    std::vector<char> zfail_;  // per caster: counted with z-fail
     Image stencil_;
 };
 
