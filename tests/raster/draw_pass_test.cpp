@@ -122,6 +122,58 @@ TEST(DrawPass, TheStencilCountsUpOnFrontFacesAndDownOnBackFaces) {
     }
 }
 
+TEST(DrawPass, AStencilCountFourPixelsAtATimeEqualsTheCountSampleBySample) {
+    // A shadow volume's stencil pass (test Always, wrapping counts, nothing else written) is
+    // counted four pixels at a time where its edge functions fit in 32 bits; the same pass with
+    // a test that always passes too (0 <= value) goes sample by sample. Random triangles, long
+    // and thin ones, and in a second round ones crossing the near plane (too large for 32
+    // bits), against a depth pass of three squares; z-fail and z-pass.
+    uint32_t state = 7;
+    auto rnd = [&](float lo, float hi) {
+        state = state * 1664525u + 1013904223u;
+        return lo + (hi - lo) * static_cast<float>(state >> 8) / 16777216.0f;
+    };
+    TriangleList scene = squares({{-2.0f, 1.8f, true}, {0.0f, 0.6f, false}, {1.5f, 0.3f, true}});
+    TriangleList volume;
+    for (int k = 0; k < 400; ++k) {
+        const float reach = k < 300 ? 1.5f : 4.0f;
+        vec3 a(rnd(-2, 2), rnd(-2, 2), k < 300 ? rnd(-4, 3) : rnd(-6, 4.9f));
+        vec3 b = a + vec3(rnd(-reach, reach), rnd(-reach, reach), rnd(-reach, reach));
+        vec3 c = a + vec3(rnd(-0.2f, 0.2f), rnd(-reach, reach), rnd(-reach, reach));
+        auto base = static_cast<uint32_t>(volume.positions.size());
+        for (vec3 p : {a, b, c}) {
+            volume.positions.push_back(p);
+            volume.normals.push_back(vec3(0.0f));
+            volume.uvs.push_back(vec2(0.0f));
+        }
+        volume.indices.insert(volume.indices.end(), {base, base + 1, base + 2});
+        volume.material.push_back(0);
+    }
+    for (bool zfail : {true, false}) {
+        PipelineState fast = counting_state();
+        fast.write_items = false;
+        if (zfail) {
+            fast.stencil.back = {StencilFunc::Always, StencilOp::Keep, StencilOp::IncrWrap,
+                                 StencilOp::Keep};
+            fast.stencil.front = {StencilFunc::Always, StencilOp::Keep, StencilOp::DecrWrap,
+                                  StencilOp::Keep};
+        }
+        PipelineState plain = fast;
+        plain.stencil.front.func = plain.stencil.back.func = StencilFunc::LessEqual;
+        RenderTargets a, b;
+        for (RenderTargets* t : {&a, &b}) {
+            t->clear(32, 32, 1, true);
+            draw_pass(scene, camera(), PipelineState{}, *t, 2);
+        }
+        draw_pass(volume, camera(), fast, a, 2);
+        draw_pass(volume, camera(), plain, b, 2);
+        int counted = 0;
+        for (uint8_t s : a.stencil) counted += s != 0;
+        EXPECT_GT(counted, 100) << zfail;
+        EXPECT_EQ(a.stencil, b.stencil) << zfail;
+    }
+}
+
 TEST(DrawPass, CullingDropsTheSideItNames) {
     for (CullMode cull : {CullMode::None, CullMode::Back, CullMode::Front}) {
         for (bool toward : {true, false}) {

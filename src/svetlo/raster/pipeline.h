@@ -188,7 +188,7 @@ struct TileBuffers {
     static constexpr size_t kPad = 4;  // samples past the end, for four-wide loads and stores
     std::vector<float> depth;
     std::vector<uint32_t> tri;
-    std::vector<uint8_t> stencil;     // per sample, when a pass uses it
+    std::vector<uint8_t> stencil;     // per sample (and kPad), when a pass uses it
     std::vector<float> l1, l2;        // screen barycentrics of vertices 1 and 2 per sample,
                                       // written by rasterize_small (one sample per pixel)
     std::vector<float> block_far;     // per block: max depth over its samples
@@ -205,7 +205,7 @@ struct TileBuffers {
     void reset(size_t samples, size_t pixels, bool aovs, bool stencil_used) {
         depth.assign(samples + kPad, kInfinity);
         tri.assign(samples + kPad, kNone);
-        if (stencil_used) stencil.assign(samples, 0);
+        if (stencil_used) stencil.assign(samples + kPad, 0);
         if (l1.size() != samples + kPad) {
             l1.resize(samples + kPad);
             l2.resize(samples + kPad);

@@ -4,6 +4,7 @@
 #include <immintrin.h>
 
 #include <algorithm>
+#include <cstring>
 
 #include "svetlo/core/rng.h"
 #include "svetlo/core/sampling.h"
@@ -211,6 +212,81 @@ void rasterize(uint32_t id, const SetupTriangle& t, const TriangleEdges& te, Pix
 
 /// What a pass does with the samples a triangle covers (OpenGL's depth and stencil state).
 
+/// A stencil count's change per operation: Keep, IncrWrap and DecrWrap only (else 2).
+int stencil_delta(StencilOp op) {
+    return op == StencilOp::Keep       ? 0
+           : op == StencilOp::IncrWrap ? 1
+           : op == StencilOp::DecrWrap ? -1
+                                       : 2;
+}
+
+/// rasterize_plain's per-sample loop over one block, four pixels at a time, for what a shadow
+/// volume's stencil pass asks (one sample per pixel, the stencil test Always, the pass and
+/// depth-fail operations adding `delta_pass` and `delta_fail` with wrapping, no depth or item
+/// written): the same coverage (edge functions exact in 32 bits, which the caller checked),
+/// the same depths (the same double-precision operations, in the same order) and the same
+/// counts. `all_fail`: every sample fails the depth test.
+void count_block(const SetupTriangle& t, const TriangleEdges& te, double dzdx, double dzdy, int x0,
+                 int x1, int y0, int y1, const Tile& tile, const SamplePattern& sp,
+                 float depth_bias, int delta_pass, int delta_fail, bool all_fail,
+                 TileBuffers& buf) {
+    const int tw = tile.x1 - tile.x0;
+    const __m128i lane = _mm_set_epi32(3, 2, 1, 0);
+    const __m128d z0 = _mm_set1_pd(static_cast<double>(t.z[0]));
+    const __m128d gx = _mm_set1_pd(dzdx), scale = _mm_set1_pd(1.0 / kSubpixel);
+    const __m128 bias = _mm_set1_ps(depth_bias);
+    const __m128 sign = _mm_set1_ps(-0.0f);
+    const __m128i dpass = _mm_set1_epi32(delta_pass), dfail = _mm_set1_epi32(delta_fail);
+    for (int py = y0; py < y1; ++py) {
+        const int64_t sx = static_cast<int64_t>(x0) * kSubpixel + sp.ox[0];
+        const int64_t sy = static_cast<int64_t>(py) * kSubpixel + sp.oy[0];
+        __m128i w[3], step[3];
+        for (int k = 0; k < 3; ++k) {
+            const auto d = static_cast<int32_t>(te.e[k].a * kSubpixel);
+            const int64_t e = te.e[k].at(sx, sy) + te.e[k].bias;
+            w[k] = _mm_set_epi32(static_cast<int32_t>(e + 3 * static_cast<int64_t>(d)),
+                                 static_cast<int32_t>(e + 2 * static_cast<int64_t>(d)),
+                                 static_cast<int32_t>(e + d), static_cast<int32_t>(e));
+            step[k] = _mm_set1_epi32(4 * d);
+        }
+        // (dzdy (y - y0) / 256, the same for the row.)
+        const __m128d ty = _mm_set1_pd(dzdy * static_cast<double>(sy - t.y[0]) / kSubpixel);
+        size_t i = static_cast<size_t>(py - tile.y0) * tw + (x0 - tile.x0);
+        for (int px = x0; px < x1; px += 4, i += 4) {
+            const __m128i outside =
+                _mm_srai_epi32(_mm_or_si128(_mm_or_si128(w[0], w[1]), w[2]), 31);
+            const __m128i in_span = _mm_cmplt_epi32(lane, _mm_set1_epi32(x1 - px));
+            const __m128i covered = _mm_andnot_si128(outside, in_span);
+            for (int k = 0; k < 3; ++k) w[k] = _mm_add_epi32(w[k], step[k]);
+            if (_mm_movemask_epi8(covered) == 0) continue;
+            __m128i pass = _mm_setzero_si128();
+            if (!all_fail) {
+                // z = (z0 + dzdx (x - x0) / 256) + dzdy (y - y0) / 256, per lane in double.
+                const double dx =
+                    static_cast<double>(static_cast<int64_t>(px) * kSubpixel + sp.ox[0] - t.x[0]);
+                const __m128d xa = _mm_set_pd(dx + kSubpixel, dx),
+                              xb = _mm_set_pd(dx + 3 * kSubpixel, dx + 2 * kSubpixel);
+                const __m128d za =
+                    _mm_add_pd(_mm_add_pd(z0, _mm_mul_pd(_mm_mul_pd(gx, xa), scale)), ty);
+                const __m128d zb =
+                    _mm_add_pd(_mm_add_pd(z0, _mm_mul_pd(_mm_mul_pd(gx, xb), scale)), ty);
+                const __m128 z = _mm_movelh_ps(_mm_cvtpd_ps(za), _mm_cvtpd_ps(zb));
+                const __m128 tested = _mm_add_ps(z, _mm_mul_ps(bias, _mm_andnot_ps(sign, z)));
+                pass = _mm_castps_si128(_mm_cmplt_ps(tested, _mm_loadu_ps(&buf.depth[i])));
+            }
+            // Each lane's change, as bytes, added to the four counts (wrapping).
+            const __m128i delta = _mm_and_si128(
+                covered, _mm_or_si128(_mm_and_si128(pass, dpass), _mm_andnot_si128(pass, dfail)));
+            const __m128i bytes =
+                _mm_packs_epi16(_mm_packs_epi32(delta, delta), _mm_setzero_si128());
+            int32_t counts;
+            std::memcpy(&counts, &buf.stencil[i], 4);
+            counts = _mm_cvtsi128_si32(_mm_add_epi8(_mm_cvtsi32_si128(counts), bytes));
+            std::memcpy(&buf.stencil[i], &counts, 4);
+        }
+    }
+}
+
 /// Stage 5, the plain form a student can follow: per sample, the stencil test and its
 /// operations around the depth test (stencil.h), and the depth written only when the state
 /// says so. Used when the stencil is on or depth writes are off; the blocks' deepest depths
@@ -235,6 +311,11 @@ void rasterize_plain(uint32_t id, const SetupTriangle& t, const TriangleEdges& t
     const bool passing_is_idle =
         block_depths && !state.write_items &&
         (!st.enabled || (face.pass == StencilOp::Keep && face.func == StencilFunc::Always));
+    // A shadow volume's count: four pixels at a time (count_block).
+    const bool counts_only = S == 1 && st.enabled && state.depth_test && !state.depth_write &&
+                             !state.write_items && face.func == StencilFunc::Always &&
+                             st.write_mask == 0xff && stencil_delta(face.pass) != 2 &&
+                             stencil_delta(face.depth_fail) != 2;
     const bool failing_is_idle =
         block_depths &&
         (!st.enabled || (face.depth_fail == StencilOp::Keep && face.func == StencilFunc::Always));
@@ -279,10 +360,13 @@ void rasterize_plain(uint32_t id, const SetupTriangle& t, const TriangleEdges& t
             const int64_t ya = static_cast<int64_t>(y0) * kSubpixel,
                           yb = static_cast<int64_t>(y1) * kSubpixel - 1;
             bool outside = false, inside = true;
+            int64_t reach = 0;  // the largest |edge function| a four-wide step can meet
             for (const Edge& e : te.e) {
                 const int64_t c[4] = {e.at(xa, ya), e.at(xb, ya), e.at(xa, yb), e.at(xb, yb)};
                 outside = outside || std::max({c[0], c[1], c[2], c[3]}) + e.bias < 0;
                 inside = inside && std::min({c[0], c[1], c[2], c[3]}) + e.bias >= 0;
+                for (int64_t v : c)
+                    reach = std::max(reach, std::abs(v) + 8 * std::abs(e.a) * kSubpixel + 1);
             }
             if (outside) continue;
             bool all_fail = false;
@@ -313,6 +397,12 @@ void rasterize_plain(uint32_t id, const SetupTriangle& t, const TriangleEdges& t
                             row[k] = stencil_apply(face.depth_fail, row[k], st.ref, st.write_mask);
                     }
                 }
+                continue;
+            }
+            if (counts_only && reach < (int64_t{1} << 30)) {
+                count_block(t, te, dzdx, dzdy, x0, x1, y0, y1, tile, sp, state.depth_bias,
+                            stencil_delta(face.pass), stencil_delta(face.depth_fail), all_fail,
+                            buf);
                 continue;
             }
             // Per sample: coverage, the stencil test, the depth test (none where all fail).
