@@ -1,12 +1,14 @@
 // render.shadows "volume": stencil shadow volumes (Crow, "Shadow Algorithms for Computer
-// Graphics", SIGGRAPH 1977; Heidmann 1991), counted with z-fail, Carmack's reverse (Everitt
-// and Kilgard, "Practical and Robust Stenciled Shadow Volumes", 2002), always: it stays right
-// with the camera inside a volume, which z-pass does not.
+// Graphics", SIGGRAPH 1977; Heidmann 1991; Everitt and Kilgard, "Practical and Robust
+// Stenciled Shadow Volumes", 2002).
 //
 // Per sample pass of the frame: a depth pass from the camera (the same samples as the colour
 // pass), then per caster a stencil pass over its volume with the depth test on and depth
-// writes off, back faces incrementing and front faces decrementing where the depth test fails,
-// with wrapping. A sample is lit by the caster where the count is 0.
+// writes off, counting with wrapping; a sample is lit by the caster where the count is 0.
+// Per caster, z-fail (Carmack's reverse: back faces up and front faces down where the depth
+// test fails), which stays right with the camera inside a volume, wherever a volume may reach
+// the near plane; else z-pass (front faces up and back faces down where it passes), the same
+// count for less work, with the sides alone (render.shadow_volume.count, auto).
 //
 // The volume of a caster: every triangle turned toward the caster (flipped when it faces
 // away) bounds the region it hides, closed by itself (the near cap), its projection to
