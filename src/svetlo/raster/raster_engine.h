@@ -19,9 +19,11 @@
 //      interpolation; filtered textures; MSAA shades once per pixel and triangle;
 //   7. resolve (resolve.cpp): the mean of the samples and the wireframe overlay.
 //
-// A frame is a sequence of passes through one entry point (draw_pass.h); today the colour
-// pass. The lighting is shading/'s, as in the ray tracer; visibility is 1 until the shadow
-// techniques give a mask per light. docs/raster.md has the details and pictures.
+// A frame is a sequence of passes through one entry point (draw_pass.h): the shadow
+// technique's passes (shadow_masks.h: depth maps, a depth pass and stencil volumes, planar
+// projections), then the colour pass, whose tiles fill each light's mask after their
+// rasterization. The lighting is shading/'s, as in the ray tracer, each light's term times its
+// mask. docs/raster.md and docs/shadows.md have the details and pictures.
 #pragma once
 
 #include <memory>

@@ -174,10 +174,10 @@ public:
                            ? static_cast<uint64_t>(settings_.cascades)
                            : 6);
         }
-        // Each map's distances, and its depth targets while it is drawn.
-        if (texels * 8 > kMaxShadowMapBytes) {
+        // Each map's distances (its depth target, converted in place: 4 bytes a texel).
+        if (texels * 4 > kMaxShadowMapBytes) {
             throw Error(scene.path.string(), "render.shadow_map.resolution",
-                        "the shadow maps would take " + std::to_string(texels * 8 >> 20) +
+                        "the shadow maps would take " + std::to_string(texels * 4 >> 20) +
                             " MiB (at most " + std::to_string(kMaxShadowMapBytes >> 20) +
                             " MiB); lower the resolution or render.area_shadow_points");
         }
