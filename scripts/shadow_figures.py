@@ -113,8 +113,10 @@ def main():
         print("| %s | %.3f | %.4f | %.4f |" % (t, seconds, iou, mae))
         if t != "none":
             row.append(srgb(colour))
-            diff = np.abs(aov["visibility"] - truth["visibility"])
-            errors.append(np.stack([diff, 0.15 * (1 - diff), 0.15 * (1 - diff)], axis=-1))
+            # Red where the visibility differs, over the picture in faint grey.
+            diff = np.abs(aov["visibility"] - truth["visibility"])[..., None]
+            grey = 0.35 * srgb(colour).mean(axis=-1, keepdims=True)
+            errors.append((1 - diff) * grey + diff * np.array([1.0, 0.0, 0.0]))
             write_png(os.path.join(IMAGES, "shadows_%s.png" % t), srgb(colour))
     write_png(os.path.join(IMAGES, "shadows_errors.png"),
               np.concatenate([e[::2, ::2] for e in errors], axis=1))
