@@ -26,6 +26,38 @@ inline double median(std::vector<double> v) {
     return v.empty() ? 0.0 : v[v.size() / 2];
 }
 
+/// The material and ambient term every workload uses on both sides: Blinn-Phong (svetlo's
+/// normalisation), kd 0.6, ks 0.3, shininess 32, ambient 0.05.
+constexpr float kKd = 0.6f, kKs = 0.3f, kShininess = 32.0f, kAmbient = 0.05f;
+
+/// A raster scene of `meshes` (world space) in that material under `lights`, seen by `camera`
+/// at kWidth x kHeight, with the shadow technique `shadows`.
+inline Scene raster_scene(const Camera& camera, std::vector<Light> lights,
+                          const std::vector<const Mesh*>& meshes, ShadowTechnique shadows) {
+    Scene scene;
+    scene.camera = camera;
+    scene.film = Film{kWidth, kHeight};
+    scene.render.engine = "raster";
+    scene.render.shadows = shadows;
+    scene.render.ambient = Color(kAmbient);
+    PhongMaterial m;
+    m.blinn = true;
+    m.ka = ColorSource::constant(Color(1.0f));
+    m.kd = ColorSource::constant(Color(kKd));
+    m.ks = ColorSource::constant(Color(kKs));
+    m.shininess = kShininess;
+    scene.materials = {m};
+    scene.material_names = {"m"};
+    scene.lights = std::move(lights);
+    for (const Mesh* mesh : meshes) {
+        Object o;
+        o.shape = *mesh;
+        o.material = 0;
+        scene.objects.push_back(o);
+    }
+    return scene;
+}
+
 /// svetlo's rasterizer on `scene`: the median of `frames` frames in ms, by one renderer frame
 /// after frame (it keeps its buffers, as a GL context does; the first frame, which
 /// allocates them, is not counted, as GL's first, which compiles the shaders, is not).
@@ -83,18 +115,23 @@ inline OSMesaContext gl_context(int threads, std::vector<unsigned char>& buffer)
     return ctx;
 }
 
+/// Stops the benchmark with GL's log when a shader or program (`what`) failed.
+template <class GetLog>
+void stop_unless(GLint ok, const char* what, GLuint object, GetLog get_log) {
+    if (ok) return;
+    char log[1024];
+    get_log(object, static_cast<GLsizei>(sizeof log), nullptr, log);
+    std::fprintf(stderr, "%s: %s\n", what, log);
+    std::exit(1);
+}
+
 inline GLuint compile(GLenum type, const char* source) {
     GLuint s = glCreateShader(type);
     glShaderSource(s, 1, &source, nullptr);
     glCompileShader(s);
     GLint ok = 0;
     glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[1024];
-        glGetShaderInfoLog(s, sizeof log, nullptr, log);
-        std::fprintf(stderr, "shader: %s\n", log);
-        std::exit(1);
-    }
+    stop_unless(ok, "shader", s, glGetShaderInfoLog);
     return s;
 }
 
@@ -107,12 +144,7 @@ inline GLuint program(const char* vertex, const char* geometry, const char* frag
     glLinkProgram(p);
     GLint ok = 0;
     glGetProgramiv(p, GL_LINK_STATUS, &ok);
-    if (!ok) {
-        char log[1024];
-        glGetProgramInfoLog(p, sizeof log, nullptr, log);
-        std::fprintf(stderr, "program: %s\n", log);
-        std::exit(1);
-    }
+    stop_unless(ok, "program", p, glGetProgramInfoLog);
     return p;
 }
 

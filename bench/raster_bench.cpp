@@ -81,32 +81,16 @@ Workload fragment_heavy() {
     return w;
 }
 
-// The light and material both renderers use: Blinn-Phong, one point light, an ambient term.
-constexpr float kKd = 0.6f, kKs = 0.3f, kShininess = 32.0f, kAmbient = 0.05f;
+// The light both renderers use (bench_common.h has the material): one point light.
 const vec3 kLightPos(2.0f, 3.0f, 4.0f);
 constexpr float kIntensity = 30.0f;
 
 double svetlo_frame_ms(const Workload& w, int threads, int frames) {
-    Scene scene;
-    scene.camera = w.camera;
-    scene.film = Film{kWidth, kHeight};
-    scene.render.engine = "raster";
-    scene.render.shadows = ShadowTechnique::None;  // the GL side draws none
-    scene.render.ambient = Color(kAmbient);
-    PhongMaterial m;
-    m.blinn = true;
-    m.ka = ColorSource::constant(Color(1.0f));
-    m.kd = ColorSource::constant(Color(kKd));
-    m.ks = ColorSource::constant(Color(kKs));
-    m.shininess = kShininess;
-    scene.materials = {m};
-    scene.material_names = {"m"};
-    scene.lights = {PointLight{kLightPos, Color(kIntensity)}};
-    Object o;
-    o.shape = w.mesh;
-    o.material = 0;
-    scene.objects = {o};
-    return bench::svetlo_frame_ms(scene, threads, frames);
+    // (No shadows: the GL side draws none.)
+    return bench::svetlo_frame_ms(
+        bench::raster_scene(w.camera, {PointLight{kLightPos, Color(kIntensity)}}, {&w.mesh},
+                            ShadowTechnique::None),
+        threads, frames);
 }
 
 #ifdef SVETLO_HAS_OSMESA
@@ -162,11 +146,11 @@ double llvmpipe_frame_ms(const Workload& w, int threads, int frames) {
     glUniform3f(glGetUniformLocation(program, "eye"), w.camera.position.x, w.camera.position.y,
                 w.camera.position.z);
     glUniform3f(glGetUniformLocation(program, "light_pos"), kLightPos.x, kLightPos.y, kLightPos.z);
-    glUniform1f(glGetUniformLocation(program, "kd"), kKd);
-    glUniform1f(glGetUniformLocation(program, "ks"), kKs);
-    glUniform1f(glGetUniformLocation(program, "shininess"), kShininess);
+    glUniform1f(glGetUniformLocation(program, "kd"), bench::kKd);
+    glUniform1f(glGetUniformLocation(program, "ks"), bench::kKs);
+    glUniform1f(glGetUniformLocation(program, "shininess"), bench::kShininess);
     glUniform1f(glGetUniformLocation(program, "intensity"), kIntensity);
-    glUniform1f(glGetUniformLocation(program, "ambient"), kAmbient);
+    glUniform1f(glGetUniformLocation(program, "ambient"), bench::kAmbient);
     glViewport(0, 0, kWidth, kHeight);
     glEnable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);

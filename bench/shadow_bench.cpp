@@ -31,7 +31,6 @@ namespace svetlo::bench {
 
 namespace {
 
-constexpr float kKd = 0.6f, kKs = 0.3f, kShininess = 32.0f, kAmbient = 0.05f;
 constexpr int kMapResolution = 2048;
 
 struct ShadowScene {
@@ -105,30 +104,10 @@ ShadowScene volume_scene() {
 }
 
 Scene svetlo_scene(const ShadowScene& s, ShadowTechnique technique, int kernel = 3) {
-    Scene scene;
-    scene.camera = s.camera;
-    scene.film = Film{kWidth, kHeight};
-    scene.render.engine = "raster";
-    scene.render.shadows = technique;
+    Scene scene = raster_scene(s.camera, {s.light}, {&s.occluders, &s.receiver}, technique);
     scene.render.shadow_map.resolution = kMapResolution;
     scene.render.shadow_map.filter = kernel > 1 ? ShadowFilter::Pcf : ShadowFilter::None;
     scene.render.shadow_map.kernel = kernel;
-    scene.render.ambient = Color(kAmbient);
-    PhongMaterial m;
-    m.blinn = true;
-    m.ka = ColorSource::constant(Color(1.0f));
-    m.kd = ColorSource::constant(Color(kKd));
-    m.ks = ColorSource::constant(Color(kKs));
-    m.shininess = kShininess;
-    scene.materials = {m};
-    scene.material_names = {"m"};
-    scene.lights = {s.light};
-    for (const Mesh* mesh : {&s.occluders, &s.receiver}) {
-        Object o;
-        o.shape = *mesh;
-        o.material = 0;
-        scene.objects.push_back(o);
-    }
     return scene;
 }
 

@@ -31,6 +31,12 @@ RenderResult render(const json& j, int threads = 2, std::vector<std::string> deb
     return RasterRenderer().render(scene, options);
 }
 
+/// The visibility AOV of scene j with shadows ray-traced: the truth inside the rasterizer.
+Image raytraced_visibility(json j) {
+    j["render"]["shadows"] = "raytraced";
+    return render(j).aovs.at("visibility");
+}
+
 /// A unit sphere's shadow on a floor, seen from above at an angle.
 json sphere_on_floor(const json& light, const char* shadows) {
     return {{"camera", {{"position", {0, 5, 6}}, {"look_at", {0, 0, 0}}, {"fov", 45}}},
@@ -253,8 +259,7 @@ TEST(ShadowVolumes, TheCameraInsideAShadowVolumeSeesTheSameShadows) {
     json j = sphere_on_floor(kPoint, "volume");
     j["camera"] = {{"position", {-0.3, 0.3, -0.2}}, {"look_at", {-2, 0, -3}}, {"fov", 60}};
     const Image v = render(j).aovs.at("visibility");
-    j["render"]["shadows"] = "raytraced";
-    const Image truth = render(j).aovs.at("visibility");
+    const Image truth = raytraced_visibility(j);
     int shadowed = 0;
     EXPECT_GT(shadow_iou(v, truth, &shadowed), 0.99);
     EXPECT_GT(shadowed, 500);
@@ -271,8 +276,7 @@ TEST(ShadowVolumes, ZPassCountsWrongWithTheCameraInsideAndZFailRight) {
     // From outside every volume both counts agree.
     j["camera"] = sphere_on_floor(kPoint, "volume")["camera"];
     const Image outside = render(j).aovs.at("visibility");
-    j["render"]["shadows"] = "raytraced";
-    EXPECT_GT(shadow_iou(outside, render(j).aovs.at("visibility")), 0.99);
+    EXPECT_GT(shadow_iou(outside, raytraced_visibility(j)), 0.99);
 }
 
 TEST(ShadowVolumes, ZPassWhereTheNearPlaneIsOutsideEveryVolumeCountsAsZFail) {
@@ -301,8 +305,7 @@ TEST(ShadowVolumes, AQuadCulledFromTheCameraStillCastsItsShadow) {
                          {"material", "m"}},
                         floor_quad(5.0f, "m")};
         const Image v = render(j).aovs.at("visibility");
-        j["render"]["shadows"] = "raytraced";
-        const Image truth = render(j).aovs.at("visibility");
+        const Image truth = raytraced_visibility(j);
         int shadowed = 0;
         EXPECT_GT(shadow_iou(v, truth, &shadowed), 0.98) << cull;
         EXPECT_GT(shadowed, 200) << cull;
@@ -321,8 +324,7 @@ TEST(ShadowVolumes, ObjectsSharingAnEdgeCloseTheirVolumesWithTheCameraInside) {
                             {"edge_v", {0, 4, 0}},
                             {"material", "m"}});
     const Image v = render(j).aovs.at("visibility");
-    j["render"]["shadows"] = "raytraced";
-    const Image truth = render(j).aovs.at("visibility");
+    const Image truth = raytraced_visibility(j);
     EXPECT_LT(mean_difference(v, truth), 0.01);
 }
 
@@ -368,8 +370,7 @@ TEST(ShadowTechniques, OpenOccludersCastTheirShadows) {
         j["lights"] = {{{"type", "point"}, {"position", {0, 5, 0}}, {"intensity", 40}}};
         j["objects"] = {open_box, quad, floor_quad(5.0f, "m")};
         const Image v = render(j).aovs.at("visibility");
-        j["render"]["shadows"] = "raytraced";
-        const Image truth = render(j).aovs.at("visibility");
+        const Image truth = raytraced_visibility(j);
         int shadowed = 0;
         EXPECT_GT(shadow_iou(v, truth, &shadowed), 0.98) << technique;
         EXPECT_GT(shadowed, 400) << technique;
@@ -439,8 +440,7 @@ TEST(ShadowTechniques, ManySamplePassesKeepTheirMasks) {
         json j = sphere_on_floor(kPoint, technique);
         j["render"]["spp"] = 20;
         const Image v = render(j).aovs.at("visibility");
-        j["render"]["shadows"] = "raytraced";
-        const Image truth = render(j).aovs.at("visibility");
+        const Image truth = raytraced_visibility(j);
         EXPECT_LT(mean_difference(v, truth), 0.005) << technique;
     }
 }

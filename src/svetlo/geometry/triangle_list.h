@@ -29,6 +29,12 @@ struct TriangleList {
     std::vector<float> w;
 
     size_t triangle_count() const { return material.size(); }
+    /// The bounds of the positions (of a list whose vertices all have weight 1).
+    Bounds3 bounds() const {
+        Bounds3 b;
+        for (vec3 p : positions) b.extend(p);
+        return b;
+    }
 };
 
 /// Tessellates and places every object, in order (one range each in `objects`); `threads`

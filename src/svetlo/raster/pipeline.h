@@ -231,7 +231,8 @@ SamplePattern sample_pattern(int spp, uint64_t seed, int first, int count);
 /// The triangle's edges, in the order of the barycentric weights of vertices 0, 1, 2.
 struct TriangleEdges {
     Edge e[3];
-    double inv_area;
+    double inv_area = 0.0;
+    TriangleEdges() = default;  // (no triangle: every weight 0)
     explicit TriangleEdges(const SetupTriangle& t)
         : e{Edge::make(t.x[1], t.y[1], t.x[2], t.y[2]), Edge::make(t.x[2], t.y[2], t.x[0], t.y[0]),
             Edge::make(t.x[0], t.y[0], t.x[1], t.y[1])},
@@ -278,16 +279,16 @@ public:
     explicit EdgeCache(const FrameState& f) : f_(f) {}
     const TriangleEdges& of(uint32_t id) {
         if (id != id_) {
-            edges_.emplace(f_.tri(id));
+            edges_ = TriangleEdges(f_.tri(id));
             id_ = id;
         }
-        return *edges_;
+        return edges_;
     }
 
 private:
     const FrameState& f_;
     uint32_t id_ = kNone;
-    std::optional<TriangleEdges> edges_;
+    TriangleEdges edges_;
 };
 
 /// The unit direction from world point p toward the camera.

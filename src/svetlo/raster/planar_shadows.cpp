@@ -106,16 +106,16 @@ class PlanarShadows final : public StencilMasks {
 public:
     PlanarShadows(const Scene& scene, const TriangleList& list, const FrameState& f,
                   const std::vector<SamplePattern>& passes, int threads, PassMemory* memory) {
-        const float diameter = scene_diameter(list);
+        const float diameter = scene_diameter(list.bounds());
         casters_ =
             shadow_casters(scene, f.lights->set, scene.render.area_shadow_points, 1e-4f * diameter);
         // (The depth, stencil and item targets and each sample's receiver: 13 bytes.)
         reserve(scene, f.cam.width, f.cam.height, passes, 13, "planar shadows' masks");
         receivers_ = find_receivers(list, diameter);
-        std::vector<uint32_t> receiver_of(list.triangle_count(), 0);  // 0: none, else r + 1
+        receiver_of_.assign(list.triangle_count(), 0);
         for (size_t r = 0; r < receivers_.size(); ++r) {
             for (uint32_t t : receivers_[r].triangles)
-                receiver_of[t] = static_cast<uint32_t>(r + 1);
+                receiver_of_[t] = static_cast<uint32_t>(r + 1);
         }
         PipelineState item_state;
         item_state.cull = f.cull;
@@ -126,7 +126,7 @@ public:
             std::vector<uint32_t> receiver(targets.primitive.size(), 0);
             for (size_t i = 0; i < receiver.size(); ++i) {
                 uint32_t t = targets.primitive[i];
-                receiver[i] = t == RenderTargets::kNoPrimitive ? 0 : receiver_of[t];
+                receiver[i] = t == RenderTargets::kNoPrimitive ? 0 : receiver_of_[t];
             }
             for (size_t k = 0; k < casters_.size(); ++k) {
                 std::vector<uint8_t> lit(receiver.size(), 1);
@@ -139,7 +139,7 @@ public:
                             r > first && r <= last ? static_cast<uint8_t>(r - first) : uint8_t{0};
                     }
                     for (size_t r = first; r < last; ++r) {
-                        TriangleList shadow = projected(list, receivers_[r], casters_[k], diameter,
+                        TriangleList shadow = projected(list, r, casters_[k], diameter,
                                                         scene.render.shadow_teaching.planar_clip);
                         if (shadow.indices.empty()) continue;
                         PipelineState state;
@@ -167,8 +167,9 @@ public:
 private:
     /// Every triangle but the receiver's, clipped to the slab between the receiver's plane and
     /// the caster, flattened onto the plane from the caster.
-    static TriangleList projected(const TriangleList& list, const Receiver& r,
-                                  const ShadowCaster& c, float diameter, bool clip_to_slab) {
+    TriangleList projected(const TriangleList& list, size_t receiver, const ShadowCaster& c,
+                           float diameter, bool clip_to_slab) const {
+        const Receiver& r = receivers_[receiver];
         TriangleList out;
         const bool directional = c.kind == ShadowCaster::Kind::Directional;
         // The plane turned toward the caster; none when the caster lies in it or behind
@@ -185,10 +186,8 @@ private:
         const vec4 light = directional ? vec4(-c.direction, 0.0f) : vec4(c.position, 1.0f);
         const mat4 project = planar_projection(n, d, light);
         const float epsilon = 1e-5f * diameter;
-        std::vector<char> own(list.triangle_count(), 0);
-        for (uint32_t t : r.triangles) own[t] = 1;
         for (size_t t = 0; t < list.triangle_count(); ++t) {
-            if (own[t]) continue;
+            if (receiver_of_[t] == receiver + 1) continue;  // its own
             std::array<vec3, 8> a{}, b{};
             for (int k = 0; k < 3; ++k)
                 a[static_cast<size_t>(k)] =
@@ -231,6 +230,7 @@ private:
     }
 
     std::vector<Receiver> receivers_;
+    std::vector<uint32_t> receiver_of_;  // per triangle: 0, or the receiver it is in, plus 1
 };
 
 }  // namespace

@@ -175,13 +175,6 @@ void prepare_shading(const Scene& scene, FrameState& f) {
     }
 }
 
-/// World bounds of everything drawn: the near and far planes enclose them.
-Bounds3 drawn_bounds(const TriangleList& list) {
-    Bounds3 bounds;
-    for (vec3 p : list.positions) bounds.extend(p);
-    return bounds;
-}
-
 /// A lower bound on the distance of anything the camera sees (0: none): the distance from the
 /// eye to the nearest plane of a triangle not wholly behind it. The near plane goes at half
 /// of it (camera_matrices), so that nothing visible is clipped.
@@ -201,9 +194,9 @@ float nearest_depth(const TriangleList& list, const Camera& camera) {
     return std::isfinite(nearest) ? nearest : 0.0f;
 }
 
-/// The camera matrices of the frame, near and far around what it draws.
+/// The camera matrices of the frame, near and far around what it draws (its bounds).
 CameraMatrices frame_camera(const Scene& scene, const TriangleList& list) {
-    return camera_matrices(scene.camera, scene.film.width, scene.film.height, drawn_bounds(list),
+    return camera_matrices(scene.camera, scene.film.width, scene.film.height, list.bounds(),
                            nearest_depth(list, scene.camera));
 }
 

@@ -32,10 +32,6 @@ struct ShadowCaster {
         vec3 wi = kind == Kind::Directional ? -direction : position - p;  // (signs only)
         return glm::dot(n, wi) > 0.0f && !(glm::dot(normal, wi) > 0.0f);
     }
-    /// The distance from p to the caster (infinite for a directional light).
-    float distance(vec3 p) const {
-        return kind == Kind::Directional ? kInfinity : glm::length(position - p);
-    }
 };
 
 /// The casters of every source of `lights`, grouped by source in its order. A light with area

@@ -155,10 +155,8 @@ public:
     ShadowMaps(const Scene& scene, const TriangleList& list, const FrameState& f, int threads,
                PassMemory* memory)
         : settings_(scene.render.shadow_map), camera_(f.cam), memory_(memory) {
-        Bounds3 bounds;
-        for (vec3 p : list.positions) bounds.extend(p);
-        const float diameter =
-            bounds.empty() ? 1.0f : std::max(glm::length(bounds.extent()), 1e-6f);
+        const Bounds3 bounds = list.bounds();
+        const float diameter = scene_diameter(bounds);
         const bool pcss = settings_.filter == ShadowFilter::Pcss;
         const int area_points = pcss ? 0 : scene.render.area_shadow_points;
         area_points_ = std::max(area_points, 1);

@@ -31,7 +31,9 @@ void StencilMasks::reserve(const Scene& scene, int width, int height,
     constexpr uint64_t kMaxMaskBytes = uint64_t{2} << 30;  // every caster's mask, every pass
     width_ = width;
     height_ = height;
+    samples_per_pass_.clear();
     uint64_t samples = 0;
+    for (const SamplePattern& sp : passes) samples_per_pass_.push_back(sp.count);
     for (const SamplePattern& sp : passes)
         samples += static_cast<uint64_t>(width) * static_cast<uint64_t>(height) *
                    static_cast<uint64_t>(sp.count);
@@ -47,7 +49,7 @@ void StencilMasks::reserve(const Scene& scene, int width, int height,
 
 float StencilMasks::lit(size_t k, const ShadowSample& at) const {
     const std::vector<uint8_t>& mask = lit_[k][static_cast<size_t>(at.pass)];
-    const size_t samples = mask.size() / (static_cast<size_t>(width_) * height_);
+    const auto samples = static_cast<size_t>(samples_per_pass_[static_cast<size_t>(at.pass)]);
     const size_t i =
         (static_cast<size_t>(at.j) * static_cast<size_t>(width_) + static_cast<size_t>(at.i)) *
             samples +
@@ -55,9 +57,7 @@ float StencilMasks::lit(size_t k, const ShadowSample& at) const {
     return static_cast<float>(mask[i]);
 }
 
-float scene_diameter(const TriangleList& list) {
-    Bounds3 bounds;
-    for (vec3 p : list.positions) bounds.extend(p);
+float scene_diameter(const Bounds3& bounds) {
     return bounds.empty() ? 1.0f : std::max(glm::length(bounds.extent()), 1e-6f);
 }
 
@@ -71,10 +71,10 @@ void fill_masks(const ShadowTechniqueState& technique, const FrameState& f, cons
     buf.visibility.assign(sources * samples, 1.0f);
     const std::vector<ShadowCaster>& casters = technique.casters();
     if (casters.empty()) return;
-    std::vector<TriangleEdges> edges;  // the last triangle's (neighbours mostly share one)
-    edges.reserve(1);
-    uint32_t edges_of = kNone;
-    vec3 ng(0.0f);  // and its unit normal
+    const bool needs_surface = technique.needs_surface();
+    EdgeCache edges(f);
+    uint32_t normal_of = kNone;  // the triangle whose unit normal ng is
+    vec3 ng(0.0f);               // and its unit normal
     std::vector<float> sum(sources), count(sources);
     size_t i = 0;  // the sample's index in the tile
     for (int py = tile.y0; py < tile.y1; ++py) {
@@ -87,7 +87,7 @@ void fill_masks(const ShadowTechniqueState& technique, const FrameState& f, cons
                 at.i = px;
                 at.j = py;
                 at.s = s;
-                if (!technique.needs_surface()) {
+                if (!needs_surface) {
                     // A screen-space mask: where every caster lights the sample, V is 1 whether
                     // it faces them or not; the surface is needed only where one does not.
                     bool all_lit = true;
@@ -101,13 +101,11 @@ void fill_masks(const ShadowTechniqueState& technique, const FrameState& f, cons
                 const ClipVertex& C = f.vertex(t.v[2]);
                 const int64_t sx = static_cast<int64_t>(px) * kSubpixel + sp.ox[s],
                               sy = static_cast<int64_t>(py) * kSubpixel + sp.oy[s];
-                if (id != edges_of) {
-                    edges.clear();
-                    edges.emplace_back(t);
-                    edges_of = id;
+                if (id != normal_of) {
+                    normal_of = id;
                     ng = face_normal(t, A, B, C);
                 }
-                Weights w = perspective_weights(edges[0].weights(sx, sy), A, B, C);
+                Weights w = perspective_weights(edges.of(id).weights(sx, sy), A, B, C);
                 at.p = w.b[0] * A.world + w.b[1] * B.world + w.b[2] * C.world;
                 // The side the camera sees (the sign of ng . wo, wo not made unit).
                 const vec3 toward_eye = f.cam.orthographic ? -f.cam.forward : f.cam.eye - at.p;

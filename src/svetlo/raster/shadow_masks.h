@@ -67,12 +67,13 @@ protected:
                  const std::vector<SamplePattern>& passes, uint64_t working, const char* what);
 
     int width_ = 0, height_ = 0;
+    std::vector<int> samples_per_pass_;
     std::vector<std::vector<std::vector<uint8_t>>> lit_;  // per caster, per pass, per sample
 };
 
-/// The length of the diagonal of the list's bounds (1 when it has none), m: the scale of the
+/// The length of the diagonal of a scene's bounds (1 when they are empty), m: the scale of the
 /// techniques' small offsets.
-float scene_diameter(const TriangleList& list);
+float scene_diameter(const Bounds3& bounds);
 
 /// The state of the scene's technique for this frame (its maps, volumes or stencil masks),
 /// made after the colour pass's setup (f.cam, f.lights); null for `none`. `passes`: the

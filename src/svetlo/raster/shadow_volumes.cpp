@@ -53,16 +53,20 @@ class ShadowVolumes final : public StencilMasks {
 public:
     ShadowVolumes(const Scene& scene, const TriangleList& list, const FrameState& f,
                   const std::vector<SamplePattern>& passes, int threads, PassMemory* memory)
-        : diameter_(scene_diameter(list)) {
+        : diameter_(scene_diameter(list.bounds())) {
         casters_ = shadow_casters(scene, f.lights->set, scene.render.area_shadow_points,
                                   1e-4f * diameter_);
         // (The depth and stencil targets: 4 + 1 bytes per sample of a pass.)
         reserve(scene, f.cam.width, f.cam.height, passes, 5, "shadow volumes' masks");
         closed_ = closed_objects(list);
         object_of_.resize(list.triangle_count());
+        object_bounds_.resize(list.objects.size());
         for (size_t o = 0; o < list.objects.size(); ++o) {
-            for (uint32_t t = list.objects[o].first; t < list.objects[o].end; ++t)
+            for (uint32_t t = list.objects[o].first; t < list.objects[o].end; ++t) {
                 object_of_[t] = static_cast<uint32_t>(o);
+                for (int k = 0; k < 3; ++k)
+                    object_bounds_[o].extend(list.positions[list.indices[3 * t + k]]);
+            }
         }
         // The depth and stencil passes' camera: the frame's, or for an orthographic one the
         // same view with its depth range around the finite volumes.
@@ -102,7 +106,7 @@ public:
             const VolumeCount count = scene.render.shadow_teaching.volume_count;
             bool use_zfail = count == VolumeCount::ZFail ||
                              (count == VolumeCount::Auto &&
-                              (cam.orthographic || near_plane_may_be_shadowed(list, c, f.cam)));
+                              (cam.orthographic || near_plane_may_be_shadowed(c, f.cam)));
             zfail_.push_back(use_zfail ? 1 : 0);
             // z-pass counts no cap: a near cap is a triangle of the scene, never nearer than
             // what the depth pass kept there (and drawn a little farther), and the far caps
@@ -142,8 +146,7 @@ private:
     /// some object's bounds meet the region between the caster and that rectangle (a pyramid
     /// with the light at its apex, or a prism toward a directional light; Everitt and
     /// Kilgard 2002). Conservative: true may be wrong, false never is.
-    static bool near_plane_may_be_shadowed(const TriangleList& list, const ShadowCaster& c,
-                                           const CameraMatrices& cam) {
+    bool near_plane_may_be_shadowed(const ShadowCaster& c, const CameraMatrices& cam) const {
         const mat4 to_world = glm::inverse(cam.view);
         const float sx = 1.0f / cam.projection[0][0], sy = 1.0f / cam.projection[1][1];
         vec3 corner[4];
@@ -152,9 +155,7 @@ private:
             corner[k] = vec3(to_world *
                              vec4(xs[k] * sx * cam.near, ys[k] * sy * cam.near, -cam.near, 1.0f));
         const bool directional = c.kind == ShadowCaster::Kind::Directional;
-        Bounds3 all;
-        for (vec3 p : list.positions) all.extend(p);
-        const float reach = 2.0f * glm::length(all.extent()) + 1.0f;
+        const float reach = 2.0f * diameter_ + 1.0f;
         // Toward the light from the rectangle's centre: a point inside the region.
         const vec3 centre = 0.25f * (corner[0] + corner[1] + corner[2] + corner[3]);
         const vec3 inside =
@@ -176,11 +177,7 @@ private:
             vec3 n = centre - c.position;
             if (glm::dot(n, n) > 0.0f) planes.push_back(vec4(n, -glm::dot(n, c.position)));
         }
-        for (const PrimitiveRange& range : list.objects) {
-            Bounds3 b;
-            for (uint32_t t = range.first; t < range.end; ++t) {
-                for (int k = 0; k < 3; ++k) b.extend(list.positions[list.indices[3 * t + k]]);
-            }
+        for (const Bounds3& b : object_bounds_) {
             if (b.empty()) continue;
             bool separated = false;
             for (const vec4& pl : planes) {
@@ -338,7 +335,8 @@ private:
     float diameter_ = 1.0f;
     std::vector<char> closed_;
     std::vector<uint32_t> object_of_;
-    std::vector<char> zfail_;  // per caster: counted with z-fail
+    std::vector<Bounds3> object_bounds_;  // per object of the list
+    std::vector<char> zfail_;             // per caster: counted with z-fail
     Image stencil_;
 };
 
