@@ -15,7 +15,7 @@ struct RenderArgs {
     std::string scene;
     std::string output = "out.png";
     std::string engine;
-    std::string width, height, spp, seed, threads;
+    std::string width, height, spp, seed, threads, time;
     std::vector<std::string> sets;  // KEY=VALUE
     std::vector<std::string> aovs;  // NAME=FILE
     bool quiet = false;

@@ -4,6 +4,7 @@
 #include <map>
 
 #include "svetlo/core/error.h"
+#include "svetlo/pt/path_tracer.h"
 #include "svetlo/raster/raster_engine.h"
 #include "svetlo/rt/whitted.h"
 
@@ -13,13 +14,14 @@ std::unique_ptr<Renderer> make_renderer(const std::string& name, const std::stri
     static const std::map<std::string, std::function<std::unique_ptr<Renderer>()>> factories = {
         {"raster", [] { return std::make_unique<RasterRenderer>(); }},
         {"whitted", [] { return std::make_unique<WhittedRenderer>(); }},
+        {"path", [] { return std::make_unique<PathRenderer>(); }},
     };
     auto it = factories.find(name);
     if (it == factories.end()) {
         throw Error(file, "render.engine",
                     "engine '" + name +
                         "' is not available in this version of svetlo "
-                        "(available: raster, whitted)");
+                        "(available: raster, whitted, path)");
     }
     return it->second();
 }

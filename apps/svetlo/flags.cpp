@@ -1,6 +1,7 @@
 #include "flags.h"
 
 #include <cerrno>
+#include <cmath>
 #include <cstdlib>
 
 #include "svetlo/core/error.h"
@@ -22,6 +23,21 @@ long long flag_integer(const std::string& file, const std::string& flag, const s
     }
     if (value < lo)
         throw Error(file, flag, "must be >= " + std::to_string(lo) + " (is " + shown + ")");
+    return value;
+}
+
+double flag_seconds(const std::string& file, const std::string& flag, const std::string& text) {
+    if (text.empty()) return 0.0;
+    constexpr double kWeek = 7.0 * 24.0 * 3600.0;
+    std::string shown = text.size() > 24 ? text.substr(0, 24) + "..." : text;
+    char* end = nullptr;
+    double value = std::strtod(text.c_str(), &end);
+    if (end != text.c_str() + text.size() || text.find_first_of(" \t") != std::string::npos ||
+        !std::isfinite(value)) {
+        throw Error(file, flag, "must be a number of seconds (is '" + shown + "')");
+    }
+    if (!(value > 0.0)) throw Error(file, flag, "must be > 0 (is " + shown + ")");
+    if (value > kWeek) throw Error(file, flag, "must be <= 604800, a week (is " + shown + ")");
     return value;
 }
 

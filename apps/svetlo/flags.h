@@ -11,6 +11,10 @@ namespace svetlo {
 long long flag_integer(const std::string& file, const std::string& flag, const std::string& text,
                        long long lo, long long hi);
 
+/// A number of seconds given to `flag`: empty is 0 (none); otherwise a finite number > 0 and at
+/// most a week.
+double flag_seconds(const std::string& file, const std::string& flag, const std::string& text);
+
 /// The largest thread count a flag may ask for; more than the machine's cores run on its cores.
 inline constexpr long long kMaxThreads = 4096;
 

@@ -27,6 +27,8 @@ int main(int argc, char** argv) {
     r->add_option("-s,--spp", render.spp, "Samples per pixel");
     r->add_option("-t,--threads", render.threads, "Threads (0 = all cores)");
     r->add_option("--seed", render.seed, "Random seed");
+    r->add_option("--time", render.time,
+                  "Time budget in seconds (path): passes until it is spent, or --spp is reached");
     r->add_option("--set", render.sets, "Override a scene key: KEY=VALUE (dotted path)");
     r->add_option("--aov", render.aovs,
                   "Also write an AOV: NAME=FILE (depth, normal, albedo, visibility)");

@@ -1,5 +1,6 @@
 // svetlo render SCENE.json [-o OUT] [--engine E] [--width W] [--height H] [--spp N]
-//               [--threads N] [--seed S] [--set KEY=VALUE]... [--aov NAME=FILE]... [--quiet]
+//               [--time SECONDS] [--threads N] [--seed S] [--set KEY=VALUE]... [--aov NAME=FILE]...
+//               [--quiet]
 #include <algorithm>
 #include <cstdio>
 
@@ -55,6 +56,7 @@ int run_render(const RenderArgs& args) {
                                                                         args.seed, 0, kMaxSeed))});
     }
     const int threads = flag_threads(args.scene, args.threads);
+    const double time_budget = flag_seconds(args.scene, "--time", args.time);
 
     // Check every output before the (possibly long) render.
     check_writable(args.output, "-o");
@@ -94,8 +96,13 @@ int run_render(const RenderArgs& args) {
 
     Scene scene = load_scene(args.scene, overrides);
     std::unique_ptr<Renderer> renderer = make_renderer(scene.render.engine, args.scene);
+    if (time_budget > 0.0 && scene.render.engine != "path") {
+        throw Error(args.scene, "--time",
+                    "needs a progressive engine (path); " + scene.render.engine + " is not one");
+    }
     RenderOptions options;
     options.threads = threads;
+    options.time_budget = time_budget;
     options.progress = !args.quiet && stderr_is_terminal();
     for (const auto& [name, file] : aovs) {
         if (name != "shadow_map" && name != "stencil") {
@@ -160,7 +167,8 @@ int run_render(const RenderArgs& args) {
         std::fprintf(
             stderr,
             "svetlo: %s %dx%d, %d spp, %d threads: setup %.3f s, render %.3f s, %s%s -> %s\n",
-            scene.render.engine.c_str(), scene.film.width, scene.film.height, scene.render.spp,
+            scene.render.engine.c_str(), scene.film.width, scene.film.height,
+            result.stats.passes > 0 ? result.stats.passes : scene.render.spp,
             resolve_threads(threads), result.stats.setup_seconds, result.stats.seconds, rate,
             dropped.c_str(), args.output.c_str());
     }

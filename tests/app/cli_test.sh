@@ -188,7 +188,7 @@ render_bad "area corner past float range" "lights\[1\].corner\[2\]: must be at m
 # overflows. No crash, and nothing that is not finite reaches an image or an AOV (a sample
 # that is not finite would be dropped and counted in the summary).
 scene_with 'scene["objects"].append({"type": "mesh", "positions": [[-3e38, 0, 0], [3e38, 0, 0], [0, 1, 0]], "indices": [0, 1, 2], "material": "white"}); scene["film"] = {"width": 96, "height": 64}; scene["materials"]["glass"] = {"type": "dielectric", "ior": 1.5}; scene["objects"][0]["material"] = "glass"'
-for engine in whitted raster; do
+for engine in whitted raster path; do
     "$svetlo" render "$work/bad.json" --engine $engine -o "$work/huge.pfm" --aov normal="$work/huge_n.pfm" \
         --aov depth="$work/huge_d.pfm" 2> "$work/stderr" || fail "huge coordinates, $engine: exit $?"
     if python3 - "$work/huge.pfm" "$work/huge_n.pfm" "$work/huge_d.pfm" <<'PY'
@@ -338,6 +338,26 @@ render_bad "bad sdf op" "objects\[2\].sdf.op: unknown value" \
     'scene["objects"].append({"type": "implicit", "material": "white", "sdf": {"op": "blob"}})'
 render_bad "negative sdf radius" "objects\[2\].sdf.children\[0\].radius: must be > 0" \
     'scene["objects"].append({"type": "implicit", "material": "white", "sdf": {"op": "union", "children": [{"op": "sphere", "center": [0, 0, 0], "radius": -1}]}})' 
+
+# The path tracer: the same image on 1 and 2 threads (AOVs too); --time renders passes until
+# its budget is spent and writes a valid image; --spp caps it.
+"$svetlo" render "$work/good.json" --engine path -o "$work/p1.pfm" -t 1 -q --aov visibility="$work/pv1.pfm" &&
+"$svetlo" render "$work/good.json" --engine path -o "$work/p2.pfm" -t 2 -q --aov visibility="$work/pv2.pfm" &&
+cmp -s "$work/p1.pfm" "$work/p2.pfm" && cmp -s "$work/pv1.pfm" "$work/pv2.pfm" && pass || fail "path threads 1 vs 2 differ"
+scene_with 'scene["render"].pop("spp")'
+if "$svetlo" render "$work/bad.json" --engine path -o "$work/timed.pfm" --time 0.3 2> "$work/stderr" &&
+   [ "$(head -c 2 "$work/timed.pfm")" = "PF" ] && grep -Eq "path 48x32, [0-9]+ spp" "$work/stderr" &&
+   ! grep -q "path 48x32, 1 spp" "$work/stderr"; then pass; else fail "--time: $(cat "$work/stderr")"; fi
+"$svetlo" render "$work/good.json" --engine path -o "$work/capped.pfm" --time 60 --spp 3 2> "$work/stderr" &&
+    grep -q "path 48x32, 3 spp" "$work/stderr" && pass || fail "--time with --spp: $(cat "$work/stderr")"
+expect_error "time of whitted" "--time: needs a progressive engine" render "$work/good.json" -o "$work/keep.png" --time 1
+expect_error "time not a number" "--time: must be a number of seconds" render "$work/good.json" -o "$work/keep.png" --engine path --time abc
+expect_error "time zero" "--time: must be > 0" render "$work/good.json" -o "$work/keep.png" --engine path --time 0
+render_bad "photon count" "render.photons.count" 'scene["render"]["photons"] = {"count": 0}' --engine path
+render_bad "photon alpha" "render.photons.alpha: must lie in" 'scene["render"]["photons"] = {"alpha": 1}' --engine path
+render_bad "unknown caustics" "render.caustics: unknown value" 'scene["render"]["caustics"] = "sometimes"' --engine path
+render_bad "small abbe" "materials.glass.dispersion.abbe: must be 0" 'scene["materials"]["glass"] = {"type": "dielectric", "dispersion": {"abbe": 0.5}}'
+render_bad "cauchy with ior" "materials.glass.dispersion.cauchy: gives the ior" 'scene["materials"]["glass"] = {"type": "dielectric", "ior": 1.5, "dispersion": {"cauchy": [1.5, 0.004]}}'
 
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

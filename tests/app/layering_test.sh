@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The modules' dependencies point one way (README, "Layout"):
-#   core <- scene <- geometry <- shading <- {raster, rt} <- apps
+#   core <- scene <- geometry <- shading <- {raster, rt} <- pt <- apps
 # A module includes only its own headers and those of the modules below it; raster and rt
 # never include each other.
 set -euo pipefail
@@ -13,10 +13,11 @@ allowed() {
         shading) echo "core scene geometry shading" ;;
         raster) echo "core scene geometry shading raster" ;;
         rt) echo "core scene geometry shading rt" ;;
+        pt) echo "core scene geometry shading rt pt" ;;
     esac
 }
 bad=0
-for module in core scene geometry shading raster rt; do
+for module in core scene geometry shading raster rt pt; do
     ok=" $(allowed "$module") "
     while IFS= read -r line; do
         file=${line%%:*}

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 
 namespace svetlo {
@@ -27,6 +28,21 @@ void Progress::advance(int64_t units) {
     draw(done, false);
 }
 
+void Progress::show_rate(std::string unit) {
+    std::lock_guard lock(draw_mutex_);
+    unit_ = std::move(unit);
+}
+
+void Progress::set_budget(double seconds) {
+    std::lock_guard lock(draw_mutex_);
+    budget_ = seconds;
+}
+
+void Progress::set_status(std::string status) {
+    std::lock_guard lock(draw_mutex_);
+    status_ = std::move(status);
+}
+
 void Progress::finish() {
     if (!enabled_ || finished_) return;
     std::lock_guard lock(draw_mutex_);
@@ -37,16 +53,25 @@ void Progress::finish() {
 
 void Progress::draw(int64_t done, bool /*final*/) {
     constexpr int kWidth = 40;
-    double fraction = static_cast<double>(done) / static_cast<double>(total_);
     double elapsed =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    double fraction = static_cast<double>(done) / static_cast<double>(total_);
+    if (budget_ > 0.0) fraction = std::min(1.0, std::max(fraction, elapsed / budget_));
     double eta = fraction > 0.0 ? elapsed * (1.0 - fraction) / fraction : 0.0;
     int filled = static_cast<int>(fraction * kWidth);
     char bar[kWidth + 1];
     for (int k = 0; k < kWidth; ++k) bar[k] = k < filled ? '#' : '.';
     bar[kWidth] = '\0';
-    std::fprintf(stderr, "\r%s [%s] %5.1f%%  %.1fs elapsed, ETA %.1fs\033[K", label_.c_str(), bar,
-                 100.0 * fraction, elapsed, eta);
+    std::string rate;
+    if (!unit_.empty() && elapsed > 0.0) {
+        char text[64];
+        std::snprintf(text, sizeof text, ", %.2f M%s/s", 1e-6 * static_cast<double>(done) / elapsed,
+                      unit_.c_str());
+        rate = text;
+    }
+    std::fprintf(stderr, "\r%s [%s] %5.1f%%  %s%s%.1fs elapsed, ETA %.1fs%s\033[K", label_.c_str(),
+                 bar, 100.0 * fraction, status_.c_str(), status_.empty() ? "" : ", ", elapsed, eta,
+                 rate.c_str());
     std::fflush(stderr);
 }
 

@@ -17,6 +17,12 @@ public:
     ~Progress();
 
     void advance(int64_t units);
+    /// Also shows units per second, e.g. "1.25 Msamples/s" for unit "samples".
+    void show_rate(std::string unit);
+    /// A time budget (seconds): the bar then shows the larger of the work and time fractions.
+    void set_budget(double seconds);
+    /// Text after the bar, such as "pass 3/16"; set between units of work.
+    void set_status(std::string status);
     /// Clears the bar; call before printing a summary.
     void finish();
 
@@ -24,6 +30,8 @@ private:
     void draw(int64_t done, bool final);
 
     std::string label_;
+    std::string unit_, status_;
+    double budget_ = 0.0;
     int64_t total_;
     bool enabled_;
     std::atomic<int64_t> done_{0};

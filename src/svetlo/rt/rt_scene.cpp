@@ -1,5 +1,7 @@
 #include "svetlo/rt/rt_scene.h"
 
+#include <algorithm>
+
 #include "svetlo/core/error.h"
 #include "svetlo/geometry/scene_geometry.h"
 
@@ -7,7 +9,16 @@ namespace svetlo {
 
 RtScene::RtScene(const Scene& scene, const std::string& accel, int threads)
     : scene_(scene), lights_(scene) {
-    geometry_ = build_geometry(object_pointers(scene.objects, lights_.area_light_quads()));
+    geometry_ =
+        build_geometry(object_pointers(scene.objects, lights_.area_light_quads()), &ranges_);
+    const auto& sources = lights_.sources();
+    for (size_t k = 0; k < sources.size(); ++k) {
+        if (sources[k].object < 0) continue;
+        const PrimitiveRange& r = ranges_[static_cast<size_t>(sources[k].object)];
+        emitter_ranges_.push_back({r.first, r.end, static_cast<int>(k)});
+    }
+    std::sort(emitter_ranges_.begin(), emitter_ranges_.end(),
+              [](const EmitterRange& a, const EmitterRange& b) { return a.first < b.first; });
     unbounded_ = geometry_.unbounded_primitives();
     accel_ = make_accel(accel, geometry_, threads);
     if (!accel_) {
@@ -15,6 +26,14 @@ RtScene::RtScene(const Scene& scene, const std::string& accel, int threads)
                     accel == "embree" ? std::string("this svetlo was built without Embree")
                                       : "unknown accelerator '" + accel + "'");
     }
+}
+
+int RtScene::light_source_of(uint32_t prim) const {
+    auto it = std::upper_bound(emitter_ranges_.begin(), emitter_ranges_.end(), prim,
+                               [](uint32_t id, const EmitterRange& r) { return id < r.first; });
+    if (it == emitter_ranges_.begin()) return -1;
+    --it;
+    return prim < it->end ? it->source : -1;
 }
 
 namespace {

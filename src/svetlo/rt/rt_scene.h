@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "svetlo/geometry/accel.h"
+#include "svetlo/geometry/scene_geometry.h"
 #include "svetlo/scene/scene.h"
 #include "svetlo/shading/light_set.h"
 
@@ -26,6 +27,13 @@ public:
     const std::vector<Material>& materials() const { return lights_.materials(); }
     const Accel& accel() const { return *accel_; }
 
+    /// The index in lights().sources() of the light with area that primitive `prim` belongs to,
+    /// or -1 (the path tracer weighs an emitter it meets by the pdf of sampling it).
+    int light_source_of(uint32_t prim) const;
+
+    /// The primitives of each object of the scene, then of each area light's quad.
+    const std::vector<PrimitiveRange>& object_ranges() const { return ranges_; }
+
     bool intersect(const Ray& ray, Hit& hit) const;
     bool occluded(const Ray& ray) const;
 
@@ -34,6 +42,12 @@ private:
     LightSet lights_;
     Geometry geometry_;
     std::vector<uint32_t> unbounded_;
+    std::vector<PrimitiveRange> ranges_;
+    struct EmitterRange {
+        uint32_t first, end;  // primitive ids [first, end)
+        int source;           // index in lights_.sources()
+    };
+    std::vector<EmitterRange> emitter_ranges_;  // ascending by first
     std::unique_ptr<Accel> accel_;
 };
 

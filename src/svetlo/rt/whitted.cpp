@@ -9,6 +9,7 @@
 #include "svetlo/core/sampling.h"
 #include "svetlo/rt/camera.h"
 #include "svetlo/rt/rt_scene.h"
+#include "svetlo/rt/shadow_rays.h"
 #include "svetlo/shading/bsdf.h"
 #include "svetlo/shading/direct_light.h"
 #include "svetlo/shading/shading_frame.h"
@@ -33,10 +34,7 @@ struct AovSample {
 class Tracer {
 public:
     Tracer(const RtScene& rt, bool want_visibility)
-        : rt_(rt),
-          scene_(rt.scene()),
-          want_visibility_(want_visibility),
-          light0_(rt.lights().source_of_light(0)) {}
+        : rt_(rt), scene_(rt.scene()), want_visibility_(want_visibility) {}
 
     uint64_t rays = 0;
     uint64_t nonfinite = 0;  // camera samples dropped for a radiance that is not finite
@@ -58,14 +56,18 @@ public:
             aov->depth = hit.t * glm::length(ray.d);
             aov->normal = ns;
             aov->albedo = albedo_of(bsdf);
-            if (want_visibility_) aov->visibility = light0_visibility(sh.p, ng, *aov_rng);
+            if (want_visibility_) {
+                aov->visibility =
+                    light0_visibility(rt_, sh.p, ng, scene_.render.light_samples, *aov_rng, rays);
+            }
         }
 
         Color L = emitted_and_ambient(bsdf, frame, scene_.render.ambient);
-        L += direct_light(
-            rt_.lights(), bsdf, sh.p, frame, wo,
-            TracedSampling(rt_.lights(), rng, scene_.render.light_samples),
-            [&](size_t, const LightSample& s) { return blocked(sh.p, ng, s) ? 0.0f : 1.0f; });
+        L += direct_light(rt_.lights(), bsdf, sh.p, frame, wo,
+                          StratifiedLightSampling{rt_.lights(), rng, scene_.render.light_samples},
+                          [&](size_t, const LightSample& s) {
+                              return shadow_blocked(rt_, sh.p, ng, s, rays) ? 0.0f : 1.0f;
+                          });
         if (depth >= scene_.render.max_depth) return L;
 
         auto follow = [&](Color scale, vec3 dir) {
@@ -109,67 +111,9 @@ public:
     }
 
 private:
-    /// True when the segment from p (offset along ng) to `target` is blocked; a target with
-    /// a normal is itself offset off its surface.
-    bool blocked(vec3 p, vec3 ng, vec3 target, vec3 direction) {
-        ++rays;
-        Ray shadow{offset_ray_origin(p, ng, direction), vec3(0.0f), 1.0f};
-        shadow.d = target - shadow.o;
-        return rt_.occluded(shadow);
-    }
-
-    bool blocked_at_infinity(vec3 p, vec3 ng, vec3 direction) {
-        ++rays;
-        return rt_.occluded(Ray{offset_ray_origin(p, ng, direction), direction, kInfinity});
-    }
-
-    /// Shadow test toward a light sample: a point on a light with area is itself offset off
-    /// its surface; directional lights lie at infinity.
-    bool blocked(vec3 p, vec3 ng, const LightSample& s) {
-        if (std::isinf(s.distance)) return blocked_at_infinity(p, ng, s.wi);
-        vec3 target = s.delta ? s.p : offset_ray_origin(s.p, s.n, -s.wi);
-        return blocked(p, ng, target, s.wi);
-    }
-
-    /// Lights with area take render.light_samples stratified samples per shading point.
-    struct TracedSampling {
-        const LightSet& lights;
-        Rng& rng;
-        int n;
-        TracedSampling(const LightSet& l, Rng& r, int samples) : lights(l), rng(r), n(samples) {}
-        int count(size_t, const LightSet::Source& s) const { return s.delta ? 1 : n; }
-        LightSample sample(size_t, const LightSet::Source& s, int k, vec3 p) {
-            if (s.delta) return lights.sample(s, p, vec2(0.0f), 0.0f);
-            vec2 u = stratified_sample(k, n, vec2(rng.next_float(), rng.next_float()));
-            return lights.sample(s, p, u, rng.next_float());
-        }
-    };
-
-    /// The fraction of light 0 that reaches p (contract: the visibility AOV).
-    float light0_visibility(vec3 p, vec3 ng, Rng& rng) {
-        const LightSet& lights = rt_.lights();
-        if (!light0_) return 1.0f;  // an area light of no area
-        if (light0_->delta) {
-            LightSample s = lights.sample(*light0_, p, vec2(0.0f), 0.0f);
-            if (glm::dot(ng, s.wi) <= 0.0f) return 1.0f;  // faces away from the light
-            return blocked(p, ng, s) ? 0.0f : 1.0f;
-        }
-        int n = std::max(scene_.render.light_samples, 16);
-        int facing = 0, visible = 0;
-        for (int k = 0; k < n; ++k) {
-            vec2 u = stratified_sample(k, n, vec2(rng.next_float(), rng.next_float()));
-            LightSample s = lights.sample_at(lights.sample_area(*light0_, u, 0.5f), p);
-            if (glm::dot(ng, s.wi) <= 0.0f || glm::dot(s.n, s.wi) >= 0.0f) continue;
-            ++facing;
-            if (!blocked(p, ng, s)) ++visible;
-        }
-        return facing == 0 ? 1.0f : static_cast<float>(visible) / static_cast<float>(facing);
-    }
-
     const RtScene& rt_;
     const Scene& scene_;
     bool want_visibility_;
-    const LightSet::Source* light0_;  // the light set's source for lights[0]
 };
 
 }  // namespace

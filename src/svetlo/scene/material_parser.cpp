@@ -33,6 +33,35 @@ PhongMaterial parse_phong(const JsonNode& node, Scene& scene, bool blinn) {
     return m;
 }
 
+/// An Abbe number: 0 (no dispersion) or at least 1, which keeps n(lambda) above 1 across the
+/// visible range for any ior above 1 (docs/path.md, "Dispersion").
+float abbe_number(const JsonNode& n) {
+    float v = n.as_non_negative();
+    if (v != 0.0f && v < 1.0f) {
+        n.fail("must be 0 (no dispersion) or >= 1 (is " + std::to_string(v) + ")");
+    }
+    return v;
+}
+
+/// "dispersion": {"abbe": V} or {"cauchy": [A, B]}, n(lambda) = A + B / lambda^2 with lambda
+/// in micrometres. Cauchy's pair becomes the ior at 587.6 nm and the Abbe number it implies.
+void parse_dispersion(const JsonNode& node, bool has_ior, DielectricMaterial& m) {
+    node.expect_object({"abbe", "cauchy"});
+    if (node.has("abbe") == node.has("cauchy")) node.fail("expected one of abbe or cauchy");
+    if (auto n = node.find("abbe")) {
+        m.abbe = abbe_number(*n);
+        return;
+    }
+    const JsonNode c = node.at("cauchy");
+    if (!c.is_array() || c.size() != 2) c.fail("expected [A, B] (B in square micrometres)");
+    const vec2 ab(c.at(size_t{0}).as_positive(), c.at(size_t{1}).as_positive());
+    if (has_ior) c.fail("gives the ior itself; drop the material's ior");
+    constexpr float kD = 0.5876f, kF = 0.4861f, kC = 0.6563f;  // Fraunhofer lines, um
+    m.ior = ab.x + ab.y / (kD * kD);
+    m.abbe = (m.ior - 1.0f) / (ab.y * (1.0f / (kF * kF) - 1.0f / (kC * kC)));
+    if (m.abbe < 1.0f) c.fail("disperses more than an Abbe number of 1 allows");
+}
+
 Material parse_material(const JsonNode& node, Scene& scene) {
     if (!node.is_object()) node.fail("must be an object");
     std::string type =
@@ -64,10 +93,11 @@ Material parse_material(const JsonNode& node, Scene& scene) {
         return MirrorMaterial{optional_color(node, "reflectance", Color(1.0f), scene)};
     }
     if (type == "dielectric") {
-        node.expect_object({"type", "ior", "abbe"});
+        node.expect_object({"type", "ior", "abbe", "dispersion"});
         DielectricMaterial m;
         if (auto n = node.find("ior")) m.ior = n->as_positive();
-        if (auto n = node.find("abbe")) m.abbe = n->as_non_negative();
+        if (auto n = node.find("abbe")) m.abbe = abbe_number(*n);
+        if (auto d = node.find("dispersion")) parse_dispersion(*d, node.has("ior"), m);
         return m;
     }
     node.expect_object({"type", "radiance", "albedo"});

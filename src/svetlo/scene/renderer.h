@@ -28,6 +28,7 @@ inline const std::vector<std::string>& debug_aov_names() {
 
 struct RenderOptions {
     int threads = 0;                      // 0 = all cores
+    double time_budget = 0.0;             // seconds, 0 = none (--time; progressive engines)
     bool progress = false;                // draw a progress bar on stderr
     std::vector<std::string> aovs;        // which of aov_names() to fill
     std::vector<std::string> debug_aovs;  // which of debug_aov_names() to make
@@ -39,6 +40,7 @@ struct RenderStats {
     uint64_t rays = 0;           // all rays traced (camera, shadow, secondary)
     uint64_t triangles = 0;      // triangles set up for rasterization
     uint64_t nonfinite = 0;      // samples whose radiance was NaN or infinite: dropped (black)
+    int passes = 0;              // progressive engines: passes (samples per pixel) done
 };
 
 struct RenderResult {

@@ -309,9 +309,34 @@ struct RasterSettings {
     int tessellation = 64;  // segments around spheres, cylinders and cones
 };
 
+/// render.caustics (path): the caustics found by photons (docs/path.md). `auto` sends photons
+/// from point, spot and directional lights only, whose caustics no path tracer can find;
+/// `photons` from every light, and the path tracer then leaves those paths to the photons.
+enum class CausticMode { Auto, Photons, None };
+inline constexpr EnumName<CausticMode> kCausticModes[] = {
+    {"auto", CausticMode::Auto}, {"photons", CausticMode::Photons}, {"none", CausticMode::None}};
+
+/// render.mis (path): how direct light is found at each vertex. `power` combines light and BSDF
+/// sampling by the power heuristic; `light` and `bsdf` use one strategy alone, to show what
+/// MIS gains (docs/path.md). Delta lights are always sampled, and the background, a light too,
+/// follows the same choice.
+enum class MisMode { Power, LightOnly, BsdfOnly };
+inline constexpr EnumName<MisMode> kMisModes[] = {
+    {"power", MisMode::Power}, {"light", MisMode::LightOnly}, {"bsdf", MisMode::BsdfOnly}};
+
+/// render.photons (path): probabilistic progressive photon mapping (Knaus and Zwicker 2011),
+/// a photon map per pass whose radius shrinks as r_{k+1}^2 = r_k^2 (k + alpha) / (k + 1).
+struct PhotonSettings {
+    int count = 100000;         // photons emitted per pass
+    float radius = 0.0f;        // first pass's gather radius, scene units; 0 = 1/500 of the
+                                // scene's diameter
+    float alpha = 2.0f / 3.0f;  // in (0, 1): how fast the radius shrinks
+};
+
 struct RenderSettings {
     std::string engine = "whitted";  // an open set: engines are made by name (apps/svetlo)
     int spp = 1;
+    bool spp_given = false;  // spp was set (in the scene or by --spp): it caps --time
     int max_depth = 5;
     uint64_t seed = 0;
     ShadingMode shading = ShadingMode::Phong;
@@ -325,6 +350,9 @@ struct RenderSettings {
     int area_shadow_points = 16;  // raster map and volume: point casters per light with area
     ShadowTeachingSettings shadow_teaching;
     RasterSettings raster;
+    CausticMode caustics = CausticMode::Auto;
+    PhotonSettings photons;
+    MisMode mis = MisMode::Power;
 };
 
 struct Scene {

@@ -65,11 +65,17 @@ RenderSettings parse_render(const JsonNode& node) {
                         "antialias",
                         "wireframe",
                         "wireframe_color",
-                        "tessellation"});
+                        "tessellation",
+                        "caustics",
+                        "photons",
+                        "mis"});
     RenderSettings r;
     if (auto n = node.find("engine"))
         r.engine = n->as_choice({"raster", "whitted", "path", "radiosity"});
-    if (auto n = node.find("spp")) r.spp = static_cast<int>(n->as_integer(1, kMaxSpp));
+    if (auto n = node.find("spp")) {
+        r.spp = static_cast<int>(n->as_integer(1, kMaxSpp));
+        r.spp_given = true;
+    }
     if (auto n = node.find("max_depth")) r.max_depth = static_cast<int>(n->as_integer(0, 1000));
     if (auto n = node.find("seed")) r.seed = static_cast<uint64_t>(n->as_integer(0, kMaxSeed));
     if (auto n = node.find("shading")) r.shading = n->as_enum(kShadingModes);
@@ -115,6 +121,18 @@ RenderSettings parse_render(const JsonNode& node) {
     if (auto n = node.find("wireframe_color")) r.raster.wireframe_color = n->as_color();
     if (auto n = node.find("tessellation"))
         r.raster.tessellation = static_cast<int>(n->as_integer(3, 4096));
+    if (auto n = node.find("mis")) r.mis = n->as_enum(kMisModes);
+    if (auto n = node.find("caustics")) r.caustics = n->as_enum(kCausticModes);
+    if (auto ph = node.find("photons")) {
+        ph->expect_object({"count", "radius", "alpha"});
+        if (auto n = ph->find("count"))
+            r.photons.count = static_cast<int>(n->as_integer(1, kMaxPhotons));
+        if (auto n = ph->find("radius")) r.photons.radius = n->as_positive();
+        if (auto n = ph->find("alpha")) {
+            r.photons.alpha = n->as_in_range(0.0, 1.0);
+            if (!(r.photons.alpha > 0.0f && r.photons.alpha < 1.0f)) n->fail("must lie in (0, 1)");
+        }
+    }
     return r;
 }
 

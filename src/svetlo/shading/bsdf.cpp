@@ -59,6 +59,7 @@ struct BsdfMaker {
         Bsdf b;
         b.model = Bsdf::Model::Dielectric;
         b.ior = m.ior;
+        b.abbe = m.abbe;
         return b;
     }
     Bsdf operator()(const EmissiveMaterial& m) const {

@@ -48,6 +48,7 @@ struct Bsdf {
     float shininess = 0.0f;
     float alpha = 0.0f;  // GGX roughness alpha = roughness^2
     float ior = 1.0f;
+    float abbe = 0.0f;  // dielectric: the Abbe number V_d, 0 = no dispersion (path tracer)
     float on_a = 1.0f, on_b = 0.0f;  // Oren-Nayar A and B
 
     /// True when the BRDF has a non-delta part that direct lighting must evaluate.

@@ -61,6 +61,7 @@ LightSet::LightSet(const Scene& scene) : scene_(scene), materials_(scene.materia
     }
     // The emitters' geometry: every emissive object, then the area lights' quads.
     std::vector<const Object*> emitters;
+    std::vector<int> emitter_object;  // per emitter, its index among objects and quads
     for (const Object& obj : scene.objects) {
         bool any = false;
         if (const auto* mesh = std::get_if<Mesh>(&obj.shape); mesh && obj.material < 0) {
@@ -85,6 +86,7 @@ LightSet::LightSet(const Scene& scene) : scene_(scene), materials_(scene.materia
                         "an emissive shape needs a uniform scale to be sampled as a light");
         }
         emitters.push_back(&obj);
+        emitter_object.push_back(static_cast<int>(&obj - scene.objects.data()));
     }
     for (const Material& m : materials_) {
         const auto* e = std::get_if<EmissiveMaterial>(&m);
@@ -102,6 +104,7 @@ LightSet::LightSet(const Scene& scene) : scene_(scene), materials_(scene.materia
         s.light_index = static_cast<int>(k);
         if (std::holds_alternative<AreaLight>(scene.lights[k])) {
             s.delta = false;
+            s.object = static_cast<int>(scene.objects.size()) + area_light;
             s.prims.push_back(ranges[object_emitters + static_cast<size_t>(area_light++)].first);
             if (!finish_source(s, geometry_)) continue;  // no area: it emits nothing
         }
@@ -110,6 +113,7 @@ LightSet::LightSet(const Scene& scene) : scene_(scene), materials_(scene.materia
     for (size_t k = 0; k < object_emitters; ++k) {
         Source s;
         s.delta = false;
+        s.object = emitter_object[k];
         for (uint32_t id = ranges[k].first; id < ranges[k].end; ++id) {
             if (emits(materials_[geometry_.material(id)])) s.prims.push_back(id);
         }

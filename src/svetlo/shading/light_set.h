@@ -43,8 +43,9 @@ struct AreaPoint {
 class LightSet {
 public:
     struct Source {
-        bool delta = true;            // point, spot or directional (else a light with area)
-        int light_index = -1;         // index into Scene::lights; -1 for an emissive object
+        bool delta = true;     // point, spot or directional (else a light with area)
+        int light_index = -1;  // index into Scene::lights; -1 for an emissive object
+        int object = -1;  // lights with area: index into Scene::objects, then area_light_quads()
         std::vector<uint32_t> prims;  // lights with area: primitives of the set's geometry
         std::vector<float> cdf;       // cumulative area over prims, ending at 1
         float area = 0.0f;            // m^2

@@ -1,0 +1,169 @@
+#include "svetlo/pt/path_integrator.h"
+
+#include "svetlo/core/sampling.h"
+#include "svetlo/rt/shadow_rays.h"
+#include "svetlo/shading/bsdf.h"
+#include "svetlo/shading/direct_light.h"
+
+namespace svetlo {
+
+namespace {
+
+/// Veach's power heuristic (beta = 2) for a sample of the strategy with pdf `a` against the
+/// other's `b`; pdfs already multiplied by their strategies' sample counts.
+float power_heuristic(float a, float b) {
+    float a2 = a * a, b2 = b * b;
+    return a2 + b2 > 0.0f ? a2 / (a2 + b2) : 0.0f;
+}
+
+/// The weight of a sample of the light strategy (pdf `light`, the BSDF's `bsdf`), and of the
+/// BSDF strategy, under render.mis.
+float light_weight(MisMode mode, float light, float bsdf) {
+    if (mode == MisMode::Power) return power_heuristic(light, bsdf);
+    return mode == MisMode::LightOnly ? 1.0f : 0.0f;
+}
+float bsdf_weight(MisMode mode, float bsdf, float light) {
+    if (mode == MisMode::Power) return power_heuristic(bsdf, light);
+    return mode == MisMode::BsdfOnly ? 1.0f : 0.0f;
+}
+
+/// The bounce from which Russian roulette may end a path, and the highest survival chance.
+constexpr int kRouletteDepth = 3;
+constexpr float kMaxSurvival = 0.95f;
+
+}  // namespace
+
+PathIntegrator::PathIntegrator(const RtScene& rt, const WavelengthWeights& wavelengths,
+                               const CausticPhotons* photons)
+    : rt_(rt),
+      scene_(rt.scene()),
+      wavelengths_(wavelengths),
+      photons_(photons),
+      environment_(!is_black(rt.scene().render.background)) {}
+
+float PathIntegrator::emitter_weight(uint32_t prim, vec3 from, float pdf_bsdf, vec3 p,
+                                     vec3 ng) const {
+    int source = rt_.light_source_of(prim);
+    if (source < 0) return 1.0f;  // a glowing CSG or implicit surface: no light to sample
+    const LightSet::Source& s = rt_.lights().sources()[static_cast<size_t>(source)];
+    float pdf_light =
+        rt_.lights().pdf(s, from, p, ng) * static_cast<float>(scene_.render.light_samples);
+    return bsdf_weight(scene_.render.mis, pdf_bsdf, pdf_light);
+}
+
+Color PathIntegrator::environment_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame,
+                                        vec3 wo, Rng& rng) {
+    if (scene_.render.mis == MisMode::BsdfOnly) return Color(0.0f);
+    vec2 u(rng.next_float(), rng.next_float());
+    vec3 wi = Frame::from_normal(frame.ng).to_world(sample_cosine_hemisphere(u));
+    float cos_theta = glm::dot(frame.ns, wi);
+    float pdf = glm::dot(frame.ng, wi) * kInvPi;
+    if (cos_theta <= 0.0f || !(pdf > 0.0f)) return Color(0.0f);
+    Color f = eval_bsdf(bsdf, frame.ns, wo, wi);
+    if (is_black(f)) return Color(0.0f);
+    ++rays;
+    if (rt_.occluded(Ray{offset_ray_origin(p, frame.ng, wi), wi, kInfinity})) return Color(0.0f);
+    float w = light_weight(scene_.render.mis, pdf, pdf_bsdf(bsdf, frame.ns, wo, wi));
+    return f * scene_.render.background * (cos_theta * w / pdf);
+}
+
+Color PathIntegrator::radiance(Ray ray, Rng& rng, PathAov* aov, Rng* aov_rng) {
+    const RenderSettings& settings = scene_.render;
+    const Geometry& g = rt_.geometry();
+    const LightSet& lights = rt_.lights();
+    ray.d = glm::normalize(ray.d);  // hit.t is then the distance (the depth AOV)
+    Color L(0.0f), beta(1.0f);
+    // The previous vertex: its BSDF sample's pdf (non-delta lobes), point and normal. The
+    // camera counts like a delta vertex: what it sees directly counts in full.
+    bool prev_delta = true;
+    float prev_pdf = 0.0f;
+    vec3 prev_p(0.0f), prev_ng(0.0f);
+    bool after_lobes = false;  // a non-delta vertex lies behind: caustic paths start there
+    float lambda = 0.0f;       // nm, picked at the first dispersive interface
+    for (int depth = 0;; ++depth) {
+        ++rays;
+        Hit hit;
+        if (!rt_.intersect(ray, hit)) {
+            if (environment_) {
+                float pdf_env = std::max(0.0f, glm::dot(prev_ng, ray.d)) * kInvPi;
+                float w = prev_delta ? 1.0f : bsdf_weight(settings.mis, prev_pdf, pdf_env);
+                L += beta * settings.background * w;
+            }
+            break;
+        }
+        SurfaceHit sh = g.surface(ray, hit);
+        Bsdf bsdf = make_bsdf(rt_.materials()[sh.material], sh.uv, scene_.textures);
+        const vec3 wo = -ray.d;
+        const ShadingFrame frame = make_shading_frame(sh.ng, sh.ns, wo);
+        if (aov && depth == 0) {
+            aov->depth = hit.t;
+            aov->normal = frame.ns;
+            aov->albedo = albedo_of(bsdf);
+            if (aov_rng) {
+                aov->visibility =
+                    light0_visibility(rt_, sh.p, frame.ng, settings.light_samples, *aov_rng, rays);
+            }
+        }
+
+        if (bsdf.model == Bsdf::Model::Emissive && frame.front && !is_black(bsdf.emission)) {
+            // With every light sending photons, the paths that reach an emitter through delta
+            // vertices after a non-delta one are the photon map's (no double counting).
+            bool photon_path = prev_delta && after_lobes && photons_ &&
+                               photons_->covers_area_lights() && rt_.light_source_of(hit.prim) >= 0;
+            if (!photon_path) {
+                float w =
+                    prev_delta ? 1.0f : emitter_weight(hit.prim, prev_p, prev_pdf, sh.p, frame.ng);
+                L += beta * bsdf.emission * w;
+            }
+        }
+        if (depth > settings.max_depth) break;
+
+        if (bsdf.has_lobes()) {
+            const int n = settings.light_samples;
+            L += beta * direct_light(
+                            lights, bsdf, sh.p, frame, wo, StratifiedLightSampling{lights, rng, n},
+                            [&](size_t, const LightSample& s) {
+                                float w = 1.0f;
+                                if (!s.delta) {
+                                    w = light_weight(settings.mis, static_cast<float>(n) * s.pdf,
+                                                     pdf_bsdf(bsdf, frame.ns, wo, s.wi));
+                                }
+                                if (w == 0.0f) return 0.0f;
+                                return shadow_blocked(rt_, sh.p, frame.ng, s, rays) ? 0.0f : w;
+                            });
+            if (environment_) L += beta * environment_light(bsdf, sh.p, frame, wo, rng);
+            if (photons_) L += beta * photons_->radiance(sh.p, frame, wo, bsdf);
+        }
+
+        if (bsdf.model == Bsdf::Model::Dielectric && bsdf.abbe > 0.0f) {
+            if (lambda == 0.0f) {  // the path becomes one wavelength's
+                lambda = WavelengthWeights::lambda_of(rng.next_float());
+                beta *= wavelengths_.weight(lambda);
+            }
+            bsdf.ior = cauchy_ior(bsdf.ior, bsdf.abbe, lambda);
+        }
+        vec2 u(rng.next_float(), rng.next_float());
+        float u_lobe = rng.next_float();
+        BsdfSample bs = sample_bsdf(bsdf, frame.ns, wo, frame.front, u, u_lobe);
+        if (!bs.valid()) break;
+        // A reflection that leaves below the geometric surface would leak light through it.
+        bool transmission = glm::dot(frame.ns, bs.wi) < 0.0f;
+        if (!transmission && glm::dot(frame.ng, bs.wi) <= 0.0f) break;
+        beta *= bs.weight;
+        if (is_black(beta)) break;
+        prev_delta = bs.delta;
+        prev_pdf = bs.pdf;
+        prev_p = sh.p;
+        prev_ng = frame.ng;  // the environment's sampling about it (environment_light)
+        after_lobes = after_lobes || !bs.delta;
+        ray = Ray{offset_ray_origin(sh.p, frame.ng, bs.wi), bs.wi, kInfinity};
+        if (depth + 1 >= kRouletteDepth) {
+            float survive = std::min(kMaxSurvival, max_component(beta));
+            if (rng.next_float() >= survive) break;
+            beta /= survive;
+        }
+    }
+    return L;
+}
+
+}  // namespace svetlo

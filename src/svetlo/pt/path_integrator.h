@@ -1,0 +1,53 @@
+// The path tracer's estimator of the radiance along one camera ray (Kajiya 1986): a random
+// walk through the BSDFs' sample functions, with next-event estimation toward every light at
+// every non-delta vertex, the two strategies (light sampling, BSDF sampling) combined by
+// multiple importance sampling with the power heuristic (Veach and Guibas 1995), the
+// background as a uniform environment light sampled like the others, and Russian roulette
+// from the fourth vertex on. render.max_depth bounds the bounces after the first hit: 0 is
+// direct light only. Caustics that paths cannot find come from a photon map
+// (caustic_photons.h); dispersive glass gives the path a wavelength (spectrum.h).
+#pragma once
+
+#include <cstdint>
+
+#include "svetlo/core/rng.h"
+#include "svetlo/pt/caustic_photons.h"
+#include "svetlo/pt/spectrum.h"
+#include "svetlo/rt/rt_scene.h"
+
+namespace svetlo {
+
+/// What the first hit of a camera ray gives the AOVs (contract: --aov).
+struct PathAov {
+    float depth = 0.0f;
+    vec3 normal{0.0f};
+    Color albedo{0.0f};
+    float visibility = 1.0f;
+};
+
+class PathIntegrator {
+public:
+    /// `photons` may be null (no photon map this pass).
+    PathIntegrator(const RtScene& rt, const WavelengthWeights& wavelengths,
+                   const CausticPhotons* photons);
+
+    /// The radiance along `ray`, linear RGB, W/(m^2 sr). With `aov`, also the first hit's
+    /// AOVs; light 0's visibility draws from `aov_rng`, so AOVs never change the image.
+    Color radiance(Ray ray, Rng& rng, PathAov* aov, Rng* aov_rng);
+
+    uint64_t rays = 0;  // every ray traced, shadow rays included
+
+private:
+    /// MIS weight of an emitter met by BSDF sampling from `from` (pdf `pdf_bsdf`).
+    float emitter_weight(uint32_t prim, vec3 from, float pdf_bsdf, vec3 p, vec3 ng) const;
+    /// Next-event estimation of the background at p: a cosine-weighted direction about ng.
+    Color environment_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame, vec3 wo, Rng& rng);
+
+    const RtScene& rt_;
+    const Scene& scene_;
+    const WavelengthWeights& wavelengths_;
+    const CausticPhotons* photons_;
+    bool environment_;  // the background is not black: it is a light
+};
+
+}  // namespace svetlo

@@ -1,0 +1,148 @@
+#include "svetlo/pt/path_tracer.h"
+
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <memory>
+
+#include "svetlo/core/error.h"
+#include "svetlo/core/parallel.h"
+#include "svetlo/core/progress.h"
+#include "svetlo/pt/path_integrator.h"
+#include "svetlo/rt/camera.h"
+#include "svetlo/scene/scene_loader.h"
+
+namespace svetlo {
+
+namespace {
+
+/// The accumulators of a render may take at most this much memory (8 bytes a channel).
+constexpr double kMaxFilmBytes = 4.0 * (1ULL << 30);
+
+/// The stream of pixel `pixel`'s sample in pass `pass`.
+Rng sample_rng(uint64_t seed, int pass, uint64_t pixel) {
+    return pixel_rng(mix64(mix64(seed) + static_cast<uint64_t>(pass)), pixel);
+}
+
+/// Per pixel, the sums of the passes (double: a million passes keep their precision).
+struct FilmSums {
+    std::vector<glm::dvec3> color;
+    std::vector<glm::dvec4> aov;   // depth, then normal (when any AOV is asked for)
+    std::vector<glm::dvec4> aov2;  // albedo, then visibility
+};
+
+}  // namespace
+
+RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& options) {
+    using Clock = std::chrono::steady_clock;
+    const int width = scene.film.width, height = scene.film.height;
+    const size_t pixels = static_cast<size_t>(width) * static_cast<size_t>(height);
+    RenderResult result;
+    const AovTargets targets = prepare_result(result, options.aovs, width, height);
+    // The accumulators, checked before they are allocated.
+    double bytes = static_cast<double>(pixels) * (targets.any ? 24.0 + 64.0 : 24.0);
+    if (bytes > kMaxFilmBytes) {
+        throw Error(scene.path.string(), "film",
+                    "the path tracer's film of " + std::to_string(width) + " x " +
+                        std::to_string(height) + " pixels needs " +
+                        std::to_string(static_cast<long long>(bytes / (1 << 20))) +
+                        " MiB (at most 4096)");
+    }
+
+    auto t0 = Clock::now();
+    RtScene rt(scene, scene.render.accel, options.threads);
+    WavelengthWeights wavelengths;
+    Bounds3 bounds;
+    for (uint32_t id : rt.geometry().bounded_primitives())
+        bounds.extend(rt.geometry().primitive_bounds(id));
+    float diameter = bounds.empty() ? 1.0f : std::max(glm::length(bounds.extent()), 1e-6f);
+    auto photons = std::make_unique<CausticPhotons>(rt, wavelengths, diameter);
+    if (!photons->active()) photons.reset();
+    auto t1 = Clock::now();
+
+    const bool budget = options.time_budget > 0.0;
+    const int max_passes =
+        budget && !scene.render.spp_given ? static_cast<int>(kMaxSpp) : scene.render.spp;
+    const bool want_visibility = targets.want[3] && !scene.lights.empty();
+    FilmSums sums;
+    sums.color.assign(pixels, glm::dvec3(0.0));
+    if (targets.any) {
+        sums.aov.assign(pixels, glm::dvec4(0.0));
+        sums.aov2.assign(pixels, glm::dvec4(0.0));
+    }
+    CameraRays camera(scene.camera, width, height);
+    std::atomic<uint64_t> rays{0}, nonfinite{0};
+    Progress progress("path", static_cast<int64_t>(max_passes) * static_cast<int64_t>(pixels),
+                      options.progress);
+    progress.show_rate("samples");
+    if (budget) progress.set_budget(options.time_budget);
+
+    int passes = 0;
+    for (int pass = 0; pass < max_passes; ++pass) {
+        double elapsed = std::chrono::duration<double>(Clock::now() - t1).count();
+        if (pass > 0 && budget && elapsed >= options.time_budget) break;
+        char status[48];
+        if (budget && !scene.render.spp_given) {
+            std::snprintf(status, sizeof status, "pass %d", pass + 1);
+        } else {
+            std::snprintf(status, sizeof status, "pass %d/%d", pass + 1, max_passes);
+        }
+        progress.set_status(status);
+        if (photons) photons->build(pass, options.threads);
+        parallel_tiles(
+            width, height, options.threads,
+            [&](const Tile& tile) {
+                PathIntegrator integrator(rt, wavelengths, photons.get());
+                uint64_t dropped = 0;
+                for (int j = tile.y0; j < tile.y1; ++j) {
+                    for (int i = tile.x0; i < tile.x1; ++i) {
+                        const size_t pixel = static_cast<size_t>(j) * width + i;
+                        Rng rng = sample_rng(scene.render.seed, pass, pixel);
+                        Rng aov_rng = sample_rng(scene.render.seed ^ 0xa0a0a0a0ULL, pass, pixel);
+                        float x = (static_cast<float>(i) + rng.next_float()) / width;
+                        float y = (static_cast<float>(j) + rng.next_float()) / height;
+                        PathAov aov;
+                        Color c = integrator.radiance(camera.generate(x, y), rng,
+                                                      targets.any ? &aov : nullptr,
+                                                      want_visibility ? &aov_rng : nullptr);
+                        // A sample that is not finite never reaches the pixel: it counts as
+                        // black, and is reported.
+                        if (!is_finite(c)) {
+                            ++dropped;
+                            continue;
+                        }
+                        sums.color[pixel] += glm::dvec3(c);
+                        if (targets.any && is_finite(aov.normal) && is_finite(aov.albedo)) {
+                            sums.aov[pixel] += glm::dvec4(aov.depth, aov.normal);
+                            sums.aov2[pixel] += glm::dvec4(aov.albedo, aov.visibility);
+                        }
+                    }
+                }
+                rays += integrator.rays;
+                nonfinite += dropped;
+            },
+            [&](int n) { progress.advance(n); });
+        ++passes;
+    }
+    progress.finish();
+
+    const double inv = 1.0 / passes;
+    for (size_t pixel = 0; pixel < pixels; ++pixel) {
+        const int i = static_cast<int>(pixel % width), j = static_cast<int>(pixel / width);
+        result.color.at(i, j) = Color(sums.color[pixel] * inv);
+        if (!targets.any) continue;
+        glm::dvec4 a = sums.aov[pixel] * inv, b = sums.aov2[pixel] * inv;
+        if (targets.want[0]) targets.image[0]->at(i, j) = Color(static_cast<float>(a.x));
+        if (targets.want[1]) targets.image[1]->at(i, j) = Color(a.y, a.z, a.w);
+        if (targets.want[2]) targets.image[2]->at(i, j) = Color(b.x, b.y, b.z);
+        if (targets.want[3]) targets.image[3]->at(i, j) = Color(static_cast<float>(b.w));
+    }
+    result.stats.setup_seconds = std::chrono::duration<double>(t1 - t0).count();
+    result.stats.seconds = std::chrono::duration<double>(Clock::now() - t1).count();
+    result.stats.rays = rays.load() + (photons ? photons->rays() : 0);
+    result.stats.nonfinite = nonfinite.load();
+    result.stats.passes = passes;
+    return result;
+}
+
+}  // namespace svetlo
