@@ -4,6 +4,8 @@
 
 #include <cstdint>
 
+#include "svetlo/core/math.h"
+
 namespace svetlo {
 
 /// PCG32 (O'Neill, "PCG: A Family of Simple Fast Space-Efficient Statistically Good
@@ -28,6 +30,12 @@ public:
 
     /// Uniform in [0, 1): the top 24 bits, so the result is never rounded up to 1.
     float next_float() { return static_cast<float>(next_u32() >> 8) * 0x1p-24f; }
+    /// Two in a row, x first.
+    vec2 next_2d() {
+        float x = next_float();
+        float y = next_float();
+        return {x, y};
+    }
 
 private:
     uint64_t state_;

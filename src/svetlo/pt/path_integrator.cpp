@@ -52,9 +52,8 @@ float PathIntegrator::emitter_weight(uint32_t prim, vec3 from, float pdf_bsdf, v
 }
 
 Color PathIntegrator::environment_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame,
-                                        vec3 wo, Rng& rng) {
+                                        vec3 wo, vec2 u) {
     if (scene_.render.mis == MisMode::BsdfOnly) return Color(0.0f);
-    vec2 u(rng.next_float(), rng.next_float());
     vec3 wi = Frame::from_normal(frame.ng).to_world(sample_cosine_hemisphere(u));
     float cos_theta = glm::dot(frame.ns, wi);
     float pdf = glm::dot(frame.ng, wi) * kInvPi;
@@ -67,7 +66,7 @@ Color PathIntegrator::environment_light(const Bsdf& bsdf, vec3 p, const ShadingF
     return f * scene_.render.background * (cos_theta * w / pdf);
 }
 
-Color PathIntegrator::radiance(Ray ray, Rng& rng, PathAov* aov, Rng* aov_rng) {
+Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, PathAov* aov, Rng* aov_rng) {
     const RenderSettings& settings = scene_.render;
     const Geometry& g = rt_.geometry();
     const LightSet& lights = rt_.lights();
@@ -120,30 +119,32 @@ Color PathIntegrator::radiance(Ray ray, Rng& rng, PathAov* aov, Rng* aov_rng) {
 
         if (bsdf.has_lobes()) {
             const int n = settings.light_samples;
-            L += beta * direct_light(
-                            lights, bsdf, sh.p, frame, wo, StratifiedLightSampling{lights, rng, n},
-                            [&](size_t, const LightSample& s) {
-                                float w = 1.0f;
-                                if (!s.delta) {
-                                    w = light_weight(settings.mis, static_cast<float>(n) * s.pdf,
-                                                     pdf_bsdf(bsdf, frame.ns, wo, s.wi));
-                                }
-                                if (w == 0.0f) return 0.0f;
-                                return shadow_blocked(rt_, sh.p, frame.ng, s, rays) ? 0.0f : w;
-                            });
-            if (environment_) L += beta * environment_light(bsdf, sh.p, frame, wo, rng);
+            L += beta *
+                 direct_light(lights, bsdf, sh.p, frame, wo,
+                              StratifiedLightSampling{lights, sampler, n},
+                              [&](size_t, const LightSample& s) {
+                                  float w = 1.0f;
+                                  if (!s.delta) {
+                                      w = light_weight(settings.mis, static_cast<float>(n) * s.pdf,
+                                                       pdf_bsdf(bsdf, frame.ns, wo, s.wi));
+                                  }
+                                  if (w == 0.0f) return 0.0f;
+                                  return shadow_blocked(rt_, sh.p, frame.ng, s, rays) ? 0.0f : w;
+                              });
+            if (environment_)
+                L += beta * environment_light(bsdf, sh.p, frame, wo, sampler.next_2d());
             if (photons_) L += beta * photons_->radiance(sh.p, frame, wo, bsdf);
         }
 
         if (bsdf.model == Bsdf::Model::Dielectric && bsdf.abbe > 0.0f) {
             if (lambda == 0.0f) {  // the path becomes one wavelength's
-                lambda = WavelengthWeights::lambda_of(rng.next_float());
+                lambda = WavelengthWeights::lambda_of(sampler.next_float());
                 beta *= wavelengths_.weight(lambda);
             }
             bsdf.ior = cauchy_ior(bsdf.ior, bsdf.abbe, lambda);
         }
-        vec2 u(rng.next_float(), rng.next_float());
-        float u_lobe = rng.next_float();
+        vec2 u = sampler.next_2d();
+        float u_lobe = sampler.next_float();
         BsdfSample bs = sample_bsdf(bsdf, frame.ns, wo, frame.front, u, u_lobe);
         if (!bs.valid()) break;
         // A reflection that leaves below the geometric surface would leak light through it.
@@ -159,7 +160,7 @@ Color PathIntegrator::radiance(Ray ray, Rng& rng, PathAov* aov, Rng* aov_rng) {
         ray = Ray{offset_ray_origin(sh.p, frame.ng, bs.wi), bs.wi, kInfinity};
         if (depth + 1 >= kRouletteDepth) {
             float survive = std::min(kMaxSurvival, max_component(beta));
-            if (rng.next_float() >= survive) break;
+            if (sampler.next_float() >= survive) break;
             beta /= survive;
         }
     }

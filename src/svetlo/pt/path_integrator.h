@@ -12,6 +12,7 @@
 
 #include "svetlo/core/rng.h"
 #include "svetlo/pt/caustic_photons.h"
+#include "svetlo/pt/sobol_sampler.h"
 #include "svetlo/pt/spectrum.h"
 #include "svetlo/rt/rt_scene.h"
 
@@ -33,15 +34,16 @@ public:
 
     /// The radiance along `ray`, linear RGB, W/(m^2 sr). With `aov`, also the first hit's
     /// AOVs; light 0's visibility draws from `aov_rng`, so AOVs never change the image.
-    Color radiance(Ray ray, Rng& rng, PathAov* aov, Rng* aov_rng);
+    Color radiance(Ray ray, SobolSampler& sampler, PathAov* aov, Rng* aov_rng);
 
     uint64_t rays = 0;  // every ray traced, shadow rays included
 
 private:
     /// MIS weight of an emitter met by BSDF sampling from `from` (pdf `pdf_bsdf`).
     float emitter_weight(uint32_t prim, vec3 from, float pdf_bsdf, vec3 p, vec3 ng) const;
-    /// Next-event estimation of the background at p: a cosine-weighted direction about ng.
-    Color environment_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame, vec3 wo, Rng& rng);
+    /// Next-event estimation of the background at p: a cosine-weighted direction about ng,
+    /// drawn from u.
+    Color environment_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame, vec3 wo, vec2 u);
 
     const RtScene& rt_;
     const Scene& scene_;

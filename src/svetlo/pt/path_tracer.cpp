@@ -97,12 +97,13 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
                 for (int j = tile.y0; j < tile.y1; ++j) {
                     for (int i = tile.x0; i < tile.x1; ++i) {
                         const size_t pixel = static_cast<size_t>(j) * width + i;
-                        Rng rng = sample_rng(scene.render.seed, pass, pixel);
+                        SobolSampler sampler(scene.render.seed, pixel, static_cast<uint32_t>(pass));
                         Rng aov_rng = sample_rng(scene.render.seed ^ 0xa0a0a0a0ULL, pass, pixel);
-                        float x = (static_cast<float>(i) + rng.next_float()) / width;
-                        float y = (static_cast<float>(j) + rng.next_float()) / height;
+                        vec2 jitter = sampler.next_2d();
+                        float x = (static_cast<float>(i) + jitter.x) / width;
+                        float y = (static_cast<float>(j) + jitter.y) / height;
                         PathAov aov;
-                        Color c = integrator.radiance(camera.generate(x, y), rng,
+                        Color c = integrator.radiance(camera.generate(x, y), sampler,
                                                       targets.any ? &aov : nullptr,
                                                       want_visibility ? &aov_rng : nullptr);
                         // A sample that is not finite never reaches the pixel: it counts as

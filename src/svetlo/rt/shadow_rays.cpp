@@ -24,7 +24,7 @@ float light0_visibility(const RtScene& rt, vec3 p, vec3 ng, int samples, Rng& rn
     int n = std::max(samples, 16);
     int facing = 0, visible = 0;
     for (int k = 0; k < n; ++k) {
-        vec2 u = stratified_sample(k, n, vec2(rng.next_float(), rng.next_float()));
+        vec2 u = stratified_sample(k, n, rng.next_2d());
         LightSample s = lights.sample_at(lights.sample_area(*light0, u, 0.5f), p);
         if (glm::dot(ng, s.wi) <= 0.0f || glm::dot(s.n, s.wi) >= 0.0f) continue;
         ++facing;

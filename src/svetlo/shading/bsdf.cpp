@@ -104,11 +104,13 @@ Color eval_bsdf(const Bsdf& b, vec3 n, vec3 wo, vec3 wi) {
         case Bsdf::Model::Emissive:
             return b.diffuse * kInvPi;
         case Bsdf::Model::Phong: {
+            if (is_black(b.specular)) return b.diffuse * kInvPi;
             float rv = std::max(0.0f, glm::dot(reflect(wi, n), wo));
             return b.diffuse * kInvPi +
                    b.specular * (phong_lobe_norm(b.shininess, false) * std::pow(rv, b.shininess));
         }
         case Bsdf::Model::BlinnPhong: {
+            if (is_black(b.specular)) return b.diffuse * kInvPi;
             vec3 h = glm::normalize(wi + wo);
             float nh = std::max(0.0f, glm::dot(n, h));
             return b.diffuse * kInvPi +
