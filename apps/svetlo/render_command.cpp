@@ -157,6 +157,11 @@ int run_render(const RenderArgs& args) {
         if (result.stats.triangles > 0) {
             std::snprintf(rate, sizeof rate, "%.2f Mtris/s",
                           static_cast<double>(result.stats.triangles) * per_second);
+        } else if (result.stats.passes > 0) {  // a path per pixel and pass
+            double paths = static_cast<double>(result.stats.passes) * scene.film.width *
+                           static_cast<double>(scene.film.height);
+            std::snprintf(rate, sizeof rate, "%.2f Mpaths/s, %.2f Mrays/s", paths * per_second,
+                          static_cast<double>(result.stats.rays) * per_second);
         } else {
             std::snprintf(rate, sizeof rate, "%.2f Mrays/s",
                           static_cast<double>(result.stats.rays) * per_second);

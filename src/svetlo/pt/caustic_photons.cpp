@@ -231,11 +231,15 @@ size_t CausticPhotons::bucket(glm::ivec3 c) const {
 
 void CausticPhotons::build(int pass, int threads) {
     const PhotonSettings& settings = rt_.scene().render.photons;
-    // The pass's radius: r_0 from the settings, then Knaus and Zwicker's shrinking.
-    double r2 = settings.radius > 0.0f ? double(settings.radius) * settings.radius
-                                       : std::pow(double(diameter_) / 300.0, 2.0);
-    for (int k = 0; k < pass; ++k) r2 *= (k + 1 + double(settings.alpha)) / (k + 2);
-    radius_ = static_cast<float>(std::sqrt(r2));
+    // The pass's radius: r_0 from the settings, then Knaus and Zwicker's shrinking, one step
+    // per pass (passes are built in order).
+    if (pass == 0) {
+        radius2_ = settings.radius > 0.0f ? double(settings.radius) * settings.radius
+                                          : std::pow(double(diameter_) / 300.0, 2.0);
+    } else {
+        radius2_ *= (pass + double(settings.alpha)) / (pass + 1);
+    }
+    radius_ = static_cast<float>(std::sqrt(radius2_));
     cell_ = 2.0f * radius_;
 
     const auto count = static_cast<uint64_t>(settings.count);
@@ -251,25 +255,29 @@ void CausticPhotons::build(int pass, int threads) {
     });
     rays_ += rays.load();
 
-    // Counting sort into buckets of a hashed grid of cells of side 2r: a query's sphere
-    // touches at most 2 x 2 x 2 cells.
+    // Counting sort, in the tasks' order, into the buckets of a hashed grid of cells of side
+    // 2r: a query's sphere touches at most 2 x 2 x 2 cells.
     size_t total = 0;
     for (const auto& f : found) total += f.size();
     size_t buckets = 1;
     while (buckets < std::max<size_t>(total, 1)) buckets <<= 1;
     bucket_start_.assign(buckets + 1, 0);
-    std::vector<Photon> all;
-    all.reserve(total);
-    for (auto& f : found) all.insert(all.end(), f.begin(), f.end());
-    std::vector<uint32_t> key(all.size());
-    for (size_t i = 0; i < all.size(); ++i) {
-        key[i] = static_cast<uint32_t>(bucket(glm::ivec3(glm::floor(all[i].p / cell_))));
-        ++bucket_start_[key[i] + 1];
+    std::vector<uint32_t> key;
+    key.reserve(total);
+    for (const auto& f : found) {
+        for (const Photon& ph : f) {
+            key.push_back(static_cast<uint32_t>(bucket(glm::ivec3(glm::floor(ph.p / cell_)))));
+            ++bucket_start_[key.back() + 1];
+        }
     }
     for (size_t b = 0; b < buckets; ++b) bucket_start_[b + 1] += bucket_start_[b];
-    photons_.resize(all.size());
+    photons_.resize(total);
     std::vector<uint32_t> next(bucket_start_.begin(), bucket_start_.end() - 1);
-    for (size_t i = 0; i < all.size(); ++i) photons_[next[key[i]]++] = all[i];
+    size_t k = 0;
+    for (auto& f : found) {
+        for (const Photon& ph : f) photons_[next[key[k++]]++] = ph;
+        std::vector<Photon>().swap(f);  // freed as it goes: at most one copy and a part
+    }
 }
 
 Color CausticPhotons::radiance(vec3 p, const ShadingFrame& frame, vec3 wo, const Bsdf& bsdf) const {

@@ -35,7 +35,8 @@ public:
     /// Lights with area send photons too (render.caustics = photons).
     bool covers_area_lights() const { return covers_area_lights_; }
 
-    /// Traces pass `pass`'s photons on `threads` threads and builds its lookup grid.
+    /// Traces pass `pass`'s photons on `threads` threads and builds its lookup grid. Passes
+    /// are built in order, from 0: each shrinks the radius of the one before.
     void build(int pass, int threads);
     /// The caustic radiance toward wo at p (frame and BSDF of the point).
     Color radiance(vec3 p, const ShadingFrame& frame, vec3 wo, const Bsdf& bsdf) const;
@@ -76,7 +77,8 @@ private:
     std::vector<Target> targets_;
     std::vector<Emitter> emitters_;
 
-    float radius_ = 0.0f;  // this pass's
+    double radius2_ = 0.0;  // this pass's radius, squared
+    float radius_ = 0.0f;
     uint64_t rays_ = 0;
     std::vector<Photon> photons_;         // sorted by bucket
     std::vector<uint32_t> bucket_start_;  // per bucket, its first photon; one more at the end

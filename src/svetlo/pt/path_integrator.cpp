@@ -41,13 +41,12 @@ PathIntegrator::PathIntegrator(const RtScene& rt, const WavelengthWeights& wavel
       photons_(photons),
       environment_(!is_black(rt.scene().render.background)) {}
 
-float PathIntegrator::emitter_weight(uint32_t prim, vec3 from, float pdf_bsdf, vec3 p,
-                                     vec3 ng) const {
+float PathIntegrator::emitter_weight(uint32_t prim, vec3 from, float pdf_bsdf, int light_samples,
+                                     vec3 p, vec3 ng) const {
     int source = rt_.light_source_of(prim);
     if (source < 0) return 1.0f;  // a glowing CSG or implicit surface: no light to sample
     const LightSet::Source& s = rt_.lights().sources()[static_cast<size_t>(source)];
-    float pdf_light =
-        rt_.lights().pdf(s, from, p, ng) * static_cast<float>(scene_.render.light_samples);
+    float pdf_light = rt_.lights().pdf(s, from, p, ng) * static_cast<float>(light_samples);
     return bsdf_weight(scene_.render.mis, pdf_bsdf, pdf_light);
 }
 
@@ -76,6 +75,7 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, PathAov* aov, Rng
     // camera counts like a delta vertex: what it sees directly counts in full.
     bool prev_delta = true;
     float prev_pdf = 0.0f;
+    int prev_light_samples = 1;  // the previous vertex's light samples per light with area
     vec3 prev_p(0.0f), prev_ng(0.0f);
     bool after_lobes = false;  // a non-delta vertex lies behind: caustic paths start there
     float lambda = 0.0f;       // nm, picked at the first dispersive interface
@@ -110,15 +110,19 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, PathAov* aov, Rng
             bool photon_path = prev_delta && after_lobes && photons_ &&
                                photons_->covers_area_lights() && rt_.light_source_of(hit.prim) >= 0;
             if (!photon_path) {
-                float w =
-                    prev_delta ? 1.0f : emitter_weight(hit.prim, prev_p, prev_pdf, sh.p, frame.ng);
+                float w = prev_delta ? 1.0f
+                                     : emitter_weight(hit.prim, prev_p, prev_pdf,
+                                                      prev_light_samples, sh.p, frame.ng);
                 L += beta * bsdf.emission * w;
             }
         }
         if (depth > settings.max_depth) break;
 
         if (bsdf.has_lobes()) {
-            const int n = settings.light_samples;
+            // render.light_samples at the first hit, where direct light shows most; one
+            // sample deeper, where the path's own spread averages it out.
+            const int n = depth == 0 ? settings.light_samples : 1;
+            prev_light_samples = n;
             L += beta *
                  direct_light(lights, bsdf, sh.p, frame, wo,
                               StratifiedLightSampling{lights, sampler, n},

@@ -39,8 +39,10 @@ public:
     uint64_t rays = 0;  // every ray traced, shadow rays included
 
 private:
-    /// MIS weight of an emitter met by BSDF sampling from `from` (pdf `pdf_bsdf`).
-    float emitter_weight(uint32_t prim, vec3 from, float pdf_bsdf, vec3 p, vec3 ng) const;
+    /// MIS weight of an emitter met by BSDF sampling from `from` (pdf `pdf_bsdf`), where
+    /// next-event estimation took `light_samples` samples per light with area.
+    float emitter_weight(uint32_t prim, vec3 from, float pdf_bsdf, int light_samples, vec3 p,
+                         vec3 ng) const;
     /// Next-event estimation of the background at p: a cosine-weighted direction about ng,
     /// drawn from u.
     Color environment_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame, vec3 wo, vec2 u);

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 #include <memory>
+#include <optional>
 
 #include "svetlo/core/error.h"
 #include "svetlo/core/parallel.h"
@@ -98,14 +99,17 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
                     for (int i = tile.x0; i < tile.x1; ++i) {
                         const size_t pixel = static_cast<size_t>(j) * width + i;
                         SobolSampler sampler(scene.render.seed, pixel, static_cast<uint32_t>(pass));
-                        Rng aov_rng = sample_rng(scene.render.seed ^ 0xa0a0a0a0ULL, pass, pixel);
+                        // The visibility AOV's own stream, made only when it is asked for.
+                        std::optional<Rng> aov_rng;
+                        if (want_visibility)
+                            aov_rng = sample_rng(scene.render.seed ^ 0xa0a0a0a0ULL, pass, pixel);
                         vec2 jitter = sampler.next_2d();
                         float x = (static_cast<float>(i) + jitter.x) / width;
                         float y = (static_cast<float>(j) + jitter.y) / height;
                         PathAov aov;
                         Color c = integrator.radiance(camera.generate(x, y), sampler,
                                                       targets.any ? &aov : nullptr,
-                                                      want_visibility ? &aov_rng : nullptr);
+                                                      aov_rng ? &*aov_rng : nullptr);
                         // A sample that is not finite never reaches the pixel: it counts as
                         // black, and is reported.
                         if (!is_finite(c)) {

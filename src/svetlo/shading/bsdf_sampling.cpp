@@ -111,7 +111,8 @@ float glossy_pdf(const Bsdf& b, vec3 wo, vec3 wi) {
 /// The non-delta pdf in local space.
 float local_pdf(const Bsdf& b, const LobeChoice& c, vec3 wo, vec3 wi) {
     if (wo.z <= 0.0f || wi.z <= 0.0f) return 0.0f;
-    return c.diffuse * wi.z * kInvPi + c.glossy * glossy_pdf(b, wo, wi);
+    float pdf = c.diffuse * wi.z * kInvPi;
+    return c.glossy > 0.0f ? pdf + c.glossy * glossy_pdf(b, wo, wi) : pdf;
 }
 
 }  // namespace

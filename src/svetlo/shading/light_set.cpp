@@ -149,8 +149,11 @@ AreaPoint LightSet::sample_area(const Source& source, vec2 u, float u_pick) cons
 
 LightSample LightSet::sample(const Source& source, vec3 p, vec2 u, float u_pick) const {
     if (!source.delta) {
-        LightSample s = sample_at(sample_area(source, u, u_pick), p);
-        if (!is_black(s.irradiance)) s.pdf = pdf(source, p, s.p, s.n);
+        AreaPoint a = sample_area(source, u, u_pick);
+        LightSample s = sample_at(a, p);
+        // pdf(): pdf_area d^2 / cos', from what sample_at found.
+        if (!is_black(s.irradiance))
+            s.pdf = a.pdf_area * s.distance * s.distance / -glm::dot(s.n, s.wi);
         return s;
     }
     const Light& light = scene_.lights[static_cast<size_t>(source.light_index)];

@@ -9,8 +9,9 @@
 //
 // A sample of a light with area estimates the irradiance by E = L cos' / (d^2 pdf_area), the
 // area form of the rendering equation; its pdf per steradian is pdf_area d^2 / cos'. CSG and
-// implicit surfaces with an emissive material glow where they are seen but light nothing, in
-// every engine: their area has no closed form to sample by (docs/scene-format.md). Units:
+// implicit surfaces with an emissive material are no lights: their area has no closed form to
+// sample by (docs/scene-format.md). They glow where seen, and only the path tracer's BSDF
+// samples find their light. Units:
 // radiance W/(m^2 sr), irradiance W/m^2, pdfs per m^2 or per sr.
 #pragma once
 

@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# The pictures of docs/path.md, made again from the demo scenes.
+# Usage: scripts/path_figures.sh [SVETLO] (default build/svetlo). Writes docs/images/path_*.png.
+# The convergence plot against Cycles comes from bench/cycles/convergence.py (docs/path.md).
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+svetlo=${1:-$root/build/svetlo}
+img=$root/docs/images
+cornell=$root/scenes/cornell.json
+size=(-W 400 -H 400)
+"$svetlo" render "$cornell" --engine path --spp 1024 --set render.max_depth=64 \
+    --set render.light_samples=1 "${size[@]}" -o "$img/path_cornell.png"
+"$svetlo" render "$cornell" --engine whitted "${size[@]}" -o "$img/path_cornell_whitted.png"
+"$svetlo" render "$cornell" --engine raster --spp 16 "${size[@]}" -o "$img/path_cornell_raster.png"
+"$svetlo" render "$root/scenes/caustics.json" --spp 256 -o "$img/path_caustics.png"
+# The three ways of finding light, at the same 16 samples per pixel.
+for mis in light bsdf power; do
+    "$svetlo" render "$root/scenes/spheres.json" --engine path --spp 16 -W 480 -H 300 \
+        --set render.mis=$mis --set render.max_depth=8 --set render.light_samples=1 \
+        -o "$img/path_mis_$mis.png"
+done
