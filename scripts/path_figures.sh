@@ -13,9 +13,11 @@ size=(-W 400 -H 400)
 "$svetlo" render "$cornell" --engine whitted "${size[@]}" -o "$img/path_cornell_whitted.png"
 "$svetlo" render "$cornell" --engine raster --spp 16 "${size[@]}" -o "$img/path_cornell_raster.png"
 "$svetlo" render "$root/scenes/caustics.json" --spp 256 -o "$img/path_caustics.png"
+"$svetlo" render "$root/scenes/caustics.json" --spp 256 --set render.caustics=none -W 320 \
+    -H 200 -o "$img/path_caustics_none.png"
+"$svetlo" render "$root/scenes/prism.json" --spp 256 -o "$img/path_prism.png"
 # The three ways of finding light, at the same 16 samples per pixel.
 for mis in light bsdf power; do
-    "$svetlo" render "$root/scenes/spheres.json" --engine path --spp 16 -W 480 -H 300 \
-        --set render.mis=$mis --set render.max_depth=8 --set render.light_samples=1 \
+    "$svetlo" render "$root/scenes/mis.json" --spp 16 -W 480 -H 300 --set render.mis=$mis \
         -o "$img/path_mis_$mis.png"
 done

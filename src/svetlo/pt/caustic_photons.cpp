@@ -68,6 +68,7 @@ CausticPhotons::CausticPhotons(const RtScene& rt, const WavelengthWeights& wavel
     for (size_t k = 0; k < sources.size(); ++k) {
         const LightSet::Source& s = sources[k];
         float f = 0.0f;
+        bool spot_cone = false;
         if (s.delta) {
             const Light& light = scene.lights[static_cast<size_t>(s.light_index)];
             if (const auto* d = std::get_if<DirectionalLight>(&light)) {
@@ -86,20 +87,35 @@ CausticPhotons::CausticPhotons(const RtScene& rt, const WavelengthWeights& wavel
                     solid += dist <= t.radius ? 4.0f * kPi
                                               : 2.0f * kPi * cone_one_minus_cos(t.radius, dist);
                 }
-                f = luminance(intensity) * std::min(solid, 4.0f * kPi);
+                solid = std::min(solid, 4.0f * kPi);
+                if (const auto* spot = std::get_if<SpotLight>(&light)) {
+                    float cone = 2.0f * kPi * (1.0f - std::cos(radians(spot->outer_deg)));
+                    spot_cone = cone < solid;
+                    solid = std::min(solid, cone);
+                }
+                f = luminance(intensity) * solid;
             }
         } else if (covers_area_lights_) {
             AreaPoint a = rt.lights().sample_area(s, vec2(0.5f), 0.5f);
             f = luminance(a.radiance) * kPi * s.area;
         }
         if (f > 0.0f && std::isfinite(f)) {
-            emitters_.push_back({static_cast<int>(k), f});
+            emitters_.push_back({static_cast<int>(k), f, spot_cone});
             flux.push_back(f);
         }
     }
     float total = 0.0f;
     for (float f : flux) total += f;
     for (Emitter& e : emitters_) e.probability /= total;
+}
+
+vec3 CausticPhotons::in_cone(vec3 axis, float one_minus_cos, vec2 u) {
+    // cos theta uniform on [1 - one_minus_cos, 1].
+    float omc = u.x * one_minus_cos;
+    float sin_t = safe_sqrt(omc * (2.0f - omc));
+    float phi = 2.0f * kPi * u.y;
+    return Frame::from_normal(axis).to_world(
+        vec3(sin_t * std::cos(phi), sin_t * std::sin(phi), 1.0f - omc));
 }
 
 vec3 CausticPhotons::aim(vec3 x, vec2 u, float u_pick) const {
@@ -176,11 +192,21 @@ void CausticPhotons::trace_photon(uint64_t index, int pass, int count, std::vect
             vec3 x = std::holds_alternative<PointLight>(light)
                          ? std::get<PointLight>(light).position
                          : std::get<SpotLight>(light).position;
-            vec3 w = aim(x, u1, u_pick);
+            vec3 w;
+            float pdf;
+            if (emitters_[e].spot_cone) {
+                const auto& spot = std::get<SpotLight>(light);
+                float omc = 1.0f - std::cos(radians(spot.outer_deg));
+                w = in_cone(spot.direction, omc, u1);
+                pdf = 1.0f / (2.0f * kPi * omc);
+            } else {
+                w = aim(x, u1, u_pick);
+                pdf = aim_pdf(x, w);
+            }
             // I(w): the irradiance at unit distance along w.
             Color intensity = sample_punctual(light, x + w).irradiance;
             ray = Ray{x, w, kInfinity};
-            power = intensity / aim_pdf(x, w);
+            power = intensity / pdf;
         }
     } else {
         AreaPoint a = lights.sample_area(source, u1, u_pick);

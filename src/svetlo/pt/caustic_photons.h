@@ -57,8 +57,10 @@ private:
         float radius;
     };
     struct Emitter {
-        int source;         // index in the light set's sources
-        float probability;  // of being chosen for a photon
+        int source;              // index in the light set's sources
+        float probability;       // of being chosen for a photon
+        bool spot_cone = false;  // a spot light narrower than the targets: photons fill its
+                                 // cone instead of being aimed at the targets
     };
 
     /// Traces photon `index` of `count`, appending what it leaves to `out`.
@@ -67,6 +69,8 @@ private:
     /// A direction from x toward a target, chosen uniformly among them, and the pdf of the
     /// mixture of their cones.
     vec3 aim(vec3 x, vec2 u, float u_pick) const;
+    /// A direction uniform in the cone about `axis` with 1 - cos(half-angle) = one_minus_cos.
+    static vec3 in_cone(vec3 axis, float one_minus_cos, vec2 u);
     float aim_pdf(vec3 x, vec3 w) const;
     size_t bucket(glm::ivec3 cell) const;
 
