@@ -47,7 +47,7 @@ int main(int argc, char** argv) {
     b->add_option("scene", bench.scene, "Scene file (JSON)")->required();
     b->add_option(
         "--accel", bench.accels,
-        "Comma-separated list of none, grid, octree, bvh2, bvh, embree (default: all built)");
+        "Comma-separated list of none, grid, octree, bvh2, bvh4, bvh, embree (default: all built)");
     b->add_option("--rays", bench.rays, "primary or diffuse");
     b->add_option("-t,--threads", bench.threads, "Threads (0 = all cores)");
     b->add_option("-W,--width", bench.width, "Film width (rays per row)");

@@ -85,7 +85,7 @@ if [ "$(grep -c '^accel=\(none\|bvh\) build_ms=[0-9.]* mrays_per_s=[0-9.]* hits=
 "$svetlo" bench "$work/good.json" --rays primary -t 2 > "$work/bench_all" 2>/dev/null
 [ "$(grep -c '^accel=' "$work/bench_all")" -ge 4 ] && [ "$(sed 's/.*hits=//' "$work/bench_all" | sort -u | wc -l)" = 1 ] &&
     pass || fail "bench all: $(cat "$work/bench_all")"
-for accel in none grid octree bvh2; do
+for accel in none grid octree bvh2 bvh4; do
     "$svetlo" render "$work/good.json" -o "$work/accel_$accel.pfm" -q --set render.accel=$accel &&
         cmp -s "$work/accel_$accel.pfm" "$work/t1.pfm" && pass || fail "render.accel=$accel changes the image"
 done
@@ -218,11 +218,11 @@ done
 # Every accelerator gives the same image of the Cornell box, whose OBJ holds two faces twice.
 cp "$data/CornellBox-Original.obj" "$data/CornellBox-Original.mtl" "$work/"
 scene_with 'scene["objects"] = [{"type": "mesh", "file": "CornellBox-Original.obj"}]; scene["lights"] = []; scene["camera"] = {"position": [0, 1, 3.5], "look_at": [0, 1, 0], "fov": 40}'
-for accel in bvh bvh2 grid octree embree; do
+for accel in bvh bvh4 bvh2 grid octree embree; do
     "$svetlo" render "$work/bad.json" -o "$work/cornell_$accel.pfm" -q --set render.accel=$accel || fail "cornell $accel"
 done
 same=1
-for accel in bvh2 grid octree embree; do
+for accel in bvh4 bvh2 grid octree embree; do
     cmp -s "$work/cornell_bvh.pfm" "$work/cornell_$accel.pfm" || same=0
 done
 [ $same -eq 1 ] && pass || fail "the accelerators disagree on the Cornell box"

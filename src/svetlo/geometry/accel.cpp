@@ -9,7 +9,7 @@
 namespace svetlo {
 
 std::vector<std::string> accel_names() {
-    std::vector<std::string> names = {"none", "grid", "octree", "bvh2", "bvh"};
+    std::vector<std::string> names = {"none", "grid", "octree", "bvh2", "bvh4", "bvh"};
     if (embree_available()) names.push_back("embree");
     return names;
 }
@@ -19,6 +19,7 @@ std::unique_ptr<Accel> make_accel(std::string_view name, const Geometry& geometr
     if (name == "grid") return std::make_unique<Grid>(geometry);
     if (name == "octree") return std::make_unique<Octree>(geometry);
     if (name == "bvh2") return std::make_unique<Bvh>(geometry, threads);
+    if (name == "bvh4") return std::make_unique<WideBvh>(geometry, threads, 4);
     if (name == "bvh") return std::make_unique<WideBvh>(geometry, threads);
     if (name == "embree" && embree_available()) return make_embree_accel(geometry, threads);
     return nullptr;

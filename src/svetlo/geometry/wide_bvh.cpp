@@ -13,23 +13,21 @@ namespace svetlo {
 
 namespace {
 
-// A child reference: a node index, or (bit 31 set) an index into the leaves.
-constexpr uint32_t kLeaf = 1u << 31;
-constexpr uint32_t kEmpty = ~0u;
-constexpr int kStackSize = 256;
+#include "svetlo/geometry/wide_bvh_traversal.inc"
 
 float half_area(const BvhNode& n) {
     vec3 e = n.max - n.min;
     return e.x * e.y + e.y * e.z + e.z * e.x;
 }
 
-/// A ray against the four boxes of a node: returns the mask of children hit and their
+/// A ray against the four boxes of a node (SSE): returns the mask of children hit and their
 /// entry distances.
-struct RayBoxes {
+struct RayBoxes4 {
+    static constexpr int kWidth = 4;
     __m128 o[3], inv[3];
     int near[3], far[3];  // box rows of the near and far planes per axis
 
-    explicit RayBoxes(const Ray& ray) {
+    explicit RayBoxes4(const Ray& ray) {
         vec3 inv_d = safe_inverse(ray.d);
         for (int a = 0; a < 3; ++a) {
             o[a] = _mm_set1_ps(ray.o[a]);
@@ -39,7 +37,7 @@ struct RayBoxes {
         }
     }
 
-    int test(const WideBvhNode& n, float tmax, __m128& t_enter) const {
+    int test(const WideBvhNode<4>& n, float tmax, float* t_enter) const {
         __m128 tn0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.box[near[0]]), o[0]), inv[0]);
         __m128 tn1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.box[near[1]]), o[1]), inv[1]);
         __m128 tn2 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.box[near[2]]), o[2]), inv[2]);
@@ -49,7 +47,7 @@ struct RayBoxes {
         __m128 enter = _mm_max_ps(_mm_max_ps(tn0, tn1), _mm_max_ps(tn2, _mm_setzero_ps()));
         __m128 exit = _mm_min_ps(_mm_min_ps(tf0, tf1), _mm_min_ps(tf2, _mm_set1_ps(tmax)));
         exit = _mm_mul_ps(exit, _mm_set1_ps(kSlabRobust));
-        t_enter = enter;
+        _mm_store_ps(t_enter, enter);
         return _mm_movemask_ps(_mm_cmple_ps(enter, exit));
     }
 };
@@ -126,14 +124,18 @@ struct PacketTest {
     }
 };
 
-struct Entry {
-    uint32_t ref;
-    float t;
-};
-
 }  // namespace
 
-WideBvh::WideBvh(const Geometry& geometry, int threads) : geometry_(geometry) {
+bool WideBvh::eight_wide_available() {
+#ifdef SVETLO_HAS_AVX2_BVH
+    return __builtin_cpu_supports("avx2") != 0;
+#else
+    return false;
+#endif
+}
+
+WideBvh::WideBvh(const Geometry& geometry, int threads, int width) : geometry_(geometry) {
+    width_ = (width == 0 || width == 8) && eight_wide_available() ? 8 : 4;
     Bvh bin(geometry, threads);
     if (bin.nodes().empty()) return;
     empty_ = false;
@@ -153,16 +155,25 @@ WideBvh::WideBvh(const Geometry& geometry, int threads) : geometry_(geometry) {
         shapes += n.count - triangles;
     }
     if (leaves >= kLeaf) throw std::runtime_error("the wide BVH holds at most 2^31 leaves");
-    nodes_ = LargeArray<WideBvhNode>(std::max<size_t>(inner, 1));
     leaves_ = LargeArray<Leaf>(leaves);
     packets_ = LargeArray<TrianglePacket>(packets);
     shapes_ = LargeArray<uint32_t>(shapes);
+    if (width_ == 8) {
+        build<8>(bin, nodes8_, inner);
+    } else {
+        build<4>(bin, nodes4_, inner);
+    }
+}
+
+template <int W>
+void WideBvh::build(const Bvh& bin, LargeArray<WideBvhNode<W>>& nodes, size_t inner) {
+    nodes = LargeArray<WideBvhNode<W>>(std::max<size_t>(inner, 1));
     const BvhNode& root = bin.nodes()[0];
     node_count_ = 1;
     if (root.count > 0) {
         // A single leaf: one wide node with one child.
-        WideBvhNode node;
-        for (int k = 0; k < 4; ++k) {
+        WideBvhNode<W> node;
+        for (int k = 0; k < W; ++k) {
             for (int a = 0; a < 3; ++a) {
                 node.box[a][k] = k == 0 ? root.min[a] : kInfinity;
                 node.box[a + 3][k] = k == 0 ? root.max[a] : -kInfinity;
@@ -170,11 +181,11 @@ WideBvh::WideBvh(const Geometry& geometry, int threads) : geometry_(geometry) {
             node.child[k] = kEmpty;
         }
         node.child[0] = add_leaf(bin.primitives().subspan(root.first, root.count));
-        nodes_[0] = node;
+        nodes[0] = node;
     } else {
-        collapse(bin.nodes(), bin.primitives(), 0, 0);
+        collapse<W>(bin.nodes(), bin.primitives(), 0, 0, nodes);
     }
-    nodes_.truncate(node_count_);
+    nodes.truncate(node_count_);
 }
 
 uint32_t WideBvh::add_leaf(std::span<const uint32_t> prims) {
@@ -205,12 +216,13 @@ uint32_t WideBvh::add_leaf(std::span<const uint32_t> prims) {
 }
 
 /// Collapses the binary tree under `b` into wide node `w`: the largest inner child is opened
-/// until four children are gathered (or only leaves remain).
+/// until W children are gathered (or only leaves remain).
+template <int W>
 void WideBvh::collapse(std::span<const BvhNode> bin, std::span<const uint32_t> prims, uint32_t b,
-                       uint32_t w) {
-    uint32_t kids[4] = {bin[b].first, bin[b].first + 1, 0, 0};
+                       uint32_t w, LargeArray<WideBvhNode<W>>& nodes) {
+    uint32_t kids[W] = {bin[b].first, bin[b].first + 1};
     int n = 2;
-    while (n < 4) {
+    while (n < W) {
         int best = -1;
         float best_area = -1.0f;
         for (int k = 0; k < n; ++k) {
@@ -224,8 +236,8 @@ void WideBvh::collapse(std::span<const BvhNode> bin, std::span<const uint32_t> p
         kids[best] = bin[open].first;
         kids[n++] = bin[open].first + 1;
     }
-    WideBvhNode node;
-    for (int k = 0; k < 4; ++k) {
+    WideBvhNode<W> node;
+    for (int k = 0; k < W; ++k) {
         for (int a = 0; a < 3; ++a) {
             node.box[a][k] = k < n ? bin[kids[k]].min[a] : kInfinity;
             node.box[a + 3][k] = k < n ? bin[kids[k]].max[a] : -kInfinity;
@@ -239,10 +251,10 @@ void WideBvh::collapse(std::span<const BvhNode> bin, std::span<const uint32_t> p
         } else {
             auto index = static_cast<uint32_t>(node_count_++);
             node.child[k] = index;
-            collapse(bin, prims, kids[k], index);
+            collapse<W>(bin, prims, kids[k], index, nodes);
         }
     }
-    nodes_[w] = node;
+    nodes[w] = node;
 }
 
 bool WideBvh::leaf_intersect(const Leaf& leaf, const Ray& ray, const RayPrecomputed& pre,
@@ -309,67 +321,25 @@ bool WideBvh::intersect(const Ray& ray, Hit& hit) const {
     hit = Hit{};
     hit.t = ray.tmax;
     if (empty_) return false;
+    if (width_ == 8) return intersect8(ray, hit);
     RayPrecomputed pre(ray);
-    RayBoxes boxes(ray);
-    Entry stack[kStackSize];
-    int sp = 0;
-    stack[sp++] = {0, 0.0f};
-    bool found = false;
-    while (sp > 0) {
-        Entry e = stack[--sp];
-        if (e.t > hit.t) continue;  // a closer hit was found since this entry was pushed
-        uint32_t ref = e.ref;
-        for (;;) {
-            if (ref & kLeaf) {
-                found |= leaf_intersect(leaves_[ref & ~kLeaf], ray, pre, hit);
-                break;
-            }
-            const WideBvhNode& node = nodes_[ref];
-            alignas(16) float t[4];
-            __m128 enter;
-            int mask = boxes.test(node, hit.t, enter);
-            if (mask == 0) break;
-            _mm_store_ps(t, enter);
-            // The children hit, sorted by entry distance (at most four: insertion sort).
-            Entry hits[4];
-            int n = 0;
-            for (int k = 0; k < 4; ++k) {
-                if (!(mask & (1 << k))) continue;
-                int j = n++;
-                while (j > 0 && hits[j - 1].t > t[k]) {
-                    hits[j] = hits[j - 1];
-                    --j;
-                }
-                hits[j] = {node.child[k], t[k]};
-            }
-            for (int k = n - 1; k > 0; --k) stack[sp++] = hits[k];
-            ref = hits[0].ref;
-        }
-    }
-    return found;
+    return traverse_closest<RayBoxes4>(nodes4_.data(), ray, hit, [&](uint32_t leaf) {
+        return leaf_intersect(leaves_[leaf], ray, pre, hit);
+    });
 }
 
 bool WideBvh::occluded(const Ray& ray) const {
     if (empty_) return false;
+    if (width_ == 8) return occluded8(ray);
     RayPrecomputed pre(ray);
-    RayBoxes boxes(ray);
-    uint32_t stack[kStackSize];
-    int sp = 0;
-    stack[sp++] = 0;
-    while (sp > 0) {
-        uint32_t ref = stack[--sp];
-        if (ref & kLeaf) {
-            if (leaf_occluded(leaves_[ref & ~kLeaf], ray, pre)) return true;
-            continue;
-        }
-        const WideBvhNode& node = nodes_[ref];
-        __m128 enter;
-        int mask = boxes.test(node, ray.tmax, enter);
-        for (int k = 0; k < 4; ++k) {
-            if (mask & (1 << k)) stack[sp++] = node.child[k];
-        }
-    }
-    return false;
+    return traverse_any<RayBoxes4>(
+        nodes4_.data(), ray, [&](uint32_t leaf) { return leaf_occluded(leaves_[leaf], ray, pre); });
 }
+
+#ifndef SVETLO_HAS_AVX2_BVH
+// Never called: width_ is 8 only where eight_wide_available().
+bool WideBvh::intersect8(const Ray&, Hit&) const { return false; }
+bool WideBvh::occluded8(const Ray&) const { return false; }
+#endif
 
 }  // namespace svetlo

@@ -1,10 +1,12 @@
-// A four-wide BVH: the binned-SAH binary BVH collapsed so that each node holds the boxes of
-// up to four children side by side (structure of arrays), tested against a ray in one SSE
+// A wide BVH: the binned-SAH binary BVH collapsed so that each node holds the boxes of up to
+// W children side by side (structure of arrays), tested against a ray in one SIMD
 // instruction sequence (Wald, Benthin and Boulos, "Getting Rid of Packets", IEEE RT 2008;
-// Dammertz et al., "Shallow Bounding Volume Hierarchies", EGSR 2008). A leaf's triangles are
-// copied into packets of four (structure of arrays) and tested four at a time with the same
-// watertight test, operation for operation, so the hits are bit-identical to the scalar
-// test's; its analytic shapes are tested one by one. This is svetlo's fastest structure (`bvh`).
+// Dammertz et al., "Shallow Bounding Volume Hierarchies", EGSR 2008). W is 8 with AVX2 where
+// the processor has it (chosen at run time: wide_bvh_avx2.cpp), else 4 with SSE. A leaf's
+// triangles are copied into packets of four (structure of arrays) and tested four at a time
+// with the same watertight test, operation for operation, so the hits are bit-identical to
+// the scalar test's; its analytic shapes are tested one by one. This is svetlo's fastest
+// structure (`bvh`, the widest the processor runs; `bvh4` is the four-wide one everywhere).
 #pragma once
 
 #include <cstdint>
@@ -16,9 +18,10 @@
 
 namespace svetlo {
 
+template <int W>
 struct alignas(64) WideBvhNode {
-    float box[6][4];    // per child lane: min x, min y, min z, max x, max y, max z
-    uint32_t child[4];  // a node index, a leaf (kLeaf bit, see wide_bvh.cpp) or kEmpty
+    float box[6][W];    // per child lane: min x, min y, min z, max x, max y, max z
+    uint32_t child[W];  // a node index, a leaf (kLeaf bit, see wide_bvh.cpp) or kEmpty
 };
 
 /// Four triangles side by side: vertex j's component c of lane k is v[3 j + c][k].
@@ -29,15 +32,19 @@ struct alignas(16) TrianglePacket {
 
 class WideBvh final : public Accel {
 public:
-    explicit WideBvh(const Geometry& geometry, int threads = 0);
+    /// `width` 4 or 8; 0 = the widest the processor runs (8 needs AVX2, else it is 4).
+    explicit WideBvh(const Geometry& geometry, int threads = 0, int width = 0);
     bool intersect(const Ray& ray, Hit& hit) const override;
     bool occluded(const Ray& ray) const override;
     size_t memory_bytes() const override {
-        return nodes_.size() * sizeof(WideBvhNode) + leaves_.size() * sizeof(Leaf) +
-               packets_.size() * sizeof(TrianglePacket) + shapes_.size() * sizeof(uint32_t);
+        return nodes4_.size() * sizeof(WideBvhNode<4>) + nodes8_.size() * sizeof(WideBvhNode<8>) +
+               leaves_.size() * sizeof(Leaf) + packets_.size() * sizeof(TrianglePacket) +
+               shapes_.size() * sizeof(uint32_t);
     }
+    int width() const { return width_; }
 
-    std::span<const WideBvhNode> nodes() const { return {nodes_.data(), nodes_.size()}; }
+    /// True when this build of svetlo has the eight-wide traversal and the processor runs it.
+    static bool eight_wide_available();
 
 private:
     struct Leaf {
@@ -48,12 +55,21 @@ private:
     bool leaf_intersect(const Leaf& leaf, const Ray& ray, const RayPrecomputed& pre,
                         Hit& hit) const;
     bool leaf_occluded(const Leaf& leaf, const Ray& ray, const RayPrecomputed& pre) const;
+    template <int W>
+    void build(const Bvh& bin, LargeArray<WideBvhNode<W>>& nodes, size_t inner);
+    template <int W>
     void collapse(std::span<const BvhNode> bin, std::span<const uint32_t> prims, uint32_t b,
-                  uint32_t w);
+                  uint32_t w, LargeArray<WideBvhNode<W>>& nodes);
+    // The eight-wide traversal (wide_bvh_avx2.cpp).
+    bool intersect8(const Ray& ray, Hit& hit) const;
+    bool occluded8(const Ray& ray) const;
 
     const Geometry& geometry_;
-    // Sized for the worst case before the collapse, then truncated (see LargeArray).
-    LargeArray<WideBvhNode> nodes_;
+    int width_ = 4;
+    // Sized for the worst case before the collapse, then truncated (see LargeArray). One of
+    // the two node arrays is used, by width_.
+    LargeArray<WideBvhNode<4>> nodes4_;
+    LargeArray<WideBvhNode<8>> nodes8_;
     LargeArray<Leaf> leaves_;
     LargeArray<TrianglePacket> packets_;
     LargeArray<uint32_t> shapes_;  // ids of the leaves' analytic shapes

@@ -1,0 +1,70 @@
+// The wide BVH's eight-wide traversal (AVX2): WideBvh uses it only where the processor has
+// AVX2. The target is set by pragma around this file's own code, after the headers, so that
+// no inline function of a header (GLM, the standard library) is emitted with AVX2
+// instructions the linker could pick for the rest of the program (as raster/simd_shading).
+// No FMA: the box test rounds as the four-wide one does, lane for lane.
+#include <immintrin.h>
+
+#include "svetlo/geometry/ray_box.h"
+#include "svetlo/geometry/wide_bvh.h"
+
+#pragma GCC push_options
+#pragma GCC target("avx2")
+
+namespace svetlo {
+
+namespace {
+
+#include "svetlo/geometry/wide_bvh_traversal.inc"
+
+/// A ray against the eight boxes of a node.
+struct RayBoxes8 {
+    static constexpr int kWidth = 8;
+    __m256 o[3], inv[3];
+    int near[3], far[3];  // box rows of the near and far planes per axis
+
+    explicit RayBoxes8(const Ray& ray) {
+        vec3 inv_d = safe_inverse(ray.d);
+        for (int a = 0; a < 3; ++a) {
+            o[a] = _mm256_set1_ps(ray.o[a]);
+            inv[a] = _mm256_set1_ps(inv_d[a]);
+            near[a] = inv_d[a] >= 0.0f ? a : a + 3;
+            far[a] = inv_d[a] >= 0.0f ? a + 3 : a;
+        }
+    }
+
+    int test(const WideBvhNode<8>& n, float tmax, float* t_enter) const {
+        __m256 tn0 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.box[near[0]]), o[0]), inv[0]);
+        __m256 tn1 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.box[near[1]]), o[1]), inv[1]);
+        __m256 tn2 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.box[near[2]]), o[2]), inv[2]);
+        __m256 tf0 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.box[far[0]]), o[0]), inv[0]);
+        __m256 tf1 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.box[far[1]]), o[1]), inv[1]);
+        __m256 tf2 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(n.box[far[2]]), o[2]), inv[2]);
+        __m256 enter =
+            _mm256_max_ps(_mm256_max_ps(tn0, tn1), _mm256_max_ps(tn2, _mm256_setzero_ps()));
+        __m256 exit =
+            _mm256_min_ps(_mm256_min_ps(tf0, tf1), _mm256_min_ps(tf2, _mm256_set1_ps(tmax)));
+        exit = _mm256_mul_ps(exit, _mm256_set1_ps(kSlabRobust));
+        _mm256_store_ps(t_enter, enter);
+        return _mm256_movemask_ps(_mm256_cmp_ps(enter, exit, _CMP_LE_OS));
+    }
+};
+
+}  // namespace
+
+bool WideBvh::intersect8(const Ray& ray, Hit& hit) const {
+    RayPrecomputed pre(ray);
+    return traverse_closest<RayBoxes8>(nodes8_.data(), ray, hit, [&](uint32_t leaf) {
+        return leaf_intersect(leaves_[leaf], ray, pre, hit);
+    });
+}
+
+bool WideBvh::occluded8(const Ray& ray) const {
+    RayPrecomputed pre(ray);
+    return traverse_any<RayBoxes8>(
+        nodes8_.data(), ray, [&](uint32_t leaf) { return leaf_occluded(leaves_[leaf], ray, pre); });
+}
+
+}  // namespace svetlo
+
+#pragma GCC pop_options
