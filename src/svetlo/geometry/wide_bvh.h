@@ -52,9 +52,6 @@ private:
         uint32_t first_shape, shapes;
     };
     uint32_t add_leaf(std::span<const uint32_t> prims);
-    bool leaf_intersect(const Leaf& leaf, const Ray& ray, const RayPrecomputed& pre,
-                        Hit& hit) const;
-    bool leaf_occluded(const Leaf& leaf, const Ray& ray, const RayPrecomputed& pre) const;
     template <int W>
     void build(const Bvh& bin, LargeArray<WideBvhNode<W>>& nodes, size_t inner);
     template <int W>
