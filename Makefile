@@ -41,6 +41,11 @@ bench: build
 	$(SVETLO) bench scenes/bunny.json --rays primary --threads $(JOBS)
 	$(SVETLO) bench scenes/bunny.json --rays diffuse --threads 1
 	$(SVETLO) bench scenes/bunny.json --rays diffuse --threads $(JOBS)
+	$(SVETLO) render scenes/cornell.json --engine path --set render.max_depth=64 \
+	    --set render.light_samples=1 -W 512 -H 512 --spp 16 --threads 1 -o $(BUILD)/bench_path.pfm
+	$(SVETLO) render scenes/cornell.json --engine path --set render.max_depth=64 \
+	    --set render.light_samples=1 -W 512 -H 512 --spp 16 --threads $(JOBS) -o $(BUILD)/bench_path.pfm
+	@echo "The path tracer against Cycles needs Blender: bench/cycles/convergence.py (docs/performance.md)."
 
 format:
 	clang-format -i $$(git ls-files '*.cpp' '*.h' '*.inc')

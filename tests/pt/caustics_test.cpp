@@ -104,5 +104,16 @@ TEST(Caustics, PhotonsGiveTheSameImageOnOneThreadAndTwo) {
         ASSERT_EQ(one.color.pixels[k], two.color.pixels[k]) << k;
 }
 
+TEST(Caustics, AnyRadiusGivesFinitePixels) {
+    // A radius whose grid cells overflow an int, or one that holds the whole scene.
+    for (double radius : {1e-30, 1e30}) {
+        json j = glass_sphere(kPointLight, "auto", 2);
+        j["render"]["photons"]["radius"] = radius;
+        RenderResult r = render(j);
+        EXPECT_EQ(r.stats.nonfinite, 0u) << radius;
+        for (const Color& c : r.color.pixels) ASSERT_TRUE(is_finite(c)) << radius;
+    }
+}
+
 }  // namespace
 }  // namespace svetlo

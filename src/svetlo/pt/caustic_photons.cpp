@@ -18,6 +18,17 @@ constexpr size_t kMaxTargets = 64;
 constexpr uint64_t kPhotonsPerTask = 4096;
 /// A photon counts for a point whose surface normal is within about 25 degrees of its own.
 constexpr float kNormalAgreement = 0.9f;
+/// A pass keeps at most this many photons per photon emitted (a photon leaves one where it
+/// lands on each surface with a non-delta part that it meets through delta bounces), so that
+/// its memory is bounded (scene_loader.h, kMaxPhotons); the rest of a task's are dropped.
+constexpr size_t kStoredPerEmitted = 4;
+
+/// The grid cell of p for cells of side `cell`, clamped so that the conversion to int is
+/// defined for any radius and position.
+glm::ivec3 cell_of(vec3 p, float cell) {
+    vec3 c = glm::clamp(glm::floor(p / cell), vec3(-1073741824.0f), vec3(1073741824.0f));
+    return glm::ivec3(c);
+}
 
 /// True when the material has an ideal mirror or refraction part.
 bool is_delta(const Material& m, const std::vector<Image>& textures) {
@@ -150,7 +161,7 @@ float CausticPhotons::aim_pdf(vec3 x, vec3 w) const {
 }
 
 void CausticPhotons::trace_photon(uint64_t index, int pass, int count, std::vector<Photon>& out,
-                                  uint64_t& rays) const {
+                                  size_t cap, uint64_t& rays) const {
     const Scene& scene = rt_.scene();
     const LightSet& lights = rt_.lights();
     Rng rng(mix64(mix64(scene.render.seed) + 0x70686f746f6eULL + static_cast<uint64_t>(pass)),
@@ -230,7 +241,8 @@ void CausticPhotons::trace_photon(uint64_t index, int pass, int count, std::vect
         Bsdf bsdf = make_bsdf(rt_.materials()[sh.material], sh.uv, scene.textures);
         const vec3 wo = -glm::normalize(ray.d);
         const ShadingFrame frame = make_shading_frame(sh.ng, sh.ns, wo);
-        if (bsdf.has_lobes() && delta_bounces > 0) out.push_back({sh.p, wo, frame.ng, power});
+        if (bsdf.has_lobes() && delta_bounces > 0 && out.size() < cap)
+            out.push_back({sh.p, wo, frame.ng, power});
         if (bsdf.model == Bsdf::Model::Dielectric && bsdf.abbe > 0.0f) {
             if (lambda == 0.0f) {
                 lambda = WavelengthWeights::lambda_of(rng.next_float());
@@ -275,8 +287,9 @@ void CausticPhotons::build(int pass, int threads) {
     parallel_indices(tasks, threads, [&](size_t t) {
         uint64_t local = 0;
         uint64_t end = std::min(count, (t + 1) * kPhotonsPerTask);
+        const size_t cap = kStoredPerEmitted * (end - t * kPhotonsPerTask);
         for (uint64_t i = t * kPhotonsPerTask; i < end; ++i)
-            trace_photon(i, pass, settings.count, found[t], local);
+            trace_photon(i, pass, settings.count, found[t], cap, local);
         rays += local;
     });
     rays_ += rays.load();
@@ -292,7 +305,7 @@ void CausticPhotons::build(int pass, int threads) {
     key.reserve(total);
     for (const auto& f : found) {
         for (const Photon& ph : f) {
-            key.push_back(static_cast<uint32_t>(bucket(glm::ivec3(glm::floor(ph.p / cell_)))));
+            key.push_back(static_cast<uint32_t>(bucket(cell_of(ph.p, cell_))));
             ++bucket_start_[key.back() + 1];
         }
     }
@@ -307,9 +320,9 @@ void CausticPhotons::build(int pass, int threads) {
 }
 
 Color CausticPhotons::radiance(vec3 p, const ShadingFrame& frame, vec3 wo, const Bsdf& bsdf) const {
-    if (photons_.empty()) return Color(0.0f);
     const float r2 = radius_ * radius_;
-    glm::ivec3 lo(glm::floor((p - vec3(radius_)) / cell_));
+    if (photons_.empty() || !(r2 > 0.0f)) return Color(0.0f);
+    glm::ivec3 lo = cell_of(p - vec3(radius_), cell_);
     size_t seen[8];
     int n_seen = 0;
     Color sum(0.0f);

@@ -63,8 +63,9 @@ private:
                                  // cone instead of being aimed at the targets
     };
 
-    /// Traces photon `index` of `count`, appending what it leaves to `out`.
-    void trace_photon(uint64_t index, int pass, int count, std::vector<Photon>& out,
+    /// Traces photon `index` of `count`, appending what it leaves to `out` while it holds
+    /// fewer than `cap`.
+    void trace_photon(uint64_t index, int pass, int count, std::vector<Photon>& out, size_t cap,
                       uint64_t& rays) const;
     /// A direction from x toward a target, chosen uniformly among them, and the pdf of the
     /// mixture of their cones.

@@ -27,8 +27,9 @@ inline constexpr long long kMaxFilmPixels = 8192LL * 8192LL;
 /// these keys check the same ranges).
 inline constexpr long long kMaxFilmSide = 65536;
 inline constexpr long long kMaxSpp = 1LL << 20;
-/// Photons emitted per pass (render.photons.count); each stored one takes 48 bytes.
-inline constexpr long long kMaxPhotons = 1LL << 24;
+/// Photons emitted per pass (render.photons.count). A pass stores at most four per photon
+/// emitted, 48 bytes each: at most 768 MiB.
+inline constexpr long long kMaxPhotons = 1LL << 22;
 inline constexpr long long kMaxSeed = 1LL << 53;  // seeds are exact as JSON numbers (doubles)
 
 Scene load_scene(const std::filesystem::path& path, const std::vector<Override>& overrides = {});
