@@ -6,7 +6,6 @@
 #include <immintrin.h>
 
 #include "svetlo/geometry/ray_box.h"
-#include "svetlo/geometry/triangle.h"
 #include "svetlo/geometry/wide_bvh.h"
 
 #pragma GCC push_options
@@ -55,26 +54,15 @@ struct RayBoxes8 {
 
 bool WideBvh::intersect8(const Ray& ray, Hit& hit) const {
     RayPrecomputed pre(ray);
-    const PacketTest test(ray, pre);
-    return traverse_closest<RayBoxes8>(nodes8_.data(), ray, hit, [&](uint32_t index) {
-        const Leaf& leaf = leaves_[index];
-        bool found =
-            packets_closest(test, packets_.data() + leaf.first_packet, leaf.packets, ray, pre, hit);
-        if (leaf.shapes == 0) return found;
-        return geometry_.intersect(shapes_.data() + leaf.first_shape, leaf.shapes, ray, pre, hit) ||
-               found;
+    return traverse_closest<RayBoxes8>(nodes8_.data(), ray, hit, [&](uint32_t leaf) {
+        return leaf_intersect(leaf, ray, pre, hit);
     });
 }
 
 bool WideBvh::occluded8(const Ray& ray) const {
     RayPrecomputed pre(ray);
-    const PacketTest test(ray, pre);
-    return traverse_any<RayBoxes8>(nodes8_.data(), ray, [&](uint32_t index) {
-        const Leaf& leaf = leaves_[index];
-        return packets_any(test, packets_.data() + leaf.first_packet, leaf.packets, ray, pre) ||
-               (leaf.shapes > 0 &&
-                geometry_.occludes(shapes_.data() + leaf.first_shape, leaf.shapes, ray, pre));
-    });
+    return traverse_any<RayBoxes8>(nodes8_.data(), ray,
+                                   [&](uint32_t leaf) { return leaf_occluded(leaf, ray, pre); });
 }
 
 }  // namespace svetlo

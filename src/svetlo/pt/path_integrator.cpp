@@ -65,7 +65,7 @@ Color PathIntegrator::environment_light(const Bsdf& bsdf, vec3 p, const ShadingF
     return f * scene_.render.background * (cos_theta * w / pdf);
 }
 
-Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, PathAov* aov, Rng* aov_rng) {
+Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, Rng* aov_rng) {
     const RenderSettings& settings = scene_.render;
     const Geometry& g = rt_.geometry();
     const LightSet& lights = rt_.lights();

@@ -15,16 +15,9 @@
 #include "svetlo/pt/sobol_sampler.h"
 #include "svetlo/pt/spectrum.h"
 #include "svetlo/rt/rt_scene.h"
+#include "svetlo/scene/renderer.h"
 
 namespace svetlo {
-
-/// What the first hit of a camera ray gives the AOVs (contract: --aov).
-struct PathAov {
-    float depth = 0.0f;
-    vec3 normal{0.0f};
-    Color albedo{0.0f};
-    float visibility = 1.0f;
-};
 
 class PathIntegrator {
 public:
@@ -34,7 +27,7 @@ public:
 
     /// The radiance along `ray`, linear RGB, W/(m^2 sr). With `aov`, also the first hit's
     /// AOVs; light 0's visibility draws from `aov_rng`, so AOVs never change the image.
-    Color radiance(Ray ray, SobolSampler& sampler, PathAov* aov, Rng* aov_rng);
+    Color radiance(Ray ray, SobolSampler& sampler, AovSample* aov, Rng* aov_rng);
 
     uint64_t rays = 0;  // every ray traced, shadow rays included
 

@@ -106,7 +106,7 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
                         vec2 jitter = sampler.next_2d();
                         float x = (static_cast<float>(i) + jitter.x) / width;
                         float y = (static_cast<float>(j) + jitter.y) / height;
-                        PathAov aov;
+                        AovSample aov;
                         Color c = integrator.radiance(camera.generate(x, y), sampler,
                                                       targets.any ? &aov : nullptr,
                                                       aov_rng ? &*aov_rng : nullptr);

@@ -23,14 +23,6 @@ namespace {
 /// contributions under 1e-5 of the pixel's radiance scale.
 constexpr float kMinBranchWeight = 1e-5f;
 
-/// What the first hit of a camera sample contributes to the AOVs.
-struct AovSample {
-    float depth = 0.0f;
-    vec3 normal{0.0f};
-    Color albedo{0.0f};
-    float visibility = 1.0f;
-};
-
 class Tracer {
 public:
     Tracer(const RtScene& rt, bool want_visibility)

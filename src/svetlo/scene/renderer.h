@@ -49,6 +49,14 @@ struct RenderResult {
     RenderStats stats;
 };
 
+/// What the first hit of one camera sample gives the AOVs (the engines average it per pixel).
+struct AovSample {
+    float depth = 0.0f;       // distance from the camera
+    vec3 normal{0.0f};        // world-space shading normal, toward the viewer
+    Color albedo{0.0f};       // albedo_of the material
+    float visibility = 1.0f;  // the fraction of light 0 that reaches the point
+};
+
 /// The images a render fills: the colour, and the AOVs asked for (depth, normal and albedo
 /// zero, visibility one), with pointers indexed like aov_names() (null when not asked for).
 struct AovTargets {
