@@ -148,6 +148,43 @@ TEST(Path, DirectLightOfAPointLightMatchesTheClosedForm) {
     }
 }
 
+TEST(Path, PointSpotAndDirectionalLightsAtOnceSumTheirClosedForms) {
+    // Each vertex samples one light, chosen by power: over the pixels, the mean is the sum of
+    // the three closed forms, E = I cos / d^2 (the spot's inner cone covers the floor) and
+    // E_dir cos.
+    const int n = 16;
+    const float half = 1.0f;
+    json j = top_down(n, half, 256, 0);
+    j["materials"] = {{"white", {{"type", "lambert"}, {"albedo", 0.5}}}};
+    j["lights"] = {{{"type", "point"}, {"position", {0.5, 1.5, -0.3}}, {"intensity", 6}},
+                   {{"type", "spot"},
+                    {"position", {-0.4, 2.0, 0.2}},
+                    {"direction", {0, -1, 0}},
+                    {"intensity", 20},
+                    {"inner_angle", 70},
+                    {"outer_angle", 80}},
+                   {{"type", "directional"}, {"direction", {0.3, -1, 0.2}}, {"irradiance", 0.7}}};
+    j["objects"] = {floor_quad(half, "white")};
+    RenderResult r = render(j);
+    const vec3 sun = glm::normalize(vec3(-0.3f, 1.0f, -0.2f));
+    double expected = 0.0;
+    for (int jj = 0; jj < n; ++jj) {
+        for (int i = 0; i < n; ++i) {
+            float s = 2 * half / n;
+            vec3 p(-half + (i + 0.5f) * s, 0, -half + (jj + 0.5f) * s);
+            double e = 0.7 * sun.y;
+            for (auto [at, intensity] : {std::pair{vec3(0.5f, 1.5f, -0.3f), 6.0f},
+                                         std::pair{vec3(-0.4f, 2.0f, 0.2f), 20.0f}}) {
+                vec3 d = at - p;
+                float d2 = glm::dot(d, d);
+                e += intensity * (d.y / std::sqrt(d2)) / d2;
+            }
+            expected += 0.5 / kPi * e / (n * n);
+        }
+    }
+    EXPECT_NEAR(mean(r.color), expected, 0.01 * expected);
+}
+
 TEST(Path, AreaLightAboveAPointMatchesTheFormFactor) {
     // A square area light of side 1 at height 1 above the point under its centre: E = pi L F,
     // F the sum of four corner form factors; L_floor = albedo / pi * E. Every strategy.

@@ -33,9 +33,10 @@ constexpr float kMaxSurvival = 0.95f;
 
 }  // namespace
 
-PathIntegrator::PathIntegrator(const RtScene& rt, const WavelengthWeights& wavelengths,
-                               const CausticPhotons* photons)
+PathIntegrator::PathIntegrator(const RtScene& rt, const LightSelection& selection,
+                               const WavelengthWeights& wavelengths, const CausticPhotons* photons)
     : rt_(rt),
+      selection_(selection),
       scene_(rt.scene()),
       wavelengths_(wavelengths),
       photons_(photons),
@@ -46,8 +47,37 @@ float PathIntegrator::emitter_weight(uint32_t prim, vec3 from, float pdf_bsdf, i
     int source = rt_.light_source_of(prim);
     if (source < 0) return 1.0f;  // a glowing CSG or implicit surface: no light to sample
     const LightSet::Source& s = rt_.lights().sources()[static_cast<size_t>(source)];
-    float pdf_light = rt_.lights().pdf(s, from, p, ng) * static_cast<float>(light_samples);
+    // As one_light draws it: the light's choice, then its samples.
+    float pdf_light = selection_.probability(static_cast<size_t>(source)) *
+                      rt_.lights().pdf(s, from, p, ng) * static_cast<float>(light_samples);
     return bsdf_weight(scene_.render.mis, pdf_bsdf, pdf_light);
+}
+
+Color PathIntegrator::one_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame, vec3 wo, int n,
+                                SobolSampler& sampler) {
+    if (selection_.empty()) return Color(0.0f);
+    const LightSet& lights = rt_.lights();
+    float chosen;
+    const LightSet::Source& source =
+        lights.sources()[selection_.pick(sampler.next_float(), chosen)];
+    if (source.delta) n = 1;
+    Color sum(0.0f);
+    for (int k = 0; k < n; ++k) {
+        LightSample s = source.delta
+                            ? lights.sample(source, p, vec2(0.0f), 0.0f)
+                            : lights.sample(source, p, stratified_sample(k, n, sampler.next_2d()),
+                                            sampler.next_float());
+        Color c = unoccluded_light(bsdf, frame, wo, s);  // f E cos, the lighting core's
+        if (is_black(c)) continue;
+        float w = 1.0f;
+        if (!s.delta) {
+            w = light_weight(scene_.render.mis, static_cast<float>(n) * chosen * s.pdf,
+                             pdf_bsdf(bsdf, frame.ns, wo, s.wi));
+        }
+        if (w == 0.0f || shadow_blocked(rt_, p, frame.ng, s, rays)) continue;
+        sum += c * w;
+    }
+    return sum / (static_cast<float>(n) * chosen);
 }
 
 Color PathIntegrator::environment_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame,
@@ -68,7 +98,6 @@ Color PathIntegrator::environment_light(const Bsdf& bsdf, vec3 p, const ShadingF
 Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, Rng* aov_rng) {
     const RenderSettings& settings = scene_.render;
     const Geometry& g = rt_.geometry();
-    const LightSet& lights = rt_.lights();
     ray.d = glm::normalize(ray.d);  // hit.t is then the distance (the depth AOV)
     Color L(0.0f), beta(1.0f);
     // The previous vertex: its BSDF sample's pdf (non-delta lobes), point and normal. The
@@ -123,18 +152,7 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, R
             // sample deeper, where the path's own spread averages it out.
             const int n = depth == 0 ? settings.light_samples : 1;
             prev_light_samples = n;
-            L += beta *
-                 direct_light(lights, bsdf, sh.p, frame, wo,
-                              StratifiedLightSampling{lights, sampler, n},
-                              [&](size_t, const LightSample& s) {
-                                  float w = 1.0f;
-                                  if (!s.delta) {
-                                      w = light_weight(settings.mis, static_cast<float>(n) * s.pdf,
-                                                       pdf_bsdf(bsdf, frame.ns, wo, s.wi));
-                                  }
-                                  if (w == 0.0f) return 0.0f;
-                                  return shadow_blocked(rt_, sh.p, frame.ng, s, rays) ? 0.0f : w;
-                              });
+            L += beta * one_light(bsdf, sh.p, frame, wo, n, sampler);
             if (environment_)
                 L += beta * environment_light(bsdf, sh.p, frame, wo, sampler.next_2d());
             if (photons_) L += beta * photons_->radiance(sh.p, frame, wo, bsdf);

@@ -1,10 +1,10 @@
 // The path tracer's estimator of the radiance along one camera ray (Kajiya 1986): a random
-// walk through the BSDFs' sample functions, with next-event estimation toward every light at
-// every non-delta vertex, the two strategies (light sampling, BSDF sampling) combined by
-// multiple importance sampling with the power heuristic (Veach and Guibas 1995), the
-// background as a uniform environment light sampled like the others, and Russian roulette
-// from the fourth vertex on. render.max_depth bounds the bounces after the first hit: 0 is
-// direct light only. Caustics that paths cannot find come from a photon map
+// walk through the BSDFs' sample functions, with next-event estimation toward one light,
+// chosen by power (light_selection.h), at every non-delta vertex, the two strategies (light
+// sampling, BSDF sampling) combined by multiple importance sampling with the power heuristic (Veach
+// and Guibas 1995), the background as a uniform environment light sampled like the others, and
+// Russian roulette from the fourth vertex on. render.max_depth bounds the bounces after the first
+// hit: 0 is direct light only. Caustics that paths cannot find come from a photon map
 // (caustic_photons.h); dispersive glass gives the path a wavelength (spectrum.h).
 #pragma once
 
@@ -12,6 +12,7 @@
 
 #include "svetlo/core/rng.h"
 #include "svetlo/pt/caustic_photons.h"
+#include "svetlo/pt/light_selection.h"
 #include "svetlo/pt/sobol_sampler.h"
 #include "svetlo/pt/spectrum.h"
 #include "svetlo/rt/rt_scene.h"
@@ -22,8 +23,8 @@ namespace svetlo {
 class PathIntegrator {
 public:
     /// `photons` may be null (no photon map this pass).
-    PathIntegrator(const RtScene& rt, const WavelengthWeights& wavelengths,
-                   const CausticPhotons* photons);
+    PathIntegrator(const RtScene& rt, const LightSelection& selection,
+                   const WavelengthWeights& wavelengths, const CausticPhotons* photons);
 
     /// The radiance along `ray`, linear RGB, W/(m^2 sr). With `aov`, also the first hit's
     /// AOVs; light 0's visibility draws from `aov_rng`, so AOVs never change the image.
@@ -36,11 +37,16 @@ private:
     /// next-event estimation took `light_samples` samples per light with area.
     float emitter_weight(uint32_t prim, vec3 from, float pdf_bsdf, int light_samples, vec3 p,
                          vec3 ng) const;
+    /// Next-event estimation of one light, chosen by selection_, at p: `n` samples of it
+    /// when it has area.
+    Color one_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame, vec3 wo, int n,
+                    SobolSampler& sampler);
     /// Next-event estimation of the background at p: a cosine-weighted direction about ng,
     /// drawn from u.
     Color environment_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame, vec3 wo, vec2 u);
 
     const RtScene& rt_;
+    const LightSelection& selection_;
     const Scene& scene_;
     const WavelengthWeights& wavelengths_;
     const CausticPhotons* photons_;

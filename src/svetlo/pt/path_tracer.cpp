@@ -57,6 +57,7 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
     for (uint32_t id : rt.geometry().bounded_primitives())
         bounds.extend(rt.geometry().primitive_bounds(id));
     float diameter = bounds.empty() ? 1.0f : std::max(glm::length(bounds.extent()), 1e-6f);
+    LightSelection selection(rt.lights(), scene, 0.5f * diameter);
     auto photons = std::make_unique<CausticPhotons>(rt, wavelengths, diameter);
     if (!photons->active()) photons.reset();
     auto t1 = Clock::now();
@@ -93,7 +94,7 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
         parallel_tiles(
             width, height, options.threads,
             [&](const Tile& tile) {
-                PathIntegrator integrator(rt, wavelengths, photons.get());
+                PathIntegrator integrator(rt, selection, wavelengths, photons.get());
                 uint64_t dropped = 0;
                 for (int j = tile.y0; j < tile.y1; ++j) {
                     for (int i = tile.x0; i < tile.x1; ++i) {

@@ -7,7 +7,9 @@
 // (light_set.h), f the BSDF (bsdf.h), theta the angle between wi and the shading normal, and
 // V the visibility from a callable the engine passes: traced shadow rays (Whitted, the path
 // tracer), a per-light shadow mask (the rasterizer's shadow techniques), or 1 (no shadows).
-// A light with area contributes the mean over its samples.
+// A light with area contributes the mean over its samples. The path tracer estimates the same
+// sum with one light per vertex, chosen by power (pt/light_selection.h), through
+// unoccluded_light.
 #pragma once
 
 #include "svetlo/shading/bsdf.h"

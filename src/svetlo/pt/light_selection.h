@@ -1,0 +1,30 @@
+// Which light the path tracer samples at a vertex: one, chosen in proportion to an estimate of
+// its power, mixed with a uniform choice so that no light is starved by a poor estimate (a
+// textured emitter, a spot light aimed away). One shadow ray per vertex then serves any
+// number of lights; the estimate divides by the choice's probability, and the MIS weights
+// multiply the light's pdf by it (pbrt-v4's power light sampler, section 12.6).
+#pragma once
+
+#include <vector>
+
+#include "svetlo/shading/light_set.h"
+
+namespace svetlo {
+
+class LightSelection {
+public:
+    /// `radius`: the scene's bounding radius, for the power of directional lights.
+    LightSelection(const LightSet& lights, const Scene& scene, float radius);
+
+    /// The source chosen by u in [0, 1), with its probability. Requires a non-empty set.
+    size_t pick(float u, float& probability) const;
+    /// The probability that pick() chooses source `index`.
+    float probability(size_t index) const { return probability_[index]; }
+    bool empty() const { return probability_.empty(); }
+
+private:
+    std::vector<float> probability_;
+    std::vector<float> cdf_;  // ends at 1
+};
+
+}  // namespace svetlo
