@@ -103,6 +103,7 @@ int run_render(const RenderArgs& args) {
     RenderOptions options;
     options.threads = threads;
     options.time_budget = time_budget;
+    options.spp_caps_time = !args.spp.empty();  // the scene's spp does not cap --time
     options.progress = !args.quiet && stderr_is_terminal();
     for (const auto& [name, file] : aovs) {
         if (name != "shadow_map" && name != "stencil") {

@@ -64,7 +64,7 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
 
     const bool budget = options.time_budget > 0.0;
     const int max_passes =
-        budget && !scene.render.spp_given ? static_cast<int>(kMaxSpp) : scene.render.spp;
+        budget && !options.spp_caps_time ? static_cast<int>(kMaxSpp) : scene.render.spp;
     const bool want_visibility = targets.want[3] && !scene.lights.empty();
     FilmSums sums;
     sums.color.assign(pixels, glm::dvec3(0.0));
@@ -84,7 +84,7 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
         double elapsed = std::chrono::duration<double>(Clock::now() - t1).count();
         if (pass > 0 && budget && elapsed >= options.time_budget) break;
         char status[48];
-        if (budget && !scene.render.spp_given) {
+        if (budget && !options.spp_caps_time) {
             std::snprintf(status, sizeof status, "pass %d", pass + 1);
         } else {
             std::snprintf(status, sizeof status, "pass %d/%d", pass + 1, max_passes);

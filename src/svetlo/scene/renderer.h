@@ -29,6 +29,7 @@ inline const std::vector<std::string>& debug_aov_names() {
 struct RenderOptions {
     int threads = 0;                      // 0 = all cores
     double time_budget = 0.0;             // seconds, 0 = none (--time; progressive engines)
+    bool spp_caps_time = false;           // with a budget, stop at render.spp too (--spp given)
     bool progress = false;                // draw a progress bar on stderr
     std::vector<std::string> aovs;        // which of aov_names() to fill
     std::vector<std::string> debug_aovs;  // which of debug_aov_names() to make

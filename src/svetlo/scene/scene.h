@@ -336,7 +336,6 @@ struct PhotonSettings {
 struct RenderSettings {
     std::string engine = "whitted";  // an open set: engines are made by name (apps/svetlo)
     int spp = 1;
-    bool spp_given = false;  // spp was set (in the scene or by --spp): it caps --time
     int max_depth = 5;
     uint64_t seed = 0;
     ShadingMode shading = ShadingMode::Phong;

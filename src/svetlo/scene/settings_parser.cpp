@@ -72,10 +72,7 @@ RenderSettings parse_render(const JsonNode& node) {
     RenderSettings r;
     if (auto n = node.find("engine"))
         r.engine = n->as_choice({"raster", "whitted", "path", "radiosity"});
-    if (auto n = node.find("spp")) {
-        r.spp = static_cast<int>(n->as_integer(1, kMaxSpp));
-        r.spp_given = true;
-    }
+    if (auto n = node.find("spp")) r.spp = static_cast<int>(n->as_integer(1, kMaxSpp));
     if (auto n = node.find("max_depth")) r.max_depth = static_cast<int>(n->as_integer(0, 1000));
     if (auto n = node.find("seed")) r.seed = static_cast<uint64_t>(n->as_integer(0, kMaxSeed));
     if (auto n = node.find("shading")) r.shading = n->as_enum(kShadingModes);
