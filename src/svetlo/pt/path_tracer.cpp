@@ -17,7 +17,7 @@ namespace svetlo {
 
 namespace {
 
-/// The accumulators of a render may take at most this much memory (8 bytes a channel).
+/// A render's images and accumulators may take at most this much memory.
 constexpr double kMaxFilmBytes = 4.0 * (1ULL << 30);
 
 /// The stream of pixel `pixel`'s sample in pass `pass`.
@@ -38,10 +38,11 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
     using Clock = std::chrono::steady_clock;
     const int width = scene.film.width, height = scene.film.height;
     const size_t pixels = static_cast<size_t>(width) * static_cast<size_t>(height);
-    RenderResult result;
-    const AovTargets targets = prepare_result(result, options.aovs, width, height);
-    // The accumulators, checked before they are allocated.
-    double bytes = static_cast<double>(pixels) * (targets.any ? 24.0 + 64.0 : 24.0);
+    // The images and the accumulators, checked before they are allocated: 12 bytes a pixel
+    // per image, 24 for the colour's sums and 64 for the AOVs'.
+    const double images = 1.0 + static_cast<double>(options.aovs.size());
+    double bytes =
+        static_cast<double>(pixels) * (12.0 * images + 24.0 + (options.aovs.empty() ? 0.0 : 64.0));
     if (bytes > kMaxFilmBytes) {
         throw Error(scene.path.string(), "film",
                     "the path tracer's film of " + std::to_string(width) + " x " +
@@ -49,6 +50,8 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
                         std::to_string(static_cast<long long>(bytes / (1 << 20))) +
                         " MiB (at most 4096)");
     }
+    RenderResult result;
+    const AovTargets targets = prepare_result(result, options.aovs, width, height);
 
     auto t0 = Clock::now();
     RtScene rt(scene, scene.render.accel, options.threads);
