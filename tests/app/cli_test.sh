@@ -351,6 +351,8 @@ if "$svetlo" render "$work/good.json" --engine path -o "$work/timed.pfm" --time 
 "$svetlo" render "$work/good.json" --engine path -o "$work/capped.pfm" --time 60 --spp 3 2> "$work/stderr" &&
     grep -q "path 48x32, 3 spp" "$work/stderr" && pass || fail "--time with --spp: $(cat "$work/stderr")"
 expect_error "path film too large" "film: the path tracer's film of 8192 x 8192 pixels needs" render "$work/good.json" -o "$work/keep.png" --engine path -W 8192 -H 8192 --aov depth="$work/big_d.pfm" --aov normal="$work/big_n.pfm"
+render_bad "thin lens in the rasterizer" "camera.aperture: the rasterizer draws through a pinhole" 'scene["camera"]["aperture"] = 0.1' --engine raster
+render_bad "thin lens, orthographic" "camera.aperture: a thin lens needs a perspective camera" 'scene["camera"]["type"] = "orthographic"; scene["camera"]["aperture"] = 0.1'
 expect_error "time of whitted" "--time: needs a progressive engine" render "$work/good.json" -o "$work/keep.png" --time 1
 expect_error "time not a number" "--time: must be a number of seconds" render "$work/good.json" -o "$work/keep.png" --engine path --time abc
 expect_error "time zero" "--time: must be > 0" render "$work/good.json" -o "$work/keep.png" --engine path --time 0

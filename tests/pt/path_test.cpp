@@ -285,6 +285,34 @@ TEST(Path, NoiseFallsAsOneOverTheRootOfTheSamples) {
     EXPECT_GT(ratio, 3.5);
 }
 
+TEST(Path, AThinLensKeepsThePlaneOfFocusSharpAndBlursTheRest) {
+    // A checkered floor seen from 2.83 m: the spread of the pixels around the image's centre
+    // (its contrast) through a pinhole, a 0.5 m lens focused on it, and one focused at 10 m,
+    // whose circle of confusion there (0.36 m) is wider than a square (0.25 m).
+    json j = {{"camera", {{"position", {0, 2, 2}}, {"look_at", {0, 0, 0}}, {"fov", 30}}},
+              {"film", {{"width", 32}, {"height", 32}}},
+              {"render", {{"engine", "path"}, {"spp", 64}, {"max_depth", 0}}}};
+    j["materials"] = {{"board",
+                       {{"type", "lambert"},
+                        {"albedo", {{"checker", {{"a", 0.9}, {"b", 0.1}, {"scale", 16}}}}}}}};
+    j["lights"] = {{{"type", "directional"}, {"direction", {0, -1, 0}}, {"irradiance", 3}}};
+    j["objects"] = {floor_quad(2.0f, "board")};
+    auto contrast = [&]() {
+        Image im = render(j).color;
+        double m = mean(im, 8, 8, 24, 24), v = 0.0;
+        for (int y = 8; y < 24; ++y)
+            for (int x = 8; x < 24; ++x) v += (im.at(x, y).r - m) * (im.at(x, y).r - m);
+        return std::sqrt(v / 256.0);
+    };
+    const double pinhole = contrast();
+    j["camera"]["aperture"] = 0.5;
+    const double focused = contrast();
+    j["camera"]["focus_distance"] = 10;
+    const double blurred = contrast();
+    EXPECT_NEAR(focused, pinhole, 0.1 * pinhole);
+    EXPECT_LT(blurred, 0.3 * pinhole);
+}
+
 TEST(Path, TheSameImageOnOneThreadAndTwo) {
     json j = emitting_box(1.0, 0.5, 4);
     j["render"]["spp"] = 4;

@@ -1,6 +1,7 @@
 #include "svetlo/pt/path_integrator.h"
 
 #include "svetlo/core/sampling.h"
+#include "svetlo/pt/mis.h"
 #include "svetlo/rt/shadow_rays.h"
 #include "svetlo/shading/bsdf.h"
 #include "svetlo/shading/direct_light.h"
@@ -8,24 +9,6 @@
 namespace svetlo {
 
 namespace {
-
-/// Veach's power heuristic (beta = 2) for a sample of the strategy with pdf `a` against the
-/// other's `b`; pdfs already multiplied by their strategies' sample counts.
-float power_heuristic(float a, float b) {
-    float a2 = a * a, b2 = b * b;
-    return a2 + b2 > 0.0f ? a2 / (a2 + b2) : 0.0f;
-}
-
-/// The weight of a sample of the light strategy (pdf `light`, the BSDF's `bsdf`), and of the
-/// BSDF strategy, under render.mis.
-float light_weight(MisMode mode, float light, float bsdf) {
-    if (mode == MisMode::Power) return power_heuristic(light, bsdf);
-    return mode == MisMode::LightOnly ? 1.0f : 0.0f;
-}
-float bsdf_weight(MisMode mode, float bsdf, float light) {
-    if (mode == MisMode::Power) return power_heuristic(bsdf, light);
-    return mode == MisMode::BsdfOnly ? 1.0f : 0.0f;
-}
 
 /// The bounce from which Russian roulette may end a path, and the highest survival chance.
 constexpr int kRouletteDepth = 3;

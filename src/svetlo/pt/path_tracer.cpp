@@ -111,8 +111,9 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
                         float x = (static_cast<float>(i) + jitter.x) / width;
                         float y = (static_cast<float>(j) + jitter.y) / height;
                         AovSample aov;
-                        Color c = integrator.radiance(camera.generate(x, y), sampler,
-                                                      targets.any ? &aov : nullptr,
+                        Ray ray = camera.thin_lens() ? camera.generate(x, y, sampler.next_2d())
+                                                     : camera.generate(x, y);
+                        Color c = integrator.radiance(ray, sampler, targets.any ? &aov : nullptr,
                                                       aov_rng ? &*aov_rng : nullptr);
                         // A sample that is not finite never reaches the pixel: it counts as
                         // black, and is reported.

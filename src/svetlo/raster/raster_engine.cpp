@@ -235,6 +235,11 @@ RasterRenderer::RasterRenderer() : buffers_(std::make_unique<Buffers>()) {}
 RasterRenderer::~RasterRenderer() = default;
 
 RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& options) {
+    if (scene.camera.aperture > 0.0f) {
+        throw Error(scene.path.string(), "camera.aperture",
+                    "the rasterizer draws through a pinhole; a thin lens needs the whitted or "
+                    "path engine");
+    }
     using Clock = std::chrono::steady_clock;
     auto t0 = Clock::now();
     const int width = scene.film.width, height = scene.film.height, spp = scene.render.spp;

@@ -142,8 +142,10 @@ RenderResult WhittedRenderer::render(const Scene& scene, const RenderOptions& op
                                           ? vec2(0.5f)
                                           : stratified_sample(
                                                 s, spp, vec2(rng.next_float(), rng.next_float()));
-                        Ray ray = camera.generate((static_cast<float>(i) + offset.x) / width,
-                                                  (static_cast<float>(j) + offset.y) / height);
+                        const float x = (static_cast<float>(i) + offset.x) / width;
+                        const float y = (static_cast<float>(j) + offset.y) / height;
+                        Ray ray = camera.thin_lens() ? camera.generate(x, y, rng.next_2d())
+                                                     : camera.generate(x, y);
                         AovSample aov;
                         Color c = tracer.trace(ray, 0, 1.0f, rng, targets.any ? &aov : nullptr);
                         // A sample that is not finite never reaches the pixel: it is dropped

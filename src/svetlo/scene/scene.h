@@ -212,6 +212,10 @@ struct Camera {
     vec3 position{0.0f, 0.0f, 5.0f}, look_at{0.0f}, up{0.0f, 1.0f, 0.0f};
     float fov_deg = 40.0f;  // full vertical field of view (perspective)
     float height = 2.0f;    // world-space film height (orthographic)
+    // A thin lens (perspective, ray-traced engines): its diameter in scene units (0 = a
+    // pinhole) and the distance along the view direction that is in focus (0 = to look_at).
+    float aperture = 0.0f;
+    float focus_distance = 0.0f;
 };
 
 struct Film {

@@ -5,7 +5,8 @@
 namespace svetlo {
 
 Camera parse_camera(const JsonNode& node) {
-    node.expect_object({"type", "position", "look_at", "up", "fov", "height"});
+    node.expect_object(
+        {"type", "position", "look_at", "up", "fov", "height", "aperture", "focus_distance"});
     Camera c;
     if (auto type = node.find("type")) {
         c.type = type->as_choice({"perspective", "orthographic"}) == "perspective"
@@ -20,6 +21,12 @@ Camera parse_camera(const JsonNode& node) {
         if (c.fov_deg >= 180.0f) fov->fail("must be < 180 degrees");
     }
     if (auto height = node.find("height")) c.height = height->as_positive();
+    if (auto n = node.find("aperture")) {
+        c.aperture = n->as_non_negative();
+        if (c.aperture > 0.0f && c.type != Camera::Type::Perspective)
+            n->fail("a thin lens needs a perspective camera");
+    }
+    if (auto n = node.find("focus_distance")) c.focus_distance = n->as_positive();
     vec3 forward = c.look_at - c.position;
     float len = glm::length(forward);
     if (!(len > 1e-12f * std::max(1.0f, glm::length(c.position)))) {
