@@ -58,6 +58,7 @@ inline vec2 r2_sequence(int k) {
 /// Stratum `index` of `count` in the unit square, jittered by u: a sqrt(count) grid when count
 /// is a perfect square, otherwise `count` strips along x with a free y.
 inline vec2 stratified_sample(int index, int count, vec2 u) {
+    if (count == 1) return u;  // the one stratum: the square itself
     int side = static_cast<int>(std::lround(std::sqrt(static_cast<double>(count))));
     if (side * side == count) {
         return vec2((static_cast<float>(index % side) + u.x) / static_cast<float>(side),
