@@ -227,6 +227,18 @@ double shadow_iou(const Image& a, const Image& b, int* shadowed = nullptr) {
     return either == 0 ? 1.0 : static_cast<double>(both) / either;
 }
 
+/// The scene's visibility AOV against the raytraced technique's on the same triangles: their
+/// intersection over union, and how many pixels either shadows.
+struct ShadowMatch {
+    double iou = 0.0;
+    int shadowed = 0;
+};
+ShadowMatch match_raytraced(const json& j) {
+    ShadowMatch m;
+    m.iou = shadow_iou(render(j).aovs.at("visibility"), raytraced_visibility(j), &m.shadowed);
+    return m;
+}
+
 TEST(ShadowTechniques, AnOmniLightCastsOnEverySide) {
     for (const char* technique : {"map", "volume"}) {
         for (int corner : {0, 1}) {
@@ -258,11 +270,9 @@ TEST(ShadowVolumes, TheCameraInsideAShadowVolumeSeesTheSameShadows) {
     // count wrong here.
     json j = sphere_on_floor(kPoint, "volume");
     j["camera"] = {{"position", {-0.3, 0.3, -0.2}}, {"look_at", {-2, 0, -3}}, {"fov", 60}};
-    const Image v = render(j).aovs.at("visibility");
-    const Image truth = raytraced_visibility(j);
-    int shadowed = 0;
-    EXPECT_GT(shadow_iou(v, truth, &shadowed), 0.99);
-    EXPECT_GT(shadowed, 500);
+    const ShadowMatch m = match_raytraced(j);
+    EXPECT_GT(m.iou, 0.99);
+    EXPECT_GT(m.shadowed, 500);
 }
 
 TEST(ShadowVolumes, ZPassCountsWrongWithTheCameraInsideAndZFailRight) {
@@ -304,11 +314,9 @@ TEST(ShadowVolumes, AQuadCulledFromTheCameraStillCastsItsShadow) {
                          {"edge_v", {1, 0, 0}},
                          {"material", "m"}},
                         floor_quad(5.0f, "m")};
-        const Image v = render(j).aovs.at("visibility");
-        const Image truth = raytraced_visibility(j);
-        int shadowed = 0;
-        EXPECT_GT(shadow_iou(v, truth, &shadowed), 0.98) << cull;
-        EXPECT_GT(shadowed, 200) << cull;
+        const ShadowMatch m = match_raytraced(j);
+        EXPECT_GT(m.iou, 0.98) << cull;
+        EXPECT_GT(m.shadowed, 200) << cull;
     }
 }
 
@@ -369,11 +377,9 @@ TEST(ShadowTechniques, OpenOccludersCastTheirShadows) {
         json j = sphere_on_floor(kPoint, technique);
         j["lights"] = {{{"type", "point"}, {"position", {0, 5, 0}}, {"intensity", 40}}};
         j["objects"] = {open_box, quad, floor_quad(5.0f, "m")};
-        const Image v = render(j).aovs.at("visibility");
-        const Image truth = raytraced_visibility(j);
-        int shadowed = 0;
-        EXPECT_GT(shadow_iou(v, truth, &shadowed), 0.98) << technique;
-        EXPECT_GT(shadowed, 400) << technique;
+        const ShadowMatch m = match_raytraced(j);
+        EXPECT_GT(m.iou, 0.98) << technique;
+        EXPECT_GT(m.shadowed, 400) << technique;
     }
 }
 

@@ -6,6 +6,7 @@
 #include "svetlo/core/parallel.h"
 #include "svetlo/core/rng.h"
 #include "svetlo/core/sampling.h"
+#include "svetlo/pt/light_selection.h"
 #include "svetlo/shading/lights.h"
 
 namespace svetlo {
@@ -75,23 +76,24 @@ CausticPhotons::CausticPhotons(const RtScene& rt, const WavelengthWeights& wavel
     // Lights, chosen in proportion to the flux they send toward the targets (roughly: any
     // positive choice is unbiased, since each photon is divided by its probability).
     const auto& sources = rt.lights().sources();
-    std::vector<float> flux;
+    float total = 0.0f;
     for (size_t k = 0; k < sources.size(); ++k) {
         const LightSet::Source& s = sources[k];
         float f = 0.0f;
         bool spot_cone = false;
-        if (s.delta) {
+        if (!s.delta) {
+            if (covers_area_lights_)
+                f = static_cast<float>(light_power(rt.lights(), s, scene, 0.0f));
+        } else {
+            // The intensity a delta light sends into the targets' cones (or its spot's cone).
             const Light& light = scene.lights[static_cast<size_t>(s.light_index)];
             if (const auto* d = std::get_if<DirectionalLight>(&light)) {
                 for (const Target& t : targets_)
                     f += luminance(d->irradiance) * kPi * t.radius * t.radius;
             } else {
-                vec3 x = std::holds_alternative<PointLight>(light)
-                             ? std::get<PointLight>(light).position
-                             : std::get<SpotLight>(light).position;
-                Color intensity = std::holds_alternative<PointLight>(light)
-                                      ? std::get<PointLight>(light).intensity
-                                      : std::get<SpotLight>(light).intensity;
+                const auto* point = std::get_if<PointLight>(&light);
+                const auto* spot = std::get_if<SpotLight>(&light);
+                const vec3 x = point ? point->position : spot->position;
                 float solid = 0.0f;
                 for (const Target& t : targets_) {
                     float dist = glm::length(t.center - x);
@@ -99,25 +101,20 @@ CausticPhotons::CausticPhotons(const RtScene& rt, const WavelengthWeights& wavel
                                               : 2.0f * kPi * cone_one_minus_cos(t.radius, dist);
                 }
                 solid = std::min(solid, 4.0f * kPi);
-                if (const auto* spot = std::get_if<SpotLight>(&light)) {
+                if (spot) {
                     float cone = 2.0f * kPi * (1.0f - std::cos(radians(spot->outer_deg)));
                     spot_cone = cone < solid;
                     solid = std::min(solid, cone);
                 }
-                f = luminance(intensity) * solid;
+                f = luminance(point ? point->intensity : spot->intensity) * solid;
             }
-        } else if (covers_area_lights_) {
-            AreaPoint a = rt.lights().sample_area(s, vec2(0.5f), 0.5f);
-            f = luminance(a.radiance) * kPi * s.area;
         }
         if (f > 0.0f && std::isfinite(f)) {
             emitters_.push_back({static_cast<int>(k), f, spot_cone});
-            flux.push_back(f);
+            total += f;
         }
     }
-    float total = 0.0f;
-    for (float f : flux) total += f;
-    for (Emitter& e : emitters_) e.probability /= total;
+    for (Emitter& e : emitters_) e.probability /= total;  // the flux, until here
 }
 
 vec3 CausticPhotons::in_cone(vec3 axis, float one_minus_cos, vec2 u) {

@@ -9,13 +9,11 @@ namespace {
 /// The share of the choice made uniformly, whatever the power estimates say.
 constexpr double kUniformShare = 0.1;
 
-/// Luminous power estimate of a source, W (luminance-weighted).
-double power_of(const LightSet& lights, const LightSet::Source& s, const Scene& scene,
-                float radius) {
-    if (!s.delta) {
-        // pi L A for a Lambertian emitter; its radiance at one point stands for all of it.
-        return kPi * luminance(lights.sample_area(s, vec2(0.5f), 0.5f).radiance) * s.area;
-    }
+}  // namespace
+
+double light_power(const LightSet& lights, const LightSet::Source& s, const Scene& scene,
+                   float radius) {
+    if (!s.delta) return kPi * luminance(lights.sample_area(s, vec2(0.5f), 0.5f).radiance) * s.area;
     const Light& light = scene.lights[static_cast<size_t>(s.light_index)];
     if (const auto* p = std::get_if<PointLight>(&light)) return 4.0 * kPi * luminance(p->intensity);
     if (const auto* d = std::get_if<DirectionalLight>(&light))
@@ -24,15 +22,13 @@ double power_of(const LightSet& lights, const LightSet::Source& s, const Scene& 
     return 2.0 * kPi * (1.0 - std::cos(radians(spot.outer_deg))) * luminance(spot.intensity);
 }
 
-}  // namespace
-
 LightSelection::LightSelection(const LightSet& lights, const Scene& scene, float radius) {
     const auto& sources = lights.sources();
     if (sources.empty()) return;
     std::vector<double> power;
     double total = 0.0;
     for (const LightSet::Source& s : sources) {
-        double p = power_of(lights, s, scene, radius);
+        double p = light_power(lights, s, scene, radius);
         power.push_back(std::isfinite(p) && p > 0.0 ? p : 0.0);
         total += power.back();
     }

@@ -11,6 +11,13 @@
 
 namespace svetlo {
 
+/// An estimate of a source's luminous power (W, luminance-weighted): pi L A for a light with
+/// area (its radiance at one point standing for all of it), 4 pi I for a point light, the
+/// outer cone's solid angle times I for a spot light, and for a directional light its
+/// irradiance on a disc of `radius`.
+double light_power(const LightSet& lights, const LightSet::Source& source, const Scene& scene,
+                   float radius);
+
 class LightSelection {
 public:
     /// `radius`: the scene's bounding radius, for the power of directional lights.

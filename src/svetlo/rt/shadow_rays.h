@@ -21,22 +21,18 @@ bool shadow_blocked(const RtScene& rt, vec3 p, vec3 ng, const LightSample& s, ui
 /// area; 1 where p faces away from the light, or there is no light 0.
 float light0_visibility(const RtScene& rt, vec3 p, vec3 ng, int samples, Rng& rng, uint64_t& rays);
 
-/// The light sampling of direct_light() (shading/direct_light.h) for traced engines: one
-/// sample per delta light, `n` stratified samples per light with area. Random is Rng or
-/// another source of next_2d() and next_float().
-template <class Random>
+/// The light sampling of direct_light() (shading/direct_light.h) for the Whitted engine: one
+/// sample per delta light, `n` stratified samples per light with area.
 struct StratifiedLightSampling {
     const LightSet& lights;
-    Random& random;
+    Rng& rng;
     int n;
     int count(size_t, const LightSet::Source& s) const { return s.delta ? 1 : n; }
     LightSample sample(size_t, const LightSet::Source& s, int k, vec3 p) {
         if (s.delta) return lights.sample(s, p, vec2(0.0f), 0.0f);
-        vec2 u = stratified_sample(k, n, random.next_2d());
-        return lights.sample(s, p, u, random.next_float());
+        vec2 u = stratified_sample(k, n, rng.next_2d());
+        return lights.sample(s, p, u, rng.next_float());
     }
 };
-template <class Random>
-StratifiedLightSampling(const LightSet&, Random&, int) -> StratifiedLightSampling<Random>;
 
 }  // namespace svetlo
