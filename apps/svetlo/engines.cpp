@@ -5,6 +5,7 @@
 
 #include "svetlo/core/error.h"
 #include "svetlo/pt/path_tracer.h"
+#include "svetlo/radiosity/radiosity_engine.h"
 #include "svetlo/raster/raster_engine.h"
 #include "svetlo/rt/whitted.h"
 
@@ -15,13 +16,14 @@ std::unique_ptr<Renderer> make_renderer(const std::string& name, const std::stri
         {"raster", [] { return std::make_unique<RasterRenderer>(); }},
         {"whitted", [] { return std::make_unique<WhittedRenderer>(); }},
         {"path", [] { return std::make_unique<PathRenderer>(); }},
+        {"radiosity", [] { return std::make_unique<RadiosityRenderer>(); }},
     };
     auto it = factories.find(name);
     if (it == factories.end()) {
         throw Error(file, "render.engine",
                     "engine '" + name +
                         "' is not available in this version of svetlo "
-                        "(available: raster, whitted, path)");
+                        "(available: raster, whitted, path, radiosity)");
     }
     return it->second();
 }

@@ -3,6 +3,7 @@
 
 #include "commands.h"
 #include "svetlo/geometry/scene_geometry.h"
+#include "svetlo/radiosity/radiosity_engine.h"
 #include "svetlo/raster/raster_engine.h"
 #include "svetlo/rt/rt_scene.h"
 
@@ -76,6 +77,13 @@ int run_info(const InfoArgs& args) {
     if (!bounds.empty()) {
         std::printf("bounds     (%g, %g, %g) - (%g, %g, %g)\n", bounds.min.x, bounds.min.y,
                     bounds.min.z, bounds.max.x, bounds.max.y, bounds.max.z);
+    }
+    if (scene.render.engine == "radiosity") {
+        // The uniform patch mesh (adaptive and hierarchical subdivision come at render time).
+        PatchMeshSummary m = patch_mesh_summary(scene);
+        std::printf("patches    %llu of %g m from %zu triangles, %llu elements of %g m\n",
+                    static_cast<unsigned long long>(m.patches), m.patch_size, m.triangles,
+                    static_cast<unsigned long long>(m.elements), m.element_size);
     }
     if (args.matrices) {
         // The rasterizer's vertex stage: clip = projection * view * model * p (column vectors).

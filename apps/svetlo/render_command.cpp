@@ -71,10 +71,10 @@ int run_render(const RenderArgs& args) {
         const auto& debug = debug_aov_names();
         if (std::find(names.begin(), names.end(), name) == names.end() &&
             std::find(debug.begin(), debug.end(), name) == debug.end()) {
-            throw Error(
-                spec, "--aov",
-                "unknown AOV '" + name +
-                    "' (expected depth, normal, albedo, visibility, shadow_map or stencil)");
+            throw Error(spec, "--aov",
+                        "unknown AOV '" + name +
+                            "' (expected depth, normal, albedo, visibility, shadow_map, stencil or "
+                            "patches)");
         }
         aovs.emplace_back(name, spec.substr(eq + 1));
         check_writable(aovs.back().second, "--aov " + name);
@@ -106,6 +106,12 @@ int run_render(const RenderArgs& args) {
     options.spp_caps_time = !args.spp.empty();  // the scene's spp does not cap --time
     options.progress = !args.quiet && stderr_is_terminal();
     for (const auto& [name, file] : aovs) {
+        if (name == "patches") {
+            if (scene.render.engine != "radiosity")
+                throw Error(file, "--aov patches", "needs render.engine radiosity");
+            options.debug_aovs.push_back(name);
+            continue;
+        }
         if (name != "shadow_map" && name != "stencil") {
             options.aovs.push_back(name);
             continue;
@@ -154,7 +160,7 @@ int run_render(const RenderArgs& args) {
     }
     if (!args.quiet) {
         double per_second = result.stats.seconds > 0.0 ? 1e-6 / result.stats.seconds : 0.0;
-        char rate[64];
+        char rate[160];
         if (result.stats.triangles > 0) {
             std::snprintf(rate, sizeof rate, "%.2f Mtris/s",
                           static_cast<double>(result.stats.triangles) * per_second);
@@ -166,6 +172,9 @@ int run_render(const RenderArgs& args) {
         } else {
             std::snprintf(rate, sizeof rate, "%.2f Mrays/s",
                           static_cast<double>(result.stats.rays) * per_second);
+        }
+        if (!result.stats.detail.empty()) {
+            std::snprintf(rate, sizeof rate, "%s", result.stats.detail.c_str());
         }
         std::string dropped;  // samples that were not finite, left out of their pixels
         if (result.stats.nonfinite > 0)

@@ -128,7 +128,26 @@ done
 # --- bad command lines ---
 "$svetlo" > /dev/null 2>&1 && fail "no subcommand" || pass
 expect_error "unknown engine" "render.engine" render "$work/good.json" -o "$work/keep.png" --engine foo
-expect_error "engine not built" "render.engine" render "$work/good.json" -o "$work/keep.png" --engine radiosity
+# --- radiosity ---
+"$svetlo" render "$work/good.json" --engine radiosity -o "$work/rad.png" -q -W 32 -H 32 \
+    --set render.radiosity.tolerance=0.2 --set render.radiosity.adaptive=0 \
+    --aov patches="$work/patches.png" --aov visibility="$work/rvis.pfm" && [ -s "$work/rad.png" ] \
+    && [ -s "$work/patches.png" ] && [ -s "$work/rvis.pfm" ] && pass || fail "radiosity render"
+"$svetlo" info "$work/good.json" --set render.engine=radiosity | grep -q "^patches .* elements" \
+    && pass || fail "info reports the patch mesh"
+expect_error "patch size 0" "render.radiosity.patch_size: must be > 0" render "$work/good.json" \
+    -o "$work/keep.png" --engine radiosity --set render.radiosity.patch_size=0
+expect_error "negative element size" "render.radiosity.element_size" render "$work/good.json" \
+    -o "$work/keep.png" --engine radiosity --set render.radiosity.element_size=-1
+expect_error "patch mesh too large" "render.radiosity.element_size: the patch mesh would have" \
+    render "$work/good.json" -o "$work/keep.png" --engine radiosity --set render.radiosity.element_size=1e-5
+expect_error "matrix too large" "render.radiosity.solver: the matrix solvers take at most" \
+    render "$work/good.json" -o "$work/keep.png" --engine radiosity --set render.radiosity.solver=jacobi
+expect_error "hierarchical with a hemicube" "render.radiosity.form_factors" render "$work/good.json" \
+    -o "$work/keep.png" --engine radiosity --set render.radiosity.solver=hierarchical \
+    --set render.radiosity.form_factors=hemicube
+expect_error "patches AOV of another engine" "--aov patches: needs render.engine radiosity" \
+    render "$work/good.json" -o "$work/keep.png" --engine whitted --aov patches="$work/p.png"
 expect_error "bad --set" "--set" render "$work/good.json" -o "$work/keep.png" --set nokey
 expect_error "--set into a number" "--set camera.fov.x" render "$work/good.json" -o "$work/keep.png" --set camera.fov.x=1
 expect_error "non-finite --set" "camera.fov: must be a number" render "$work/good.json" -o "$work/keep.png" --set camera.fov=1e999

@@ -55,10 +55,11 @@ void parallel_indices(size_t count, int threads, const std::function<void(size_t
     });
 }
 
-void parallel_ranges(size_t count, int threads, const std::function<void(size_t, size_t)>& body) {
+void parallel_ranges(size_t count, int threads, const std::function<void(size_t, size_t)>& body,
+                     size_t grain) {
     tbb::task_arena arena(resolve_threads(threads));
     arena.execute([&] {
-        tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 4096),
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, count, std::max<size_t>(grain, 1)),
                           [&](const tbb::blocked_range<size_t>& r) { body(r.begin(), r.end()); });
     });
 }

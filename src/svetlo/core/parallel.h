@@ -26,8 +26,10 @@ void parallel_tiles(int width, int height, int tile_size, int threads,
 /// boundaries must not depend on the thread count).
 void parallel_indices(size_t count, int threads, const std::function<void(size_t)>& body);
 
-/// Runs body(begin, end) over [0, count) in chunks on `threads` threads (0 = all cores).
-void parallel_ranges(size_t count, int threads, const std::function<void(size_t, size_t)>& body);
+/// Runs body(begin, end) over [0, count) in chunks of at least `grain` on `threads` threads
+/// (0 = all cores).
+void parallel_ranges(size_t count, int threads, const std::function<void(size_t, size_t)>& body,
+                     size_t grain = 4096);
 
 /// The number of threads that `threads` (0 = all cores) resolves to: at most the cores.
 int resolve_threads(int threads);

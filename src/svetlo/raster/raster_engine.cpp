@@ -175,6 +175,25 @@ void prepare_shading(const Scene& scene, FrameState& f) {
     }
 }
 
+/// The pipeline state of the frame's colour pass.
+PipelineState colour_pass_state(const Scene& scene) {
+    PipelineState state;
+    state.depth_test = scene.render.raster.visibility != VisibilityMethod::Painter;
+    state.cull = scene.render.raster.cull_back_faces ? CullMode::Back : CullMode::None;
+    if (scene.render.shading == ShadingMode::Overdraw) {
+        // The stencil buffer counts every fragment, whether the depth test keeps it or not.
+        state.stencil.enabled = true;
+        state.stencil.front = {StencilFunc::Always, StencilOp::Keep, StencilOp::Incr,
+                               StencilOp::Incr};
+        state.stencil.back = state.stencil.front;
+    }
+    return state;
+}
+
+}  // namespace
+
+namespace {
+
 /// A lower bound on the distance of anything the camera sees (0: none): the distance from the
 /// eye to the nearest plane of a triangle not wholly behind it. The near plane goes at half
 /// of it (camera_matrices), so that nothing visible is clipped.
@@ -194,28 +213,12 @@ float nearest_depth(const TriangleList& list, const Camera& camera) {
     return std::isfinite(nearest) ? nearest : 0.0f;
 }
 
-/// The camera matrices of the frame, near and far around what it draws (its bounds).
+}  // namespace
+
 CameraMatrices frame_camera(const Scene& scene, const TriangleList& list) {
     return camera_matrices(scene.camera, scene.film.width, scene.film.height, list.bounds(),
                            nearest_depth(list, scene.camera));
 }
-
-/// The pipeline state of the frame's colour pass.
-PipelineState colour_pass_state(const Scene& scene) {
-    PipelineState state;
-    state.depth_test = scene.render.raster.visibility != VisibilityMethod::Painter;
-    state.cull = scene.render.raster.cull_back_faces ? CullMode::Back : CullMode::None;
-    if (scene.render.shading == ShadingMode::Overdraw) {
-        // The stencil buffer counts every fragment, whether the depth test keeps it or not.
-        state.stencil.enabled = true;
-        state.stencil.front = {StencilFunc::Always, StencilOp::Keep, StencilOp::Incr,
-                               StencilOp::Incr};
-        state.stencil.back = state.stencil.front;
-    }
-    return state;
-}
-
-}  // namespace
 
 CameraMatrices raster_camera(const Scene& scene) {
     FrameState f;

@@ -28,6 +28,7 @@
 
 #include <memory>
 
+#include "svetlo/geometry/triangle_list.h"
 #include "svetlo/raster/camera_matrices.h"
 #include "svetlo/scene/renderer.h"
 
@@ -49,5 +50,8 @@ private:
 
 /// The camera matrices the rasterizer uses for `scene` (near and far around what it draws).
 CameraMatrices raster_camera(const Scene& scene);
+/// The same for the scene's triangle list `list`, already made: the near plane at half the
+/// distance from the eye to the nearest plane of a triangle not wholly behind it.
+CameraMatrices frame_camera(const Scene& scene, const TriangleList& list);
 
 }  // namespace svetlo

@@ -19,10 +19,11 @@ inline const std::vector<std::string>& aov_names() {
     return names;
 }
 
-/// The rasterizer's teaching buffers (docs/shadows.md): light 0's shadow map (a cube map
-/// unfolded), and the shadow-volume stencil count per pixel.
+/// The teaching buffers: the rasterizer's (docs/shadows.md) light 0's shadow map (a cube map
+/// unfolded) and the shadow-volume stencil count per pixel; radiosity's patch mesh with each
+/// element's value (docs/radiosity.md).
 inline const std::vector<std::string>& debug_aov_names() {
-    static const std::vector<std::string> names = {"shadow_map", "stencil"};
+    static const std::vector<std::string> names = {"shadow_map", "stencil", "patches"};
     return names;
 }
 
@@ -42,6 +43,7 @@ struct RenderStats {
     uint64_t triangles = 0;      // triangles set up for rasterization
     uint64_t nonfinite = 0;      // samples whose radiance was NaN or infinite: dropped (black)
     int passes = 0;              // progressive engines: passes (samples per pixel) done
+    std::string detail;          // what else the engine reports in the summary line
 };
 
 struct RenderResult {

@@ -337,6 +337,44 @@ struct PhotonSettings {
     float alpha = 2.0f / 3.0f;  // in (0, 1): how fast the radius shrinks
 };
 
+/// render.radiosity (docs/radiosity.md): the patch mesh, the form factors, the solver and the
+/// display of the radiosity engine.
+enum class FormFactorMethod { Analytic, Raycast, Hemicube };
+inline constexpr EnumName<FormFactorMethod> kFormFactorMethods[] = {
+    {"analytic", FormFactorMethod::Analytic},
+    {"raycast", FormFactorMethod::Raycast},
+    {"hemicube", FormFactorMethod::Hemicube}};
+enum class RadiositySolver { Auto, Progressive, Jacobi, GaussSeidel, Hierarchical };
+inline constexpr EnumName<RadiositySolver> kRadiositySolvers[] = {
+    {"auto", RadiositySolver::Auto},
+    {"progressive", RadiositySolver::Progressive},
+    {"jacobi", RadiositySolver::Jacobi},
+    {"gauss_seidel", RadiositySolver::GaussSeidel},
+    {"hierarchical", RadiositySolver::Hierarchical}};
+enum class RadiosityDisplay { Gouraud, Gather };
+inline constexpr EnumName<RadiosityDisplay> kRadiosityDisplays[] = {
+    {"gouraud", RadiosityDisplay::Gouraud}, {"gather", RadiosityDisplay::Gather}};
+
+struct RadiositySettings {
+    float patch_size = 0.0f;    // m, the shooters' longest edge; 0 = 1/8 of the scene's diameter
+    float element_size = 0.0f;  // m, the receivers' longest edge; 0 = half the patch size
+    FormFactorMethod form_factors = FormFactorMethod::Analytic;
+    int samples = 4;     // visibility rays per form factor (source points for raycast)
+    int hemicube = 128;  // a hemicube face's side, in cells
+    // auto: hierarchical where the scene has few enough triangles to link them pairwise,
+    // else progressive
+    RadiositySolver solver = RadiositySolver::Auto;
+    float tolerance = 1e-3f;     // stop when the residual power falls below this fraction
+    int max_iterations = 0;      // 0 = no limit but the tolerance (sweeps or shots)
+    float adaptive = 1.0f;       // split elements whose direct light varies more than this
+                                 // fraction of its mean (0 = uniform elements)
+    int max_subdivision = 3;     // the adaptive and hierarchical splits below an element
+    float link_epsilon = 3e-4f;  // hierarchical: a link's estimated rho F B, relative to the
+                                 // brightest emitter's B, above which it is refined
+    RadiosityDisplay display = RadiosityDisplay::Gouraud;
+    bool ambient_term = true;  // progressive: show the unshot light as an ambient term
+};
+
 struct RenderSettings {
     std::string engine = "whitted";  // an open set: engines are made by name (apps/svetlo)
     int spp = 1;
@@ -356,6 +394,7 @@ struct RenderSettings {
     CausticMode caustics = CausticMode::Auto;
     PhotonSettings photons;
     MisMode mis = MisMode::Power;
+    RadiositySettings radiosity;
 };
 
 struct Scene {

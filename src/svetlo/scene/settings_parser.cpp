@@ -51,6 +51,37 @@ Film parse_film(const JsonNode& node) {
     return f;
 }
 
+RadiositySettings parse_radiosity(const JsonNode& node) {
+    node.expect_object({"patch_size", "element_size", "form_factors", "samples", "hemicube",
+                        "solver", "tolerance", "max_iterations", "adaptive", "max_subdivision",
+                        "link_epsilon", "display", "ambient_term"});
+    RadiositySettings s;
+    if (auto n = node.find("patch_size")) s.patch_size = n->as_positive();
+    if (auto n = node.find("element_size")) s.element_size = n->as_positive();
+    if (s.patch_size > 0.0f && s.element_size > s.patch_size)
+        node.at("element_size").fail("must be <= patch_size");
+    if (auto n = node.find("form_factors")) s.form_factors = n->as_enum(kFormFactorMethods);
+    if (auto n = node.find("samples")) s.samples = static_cast<int>(n->as_integer(1, 256));
+    if (auto n = node.find("hemicube")) s.hemicube = static_cast<int>(n->as_integer(8, 2048));
+    if (auto n = node.find("solver")) s.solver = n->as_enum(kRadiositySolvers);
+    if (auto n = node.find("tolerance")) {
+        s.tolerance = n->as_in_range(0.0, 1.0);
+        if (!(s.tolerance > 0.0f)) n->fail("must lie in (0, 1]");
+    }
+    if (auto n = node.find("max_iterations"))
+        s.max_iterations = static_cast<int>(n->as_integer(0, 1000000000));
+    if (auto n = node.find("adaptive")) s.adaptive = n->as_non_negative();
+    if (auto n = node.find("max_subdivision"))
+        s.max_subdivision = static_cast<int>(n->as_integer(0, 8));
+    if (auto n = node.find("link_epsilon")) s.link_epsilon = n->as_positive();
+    if (auto n = node.find("display")) s.display = n->as_enum(kRadiosityDisplays);
+    if (auto n = node.find("ambient_term")) s.ambient_term = n->as_bool();
+    if (s.solver == RadiositySolver::Hierarchical && s.form_factors == FormFactorMethod::Hemicube)
+        node.at("form_factors")
+            .fail("the hierarchical solver needs analytic or raycast form factors");
+    return s;
+}
+
 RenderSettings parse_render(const JsonNode& node) {
     node.expect_object({"engine",
                         "spp",
@@ -75,7 +106,8 @@ RenderSettings parse_render(const JsonNode& node) {
                         "tessellation",
                         "caustics",
                         "photons",
-                        "mis"});
+                        "mis",
+                        "radiosity"});
     RenderSettings r;
     if (auto n = node.find("engine"))
         r.engine = n->as_choice({"raster", "whitted", "path", "radiosity"});
@@ -137,6 +169,7 @@ RenderSettings parse_render(const JsonNode& node) {
             if (!(r.photons.alpha > 0.0f && r.photons.alpha < 1.0f)) n->fail("must lie in (0, 1)");
         }
     }
+    if (auto rad = node.find("radiosity")) r.radiosity = parse_radiosity(*rad);
     return r;
 }
 

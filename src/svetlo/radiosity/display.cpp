@@ -1,0 +1,108 @@
+#include "svetlo/radiosity/display.h"
+
+#include <algorithm>
+#include <bit>
+#include <unordered_map>
+
+namespace svetlo {
+
+namespace {
+
+/// A corner's exact position as a key: midpoints are computed alike on both sides of an
+/// edge (element_tree.cpp), so shared corners are bit-identical.
+struct PositionKey {
+    uint32_t x, y, z;
+    bool operator==(const PositionKey&) const = default;
+};
+struct PositionHash {
+    size_t operator()(const PositionKey& k) const {
+        uint64_t h = (uint64_t{k.x} * 0x9e3779b97f4a7c15ULL) ^
+                     (uint64_t{k.y} * 0xc2b2ae3d27d4eb4fULL) ^
+                     (uint64_t{k.z} * 0x165667b19e3779f9ULL);
+        return static_cast<size_t>(h ^ (h >> 29));
+    }
+};
+PositionKey key_of(vec3 p) {
+    // +0 and -0 are one position.
+    return {std::bit_cast<uint32_t>(p.x + 0.0f), std::bit_cast<uint32_t>(p.y + 0.0f),
+            std::bit_cast<uint32_t>(p.z + 0.0f)};
+}
+
+constexpr float kSmooth = 0.8f;  // cos 37 degrees: corners of normals closer than this are one
+
+}  // namespace
+
+IrradianceField::IrradianceField(const ElementTree& tree, const std::vector<Sides>& total,
+                                 const std::vector<Sides>& indirect)
+    : tree_(tree), corner_of_(3 * tree.nodes().size(), ~0u) {
+    std::unordered_map<PositionKey, std::vector<uint32_t>, PositionHash> at;
+    auto find = [&](vec3 p, vec3 n, bool make) -> uint32_t {
+        auto it = at.find(key_of(p));
+        if (it != at.end()) {
+            for (uint32_t c : it->second)
+                if (glm::dot(corners_[c].normal, n) >= kSmooth) return c;
+        }
+        if (!make) return ~0u;
+        uint32_t id = static_cast<uint32_t>(corners_.size());
+        corners_.push_back(Corner{n, {}, 0.0f});
+        at[key_of(p)].push_back(id);
+        return id;
+    };
+    std::vector<uint32_t> leaves;
+    for (uint32_t id = 0; id < tree.nodes().size(); ++id) {
+        const ElementNode& e = tree.node(id);
+        if (!e.leaf() || !(e.area > 0.0f)) continue;
+        leaves.push_back(id);
+        for (int c = 0; c < 3; ++c) {
+            uint32_t k = find(e.p[c], tree.normal(id), true);
+            corner_of_[3 * id + c] = k;
+            Corner& corner = corners_[k];
+            for (int s = 0; s < 2; ++s) {
+                corner.value[s] += e.area * total[id].v[s];
+                corner.value[2 + s] += e.area * indirect[id].v[s];
+            }
+            corner.weight += e.area;
+        }
+    }
+    for (Corner& c : corners_)
+        for (Color& v : c.value) v /= c.weight;
+
+    // T-vertices: coarse leaves first, each edge's midpoints (recursively) take the edge's
+    // linear interpolation, so both sides of the edge shade alike.
+    std::stable_sort(leaves.begin(), leaves.end(),
+                     [&](uint32_t a, uint32_t b) { return tree.node(a).area > tree.node(b).area; });
+    auto anchor = [&](auto&& self, vec3 a, vec3 b, uint32_t ca, uint32_t cb, vec3 n,
+                      int depth) -> void {
+        if (depth > 16) return;
+        vec3 m = (a + b) * 0.5f;
+        uint32_t cm = find(m, n, false);
+        if (cm == ~0u) return;
+        for (int v = 0; v < 4; ++v)
+            corners_[cm].value[v] = 0.5f * (corners_[ca].value[v] + corners_[cb].value[v]);
+        self(self, a, m, ca, cm, n, depth + 1);
+        self(self, m, b, cm, cb, n, depth + 1);
+    };
+    for (uint32_t id : leaves) {
+        const ElementNode& e = tree.node(id);
+        for (int c = 0; c < 3; ++c) {
+            int d = (c + 1) % 3;
+            anchor(anchor, e.p[c], e.p[d], corner_of_[3 * id + c], corner_of_[3 * id + d],
+                   tree.normal(id), 0);
+        }
+    }
+}
+
+IrradianceField::Value IrradianceField::at(uint32_t root, vec2 b, int side) const {
+    vec3 local;
+    uint32_t leaf = tree_.locate(root, b, local);
+    Value v;
+    for (int c = 0; c < 3; ++c) {
+        uint32_t k = corner_of_[3 * leaf + c];
+        if (k == ~0u) continue;
+        v.total += local[c] * corners_[k].value[side];
+        v.indirect += local[c] * corners_[k].value[2 + side];
+    }
+    return v;
+}
+
+}  // namespace svetlo

@@ -1,0 +1,121 @@
+#include "svetlo/radiosity/patch_mesh.h"
+
+#include <string>
+
+#include "svetlo/core/error.h"
+#include "svetlo/geometry/scene_geometry.h"
+#include "svetlo/geometry/tessellate.h"
+#include "svetlo/radiosity/solver.h"
+
+namespace svetlo {
+
+namespace {
+
+constexpr uint64_t kMaxTessellatedTriangles = uint64_t{1} << 24;
+
+/// The uniform mesh's sizes: patches and elements per root, 4^k each for k halvings.
+uint64_t uniform_count(const TriangleList& list, float size) {
+    uint64_t total = 0;
+    for (size_t t = 0; t < list.triangle_count(); ++t) {
+        vec3 p[3];
+        for (int c = 0; c < 3; ++c) p[c] = list.positions[list.indices[3 * t + c]];
+        float edge = std::sqrt(
+            std::max({glm::dot(p[1] - p[0], p[1] - p[0]), glm::dot(p[2] - p[1], p[2] - p[1]),
+                      glm::dot(p[0] - p[2], p[0] - p[2])}));
+        int k = halvings_to(edge, size);
+        total += k >= 20 ? (uint64_t{1} << 40) : (uint64_t{1} << (2 * k));
+        if (total > (uint64_t{1} << 40)) break;
+    }
+    return total;
+}
+
+}  // namespace
+
+PatchMesh::PatchMesh(const Scene& scene, int threads)
+    : lights(scene), settings(scene.render.radiosity) {
+    const std::string file = scene.path.string();
+    TessellationOptions options;
+    options.segments = scene.render.raster.tessellation;
+    options.rings = std::max(2, options.segments / 2);
+    uint64_t triangles = 0;
+    for (const Object& obj : scene.objects) triangles += tessellated_triangles(obj, options);
+    if (triangles > kMaxTessellatedTriangles) {
+        throw Error(file, "render.tessellation",
+                    "the scene would make " + std::to_string(triangles) + " triangles (at most " +
+                        std::to_string(kMaxTessellatedTriangles) + ")");
+    }
+    list = build_triangle_list(object_pointers(scene.objects, lights.area_light_quads()), options,
+                               threads);
+    // An infinite plane stands in as a square around the rest of the scene: twice its
+    // diameter across (the rasterizer's 100 m square would be millions of elements).
+    const auto is_plane = [&](size_t k) {
+        return k < scene.objects.size() && std::holds_alternative<Plane>(scene.objects[k].shape);
+    };
+    Bounds3 bounds;
+    for (size_t k = 0; k < list.objects.size(); ++k) {
+        if (is_plane(k)) continue;
+        for (uint32_t t = list.objects[k].first; t < list.objects[k].end; ++t)
+            for (int c = 0; c < 3; ++c) bounds.extend(list.positions[list.indices[3 * t + c]]);
+    }
+    bool planes = false;
+    for (size_t k = 0; k < scene.objects.size(); ++k) planes |= is_plane(k);
+    if (planes && !bounds.empty()) {
+        options.plane_extent = std::max(glm::length(bounds.extent()), 1e-3f);
+        list = build_triangle_list(object_pointers(scene.objects, lights.area_light_quads()),
+                                   options, threads);
+    }
+    geometry.positions = list.positions;
+    geometry.indices = list.indices;
+    geometry.triangle_material = list.material;
+    accel = make_accel("bvh", geometry, threads);
+
+    // Sizes from the scene's extent without infinite planes.
+    if (bounds.empty()) bounds = list.bounds();
+    const float diameter = bounds.empty() ? 1.0f : std::max(glm::length(bounds.extent()), 1e-6f);
+    if (settings.patch_size <= 0.0f)
+        settings.patch_size = std::max(diameter / 8.0f, settings.element_size);
+    if (settings.element_size <= 0.0f) settings.element_size = 0.5f * settings.patch_size;
+    if (settings.element_size > settings.patch_size) {
+        throw Error(file, "render.radiosity.element_size",
+                    "must be <= patch_size (" + std::to_string(settings.patch_size) + ")");
+    }
+
+    if (settings.solver == RadiositySolver::Auto) {
+        settings.solver = list.triangle_count() <= kMaxHierarchicalRoots &&
+                                  settings.form_factors != FormFactorMethod::Hemicube
+                              ? RadiositySolver::Hierarchical
+                              : RadiositySolver::Progressive;
+    }
+    patch_count = uniform_count(list, settings.patch_size);
+    element_count = uniform_count(list, settings.element_size);
+    const bool hierarchical = settings.solver == RadiositySolver::Hierarchical;
+    // Nodes of the uniform tree: about 4/3 of its leaves.
+    const uint64_t nodes = element_count + element_count / 3 + list.triangle_count();
+    if (!hierarchical && nodes > kMaxRadiosityNodes) {
+        throw Error(file, "render.radiosity.element_size",
+                    "the patch mesh would have " + std::to_string(element_count) +
+                        " elements (at most about " + std::to_string(kMaxRadiosityNodes * 3 / 4) +
+                        "); raise element_size");
+    }
+    const bool matrix = settings.solver == RadiositySolver::Jacobi ||
+                        settings.solver == RadiositySolver::GaussSeidel;
+    if (matrix && element_count > kMaxMatrixElements) {
+        throw Error(file, "render.radiosity.solver",
+                    "the matrix solvers take at most " + std::to_string(kMaxMatrixElements) +
+                        " elements (this mesh has " + std::to_string(element_count) +
+                        "); raise element_size or use progressive");
+    }
+    if (hierarchical && list.triangle_count() > kMaxHierarchicalRoots) {
+        throw Error(file, "render.radiosity.solver",
+                    "hierarchical radiosity links every pair of the scene's triangles: at most " +
+                        std::to_string(kMaxHierarchicalRoots) + " (this scene has " +
+                        std::to_string(list.triangle_count()) + "); use progressive");
+    }
+    tree = std::make_unique<ElementTree>(list, lights.materials(), scene.textures);
+}
+
+void PatchMesh::subdivide_uniform() {
+    tree->subdivide_to(settings.element_size, kMaxRadiosityNodes);
+}
+
+}  // namespace svetlo

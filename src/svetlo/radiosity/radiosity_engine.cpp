@@ -1,0 +1,294 @@
+#include "svetlo/radiosity/radiosity_engine.h"
+
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+
+#include "svetlo/core/parallel.h"
+#include "svetlo/core/progress.h"
+#include "svetlo/core/sampling.h"
+#include "svetlo/geometry/ray.h"
+#include "svetlo/radiosity/adaptive_subdivision.h"
+#include "svetlo/radiosity/display.h"
+#include "svetlo/radiosity/light_shooting.h"
+#include "svetlo/raster/camera_matrices.h"
+#include "svetlo/raster/draw_pass.h"
+#include "svetlo/raster/raster_engine.h"
+#include "svetlo/rt/camera.h"
+#include "svetlo/shading/bsdf.h"
+
+namespace svetlo {
+
+namespace {
+
+/// The irradiance the lights and the background give node id straight, per side: the mean
+/// over `samples` stratified points of the node.
+Sides light_on_node(const PatchMesh& mesh, const Scene& scene, uint32_t id, uint64_t seed) {
+    const ElementTree& tree = *mesh.tree;
+    const ElementNode& e = tree.node(id);
+    Sides out;
+    if (!(e.area > 0.0f)) return out;
+    const int points = mesh.settings.samples;
+    const bool sky = !is_black(scene.render.background);
+    Rng rng(mix64(seed), id);
+    uint64_t rays = 0;
+    for (int k = 0; k < points; ++k) {
+        vec2 b = points == 1 ? vec2(1.0f / 3.0f)
+                             : sample_triangle(stratified_sample(k, points, rng.next_2d()));
+        vec3 x = tree.point(id, b);
+        for (int side = 0; side < 2; ++side) {
+            vec3 n = side == 0 ? tree.normal(id) : -tree.normal(id);
+            Color E =
+                light_irradiance(mesh.lights, *mesh.accel, x, n, LightSources::Delta, 1, rng, rays);
+            if (sky) {
+                // The background as a uniform environment: E = pi L_bg times the cosine-
+                // weighted fraction of the hemisphere that is open.
+                constexpr int kSkyRays = 8;
+                Frame frame = Frame::from_normal(n);
+                int open = 0;
+                for (int r = 0; r < kSkyRays; ++r) {
+                    vec3 w = frame.to_world(
+                        sample_cosine_hemisphere(stratified_sample(r, kSkyRays, rng.next_2d())));
+                    if (!mesh.accel->occluded(Ray{offset_ray_origin(x, n, w), w, kInfinity}))
+                        ++open;
+                }
+                E += kPi * scene.render.background * (static_cast<float>(open) / kSkyRays);
+            }
+            out.v[side] += E / static_cast<float>(points);
+        }
+    }
+    return out;
+}
+
+/// The sub-pixel position of display pass `s` of `count`: the pixel centre for one.
+vec2 pass_jitter(int s, int count, uint64_t seed) {
+    if (count == 1) return vec2(0.5f);
+    Rng rng(mix64(seed ^ 0x5eedULL), static_cast<uint64_t>(s));
+    return stratified_sample(s, count, rng.next_2d());
+}
+
+}  // namespace
+
+RenderResult RadiosityRenderer::render(const Scene& scene, const RenderOptions& options) {
+    using Clock = std::chrono::steady_clock;
+    const auto t0 = Clock::now();
+    const int threads = options.threads;
+    const uint64_t seed = scene.render.seed;
+    PatchMesh mesh(scene, threads);
+    const RadiositySettings& settings = mesh.settings;
+    Progress progress("radiosity", 1, options.progress);
+    uint64_t rays = 0;
+    // The elements: uniform, then split where the direct light changes fast. The hierarchical
+    // solver links nodes at any level of this tree and may split the leaves further.
+    mesh.subdivide_uniform();
+    rays += subdivide_adaptive(mesh, std::max(scene.render.light_samples, settings.samples), seed,
+                               threads);
+    const auto t1 = Clock::now();
+
+    SolverInput input{
+        *mesh.tree,
+        *mesh.accel,
+        mesh.list,
+        settings,
+        FormFactorContext{*mesh.tree, *mesh.accel, settings.form_factors, settings.samples},
+        [&](uint32_t id) { return light_on_node(mesh, scene, id, seed); },
+        seed,
+        threads,
+        &progress};
+    Solution sol;
+    switch (settings.solver) {
+        case RadiositySolver::Auto:  // resolved by PatchMesh
+        case RadiositySolver::Progressive:
+            sol = solve_progressive(input);
+            break;
+        case RadiositySolver::Jacobi:
+            sol = solve_matrix(input, false);
+            break;
+        case RadiositySolver::GaussSeidel:
+            sol = solve_matrix(input, true);
+            break;
+        case RadiositySolver::Hierarchical:
+            sol = solve_hierarchical(input, kMaxRadiosityNodes);
+            break;
+    }
+    rays += sol.rays;
+    progress.finish();
+    const ElementTree& tree = *mesh.tree;
+    std::vector<Sides> indirect(sol.E.size());
+    for (size_t id = 0; id < sol.E.size(); ++id)
+        for (int s = 0; s < 2; ++s)
+            indirect[id].v[s] = glm::max(sol.E[id].v[s] - sol.direct[id].v[s], Color(0.0f));
+    const IrradianceField field(tree, sol.E, indirect);
+
+    // The display: spp item-buffer passes of the scene's triangles, each jittered within the
+    // pixel, and per sample L = L_e + rho / pi E from the field.
+    const int width = scene.film.width, height = scene.film.height;
+    RenderResult result;
+    const AovTargets targets = prepare_result(result, options.aovs, width, height);
+    const bool gather = settings.display == RadiosityDisplay::Gather;
+    const bool patches_aov = std::find(options.debug_aovs.begin(), options.debug_aovs.end(),
+                                       "patches") != options.debug_aovs.end();
+    Image patches_image;
+    if (patches_aov) patches_image = Image(width, height);
+    const int spp = scene.render.spp;
+    std::vector<glm::dvec3> sums(static_cast<size_t>(width) * height, glm::dvec3(0.0));
+    std::vector<glm::vec4> aov_sums(targets.any ? sums.size() * 2 : 0, glm::vec4(0.0f));
+    const CameraMatrices camera = frame_camera(scene, mesh.list);
+    const CameraRays camera_rays(scene.camera, width, height);
+    RenderTargets buffers;
+    PassMemory memory;
+    std::atomic<uint64_t> display_rays{0};
+    const float inv_pi = 1.0f / kPi;
+    // A pixel's size at unit distance (perspective) or its size (orthographic), scene units.
+    const float pixel_footprint =
+        scene.camera.type == Camera::Type::Perspective
+            ? 2.0f * std::tan(0.5f * radians(scene.camera.fov_deg)) / static_cast<float>(height)
+            : scene.camera.height / static_cast<float>(height);
+    for (int s = 0; s < spp; ++s) {
+        const vec2 jitter = pass_jitter(s, spp, seed);
+        CameraMatrices jittered = camera;
+        // A shift in normalised device coordinates moves the image by a fraction of a pixel.
+        mat4 shift = glm::translate(mat4(1.0f), vec3(2.0f * (jitter.x - 0.5f) / width,
+                                                     -2.0f * (jitter.y - 0.5f) / height, 0.0f));
+        jittered.projection = shift * camera.projection;
+        buffers.clear(width, height, 1, false, true);
+        PipelineState state;
+        draw_pass(mesh.list, jittered, state, buffers, threads, 0, &memory);
+        parallel_tiles(width, height, threads, [&](const Tile& tile) {
+            uint64_t local_rays = 0;
+            for (int j = tile.y0; j < tile.y1; ++j) {
+                for (int i = tile.x0; i < tile.x1; ++i) {
+                    const size_t pixel = static_cast<size_t>(j) * width + i;
+                    const uint32_t t = buffers.primitive[buffers.index(i, j)];
+                    if (t == RenderTargets::kNoPrimitive) {
+                        sums[pixel] += glm::dvec3(scene.render.background);
+                        if (targets.any) aov_sums[2 * pixel + 1].w += 1.0f;  // visibility 1
+                        continue;
+                    }
+                    Ray ray = camera_rays.generate((static_cast<float>(i) + jitter.x) / width,
+                                                   (static_cast<float>(j) + jitter.y) / height);
+                    const uint32_t* tri = &mesh.list.indices[3 * static_cast<size_t>(t)];
+                    const vec3 p0 = mesh.list.positions[tri[0]], p1 = mesh.list.positions[tri[1]],
+                               p2 = mesh.list.positions[tri[2]];
+                    const vec3 ng = tree.normal(t);
+                    // The sample's point on the triangle's plane, and its barycentrics.
+                    float denom = glm::dot(ng, ray.d);
+                    float dist = std::abs(denom) > 1e-20f ? glm::dot(ng, p0 - ray.o) / denom : 0.0f;
+                    vec3 x = ray.o + dist * ray.d;
+                    vec3 e1 = p1 - p0, e2 = p2 - p0, q = x - p0;
+                    float d11 = glm::dot(e1, e1), d12 = glm::dot(e1, e2), d22 = glm::dot(e2, e2);
+                    float det = d11 * d22 - d12 * d12;
+                    vec2 b(0.0f);
+                    if (std::abs(det) > 0.0f) {
+                        float q1 = glm::dot(q, e1), q2 = glm::dot(q, e2);
+                        b = vec2((d22 * q1 - d12 * q2) / det, (d11 * q2 - d12 * q1) / det);
+                    }
+                    b = glm::clamp(b, vec2(0.0f), vec2(1.0f));
+                    if (b.x + b.y > 1.0f) b /= b.x + b.y;
+                    x = p0 + b.x * e1 + b.y * e2;
+                    const int side = denom < 0.0f ? 0 : 1;
+                    const vec3 n = side == 0 ? ng : -ng;
+                    vec2 uv = (1.0f - b.x - b.y) * mesh.list.uvs[tri[0]] +
+                              b.x * mesh.list.uvs[tri[1]] + b.y * mesh.list.uvs[tri[2]];
+                    Bsdf bsdf = make_bsdf(mesh.lights.materials()[mesh.list.material[t]], uv,
+                                          scene.textures);
+                    const bool emissive = bsdf.model == Bsdf::Model::Emissive;
+                    Color rho = bsdf.has_lobes() || emissive
+                                    ? glm::clamp(bsdf.diffuse, Color(0.0f), Color(1.0f))
+                                    : Color(0.0f);
+                    Color L = emissive && side == 0 ? bsdf.emission : Color(0.0f);
+                    IrradianceField::Value E = field.at(t, b, side);
+                    Rng rng = pixel_rng(mix64(seed + static_cast<uint64_t>(s)), pixel);
+                    if (gather) {
+                        Color direct =
+                            light_irradiance(mesh.lights, *mesh.accel, x, n, LightSources::All,
+                                             scene.render.light_samples, rng, local_rays);
+                        L += rho * inv_pi * (E.indirect + sol.ambient + direct);
+                    } else {
+                        L += rho * inv_pi * (E.total + sol.ambient);
+                    }
+                    sums[pixel] += glm::dvec3(L);
+                    if (targets.any) {
+                        float vis =
+                            targets.want[3]
+                                ? light0_visibility(mesh.lights, *mesh.accel, x, n,
+                                                    scene.render.light_samples, rng, local_rays)
+                                : 1.0f;
+                        aov_sums[2 * pixel] += glm::vec4(dist * glm::length(ray.d), n);
+                        aov_sums[2 * pixel + 1] += glm::vec4(albedo_of(bsdf), vis);
+                    }
+                    if (patches_aov && s == 0) {
+                        // The leaf's own value, its edges darkened and its patch's in red.
+                        vec3 local;
+                        uint32_t leaf = tree.locate(t, b, local);
+                        Color value = rho * inv_pi * sol.E[leaf].v[side];
+                        int patch_level =
+                            halvings_to(tree.node(t).longest_edge(), settings.patch_size);
+                        vec3 plocal;
+                        uint32_t patch = tree.locate(t, b, plocal, patch_level);
+                        // Lines about a pixel wide: the pixel's footprint over the
+                        // triangle's height, in barycentric units.
+                        const float footprint = scene.camera.type == Camera::Type::Perspective
+                                                    ? pixel_footprint * dist * glm::length(ray.d)
+                                                    : pixel_footprint;
+                        auto near_edge = [&](vec3 u, uint32_t node) {
+                            float tri_height = std::sqrt(2.0f * tree.node(node).area);
+                            return std::min({u.x, u.y, u.z}) * tri_height < 0.6f * footprint;
+                        };
+                        if (near_edge(plocal, patch)) {
+                            value = Color(1.0f, 0.1f, 0.05f);
+                        } else if (near_edge(local, leaf)) {
+                            value = 0.3f * value + Color(0.0f, 0.02f, 0.05f);
+                        }
+                        patches_image.at(i, j) = value;
+                    }
+                }
+            }
+            display_rays += local_rays;
+        });
+    }
+    const float inv = 1.0f / static_cast<float>(spp);
+    for (int j = 0; j < height; ++j) {
+        for (int i = 0; i < width; ++i) {
+            const size_t pixel = static_cast<size_t>(j) * width + i;
+            Color c(sums[pixel] * static_cast<double>(inv));
+            result.color.at(i, j) = is_finite(c) ? c : Color(0.0f);
+            if (!targets.any) continue;
+            glm::vec4 a = aov_sums[2 * pixel] * inv, b = aov_sums[2 * pixel + 1] * inv;
+            if (targets.want[0]) targets.image[0]->at(i, j) = Color(a.x);
+            if (targets.want[1]) targets.image[1]->at(i, j) = Color(a.y, a.z, a.w);
+            if (targets.want[2]) targets.image[2]->at(i, j) = Color(b.x, b.y, b.z);
+            if (targets.want[3]) targets.image[3]->at(i, j) = Color(b.w);
+        }
+    }
+    if (patches_aov) result.aovs["patches"] = std::move(patches_image);
+
+    const auto t2 = Clock::now();
+    result.stats.setup_seconds = std::chrono::duration<double>(t1 - t0).count();
+    result.stats.seconds = std::chrono::duration<double>(t2 - t1).count();
+    result.stats.rays = rays + display_rays.load();
+    size_t leaves = 0;
+    for (const ElementNode& n : tree.nodes()) leaves += n.leaf() ? 1 : 0;
+    char detail[160];
+    std::snprintf(
+        detail, sizeof detail, "%zu elements, %d %s, residual %.2g, %llu links, %.2f Mrays/s",
+        leaves, sol.iterations,
+        settings.solver == RadiositySolver::Progressive ? "shots" : "sweeps", sol.residual,
+        static_cast<unsigned long long>(sol.links),
+        static_cast<double>(result.stats.rays) * 1e-6 / std::max(result.stats.seconds, 1e-9));
+    result.stats.detail = detail;
+    return result;
+}
+
+PatchMeshSummary patch_mesh_summary(const Scene& scene) {
+    PatchMesh mesh(scene, 0);
+    PatchMeshSummary s;
+    s.triangles = mesh.list.triangle_count();
+    s.patches = mesh.patch_count;
+    s.elements = mesh.element_count;
+    s.patch_size = mesh.settings.patch_size;
+    s.element_size = mesh.settings.element_size;
+    return s;
+}
+
+}  // namespace svetlo

@@ -1,0 +1,26 @@
+// The radiosity engine, "engine": "radiosity" (docs/radiosity.md): the scene's surfaces as a
+// patch mesh (patch_mesh.h), point, spot and directional lights and the background shot onto
+// it, the equation solved by the chosen solver (solver.h), independently of the view, and
+// then drawn from the camera through the rasterizer's item buffer (display.h). Only the
+// diffuse part of each material takes part: a mirror or glass shows black.
+#pragma once
+
+#include "svetlo/scene/renderer.h"
+
+namespace svetlo {
+
+class RadiosityRenderer final : public Renderer {
+public:
+    RenderResult render(const Scene& scene, const RenderOptions& options) override;
+};
+
+/// What `svetlo info` reports of the patch mesh: the uniform mesh before adaptive
+/// subdivision, with the sizes resolved.
+struct PatchMeshSummary {
+    size_t triangles = 0;
+    uint64_t patches = 0, elements = 0;
+    float patch_size = 0.0f, element_size = 0.0f;
+};
+PatchMeshSummary patch_mesh_summary(const Scene& scene);
+
+}  // namespace svetlo
