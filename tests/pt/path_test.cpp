@@ -3,6 +3,7 @@
 // with tolerances of several standard errors, estimated from the render itself where it can.
 #include <gtest/gtest.h>
 
+#include "image_means.h"
 #include "svetlo/pt/path_tracer.h"
 #include "svetlo/rt/whitted.h"
 #include "svetlo/scene/scene_loader.h"
@@ -34,15 +35,6 @@ json top_down(int n, float half, int spp, int max_depth, float y = 10.0f) {
             {"film", {{"width", n}, {"height", n}}},
             {"render", {{"engine", "path"}, {"spp", spp}, {"max_depth", max_depth}}}};
 }
-
-/// Mean of one channel over a block of pixels [x0, x1) x [y0, y1).
-double mean(const Image& im, int x0, int y0, int x1, int y1, int c = 0) {
-    double s = 0.0;
-    for (int j = y0; j < y1; ++j)
-        for (int i = x0; i < x1; ++i) s += im.at(i, j)[c];
-    return s / ((x1 - x0) * (y1 - y0));
-}
-double mean(const Image& im, int c = 0) { return mean(im, 0, 0, im.width, im.height, c); }
 
 /// The root-mean-square difference of two images of the same scene with different seeds,
 /// divided by sqrt(2): each one's error.

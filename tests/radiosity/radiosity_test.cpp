@@ -2,6 +2,7 @@
 // here, or another engine's (the path tracer's) or another solver's answer.
 #include <gtest/gtest.h>
 
+#include "image_means.h"
 #include "radiosity_test_support.h"
 #include "svetlo/pt/path_tracer.h"
 
@@ -17,14 +18,6 @@ RenderResult render(const json& j, int threads = 2, std::vector<std::string> aov
     options.aovs = std::move(aovs);
     return RadiosityRenderer().render(scene, options);
 }
-
-double mean(const Image& im, int x0, int y0, int x1, int y1, int c = 0) {
-    double s = 0.0;
-    for (int j = y0; j < y1; ++j)
-        for (int i = x0; i < x1; ++i) s += im.at(i, j)[c];
-    return s / ((x1 - x0) * (y1 - y0));
-}
-double mean(const Image& im, int c = 0) { return mean(im, 0, 0, im.width, im.height, c); }
 
 const char* kSolvers[] = {"progressive", "jacobi", "gauss_seidel", "hierarchical"};
 

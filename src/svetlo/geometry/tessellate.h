@@ -17,6 +17,15 @@ struct TessellationOptions {
     float plane_extent = 50.0f;  // half the side of the square that stands for an infinite plane
 };
 
+/// The options a render's triangle list is made with: render.tessellation segments around a
+/// sphere, cylinder or cone, half as many rings (the rasterizer and radiosity).
+inline TessellationOptions tessellation_options(const RenderSettings& render) {
+    TessellationOptions options;
+    options.segments = render.raster.tessellation;
+    options.rings = options.segments / 2 > 2 ? options.segments / 2 : 2;
+    return options;
+}
+
 /// The object `obj` as a world-space triangle mesh with per-vertex normals (smooth where the
 /// surface is) and uvs, and one material per face (obj.material, or the CSG leaf's, or the
 /// mesh file's). Triangles wind counter-clockwise seen from outside.

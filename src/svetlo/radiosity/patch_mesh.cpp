@@ -34,9 +34,7 @@ uint64_t uniform_count(const TriangleList& list, float size) {
 PatchMesh::PatchMesh(const Scene& scene, int threads)
     : lights(scene), settings(scene.render.radiosity) {
     const std::string file = scene.path.string();
-    TessellationOptions options;
-    options.segments = scene.render.raster.tessellation;
-    options.rings = std::max(2, options.segments / 2);
+    TessellationOptions options = tessellation_options(scene.render);
     uint64_t triangles = 0;
     for (const Object& obj : scene.objects) triangles += tessellated_triangles(obj, options);
     if (triangles > kMaxTessellatedTriangles) {

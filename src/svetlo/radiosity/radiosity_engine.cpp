@@ -233,7 +233,7 @@ RenderResult RadiosityRenderer::render(const Scene& scene, const RenderOptions& 
                                                     : pixel_footprint;
                         auto near_edge = [&](vec3 u, uint32_t node) {
                             float tri_height = std::sqrt(2.0f * tree.node(node).area);
-                            return std::min({u.x, u.y, u.z}) * tri_height < 0.3f * footprint;
+                            return std::min({u.x, u.y, u.z}) * tri_height < 0.5f * footprint;
                         };
                         if (near_edge(plocal, patch)) {
                             value = Color(1.0f, 0.1f, 0.05f);

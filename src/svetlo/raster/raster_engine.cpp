@@ -76,9 +76,7 @@ void split_vertices_by_material(TriangleList& list) {
 /// Stage 1: the scene-wide triangle list of every object, then the area lights as one-sided
 /// emissive quads (the ray tracer shows them too). Makes the light set and its VPLs.
 TriangleList tessellate_scene(const Scene& scene, FrameState& f, int threads) {
-    TessellationOptions options;
-    options.segments = scene.render.raster.tessellation;
-    options.rings = std::max(2, options.segments / 2);
+    const TessellationOptions options = tessellation_options(scene.render);
     // Refuse what would not fit in memory before making it (a fine tessellation of many shapes).
     uint64_t total = 0;
     for (const Object& obj : scene.objects) total += tessellated_triangles(obj, options);
