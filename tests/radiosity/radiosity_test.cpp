@@ -114,6 +114,20 @@ TEST(Radiosity, DirectLightMatchesTheClosedForm) {
     }
 }
 
+TEST(Radiosity, BackgroundIsAUniformEnvironment) {
+    // A floor open to a background of radiance 1 receives E = pi and shows L = rho, with
+    // both displays (the gather display once left the sky out: it counted as direct light,
+    // which it computes per pixel from the lights only).
+    for (const char* display : {"gouraud", "gather"}) {
+        json j = lit_floor("point");
+        j["lights"] = json::array();
+        j["render"]["background"] = 1;
+        j["render"]["radiosity"]["display"] = display;
+        RenderResult open = render(j);
+        EXPECT_NEAR(mean(open.color), 0.5, 1e-4) << display;
+    }
+}
+
 /// The Cornell box of tests/data, lit by its emissive ceiling light, small.
 json cornell(int size, const char* engine) {
     json j = {{"camera",

@@ -51,6 +51,18 @@ Color light_irradiance(const LightSet& lights, const Accel& accel, vec3 x, vec3 
     return E;
 }
 
+Color sky_irradiance(const Accel& accel, Color background, vec3 x, vec3 n, int rays, Rng& rng) {
+    if (is_black(background)) return Color(0.0f);
+    const Frame frame = Frame::from_normal(n);
+    int open = 0;
+    for (int r = 0; r < rays; ++r) {
+        vec3 w =
+            frame.to_world(sample_cosine_hemisphere(stratified_sample(r, rays, rng.next_2d())));
+        if (!accel.occluded(Ray{offset_ray_origin(x, n, w), w, kInfinity})) ++open;
+    }
+    return kPi * background * (static_cast<float>(open) / static_cast<float>(rays));
+}
+
 float light0_visibility(const LightSet& lights, const Accel& accel, vec3 x, vec3 n, int samples,
                         Rng& rng, uint64_t& rays) {
     const LightSet::Source* source = lights.source_of_light(0);

@@ -21,6 +21,9 @@ namespace svetlo {
 
 namespace {
 
+/// Rays toward the background per point (its cosine-weighted open fraction).
+constexpr int kSkyRays = 8;
+
 /// The irradiance the lights and the background give node id straight, per side: the mean
 /// over `samples` stratified points of the node.
 Sides light_on_node(const PatchMesh& mesh, const Scene& scene, uint32_t id, uint64_t seed) {
@@ -29,7 +32,6 @@ Sides light_on_node(const PatchMesh& mesh, const Scene& scene, uint32_t id, uint
     Sides out;
     if (!(e.area > 0.0f)) return out;
     const int points = mesh.settings.samples;
-    const bool sky = !is_black(scene.render.background);
     Rng rng(mix64(seed), id);
     uint64_t rays = 0;
     for (int k = 0; k < points; ++k) {
@@ -40,20 +42,8 @@ Sides light_on_node(const PatchMesh& mesh, const Scene& scene, uint32_t id, uint
             vec3 n = side == 0 ? tree.normal(id) : -tree.normal(id);
             Color E =
                 light_irradiance(mesh.lights, *mesh.accel, x, n, LightSources::Delta, 1, rng, rays);
-            if (sky) {
-                // The background as a uniform environment: E = pi L_bg times the cosine-
-                // weighted fraction of the hemisphere that is open.
-                constexpr int kSkyRays = 8;
-                Frame frame = Frame::from_normal(n);
-                int open = 0;
-                for (int r = 0; r < kSkyRays; ++r) {
-                    vec3 w = frame.to_world(
-                        sample_cosine_hemisphere(stratified_sample(r, kSkyRays, rng.next_2d())));
-                    if (!mesh.accel->occluded(Ray{offset_ray_origin(x, n, w), w, kInfinity}))
-                        ++open;
-                }
-                E += kPi * scene.render.background * (static_cast<float>(open) / kSkyRays);
-            }
+            // The background as a uniform environment.
+            E += sky_irradiance(*mesh.accel, scene.render.background, x, n, kSkyRays, rng);
             out.v[side] += E / static_cast<float>(points);
         }
     }
@@ -200,9 +190,13 @@ RenderResult RadiosityRenderer::render(const Scene& scene, const RenderOptions& 
                     IrradianceField::Value E = field.at(t, b, side);
                     Rng rng = pixel_rng(mix64(seed + static_cast<uint64_t>(s)), pixel);
                     if (gather) {
+                        // Every light and emitter, and the background: what the solution
+                        // counted as direct.
                         Color direct =
                             light_irradiance(mesh.lights, *mesh.accel, x, n, LightSources::All,
-                                             scene.render.light_samples, rng, local_rays);
+                                             scene.render.light_samples, rng, local_rays) +
+                            sky_irradiance(*mesh.accel, scene.render.background, x, n, kSkyRays,
+                                           rng);
                         L += rho * inv_pi * (E.indirect + sol.ambient + direct);
                     } else {
                         L += rho * inv_pi * (E.total + sol.ambient);
