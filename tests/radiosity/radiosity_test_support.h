@@ -7,41 +7,21 @@
 #include "svetlo/radiosity/patch_mesh.h"
 #include "svetlo/radiosity/radiosity_engine.h"
 #include "svetlo/scene/scene_loader.h"
+#include "test_scenes.h"
 
 namespace svetlo {
 
-/// Two unit squares, A (objects[0]) at y = 0 and B (objects[1]) facing it: parallel at y = 1,
-/// or perpendicular in the plane x = 0. B emits radiance 1 (emissive), A has albedo 1. An
-/// orthographic camera between them sees only A.
+/// The unit plates (test_scenes.h): A (objects[0], albedo 1) at y = 0 and B (objects[1],
+/// radiance 1) facing it, parallel at y = 1 or perpendicular in x = 0; an orthographic camera
+/// sees only A. Radiosity with uniform elements of `element_size`, progressive.
 inline nlohmann::json radiosity_unit_plates(bool perpendicular, float element_size) {
-    using json = nlohmann::json;
-    json j = {{"camera",
-               {{"type", "orthographic"},
-                {"position", {0.5, 0.5, 0.5}},
-                {"look_at", {0.5, 0, 0.5}},
-                {"up", {0, 0, -1}},
-                {"height", 1}}},
-              {"film", {{"width", 16}, {"height", 16}}},
-              {"render",
-               {{"engine", "radiosity"},
-                {"radiosity",
-                 {{"solver", "progressive"},
-                  {"patch_size", 2 * element_size},
-                  {"element_size", element_size},
-                  {"adaptive", 0}}}}}};
-    j["materials"] = {{"white", {{"type", "lambert"}, {"albedo", 1}}},
-                      {"glow", {{"type", "emissive"}, {"radiance", 1}}}};
-    json a = {{"type", "quad"},
-              {"corner", {0, 0, 0}},
-              {"edge_u", {0, 0, 1}},
-              {"edge_v", {1, 0, 0}},
-              {"material", "white"}};
-    json corner = perpendicular ? json{0, 0, 0} : json{0, 1, 0};
-    json eu = perpendicular ? json{0, 1, 0} : json{1, 0, 0};
-    json ev = {0, 0, 1};
-    json b = {
-        {"type", "quad"}, {"corner", corner}, {"edge_u", eu}, {"edge_v", ev}, {"material", "glow"}};
-    j["objects"] = {a, b};
+    nlohmann::json j = test_scenes::unit_plates(perpendicular, false);
+    j["render"] = {{"engine", "radiosity"},
+                   {"radiosity",
+                    {{"solver", "progressive"},
+                     {"patch_size", 2 * element_size},
+                     {"element_size", element_size},
+                     {"adaptive", 0}}}};
     return j;
 }
 

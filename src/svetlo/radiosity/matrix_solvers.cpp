@@ -140,13 +140,7 @@ Solution solve_matrix(SolverInput& in, bool gauss_seidel) {
         }
         ++sol.iterations;
         sol.residual = change / power;
-        if (in.progress) {
-            char status[96];
-            std::snprintf(status, sizeof status, "sweep %d, change %.3g%% of the power",
-                          sol.iterations, 100.0 * sol.residual);
-            in.progress->set_status(status);
-            in.progress->advance(0);
-        }
+        report_progress(in.progress, "sweep", sol.iterations, "change", sol.residual);
         if (sol.residual < in.settings.tolerance) break;
     }
     // E from the final B (the last sweep's gather used the B before it).

@@ -178,13 +178,7 @@ Solution solve_progressive(SolverInput& in) {
             }
         }
         sol.residual = unshot / power;
-        if (in.progress) {
-            char status[96];
-            std::snprintf(status, sizeof status, "shot %d, unshot %.3g%% of the power",
-                          sol.iterations, 100.0 * sol.residual);
-            in.progress->set_status(status);
-            in.progress->advance(0);
-        }
+        report_progress(in.progress, "shot", sol.iterations, "unshot", sol.residual);
         if (sol.residual < in.settings.tolerance || sol.iterations >= max_shots) break;
         Color dB = patches[best_patch].unshot.v[best_side];
         patches[best_patch].unshot.v[best_side] = Color(0.0f);

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cstdio>
 #include <functional>
 #include <vector>
 
@@ -62,6 +63,17 @@ Solution solve_matrix(SolverInput& in, bool gauss_seidel);
 /// Hierarchical radiosity (hierarchical.cpp): links between nodes at the level the oracle
 /// allows, making at most `max_nodes` nodes in all.
 Solution solve_hierarchical(SolverInput& in, size_t max_nodes);
+
+/// Shows "WHAT N, LEFT_WHAT R% of the power" on the progress bar, if there is one.
+inline void report_progress(Progress* progress, const char* what, int iteration,
+                            const char* residual_name, double residual) {
+    if (!progress) return;
+    char status[112];
+    std::snprintf(status, sizeof status, "%s %d, %s %.3g%% of the power", what, iteration,
+                  residual_name, 100.0 * residual);
+    progress->set_status(status);
+    progress->advance(0);
+}
 
 /// The luminance-like sum of a colour's channels (power comparisons).
 inline float channel_sum(Color c) { return c.r + c.g + c.b; }
