@@ -46,7 +46,7 @@ bench: build
 	$(SVETLO) render scenes/cornell.json --engine path --set render.max_depth=64 \
 	    --set render.light_samples=1 -W 512 -H 512 --spp 16 --threads $(JOBS) -o $(BUILD)/bench_path.pfm
 	/usr/bin/python3 bench/radiosity/scaling.py $(SVETLO) $(JOBS)
-	/usr/bin/python3 bench/radiosity/equal_error.py $(SVETLO) 96 8192 $(JOBS)
+	/usr/bin/python3 bench/radiosity/equal_error.py $(SVETLO) 512 2048 $(JOBS)
 	@echo "The path tracer against Cycles needs Blender: bench/cycles/convergence.py (docs/performance.md)."
 
 format:
