@@ -3,7 +3,7 @@
 
 #include "commands.h"
 #include "svetlo/geometry/scene_geometry.h"
-#include "svetlo/radiosity/radiosity_engine.h"
+#include "svetlo/radiosity/patch_mesh.h"
 #include "svetlo/raster/raster_engine.h"
 #include "svetlo/rt/rt_scene.h"
 
@@ -80,10 +80,11 @@ int run_info(const InfoArgs& args) {
     }
     if (scene.render.engine == "radiosity") {
         // The uniform patch mesh (adaptive and hierarchical subdivision come at render time).
-        PatchMeshSummary m = patch_mesh_summary(scene);
+        PatchMesh m(scene, 0);
         std::printf("patches    %llu of %g m from %zu triangles, %llu elements of %g m\n",
-                    static_cast<unsigned long long>(m.patches), m.patch_size, m.triangles,
-                    static_cast<unsigned long long>(m.elements), m.element_size);
+                    static_cast<unsigned long long>(m.patch_count), m.settings.patch_size,
+                    m.list.triangle_count(), static_cast<unsigned long long>(m.element_count),
+                    m.settings.element_size);
     }
     if (args.matrices) {
         // The rasterizer's vertex stage: clip = projection * view * model * p (column vectors).

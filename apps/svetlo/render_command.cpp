@@ -161,7 +161,9 @@ int run_render(const RenderArgs& args) {
     if (!args.quiet) {
         double per_second = result.stats.seconds > 0.0 ? 1e-6 / result.stats.seconds : 0.0;
         char rate[160];
-        if (result.stats.triangles > 0) {
+        if (!result.stats.detail.empty()) {  // the engine's own account
+            std::snprintf(rate, sizeof rate, "%s", result.stats.detail.c_str());
+        } else if (result.stats.triangles > 0) {
             std::snprintf(rate, sizeof rate, "%.2f Mtris/s",
                           static_cast<double>(result.stats.triangles) * per_second);
         } else if (result.stats.passes > 0) {  // a path per pixel and pass
@@ -172,9 +174,6 @@ int run_render(const RenderArgs& args) {
         } else {
             std::snprintf(rate, sizeof rate, "%.2f Mrays/s",
                           static_cast<double>(result.stats.rays) * per_second);
-        }
-        if (!result.stats.detail.empty()) {
-            std::snprintf(rate, sizeof rate, "%s", result.stats.detail.c_str());
         }
         std::string dropped;  // samples that were not finite, left out of their pixels
         if (result.stats.nonfinite > 0)

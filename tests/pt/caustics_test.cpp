@@ -2,6 +2,7 @@
 // against the path tracer's own unbiased estimate, and white light split into colours.
 #include <gtest/gtest.h>
 
+#include "render_json.h"
 #include "svetlo/pt/path_tracer.h"
 #include "svetlo/scene/scene_loader.h"
 #include "test_scenes.h"
@@ -12,9 +13,7 @@ namespace {
 using json = nlohmann::json;
 
 RenderResult render(const json& j, int threads = 2) {
-    RenderOptions options;
-    options.threads = threads;
-    return PathRenderer().render(scene_from_json(j, "test.json"), options);
+    return render_json<PathRenderer>(j, threads);
 }
 
 /// A glass sphere of radius 0.5 at height 1.5 over a white floor, lit from above by `light`;

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "image_means.h"
+#include "render_json.h"
 #include "svetlo/pt/path_tracer.h"
 #include "svetlo/rt/whitted.h"
 #include "svetlo/scene/scene_loader.h"
@@ -17,11 +18,7 @@ using test_scenes::floor_quad;
 using test_scenes::unit_plates;
 
 RenderResult render(const json& j, int threads = 2, std::vector<std::string> aovs = {}) {
-    Scene scene = scene_from_json(j, "test.json");
-    RenderOptions options;
-    options.threads = threads;
-    options.aovs = std::move(aovs);
-    return PathRenderer().render(scene, options);
+    return render_json<PathRenderer>(j, threads, std::move(aovs));
 }
 
 /// An orthographic camera at height `y` looking straight down at the square [-half, half]^2

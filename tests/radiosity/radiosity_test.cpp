@@ -4,6 +4,7 @@
 
 #include "image_means.h"
 #include "radiosity_test_support.h"
+#include "render_json.h"
 #include "svetlo/pt/path_tracer.h"
 
 namespace svetlo {
@@ -12,11 +13,7 @@ namespace {
 using json = nlohmann::json;
 
 RenderResult render(const json& j, int threads = 2, std::vector<std::string> aovs = {}) {
-    Scene scene = scene_from_json(j, "test.json");
-    RenderOptions options;
-    options.threads = threads;
-    options.aovs = std::move(aovs);
-    return RadiosityRenderer().render(scene, options);
+    return render_json<RadiosityRenderer>(j, threads, std::move(aovs));
 }
 
 const char* kSolvers[] = {"progressive", "jacobi", "gauss_seidel", "hierarchical"};
@@ -178,10 +175,7 @@ TEST(Radiosity, AgreesWithThePathTracerOnTheCornellBox) {
     // paths is under 0.5 % of it.
     json path = cornell(48, "path");
     path["render"]["spp"] = 256;
-    Scene scene = scene_from_json(path, "test.json");
-    RenderOptions options;
-    options.threads = 2;
-    const Image reference = PathRenderer().render(scene, options).color;
+    const Image reference = render_json<PathRenderer>(path).color;
     auto surface_mean = [&](const Image& im) {
         double sum = 0.0;
         int n = 0;

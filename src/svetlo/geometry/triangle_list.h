@@ -37,6 +37,17 @@ struct TriangleList {
     }
 };
 
+/// The list's triangles as ray-traceable geometry (positions, indices and materials), for a
+/// BVH over exactly what was drawn: the rasterizer's ray-traced shadows, radiosity's
+/// visibility.
+inline Geometry triangle_geometry(const TriangleList& list) {
+    Geometry g;
+    g.positions = list.positions;
+    g.indices = list.indices;
+    g.triangle_material = list.material;
+    return g;
+}
+
 /// Tessellates and places every object, in order (one range each in `objects`); `threads`
 /// tessellate objects in parallel. Normals are carried by the inverse transpose and made unit.
 TriangleList build_triangle_list(const std::vector<const Object*>& objects,

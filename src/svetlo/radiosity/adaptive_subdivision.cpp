@@ -14,7 +14,7 @@ uint64_t subdivide_adaptive(PatchMesh& mesh, int samples, uint64_t seed, int thr
     ElementTree& tree = *mesh.tree;
     std::vector<int> base(tree.root_count());
     for (uint32_t r = 0; r < tree.root_count(); ++r)
-        base[r] = halvings_to(tree.node(r).longest_edge(), settings.element_size);
+        base[r] = tree.level_for(r, settings.element_size);
 
     uint64_t rays = 0;
     float floor = -1.0f;
@@ -22,8 +22,7 @@ uint64_t subdivide_adaptive(PatchMesh& mesh, int samples, uint64_t seed, int thr
         std::vector<uint32_t> leaves;
         for (uint32_t id : tree.leaves()) {
             const ElementNode& e = tree.node(id);
-            if (e.area > 0.0f && e.level < base[e.root] + settings.max_subdivision)
-                leaves.push_back(id);
+            if (e.level < base[e.root] + settings.max_subdivision) leaves.push_back(id);
         }
         // Per leaf and side, the lowest, highest and mean direct irradiance of its 4 points.
         struct Span {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <unordered_map>
 
 namespace svetlo {
@@ -48,11 +49,9 @@ IrradianceField::IrradianceField(const ElementTree& tree, const std::vector<Side
         at[key_of(p)].push_back(id);
         return id;
     };
-    std::vector<uint32_t> leaves;
-    for (uint32_t id = 0; id < tree.nodes().size(); ++id) {
+    std::vector<uint32_t> leaves = tree.leaves();
+    for (uint32_t id : leaves) {
         const ElementNode& e = tree.node(id);
-        if (!e.leaf() || !(e.area > 0.0f)) continue;
-        leaves.push_back(id);
         for (int c = 0; c < 3; ++c) {
             uint32_t k = find(e.p[c], tree.normal(id), true);
             corner_of_[3 * id + c] = k;
@@ -103,6 +102,51 @@ IrradianceField::Value IrradianceField::at(uint32_t root, vec2 b, int side) cons
         v.indirect += local[c] * corners_[k].value[2 + side];
     }
     return v;
+}
+
+DisplaySample sample_on_triangle(const TriangleList& list, uint32_t t, vec3 ng, const Ray& ray) {
+    const uint32_t* tri = &list.indices[3 * static_cast<size_t>(t)];
+    const vec3 p0 = list.positions[tri[0]], p1 = list.positions[tri[1]],
+               p2 = list.positions[tri[2]];
+    DisplaySample out;
+    const float denom = glm::dot(ng, ray.d);
+    const float t_hit = std::abs(denom) > 1e-20f ? glm::dot(ng, p0 - ray.o) / denom : 0.0f;
+    // Barycentrics of the point on the plane, by the normal equations of its two edges.
+    const vec3 e1 = p1 - p0, e2 = p2 - p0, q = ray.o + t_hit * ray.d - p0;
+    const float d11 = glm::dot(e1, e1), d12 = glm::dot(e1, e2), d22 = glm::dot(e2, e2);
+    const float det = d11 * d22 - d12 * d12;
+    vec2 b(0.0f);
+    if (std::abs(det) > 0.0f) {
+        const float q1 = glm::dot(q, e1), q2 = glm::dot(q, e2);
+        b = vec2((d22 * q1 - d12 * q2) / det, (d11 * q2 - d12 * q1) / det);
+    }
+    b = glm::clamp(b, vec2(0.0f), vec2(1.0f));
+    if (b.x + b.y > 1.0f) b /= b.x + b.y;
+    out.b = b;
+    out.x = p0 + b.x * e1 + b.y * e2;
+    out.side = denom < 0.0f ? 0 : 1;
+    out.n = out.side == 0 ? ng : -ng;
+    out.uv =
+        (1.0f - b.x - b.y) * list.uvs[tri[0]] + b.x * list.uvs[tri[1]] + b.y * list.uvs[tri[2]];
+    out.distance = t_hit * glm::length(ray.d);
+    return out;
+}
+
+Color patches_view(const ElementTree& tree, uint32_t t, vec2 b, int side,
+                   const std::vector<Sides>& E, Color rho, float patch_size, float footprint) {
+    vec3 local, plocal;
+    const uint32_t leaf = tree.locate(t, b, local);
+    const uint32_t patch = tree.locate(t, b, plocal, tree.level_for(t, patch_size));
+    // Near an edge: the smallest barycentric times the triangle's height is within half the
+    // footprint.
+    auto near_edge = [&](vec3 u, uint32_t node) {
+        const float height = std::sqrt(2.0f * tree.node(node).area);
+        return std::min({u.x, u.y, u.z}) * height < 0.5f * footprint;
+    };
+    const Color value = rho * (1.0f / kPi) * E[leaf].v[side];
+    if (near_edge(plocal, patch)) return Color(1.0f, 0.1f, 0.05f);
+    if (near_edge(local, leaf)) return 0.3f * value + Color(0.0f, 0.02f, 0.05f);
+    return value;
 }
 
 }  // namespace svetlo

@@ -9,6 +9,7 @@
 
 #include <vector>
 
+#include "svetlo/geometry/ray.h"
 #include "svetlo/radiosity/element_tree.h"
 #include "svetlo/radiosity/solver.h"
 
@@ -36,5 +37,26 @@ private:
     std::vector<Corner> corners_;
     std::vector<uint32_t> corner_of_;  // per node, 3 corner ids (leaves only)
 };
+
+/// Where a camera sample meets the triangle the item buffer gave it.
+struct DisplaySample {
+    vec3 x{0.0f};           // the point, world space
+    vec3 n{0.0f};           // the unit normal of the side the camera sees
+    vec2 b{0.0f};           // barycentrics (b1, b2) of the triangle
+    vec2 uv{0.0f};          // interpolated texture coordinates
+    float distance = 0.0f;  // from the camera, scene units
+    int side = 0;           // 0: the camera sees the front (counter-clockwise) side
+};
+
+/// The sample's ray met on the plane of triangle t (unit front normal ng) of `list`, its
+/// barycentrics clamped into the triangle: the item buffer says the sample covers t, and the
+/// ray may miss it by a rounding.
+DisplaySample sample_on_triangle(const TriangleList& list, uint32_t t, vec3 ng, const Ray& ray);
+
+/// The patches AOV at barycentrics b of root t, on `side`: the leaf's own radiance
+/// rho / pi E, darkened within `footprint` (scene units, about a pixel) of the leaf's edges,
+/// and red near the edges of its patch (the level of `patch_size`).
+Color patches_view(const ElementTree& tree, uint32_t t, vec2 b, int side,
+                   const std::vector<Sides>& E, Color rho, float patch_size, float footprint);
 
 }  // namespace svetlo

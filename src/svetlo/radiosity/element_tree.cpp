@@ -3,11 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "svetlo/shading/bsdf.h"
-
 namespace svetlo {
 
-float ElementNode::longest_edge() const {
+float longest_edge(const vec3 p[3]) {
     return std::sqrt(
         std::max({glm::dot(p[1] - p[0], p[1] - p[0]), glm::dot(p[2] - p[1], p[2] - p[1]),
                   glm::dot(p[0] - p[2], p[0] - p[2])}));
@@ -50,11 +48,7 @@ void ElementTree::set_material(ElementNode& n) const {
     vec2 uv =
         (1.0f - b.x - b.y) * list_.uvs[tri[0]] + b.x * list_.uvs[tri[1]] + b.y * list_.uvs[tri[2]];
     Bsdf bsdf = make_bsdf(materials_[list_.material[n.root]], uv, textures_);
-    // Only the diffuse part exchanges light in radiosity (docs/radiosity.md); a reflectance
-    // past 1 would make energy.
-    n.reflectance = bsdf.has_lobes() || bsdf.model == Bsdf::Model::Emissive
-                        ? glm::clamp(bsdf.diffuse, Color(0.0f), Color(1.0f))
-                        : Color(0.0f);
+    n.reflectance = radiosity_reflectance(bsdf);
     n.emission = bsdf.model == Bsdf::Model::Emissive ? kPi * bsdf.emission : Color(0.0f);
 }
 
@@ -109,7 +103,7 @@ bool ElementTree::subdivide_to(float size, size_t max_nodes) {
 std::vector<uint32_t> ElementTree::leaves() const {
     std::vector<uint32_t> out;
     for (uint32_t id = 0; id < nodes_.size(); ++id) {
-        if (nodes_[id].leaf()) out.push_back(id);
+        if (nodes_[id].leaf() && nodes_[id].area > 0.0f) out.push_back(id);
     }
     return out;
 }

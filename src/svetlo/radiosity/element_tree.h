@@ -17,8 +17,22 @@
 #include "svetlo/core/image.h"
 #include "svetlo/geometry/triangle_list.h"
 #include "svetlo/scene/scene.h"
+#include "svetlo/shading/bsdf.h"
 
 namespace svetlo {
+
+/// The length of the longest edge of triangle p.
+float longest_edge(const vec3 p[3]);
+/// How many times a triangle with longest edge `edge` is halved to bring it under `size`.
+int halvings_to(float edge, float size);
+/// What of a material radiosity exchanges (docs/radiosity.md): the diffuse part of a material
+/// with lobes or of an emitter, clamped to [0, 1] (a reflectance past 1 would make energy);
+/// nothing for a mirror or glass.
+inline Color radiosity_reflectance(const Bsdf& bsdf) {
+    return bsdf.has_lobes() || bsdf.model == Bsdf::Model::Emissive
+               ? glm::clamp(bsdf.diffuse, Color(0.0f), Color(1.0f))
+               : Color(0.0f);
+}
 
 struct ElementNode {
     static constexpr uint32_t kNone = ~0u;
@@ -35,7 +49,7 @@ struct ElementNode {
     Color emission{0.0f};     // pi L_e of the front side, W/m^2
 
     bool leaf() const { return child == kNone; }
-    float longest_edge() const;
+    float longest_edge() const { return svetlo::longest_edge(p); }
 };
 
 class ElementTree {
@@ -51,6 +65,11 @@ public:
     size_t root_count() const { return root_normal_.size(); }
     /// The unit front normal of node id's root.
     vec3 normal(uint32_t id) const { return root_normal_[nodes_[id].root]; }
+    /// The level under root `root` whose nodes' edges first fall under `size` (the patches'
+    /// level for the patch size, the uniform elements' for the element size).
+    int level_for(uint32_t root, float size) const {
+        return halvings_to(nodes_[root].longest_edge(), size);
+    }
     /// The side of node `id` that point q lies on: 0 in front, 1 behind.
     int side_facing(uint32_t id, vec3 q) const {
         return glm::dot(normal(id), q - nodes_[id].centroid) >= 0.0f ? 0 : 1;
@@ -62,7 +81,8 @@ public:
     /// more than `max_nodes` nodes in all (returns false when that limit stopped it).
     bool subdivide_to(float size, size_t max_nodes);
 
-    /// The leaves, in node order.
+    /// The leaves that have area, in node order: a triangle without area (a tessellated
+    /// sphere's pole) exchanges no light, and would divide 0 by 0 wherever areas weigh.
     std::vector<uint32_t> leaves() const;
     /// The node on the path from `id` to its root at `level` (or the root, or id itself).
     uint32_t ancestor_at(uint32_t id, int level) const;
@@ -89,8 +109,5 @@ private:
     std::vector<ElementNode> nodes_;
     std::vector<vec3> root_normal_;
 };
-
-/// How many times a triangle with longest edge `edge` is halved to bring it under `size`.
-int halvings_to(float edge, float size);
 
 }  // namespace svetlo

@@ -93,7 +93,6 @@ public:
             push(r, Sides{}, Sides{}, total_gather, emitted_gather, sol);
         sol.rays = rays_;
         sol.links = links_.size();
-        sol.form_factors = form_factors_;
         return sol;
     }
 
@@ -233,7 +232,6 @@ private:
             },
             64);
         for (uint64_t r : rays) rays_ += r;
-        form_factors_ += todo.size();
         // A link that carries nothing goes, unless it may be refined later: its few rays
         // may all have been blocked where most of the nodes see each other.
         links_.erase(std::remove_if(links_.begin(), links_.end(),
@@ -338,7 +336,7 @@ private:
     float threshold_ = 0.0f;
     // The smallest nodes: as fine as adaptive subdivision goes below the elements.
     const float min_edge_ = std::ldexp(in_.settings.element_size, -in_.settings.max_subdivision);
-    uint64_t rays_ = 0, form_factors_ = 0;
+    uint64_t rays_ = 0;
 
 public:
     size_t max_nodes_ = 0;

@@ -42,7 +42,6 @@ Solution solve_matrix(SolverInput& in, bool gauss_seidel) {
                 for (size_t j = 0; j < n; ++j)
                     side[i * n + j] = static_cast<uint8_t>(
                         tree.side_facing(leaves[i], tree.node(leaves[j]).centroid));
-                if (!(e.area > 0.0f)) continue;
                 if (!hemicube) {
                     for (size_t j = 0; j < n; ++j) {
                         if (j == i) continue;
@@ -65,7 +64,6 @@ Solution solve_matrix(SolverInput& in, bool gauss_seidel) {
         },
         4);
     sol.rays = rays.load();
-    sol.form_factors = static_cast<uint64_t>(n) * n;
 
     // Lights first (L), then the emitters' direct light; B starts at E^e + rho L.
     std::vector<Sides> light(n), B(n);

@@ -19,10 +19,7 @@ uint64_t uniform_count(const TriangleList& list, float size) {
     for (size_t t = 0; t < list.triangle_count(); ++t) {
         vec3 p[3];
         for (int c = 0; c < 3; ++c) p[c] = list.positions[list.indices[3 * t + c]];
-        float edge = std::sqrt(
-            std::max({glm::dot(p[1] - p[0], p[1] - p[0]), glm::dot(p[2] - p[1], p[2] - p[1]),
-                      glm::dot(p[0] - p[2], p[0] - p[2])}));
-        int k = halvings_to(edge, size);
+        int k = halvings_to(longest_edge(p), size);
         total += k >= 20 ? (uint64_t{1} << 40) : (uint64_t{1} << (2 * k));
         if (total > (uint64_t{1} << 40)) break;
     }
@@ -62,9 +59,7 @@ PatchMesh::PatchMesh(const Scene& scene, int threads)
         list = build_triangle_list(object_pointers(scene.objects, lights.area_light_quads()),
                                    options, threads);
     }
-    geometry.positions = list.positions;
-    geometry.indices = list.indices;
-    geometry.triangle_material = list.material;
+    geometry = triangle_geometry(list);
     accel = make_accel("bvh", geometry, threads);
 
     // Sizes from the scene's extent without infinite planes.
@@ -73,10 +68,6 @@ PatchMesh::PatchMesh(const Scene& scene, int threads)
     if (settings.patch_size <= 0.0f)
         settings.patch_size = std::max(diameter / 8.0f, settings.element_size);
     if (settings.element_size <= 0.0f) settings.element_size = 0.5f * settings.patch_size;
-    if (settings.element_size > settings.patch_size) {
-        throw Error(file, "render.radiosity.element_size",
-                    "must be <= patch_size (" + std::to_string(settings.patch_size) + ")");
-    }
 
     if (settings.solver == RadiositySolver::Auto) {
         settings.solver = list.triangle_count() <= kMaxHierarchicalRoots &&

@@ -52,7 +52,7 @@ public:
                     delta_[k] = Sides{};
                     uint32_t leaf = leaves_[k];
                     const ElementNode& e = tree.node(leaf);
-                    if (patch_of[k] == skip_patch || !(e.area > 0.0f)) continue;
+                    if (patch_of[k] == skip_patch) continue;
                     if (hemicube_) {
                         // Reciprocity: F_ep = A_p F_pe / A_e, onto the side facing the hemicube.
                         delta_[k].v[tree.side_facing(leaf, p.centroid)] =
@@ -97,9 +97,8 @@ Solution solve_progressive(SolverInput& in) {
     std::vector<uint32_t> patch_of(leaves.size());
     std::unordered_map<uint32_t, uint32_t> patch_index;
     for (size_t k = 0; k < leaves.size(); ++k) {
-        const ElementNode& root = tree.node(tree.node(leaves[k]).root);
-        int level = halvings_to(root.longest_edge(), in.settings.patch_size);
-        uint32_t node = tree.ancestor_at(leaves[k], level);
+        const uint32_t root = tree.node(leaves[k]).root;
+        uint32_t node = tree.ancestor_at(leaves[k], tree.level_for(root, in.settings.patch_size));
         auto [it, made] = patch_index.try_emplace(node, static_cast<uint32_t>(patches.size()));
         if (made) patches.push_back(Patch{node, tree.node(node).area, Sides{}});
         patch_of[k] = it->second;
@@ -117,7 +116,6 @@ Solution solve_progressive(SolverInput& in) {
     for (size_t k = 0; k < leaves.size(); ++k) {
         const ElementNode& e = tree.node(leaves[k]);
         Patch& p = patches[patch_of[k]];
-        if (!(e.area > 0.0f)) continue;  // a degenerate triangle (a sphere's pole) holds nothing
         for (int s = 0; s < 2; ++s) {
             sol.E[leaves[k]].v[s] = sol.direct[leaves[k]].v[s] = light[k].v[s];
             Color reflected = e.reflectance * light[k].v[s];
@@ -135,7 +133,6 @@ Solution solve_progressive(SolverInput& in) {
             const uint32_t leaf = leaves[k];
             const ElementNode& e = tree.node(leaf);
             Patch& q = patches[patch_of[k]];
-            if (!(e.area > 0.0f)) continue;
             for (int side = 0; side < 2; ++side) {
                 const Color dE = delta[k].v[side];
                 if (is_black(dE)) continue;

@@ -157,35 +157,14 @@ RenderResult RadiosityRenderer::render(const Scene& scene, const RenderOptions& 
                     }
                     Ray ray = camera_rays.generate((static_cast<float>(i) + jitter.x) / width,
                                                    (static_cast<float>(j) + jitter.y) / height);
-                    const uint32_t* tri = &mesh.list.indices[3 * static_cast<size_t>(t)];
-                    const vec3 p0 = mesh.list.positions[tri[0]], p1 = mesh.list.positions[tri[1]],
-                               p2 = mesh.list.positions[tri[2]];
-                    const vec3 ng = tree.normal(t);
-                    // The sample's point on the triangle's plane, and its barycentrics.
-                    float denom = glm::dot(ng, ray.d);
-                    float dist = std::abs(denom) > 1e-20f ? glm::dot(ng, p0 - ray.o) / denom : 0.0f;
-                    vec3 x = ray.o + dist * ray.d;
-                    vec3 e1 = p1 - p0, e2 = p2 - p0, q = x - p0;
-                    float d11 = glm::dot(e1, e1), d12 = glm::dot(e1, e2), d22 = glm::dot(e2, e2);
-                    float det = d11 * d22 - d12 * d12;
-                    vec2 b(0.0f);
-                    if (std::abs(det) > 0.0f) {
-                        float q1 = glm::dot(q, e1), q2 = glm::dot(q, e2);
-                        b = vec2((d22 * q1 - d12 * q2) / det, (d11 * q2 - d12 * q1) / det);
-                    }
-                    b = glm::clamp(b, vec2(0.0f), vec2(1.0f));
-                    if (b.x + b.y > 1.0f) b /= b.x + b.y;
-                    x = p0 + b.x * e1 + b.y * e2;
-                    const int side = denom < 0.0f ? 0 : 1;
-                    const vec3 n = side == 0 ? ng : -ng;
-                    vec2 uv = (1.0f - b.x - b.y) * mesh.list.uvs[tri[0]] +
-                              b.x * mesh.list.uvs[tri[1]] + b.y * mesh.list.uvs[tri[2]];
-                    Bsdf bsdf = make_bsdf(mesh.lights.materials()[mesh.list.material[t]], uv,
+                    const DisplaySample at = sample_on_triangle(mesh.list, t, tree.normal(t), ray);
+                    const vec3 x = at.x, n = at.n;
+                    const vec2 b = at.b;
+                    const int side = at.side;
+                    Bsdf bsdf = make_bsdf(mesh.lights.materials()[mesh.list.material[t]], at.uv,
                                           scene.textures);
                     const bool emissive = bsdf.model == Bsdf::Model::Emissive;
-                    Color rho = bsdf.has_lobes() || emissive
-                                    ? glm::clamp(bsdf.diffuse, Color(0.0f), Color(1.0f))
-                                    : Color(0.0f);
+                    const Color rho = radiosity_reflectance(bsdf);
                     Color L = emissive && side == 0 ? bsdf.emission : Color(0.0f);
                     IrradianceField::Value E = field.at(t, b, side);
                     Rng rng = pixel_rng(mix64(seed + static_cast<uint64_t>(s)), pixel);
@@ -208,33 +187,16 @@ RenderResult RadiosityRenderer::render(const Scene& scene, const RenderOptions& 
                                 ? light0_visibility(mesh.lights, *mesh.accel, x, n,
                                                     scene.render.light_samples, rng, local_rays)
                                 : 1.0f;
-                        aov_sums[2 * pixel] += glm::vec4(dist * glm::length(ray.d), n);
+                        aov_sums[2 * pixel] += glm::vec4(at.distance, n);
                         aov_sums[2 * pixel + 1] += glm::vec4(albedo_of(bsdf), vis);
                     }
                     if (patches_aov && s == 0) {
-                        // The leaf's own value, its edges darkened and its patch's in red.
-                        vec3 local;
-                        uint32_t leaf = tree.locate(t, b, local);
-                        Color value = rho * inv_pi * sol.E[leaf].v[side];
-                        int patch_level =
-                            halvings_to(tree.node(t).longest_edge(), settings.patch_size);
-                        vec3 plocal;
-                        uint32_t patch = tree.locate(t, b, plocal, patch_level);
-                        // Lines about a pixel wide: the pixel's footprint over the
-                        // triangle's height, in barycentric units.
+                        // Lines about a pixel wide: the pixel's footprint at the point.
                         const float footprint = scene.camera.type == Camera::Type::Perspective
-                                                    ? pixel_footprint * dist * glm::length(ray.d)
+                                                    ? pixel_footprint * at.distance
                                                     : pixel_footprint;
-                        auto near_edge = [&](vec3 u, uint32_t node) {
-                            float tri_height = std::sqrt(2.0f * tree.node(node).area);
-                            return std::min({u.x, u.y, u.z}) * tri_height < 0.5f * footprint;
-                        };
-                        if (near_edge(plocal, patch)) {
-                            value = Color(1.0f, 0.1f, 0.05f);
-                        } else if (near_edge(local, leaf)) {
-                            value = 0.3f * value + Color(0.0f, 0.02f, 0.05f);
-                        }
-                        patches_image.at(i, j) = value;
+                        patches_image.at(i, j) = patches_view(tree, t, b, side, sol.E, rho,
+                                                              settings.patch_size, footprint);
                     }
                 }
             }
@@ -272,17 +234,6 @@ RenderResult RadiosityRenderer::render(const Scene& scene, const RenderOptions& 
         static_cast<double>(result.stats.rays) * 1e-6 / std::max(result.stats.seconds, 1e-9));
     result.stats.detail = detail;
     return result;
-}
-
-PatchMeshSummary patch_mesh_summary(const Scene& scene) {
-    PatchMesh mesh(scene, 0);
-    PatchMeshSummary s;
-    s.triangles = mesh.list.triangle_count();
-    s.patches = mesh.patch_count;
-    s.elements = mesh.element_count;
-    s.patch_size = mesh.settings.patch_size;
-    s.element_size = mesh.settings.element_size;
-    return s;
 }
 
 }  // namespace svetlo

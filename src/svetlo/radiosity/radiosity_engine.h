@@ -14,13 +14,4 @@ public:
     RenderResult render(const Scene& scene, const RenderOptions& options) override;
 };
 
-/// What `svetlo info` reports of the patch mesh: the uniform mesh before adaptive
-/// subdivision, with the sizes resolved.
-struct PatchMeshSummary {
-    size_t triangles = 0;
-    uint64_t patches = 0, elements = 0;
-    float patch_size = 0.0f, element_size = 0.0f;
-};
-PatchMeshSummary patch_mesh_summary(const Scene& scene);
-
 }  // namespace svetlo

@@ -45,8 +45,7 @@ struct Solution {
     int iterations = 0;         // sweeps, shots, or hierarchical gathers
     double residual = 0.0;      // power still unshot or changing, over the power emitted
     uint64_t rays = 0;
-    uint64_t links = 0;         // hierarchical: links made
-    uint64_t form_factors = 0;  // form factors computed
+    uint64_t links = 0;  // hierarchical: links made
 };
 
 /// The number of elements at most the matrix solvers (Jacobi, Gauss-Seidel) take: their

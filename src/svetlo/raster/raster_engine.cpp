@@ -188,10 +188,6 @@ PipelineState colour_pass_state(const Scene& scene) {
     return state;
 }
 
-}  // namespace
-
-namespace {
-
 /// A lower bound on the distance of anything the camera sees (0: none): the distance from the
 /// eye to the nearest plane of a triangle not wholly behind it. The near plane goes at half
 /// of it (camera_matrices), so that nothing visible is clipped.

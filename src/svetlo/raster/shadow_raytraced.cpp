@@ -16,9 +16,7 @@ public:
     RaytracedShadows(const Scene& scene, const TriangleList& list, const FrameState& f,
                      int threads) {
         casters_ = shadow_casters(scene, f.lights->set, f.lights->vpls);
-        geometry_.positions = list.positions;
-        geometry_.indices = list.indices;
-        geometry_.triangle_material = list.material;
+        geometry_ = triangle_geometry(list);
         accel_ = make_accel("bvh", geometry_, threads);
     }
 

@@ -356,7 +356,8 @@ inline constexpr EnumName<RadiosityDisplay> kRadiosityDisplays[] = {
     {"gouraud", RadiosityDisplay::Gouraud}, {"gather", RadiosityDisplay::Gather}};
 
 struct RadiositySettings {
-    float patch_size = 0.0f;    // m, the shooters' longest edge; 0 = 1/8 of the scene's diameter
+    float patch_size = 0.0f;    // m, the shooters' longest edge; 0 = 1/8 of the scene's
+                                // diameter, or element_size where that is larger
     float element_size = 0.0f;  // m, the receivers' longest edge; 0 = half the patch size
     FormFactorMethod form_factors = FormFactorMethod::Analytic;
     int samples = 4;     // visibility rays per form factor (source points for raycast)
