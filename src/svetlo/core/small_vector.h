@@ -28,6 +28,16 @@ public:
         }
         ++size_;
     }
+    void pop_back() {
+        if (size_ > N) {
+            heap_.pop_back();
+            if (size_ - 1 == N) {  // back to the inline storage
+                for (size_t k = 0; k < N; ++k) inline_[k] = heap_[k];
+                heap_.clear();
+            }
+        }
+        --size_;
+    }
     T& operator[](size_t k) { return size_ <= N ? inline_[k] : heap_[k]; }
     const T& operator[](size_t k) const { return size_ <= N ? inline_[k] : heap_[k]; }
     T& back() { return (*this)[size_ - 1]; }

@@ -25,9 +25,30 @@ bool inside(CsgOp op, bool a, bool b) {
     return false;
 }
 
+/// How far apart along a ray two boundaries may lie and still be one surface: a cylinder's
+/// cap flush with a box's face is the same plane, but the two t values come from different
+/// arithmetic (the cylinder's frame, the box's slabs) and differ by rounding. The tolerance
+/// is kCoincident times the magnitude of the point's coordinates (8 to 16 ULPs of them), in
+/// units of t: wide enough for the slivers measured (a flush cylinder under rotation, scale
+/// and translation), narrow enough that an object 10^4 times smaller than its distance from
+/// the origin keeps its shape.
+struct Coincidence {
+    static constexpr float kCoincident = 1.0f / 524288.0f;
+    float origin, direction;  // max |o_k| and max |d_k|, both over |d|
+
+    explicit Coincidence(const Ray& ray) {
+        float len = glm::length(ray.d);
+        origin = max_component(glm::abs(ray.o)) / len;
+        direction = max_component(glm::abs(ray.d)) / len;
+    }
+    float operator()(float t) const { return kCoincident * (origin + std::abs(t) * direction); }
+};
+
 /// Combines two sorted lists of disjoint spans with `op` by sweeping their boundaries in
-/// order of t (entries first on ties, A before B); spans of zero length are dropped.
-void combine(const Spans& a, const Spans& b, CsgOp op, Spans& out) {
+/// order of t (entries first on ties, A before B). A result span no longer than the
+/// coincidence tolerance is a sliver between two coincident surfaces and is dropped; a gap no
+/// wider than it between two result spans is closed, so the surfaces inside do not show.
+void combine(const Spans& a, const Spans& b, CsgOp op, const Coincidence& tolerance, Spans& out) {
     out.clear();
     size_t i = 0, j = 0;
     bool in_a = false, in_b = false, in_r = false;
@@ -58,9 +79,12 @@ void combine(const Spans& a, const Spans& b, CsgOp op, Spans& out) {
         }
         bool r = inside(op, in_a, in_b);
         if (r == in_r) continue;
-        if (r) {
+        if (r && !out.empty() && e.t - out.back().out.t <= tolerance(e.t)) {
+            start = out.back().in;  // a gap between coincident surfaces: reopen the last span
+            out.pop_back();
+        } else if (r) {
             start = e;
-        } else if (start.t < e.t) {
+        } else if (e.t - start.t > tolerance(e.t)) {
             out.push_back(Span{start, e});
         }
         in_r = r;
@@ -238,7 +262,7 @@ void CsgShape::spans(uint32_t index, const Ray& ray, vec3 inv_d, float tmax, Lis
         if (out.empty() && node.op != CsgOp::Union) return;  // nothing left to intersect or cut
         spans(node.children[k], ray, inv_d, tmax, child);
         if (child.empty() && node.op != CsgOp::Intersection) continue;
-        combine(out, child, node.op, merged);
+        combine(out, child, node.op, Coincidence(ray), merged);
         out = merged;
     }
 }

@@ -6,8 +6,10 @@
 // surfaces of subtracted children, whose outward normal is the reverse of their own.
 //
 // Coincident surfaces are resolved by one fixed rule: spans are closed intervals, events at
-// equal t are processed entries first, and spans of zero length are dropped. So touching
-// solids merge in a union, and a difference whose cutter shares a face with the body removes
+// equal t are processed entries first, and a result span or gap no longer than a few ULPs of
+// the point's coordinates is a sliver between two surfaces that coincide up to rounding: the
+// span is dropped, the gap closed. So touching solids merge in a union, and a difference
+// whose cutter shares a face with the body (a cylinder as long as the box is thick) removes
 // that face's skin entirely instead of leaving speckles.
 #pragma once
 
