@@ -306,17 +306,17 @@ for name, kd in (("huge", "1e39 0.5 0.5"), ("negative", "-1 0.5 0.5")):
     open(f"{work}/{name}.mtl", "w").write(f"newmtl m\nKd {kd}\n")
     open(f"{work}/{name}_kd.obj", "w").write(f"mtllib {name}.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl m\nf 1 2 3\n")
 PY
-# An image past 8192 x 8192 pixels is refused from its header, before it is decoded (a
-# 1 MB PNG of 16384 x 16384 took 3.8 GB per material), and a texture that several materials
-# use is read once.
+# A texture whose texels would take more than 768 MiB (8-bit files stay 8-bit in memory: a
+# 1 MB PNG of 16384 x 16384 took 3 GiB as float, per material) is refused from its header,
+# before it is decoded, and a texture that several materials use is read once.
 python3 - "$work/huge.png" <<'PY'
 import struct, sys, zlib
 def chunk(kind, data):
     return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
-header = struct.pack(">IIBBBBB", 16384, 16384, 8, 2, 0, 0, 0)
+header = struct.pack(">IIBBBBB", 32768, 16384, 8, 0, 0, 0, 0)  # grey: stb would take it
 open(sys.argv[1], "wb").write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header))
 PY
-render_bad "texture too large" "cannot read texture 'huge.png': .*16384 x 16384 pixels, more than the 8192 x 8192" \
+render_bad "texture too large" "cannot read texture 'huge.png': .*32768 x 16384 texels, which need 1536 MiB in memory, more than the 768 MiB" \
     "scene['materials']['white']['albedo'] = {'texture': 'huge.png'}"
 for t in nan negative; do
     render_bad "texture with $t texels" "materials.white.albedo.texture: cannot read texture '$t.pfm': texel \\(1, 1\\)" \

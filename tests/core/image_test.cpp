@@ -37,10 +37,12 @@ TEST(ImageIo, PfmRoundTripIsExactAndBottomUp) {
         for (int i = 0; i < 3; ++i) image.at(i, j) = Color(i, j, 0.125f * (i + 3 * j));
     fs::path path = temp_file("round.pfm");
     write_image(path, image, PixelMeaning::Radiance, 1.0f, "test");
-    Image back = read_image(path, false, "test");
-    ASSERT_EQ(back.width, 3);
-    ASSERT_EQ(back.height, 2);
-    for (size_t k = 0; k < image.pixels.size(); ++k) EXPECT_EQ(back.pixels[k], image.pixels[k]);
+    TextureImage back = read_texture(path, false, kMaxTextureBytes, "test");
+    ASSERT_EQ(back.width(), 3);
+    ASSERT_EQ(back.height(), 2);
+    EXPECT_FALSE(back.is_8bit());
+    for (int j = 0; j < 2; ++j)
+        for (int i = 0; i < 3; ++i) EXPECT_EQ(back.texel(i, j), image.at(i, j));
     // The first row in the file is the bottom row of the image.
     std::ifstream in(path, std::ios::binary);
     std::string magic, dims, scale;
@@ -61,19 +63,57 @@ TEST(ImageIo, ExrRoundTripIsExact) {
         image.pixels[k] = Color(k * 0.37f, 1e-3f * k, 17.5f);
     fs::path path = temp_file("round.exr");
     write_image(path, image, PixelMeaning::Radiance, 1.0f, "test");
-    Image back = read_image(path, false, "test");
-    ASSERT_EQ(back.pixels.size(), image.pixels.size());
-    for (size_t k = 0; k < image.pixels.size(); ++k) EXPECT_EQ(back.pixels[k], image.pixels[k]);
+    TextureImage back = read_texture(path, false, kMaxTextureBytes, "test");
+    ASSERT_EQ(back.width(), 4);
+    ASSERT_EQ(back.height(), 3);
+    for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 4; ++i) EXPECT_EQ(back.texel(i, j), image.at(i, j));
 }
 
 TEST(ImageIo, PngIsSrgbWithExposure) {
     Image image(1, 1, Color(0.25f, 0.5f, 2.0f));
     fs::path path = temp_file("exposure.png");
     write_image(path, image, PixelMeaning::Radiance, 2.0f, "test");
-    Image back = read_image(path, false, "test");  // raw codes / 255
-    EXPECT_NEAR(back.pixels[0].r * 255.0f, linear_to_srgb8(0.5f), 1e-3f);
-    EXPECT_NEAR(back.pixels[0].g * 255.0f, 255.0f, 1e-3f);
-    EXPECT_NEAR(back.pixels[0].b * 255.0f, 255.0f, 1e-3f);
+    TextureImage back = read_texture(path, false, kMaxTextureBytes, "test");  // codes / 255
+    EXPECT_NEAR(back.texel(0, 0).r * 255.0f, linear_to_srgb8(0.5f), 1e-3f);
+    EXPECT_NEAR(back.texel(0, 0).g * 255.0f, 255.0f, 1e-3f);
+    EXPECT_NEAR(back.texel(0, 0).b * 255.0f, 255.0f, 1e-3f);
+}
+
+// An 8-bit file stays 8-bit in memory: three bytes a texel (a float copy took twelve), each
+// code decoded through the sRGB curve exactly as the float reader did, or as code / 255.
+TEST(ImageIo, PngTexturesKeepTheirCodes) {
+    Image image(16, 4);
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 16; ++i)
+            image.at(i, j) = Color(srgb_to_linear((16 * j + i) / 255.0f), 0.0f, 1.0f);
+    fs::path path = temp_file("codes.png");
+    write_image(path, image, PixelMeaning::Radiance, 1.0f, "test");
+    TextureImage srgb = read_texture(path, true, kMaxTextureBytes, "test");
+    TextureImage linear = read_texture(path, false, kMaxTextureBytes, "test");
+    EXPECT_TRUE(srgb.is_8bit());
+    EXPECT_EQ(srgb.bytes(), 3u * 16u * 4u);
+    for (int j = 0; j < 4; ++j) {
+        for (int i = 0; i < 16; ++i) {
+            int code = 16 * j + i;
+            EXPECT_EQ(srgb.texel(i, j).r, srgb_to_linear(code / 255.0f));
+            EXPECT_EQ(linear.texel(i, j).r, code / 255.0f);
+            EXPECT_EQ(srgb.texel(i, j).b, 1.0f);
+        }
+    }
+}
+
+// The memory a texture's texels would take is checked from the header, before decoding:
+// a 16 x 4 PNG takes 192 bytes at 8 bits, a 16 x 4 PFM 768 bytes at float.
+TEST(ImageIo, TexturePastItsMemoryIsRefusedFromTheHeader) {
+    Image image(16, 4, Color(0.5f));
+    fs::path png = temp_file("budget.png"), pfm = temp_file("budget.pfm");
+    write_image(png, image, PixelMeaning::Radiance, 1.0f, "test");
+    write_image(pfm, image, PixelMeaning::Radiance, 1.0f, "test");
+    EXPECT_NO_THROW(read_texture(png, true, 192, "test"));
+    EXPECT_NO_THROW(read_texture(pfm, true, 768, "test"));
+    EXPECT_THROW(read_texture(png, true, 191, "test"), Error);
+    EXPECT_THROW(read_texture(pfm, true, 767, "test"), Error);
 }
 
 TEST(ImageIo, UnknownExtensionAndMissingFolderAreErrors) {

@@ -85,15 +85,18 @@ void image(const uint8_t* data, size_t size) {
                             : size >= 4 && data[0] == 0x76 && data[1] == 0x2f ? ".exr"
                                                                               : ".png";
     TempFile file(data, size, extension);
-    Image img;
+    TextureImage img;
     try {
-        img = read_image(file.path(), true, "fuzz");
+        img = read_texture(file.path(), true, kMaxTextureBytes, "fuzz");
     } catch (const Error&) {
         return;
     }
-    for (const Color& c : img.pixels) {
-        require(is_finite(c) && c.r >= 0.0f && c.g >= 0.0f && c.b >= 0.0f,
-                "a texel that is not finite and >= 0");
+    for (int j = 0; j < img.height(); ++j) {
+        for (int i = 0; i < img.width(); ++i) {
+            Color c = img.texel(i, j);
+            require(is_finite(c) && c.r >= 0.0f && c.g >= 0.0f && c.b >= 0.0f,
+                    "a texel that is not finite and >= 0");
+        }
     }
 }
 

@@ -7,7 +7,7 @@
 
 namespace svetlo {
 
-inline const std::vector<Image> kNoTextures;
+inline const std::vector<TextureImage> kNoTextures;
 inline const vec3 kN(0.0f, 0.0f, 1.0f);
 
 /// The unit direction at polar angle theta from +z and azimuth phi from +x, in degrees.

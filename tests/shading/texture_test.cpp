@@ -8,15 +8,15 @@ namespace svetlo {
 namespace {
 
 /// A 4 x 2 image whose texel (i, j) (j from the bottom) holds (i, j, 0).
-Image ramp() {
+TextureImage ramp() {
     Image image(4, 2);
     for (int j = 0; j < 2; ++j)
         for (int i = 0; i < 4; ++i) image.at(i, 1 - j) = Color(i, j, 0.0f);
-    return image;
+    return TextureImage(std::move(image));
 }
 
 TEST(Texture, NearestReturnsTexelValues) {
-    Image image = ramp();
+    TextureImage image = ramp();
     EXPECT_EQ(sample_nearest(image, vec2(0.1f, 0.1f), TextureWrap::Repeat), Color(0, 0, 0));
     EXPECT_EQ(sample_nearest(image, vec2(0.9f, 0.9f), TextureWrap::Repeat), Color(3, 1, 0));
     EXPECT_EQ(sample_nearest(image, vec2(0.4f, 0.6f), TextureWrap::Repeat), Color(1, 1, 0));
@@ -25,7 +25,7 @@ TEST(Texture, NearestReturnsTexelValues) {
 }
 
 TEST(Texture, BilinearMatchesTheFormula) {
-    Image image = ramp();
+    TextureImage image = ramp();
     // Between texel centres (1, 0) at u = 0.375 and (2, 0) at 0.625, v at the bottom centre.
     vec2 uv(0.375f + 0.25f * 0.3f, 0.25f + 0.5f * 0.4f);
     Color c = sample_bilinear(image, uv, TextureWrap::Clamp);
@@ -43,7 +43,7 @@ TEST(Texture, CheckerAlternates) {
     s.a = Color(1.0f);
     s.b = Color(0.0f);
     s.scale = 2.0f;
-    std::vector<Image> none;
+    std::vector<TextureImage> none;
     EXPECT_EQ(eval_color(s, vec2(0.1f, 0.1f), none), Color(1.0f));
     EXPECT_EQ(eval_color(s, vec2(0.6f, 0.1f), none), Color(0.0f));
     EXPECT_EQ(eval_color(s, vec2(0.6f, 0.6f), none), Color(1.0f));
@@ -52,11 +52,61 @@ TEST(Texture, CheckerAlternates) {
 
 /// 64 x 64 texels of vertical stripes two texels wide: 0, 0, 1, 1, 0, 0, ... along u,
 /// constant along v.
-Image stripes() {
+TextureImage stripes() {
     Image image(64, 64);
     for (int j = 0; j < 64; ++j)
         for (int i = 0; i < 64; ++i) image.at(i, j) = Color((i / 2) % 2 == 1 ? 1.0f : 0.0f);
-    return image;
+    return TextureImage(std::move(image));
+}
+
+// Storing a decoded code gives the code back, for all 256 codes in both encodings; values
+// outside [0, 1] and NaN clip to the end codes.
+TEST(Texture, EightBitStorageRoundTripsEveryCode) {
+    for (bool srgb : {true, false}) {
+        for (int k = 0; k < 256; ++k) {
+            auto c = static_cast<unsigned char>(k);
+            TextureImage t(1, 1, {c, c, c}, srgb);
+            Color decoded = t.texel(0, 0);
+            t.set_texel(0, 0, decoded);
+            EXPECT_EQ(t.texel(0, 0), decoded) << k;
+        }
+        TextureImage t(1, 1, {0, 0, 0}, srgb);
+        t.set_texel(0, 0, Color(-1.0f, 7.0f, std::nanf("")));
+        EXPECT_EQ(t.texel(0, 0), Color(0.0f, 1.0f, 0.0f));
+    }
+}
+
+// 8-bit textures keep 8-bit mip levels (a GPU's glGenerateMipmap), averaged in linear RGB:
+// each level's texel is the code nearest the mean of the four above it.
+TEST(Texture, EightBitMipLevelsStayEightBitAndAverageInLinear) {
+    const int n = 8;
+    std::vector<unsigned char> codes(3 * n * n);
+    for (size_t k = 0; k < codes.size(); ++k) codes[k] = static_cast<unsigned char>((k * 37) % 256);
+    for (bool srgb : {true, false}) {
+        TextureImage texture(n, n, codes, srgb);
+        MipChain chain = build_mip_chain(texture);
+        ASSERT_EQ(chain.count(), 4);
+        for (int l = 1; l < chain.count(); ++l) {
+            const TextureImage& up = chain.level(l - 1);
+            const TextureImage& level = chain.level(l);
+            EXPECT_TRUE(level.is_8bit());
+            EXPECT_EQ(level.bytes(), 3u * static_cast<size_t>(level.width() * level.height()));
+            for (int j = 0; j < level.height(); ++j) {
+                for (int i = 0; i < level.width(); ++i) {
+                    Color mean =
+                        0.25f * (up.texel(2 * i, 2 * j) + up.texel(2 * i + 1, 2 * j) +
+                                 up.texel(2 * i, 2 * j + 1) + up.texel(2 * i + 1, 2 * j + 1));
+                    for (int c = 0; c < 3; ++c) {
+                        // Within half a code of the mean, in the code's own encoding.
+                        float code =
+                            srgb ? linear_to_srgb(level.texel(i, j)[c]) : level.texel(i, j)[c];
+                        float want = srgb ? linear_to_srgb(mean[c]) : mean[c];
+                        EXPECT_NEAR(code, want, 0.5f / 255.0f + 1e-6f) << l << " " << i << j;
+                    }
+                }
+            }
+        }
+    }
 }
 
 TEST(Texture, AnisotropicKeepsTheDetailOfTheShortAxis) {
@@ -64,7 +114,8 @@ TEST(Texture, AnisotropicKeepsTheDetailOfTheShortAxis) {
     // over it the texture is constant along v, so the right answer at the centre of a texel
     // is that texel. Trilinear takes the level of the long axis (16 texels: the stripes
     // averaged away); anisotropic takes sixteen probes at level 0 along v.
-    MipChain chain = build_mip_chain(stripes());
+    TextureImage texture = stripes();
+    MipChain chain = build_mip_chain(texture);
     vec2 dx(1.0f / 64.0f, 0.0f), dy(0.0f, 16.0f / 64.0f);
     for (int i : {2, 3, 6, 7, 10}) {
         vec2 uv((static_cast<float>(i) + 0.5f) / 64.0f, 0.37f);
@@ -81,7 +132,8 @@ TEST(Texture, AnisotropicKeepsTheDetailOfTheShortAxis) {
 }
 
 TEST(Texture, AnisotropicIsTrilinearOnARoundFootprintAndKeepsTheMean) {
-    MipChain chain = build_mip_chain(stripes());
+    TextureImage texture = stripes();
+    MipChain chain = build_mip_chain(texture);
     // Round footprints (any orientation): exactly the trilinear lookup.
     for (float angle : {0.0f, 0.4f, 1.1f}) {
         vec2 dx = 5.0f / 64.0f * vec2(std::cos(angle), std::sin(angle));

@@ -91,15 +91,21 @@ void write_exr(const fs::path& path, const Image& image) {
     file.writePixels(image.height);
 }
 
-/// Refuses an image past kMaxImagePixels before it is decoded.
-void check_image_size(long long w, long long h) {
-    if (w * h > kMaxImagePixels) {
-        throw std::runtime_error("is " + std::to_string(w) + " x " + std::to_string(h) +
-                                 " pixels, more than the 8192 x 8192 svetlo reads");
+/// Refuses, from its header, a texture whose texels would take more than `max_bytes`.
+void check_texture_size(long long w, long long h, size_t bytes_per_texel, size_t max_bytes) {
+    if (w > 65536 || h > 65536 ||
+        static_cast<size_t>(w) * static_cast<size_t>(h) * bytes_per_texel > max_bytes) {
+        auto mib = [](size_t b) { return std::to_string((b + (size_t{1} << 20) - 1) >> 20); };
+        throw std::runtime_error(
+            "is " + std::to_string(w) + " x " + std::to_string(h) + " texels, which need " +
+            mib(static_cast<size_t>(w) * static_cast<size_t>(h) * bytes_per_texel) +
+            " MiB in memory, more than the " + mib(max_bytes) +
+            " MiB left for it (a texture may take " + mib(kMaxTextureBytes) +
+            " MiB, a scene's textures " + mib(kMaxSceneTextureBytes) + " MiB)");
     }
 }
 
-Image read_pfm(const fs::path& path) {
+TextureImage read_pfm(const fs::path& path, size_t max_bytes) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw std::runtime_error(std::strerror(errno));
     std::string magic;
@@ -108,11 +114,11 @@ Image read_pfm(const fs::path& path) {
     in >> magic >> w >> h >> scale;
     in.get();
     int channels = magic == "PF" ? 3 : magic == "Pf" ? 1 : 0;
-    if (channels == 0 || !in || w <= 0 || h <= 0 || w > 65536 || h > 65536 || scale == 0.0) {
+    if (channels == 0 || !in || w <= 0 || h <= 0 || scale == 0.0) {
         throw std::runtime_error("not a PFM file");
     }
     if (scale > 0.0) throw std::runtime_error("big-endian PFM is not supported");
-    check_image_size(w, h);
+    check_texture_size(w, h, sizeof(Color), max_bytes);
     Image image(static_cast<int>(w), static_cast<int>(h));
     std::vector<float> row(static_cast<size_t>(w) * channels);
     for (long long j = h - 1; j >= 0; --j) {
@@ -124,17 +130,17 @@ Image read_pfm(const fs::path& path) {
             p = channels == 3 ? Color(row[3 * i], row[3 * i + 1], row[3 * i + 2]) : Color(row[i]);
         }
     }
-    return image;
+    return TextureImage(std::move(image));
 }
 
-Image read_exr(const fs::path& path) {
+TextureImage read_exr(const fs::path& path, size_t max_bytes) {
     Imf::InputFile file(path.c_str());
     Imath::Box2i window = file.header().dataWindow();
-    int w = window.max.x - window.min.x + 1;
-    int h = window.max.y - window.min.y + 1;
+    long long w = static_cast<long long>(window.max.x) - window.min.x + 1;
+    long long h = static_cast<long long>(window.max.y) - window.min.y + 1;
     if (w <= 0 || h <= 0) throw std::runtime_error("bad EXR size");
-    check_image_size(w, h);
-    Image image(w, h);
+    check_texture_size(w, h, sizeof(Color), max_bytes);
+    Image image(static_cast<int>(w), static_cast<int>(h));
     Imf::FrameBuffer frame;
     char* base = reinterpret_cast<char*>(image.pixels.data()) -
                  (static_cast<ptrdiff_t>(window.min.x) + static_cast<ptrdiff_t>(window.min.y) * w) *
@@ -146,32 +152,28 @@ Image read_exr(const fs::path& path) {
     }
     file.setFrameBuffer(frame);
     file.readPixels(window.min.y, window.max.y);
-    return image;
+    return TextureImage(std::move(image));
 }
 
-Image read_stb(const fs::path& path, bool srgb) {
+TextureImage read_stb(const fs::path& path, bool srgb, size_t max_bytes) {
     int w = 0, h = 0, n = 0;
     if (!stbi_info(path.c_str(), &w, &h, &n)) throw std::runtime_error(stbi_failure_reason());
-    check_image_size(w, h);
-    if (stbi_is_hdr(path.c_str())) {
+    bool hdr = stbi_is_hdr(path.c_str()) != 0;
+    check_texture_size(w, h, hdr ? sizeof(Color) : 3, max_bytes);
+    if (hdr) {
         std::unique_ptr<float, void (*)(void*)> data(stbi_loadf(path.c_str(), &w, &h, &n, 3),
                                                      stbi_image_free);
         if (!data) throw std::runtime_error(stbi_failure_reason());
         Image image(w, h);
         std::memcpy(image.pixels.data(), data.get(), image.pixels.size() * sizeof(Color));
-        return image;
+        return TextureImage(std::move(image));
     }
     std::unique_ptr<unsigned char, void (*)(void*)> data(stbi_load(path.c_str(), &w, &h, &n, 3),
                                                          stbi_image_free);
     if (!data) throw std::runtime_error(stbi_failure_reason());
-    float table[256];
-    for (int k = 0; k < 256; ++k) table[k] = srgb ? srgb_to_linear(k / 255.0f) : k / 255.0f;
-    Image image(w, h);
-    for (size_t k = 0; k < image.pixels.size(); ++k) {
-        const unsigned char* p = data.get() + 3 * k;
-        image.pixels[k] = Color(table[p[0]], table[p[1]], table[p[2]]);
-    }
-    return image;
+    size_t bytes = 3 * static_cast<size_t>(w) * static_cast<size_t>(h);
+    std::vector<unsigned char> codes(data.get(), data.get() + bytes);
+    return TextureImage(w, h, std::move(codes), srgb);
 }
 
 }  // namespace
@@ -222,23 +224,25 @@ void write_image(const fs::path& path, const Image& image, PixelMeaning meaning,
     }
 }
 
-Image read_image(const fs::path& path, bool srgb, const std::string& where) {
+TextureImage read_texture(const fs::path& path, bool srgb, size_t max_bytes,
+                          const std::string& where) {
     std::string problem = input_file_problem(path);
     if (!problem.empty()) throw Error(path.string(), where, problem);
-    Image image;
+    TextureImage texture;
     try {
         std::string ext = lower_extension(path);
-        image = ext == ".pfm"   ? read_pfm(path)
-                : ext == ".exr" ? read_exr(path)
-                                : read_stb(path, srgb);
+        texture = ext == ".pfm"   ? read_pfm(path, max_bytes)
+                  : ext == ".exr" ? read_exr(path, max_bytes)
+                                  : read_stb(path, srgb, max_bytes);
     } catch (const std::exception& e) {
         throw Error(path.string(), where, std::string("cannot read image: ") + e.what());
     }
+    if (texture.is_8bit()) return texture;  // every code decodes to a colour in [0, 1]
     // Floating-point files may hold anything: a texel that is not a finite, non-negative
     // colour would reach the pixels as NaN or as negative light.
-    for (int j = 0; j < image.height; ++j) {
-        for (int i = 0; i < image.width; ++i) {
-            Color c = image.at(i, j);
+    for (int j = 0; j < texture.height(); ++j) {
+        for (int i = 0; i < texture.width(); ++i) {
+            Color c = texture.texel(i, j);
             if (is_finite(c) && c.r >= 0.0f && c.g >= 0.0f && c.b >= 0.0f) continue;
             char text[160];
             std::snprintf(text, sizeof text,
@@ -247,7 +251,7 @@ Image read_image(const fs::path& path, bool srgb, const std::string& where) {
             throw Error(path.string(), where, text);
         }
     }
-    return image;
+    return texture;
 }
 
 }  // namespace svetlo

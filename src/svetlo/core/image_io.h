@@ -10,6 +10,7 @@
 #include <string>
 
 #include "svetlo/core/image.h"
+#include "svetlo/core/texture_image.h"
 
 namespace svetlo {
 
@@ -30,12 +31,19 @@ void check_writable(const std::filesystem::path& path, const std::string& where)
 void write_image(const std::filesystem::path& path, const Image& image, PixelMeaning meaning,
                  float exposure, const std::string& where);
 
-/// Reads PNG/JPEG/TGA/BMP (8-bit, sRGB-decoded unless `srgb` is false), HDR, PFM or EXR
-/// (linear) into linear RGB with rows from the top. Throws Error(path, where, ...).
-Image read_image(const std::filesystem::path& path, bool srgb, const std::string& where);
+/// Reads a texture: PNG, JPEG, TGA and BMP keep their 8-bit codes (decoded through the sRGB
+/// curve unless `srgb` is false; 16-bit files are read at 8 bits), HDR, PFM and EXR float
+/// RGB. A texture whose texels would take more than `max_bytes` in memory is refused from
+/// the file's header, before anything is decoded; so is one past 65536 texels a side. Texels
+/// that are not finite, non-negative colours are refused, naming the texel. Throws
+/// Error(path, where, ...).
+TextureImage read_texture(const std::filesystem::path& path, bool srgb, size_t max_bytes,
+                          const std::string& where);
 
-/// The largest image svetlo reads, in pixels (8192 x 8192: 768 MiB as float RGB), checked
-/// from the file's header before anything is decoded.
-inline constexpr long long kMaxImagePixels = 1LL << 26;
+/// The most memory one texture's texels may take: a 16384² 8-bit texture (3 bytes a texel)
+/// or an 8192² float one (12 bytes a texel). The rasterizer's mipmaps add a third.
+inline constexpr size_t kMaxTextureBytes = size_t{768} << 20;
+/// The most memory all of a scene's textures may take together.
+inline constexpr size_t kMaxSceneTextureBytes = size_t{2048} << 20;
 
 }  // namespace svetlo

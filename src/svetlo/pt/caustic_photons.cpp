@@ -32,7 +32,7 @@ glm::ivec3 cell_of(vec3 p, float cell) {
 }
 
 /// True when the material has an ideal mirror or refraction part.
-bool is_delta(const Material& m, const std::vector<Image>& textures) {
+bool is_delta(const Material& m, const std::vector<TextureImage>& textures) {
     Bsdf b = make_bsdf(m, vec2(0.5f), textures);
     return b.model == Bsdf::Model::Mirror || b.model == Bsdf::Model::Dielectric ||
            !is_black(b.reflect) || !is_black(b.transmit);

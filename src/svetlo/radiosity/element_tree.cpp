@@ -21,7 +21,7 @@ int halvings_to(float edge, float size) {
 }
 
 ElementTree::ElementTree(const TriangleList& list, const std::vector<Material>& materials,
-                         const std::vector<Image>& textures)
+                         const std::vector<TextureImage>& textures)
     : list_(list), materials_(materials), textures_(textures) {
     const size_t n = list.triangle_count();
     nodes_.resize(n);

@@ -58,7 +58,7 @@ public:
     /// list's material indices) at each node's centroid uv. Triangles without area stay
     /// leaves of no area, which nothing exchanges light with.
     ElementTree(const TriangleList& list, const std::vector<Material>& materials,
-                const std::vector<Image>& textures);
+                const std::vector<TextureImage>& textures);
 
     const std::vector<ElementNode>& nodes() const { return nodes_; }
     const ElementNode& node(uint32_t id) const { return nodes_[id]; }
@@ -105,7 +105,7 @@ private:
 
     const TriangleList& list_;
     const std::vector<Material>& materials_;
-    const std::vector<Image>& textures_;
+    const std::vector<TextureImage>& textures_;
     std::vector<ElementNode> nodes_;
     std::vector<vec3> root_normal_;
 };

@@ -138,7 +138,7 @@ void prepare_shading(const Scene& scene, FrameState& f) {
         f.constant_bsdf.push_back(make_bsdf(m, vec2(0.0f), scene.textures));
     }
     if (any_mips) {
-        for (const Image& image : scene.textures) f.mips.push_back(build_mip_chain(image));
+        for (const TextureImage& t : scene.textures) f.mips.push_back(build_mip_chain(t));
     }
     // The fast path takes point, spot and directional lights only.
     f.simd_lights_ok = !f.lights->any_vpl;

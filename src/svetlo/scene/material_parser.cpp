@@ -141,8 +141,14 @@ ColorSource parse_color_source(const JsonNode& node, Scene& scene) {
         s.texture = static_cast<int>(known - scene.texture_sources.begin());
         return s;
     }
+    // Memory: each texture within kMaxTextureBytes, all of them within kMaxSceneTextureBytes,
+    // checked from each file's header before it is decoded.
+    size_t used = 0;
+    for (const TextureImage& t : scene.textures) used += t.bytes();
+    size_t left = kMaxSceneTextureBytes - std::min(used, kMaxSceneTextureBytes);
     try {
-        scene.textures.push_back(read_image(file, srgb, tex.path()));
+        scene.textures.push_back(
+            read_texture(file, srgb, std::min(kMaxTextureBytes, left), tex.path()));
     } catch (const Error& e) {
         tex.fail("cannot read texture '" + tex.as_string() + "': " + e.message());
     }

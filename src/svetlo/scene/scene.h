@@ -14,6 +14,7 @@
 
 #include "svetlo/core/image.h"
 #include "svetlo/core/math.h"
+#include "svetlo/core/texture_image.h"
 
 namespace svetlo {
 
@@ -405,7 +406,7 @@ struct Scene {
     RenderSettings render;
     std::vector<Material> materials;
     std::vector<std::string> material_names;
-    std::vector<Image> textures;  // linear RGB, rows from the top
+    std::vector<TextureImage> textures;  // 8-bit or float texels, rows from the top
     // Per texture, the file and colour space it was read from: each is read once, however
     // many materials use it.
     std::vector<std::string> texture_sources;

@@ -88,7 +88,7 @@ bool Bsdf::has_lobes() const {
     }
 }
 
-Bsdf make_bsdf(const Material& material, vec2 uv, const std::vector<Image>& textures) {
+Bsdf make_bsdf(const Material& material, vec2 uv, const std::vector<TextureImage>& textures) {
     return make_bsdf(material, uv, TextureLookup{textures});
 }
 

@@ -56,7 +56,7 @@ struct Bsdf {
 };
 
 /// The material at texture coordinates uv.
-Bsdf make_bsdf(const Material& material, vec2 uv, const std::vector<Image>& textures);
+Bsdf make_bsdf(const Material& material, vec2 uv, const std::vector<TextureImage>& textures);
 /// The same with a texture footprint (trilinear filtering in the rasterizer).
 Bsdf make_bsdf(const Material& material, vec2 uv, const TextureLookup& lookup);
 

@@ -7,18 +7,28 @@
 
 #include <vector>
 
-#include "svetlo/core/image.h"
+#include "svetlo/core/texture_image.h"
 #include "svetlo/scene/scene.h"
 
 namespace svetlo {
 
+/// Level 0 is the texture itself (not copied: the chain must not outlive it); the smaller
+/// levels are stored as the texture is (8-bit levels stay 8-bit, as glGenerateMipmap keeps
+/// them), each averaged in linear RGB from the level above.
 struct MipChain {
-    std::vector<Image> levels;  // levels[0] is the texture itself
+    const TextureImage* base = nullptr;
+    std::vector<TextureImage> smaller;  // levels 1, 2, ... down to 1x1
+
+    int count() const { return 1 + static_cast<int>(smaller.size()); }
+    const TextureImage& level(int l) const {
+        return l == 0 ? *base : smaller[static_cast<size_t>(l - 1)];
+    }
 };
 
-/// The pyramid of `image`. Odd sizes round down (the last row or column folds into the
+/// The pyramid of `texture`. Odd sizes round down (the last row or column folds into the
 /// level's last texel), so every level is at least 1x1.
-MipChain build_mip_chain(const Image& image);
+MipChain build_mip_chain(const TextureImage& texture);
+MipChain build_mip_chain(const TextureImage&& texture) = delete;  // it would dangle
 
 /// Level of detail for a footprint: log2 of the longer of the two uv derivative vectors
 /// measured in texels of level 0 (OpenGL 4.6 spec, section 8.14.1). Clamped at 0.
@@ -40,7 +50,7 @@ Color sample_anisotropic(const MipChain& chain, vec2 uv, vec2 duv_dx, vec2 duv_d
 /// for rays) and the scene's mip chains (one per Scene::textures entry; empty for engines
 /// that have no footprint).
 struct TextureLookup {
-    const std::vector<Image>& images;
+    const std::vector<TextureImage>& images;
     const std::vector<MipChain>* mips = nullptr;
     vec2 duv_dx{0.0f}, duv_dy{0.0f};
 };

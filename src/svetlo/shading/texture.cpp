@@ -11,10 +11,10 @@ int wrap_index(int i, int n, TextureWrap wrap) {
 }
 
 /// Texel (i, j) with j counted from the bottom row.
-const Color& texel(const Image& image, int i, int j, TextureWrap wrap) {
-    int x = wrap_index(i, image.width, wrap);
-    int y = wrap_index(j, image.height, wrap);
-    return image.at(x, image.height - 1 - y);
+Color texel(const TextureImage& image, int i, int j, TextureWrap wrap) {
+    int x = wrap_index(i, image.width(), wrap);
+    int y = wrap_index(j, image.height(), wrap);
+    return image.texel(x, image.height() - 1 - y);
 }
 
 /// Keeps huge texture coordinates from overflowing int when converted to texel indices.
@@ -22,15 +22,15 @@ float tame(float x) { return std::isfinite(x) ? std::fmod(x, 1.0e6f) : 0.0f; }
 
 }  // namespace
 
-Color sample_nearest(const Image& image, vec2 uv, TextureWrap wrap) {
-    float x = tame(uv.x) * static_cast<float>(image.width);
-    float y = tame(uv.y) * static_cast<float>(image.height);
+Color sample_nearest(const TextureImage& image, vec2 uv, TextureWrap wrap) {
+    float x = tame(uv.x) * static_cast<float>(image.width());
+    float y = tame(uv.y) * static_cast<float>(image.height());
     return texel(image, static_cast<int>(std::floor(x)), static_cast<int>(std::floor(y)), wrap);
 }
 
-Color sample_bilinear(const Image& image, vec2 uv, TextureWrap wrap) {
-    float x = tame(uv.x) * static_cast<float>(image.width) - 0.5f;
-    float y = tame(uv.y) * static_cast<float>(image.height) - 0.5f;
+Color sample_bilinear(const TextureImage& image, vec2 uv, TextureWrap wrap) {
+    float x = tame(uv.x) * static_cast<float>(image.width()) - 0.5f;
+    float y = tame(uv.y) * static_cast<float>(image.height()) - 0.5f;
     float x0 = std::floor(x), y0 = std::floor(y);
     float fx = x - x0, fy = y - y0;
     int i = static_cast<int>(x0), j = static_cast<int>(y0);
@@ -40,12 +40,12 @@ Color sample_bilinear(const Image& image, vec2 uv, TextureWrap wrap) {
            fx * fy * texel(image, i + 1, j + 1, wrap);
 }
 
-Color eval_color(const ColorSource& source, vec2 uv, const std::vector<Image>& textures) {
+Color eval_color(const ColorSource& source, vec2 uv, const std::vector<TextureImage>& textures) {
     return eval_color(source, uv, TextureLookup{textures});
 }
 
 Color eval_color(const ColorSource& source, vec2 uv, const TextureLookup& lookup) {
-    const std::vector<Image>& textures = lookup.images;
+    const std::vector<TextureImage>& textures = lookup.images;
     switch (source.kind) {
         case ColorSource::Kind::Constant:
             return source.value;
@@ -56,7 +56,7 @@ Color eval_color(const ColorSource& source, vec2 uv, const TextureLookup& lookup
             return (parity & 1) == 0 ? source.a : source.b;
         }
         case ColorSource::Kind::Image: {
-            const Image& image = textures[static_cast<size_t>(source.texture)];
+            const TextureImage& image = textures[static_cast<size_t>(source.texture)];
             if (source.filter == TextureFilter::Nearest)
                 return sample_nearest(image, uv, source.wrap);
             if (source.filter == TextureFilter::Trilinear && lookup.mips) {

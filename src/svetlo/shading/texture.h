@@ -10,13 +10,13 @@
 namespace svetlo {
 
 /// Nearest texel: the value of the texel that contains (u, v).
-Color sample_nearest(const Image& image, vec2 uv, TextureWrap wrap);
+Color sample_nearest(const TextureImage& image, vec2 uv, TextureWrap wrap);
 /// Bilinear interpolation between the four texel centres around (u, v).
-Color sample_bilinear(const Image& image, vec2 uv, TextureWrap wrap);
+Color sample_bilinear(const TextureImage& image, vec2 uv, TextureWrap wrap);
 
 /// The colour of `source` at uv. Ray-traced engines have no footprint, so trilinear
 /// filtering samples the finest mip level, which is bilinear filtering.
-Color eval_color(const ColorSource& source, vec2 uv, const std::vector<Image>& textures);
+Color eval_color(const ColorSource& source, vec2 uv, const std::vector<TextureImage>& textures);
 
 /// The same with a pixel footprint and mip chains (the rasterizer): trilinear filtering
 /// then picks the mip level from the footprint.

@@ -1,0 +1,47 @@
+#include "svetlo/core/texture_image.h"
+
+#include <algorithm>
+#include <utility>
+
+namespace svetlo {
+
+TextureImage::TextureImage(Image image)
+    : width_(image.width), height_(image.height), floats_(std::move(image)) {}
+
+TextureImage::TextureImage(int width, int height, std::vector<unsigned char> codes, bool srgb)
+    : width_(width), height_(height), srgb_(srgb), codes_(std::move(codes)) {
+    for (int k = 0; k < 256; ++k) {
+        float v = static_cast<float>(k) / 255.0f;
+        decode_[static_cast<size_t>(k)] = srgb ? srgb_to_linear(v) : v;
+    }
+    // Halfway between two codes in the encoded space (the nearest code, as linear_to_srgb8
+    // rounds), as a linear value: encoding is then a binary search instead of a pow.
+    for (int k = 0; k < 255; ++k) {
+        float v = (static_cast<float>(k) + 0.5f) / 255.0f;
+        round_up_[static_cast<size_t>(k)] = srgb ? srgb_to_linear(v) : v;
+    }
+}
+
+TextureImage TextureImage::same_storage(const TextureImage& like, int width, int height) {
+    size_t texels = static_cast<size_t>(width) * static_cast<size_t>(height);
+    if (!like.is_8bit()) return TextureImage(Image(width, height));
+    return TextureImage(width, height, std::vector<unsigned char>(3 * texels), like.srgb_);
+}
+
+void TextureImage::set_texel(int i, int j, Color linear) {
+    size_t k = static_cast<size_t>(j) * static_cast<size_t>(width_) + static_cast<size_t>(i);
+    if (codes_.empty()) {
+        floats_.pixels[k] = linear;
+        return;
+    }
+    for (int c = 0; c < 3; ++c) {
+        float v = linear[c];
+        // The number of halfway points at or below v is the nearest code (0 for NaN).
+        auto code =
+            v > 0.0f ? std::upper_bound(round_up_.begin(), round_up_.end(), v) - round_up_.begin()
+                     : 0;
+        codes_[3 * k + static_cast<size_t>(c)] = static_cast<unsigned char>(code);
+    }
+}
+
+}  // namespace svetlo
