@@ -207,7 +207,7 @@ render_bad "area corner past float range" "lights\[1\].corner\[2\]: must be at m
 # overflows. No crash, and nothing that is not finite reaches an image or an AOV (a sample
 # that is not finite would be dropped and counted in the summary).
 scene_with 'scene["objects"].append({"type": "mesh", "positions": [[-3e38, 0, 0], [3e38, 0, 0], [0, 1, 0]], "indices": [0, 1, 2], "material": "white"}); scene["film"] = {"width": 96, "height": 64}; scene["materials"]["glass"] = {"type": "dielectric", "ior": 1.5}; scene["objects"][0]["material"] = "glass"'
-for engine in whitted raster path; do
+for engine in whitted raster path radiosity; do
     "$svetlo" render "$work/bad.json" --engine $engine -o "$work/huge.pfm" --aov normal="$work/huge_n.pfm" \
         --aov depth="$work/huge_d.pfm" 2> "$work/stderr" || fail "huge coordinates, $engine: exit $?"
     if python3 - "$work/huge.pfm" "$work/huge_n.pfm" "$work/huge_d.pfm" <<'PY'

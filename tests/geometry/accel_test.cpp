@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #define GLM_ENABLE_EXPERIMENTAL
 #include <glm/gtx/string_cast.hpp>
 
@@ -125,6 +127,32 @@ TEST_P(EveryAccel, EmptyAndDegenerateInputs) {
     EXPECT_LT(hit.prim, 100u);  // coincident triangles: any of them
     EXPECT_FALSE(accel->intersect(Ray{vec3(0.8f, 0.8f, 1.0f), vec3(0, 0, -1)}, hit));
     EXPECT_TRUE(accel->occluded(Ray{vec3(0.2f, 0.2f, -1.0f), vec3(0, 0, 1)}));
+}
+
+// Coordinates near the float limit, where the sum of a triangle's bounds overflows (a centroid
+// of 2e38 and 3e38 is inf), and a few that are infinite, such as a generated square around a
+// scene 6e38 wide (radiosity's stand-in for an infinite plane): the build must not index
+// bins with NaN or inf (it crashed), and the finite triangles are still found.
+TEST_P(EveryAccel, CoordinatesNearAndPastTheFloatLimitBuild) {
+    Geometry g;
+    const float inf = std::numeric_limits<float>::infinity();
+    for (int k = 0; k < 200; ++k) {
+        float x = k < 100 ? 2e38f + 1e36f * static_cast<float>(k) : -3e38f;
+        float z = -static_cast<float>(k);
+        vec3 far = k % 50 == 7 ? vec3(inf, 0, z) : vec3(x + 1e36f, 0, z);
+        g.positions.insert(g.positions.end(), {vec3(x, -1e37f, z), far, vec3(x, 1e37f, z)});
+        for (int v = 0; v < 3; ++v) g.indices.push_back(static_cast<uint32_t>(3 * k + v));
+        g.triangle_material.push_back(0);
+    }
+    // A small triangle among them, in front of the others.
+    g.positions.insert(g.positions.end(), {vec3(-1, -1, 1), vec3(1, -1, 1), vec3(0, 1, 1)});
+    for (int v = 0; v < 3; ++v) g.indices.push_back(static_cast<uint32_t>(600 + v));
+    g.triangle_material.push_back(0);
+    std::unique_ptr<Accel> accel = make_accel(GetParam(), g, 2);
+    Hit hit;
+    ASSERT_TRUE(accel->intersect(Ray{vec3(0, 0, 5), vec3(0, 0, -1)}, hit));
+    EXPECT_EQ(hit.prim, 200u);
+    EXPECT_NEAR(hit.t, 4.0f, 1e-5f);
 }
 
 INSTANTIATE_TEST_SUITE_P(Accel, EveryAccel, testing::ValuesIn(accel_names()),

@@ -48,6 +48,7 @@ inline vec3 triangle_normal(vec3 a, vec3 b, vec3 c) {
 inline bool is_finite(Color c) {
     return std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b);
 }
+inline bool is_finite(glm::vec4 v) { return is_finite(Color(v)) && std::isfinite(v.w); }
 
 inline float luminance(Color c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
 inline bool is_black(Color c) { return c.r == 0.0f && c.g == 0.0f && c.b == 0.0f; }

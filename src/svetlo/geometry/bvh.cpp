@@ -35,7 +35,7 @@ struct BuildRef {
     uint32_t id;
     vec3 max;
     float pad;
-    vec3 centroid() const { return 0.5f * (min + max); }
+    vec3 centroid() const { return 0.5f * min + 0.5f * max; }  // no overflow near 3.4e38
 };
 
 /// SAH bins: the bounds (SSE registers; lane 3 unused) and the count of each.
@@ -205,8 +205,12 @@ private:
         float scale = static_cast<float>(kBins) * 0.99999f / centroids.extent()[a];
         const BuildRef* refs = refs_.data();
         auto bin_of = [&](const BuildRef& r) {
-            float c = 0.5f * (r.min[a] + r.max[a]);
-            return std::min(kBins - 1, static_cast<int>((c - cmin) * scale));
+            float c = 0.5f * r.min[a] + 0.5f * r.max[a];
+            // Centroids past the float range (a generated vertex at inf) give NaN or inf here:
+            // they go to the end bins instead of indexing with an undefined conversion.
+            float f = (c - cmin) * scale;
+            if (!(f > 0.0f)) return 0;
+            return f < static_cast<float>(kBins - 1) ? static_cast<int>(f) : kBins - 1;
         };
         Bins bins;
         if (n >= kParallelSplit) {

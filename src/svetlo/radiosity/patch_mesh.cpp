@@ -55,7 +55,8 @@ PatchMesh::PatchMesh(const Scene& scene, int threads)
     bool planes = false;
     for (size_t k = 0; k < scene.objects.size(); ++k) planes |= is_plane(k);
     if (planes && !bounds.empty()) {
-        options.plane_extent = std::max(glm::length(bounds.extent()), 1e-3f);
+        // At most 1e37, so that the square stays within float range around a scene near it.
+        options.plane_extent = std::clamp(glm::length(bounds.extent()), 1e-3f, 1e37f);
         list = build_triangle_list(object_pointers(scene.objects, lights.area_light_quads()),
                                    options, threads);
     }

@@ -127,7 +127,7 @@ RenderResult RadiosityRenderer::render(const Scene& scene, const RenderOptions& 
     const CameraRays camera_rays(scene.camera, width, height);
     RenderTargets buffers;
     PassMemory memory;
-    std::atomic<uint64_t> display_rays{0};
+    std::atomic<uint64_t> display_rays{0}, nonfinite{0};
     const float inv_pi = 1.0f / kPi;
     // A pixel's size at unit distance (perspective) or its size (orthographic), scene units.
     const float pixel_footprint =
@@ -145,7 +145,7 @@ RenderResult RadiosityRenderer::render(const Scene& scene, const RenderOptions& 
         PipelineState state;
         draw_pass(mesh.list, jittered, state, buffers, threads, 0, &memory);
         parallel_tiles(width, height, threads, [&](const Tile& tile) {
-            uint64_t local_rays = 0;
+            uint64_t local_rays = 0, local_nonfinite = 0;
             for (int j = tile.y0; j < tile.y1; ++j) {
                 for (int i = tile.x0; i < tile.x1; ++i) {
                     const size_t pixel = static_cast<size_t>(j) * width + i;
@@ -180,15 +180,26 @@ RenderResult RadiosityRenderer::render(const Scene& scene, const RenderOptions& 
                     } else {
                         L += rho * inv_pi * (E.total + sol.ambient);
                     }
-                    sums[pixel] += glm::dvec3(L);
+                    glm::vec4 aov[2]{glm::vec4(0.0f), glm::vec4(0.0f)};
                     if (targets.any) {
                         float vis =
                             targets.want[3]
                                 ? light0_visibility(mesh.lights, *mesh.accel, x, n,
                                                     scene.render.light_samples, rng, local_rays)
                                 : 1.0f;
-                        aov_sums[2 * pixel] += glm::vec4(at.distance, n);
-                        aov_sums[2 * pixel + 1] += glm::vec4(albedo_of(bsdf), vis);
+                        aov[0] = glm::vec4(at.distance, n);
+                        aov[1] = glm::vec4(albedo_of(bsdf), vis);
+                    }
+                    // A sample that is not finite is dropped (black) and counted, as in every
+                    // engine.
+                    if (!is_finite(L) || !is_finite(aov[0]) || !is_finite(aov[1])) {
+                        ++local_nonfinite;
+                        continue;
+                    }
+                    sums[pixel] += glm::dvec3(L);
+                    if (targets.any) {
+                        aov_sums[2 * pixel] += aov[0];
+                        aov_sums[2 * pixel + 1] += aov[1];
                     }
                     if (patches_aov && s == 0) {
                         // Lines about a pixel wide: the pixel's footprint at the point.
@@ -201,6 +212,7 @@ RenderResult RadiosityRenderer::render(const Scene& scene, const RenderOptions& 
                 }
             }
             display_rays += local_rays;
+            nonfinite += local_nonfinite;
         });
     }
     const float inv = 1.0f / static_cast<float>(spp);
@@ -208,7 +220,7 @@ RenderResult RadiosityRenderer::render(const Scene& scene, const RenderOptions& 
         for (int i = 0; i < width; ++i) {
             const size_t pixel = static_cast<size_t>(j) * width + i;
             Color c(sums[pixel] * static_cast<double>(inv));
-            result.color.at(i, j) = is_finite(c) ? c : Color(0.0f);
+            result.color.at(i, j) = c;
             if (!targets.any) continue;
             glm::vec4 a = aov_sums[2 * pixel] * inv, b = aov_sums[2 * pixel + 1] * inv;
             if (targets.want[0]) targets.image[0]->at(i, j) = Color(a.x);
@@ -223,6 +235,7 @@ RenderResult RadiosityRenderer::render(const Scene& scene, const RenderOptions& 
     result.stats.setup_seconds = std::chrono::duration<double>(t1 - t0).count();
     result.stats.seconds = std::chrono::duration<double>(t2 - t1).count();
     result.stats.rays = rays + display_rays.load();
+    result.stats.nonfinite = nonfinite.load();
     size_t leaves = 0;
     for (const ElementNode& n : tree.nodes()) leaves += n.leaf() ? 1 : 0;
     char detail[160];
