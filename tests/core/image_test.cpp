@@ -103,6 +103,24 @@ TEST(ImageIo, PngTexturesKeepTheirCodes) {
     }
 }
 
+// A file far too short for the texels its header declares is refused before decoding: stb
+// pads a truncated TGA to its full size (this 23-byte file, found by fuzzing, declares
+// 30463 x 4120 texels and took 1.3 s and 740 MB to read).
+TEST(ImageIo, AHeaderThatDeclaresMoreThanTheFileHoldsIsRefused) {
+    const unsigned char tga[23] = {0x76, 0x00, 0x0a, 0x32, 0x20, 0x31, 0x28, 0x07,
+                                   0xf2, 0x2d, 0x00, 0x41, 0xff, 0x76, 0x18, 0x10,
+                                   0x10, 0x52, 0x50, 0x42, 0x38, 0x69, 0x41};
+    fs::path path = temp_file("bomb.tga");
+    std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(tga), sizeof tga);
+    try {
+        read_texture(path, true, kMaxTextureBytes, "test");
+        FAIL() << "accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(e.message().find("30463 x 4120 texels in 23 bytes"), std::string::npos)
+            << e.message();
+    }
+}
+
 // The memory a texture's texels would take is checked from the header, before decoding:
 // a 16 x 4 PNG takes 192 bytes at 8 bits, a 16 x 4 PFM 768 bytes at float.
 TEST(ImageIo, TexturePastItsMemoryIsRefusedFromTheHeader) {
