@@ -28,7 +28,7 @@ bool inside(CsgOp op, bool a, bool b) {
 /// How far apart along a ray two boundaries may lie and still be one surface: a cylinder's
 /// cap flush with a box's face is the same plane, but the two t values come from different
 /// arithmetic (the cylinder's frame, the box's slabs) and differ by rounding. The tolerance
-/// is kCoincident times the magnitude of the point's coordinates (8 to 16 ULPs of them), in
+/// is kCoincident times the magnitude of the point's coordinates (16 to 32 ULPs of them), in
 /// units of t: wide enough for the slivers measured (a flush cylinder under rotation, scale
 /// and translation), narrow enough that an object 10^4 times smaller than its distance from
 /// the origin keeps its shape.
