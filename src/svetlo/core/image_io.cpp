@@ -95,13 +95,12 @@ constexpr uintmax_t kMaxTexelsPerByte = 16384;
 
 /// Refuses, from its header, a texture whose texels would take more than `max_bytes`.
 void check_texture_size(long long w, long long h, size_t bytes_per_texel, size_t max_bytes) {
-    if (w > 65536 || h > 65536 ||
-        static_cast<size_t>(w) * static_cast<size_t>(h) * bytes_per_texel > max_bytes) {
+    size_t bytes = static_cast<size_t>(w) * static_cast<size_t>(h) * bytes_per_texel;
+    if (w > 65536 || h > 65536 || bytes > max_bytes) {
         auto mib = [](size_t b) { return std::to_string((b + (size_t{1} << 20) - 1) >> 20); };
         throw std::runtime_error(
             "is " + std::to_string(w) + " x " + std::to_string(h) + " texels, which need " +
-            mib(static_cast<size_t>(w) * static_cast<size_t>(h) * bytes_per_texel) +
-            " MiB in memory, more than the " + mib(max_bytes) +
+            mib(bytes) + " MiB in memory, more than the " + mib(max_bytes) +
             " MiB left for it (a texture may take " + mib(kMaxTextureBytes) +
             " MiB, a scene's textures " + mib(kMaxSceneTextureBytes) + " MiB)");
     }
@@ -167,9 +166,10 @@ TextureImage read_stb(const fs::path& path, bool srgb, size_t max_bytes) {
     // forged file, which stb would pad to the full size: a 23-byte TGA of 30463 x 4120 texels
     // took 1.3 s and 740 MB (found by fuzzing).
     auto texels = static_cast<uintmax_t>(w) * static_cast<uintmax_t>(h);
-    if (texels > kMaxTexelsPerByte * fs::file_size(path)) {
+    uintmax_t file_bytes = fs::file_size(path);
+    if (texels > kMaxTexelsPerByte * file_bytes) {
         throw std::runtime_error("declares " + std::to_string(w) + " x " + std::to_string(h) +
-                                 " texels in " + std::to_string(fs::file_size(path)) +
+                                 " texels in " + std::to_string(file_bytes) +
                                  " bytes, more than any compression holds: the file is "
                                  "truncated or damaged");
     }

@@ -7,10 +7,30 @@
 
 namespace svetlo {
 
+/// How far apart along a ray two boundaries may lie and still be one surface: a cylinder's
+/// cap flush with a box's face is the same plane, but the two t values come from different
+/// arithmetic (the cylinder's frame, the box's slabs) and differ by rounding. The tolerance
+/// is kCoincident times the magnitude of the point's coordinates (16 to 32 ULPs of them), in
+/// units of t: wide enough for the slivers measured (a flush cylinder under rotation, scale
+/// and translation), narrow enough that an object 10^4 times smaller than its distance from
+/// the origin keeps its shape.
+struct CsgShape::Coincidence {
+    static constexpr float kCoincident = 1.0f / 524288.0f;
+    float origin, direction;  // max |o_k| and max |d_k|, both over |d|
+
+    explicit Coincidence(const Ray& ray) {
+        float len = glm::length(ray.d);
+        origin = max_component(glm::abs(ray.o)) / len;
+        direction = max_component(glm::abs(ray.d)) / len;
+    }
+    float operator()(float t) const { return kCoincident * (origin + std::abs(t) * direction); }
+};
+
 namespace {
 
 using Boundary = CsgShape::Boundary;
 using Span = CsgShape::Span;
+using Coincidence = CsgShape::Coincidence;
 using Spans = SmallVector<Span, 8>;
 
 bool inside(CsgOp op, bool a, bool b) {
@@ -24,25 +44,6 @@ bool inside(CsgOp op, bool a, bool b) {
     }
     return false;
 }
-
-/// How far apart along a ray two boundaries may lie and still be one surface: a cylinder's
-/// cap flush with a box's face is the same plane, but the two t values come from different
-/// arithmetic (the cylinder's frame, the box's slabs) and differ by rounding. The tolerance
-/// is kCoincident times the magnitude of the point's coordinates (16 to 32 ULPs of them), in
-/// units of t: wide enough for the slivers measured (a flush cylinder under rotation, scale
-/// and translation), narrow enough that an object 10^4 times smaller than its distance from
-/// the origin keeps its shape.
-struct Coincidence {
-    static constexpr float kCoincident = 1.0f / 524288.0f;
-    float origin, direction;  // max |o_k| and max |d_k|, both over |d|
-
-    explicit Coincidence(const Ray& ray) {
-        float len = glm::length(ray.d);
-        origin = max_component(glm::abs(ray.o)) / len;
-        direction = max_component(glm::abs(ray.d)) / len;
-    }
-    float operator()(float t) const { return kCoincident * (origin + std::abs(t) * direction); }
-};
 
 /// Combines two sorted lists of disjoint spans with `op` by sweeping their boundaries in
 /// order of t (entries first on ties, A before B). A result span no longer than the
@@ -251,18 +252,19 @@ void CsgShape::leaf_spans(uint32_t index, const Ray& ray, float tmax, List& out)
 }
 
 template <class List>
-void CsgShape::spans(uint32_t index, const Ray& ray, vec3 inv_d, float tmax, List& out) const {
+void CsgShape::spans(uint32_t index, const Ray& ray, vec3 inv_d, const Coincidence& tolerance,
+                     float tmax, List& out) const {
     out.clear();
     const Node& node = nodes_[index];
     if (!line_overlaps(node.bounds, ray, inv_d, tmax)) return;
     if (node.leaf >= 0) return leaf_spans(static_cast<uint32_t>(node.leaf), ray, tmax, out);
-    spans(node.children[0], ray, inv_d, tmax, out);
+    spans(node.children[0], ray, inv_d, tolerance, tmax, out);
     Spans child, merged;
     for (size_t k = 1; k < node.children.size(); ++k) {
         if (out.empty() && node.op != CsgOp::Union) return;  // nothing left to intersect or cut
-        spans(node.children[k], ray, inv_d, tmax, child);
+        spans(node.children[k], ray, inv_d, tolerance, tmax, child);
         if (child.empty() && node.op != CsgOp::Intersection) continue;
-        combine(out, child, node.op, Coincidence(ray), merged);
+        combine(out, child, node.op, tolerance, merged);
         out = merged;
     }
 }
@@ -270,7 +272,7 @@ void CsgShape::spans(uint32_t index, const Ray& ray, vec3 inv_d, float tmax, Lis
 bool CsgShape::intersect(const Ray& ray, float tmax, ShapeHit& hit) const {
     if (nodes_.empty()) return false;
     Spans list;
-    spans(0, ray, safe_inverse(ray.d), tmax, list);
+    spans(0, ray, safe_inverse(ray.d), Coincidence(ray), tmax, list);
     for (size_t k = 0; k < list.size(); ++k) {
         for (const Boundary* b : {&list[k].in, &list[k].out}) {
             if (b->t > 0.0f && b->t < tmax && b->leaf != kNoLeaf) {
@@ -291,7 +293,7 @@ bool CsgShape::contains(vec3 p) const {
     // A ray in a direction no axis-aligned face is parallel to; inside when a span holds t = 0.
     Ray ray{p, glm::normalize(vec3(0.5773f, 0.5871f, 0.5675f)), kInfinity};
     Spans list;
-    spans(0, ray, safe_inverse(ray.d), kInfinity, list);
+    spans(0, ray, safe_inverse(ray.d), Coincidence(ray), kInfinity, list);
     return !list.empty() && list[0].in.t <= 0.0f && list[0].out.t > 0.0f;
 }
 

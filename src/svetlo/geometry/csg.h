@@ -47,6 +47,8 @@ public:
         Boundary in, out;
     };
     static constexpr uint32_t kNoLeaf = ~0u;
+    /// When two boundaries along a ray are one surface (csg.cpp); made once per ray.
+    struct Coincidence;
 
 private:
     struct Leaf {
@@ -61,7 +63,8 @@ private:
         Bounds3 bounds;
     };
     template <class List>
-    void spans(uint32_t node, const Ray& ray, vec3 inv_d, float tmax, List& out) const;
+    void spans(uint32_t node, const Ray& ray, vec3 inv_d, const Coincidence& tolerance, float tmax,
+               List& out) const;
     template <class List>
     void leaf_spans(uint32_t leaf, const Ray& ray, float tmax, List& out) const;
     uint32_t add(const Object& obj, const mat4& to_world, uint32_t material);
