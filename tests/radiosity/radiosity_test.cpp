@@ -225,6 +225,27 @@ TEST(Radiosity, ThreadCountDoesNotChangeTheImage) {
     }
 }
 
+TEST(Radiosity, TheFormFactorCacheChangesNothing) {
+    // Progressive refinement keeps each patch's row of form factors for its later shots
+    // (form_factor_cache_mib). A row is the same whenever it is made, so the image is the same
+    // with every row kept, with none, and with a budget that keeps only some: bit for bit.
+    json j = cornell(32, "radiosity");
+    j["render"]["radiosity"] = {
+        {"element_size", 0.3}, {"adaptive", 0}, {"solver", "progressive"}, {"tolerance", 1e-3}};
+    const RenderResult kept = render(j);
+    EXPECT_EQ(kept.stats.detail.find("0.0 MiB of rows"), std::string::npos) << kept.stats.detail;
+    j["render"]["radiosity"]["form_factor_cache_mib"] = 0;
+    const RenderResult none = render(j);
+    EXPECT_NE(none.stats.detail.find("0.0 MiB of rows"), std::string::npos) << none.stats.detail;
+    j["render"]["radiosity"]["form_factor_cache_mib"] = 1;  // about a third of the rows
+    const RenderResult some = render(j);
+    EXPECT_EQ(some.stats.detail.find("0.0 MiB of rows"), std::string::npos) << some.stats.detail;
+    EXPECT_EQ(kept.color.pixels, none.color.pixels);
+    EXPECT_EQ(kept.color.pixels, some.color.pixels);
+    // Without the cache the rays are cast again at every shot.
+    EXPECT_GT(none.stats.rays, 2 * kept.stats.rays);
+}
+
 TEST(Radiosity, AdaptiveSubdivisionFollowsTheShadow) {
     // A small occluder over a floor under a point light: elements split along the shadow's
     // edge, not in the open.

@@ -66,9 +66,12 @@ PatchMesh::PatchMesh(const Scene& scene, int threads)
     // Sizes from the scene's extent without infinite planes.
     if (bounds.empty()) bounds = list.bounds();
     const float diameter = bounds.empty() ? 1.0f : std::max(glm::length(bounds.extent()), 1e-6f);
+    // Patches of a quarter of the diameter: a shooter's light is spread over its patch, which
+    // the smooth indirect light allows, and each costs a row of form factors to every element
+    // (docs/radiosity.md measures the trade).
     if (settings.patch_size <= 0.0f)
-        settings.patch_size = std::max(diameter / 8.0f, settings.element_size);
-    if (settings.element_size <= 0.0f) settings.element_size = 0.5f * settings.patch_size;
+        settings.patch_size = std::max(diameter / 4.0f, settings.element_size);
+    if (settings.element_size <= 0.0f) settings.element_size = 0.25f * settings.patch_size;
 
     if (settings.solver == RadiositySolver::Auto) {
         settings.solver = list.triangle_count() <= kMaxHierarchicalRoots &&

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <optional>
 #include <unordered_map>
+#include <utility>
 
 #include "svetlo/core/parallel.h"
 #include "svetlo/radiosity/hemicube.h"
@@ -19,29 +20,61 @@ struct Patch {
     Sides unshot;  // radiosity not yet shot, W/m^2
 };
 
-/// One shooter and where its light goes.
+/// What one side of a patch sends to the leaves: a shot of radiosity dB gives the side
+/// (target[i] & 1) of leaf (target[i] >> 1) the irradiance dB * factor[i], W/m^2. Only the
+/// leaves that receive something are listed.
+struct ShotRow {
+    std::vector<uint32_t> target;
+    std::vector<float> factor;
+    size_t bytes() const { return target.size() * (sizeof(uint32_t) + sizeof(float)); }
+};
+
+/// The shooters' rows, each made at its first shot and kept while the cache's memory lasts
+/// (render.radiosity.form_factor_cache_mib): a patch shoots about seven times before the unshot
+/// power falls to 1e-3, and a kept row makes each later shot a pass over its entries instead
+/// of a form factor and `samples` rays per leaf. A row does not depend on when it is made, so
+/// the solution is the same with the cache or without it.
 class Shooter {
 public:
-    Shooter(SolverInput& in, const std::vector<uint32_t>& leaves)
-        : in_(in), leaves_(leaves), delta_(leaves.size()) {
+    Shooter(SolverInput& in, const std::vector<uint32_t>& leaves,
+            const std::vector<uint32_t>& patch_of, size_t patches)
+        : in_(in),
+          leaves_(leaves),
+          patch_of_(patch_of),
+          dense_(leaves.size()),
+          cached_(2 * patches),
+          budget_(static_cast<size_t>(in.settings.form_factor_cache_mib) << 20) {
         if (in.settings.form_factors == FormFactorMethod::Hemicube) {
-            Bounds3 bounds = in.list.bounds();
+            const Bounds3 bounds = in.list.bounds();
             hemicube_.emplace(in.settings.hemicube, bounds);
             triangles_ = in.tree.leaf_triangles(leaves);
-            row_.assign(leaves.size(), 0.0f);
+            hemicube_row_.assign(leaves.size(), 0.0f);
         }
     }
 
-    /// The irradiance each leaf gets from `node`'s side `side` shooting radiosity dB (0 for
-    /// the leaves of `skip`, the patch itself), into delta().
-    void shoot(uint32_t node, int side, Color dB, uint32_t skip_patch,
-               const std::vector<uint32_t>& patch_of, uint64_t step) {
+    /// The row of patch `patch` (node `node`) shooting from its side `side`.
+    const ShotRow& row(uint32_t patch, uint32_t node, int side) {
+        std::optional<ShotRow>& kept = cached_[2 * patch + side];
+        if (kept) return *kept;
+        make_row(patch, node, side, scratch_);
+        if (used_ + scratch_.bytes() > budget_) return scratch_;
+        used_ += scratch_.bytes();
+        kept = std::move(scratch_);
+        scratch_ = ShotRow{};
+        return *kept;
+    }
+
+    uint64_t rays() const { return rays_; }
+    size_t cache_bytes() const { return used_; }
+
+private:
+    void make_row(uint32_t patch, uint32_t node, int side, ShotRow& out) {
         const ElementTree& tree = in_.tree;
         const ElementNode& p = tree.node(node);
         if (hemicube_) {
-            std::fill(row_.begin(), row_.end(), 0.0f);
+            std::fill(hemicube_row_.begin(), hemicube_row_.end(), 0.0f);
             vec3 n = side == 0 ? tree.normal(node) : -tree.normal(node);
-            hemicube_->gather(triangles_, p.centroid, n, row_, in_.threads);
+            hemicube_->gather(triangles_, p.centroid, n, hemicube_row_, in_.threads);
         }
         std::atomic<uint64_t> rays{0};
         parallel_ranges(
@@ -49,37 +82,45 @@ public:
             [&](size_t begin, size_t end) {
                 uint64_t local_rays = 0;
                 for (size_t k = begin; k < end; ++k) {
-                    delta_[k] = Sides{};
-                    uint32_t leaf = leaves_[k];
+                    dense_[k] = FormFactor{};
+                    const uint32_t leaf = leaves_[k];
                     const ElementNode& e = tree.node(leaf);
-                    if (patch_of[k] == skip_patch) continue;
+                    if (patch_of_[k] == patch) continue;  // a patch does not light itself
                     if (hemicube_) {
                         // Reciprocity: F_ep = A_p F_pe / A_e, onto the side facing the hemicube.
-                        delta_[k].v[tree.side_facing(leaf, p.centroid)] =
-                            dB * (row_[k] * p.area / e.area);
+                        dense_[k].F[tree.side_facing(leaf, p.centroid)] =
+                            hemicube_row_[k] * p.area / e.area;
                         continue;
                     }
                     // Only the shooting side's light: the side of the patch that faces e.
                     if (tree.side_facing(node, e.centroid) != side) continue;
-                    FormFactor F = form_factor(in_.ff, leaf, node, in_.seed ^ step, local_rays);
-                    for (int s = 0; s < 2; ++s) delta_[k].v[s] = dB * F.F[s];
+                    dense_[k] = form_factor(in_.ff, leaf, node, in_.seed, local_rays);
                 }
                 rays += local_rays;
             },
             256);
         rays_ += rays.load();
+        out.target.clear();
+        out.factor.clear();
+        for (size_t k = 0; k < leaves_.size(); ++k) {
+            for (int s = 0; s < 2; ++s) {
+                if (!(dense_[k].F[s] > 0.0f)) continue;
+                out.target.push_back(static_cast<uint32_t>(2 * k + s));
+                out.factor.push_back(dense_[k].F[s]);
+            }
+        }
     }
 
-    const std::vector<Sides>& delta() const { return delta_; }
-    uint64_t rays() const { return rays_; }
-
-private:
     SolverInput& in_;
     const std::vector<uint32_t>& leaves_;
-    std::vector<Sides> delta_;
+    const std::vector<uint32_t>& patch_of_;
+    std::vector<FormFactor> dense_;
+    std::vector<std::optional<ShotRow>> cached_;  // per patch and side
+    ShotRow scratch_;                             // a row the cache has no room for
+    size_t budget_, used_ = 0;                    // bytes
     std::optional<Hemicube> hemicube_;
     TriangleList triangles_;
-    std::vector<float> row_;
+    std::vector<float> hemicube_row_;
     uint64_t rays_ = 0;
 };
 
@@ -89,8 +130,6 @@ Solution solve_progressive(SolverInput& in) {
     ElementTree& tree = in.tree;
     const std::vector<uint32_t> leaves = tree.leaves();
     Solution sol;
-    sol.E.assign(tree.nodes().size(), Sides{});
-    sol.direct.assign(tree.nodes().size(), Sides{});
 
     // The patches: each leaf's ancestor at its root's patch level.
     std::vector<Patch> patches;
@@ -112,43 +151,37 @@ Solution solve_progressive(SolverInput& in) {
             for (size_t k = begin; k < end; ++k) light[k] = in.light_at(leaves[k]);
         },
         64);
+    // Per leaf k: the irradiance it has received, and what a watt per square metre of it adds
+    // to its patch's unshot radiosity (its reflectance times its share of the patch's area).
+    std::vector<Sides> received(leaves.size()), direct(leaves.size());
+    std::vector<Color> to_unshot(leaves.size());
     double power = 0.0;  // W (summed over the channels): emitted, and reflected from lights
     for (size_t k = 0; k < leaves.size(); ++k) {
         const ElementNode& e = tree.node(leaves[k]);
         Patch& p = patches[patch_of[k]];
+        to_unshot[k] = e.reflectance * (e.area / p.area);
+        received[k] = direct[k] = light[k];
         for (int s = 0; s < 2; ++s) {
-            sol.E[leaves[k]].v[s] = sol.direct[leaves[k]].v[s] = light[k].v[s];
-            Color reflected = e.reflectance * light[k].v[s];
-            p.unshot.v[s] += reflected * (e.area / p.area);
-            power += channel_sum(reflected) * e.area;
+            p.unshot.v[s] += to_unshot[k] * light[k].v[s];
+            power += channel_sum(e.reflectance * light[k].v[s]) * e.area;
         }
         power += channel_sum(e.emission) * e.area;
     }
-
-    Shooter shooter(in, leaves);
-    uint64_t step = 0;
-    auto receive = [&](bool direct) {
-        const std::vector<Sides>& delta = shooter.delta();
-        for (size_t k = 0; k < leaves.size(); ++k) {
-            const uint32_t leaf = leaves[k];
-            const ElementNode& e = tree.node(leaf);
-            Patch& q = patches[patch_of[k]];
-            for (int side = 0; side < 2; ++side) {
-                const Color dE = delta[k].v[side];
-                if (is_black(dE)) continue;
-                sol.E[leaf].v[side] += dE;
-                if (direct) sol.direct[leaf].v[side] += dE;
-                q.unshot.v[side] += e.reflectance * dE * (e.area / q.area);
-            }
+    Shooter shooter(in, leaves, patch_of, patches.size());
+    auto shoot = [&](uint32_t p, int side, Color dB, bool is_direct) {
+        const ShotRow& row = shooter.row(p, patches[p].node, side);
+        for (size_t i = 0; i < row.target.size(); ++i) {
+            const uint32_t k = row.target[i] >> 1, s = row.target[i] & 1;
+            const Color dE = dB * row.factor[i];
+            received[k].v[s] += dE;
+            if (is_direct) direct[k].v[s] += dE;
+            patches[patch_of[k]].unshot.v[s] += to_unshot[k] * dE;
         }
-        ++step;
     };
     // The emitters shoot their own light first: what the elements get from it is direct.
     for (uint32_t p = 0; p < patches.size(); ++p) {
         Color emitted = tree.node(patches[p].node).emission;
-        if (is_black(emitted)) continue;
-        shooter.shoot(patches[p].node, 0, emitted, p, patch_of, step);
-        receive(true);
+        if (!is_black(emitted)) shoot(p, 0, emitted, true);
     }
 
     const int max_shots =
@@ -179,9 +212,14 @@ Solution solve_progressive(SolverInput& in) {
         if (sol.residual < in.settings.tolerance || sol.iterations >= max_shots) break;
         Color dB = patches[best_patch].unshot.v[best_side];
         patches[best_patch].unshot.v[best_side] = Color(0.0f);
-        shooter.shoot(patches[best_patch].node, best_side, dB, best_patch, patch_of, step);
-        receive(false);
+        shoot(best_patch, best_side, dB, false);
         ++sol.iterations;
+    }
+    sol.E.assign(tree.nodes().size(), Sides{});
+    sol.direct.assign(tree.nodes().size(), Sides{});
+    for (size_t k = 0; k < leaves.size(); ++k) {
+        sol.E[leaves[k]] = received[k];
+        sol.direct[leaves[k]] = direct[k];
     }
 
     // The ambient term (Cohen et al. 1988): the unshot radiosity's area mean, times the
@@ -200,6 +238,8 @@ Solution solve_progressive(SolverInput& in) {
         sol.ambient = Color(sum_unshot / area / (glm::dvec3(1.0) - rho));
     }
     sol.rays = shooter.rays();
+    sol.cache_bytes = shooter.cache_bytes();
+    sol.patches = patches.size();
     return sol;
 }
 

@@ -238,12 +238,19 @@ RenderResult RadiosityRenderer::render(const Scene& scene, const RenderOptions& 
     result.stats.nonfinite = nonfinite.load();
     size_t leaves = 0;
     for (const ElementNode& n : tree.nodes()) leaves += n.leaf() ? 1 : 0;
-    char detail[160];
+    char solver_detail[96];
+    if (settings.solver == RadiositySolver::Progressive) {
+        std::snprintf(solver_detail, sizeof solver_detail,
+                      "%zu patches, %d shots, %.1f MiB of rows", sol.patches, sol.iterations,
+                      static_cast<double>(sol.cache_bytes) / (1 << 20));
+    } else {
+        std::snprintf(solver_detail, sizeof solver_detail, "%d sweeps, %llu links", sol.iterations,
+                      static_cast<unsigned long long>(sol.links));
+    }
+    char detail[224];
     std::snprintf(
-        detail, sizeof detail, "%zu elements, %d %s, residual %.2g, %llu links, %.2f Mrays/s",
-        leaves, sol.iterations,
-        settings.solver == RadiositySolver::Progressive ? "shots" : "sweeps", sol.residual,
-        static_cast<unsigned long long>(sol.links),
+        detail, sizeof detail, "%zu elements, %s, residual %.2g, %.2f Mrays/s", leaves,
+        solver_detail, sol.residual,
         static_cast<double>(result.stats.rays) * 1e-6 / std::max(result.stats.seconds, 1e-9));
     result.stats.detail = detail;
     return result;

@@ -45,7 +45,9 @@ struct Solution {
     int iterations = 0;         // sweeps, shots, or hierarchical gathers
     double residual = 0.0;      // power still unshot or changing, over the power emitted
     uint64_t rays = 0;
-    uint64_t links = 0;  // hierarchical: links made
+    uint64_t links = 0;      // hierarchical: links made
+    size_t patches = 0;      // progressive: the shooters
+    size_t cache_bytes = 0;  // progressive: the form-factor rows kept (form_factor_cache_mib)
 };
 
 /// The number of elements at most the matrix solvers (Jacobi, Gauss-Seidel) take: their
@@ -54,8 +56,9 @@ inline constexpr size_t kMaxMatrixElements = 4096;
 
 /// Progressive refinement (Cohen, Chen, Wallace and Greenberg 1988): the patch with the most
 /// unshot power shoots it to every element (Southwell's iteration), until the unshot power
-/// falls below the tolerance; O(n) memory. The emitters shoot their own light first, which is
-/// the solution's direct part.
+/// falls below the tolerance; O(n) memory, and each shooter's row of form factors kept for its
+/// later shots within settings.form_factor_cache_mib. The emitters shoot their own light
+/// first, which is the solution's direct part.
 Solution solve_progressive(SolverInput& in);
 /// Jacobi or Gauss-Seidel sweeps on the full matrix of element-to-element form factors.
 Solution solve_matrix(SolverInput& in, bool gauss_seidel);

@@ -374,7 +374,8 @@ struct RadiositySettings {
     float link_epsilon = 3e-4f;  // hierarchical: a link's estimated rho F B, relative to the
                                  // brightest emitter's B, above which it is refined
     RadiosityDisplay display = RadiosityDisplay::Gouraud;
-    bool ambient_term = true;  // progressive: show the unshot light as an ambient term
+    bool ambient_term = true;          // progressive: show the unshot light as an ambient term
+    int form_factor_cache_mib = 1024;  // progressive: memory for the shooters' rows, MiB
 };
 
 struct RenderSettings {
