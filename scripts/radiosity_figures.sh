@@ -8,7 +8,7 @@ svetlo=${1:-$root/build/svetlo}
 img=$root/docs/images
 cornell=$root/scenes/cornell.json
 size=(-W 400 -H 400 --spp 16 --engine radiosity)
-# The default: hierarchical, Gouraud display; its patch mesh.
+# The defaults (progressive here, Gouraud display); its patch mesh.
 "$svetlo" render "$cornell" "${size[@]}" -o "$img/radiosity_cornell.png" \
     --aov patches="$img/radiosity_patches.png"
 "$svetlo" render "$cornell" "${size[@]}" --set render.radiosity.display=gather \

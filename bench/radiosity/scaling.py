@@ -4,8 +4,8 @@
   1. time per shooting step against the number of elements (progressive, a fixed number of
      shots at four refinements): the log-log slope;
   2. time to a residual of 1e-3 and peak memory (GNU time's maximum resident set), for the
-     progressive and the hierarchical solvers at about 1k, 10k and 50k elements, and the
-     hierarchical one past a million.
+     progressive and the hierarchical solvers from about 1k to 200k elements (progressive with
+     the default patches, a quarter of the scene's diameter).
 
 Usage: bench/radiosity/scaling.py build/svetlo [THREADS] [--quick]"""
 import math
@@ -55,7 +55,7 @@ print("## time to a residual of 1e-3 and peak memory")
 cases = [("progressive", 0.6), ("progressive", 0.3), ("progressive", 0.15),
          ("hierarchical", 0.6), ("hierarchical", 0.3), ("hierarchical", 0.15)]
 if not quick:
-    cases += [("hierarchical", 0.0375)]
+    cases += [("progressive", 0.075), ("progressive", 0.0375), ("hierarchical", 0.0375)]
 for solver, size in cases:
     sets = [f"render.radiosity.element_size={size}", "render.radiosity.adaptive=0",
             f"render.radiosity.solver={solver}", "render.radiosity.tolerance=1e-3"]

@@ -73,14 +73,18 @@ PatchMesh::PatchMesh(const Scene& scene, int threads)
         settings.patch_size = std::max(diameter / 4.0f, settings.element_size);
     if (settings.element_size <= 0.0f) settings.element_size = 0.25f * settings.patch_size;
 
-    if (settings.solver == RadiositySolver::Auto) {
-        settings.solver = list.triangle_count() <= kMaxHierarchicalRoots &&
-                                  settings.form_factors != FormFactorMethod::Hemicube
-                              ? RadiositySolver::Hierarchical
-                              : RadiositySolver::Progressive;
-    }
     patch_count = uniform_count(list, settings.patch_size);
     element_count = uniform_count(list, settings.element_size);
+    if (settings.solver == RadiositySolver::Auto) {
+        // Progressive where its rows of form factors are few enough: at equal time it is the
+        // more accurate on such scenes (docs/performance.md); else hierarchical where the
+        // scene's triangles may be linked pairwise.
+        const bool rows_fit = patch_count * element_count <= kMaxAutoProgressivePairs;
+        const bool linkable = list.triangle_count() <= kMaxHierarchicalRoots &&
+                              settings.form_factors != FormFactorMethod::Hemicube;
+        settings.solver =
+            rows_fit || !linkable ? RadiositySolver::Progressive : RadiositySolver::Hierarchical;
+    }
     const bool hierarchical = settings.solver == RadiositySolver::Hierarchical;
     // Nodes of the uniform tree: about 4/3 of its leaves.
     const uint64_t nodes = element_count + element_count / 3 + list.triangle_count();

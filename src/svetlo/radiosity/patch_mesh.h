@@ -17,6 +17,9 @@ namespace svetlo {
 inline constexpr uint64_t kMaxRadiosityNodes = uint64_t{1} << 23;
 /// The hierarchical solver links every pair of roots: at most this many triangles.
 inline constexpr size_t kMaxHierarchicalRoots = 4096;
+/// `auto` picks progressive refinement where patches x elements, its form factors, are at
+/// most this many (about 15 s of rays on two cores).
+inline constexpr uint64_t kMaxAutoProgressivePairs = uint64_t{1} << 26;
 
 struct PatchMesh {
     /// Tessellates the scene and builds the accelerator and the tree's roots; resolves
