@@ -246,6 +246,19 @@ TEST(Radiosity, TheFormFactorCacheChangesNothing) {
     EXPECT_GT(none.stats.rays, 2 * kept.stats.rays);
 }
 
+TEST(Radiosity, AutoPicksProgressiveWhereItsRowsAreFew) {
+    // The Cornell box's 216 patches x 3,456 elements: progressive. Elements of 2 cm make
+    // 216 x 884,736 form factors, past 2^26: hierarchical, which its 36 triangles allow.
+    json j = cornell(8, "radiosity");
+    const Scene coarse_scene = scene_from_json(j, "cornell.json");
+    EXPECT_EQ(PatchMesh(coarse_scene, 1).settings.solver, RadiositySolver::Progressive);
+    j["render"]["radiosity"] = {{"element_size", 0.02}};
+    const Scene fine_scene = scene_from_json(j, "cornell.json");
+    const PatchMesh fine(fine_scene, 1);
+    EXPECT_GT(fine.patch_count * fine.element_count, kMaxAutoProgressivePairs);
+    EXPECT_EQ(fine.settings.solver, RadiositySolver::Hierarchical);
+}
+
 TEST(Radiosity, AdaptiveSubdivisionFollowsTheShadow) {
     // A small occluder over a floor under a point light: elements split along the shadow's
     // edge, not in the open.

@@ -79,7 +79,8 @@ PatchMesh::PatchMesh(const Scene& scene, int threads)
         // Progressive where its rows of form factors are few enough: at equal time it is the
         // more accurate on such scenes (docs/performance.md); else hierarchical where the
         // scene's triangles may be linked pairwise.
-        const bool rows_fit = patch_count * element_count <= kMaxAutoProgressivePairs;
+        const bool rows_fit =
+            patch_count <= kMaxAutoProgressivePairs / std::max<uint64_t>(element_count, 1);
         const bool linkable = list.triangle_count() <= kMaxHierarchicalRoots &&
                               settings.form_factors != FormFactorMethod::Hemicube;
         settings.solver =
