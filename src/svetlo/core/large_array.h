@@ -22,11 +22,13 @@ class LargeArray {
 
 public:
     LargeArray() = default;
-    explicit LargeArray(size_t count) : size_(count), capacity_(count) {
+    /// `huge_pages`: false for an array written sparsely (room for a worst case), where every
+    /// 2 MiB page touched would be cleared whole.
+    explicit LargeArray(size_t count, bool huge_pages = true) : size_(count), capacity_(count) {
         if (count == 0) return;
         constexpr size_t kHuge = size_t{2} << 20;
         size_t bytes = count * sizeof(T);
-        size_t align = bytes >= kHuge                   ? kHuge
+        size_t align = bytes >= kHuge && huge_pages     ? kHuge
                        : alignof(std::max_align_t) < 64 ? 64
                                                         : alignof(std::max_align_t);
         bytes = (bytes + align - 1) / align * align;

@@ -271,6 +271,13 @@ private:
             bounds_of(mid, end, rb, rc);
             return true;
         }
+        // bin_of(r) <= best_bin, as one comparison of the same product: a NaN or non-positive
+        // f goes to bin 0 (left), and int(f) <= best_bin exactly when f < best_bin + 1.
+        const float split_at = static_cast<float>(best_bin + 1);
+        auto goes_left = [&](const BuildRef& r) {
+            float c = 0.5f * r.min[a] + 0.5f * r.max[a];
+            return !((c - cmin) * scale >= split_at);
+        };
         BuildRef* scratch = scratch_.data();
         if (n >= kParallelSplit) {
             // In parallel and stable: count the left references of each chunk, then every chunk
@@ -281,7 +288,7 @@ private:
                 uint32_t in_left = 0;
                 for (uint32_t j = begin + c * kSplitChunk;
                      j < std::min(end, begin + (c + 1) * kSplitChunk); ++j) {
-                    in_left += bin_of(refs[j]) <= best_bin ? 1u : 0u;
+                    in_left += goes_left(refs[j]) ? 1u : 0u;
                 }
                 lefts[c + 1] = in_left;
             });
@@ -292,7 +299,7 @@ private:
                          last = std::min(end, begin + (c + 1) * kSplitChunk);
                 uint32_t l = begin + lefts[c], r = mid + (first - begin - lefts[c]);
                 for (uint32_t j = first; j < last; ++j) {
-                    if (bin_of(refs[j]) <= best_bin)
+                    if (goes_left(refs[j]))
                         scratch[l++] = refs[j];
                     else
                         scratch[r++] = refs[j];
@@ -308,7 +315,7 @@ private:
             // at the left or at the right end (a branch here mispredicts half the time).
             uint32_t next_left = begin, next_right = end - 1;
             for (uint32_t j = begin; j < end; ++j) {
-                uint32_t left = bin_of(refs[j]) <= best_bin ? 1u : 0u;
+                uint32_t left = goes_left(refs[j]) ? 1u : 0u;
                 scratch[left ? next_left : next_right] = refs[j];
                 next_left += left;
                 next_right -= 1u - left;
@@ -399,7 +406,8 @@ Bvh::Bvh(const Geometry& geometry, int threads) : geometry_(geometry) {
         centroids.extend(chunk_centroids[c]);
     }
     // Uninitialised room for the worst case (2 n - 1 nodes): untouched pages cost nothing.
-    LargeArray<BvhNode> room(2 * refs.size());
+    // About a third of it is written, in runs, so it takes small pages.
+    LargeArray<BvhNode> room(2 * refs.size(), false);
     Builder builder(refs, room.data());
     arena.execute([&] { builder.build_root(bounds, centroids); });
     depth_ = builder.depth();
