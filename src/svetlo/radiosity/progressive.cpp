@@ -26,7 +26,9 @@ struct Patch {
 struct ShotRow {
     std::vector<uint32_t> target;
     std::vector<float> factor;
-    size_t bytes() const { return target.size() * (sizeof(uint32_t) + sizeof(float)); }
+    size_t bytes() const {
+        return target.capacity() * sizeof(uint32_t) + factor.capacity() * sizeof(float);
+    }
 };
 
 /// The shooters' rows, each made at its first shot and kept while the cache's memory lasts
@@ -100,8 +102,17 @@ private:
             },
             256);
         rays_ += rays.load();
+        // Exactly the room the entries take: the cache's budget counts it.
+        size_t entries = 0;
+        for (const FormFactor& F : dense_) entries += (F.F[0] > 0.0f) + (F.F[1] > 0.0f);
         out.target.clear();
         out.factor.clear();
+        if (out.target.capacity() < entries || out.target.capacity() > 2 * entries) {
+            out.target.shrink_to_fit();
+            out.factor.shrink_to_fit();
+            out.target.reserve(entries);
+            out.factor.reserve(entries);
+        }
         for (size_t k = 0; k < leaves_.size(); ++k) {
             for (int s = 0; s < 2; ++s) {
                 if (!(dense_[k].F[s] > 0.0f)) continue;
