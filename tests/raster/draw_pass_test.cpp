@@ -1,6 +1,7 @@
 // The pass entry point (draw_pass.h): depth-only passes against the closed form of the depth
 // key, depth writes off, the stencil's per-face operations and culling by the side the
-// camera sees, the item buffer through clipping, and the same targets on one thread and two.
+// camera sees, the item buffer through clipping, the same depths without it, and the same
+// targets on one thread and two.
 #include "svetlo/raster/draw_pass.h"
 
 #include <gtest/gtest.h>
@@ -186,6 +187,35 @@ TEST(DrawPass, CullingDropsTheSideItNames) {
             bool expected = cull == CullMode::None || (cull == CullMode::Back) == toward;
             EXPECT_EQ(drawn, expected) << static_cast<int>(cull) << " toward=" << toward;
         }
+    }
+}
+
+TEST(DrawPass, WithoutAnItemBufferTheDepthIsTheSame) {
+    // A depth pass into targets without an item buffer keeps no triangle ids (a shadow map's):
+    // its depths must be those of the pass that keeps them, bit for bit. Small triangles (a
+    // 48 x 48 grid of quads over the view, tilted, two pixels a side) take the four-pixel
+    // path, and two overlapping layers exercise the depth test.
+    TriangleList list;
+    for (float z : {-1.0f, 0.5f}) {
+        for (int j = 0; j < 48; ++j) {
+            for (int i = 0; i < 48; ++i) {
+                const float x0 = -2.4f + 0.1f * static_cast<float>(i), y0 = -2.4f + 0.1f * j;
+                auto at = [&](float x, float y) { return vec3(x, y, z + 0.3f * x - 0.2f * y); };
+                add_quad(list, at(x0, y0), at(x0 + 0.1f, y0), at(x0 + 0.1f, y0 + 0.1f),
+                         at(x0, y0 + 0.1f));
+            }
+        }
+    }
+    for (auto type : {Camera::Type::Perspective, Camera::Type::Orthographic}) {
+        RenderTargets with, without;
+        with.clear(32, 32, 1, false, true);
+        without.clear(32, 32);
+        draw_pass(list, camera(type), PipelineState{}, with, 2);
+        draw_pass(list, camera(type), PipelineState{}, without, 2);
+        EXPECT_EQ(with.depth, without.depth);
+        size_t covered = 0;
+        for (float d : without.depth) covered += d != kInfinity ? 1 : 0;
+        EXPECT_GT(covered, without.depth.size() / 2);
     }
 }
 

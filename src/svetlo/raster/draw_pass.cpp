@@ -104,6 +104,10 @@ void draw_samples(const TriangleList& list, const CameraMatrices& camera,
             }
             PipelineState tile_state = state;
             tile_state.stencil.enabled = stencil;
+            // Without an item buffer, a pass that writes depth keeps no triangle ids or
+            // barycentrics either (a shadow map's depth pass). The stencil and no-write path
+            // keeps its own reading of write_items.
+            if (!stencil && state.depth_write) tile_state.write_items = items;
             rasterize_tile(f, tile, sp, tile_state, buf);
             for (int j = tile.y0; j < tile.y1; ++j) {
                 size_t to = targets.index(tile.x0, j),

@@ -16,8 +16,10 @@ namespace {
 
 /// Stage 5 for small triangles and one sample per pixel: edge functions relative to the
 /// triangle's corner fit in 32 bits, so four pixels are tested and depth-tested at once, and
-/// each written sample keeps its screen barycentrics for the shading. The blocks' deepest
-/// depths are left as they were: larger than the truth, which is safe.
+/// each written sample keeps its triangle and screen barycentrics for the shading (`kItems`;
+/// a depth-only pass keeps the depth alone). The blocks' deepest depths are left as they
+/// were: larger than the truth, which is safe.
+template <bool kItems>
 void rasterize_small(uint32_t id, const SetupTriangle& t, PixelSpan span, const Tile& tile,
                      const SamplePattern& sp, bool depth_test, TileBuffers& buf) {
     const auto [xs, xe, ys, ye] = span;
@@ -74,17 +76,19 @@ void rasterize_small(uint32_t id, const SetupTriangle& t, PixelSpan span, const 
             // for four samples past the tile).
             size_t i = static_cast<size_t>(py - tile.y0) * tw + (px - tile.x0);
             __m128 old_z = _mm_loadu_ps(&buf.depth[i]);
-            __m128i old_id = _mm_loadu_si128(reinterpret_cast<const __m128i*>(&buf.tri[i]));
             __m128 pass = depth_test ? _mm_and_ps(covered, _mm_cmplt_ps(z4, old_z)) : covered;
-            __m128i pass_i = _mm_castps_si128(pass);
             _mm_storeu_ps(&buf.depth[i], blend(pass, z4, old_z));
-            _mm_storeu_si128(
-                reinterpret_cast<__m128i*>(&buf.tri[i]),
-                _mm_or_si128(_mm_and_si128(pass_i, id4), _mm_andnot_si128(pass_i, old_id)));
-            __m128 l1 = _mm_mul_ps(_mm_cvtepi32_ps(_mm_sub_epi32(w1, bias1)), inv_area);
-            __m128 l2 = _mm_mul_ps(_mm_cvtepi32_ps(_mm_sub_epi32(w2, bias2)), inv_area);
-            _mm_storeu_ps(&buf.l1[i], blend(pass, l1, _mm_loadu_ps(&buf.l1[i])));
-            _mm_storeu_ps(&buf.l2[i], blend(pass, l2, _mm_loadu_ps(&buf.l2[i])));
+            if constexpr (kItems) {
+                __m128i old_id = _mm_loadu_si128(reinterpret_cast<const __m128i*>(&buf.tri[i]));
+                __m128i pass_i = _mm_castps_si128(pass);
+                _mm_storeu_si128(
+                    reinterpret_cast<__m128i*>(&buf.tri[i]),
+                    _mm_or_si128(_mm_and_si128(pass_i, id4), _mm_andnot_si128(pass_i, old_id)));
+                __m128 l1 = _mm_mul_ps(_mm_cvtepi32_ps(_mm_sub_epi32(w1, bias1)), inv_area);
+                __m128 l2 = _mm_mul_ps(_mm_cvtepi32_ps(_mm_sub_epi32(w2, bias2)), inv_area);
+                _mm_storeu_ps(&buf.l1[i], blend(pass, l1, _mm_loadu_ps(&buf.l1[i])));
+                _mm_storeu_ps(&buf.l2[i], blend(pass, l2, _mm_loadu_ps(&buf.l2[i])));
+            }
             w0 = _mm_add_epi32(w0, step_x[0]);
             w1 = _mm_add_epi32(w1, step_x[1]);
             w2 = _mm_add_epi32(w2, step_x[2]);
@@ -462,7 +466,11 @@ void draw_triangle(uint32_t id, const SetupTriangle& t, const Tile& tile, const 
     if (state.stencil.enabled || !state.depth_write) {
         rasterize_plain(id, t, TriangleEdges(t), span, tile, sp, state, buf);
     } else if (t.small && sp.count == 1) {
-        rasterize_small(id, t, span, tile, sp, depth_test, buf);
+        if (state.write_items) {
+            rasterize_small<true>(id, t, span, tile, sp, depth_test, buf);
+        } else {
+            rasterize_small<false>(id, t, span, tile, sp, depth_test, buf);
+        }
     } else {
         rasterize(id, t, TriangleEdges(t), span, tile, sp, depth_test, buf);
     }
