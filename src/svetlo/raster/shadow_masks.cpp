@@ -1,5 +1,7 @@
 #include "svetlo/raster/shadow_masks.h"
 
+#include <immintrin.h>
+
 #include "svetlo/core/error.h"
 #include "svetlo/raster/fragment.h"
 #include "svetlo/raster/shadow_techniques.h"
@@ -80,6 +82,21 @@ void fill_masks(const ShadowTechniqueState& technique, const FrameState& f, cons
     for (int py = tile.y0; py < tile.y1; ++py) {
         for (int px = tile.x0; px < tile.x1; ++px) {
             for (int s = 0; s < S; ++s, ++i) {
+                // The samples' triangles and their vertices are scattered over the frame's
+                // (a triangle covers a pixel or two): fetch ahead, the triangle first and its
+                // vertices once it has arrived.
+                constexpr size_t kAheadTriangle = 16, kAheadVertices = 8;
+                if (i + kAheadTriangle < samples && buf.tri[i + kAheadTriangle] != kNone) {
+                    _mm_prefetch(reinterpret_cast<const char*>(&f.tri(buf.tri[i + kAheadTriangle])),
+                                 _MM_HINT_T0);
+                }
+                if (i + kAheadVertices < samples && buf.tri[i + kAheadVertices] != kNone) {
+                    const SetupTriangle& ahead = f.tri(buf.tri[i + kAheadVertices]);
+                    for (int v = 0; v < 3; ++v) {
+                        _mm_prefetch(reinterpret_cast<const char*>(&f.vertex(ahead.v[v])),
+                                     _MM_HINT_T0);
+                    }
+                }
                 const uint32_t id = buf.tri[i];
                 if (id == kNone) continue;
                 ShadowSample at;
