@@ -141,6 +141,11 @@ expect_error "negative element size" "render.radiosity.element_size" render "$wo
     -o "$work/keep.png" --engine radiosity --set render.radiosity.element_size=-1
 expect_error "patch mesh too large" "render.radiosity.element_size: the patch mesh would have" \
     render "$work/good.json" -o "$work/keep.png" --engine radiosity --set render.radiosity.element_size=1e-5
+expect_error "progressive past its form factors" \
+    "render.radiosity.patch_size: progressive refinement would compute 198656 patches" \
+    render "$work/good.json" -o "$work/keep.png" --engine radiosity \
+    --set render.radiosity.solver=progressive --set render.radiosity.patch_size=0.05 \
+    --set render.radiosity.element_size=0.05
 expect_error "matrix too large" "render.radiosity.solver: the matrix solvers take at most" \
     render "$work/good.json" -o "$work/keep.png" --engine radiosity --set render.radiosity.solver=jacobi
 expect_error "hierarchical with a hemicube" "render.radiosity.form_factors" render "$work/good.json" \

@@ -95,6 +95,22 @@ PatchMesh::PatchMesh(const Scene& scene, int threads)
                         " elements (at most about " + std::to_string(kMaxRadiosityNodes * 3 / 4) +
                         "); raise element_size");
     }
+    const bool progressive = settings.solver == RadiositySolver::Progressive;
+    if (progressive && patch_count > kMaxProgressivePairs / std::max<uint64_t>(element_count, 1)) {
+        // Every triangle is at least one patch and one element: past the limit on its own,
+        // no size helps.
+        const uint64_t roots = std::max<uint64_t>(list.triangle_count(), 1);
+        const bool each_triangle_a_patch = roots > kMaxProgressivePairs / roots;
+        throw Error(file, "render.radiosity.patch_size",
+                    "progressive refinement would compute " + std::to_string(patch_count) +
+                        " patches x " + std::to_string(element_count) +
+                        " elements of form factors (at most 2^32); " +
+                        (each_triangle_a_patch
+                             ? "each of the scene's " + std::to_string(list.triangle_count()) +
+                                   " triangles is at least one patch and one element: simplify "
+                                   "its meshes, or use the path tracer"
+                             : std::string("raise patch_size or element_size")));
+    }
     const bool matrix = settings.solver == RadiositySolver::Jacobi ||
                         settings.solver == RadiositySolver::GaussSeidel;
     if (matrix && element_count > kMaxMatrixElements) {

@@ -20,6 +20,9 @@ inline constexpr size_t kMaxHierarchicalRoots = 4096;
 /// `auto` picks progressive refinement where patches x elements, its form factors, are at
 /// most this many (about 15 s of rays on two cores).
 inline constexpr uint64_t kMaxAutoProgressivePairs = uint64_t{1} << 26;
+/// Progressive refinement computes at most this many form factors (patches x elements, about
+/// 20 minutes on two cores): past it a scene is refused instead of running for hours.
+inline constexpr uint64_t kMaxProgressivePairs = uint64_t{1} << 32;
 
 struct PatchMesh {
     /// Tessellates the scene and builds the accelerator and the tree's roots; resolves
