@@ -51,9 +51,11 @@ public:
         const uint32_t roots = static_cast<uint32_t>(tree_.root_count());
         for (uint32_t r = 0; r < roots; ++r) {
             for (uint32_t s = 0; s < roots; ++s) {
+                pending_ = static_cast<size_t>(roots - r - 1) * roots + (roots - s - 1);
                 if (r != s && facing(r, s)) refine(r, s);
             }
         }
+        pending_ = 0;
         finish_new_links();
 
         double power = 0.0;
@@ -140,8 +142,20 @@ private:
                (!n.leaf() || tree_.nodes().size() + 4 <= max_nodes_);
     }
 
+    /// Refuses (an Error naming link_epsilon) a split past settings.max_links, counting the
+    /// links still to come from the pairs not yet refined: a result that stopped refining
+    /// where the links ran out would be wrong by tens of percent, and more links than the
+    /// limit would take more memory than it allows (16 bytes each).
+    void check_room_to_split() const {
+        if (links_.size() + pending_ + 4 <= max_links_) return;
+        throw Error(in_.file, "render.radiosity.link_epsilon",
+                    "hierarchical radiosity would make more than " + std::to_string(max_links_) +
+                        " links (render.radiosity.max_links); raise link_epsilon or max_links");
+    }
+
     void refine(uint32_t r, uint32_t s) {
         if (oracle(r, s) > threshold_) {
+            check_room_to_split();
             bool split_r = tree_.node(r).area >= tree_.node(s).area;
             uint32_t node = split_r ? r : s;
             if (!can_split(node)) {
@@ -248,7 +262,9 @@ private:
         std::vector<Link> old;
         old.swap(links_);
         bool any = false;
-        for (const Link& l : old) {
+        for (size_t k = 0; k < old.size(); ++k) {
+            const Link& l = old[k];
+            pending_ = old.size() - k - 1;
             bool splittable = can_split(l.receiver) || can_split(l.source);
             if (splittable && oracle(l.receiver, l.source) > threshold_) {  // BF refinement
                 any = true;
@@ -257,6 +273,7 @@ private:
                 links_.push_back(l);
             }
         }
+        pending_ = 0;
         if (any) {
             finish_new_links();
             // New leaves start from their parents' B; lights reach them through light_.
@@ -337,6 +354,9 @@ private:
     // The smallest nodes: as fine as adaptive subdivision goes below the elements.
     const float min_edge_ = std::ldexp(in_.settings.element_size, -in_.settings.max_subdivision);
     uint64_t rays_ = 0;
+
+    size_t pending_ = 0;  // links to come: root pairs not yet refined, old links not placed back
+    const size_t max_links_ = static_cast<size_t>(in_.settings.max_links);
 
 public:
     size_t max_nodes_ = 0;

@@ -84,7 +84,8 @@ RenderResult RadiosityRenderer::render(const Scene& scene, const RenderOptions& 
         [&](uint32_t id) { return light_on_node(mesh, scene, id, seed); },
         seed,
         threads,
-        &progress};
+        &progress,
+        scene.path.string()};
     Solution sol;
     switch (settings.solver) {
         case RadiositySolver::Auto:  // resolved by PatchMesh

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "svetlo/core/progress.h"
@@ -36,6 +37,7 @@ struct SolverInput {
     uint64_t seed = 0;
     int threads = 0;
     Progress* progress = nullptr;  // its status shows the iteration, residual and unshot light
+    std::string file;              // the scene's, for the errors the solvers raise
 };
 
 struct Solution {

@@ -376,6 +376,7 @@ struct RadiositySettings {
     RadiosityDisplay display = RadiosityDisplay::Gouraud;
     bool ambient_term = true;          // progressive: show the unshot light as an ambient term
     int form_factor_cache_mib = 1024;  // progressive: memory for the shooters' rows, MiB
+    int max_links = 1 << 26;           // hierarchical: links at most (16 bytes each: 1 GiB)
 };
 
 struct RenderSettings {

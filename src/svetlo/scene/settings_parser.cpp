@@ -54,7 +54,8 @@ Film parse_film(const JsonNode& node) {
 RadiositySettings parse_radiosity(const JsonNode& node) {
     node.expect_object({"patch_size", "element_size", "form_factors", "samples", "hemicube",
                         "solver", "tolerance", "max_iterations", "adaptive", "max_subdivision",
-                        "link_epsilon", "display", "ambient_term", "form_factor_cache_mib"});
+                        "link_epsilon", "display", "ambient_term", "form_factor_cache_mib",
+                        "max_links"});
     RadiositySettings s;
     if (auto n = node.find("patch_size")) s.patch_size = n->as_positive();
     if (auto n = node.find("element_size")) s.element_size = n->as_positive();
@@ -78,6 +79,7 @@ RadiositySettings parse_radiosity(const JsonNode& node) {
     if (auto n = node.find("ambient_term")) s.ambient_term = n->as_bool();
     if (auto n = node.find("form_factor_cache_mib"))
         s.form_factor_cache_mib = static_cast<int>(n->as_integer(0, 1 << 20));
+    if (auto n = node.find("max_links")) s.max_links = static_cast<int>(n->as_integer(16, 1 << 30));
     if (s.solver == RadiositySolver::Hierarchical && s.form_factors == FormFactorMethod::Hemicube)
         node.at("form_factors")
             .fail("the hierarchical solver needs analytic or raycast form factors");
