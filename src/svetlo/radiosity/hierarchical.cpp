@@ -145,7 +145,8 @@ private:
     /// Refuses (an Error naming link_epsilon) a split past settings.max_links, counting the
     /// links still to come from the pairs not yet refined: a result that stopped refining
     /// where the links ran out would be wrong by tens of percent, and more links than the
-    /// limit would take more memory than it allows (16 bytes each).
+    /// limit would take more memory than it allows (16 bytes each, twice while refine_links
+    /// rebuilds them).
     void check_room_to_split() const {
         if (links_.size() + pending_ + 4 <= max_links_) return;
         throw Error(in_.file, "render.radiosity.link_epsilon",
@@ -155,7 +156,6 @@ private:
 
     void refine(uint32_t r, uint32_t s) {
         if (oracle(r, s) > threshold_) {
-            check_room_to_split();
             bool split_r = tree_.node(r).area >= tree_.node(s).area;
             uint32_t node = split_r ? r : s;
             if (!can_split(node)) {
@@ -163,6 +163,7 @@ private:
                 split_r = !split_r;
             }
             if (can_split(node)) {
+                check_room_to_split();
                 uint32_t first = tree_.node(node).leaf() ? split(node) : tree_.node(node).child;
                 for (uint32_t c = first; c < first + 4; ++c) {
                     if (split_r) {
