@@ -204,11 +204,14 @@ private:
         float cmin = centroids.min[a];
         float scale = static_cast<float>(kBins) * 0.99999f / centroids.extent()[a];
         const BuildRef* refs = refs_.data();
+        // A reference's centroid in bins along the axis (fractional).
+        auto position = [&](const BuildRef& r) {
+            return (0.5f * r.min[a] + 0.5f * r.max[a] - cmin) * scale;
+        };
         auto bin_of = [&](const BuildRef& r) {
-            float c = 0.5f * r.min[a] + 0.5f * r.max[a];
             // Centroids past the float range (a generated vertex at inf) give NaN or inf here:
             // they go to the end bins instead of indexing with an undefined conversion.
-            float f = (c - cmin) * scale;
+            const float f = position(r);
             if (!(f > 0.0f)) return 0;
             return f < static_cast<float>(kBins - 1) ? static_cast<int>(f) : kBins - 1;
         };
@@ -271,13 +274,11 @@ private:
             bounds_of(mid, end, rb, rc);
             return true;
         }
-        // bin_of(r) <= best_bin, as one comparison of the same product: a NaN or non-positive
-        // f goes to bin 0 (left), and int(f) <= best_bin exactly when f < best_bin + 1.
+        // bin_of(r) <= best_bin, as one comparison of the same position: a NaN or
+        // non-positive one goes to bin 0 (left), and int(f) <= best_bin exactly when
+        // f < best_bin + 1.
         const float split_at = static_cast<float>(best_bin + 1);
-        auto goes_left = [&](const BuildRef& r) {
-            float c = 0.5f * r.min[a] + 0.5f * r.max[a];
-            return !((c - cmin) * scale >= split_at);
-        };
+        auto goes_left = [&](const BuildRef& r) { return !(position(r) >= split_at); };
         BuildRef* scratch = scratch_.data();
         if (n >= kParallelSplit) {
             // In parallel and stable: count the left references of each chunk, then every chunk

@@ -75,12 +75,15 @@ PatchMesh::PatchMesh(const Scene& scene, int threads)
 
     patch_count = uniform_count(list, settings.patch_size);
     element_count = uniform_count(list, settings.element_size);
+    // Whether a x b, form factors, pass `limit` (without overflowing).
+    auto exceeds = [](uint64_t a, uint64_t b, uint64_t limit) {
+        return a > limit / std::max<uint64_t>(b, 1);
+    };
     if (settings.solver == RadiositySolver::Auto) {
         // Progressive where its rows of form factors are few enough: at equal time it is the
         // more accurate on such scenes (docs/performance.md); else hierarchical where the
         // scene's triangles may be linked pairwise.
-        const bool rows_fit =
-            patch_count <= kMaxAutoProgressivePairs / std::max<uint64_t>(element_count, 1);
+        const bool rows_fit = !exceeds(patch_count, element_count, kMaxAutoProgressivePairs);
         const bool linkable = list.triangle_count() <= kMaxHierarchicalRoots &&
                               settings.form_factors != FormFactorMethod::Hemicube;
         settings.solver =
@@ -96,11 +99,11 @@ PatchMesh::PatchMesh(const Scene& scene, int threads)
                         "); raise element_size");
     }
     const bool progressive = settings.solver == RadiositySolver::Progressive;
-    if (progressive && patch_count > kMaxProgressivePairs / std::max<uint64_t>(element_count, 1)) {
+    if (progressive && exceeds(patch_count, element_count, kMaxProgressivePairs)) {
         // Every triangle is at least one patch and one element: past the limit on its own,
         // no size helps.
-        const uint64_t roots = std::max<uint64_t>(list.triangle_count(), 1);
-        const bool each_triangle_a_patch = roots > kMaxProgressivePairs / roots;
+        const uint64_t roots = list.triangle_count();
+        const bool each_triangle_a_patch = exceeds(roots, roots, kMaxProgressivePairs);
         throw Error(file, "render.radiosity.patch_size",
                     "progressive refinement would compute " + std::to_string(patch_count) +
                         " patches x " + std::to_string(element_count) +

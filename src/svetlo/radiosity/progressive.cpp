@@ -58,11 +58,13 @@ public:
     const ShotRow& row(uint32_t patch, uint32_t node, int side) {
         std::optional<ShotRow>& kept = cached_[2 * patch + side];
         if (kept) return *kept;
-        make_row(patch, node, side, scratch_);
-        if (used_ + scratch_.bytes() > budget_) return scratch_;
-        used_ += scratch_.bytes();
-        kept = std::move(scratch_);
-        scratch_ = ShotRow{};
+        ShotRow made = make_row(patch, node, side);
+        if (used_ + made.bytes() > budget_) {
+            scratch_ = std::move(made);
+            return scratch_;
+        }
+        used_ += made.bytes();
+        kept = std::move(made);
         return *kept;
     }
 
@@ -70,7 +72,7 @@ public:
     size_t cache_bytes() const { return used_; }
 
 private:
-    void make_row(uint32_t patch, uint32_t node, int side, ShotRow& out) {
+    ShotRow make_row(uint32_t patch, uint32_t node, int side) {
         const ElementTree& tree = in_.tree;
         const ElementNode& p = tree.node(node);
         if (hemicube_) {
@@ -105,14 +107,9 @@ private:
         // Exactly the room the entries take: the cache's budget counts it.
         size_t entries = 0;
         for (const FormFactor& F : dense_) entries += (F.F[0] > 0.0f) + (F.F[1] > 0.0f);
-        out.target.clear();
-        out.factor.clear();
-        if (out.target.capacity() < entries || out.target.capacity() > 2 * entries) {
-            out.target.shrink_to_fit();
-            out.factor.shrink_to_fit();
-            out.target.reserve(entries);
-            out.factor.reserve(entries);
-        }
+        ShotRow out;
+        out.target.reserve(entries);
+        out.factor.reserve(entries);
         for (size_t k = 0; k < leaves_.size(); ++k) {
             for (int s = 0; s < 2; ++s) {
                 if (!(dense_[k].F[s] > 0.0f)) continue;
@@ -120,6 +117,7 @@ private:
                 out.factor.push_back(dense_[k].F[s]);
             }
         }
+        return out;
     }
 
     SolverInput& in_;
@@ -127,7 +125,7 @@ private:
     const std::vector<uint32_t>& patch_of_;
     std::vector<FormFactor> dense_;
     std::vector<std::optional<ShotRow>> cached_;  // per patch and side
-    ShotRow scratch_;                             // a row the cache has no room for
+    ShotRow scratch_;                             // the last row the cache had no room for
     size_t budget_, used_ = 0;                    // bytes
     std::optional<Hemicube> hemicube_;
     TriangleList triangles_;
