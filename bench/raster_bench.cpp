@@ -8,8 +8,9 @@
 // A frame is the whole pipeline from world-space vertex buffers to a finished colour buffer
 // (svetlo: vertex stage, clipping, binning, rasterization, shading, resolve; GL: clear, draw,
 // glFinish). Prints milliseconds per frame (median of several) and the ratio of frame rates.
-// Usage: svetlo_raster_bench [THREADS [FRAMES]] (one thread count per process: llvmpipe
-// reads LP_NUM_THREADS once).
+// Usage: svetlo_raster_bench [THREADS [FRAMES [WORKLOAD]]] (one thread count per process:
+// llvmpipe reads LP_NUM_THREADS once). With WORKLOAD (map, zfail, zpass or depth), svetlo
+// alone renders that shadow workload FRAMES times, for a profiler.
 // Without OSMesa at build time, only svetlo's figures are printed.
 #include <algorithm>
 #include <chrono>
@@ -181,6 +182,12 @@ int main(int argc, char** argv) {
     // llvmpipe reads LP_NUM_THREADS once per process: one thread count per run.
     int threads = argc > 1 ? std::max(1, std::atoi(argv[1])) : 1;
     int frames = argc > 2 ? std::max(1, std::atoi(argv[2])) : 5;
+    if (argc > 3) {
+        // One shadow workload, svetlo alone (for a profiler).
+        if (bench::shadow_profile(argv[3], threads, frames)) return 0;
+        std::fprintf(stderr, "unknown workload %s (map, zfail, zpass or depth)\n", argv[3]);
+        return 1;
+    }
     std::printf("%-32s %7s %12s %12s %10s\n", "workload, 1920x1080", "threads", "svetlo ms",
                 "llvmpipe ms", "ratio");
     for (const Workload& w : {geometry_heavy(), fragment_heavy()}) {

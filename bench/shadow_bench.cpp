@@ -538,4 +538,25 @@ void shadow_benchmarks(int threads, int frames) {
     }
 }
 
+bool shadow_profile(const char* workload, int threads, int frames) {
+    const std::string w = workload;
+    double ms = 0.0;
+    if (w == "map") {
+        ms = svetlo_frame_ms(svetlo_scene(map_scene(), ShadowTechnique::Map), threads, frames);
+    } else if (w == "zfail" || w == "zpass") {
+        Scene scene = svetlo_scene(volume_scene(), ShadowTechnique::Volume);
+        scene.render.shadow_teaching.volume_count =
+            w == "zfail" ? VolumeCount::ZFail : VolumeCount::ZPass;
+        ms = svetlo_frame_ms(scene, threads, frames);
+    } else if (w == "depth") {
+        size_t triangles = 0;
+        ms = depth_pass_ms(map_scene(), threads, frames, triangles);
+    } else {
+        return false;
+    }
+    std::printf("%s: %.1f ms per frame (median of %d, %d threads)\n", workload, ms, frames,
+                threads);
+    return true;
+}
+
 }  // namespace svetlo::bench

@@ -55,16 +55,6 @@ Color flat_colour(const FrameState& f, const uint32_t idx[3], uint32_t material,
     return light_point(f, bsdf, p, wo, ng, ng);
 }
 
-Weights perspective_weights(vec2 l, const ClipVertex& A, const ClipVertex& B, const ClipVertex& C) {
-    Weights w;
-    w.q[0] = (1.0f - l.x - l.y) * A.invw;
-    w.q[1] = l.x * B.invw;
-    w.q[2] = l.y * C.invw;
-    float inv_q = 1.0f / (w.q[0] + w.q[1] + w.q[2]);
-    for (int k = 0; k < 3; ++k) w.b[k] = w.q[k] * inv_q;
-    return w;
-}
-
 namespace {
 
 struct ShadeResult {

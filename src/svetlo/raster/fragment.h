@@ -42,7 +42,16 @@ Color light_point_per_light(const FrameState& f, const Bsdf& bsdf, vec3 p, vec3 
 struct Weights {
     float q[3], b[3];
 };
-Weights perspective_weights(vec2 l, const ClipVertex& A, const ClipVertex& B, const ClipVertex& C);
+inline Weights perspective_weights(vec2 l, const ClipVertex& A, const ClipVertex& B,
+                                   const ClipVertex& C) {
+    Weights w;
+    w.q[0] = (1.0f - l.x - l.y) * A.invw;
+    w.q[1] = l.x * B.invw;
+    w.q[2] = l.y * C.invw;
+    float inv_q = 1.0f / (w.q[0] + w.q[1] + w.q[2]);
+    for (int k = 0; k < 3; ++k) w.b[k] = w.q[k] * inv_q;
+    return w;
+}
 
 /// Stage 6 for the samples the fast path does not take, and for every mode but the fast
 /// Phong path: shades the tile's visible samples and adds them (per pixel) into buf.color

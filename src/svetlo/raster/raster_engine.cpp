@@ -287,6 +287,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     // samples it writes, unless the stencil is on.
     const bool small_left_weights = !state.stencil.enabled;
     tbb::enumerable_thread_specific<TileBuffers> buffers;
+    tbb::enumerable_thread_specific<MaskScratch> mask_scratch;
     Progress progress("raster", static_cast<int64_t>(width) * height, options.progress);
     parallel_tiles(
         width, height, kTile, threads,
@@ -304,7 +305,10 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                 buf.reset(pixels * static_cast<size_t>(S), pixels, targets.any,
                           state.stencil.enabled);
                 rasterize_tile(f, tile, sp, state, buf);
-                if (shadows) fill_masks(*shadows, f, tile, sp, static_cast<int>(pass), buf);
+                if (shadows) {
+                    fill_masks(*shadows, f, tile, sp, static_cast<int>(pass), small_left_weights,
+                               buf, mask_scratch.local());
+                }
                 if (!simd) {
                     shade_tile(f, tile, sp, msaa, targets.any, buf);
                 } else {

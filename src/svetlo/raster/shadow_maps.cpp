@@ -25,8 +25,11 @@
 // tap; `pcss` (Fernando 2005) searches the map for blockers, estimates the penumbra from the
 // light's width, the blockers' mean distance and the receiver's, and filters that wide. Delta
 // lights have no width: PCSS falls back to PCF for them.
+#include <immintrin.h>
+
 #include <algorithm>
 #include <array>
+#include <bit>
 
 #include "svetlo/core/error.h"
 #include "svetlo/raster/shadow_techniques.h"
@@ -133,20 +136,21 @@ struct CasterMaps {
     std::vector<DepthMap> maps;
     std::vector<float> splits;  // cascades: the far camera depth of each slice
 
-    const DepthMap& pick(vec3 p, const ShadowCaster& c, const CameraMatrices& camera) const {
+    /// The index in `maps` of the map that holds p.
+    size_t pick(vec3 p, const ShadowCaster& c, const CameraMatrices& camera) const {
         if (layout == Layout::Cube) {
             vec3 d = p - c.position, a = glm::abs(d);
             int axis = a.x >= a.y && a.x >= a.z ? 0 : a.y >= a.z ? 1 : 2;
-            return maps[static_cast<size_t>(2 * axis + (d[axis] < 0.0f ? 1 : 0))];
+            return static_cast<size_t>(2 * axis + (d[axis] < 0.0f ? 1 : 0));
         }
         if (layout == Layout::Cascades) {
             float z = glm::dot(p - camera.eye, camera.forward);
             for (size_t k = 0; k + 1 < maps.size(); ++k) {
-                if (z <= splits[k]) return maps[k];
+                if (z <= splits[k]) return k;
             }
-            return maps.back();
+            return maps.size() - 1;
         }
-        return maps[0];
+        return 0;
     }
 };
 
@@ -184,40 +188,41 @@ public:
     }
 
     float lit(size_t k, const ShadowSample& at) const override {
+        const uint32_t first = 0;
+        float out = 1.0f;
+        lit_many(k, &at, &first, 1, &out);
+        return out;
+    }
+
+    void lit_many(size_t k, const ShadowSample* samples, const uint32_t* at, size_t count,
+                  float* out) const override {
         const ShadowCaster& c = casters_[k];
         const CasterMaps& cm = maps_[k];
-        const DepthMap& m = cm.pick(at.p, c, camera_);
-        // (A perspective map's eye is its caster's position.)
-        const float distance = m.receiver(at.p);
-        const vec3 wi = m.cam.orthographic ? -c.direction : (m.cam.eye - at.p) / distance;
-        // Normal offset: the lookup point moves off the surface by normal_offset texels.
-        const float texel = m.texel_at(distance);
-        const vec3 q = at.p + at.n * (settings_.normal_offset * texel);
-        const float receiver = m.receiver(q);
-        vec4 clip = m.view_projection * vec4(q, 1.0f);
-        if (!(clip.w > 0.0f)) return 1.0f;  // behind a spot's map: outside its cone
-        vec2 px = m.cam.to_pixels(vec2(clip) / clip.w);
-        if (!(px.x >= 0.0f && px.y >= 0.0f && px.x <= static_cast<float>(m.res) &&
-              px.y <= static_cast<float>(m.res)))
-            return 1.0f;  // outside the map: a spot's cone, or beyond the fitted view
-        // Slope-scaled: the depth of the receiver's plane changes by tan(theta) texels per
-        // texel of offset.
-        const float cos_theta = std::clamp(glm::dot(at.n, wi), 0.1f, 1.0f);
-        const float tan_theta = std::sqrt(1.0f - cos_theta * cos_theta) / cos_theta;
-        const float slope = settings_.slope_bias * texel * tan_theta;
-        switch (settings_.filter) {
-            case ShadowFilter::None:
-                return compare(m.at(static_cast<int>(px.x), static_cast<int>(px.y)), receiver,
-                               settings_.bias + slope);
-            case ShadowFilter::Pcf:
-                return pcf(m, px, receiver, 0.5f * static_cast<float>(settings_.kernel - 1), slope);
-            case ShadowFilter::Pcss:
-                return c.size > 0.0f && !m.cam.orthographic
-                           ? pcss(m, c, px, receiver, slope)
-                           : pcf(m, px, receiver, 0.5f * static_cast<float>(settings_.kernel - 1),
-                                 slope);
+        if (cm.maps.size() == 1) {
+            lit_on_map(c, cm.maps[0], samples, at, count, out);
+            return;
         }
-        return 1.0f;
+        // A cube's faces or cascades: chunk by chunk, the samples grouped by the map they pick.
+        constexpr size_t kChunk = 64;
+        uint8_t picked[kChunk];
+        uint32_t group[kChunk], slot[kChunk];
+        float answer[kChunk];
+        for (size_t first = 0; first < count; first += kChunk) {
+            const size_t n = std::min(kChunk, count - first);
+            for (size_t j = 0; j < n; ++j)
+                picked[j] = static_cast<uint8_t>(cm.pick(samples[at[first + j]].p, c, camera_));
+            for (size_t map = 0; map < cm.maps.size(); ++map) {
+                size_t g = 0;
+                for (size_t j = 0; j < n; ++j) {
+                    if (picked[j] != map) continue;
+                    group[g] = at[first + j];
+                    slot[g++] = static_cast<uint32_t>(j);
+                }
+                if (g == 0) continue;
+                lit_on_map(c, cm.maps[map], samples, group, g, answer);
+                for (size_t m = 0; m < g; ++m) out[first + slot[m]] = answer[m];
+            }
+        }
     }
 
     Image shadow_map_image() const override {
@@ -252,6 +257,108 @@ public:
     }
 
 private:
+    /// lit() for samples[at[m]], m < count, all on map m: the lookup's geometry four samples
+    /// at a time (SSE; the same operations in the same order as one at a time, so the same
+    /// answers), then each sample's filter.
+    void lit_on_map(const ShadowCaster& c, const DepthMap& m, const ShadowSample* samples,
+                    const uint32_t* at, size_t count, float* out) const {
+        using V = __m128;
+        auto set1 = [](float x) { return _mm_set1_ps(x); };
+        auto add = [](V a, V b) { return _mm_add_ps(a, b); };
+        auto sub = [](V a, V b) { return _mm_sub_ps(a, b); };
+        auto mul = [](V a, V b) { return _mm_mul_ps(a, b); };
+        auto div = [](V a, V b) { return _mm_div_ps(a, b); };
+        auto dot = [&](const V a[3], const V b[3]) {
+            return add(add(mul(a[0], b[0]), mul(a[1], b[1])), mul(a[2], b[2]));
+        };
+        const vec3 eye = m.cam.eye, forward = m.cam.forward;
+        const mat4& vp = m.view_projection;
+        const float res = static_cast<float>(m.res);
+        const float radius = 0.5f * static_cast<float>(settings_.kernel - 1);
+        for (size_t first = 0; first < count; first += 4) {
+            const size_t lanes = std::min<size_t>(4, count - first);
+            const ShadowSample* s[4];
+            for (size_t L = 0; L < 4; ++L) s[L] = &samples[at[first + std::min(L, lanes - 1)]];
+            V p[3], n[3];
+            for (int a = 0; a < 3; ++a) {
+                p[a] = _mm_setr_ps(s[0]->p[a], s[1]->p[a], s[2]->p[a], s[3]->p[a]);
+                n[a] = _mm_setr_ps(s[0]->n[a], s[1]->n[a], s[2]->n[a], s[3]->n[a]);
+            }
+            const V e[3] = {set1(eye.x), set1(eye.y), set1(eye.z)};
+            const V fw[3] = {set1(forward.x), set1(forward.y), set1(forward.z)};
+            // The receiver's distance (DepthMap::receiver), the direction to the light and a
+            // texel's width there.
+            V distance, wi[3], texel;
+            if (m.cam.orthographic) {
+                const V d[3] = {sub(p[0], e[0]), sub(p[1], e[1]), sub(p[2], e[2])};
+                distance = dot(d, fw);
+                for (int a = 0; a < 3; ++a) wi[a] = set1(-c.direction[a]);
+                texel = set1(m.texel);
+            } else {
+                const V d[3] = {sub(p[0], e[0]), sub(p[1], e[1]), sub(p[2], e[2])};
+                distance = _mm_sqrt_ps(dot(d, d));
+                for (int a = 0; a < 3; ++a) wi[a] = div(sub(e[a], p[a]), distance);
+                texel = mul(set1(m.texel), distance);
+            }
+            // Normal offset: the lookup point moves off the surface by normal_offset texels.
+            const V offset = mul(set1(settings_.normal_offset), texel);
+            const V q[3] = {add(p[0], mul(n[0], offset)), add(p[1], mul(n[1], offset)),
+                            add(p[2], mul(n[2], offset))};
+            const V dq[3] = {sub(q[0], e[0]), sub(q[1], e[1]), sub(q[2], e[2])};
+            const V receiver = m.cam.orthographic ? dot(dq, fw) : _mm_sqrt_ps(dot(dq, dq));
+            // clip = view_projection (q, 1), as glm: columns times coordinates, added in order.
+            auto row = [&](int r) {
+                return add(add(add(mul(set1(vp[0][r]), q[0]), mul(set1(vp[1][r]), q[1])),
+                               mul(set1(vp[2][r]), q[2])),
+                           set1(vp[3][r]));
+            };
+            const V w = row(3);
+            // CameraMatrices::to_pixels of the clip point's xy / w.
+            const V x = mul(mul(add(div(row(0), w), set1(1.0f)), set1(0.5f)), set1(res));
+            const V y = mul(mul(sub(set1(1.0f), div(row(1), w)), set1(0.5f)), set1(res));
+            // Outside a spot's cone (behind its map, or off it), or beyond the fitted view.
+            const V zero = _mm_setzero_ps(), size = set1(res);
+            const V on_map =
+                _mm_and_ps(_mm_and_ps(_mm_cmpgt_ps(w, zero),
+                                      _mm_and_ps(_mm_cmpge_ps(x, zero), _mm_cmpge_ps(y, zero))),
+                           _mm_and_ps(_mm_cmple_ps(x, size), _mm_cmple_ps(y, size)));
+            // Slope-scaled: the depth of the receiver's plane changes by tan(theta) texels per
+            // texel of offset.
+            const V cos_theta = _mm_min_ps(_mm_max_ps(dot(n, wi), set1(0.1f)), set1(1.0f));
+            const V tan_theta =
+                div(_mm_sqrt_ps(sub(set1(1.0f), mul(cos_theta, cos_theta))), cos_theta);
+            const V slope = mul(mul(set1(settings_.slope_bias), texel), tan_theta);
+            alignas(16) float xs[4], ys[4], rs[4], ss[4], ok[4];
+            _mm_store_ps(xs, x);
+            _mm_store_ps(ys, y);
+            _mm_store_ps(rs, receiver);
+            _mm_store_ps(ss, slope);
+            _mm_store_ps(ok, on_map);
+            for (size_t L = 0; L < lanes; ++L) {
+                float& answer = out[first + L];
+                if (!std::bit_cast<uint32_t>(ok[L])) {
+                    answer = 1.0f;
+                    continue;
+                }
+                const vec2 px(xs[L], ys[L]);
+                switch (settings_.filter) {
+                    case ShadowFilter::None:
+                        answer = compare(m.at(static_cast<int>(px.x), static_cast<int>(px.y)),
+                                         rs[L], settings_.bias + ss[L]);
+                        break;
+                    case ShadowFilter::Pcf:
+                        answer = pcf(m, px, rs[L], radius, ss[L]);
+                        break;
+                    case ShadowFilter::Pcss:
+                        answer = c.size > 0.0f && !m.cam.orthographic
+                                     ? pcss(m, c, px, rs[L], ss[L])
+                                     : pcf(m, px, rs[L], radius, ss[L]);
+                        break;
+                }
+            }
+        }
+    }
+
     int resolution(const ShadowCaster& c) const {
         int r = settings_.resolution;
         if (glm::length(c.normal) > 0.0f && settings_.filter != ShadowFilter::Pcss) {
@@ -390,6 +497,32 @@ private:
             const float fx = base.x - static_cast<float>(x0), fy = base.y - static_cast<float>(y0);
             const float limit = receiver - bias;
             const bool inside = x0 >= 0 && y0 >= 0 && x0 + n < m.res && y0 + n < m.res;
+            if (inside && n <= 3 && x0 + 3 < m.res) {
+                // A row's n + 1 texels in one four-wide load, weighted (1 - fx, 1, ..., fx, 0).
+                const __m128 at = _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f);
+                const __m128 inner =
+                    _mm_and_ps(_mm_cmpgt_ps(at, _mm_setzero_ps()),
+                               _mm_cmplt_ps(at, _mm_set1_ps(static_cast<float>(n))));
+                const __m128 wx = _mm_or_ps(
+                    _mm_and_ps(inner, _mm_set1_ps(1.0f)),
+                    _mm_or_ps(
+                        _mm_and_ps(_mm_cmpeq_ps(at, _mm_setzero_ps()), _mm_set1_ps(1.0f - fx)),
+                        _mm_and_ps(_mm_cmpeq_ps(at, _mm_set1_ps(static_cast<float>(n))),
+                                   _mm_set1_ps(fx))));
+                const __m128 lim = _mm_set1_ps(limit);
+                __m128 total = _mm_setzero_ps();
+                const float* d = m.distance.data() +
+                                 static_cast<size_t>(y0) * static_cast<size_t>(m.res) +
+                                 static_cast<size_t>(x0);
+                for (int v = 0; v <= n; ++v, d += m.res) {
+                    const float wy = v == 0 ? 1.0f - fy : v == n ? fy : 1.0f;
+                    const __m128 lit = _mm_and_ps(_mm_cmpge_ps(_mm_loadu_ps(d), lim), wx);
+                    total = _mm_add_ps(total, _mm_mul_ps(lit, _mm_set1_ps(wy)));
+                }
+                const __m128 pair = _mm_add_ps(total, _mm_movehl_ps(total, total));
+                return _mm_cvtss_f32(_mm_add_ss(pair, _mm_shuffle_ps(pair, pair, 1))) /
+                       static_cast<float>(n * n);
+            }
             float sum = 0.0f;
             for (int v = 0; v <= n; ++v) {
                 const float wy = v == 0 ? 1.0f - fy : v == n ? fy : 1.0f;

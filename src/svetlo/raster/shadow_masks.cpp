@@ -64,7 +64,8 @@ float scene_diameter(const Bounds3& bounds) {
 }
 
 void fill_masks(const ShadowTechniqueState& technique, const FrameState& f, const Tile& tile,
-                const SamplePattern& sp, int pass, TileBuffers& buf) {
+                const SamplePattern& sp, int pass, bool small_left_weights, TileBuffers& buf,
+                MaskScratch& scratch) {
     const int S = sp.count;
     const int tw = tile.x1 - tile.x0;
     const size_t pixels = static_cast<size_t>(tw) * (tile.y1 - tile.y0);
@@ -74,11 +75,21 @@ void fill_masks(const ShadowTechniqueState& technique, const FrameState& f, cons
     const std::vector<ShadowCaster>& casters = technique.casters();
     if (casters.empty()) return;
     const bool needs_surface = technique.needs_surface();
+    const bool left_weights = small_left_weights && S == 1;
+    // First the samples that need a mask, with their surface; then each caster answers for
+    // all of them at once (lit_many), so that their lookups overlap.
+    // (Written in place: a sample made on the stack and copied would be read back before its
+    // stores had landed.)
+    std::vector<ShadowSample>& found = scratch.samples;
+    if (found.size() < samples) {
+        found.resize(samples);
+        scratch.index.resize(samples);
+    }
+    size_t n = 0;  // samples found
     EdgeCache edges(f);
     uint32_t normal_of = kNone;  // the triangle whose unit normal ng is
     vec3 ng(0.0f);               // and its unit normal
-    std::vector<float> sum(sources), count(sources);
-    size_t i = 0;  // the sample's index in the tile
+    size_t i = 0;                // the sample's index in the tile
     for (int py = tile.y0; py < tile.y1; ++py) {
         for (int px = tile.x0; px < tile.x1; ++px) {
             for (int s = 0; s < S; ++s, ++i) {
@@ -99,7 +110,7 @@ void fill_masks(const ShadowTechniqueState& technique, const FrameState& f, cons
                 }
                 const uint32_t id = buf.tri[i];
                 if (id == kNone) continue;
-                ShadowSample at;
+                ShadowSample& at = found[n];
                 at.pass = pass;
                 at.i = px;
                 at.j = py;
@@ -116,30 +127,47 @@ void fill_masks(const ShadowTechniqueState& technique, const FrameState& f, cons
                 const ClipVertex& A = f.vertex(t.v[0]);
                 const ClipVertex& B = f.vertex(t.v[1]);
                 const ClipVertex& C = f.vertex(t.v[2]);
-                const int64_t sx = static_cast<int64_t>(px) * kSubpixel + sp.ox[s],
-                              sy = static_cast<int64_t>(py) * kSubpixel + sp.oy[s];
                 if (id != normal_of) {
                     normal_of = id;
                     ng = face_normal(t, A, B, C);
                 }
-                Weights w = perspective_weights(edges.of(id).weights(sx, sy), A, B, C);
+                const vec2 l =
+                    left_weights && t.small
+                        ? vec2(buf.l1[i], buf.l2[i])
+                        : edges.of(id).weights(static_cast<int64_t>(px) * kSubpixel + sp.ox[s],
+                                               static_cast<int64_t>(py) * kSubpixel + sp.oy[s]);
+                const Weights w = perspective_weights(l, A, B, C);
                 at.p = w.b[0] * A.world + w.b[1] * B.world + w.b[2] * C.world;
                 // The side the camera sees (the sign of ng . wo, wo not made unit).
                 const vec3 toward_eye = f.cam.orthographic ? -f.cam.forward : f.cam.eye - at.p;
                 at.n = glm::dot(ng, toward_eye) >= 0.0f ? ng : -ng;
-                std::fill(sum.begin(), sum.end(), 0.0f);
-                std::fill(count.begin(), count.end(), 0.0f);
-                for (size_t k = 0; k < casters.size(); ++k) {
-                    const ShadowCaster& c = casters[k];
-                    if (!c.faces(at.p, at.n)) continue;
-                    sum[c.source] += technique.lit(k, at);
-                    count[c.source] += 1.0f;
-                }
-                for (size_t src = 0; src < sources; ++src) {
-                    if (count[src] > 0.0f)
-                        buf.visibility[src * samples + i] = sum[src] / count[src];
-                }
+                scratch.index[n++] = static_cast<uint32_t>(i);
             }
+        }
+    }
+    scratch.sum.assign(sources * n, 0.0f);
+    scratch.count.assign(sources * n, 0.0f);
+    for (size_t k = 0; k < casters.size(); ++k) {
+        const ShadowCaster& c = casters[k];
+        scratch.facing.clear();
+        for (size_t m = 0; m < n; ++m) {
+            if (c.faces(found[m].p, found[m].n)) scratch.facing.push_back(static_cast<uint32_t>(m));
+        }
+        scratch.lit.resize(scratch.facing.size());
+        technique.lit_many(k, found.data(), scratch.facing.data(), scratch.facing.size(),
+                           scratch.lit.data());
+        float* sum = scratch.sum.data() + c.source * n;
+        float* count = scratch.count.data() + c.source * n;
+        for (size_t m = 0; m < scratch.facing.size(); ++m) {
+            sum[scratch.facing[m]] += scratch.lit[m];
+            count[scratch.facing[m]] += 1.0f;
+        }
+    }
+    for (size_t src = 0; src < sources; ++src) {
+        float* visibility = buf.visibility.data() + src * samples;
+        for (size_t m = 0; m < n; ++m) {
+            const float count = scratch.count[src * n + m];
+            if (count > 0.0f) visibility[scratch.index[m]] = scratch.sum[src * n + m] / count;
         }
     }
 }

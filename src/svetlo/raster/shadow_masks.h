@@ -39,6 +39,13 @@ public:
     /// How much of caster k's light reaches the sample, from 0 (shadowed) to 1 (lit). Called
     /// only for casters the sample faces; concurrently from many tiles.
     virtual float lit(size_t k, const ShadowSample& sample) const = 0;
+    /// lit() of caster k for samples[at[m]], m < count, into out[m]: one sample after the
+    /// other, or faster where a technique overrides it (independent lookups in flight
+    /// together).
+    virtual void lit_many(size_t k, const ShadowSample* samples, const uint32_t* at, size_t count,
+                          float* out) const {
+        for (size_t m = 0; m < count; ++m) out[m] = lit(k, samples[at[m]]);
+    }
     /// Whether lit() reads the sample's position and normal (false: only where it lies in the
     /// frame, as the stencil techniques' masks).
     virtual bool needs_surface() const { return true; }
@@ -83,11 +90,22 @@ std::unique_ptr<ShadowTechniqueState> make_shadow_technique(
     const Scene& scene, const TriangleList& list, const FrameState& f,
     const std::vector<SamplePattern>& passes, int threads, PassMemory* memory);
 
+/// fill_masks' working memory, kept by each thread from tile to tile.
+struct MaskScratch {
+    std::vector<ShadowSample> samples;  // the tile's samples that need a mask
+    std::vector<uint32_t> index;        // each one's index in the tile
+    std::vector<uint32_t> facing;       // those that face the caster at hand
+    std::vector<float> lit;             // its answers for them
+    std::vector<float> sum, count;      // per source and sample: the answers' sum and number
+};
+
 /// Fills buf.visibility (one row of the tile's samples per source of the light set) for the
 /// tile's samples of sample pass `pass`, after its rasterization: for each visible sample and
 /// light, the mean of `lit` over the light's casters that the sample faces; 1 where it faces
-/// none and where no surface was drawn.
+/// none and where no surface was drawn. `small_left_weights`: the rasterization kept the
+/// screen barycentrics of small triangles' samples (buf.l1, buf.l2; one sample per pixel).
 void fill_masks(const ShadowTechniqueState& technique, const FrameState& f, const Tile& tile,
-                const SamplePattern& sp, int pass, TileBuffers& buf);
+                const SamplePattern& sp, int pass, bool small_left_weights, TileBuffers& buf,
+                MaskScratch& scratch);
 
 }  // namespace svetlo::raster
