@@ -125,10 +125,12 @@ TEST(DrawPass, TheStencilCountsUpOnFrontFacesAndDownOnBackFaces) {
 
 TEST(DrawPass, AStencilCountFourPixelsAtATimeEqualsTheCountSampleBySample) {
     // A shadow volume's stencil pass (test Always, wrapping counts, nothing else written) is
-    // counted four pixels at a time where its edge functions fit in 32 bits; the same pass with
-    // a test that always passes too (0 <= value) goes sample by sample. Random triangles, long
-    // and thin ones, and in a second round ones crossing the near plane (too large for 32
-    // bits), against a depth pass of three squares; z-fail and z-pass.
+    // counted four pixels at a time, in 32-bit lanes where its edge functions fit and in 64-bit
+    // ones where not; the same pass with a test that always passes too (0 <= value) goes
+    // sample by sample. Random triangles, long and thin ones, in a second round ones crossing
+    // the near plane, and in a third thin slivers reaching far past the guard band, whose
+    // edge functions change by about 2^29 per pixel (beyond 32 bits within a block), against
+    // a depth pass of three squares; z-fail and z-pass.
     uint32_t state = 7;
     auto rnd = [&](float lo, float hi) {
         state = state * 1664525u + 1013904223u;
@@ -143,6 +145,21 @@ TEST(DrawPass, AStencilCountFourPixelsAtATimeEqualsTheCountSampleBySample) {
         vec3 c = a + vec3(rnd(-0.2f, 0.2f), rnd(-reach, reach), rnd(-reach, reach));
         auto base = static_cast<uint32_t>(volume.positions.size());
         for (vec3 p : {a, b, c}) {
+            volume.positions.push_back(p);
+            volume.normals.push_back(vec3(0.0f));
+            volume.uvs.push_back(vec2(0.0f));
+        }
+        volume.indices.insert(volume.indices.end(), {base, base + 1, base + 2});
+        volume.material.push_back(0);
+    }
+    for (int k = 0; k < 60; ++k) {
+        // A sliver through the view, nearly vertical or horizontal, 1 km long at z in [-1, 1].
+        const vec3 mid(rnd(-1.5f, 1.5f), rnd(-1.5f, 1.5f), rnd(-1, 1));
+        const float tilt = rnd(-0.3f, 0.3f), width = rnd(0.01f, 0.3f);
+        const vec3 along = k % 2 == 0 ? vec3(tilt, 1, 0) : vec3(1, tilt, 0);
+        const vec3 across = k % 2 == 0 ? vec3(width, 0, 0) : vec3(0, width, 0);
+        auto base = static_cast<uint32_t>(volume.positions.size());
+        for (vec3 p : {mid - 500.0f * along, mid + 500.0f * along + across, mid + across}) {
             volume.positions.push_back(p);
             volume.normals.push_back(vec3(0.0f));
             volume.uvs.push_back(vec2(0.0f));

@@ -224,15 +224,76 @@ int stencil_delta(StencilOp op) {
                                        : 2;
 }
 
+/// The edge functions of four neighbouring pixels of a row, stepped four pixels at a time:
+/// in 32-bit lanes where every value met fits (`kWide` false), else in 64-bit lanes, two to a
+/// register (a shadow volume's sides reach the guard band). outside() is all ones in each
+/// lane where one of the edges is negative.
+template <bool kWide>
+struct RowEdges {
+    __m128i w[3][kWide ? 2 : 1], step[3], down[3];
+
+    /// Edges at row sy from sx, each the edge's value plus its fill-rule bias; an edge left
+    /// out of `crossing` counts as inside everywhere (zero, stepped by zero).
+    RowEdges(const TriangleEdges& te, int64_t sx, int64_t sy, unsigned crossing) {
+        for (int k = 0; k < 3; ++k) {
+            const bool used = (crossing >> k) & 1u;
+            const int64_t d = used ? te.e[k].a * kSubpixel : 0;
+            const int64_t r = used ? te.e[k].b * kSubpixel : 0;
+            const int64_t e = used ? te.e[k].at(sx, sy) + te.e[k].bias : 0;
+            if constexpr (kWide) {
+                w[k][0] = _mm_set_epi64x(e + d, e);
+                w[k][1] = _mm_set_epi64x(e + 3 * d, e + 2 * d);
+                step[k] = _mm_set1_epi64x(4 * d);
+                down[k] = _mm_set1_epi64x(r);
+            } else {
+                w[k][0] =
+                    _mm_set_epi32(static_cast<int32_t>(e + 3 * d), static_cast<int32_t>(e + 2 * d),
+                                  static_cast<int32_t>(e + d), static_cast<int32_t>(e));
+                step[k] = _mm_set1_epi32(static_cast<int32_t>(4 * d));
+                down[k] = _mm_set1_epi32(static_cast<int32_t>(r));
+            }
+        }
+    }
+    __m128i outside() const {
+        if constexpr (kWide) {
+            // The sign of each 64-bit lane is in its upper half: those four halves, in order.
+            const __m128i lo = _mm_or_si128(_mm_or_si128(w[0][0], w[1][0]), w[2][0]);
+            const __m128i hi = _mm_or_si128(_mm_or_si128(w[0][1], w[1][1]), w[2][1]);
+            const __m128 upper =
+                _mm_shuffle_ps(_mm_castsi128_ps(lo), _mm_castsi128_ps(hi), _MM_SHUFFLE(3, 1, 3, 1));
+            return _mm_srai_epi32(_mm_castps_si128(upper), 31);
+        } else {
+            return _mm_srai_epi32(_mm_or_si128(_mm_or_si128(w[0][0], w[1][0]), w[2][0]), 31);
+        }
+    }
+    /// Four pixels to the right (`step`), or one row down (`down`).
+    void next() { add(step); }
+    void next_row() { add(down); }
+
+private:
+    void add(const __m128i (&by)[3]) {
+        for (int k = 0; k < 3; ++k) {
+            if constexpr (kWide) {
+                w[k][0] = _mm_add_epi64(w[k][0], by[k]);
+                w[k][1] = _mm_add_epi64(w[k][1], by[k]);
+            } else {
+                w[k][0] = _mm_add_epi32(w[k][0], by[k]);
+            }
+        }
+    }
+};
+
 /// rasterize_plain's per-sample loop over one block, four pixels at a time, for what a shadow
 /// volume's stencil pass asks (one sample per pixel, the stencil test Always, the pass and
 /// depth-fail operations adding `delta_pass` and `delta_fail` with wrapping, no depth or item
-/// written): the same coverage (edge functions exact in 32 bits, which the caller checked),
-/// the same depths (the same double-precision operations, in the same order) and the same
-/// counts. `all_fail`: every sample fails the depth test.
+/// written): the same coverage (edge functions exact, in 32-bit lanes where they fit, which
+/// the caller says by `kWide`), the same depths (the same double-precision operations, in the
+/// same order) and the same counts. `crossing`: the edges that cross the block (the others
+/// hold it whole). `all_fail`: every sample fails the depth test.
+template <bool kWide>
 void count_block(const SetupTriangle& t, const TriangleEdges& te, double dzdx, double dzdy, int x0,
                  int x1, int y0, int y1, const Tile& tile, const SamplePattern& sp,
-                 float depth_bias, int delta_pass, int delta_fail, bool all_fail,
+                 float depth_bias, int delta_pass, int delta_fail, unsigned crossing, bool all_fail,
                  TileBuffers& buf) {
     const int tw = tile.x1 - tile.x0;
     const __m128i lane = _mm_set_epi32(3, 2, 1, 0);
@@ -241,27 +302,18 @@ void count_block(const SetupTriangle& t, const TriangleEdges& te, double dzdx, d
     const __m128 bias = _mm_set1_ps(depth_bias);
     const __m128 sign = _mm_set1_ps(-0.0f);
     const __m128i dpass = _mm_set1_epi32(delta_pass), dfail = _mm_set1_epi32(delta_fail);
-    for (int py = y0; py < y1; ++py) {
-        const int64_t sx = static_cast<int64_t>(x0) * kSubpixel + sp.ox[0];
+    const int64_t sx = static_cast<int64_t>(x0) * kSubpixel + sp.ox[0];
+    RowEdges<kWide> row(te, sx, static_cast<int64_t>(y0) * kSubpixel + sp.oy[0], crossing);
+    for (int py = y0; py < y1; ++py, row.next_row()) {
         const int64_t sy = static_cast<int64_t>(py) * kSubpixel + sp.oy[0];
-        __m128i w[3], step[3];
-        for (int k = 0; k < 3; ++k) {
-            const auto d = static_cast<int32_t>(te.e[k].a * kSubpixel);
-            const int64_t e = te.e[k].at(sx, sy) + te.e[k].bias;
-            w[k] = _mm_set_epi32(static_cast<int32_t>(e + 3 * static_cast<int64_t>(d)),
-                                 static_cast<int32_t>(e + 2 * static_cast<int64_t>(d)),
-                                 static_cast<int32_t>(e + d), static_cast<int32_t>(e));
-            step[k] = _mm_set1_epi32(4 * d);
-        }
+        RowEdges<kWide> edges = row;
         // (dzdy (y - y0) / 256, the same for the row.)
         const __m128d ty = _mm_set1_pd(dzdy * static_cast<double>(sy - t.y[0]) / kSubpixel);
         size_t i = static_cast<size_t>(py - tile.y0) * tw + (x0 - tile.x0);
         for (int px = x0; px < x1; px += 4, i += 4) {
-            const __m128i outside =
-                _mm_srai_epi32(_mm_or_si128(_mm_or_si128(w[0], w[1]), w[2]), 31);
             const __m128i in_span = _mm_cmplt_epi32(lane, _mm_set1_epi32(x1 - px));
-            const __m128i covered = _mm_andnot_si128(outside, in_span);
-            for (int k = 0; k < 3; ++k) w[k] = _mm_add_epi32(w[k], step[k]);
+            const __m128i covered = _mm_andnot_si128(edges.outside(), in_span);
+            edges.next();
             if (_mm_movemask_epi8(covered) == 0) continue;
             __m128i pass = _mm_setzero_si128();
             if (!all_fail) {
@@ -323,20 +375,35 @@ void rasterize_plain(uint32_t id, const SetupTriangle& t, const TriangleEdges& t
     const bool failing_is_idle =
         block_depths &&
         (!st.enabled || (face.depth_fail == StencilOp::Keep && face.func == StencilFunc::Always));
+    if (counts_only && t.small) {
+        // A small triangle (a cap of a shadow volume): its edge functions over its bounding
+        // box fit in 32 bits; counted four pixels at a time over the box at once, without the
+        // per-block tests, which would cost more than they save.
+        count_block<false>(t, te, dzdx, dzdy, xs, xe, ys, ye, tile, sp, state.depth_bias,
+                           stencil_delta(face.pass), stencil_delta(face.depth_fail), 7u, false,
+                           buf);
+        return;
+    }
     // The depth plane at pixel position (px, py), in pixels.
     const double x0f = static_cast<double>(t.x[0]) / kSubpixel,
                  y0f = static_cast<double>(t.y[0]) / kSubpixel;
     auto plane = [&](double px, double py) {
         return t.z[0] + dzdx * (px - x0f) + dzdy * (py - y0f);
     };
+    // -1 / (a kSubpixel) per edge: E(x, y) = 0 at x = -E(0, y) / a, in pixels.
+    double to_x[3];
+    for (int k = 0; k < 3; ++k)
+        to_x[k] = te.e[k].a == 0 ? 0.0 : -1.0 / (static_cast<double>(te.e[k].a) * kSubpixel);
     for (int by = (ys - tile.y0) / kB; by <= (ye - 1 - tile.y0) / kB; ++by) {
         // The columns of this row of blocks the triangle can reach: each edge bounds x on one
         // side over the rows' y range (a long, thin shadow-volume side crosses a tile's
-        // bounding box on a few blocks of each row).
+        // bounding box on a few blocks of each row). A pixel of margin on each side covers
+        // the rounding.
         const int ry0 = std::max(ys, tile.y0 + by * kB),
                   ry1 = std::min(ye, tile.y0 + (by + 1) * kB);
         double left = -1e30, right = 1e30;
-        for (const Edge& e : te.e) {
+        for (int k = 0; k < 3; ++k) {
+            const Edge& e = te.e[k];
             const double ya = static_cast<double>(ry0) * kSubpixel,
                          yb = static_cast<double>(ry1) * kSubpixel;
             const double ea = static_cast<double>(e.b) * ya + static_cast<double>(e.c + e.bias),
@@ -344,15 +411,13 @@ void rasterize_plain(uint32_t id, const SetupTriangle& t, const TriangleEdges& t
             if (e.a == 0) {
                 if (std::max(ea, eb) < 0.0) right = -1e30;  // the whole row is outside
             } else if (e.a > 0) {  // inside where x >= -E(0, y) / a, for some y of the rows
-                const double a = static_cast<double>(e.a);
-                left = std::max(left, std::min(-ea / a, -eb / a));
+                left = std::max(left, std::min(ea * to_x[k], eb * to_x[k]));
             } else {  // inside where x <= -E(0, y) / a
-                const double a = static_cast<double>(e.a);
-                right = std::min(right, std::max(-ea / a, -eb / a));
+                right = std::min(right, std::max(ea * to_x[k], eb * to_x[k]));
             }
         }
-        const int cx0 = std::max(xs, static_cast<int>(std::max(left / kSubpixel - 1.0, -1e9)));
-        const int cx1 = std::min(xe, static_cast<int>(std::min(right / kSubpixel + 2.0, 1e9)));
+        const int cx0 = std::max(xs, static_cast<int>(std::max(left - 1.0, -1e9)));
+        const int cx1 = std::min(xe, static_cast<int>(std::min(right + 2.0, 1e9)));
         if (cx0 >= cx1) continue;
         for (int bx = (cx0 - tile.x0) / kB; bx <= (cx1 - 1 - tile.x0) / kB; ++bx) {
             const int x0 = std::max(xs, tile.x0 + bx * kB),
@@ -363,15 +428,19 @@ void rasterize_plain(uint32_t id, const SetupTriangle& t, const TriangleEdges& t
                           xb = static_cast<int64_t>(x1) * kSubpixel - 1;
             const int64_t ya = static_cast<int64_t>(y0) * kSubpixel,
                           yb = static_cast<int64_t>(y1) * kSubpixel - 1;
-            bool outside = false, inside = true;
-            int64_t reach = 0;  // the largest |edge function| a four-wide step can meet
-            for (const Edge& e : te.e) {
+            bool outside = false;
+            unsigned crossing = 0;  // the edges with the block on both sides
+            int64_t reach = 0;      // the largest |edge function| a four-wide step can meet
+            for (int k = 0; k < 3; ++k) {
+                const Edge& e = te.e[k];
                 const int64_t c[4] = {e.at(xa, ya), e.at(xb, ya), e.at(xa, yb), e.at(xb, yb)};
                 outside = outside || std::max({c[0], c[1], c[2], c[3]}) + e.bias < 0;
-                inside = inside && std::min({c[0], c[1], c[2], c[3]}) + e.bias >= 0;
+                if (std::min({c[0], c[1], c[2], c[3]}) + e.bias >= 0) continue;
+                crossing |= 1u << k;
                 for (int64_t v : c)
                     reach = std::max(reach, std::abs(v) + 8 * std::abs(e.a) * kSubpixel + 1);
             }
+            const bool inside = crossing == 0;
             if (outside) continue;
             bool all_fail = false;
             if (block_depths) {
@@ -403,10 +472,15 @@ void rasterize_plain(uint32_t id, const SetupTriangle& t, const TriangleEdges& t
                 }
                 continue;
             }
-            if (counts_only && reach < (int64_t{1} << 30)) {
-                count_block(t, te, dzdx, dzdy, x0, x1, y0, y1, tile, sp, state.depth_bias,
-                            stencil_delta(face.pass), stencil_delta(face.depth_fail), all_fail,
-                            buf);
+            if (counts_only) {
+                const int dp = stencil_delta(face.pass), df = stencil_delta(face.depth_fail);
+                if (reach < (int64_t{1} << 30)) {
+                    count_block<false>(t, te, dzdx, dzdy, x0, x1, y0, y1, tile, sp,
+                                       state.depth_bias, dp, df, crossing, all_fail, buf);
+                } else {
+                    count_block<true>(t, te, dzdx, dzdy, x0, x1, y0, y1, tile, sp, state.depth_bias,
+                                      dp, df, crossing, all_fail, buf);
+                }
                 continue;
             }
             // Per sample: coverage, the stencil test, the depth test (none where all fail).

@@ -134,12 +134,33 @@ public:
                 std::vector<uint8_t> lit(targets.stencil.size());
                 for (size_t i = 0; i < lit.size(); ++i) lit[i] = targets.stencil[i] == 0 ? 1 : 0;
                 lit_[k].push_back(std::move(lit));
-                if (k == 0 && stencil_.width == 0) stencil_ = stencil_counts(targets);
+                if (k == 0 && stencil_samples_ == 0) {  // (for the debug AOV)
+                    stencil_ = targets.stencil;
+                    stencil_samples_ = targets.samples;
+                }
             }
         }
     }
 
-    Image stencil_image() const override { return stencil_; }
+    /// The signed stencil count per pixel, averaged over its samples: caster 0's, of the
+    /// first sample pass.
+    Image stencil_image() const override {
+        if (stencil_samples_ == 0) return {};
+        Image image(width_, height_);
+        const auto S = static_cast<size_t>(stencil_samples_);
+        for (int j = 0; j < height_; ++j) {
+            for (int i = 0; i < width_; ++i) {
+                const size_t first = (static_cast<size_t>(j) * static_cast<size_t>(width_) +
+                                      static_cast<size_t>(i)) *
+                                     S;
+                float sum = 0.0f;
+                for (size_t s = 0; s < S; ++s)
+                    sum += static_cast<float>(static_cast<int8_t>(stencil_[first + s]));
+                image.at(i, j) = Color(sum / static_cast<float>(S));
+            }
+        }
+        return image;
+    }
 
 private:
     /// Whether a volume of caster c may contain a point of the camera's near-plane rectangle:
@@ -318,26 +339,13 @@ private:
         return {std::move(v), std::move(flipped_caps)};
     }
 
-    /// The signed stencil count per pixel, averaged over its samples (the debug AOV).
-    Image stencil_counts(const RenderTargets& t) const {
-        Image image(width_, height_);
-        for (int j = 0; j < height_; ++j) {
-            for (int i = 0; i < width_; ++i) {
-                float sum = 0.0f;
-                for (int s = 0; s < t.samples; ++s)
-                    sum += static_cast<float>(static_cast<int8_t>(t.stencil[t.index(i, j, s)]));
-                image.at(i, j) = Color(sum / static_cast<float>(t.samples));
-            }
-        }
-        return image;
-    }
-
     float diameter_ = 1.0f;
     std::vector<char> closed_;
     std::vector<uint32_t> object_of_;
     std::vector<Bounds3> object_bounds_;  // per object of the list
     std::vector<char> zfail_;             // per caster: counted with z-fail
-    Image stencil_;
+    std::vector<uint8_t> stencil_;        // caster 0's counts (the first sample pass)
+    int stencil_samples_ = 0;             // its samples per pixel
 };
 
 }  // namespace
