@@ -1,5 +1,6 @@
 #include "svetlo/raster/draw_pass.h"
 
+#include <immintrin.h>
 #include <tbb/enumerable_thread_specific.h>
 
 #include <algorithm>
@@ -89,18 +90,37 @@ void draw_samples(const TriangleList& list, const CameraMatrices& camera,
                 const size_t blocks = static_cast<size_t>(kTile / kB) * (kTile / kB);
                 buf.block_near.assign(blocks, kInfinity);
                 buf.block_far.assign(blocks, -kInfinity);
+                // Each block's rows are runs of kB x S samples: four at a time.
+                const size_t run = static_cast<size_t>(kB) * S;
                 for (int j = tile.y0; j < tile.y1; ++j) {
                     const float* d = buf.depth.data() + static_cast<size_t>(j - tile.y0) * row;
-                    for (int i = 0; i < tw; ++i) {
+                    for (int i = 0; i < tw; i += kB) {
                         const size_t b = static_cast<size_t>((j - tile.y0) / kB) * (kTile / kB) +
                                          static_cast<size_t>(i / kB);
-                        for (int s = 0; s < S; ++s) {
-                            float z = d[static_cast<size_t>(i) * S + s];
-                            buf.block_near[b] = std::min(buf.block_near[b], z);
-                            buf.block_far[b] = std::max(buf.block_far[b], z);
+                        const float* z = d + static_cast<size_t>(i) * S;
+                        const size_t n = std::min(run, row - static_cast<size_t>(i) * S);
+                        __m128 lo = _mm_set1_ps(buf.block_near[b]),
+                               hi = _mm_set1_ps(buf.block_far[b]);
+                        size_t k = 0;
+                        for (; k + 4 <= n; k += 4) {
+                            lo = _mm_min_ps(lo, _mm_loadu_ps(z + k));
+                            hi = _mm_max_ps(hi, _mm_loadu_ps(z + k));
                         }
+                        alignas(16) float l[4], h[4];
+                        _mm_store_ps(l, lo);
+                        _mm_store_ps(h, hi);
+                        float near = std::min({l[0], l[1], l[2], l[3]}),
+                              far = std::max({h[0], h[1], h[2], h[3]});
+                        for (; k < n; ++k) {
+                            near = std::min(near, z[k]);
+                            far = std::max(far, z[k]);
+                        }
+                        buf.block_near[b] = near;
+                        buf.block_far[b] = far;
                     }
                 }
+                buf.tile_near = *std::min_element(buf.block_near.begin(), buf.block_near.end());
+                buf.tile_far = *std::max_element(buf.block_far.begin(), buf.block_far.end());
             }
             PipelineState tile_state = state;
             tile_state.stencil.enabled = stencil;

@@ -188,16 +188,17 @@ struct TileBuffers {
     static constexpr size_t kPad = 4;  // samples past the end, for four-wide loads and stores
     std::vector<float> depth;
     std::vector<uint32_t> tri;
-    std::vector<uint8_t> stencil;     // per sample (and kPad), when a pass uses it
-    std::vector<float> l1, l2;        // screen barycentrics of vertices 1 and 2 per sample,
-                                      // written by rasterize_small (one sample per pixel)
-    std::vector<float> block_far;     // per block: max depth over its samples
-    std::vector<float> block_near;    // per block: min depth over its samples, when a pass
-                                      // that writes no depth keeps it (else empty; block_far
-                                      // is then exact too)
-    std::vector<Color> color;         // resolved colour per pixel, accumulated over passes
-    std::vector<Color> sample_color;  // the fast path's colour per sample
-    std::vector<Color> aov[4];        // depth, normal, albedo, visibility per pixel
+    std::vector<uint8_t> stencil;   // per sample (and kPad), when a pass uses it
+    std::vector<float> l1, l2;      // screen barycentrics of vertices 1 and 2 per sample,
+                                    // written by rasterize_small (one sample per pixel)
+    std::vector<float> block_far;   // per block: max depth over its samples
+    std::vector<float> block_near;  // per block: min depth over its samples, when a pass
+                                    // that writes no depth keeps it (else empty; block_far
+                                    // is then exact too)
+    float tile_near = 0.0f, tile_far = 0.0f;  // with block_near: min and max over the tile
+    std::vector<Color> color;                 // resolved colour per pixel, accumulated over passes
+    std::vector<Color> sample_color;          // the fast path's colour per sample
+    std::vector<Color> aov[4];                // depth, normal, albedo, visibility per pixel
     // The visibility of each light of the light set at each sample (a shadow technique's
     // masks, row by row: light_visibility()); empty: every light visible.
     std::vector<float> visibility;

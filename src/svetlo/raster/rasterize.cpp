@@ -390,6 +390,15 @@ void rasterize_plain(uint32_t id, const SetupTriangle& t, const TriangleEdges& t
     auto plane = [&](double px, double py) {
         return t.z[0] + dzdx * (px - x0f) + dzdy * (py - y0f);
     };
+    if (block_depths) {
+        // The same tests over the whole span first, against the tile's nearest and farthest
+        // stored depths: a long side of a volume crosses many tiles wholly behind the scene.
+        const double c[4] = {plane(xs, ys), plane(xe, ys), plane(xs, ye), plane(xe, ye)};
+        auto zmax = static_cast<float>(std::max({c[0], c[1], c[2], c[3]}));
+        auto zmin = static_cast<float>(std::min({c[0], c[1], c[2], c[3]}));
+        if (passing_is_idle && zmax + state.depth_bias * std::abs(zmax) < buf.tile_near) return;
+        if (failing_is_idle && zmin >= buf.tile_far) return;
+    }
     // -1 / (a kSubpixel) per edge: E(x, y) = 0 at x = -E(0, y) / a, in pixels.
     double to_x[3];
     for (int k = 0; k < 3; ++k)
@@ -428,6 +437,18 @@ void rasterize_plain(uint32_t id, const SetupTriangle& t, const TriangleEdges& t
                           xb = static_cast<int64_t>(x1) * kSubpixel - 1;
             const int64_t ya = static_cast<int64_t>(y0) * kSubpixel,
                           yb = static_cast<int64_t>(y1) * kSubpixel - 1;
+            bool all_fail = false;
+            if (block_depths) {
+                const double c[4] = {plane(x0, y0), plane(x1, y0), plane(x0, y1), plane(x1, y1)};
+                auto zmax = static_cast<float>(std::max({c[0], c[1], c[2], c[3]}));
+                auto zmin = static_cast<float>(std::min({c[0], c[1], c[2], c[3]}));
+                const size_t b = static_cast<size_t>(by) * bw + bx;
+                // (z + bias |z| grows with z: the corners bound it too.)
+                if (passing_is_idle && zmax + state.depth_bias * std::abs(zmax) < buf.block_near[b])
+                    continue;  // every sample passes, and passing does nothing
+                all_fail = zmin >= buf.block_far[b];
+                if (all_fail && failing_is_idle) continue;  // every sample fails, to no effect
+            }
             bool outside = false;
             unsigned crossing = 0;  // the edges with the block on both sides
             int64_t reach = 0;      // the largest |edge function| a four-wide step can meet
@@ -442,18 +463,6 @@ void rasterize_plain(uint32_t id, const SetupTriangle& t, const TriangleEdges& t
             }
             const bool inside = crossing == 0;
             if (outside) continue;
-            bool all_fail = false;
-            if (block_depths) {
-                const double c[4] = {plane(x0, y0), plane(x1, y0), plane(x0, y1), plane(x1, y1)};
-                auto zmax = static_cast<float>(std::max({c[0], c[1], c[2], c[3]}));
-                auto zmin = static_cast<float>(std::min({c[0], c[1], c[2], c[3]}));
-                const size_t b = static_cast<size_t>(by) * bw + bx;
-                // (z + bias |z| grows with z: the corners bound it too.)
-                if (passing_is_idle && zmax + state.depth_bias * std::abs(zmax) < buf.block_near[b])
-                    continue;  // every sample passes, and passing does nothing
-                all_fail = zmin >= buf.block_far[b];
-                if (all_fail && failing_is_idle) continue;  // every sample fails, to no effect
-            }
             if (all_fail && inside && st.enabled && face.func == StencilFunc::Always) {
                 // Every sample of the block covered and failing: one operation on a run of
                 // bytes per row (a shadow volume's count behind the scene, the common case).
