@@ -343,6 +343,10 @@ void count_block(const SetupTriangle& t, const TriangleEdges& te, double dzdx, d
     }
 }
 
+/// rasterize_plain counts a row of blocks as one band where a triangle reaches fewer blocks of
+/// it than this.
+constexpr int kBandBlocks = 3;
+
 /// Stage 5, the plain form a student can follow: per sample, the stencil test and its
 /// operations around the depth test (stencil.h), and the depth written only when the state
 /// says so. Used when the stencil is on or depth writes are off; the blocks' deepest depths
@@ -399,6 +403,45 @@ void rasterize_plain(uint32_t id, const SetupTriangle& t, const TriangleEdges& t
         if (passing_is_idle && zmax + state.depth_bias * std::abs(zmax) < buf.tile_near) return;
         if (failing_is_idle && zmin >= buf.tile_far) return;
     }
+    // What the depth test does over the rectangle [x0, x1) x [y0, y1) of pixels, whose stored
+    // depths lie in [near, far]: nothing to be done (every sample passes and passing does
+    // nothing, or fails and failing does nothing), every sample fails, or either.
+    enum class DepthTest { Idle, AllFail, Either };
+    auto depth_over = [&](int x0, int x1, int y0, int y1, float near, float far) {
+        const double c[4] = {plane(x0, y0), plane(x1, y0), plane(x0, y1), plane(x1, y1)};
+        auto zmax = static_cast<float>(std::max({c[0], c[1], c[2], c[3]}));
+        auto zmin = static_cast<float>(std::min({c[0], c[1], c[2], c[3]}));
+        // (z + bias |z| grows with z: the corners bound it too.)
+        if (passing_is_idle && zmax + state.depth_bias * std::abs(zmax) < near)
+            return DepthTest::Idle;
+        if (zmin >= far) return failing_is_idle ? DepthTest::Idle : DepthTest::AllFail;
+        return DepthTest::Either;
+    };
+    // The edges over the same rectangle: outside one at all four corners (nothing covered),
+    // the edges with the rectangle on both sides, and the largest |edge function| that
+    // count_block's four-wide steps can meet there.
+    struct EdgesOver {
+        bool outside = false;
+        unsigned crossing = 0;
+        int64_t reach = 0;
+    };
+    auto edges_over = [&](int x0, int x1, int y0, int y1) {
+        const int64_t xa = static_cast<int64_t>(x0) * kSubpixel,
+                      xb = static_cast<int64_t>(x1) * kSubpixel - 1;
+        const int64_t ya = static_cast<int64_t>(y0) * kSubpixel,
+                      yb = static_cast<int64_t>(y1) * kSubpixel - 1;
+        EdgesOver r;
+        for (int k = 0; k < 3; ++k) {
+            const Edge& e = te.e[k];
+            const int64_t c[4] = {e.at(xa, ya), e.at(xb, ya), e.at(xa, yb), e.at(xb, yb)};
+            r.outside = r.outside || std::max({c[0], c[1], c[2], c[3]}) + e.bias < 0;
+            if (std::min({c[0], c[1], c[2], c[3]}) + e.bias >= 0) continue;
+            r.crossing |= 1u << k;
+            for (int64_t v : c)
+                r.reach = std::max(r.reach, std::abs(v) + 8 * std::abs(e.a) * kSubpixel + 1);
+        }
+        return r;
+    };
     // -1 / (a kSubpixel) per edge: E(x, y) = 0 at x = -E(0, y) / a, in pixels.
     double to_x[3];
     for (int k = 0; k < 3; ++k)
@@ -428,41 +471,47 @@ void rasterize_plain(uint32_t id, const SetupTriangle& t, const TriangleEdges& t
         const int cx0 = std::max(xs, static_cast<int>(std::max(left - 1.0, -1e9)));
         const int cx1 = std::min(xe, static_cast<int>(std::min(right + 2.0, 1e9)));
         if (cx0 >= cx1) continue;
-        for (int bx = (cx0 - tile.x0) / kB; bx <= (cx1 - 1 - tile.x0) / kB; ++bx) {
+        const int bx0 = (cx0 - tile.x0) / kB, bx1 = (cx1 - 1 - tile.x0) / kB;
+        if (counts_only && bx1 - bx0 < kBandBlocks) {
+            // A thin triangle (a volume's side) crosses this row of blocks on a few of them:
+            // the whole band at once, against the blocks' depth range together.
+            float near = kInfinity, far = -kInfinity;
+            for (int bx = bx0; bx <= bx1; ++bx) {
+                near = std::min(near, buf.block_near[static_cast<size_t>(by) * bw + bx]);
+                far = std::max(far, buf.block_far[static_cast<size_t>(by) * bw + bx]);
+            }
+            const DepthTest test = depth_over(cx0, cx1, ry0, ry1, near, far);
+            if (test == DepthTest::Idle) continue;
+            const EdgesOver edges = edges_over(cx0, cx1, ry0, ry1);
+            if (edges.outside) continue;
+            const int dp = stencil_delta(face.pass), df = stencil_delta(face.depth_fail);
+            const bool all_fail = test == DepthTest::AllFail;
+            if (edges.reach < (int64_t{1} << 30)) {
+                count_block<false>(t, te, dzdx, dzdy, cx0, cx1, ry0, ry1, tile, sp,
+                                   state.depth_bias, dp, df, edges.crossing, all_fail, buf);
+            } else {
+                count_block<true>(t, te, dzdx, dzdy, cx0, cx1, ry0, ry1, tile, sp, state.depth_bias,
+                                  dp, df, edges.crossing, all_fail, buf);
+            }
+            continue;
+        }
+        for (int bx = bx0; bx <= bx1; ++bx) {
             const int x0 = std::max(xs, tile.x0 + bx * kB),
                       x1 = std::min(xe, tile.x0 + (bx + 1) * kB);
             const int y0 = ry0, y1 = ry1;
-            // Outside one edge at all four corners of the block: nothing covered.
-            const int64_t xa = static_cast<int64_t>(x0) * kSubpixel,
-                          xb = static_cast<int64_t>(x1) * kSubpixel - 1;
-            const int64_t ya = static_cast<int64_t>(y0) * kSubpixel,
-                          yb = static_cast<int64_t>(y1) * kSubpixel - 1;
             bool all_fail = false;
             if (block_depths) {
-                const double c[4] = {plane(x0, y0), plane(x1, y0), plane(x0, y1), plane(x1, y1)};
-                auto zmax = static_cast<float>(std::max({c[0], c[1], c[2], c[3]}));
-                auto zmin = static_cast<float>(std::min({c[0], c[1], c[2], c[3]}));
                 const size_t b = static_cast<size_t>(by) * bw + bx;
-                // (z + bias |z| grows with z: the corners bound it too.)
-                if (passing_is_idle && zmax + state.depth_bias * std::abs(zmax) < buf.block_near[b])
-                    continue;  // every sample passes, and passing does nothing
-                all_fail = zmin >= buf.block_far[b];
-                if (all_fail && failing_is_idle) continue;  // every sample fails, to no effect
+                const DepthTest test =
+                    depth_over(x0, x1, y0, y1, buf.block_near[b], buf.block_far[b]);
+                if (test == DepthTest::Idle) continue;
+                all_fail = test == DepthTest::AllFail;
             }
-            bool outside = false;
-            unsigned crossing = 0;  // the edges with the block on both sides
-            int64_t reach = 0;      // the largest |edge function| a four-wide step can meet
-            for (int k = 0; k < 3; ++k) {
-                const Edge& e = te.e[k];
-                const int64_t c[4] = {e.at(xa, ya), e.at(xb, ya), e.at(xa, yb), e.at(xb, yb)};
-                outside = outside || std::max({c[0], c[1], c[2], c[3]}) + e.bias < 0;
-                if (std::min({c[0], c[1], c[2], c[3]}) + e.bias >= 0) continue;
-                crossing |= 1u << k;
-                for (int64_t v : c)
-                    reach = std::max(reach, std::abs(v) + 8 * std::abs(e.a) * kSubpixel + 1);
-            }
+            const EdgesOver edges = edges_over(x0, x1, y0, y1);
+            if (edges.outside) continue;
+            const unsigned crossing = edges.crossing;
+            const int64_t reach = edges.reach;
             const bool inside = crossing == 0;
-            if (outside) continue;
             if (all_fail && inside && st.enabled && face.func == StencilFunc::Always) {
                 // Every sample of the block covered and failing: one operation on a run of
                 // bytes per row (a shadow volume's count behind the scene, the common case).

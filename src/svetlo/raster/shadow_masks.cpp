@@ -76,6 +76,10 @@ void fill_masks(const ShadowTechniqueState& technique, const FrameState& f, cons
     if (casters.empty()) return;
     const bool needs_surface = technique.needs_surface();
     const bool left_weights = small_left_weights && S == 1;
+    // A screen-space technique's masks, read directly for the samples every caster lights.
+    scratch.masks.clear();
+    for (size_t k = 0; k < casters.size() && !needs_surface; ++k)
+        scratch.masks.push_back(technique.screen_mask(k, pass));
     // First the samples that need a mask, with their surface; then each caster answers for
     // all of them at once (lit_many), so that their lookups overlap.
     // (Written in place: a sample made on the stack and copied would be read back before its
@@ -110,19 +114,23 @@ void fill_masks(const ShadowTechniqueState& technique, const FrameState& f, cons
                 }
                 const uint32_t id = buf.tri[i];
                 if (id == kNone) continue;
+                if (!needs_surface) {
+                    // A screen-space mask: where every caster lights the sample, V is 1 whether
+                    // it faces them or not; the surface is needed only where one does not.
+                    const size_t in_frame =
+                        (static_cast<size_t>(py) * static_cast<size_t>(f.cam.width) +
+                         static_cast<size_t>(px)) *
+                            static_cast<size_t>(S) +
+                        static_cast<size_t>(s);
+                    bool all_lit = true;
+                    for (const uint8_t* mask : scratch.masks) all_lit = all_lit && mask[in_frame];
+                    if (all_lit) continue;
+                }
                 ShadowSample& at = found[n];
                 at.pass = pass;
                 at.i = px;
                 at.j = py;
                 at.s = s;
-                if (!needs_surface) {
-                    // A screen-space mask: where every caster lights the sample, V is 1 whether
-                    // it faces them or not; the surface is needed only where one does not.
-                    bool all_lit = true;
-                    for (size_t k = 0; k < casters.size() && all_lit; ++k)
-                        all_lit = technique.lit(k, at) == 1.0f;
-                    if (all_lit) continue;
-                }
                 const SetupTriangle& t = f.tri(id);
                 const ClipVertex& A = f.vertex(t.v[0]);
                 const ClipVertex& B = f.vertex(t.v[1]);

@@ -49,6 +49,10 @@ public:
     /// Whether lit() reads the sample's position and normal (false: only where it lies in the
     /// frame, as the stencil techniques' masks).
     virtual bool needs_surface() const { return true; }
+    /// A screen-space technique's answers for caster k over sample pass `pass`: one byte per
+    /// sample (1 lit, 0 shadowed), pixel after pixel along the rows of the frame; null for a
+    /// technique that needs the surface.
+    virtual const uint8_t* screen_mask(size_t /*k*/, int /*pass*/) const { return nullptr; }
     /// The debug AOVs (docs/shadows.md): light 0's depth map, with a cube map unfolded, and
     /// the shadow-volume count per pixel; empty images where the technique has none.
     virtual Image shadow_map_image() const { return {}; }
@@ -65,6 +69,9 @@ class StencilMasks : public ShadowTechniqueState {
 public:
     bool needs_surface() const override { return false; }
     float lit(size_t k, const ShadowSample& at) const override;
+    const uint8_t* screen_mask(size_t k, int pass) const override {
+        return lit_[k][static_cast<size_t>(pass)].data();
+    }
 
 protected:
     /// For casters_ (set before) over `passes`: refuses with an Error naming
@@ -97,6 +104,7 @@ struct MaskScratch {
     std::vector<uint32_t> facing;       // those that face the caster at hand
     std::vector<float> lit;             // its answers for them
     std::vector<float> sum, count;      // per source and sample: the answers' sum and number
+    std::vector<const uint8_t*> masks;  // a screen-space technique's, per caster
 };
 
 /// Fills buf.visibility (one row of the tile's samples per source of the light set) for the
