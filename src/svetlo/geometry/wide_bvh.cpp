@@ -13,139 +13,8 @@ namespace svetlo {
 
 namespace {
 
+#include "svetlo/geometry/wide_bvh_packets.inc"
 #include "svetlo/geometry/wide_bvh_traversal.inc"
-
-/// The watertight test (triangle.h) on four triangles at once, the same operations in the
-/// same order. Returns the lanes that hit with 0 < t < tmax (t, u, v, w and det per lane),
-/// and in `edge` the lanes where an edge function is exactly zero, which the caller decides
-/// with the scalar test and its double-precision fallback.
-struct PacketHits {
-    alignas(16) float t[4];
-    alignas(16) float uvw[3][4];
-    alignas(16) float det[4];
-};
-
-struct PacketTest {
-    __m128 o[3], s[3];  // ray origin and shear (sx, sy, sz), by permuted axis kx, ky, kz
-    int k[3];
-
-    PacketTest(const Ray& ray, const RayPrecomputed& pre) {
-        k[0] = pre.kx;
-        k[1] = pre.ky;
-        k[2] = pre.kz;
-        for (int a = 0; a < 3; ++a) o[a] = _mm_set1_ps(ray.o[k[a]]);
-        s[0] = _mm_set1_ps(pre.sx);
-        s[1] = _mm_set1_ps(pre.sy);
-        s[2] = _mm_set1_ps(pre.sz);
-    }
-
-    int run(const TrianglePacket& p, float tmax, PacketHits& out, int& edge) const {
-        __m128 ex[3], ey[3], ez[3];  // per vertex: sheared x, y and the z to scale
-        for (int j = 0; j < 3; ++j) {
-            __m128 dx = _mm_sub_ps(_mm_load_ps(p.v[3 * j + k[0]]), o[0]);
-            __m128 dy = _mm_sub_ps(_mm_load_ps(p.v[3 * j + k[1]]), o[1]);
-            __m128 dz = _mm_sub_ps(_mm_load_ps(p.v[3 * j + k[2]]), o[2]);
-            ex[j] = _mm_sub_ps(dx, _mm_mul_ps(s[0], dz));
-            ey[j] = _mm_sub_ps(dy, _mm_mul_ps(s[1], dz));
-            ez[j] = dz;
-        }
-        // u = cx by - cy bx, v = ax cy - ay cx, w = bx ay - by ax
-        __m128 u = _mm_sub_ps(_mm_mul_ps(ex[2], ey[1]), _mm_mul_ps(ey[2], ex[1]));
-        __m128 v = _mm_sub_ps(_mm_mul_ps(ex[0], ey[2]), _mm_mul_ps(ey[0], ex[2]));
-        __m128 w = _mm_sub_ps(_mm_mul_ps(ex[1], ey[0]), _mm_mul_ps(ey[1], ex[0]));
-        __m128 zero = _mm_setzero_ps();
-        int valid =
-            ~_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(
-                _mm_load_si128(reinterpret_cast<const __m128i*>(p.id)), _mm_set1_epi32(-1)))) &
-            15;
-        __m128 on_edge = _mm_or_ps(_mm_or_ps(_mm_cmpeq_ps(u, zero), _mm_cmpeq_ps(v, zero)),
-                                   _mm_cmpeq_ps(w, zero));
-        edge = _mm_movemask_ps(on_edge) & valid;
-        __m128 neg = _mm_or_ps(_mm_or_ps(_mm_cmplt_ps(u, zero), _mm_cmplt_ps(v, zero)),
-                               _mm_cmplt_ps(w, zero));
-        __m128 pos = _mm_or_ps(_mm_or_ps(_mm_cmpgt_ps(u, zero), _mm_cmpgt_ps(v, zero)),
-                               _mm_cmpgt_ps(w, zero));
-        int inside = ~_mm_movemask_ps(_mm_and_ps(neg, pos)) & valid & ~edge;
-        if (!inside) return 0;
-        __m128 det = _mm_add_ps(_mm_add_ps(u, v), w);
-        __m128 az = _mm_mul_ps(s[2], ez[0]), bz = _mm_mul_ps(s[2], ez[1]),
-               cz = _mm_mul_ps(s[2], ez[2]);
-        __m128 num =
-            _mm_add_ps(_mm_add_ps(_mm_mul_ps(u, az), _mm_mul_ps(v, bz)), _mm_mul_ps(w, cz));
-        __m128 tt = _mm_div_ps(num, det);
-        __m128 ok =
-            _mm_and_ps(_mm_cmpneq_ps(det, zero),
-                       _mm_and_ps(_mm_cmpgt_ps(tt, zero), _mm_cmplt_ps(tt, _mm_set1_ps(tmax))));
-        int hits = _mm_movemask_ps(ok) & inside;
-        if (!hits) return 0;
-        _mm_store_ps(out.t, tt);
-        _mm_store_ps(out.uvw[0], u);
-        _mm_store_ps(out.uvw[1], v);
-        _mm_store_ps(out.uvw[2], w);
-        _mm_store_ps(out.det, det);
-        return hits;
-    }
-};
-
-/// Lane `lane` of a packet as a triangle, for the scalar test.
-inline bool packet_lane_hit(const TrianglePacket& p, int lane, const Ray& ray,
-                            const RayPrecomputed& pre, float tmax, float& t, float& b1, float& b2) {
-    vec3 v0(p.v[0][lane], p.v[1][lane], p.v[2][lane]), v1(p.v[3][lane], p.v[4][lane], p.v[5][lane]),
-        v2(p.v[6][lane], p.v[7][lane], p.v[8][lane]);
-    return intersect_triangle(ray, pre, v0, v1, v2, tmax, t, b1, b2);
-}
-
-/// The closest hit among `count` packets; updates hit (t, prim, u, v) as a sequential loop
-/// over the triangles would, ties to the first.
-inline bool packets_closest(const PacketTest& test, const TrianglePacket* packets, uint32_t count,
-                            const Ray& ray, const RayPrecomputed& pre, Hit& hit) {
-    bool found = false;
-    for (uint32_t k = 0; k < count; ++k) {
-        const TrianglePacket& p = packets[k];
-        PacketHits h;
-        int edge = 0;
-        int hits = test.run(p, hit.t, h, edge);
-        for (int mask = hits | edge; mask; mask &= mask - 1) {
-            int lane = __builtin_ctz(static_cast<unsigned>(mask));
-            if ((edge >> lane) & 1) {
-                float tt, b1, b2;
-                if (!packet_lane_hit(p, lane, ray, pre, hit.t, tt, b1, b2)) continue;
-                hit.t = tt;
-                hit.u = b1;
-                hit.v = b2;
-            } else if (h.t[lane] < hit.t) {
-                hit.t = h.t[lane];
-                hit.u = h.uvw[1][lane] / h.det[lane];
-                hit.v = h.uvw[2][lane] / h.det[lane];
-            } else {
-                continue;
-            }
-            hit.prim = p.id[lane];
-            hit.part = 0;
-            hit.sub = 0;
-            found = true;
-        }
-    }
-    return found;
-}
-
-/// Whether any of `count` packets is hit before ray.tmax.
-inline bool packets_any(const PacketTest& test, const TrianglePacket* packets, uint32_t count,
-                        const Ray& ray, const RayPrecomputed& pre) {
-    for (uint32_t k = 0; k < count; ++k) {
-        const TrianglePacket& p = packets[k];
-        PacketHits h;
-        int edge = 0;
-        if (test.run(p, ray.tmax, h, edge)) return true;
-        for (; edge; edge &= edge - 1) {
-            float tt, b1, b2;
-            if (packet_lane_hit(p, __builtin_ctz(static_cast<unsigned>(edge)), ray, pre, ray.tmax,
-                                tt, b1, b2))
-                return true;
-        }
-    }
-    return false;
-}
 
 float half_area(const BvhNode& n) {
     vec3 e = n.max - n.min;
@@ -319,20 +188,13 @@ void WideBvh::collapse(std::span<const BvhNode> bin, std::span<const uint32_t> p
 
 bool WideBvh::leaf_intersect(uint32_t index, const Ray& ray, const RayPrecomputed& pre,
                              Hit& hit) const {
-    const Leaf& leaf = leaves_[index];
-    bool found = packets_closest(PacketTest(ray, pre), packets_.data() + leaf.first_packet,
-                                 leaf.packets, ray, pre, hit);
-    if (leaf.shapes == 0) return found;
-    return geometry_.intersect(shapes_.data() + leaf.first_shape, leaf.shapes, ray, pre, hit) ||
-           found;
+    return leaf_closest(leaves_[index], packets_.data(), shapes_.data(), geometry_,
+                        PacketTest(ray, pre), ray, pre, hit);
 }
 
 bool WideBvh::leaf_occluded(uint32_t index, const Ray& ray, const RayPrecomputed& pre) const {
-    const Leaf& leaf = leaves_[index];
-    return packets_any(PacketTest(ray, pre), packets_.data() + leaf.first_packet, leaf.packets, ray,
-                       pre) ||
-           (leaf.shapes > 0 &&
-            geometry_.occludes(shapes_.data() + leaf.first_shape, leaf.shapes, ray, pre));
+    return leaf_any(leaves_[index], packets_.data(), shapes_.data(), geometry_,
+                    PacketTest(ray, pre), ray, pre);
 }
 
 bool WideBvh::intersect(const Ray& ray, Hit& hit) const {

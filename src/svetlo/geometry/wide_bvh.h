@@ -54,7 +54,8 @@ private:
         uint32_t first_shape, shapes;
     };
     uint32_t add_leaf(std::span<const uint32_t> prims);
-    /// Leaf `index` against the ray (both widths use these, compiled for SSE).
+    /// Leaf `index` against the ray, for the four-wide traversal (the eight-wide one tests its
+    /// leaves inline, with the same functions: wide_bvh_packets.inc).
     bool leaf_intersect(uint32_t index, const Ray& ray, const RayPrecomputed& pre, Hit& hit) const;
     bool leaf_occluded(uint32_t index, const Ray& ray, const RayPrecomputed& pre) const;
     template <int W>

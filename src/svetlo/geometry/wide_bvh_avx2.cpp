@@ -6,6 +6,7 @@
 #include <immintrin.h>
 
 #include "svetlo/geometry/ray_box.h"
+#include "svetlo/geometry/triangle.h"
 #include "svetlo/geometry/wide_bvh.h"
 
 #pragma GCC push_options
@@ -15,6 +16,7 @@ namespace svetlo {
 
 namespace {
 
+#include "svetlo/geometry/wide_bvh_packets.inc"
 #include "svetlo/geometry/wide_bvh_traversal.inc"
 
 /// A ray against the eight boxes of a node.
@@ -52,17 +54,22 @@ struct RayBoxes8 {
 
 }  // namespace
 
+// (The leaves tested inline: leaf_closest and leaf_any, as leaf_intersect and leaf_occluded.)
 bool WideBvh::intersect8(const Ray& ray, Hit& hit) const {
-    RayPrecomputed pre(ray);
+    const RayPrecomputed pre(ray);
+    const PacketTest test(ray, pre);
     return traverse_closest<RayBoxes8>(nodes8_.data(), ray, hit, [&](uint32_t leaf) {
-        return leaf_intersect(leaf, ray, pre, hit);
+        return leaf_closest(leaves_[leaf], packets_.data(), shapes_.data(), geometry_, test, ray,
+                            pre, hit);
     });
 }
 
 bool WideBvh::occluded8(const Ray& ray) const {
-    RayPrecomputed pre(ray);
-    return traverse_any<RayBoxes8>(nodes8_.data(), ray,
-                                   [&](uint32_t leaf) { return leaf_occluded(leaf, ray, pre); });
+    const RayPrecomputed pre(ray);
+    const PacketTest test(ray, pre);
+    return traverse_any<RayBoxes8>(nodes8_.data(), ray, [&](uint32_t leaf) {
+        return leaf_any(leaves_[leaf], packets_.data(), shapes_.data(), geometry_, test, ray, pre);
+    });
 }
 
 }  // namespace svetlo
