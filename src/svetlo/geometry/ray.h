@@ -49,7 +49,6 @@ inline vec3 offset_ray_origin(vec3 p, vec3 ng, vec3 w) {
 struct RayPrecomputed {
     int kx, ky, kz;
     float sx, sy, sz;
-    vec3 inv_d;
 
     explicit RayPrecomputed(const Ray& ray) {
         kz = max_dimension(glm::abs(ray.d));
@@ -59,7 +58,6 @@ struct RayPrecomputed {
         sx = ray.d[kx] / ray.d[kz];
         sy = ray.d[ky] / ray.d[kz];
         sz = 1.0f / ray.d[kz];
-        inv_d = 1.0f / ray.d;
     }
 };
 
