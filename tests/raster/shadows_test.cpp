@@ -158,6 +158,46 @@ TEST(ShadowMap, PcfGivesIntermediateValuesAlongTheEdgeAndNoneGivesNone) {
     EXPECT_GT(soft, 100);
 }
 
+/// The floor of floor_quad(half) as an inline mesh of n x n cells (2 n^2 triangles, facing +y).
+json grid_floor(float half, int n, const char* material) {
+    json positions = json::array(), indices = json::array();
+    for (int k = 0; k <= n; ++k) {
+        for (int i = 0; i <= n; ++i) {
+            positions.push_back(
+                {-half + 2.0f * half * static_cast<float>(i) / static_cast<float>(n), 0.0f,
+                 -half + 2.0f * half * static_cast<float>(k) / static_cast<float>(n)});
+        }
+    }
+    for (int k = 0; k < n; ++k) {
+        for (int i = 0; i < n; ++i) {
+            const int a = k * (n + 1) + i, b = a + n + 1, c = b + 1, d = a + 1;
+            for (int v : {a, b, c, a, c, d}) indices.push_back(v);
+        }
+    }
+    return {
+        {"type", "mesh"}, {"positions", positions}, {"indices", indices}, {"material", material}};
+}
+
+TEST(ShadowMap, SmallTrianglesLookUpTheSamePointsAsLargeOnes) {
+    // With one sample per pixel the masks take a small triangle's screen barycentrics from the
+    // rasterizer, and a large one's from its edge functions. The same floor as one quad (two
+    // large triangles) and as 2,048 small ones must be shadowed alike, but for rounding at the
+    // shadow's edge; a sample looked up at another point of its small triangle moves the edge.
+    json quad = sphere_on_floor(kSpot, "map");
+    quad["render"]["spp"] = 1;
+    quad["render"]["shadow_map"] = {{"filter", "none"}};
+    json fine = quad;
+    fine["objects"][1] = grid_floor(5.0f, 32, "m");
+    const Image a = render(quad).aovs.at("visibility"), b = render(fine).aovs.at("visibility");
+    int shadowed = 0, differ = 0;
+    for (size_t k = 0; k < a.pixels.size(); ++k) {
+        shadowed += a.pixels[k].r < 0.5f;
+        differ += std::abs(a.pixels[k].r - b.pixels[k].r) > 0.5f;
+    }
+    EXPECT_GT(shadowed, 300);
+    EXPECT_LE(differ, 4);
+}
+
 json area_light_scene(const char* shadows) {
     json j = sphere_on_floor(json::object(), shadows);
     j["lights"] = {{{"type", "area"},
