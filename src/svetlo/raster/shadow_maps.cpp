@@ -32,6 +32,7 @@
 #include <bit>
 
 #include "svetlo/core/error.h"
+#include "svetlo/core/parallel.h"
 #include "svetlo/raster/shadow_techniques.h"
 
 namespace svetlo::raster {
@@ -79,24 +80,28 @@ DepthMap render_map(const TriangleList& list, const CameraMatrices& cam, float t
     targets.clear(m.res, m.res);
     PipelineState state;  // depth test and write, both sides
     draw_pass(list, cam, state, targets, threads, 0, memory);
-    m.distance = std::move(targets.depth);  // converted in place
+    m.distance = std::move(targets.depth);  // converted in place, bands of rows in parallel
     const float inv = 1.0f / static_cast<float>(m.res);
-    for (int y = 0; y < m.res; ++y) {
-        for (int x = 0; x < m.res; ++x) {
-            size_t i = targets.index(x, y);
-            float key = m.distance[i];
-            if (std::isinf(key)) {
-                m.distance[i] = kInfinity;
-            } else if (cam.orthographic) {
-                m.distance[i] = cam.near + key * (cam.far - cam.near);  // window z is linear
-            } else {
-                // key = -1/w, w the depth along the axis; radial through the texel's centre.
-                float a = (2.0f * (static_cast<float>(x) + 0.5f) * inv - 1.0f) * tan_half;
-                float b = (1.0f - 2.0f * (static_cast<float>(y) + 0.5f) * inv) * tan_half;
-                m.distance[i] = (-1.0f / key) * std::sqrt(1.0f + a * a + b * b);
+    constexpr int kRows = 64;
+    parallel_indices(static_cast<size_t>((m.res + kRows - 1) / kRows), threads, [&](size_t band) {
+        const int y0 = static_cast<int>(band) * kRows, y1 = std::min(m.res, y0 + kRows);
+        for (int y = y0; y < y1; ++y) {
+            for (int x = 0; x < m.res; ++x) {
+                size_t i = targets.index(x, y);
+                float key = m.distance[i];
+                if (std::isinf(key)) {
+                    m.distance[i] = kInfinity;
+                } else if (cam.orthographic) {
+                    m.distance[i] = cam.near + key * (cam.far - cam.near);  // window z is linear
+                } else {
+                    // key = -1/w, w the depth along the axis; radial through the texel's centre.
+                    float a = (2.0f * (static_cast<float>(x) + 0.5f) * inv - 1.0f) * tan_half;
+                    float b = (1.0f - 2.0f * (static_cast<float>(y) + 0.5f) * inv) * tan_half;
+                    m.distance[i] = (-1.0f / key) * std::sqrt(1.0f + a * a + b * b);
+                }
             }
         }
-    }
+    });
     m.texel = cam.orthographic ? 0.0f : 2.0f * tan_half * inv;
     return m;
 }
