@@ -153,29 +153,33 @@ void fill_masks(const ShadowTechniqueState& technique, const FrameState& f, cons
             }
         }
     }
-    scratch.sum.assign(sources * n, 0.0f);
-    scratch.count.assign(sources * n, 0.0f);
-    for (size_t k = 0; k < casters.size(); ++k) {
-        const ShadowCaster& c = casters[k];
-        scratch.facing.clear();
-        for (size_t m = 0; m < n; ++m) {
-            if (c.faces(found[m].p, found[m].n)) scratch.facing.push_back(static_cast<uint32_t>(m));
+    // Source by source (shadow_casters groups a source's casters together), so that the sums
+    // take memory for one source's samples, whatever the number of lights.
+    scratch.sum.resize(n);
+    scratch.count.resize(n);
+    for (size_t k = 0; k < casters.size();) {
+        const size_t source = casters[k].source;
+        std::fill(scratch.sum.begin(), scratch.sum.end(), 0.0f);
+        std::fill(scratch.count.begin(), scratch.count.end(), 0.0f);
+        for (; k < casters.size() && casters[k].source == source; ++k) {
+            const ShadowCaster& c = casters[k];
+            scratch.facing.clear();
+            for (size_t m = 0; m < n; ++m) {
+                if (c.faces(found[m].p, found[m].n))
+                    scratch.facing.push_back(static_cast<uint32_t>(m));
+            }
+            scratch.lit.resize(scratch.facing.size());
+            technique.lit_many(k, found.data(), scratch.facing.data(), scratch.facing.size(),
+                               scratch.lit.data());
+            for (size_t m = 0; m < scratch.facing.size(); ++m) {
+                scratch.sum[scratch.facing[m]] += scratch.lit[m];
+                scratch.count[scratch.facing[m]] += 1.0f;
+            }
         }
-        scratch.lit.resize(scratch.facing.size());
-        technique.lit_many(k, found.data(), scratch.facing.data(), scratch.facing.size(),
-                           scratch.lit.data());
-        float* sum = scratch.sum.data() + c.source * n;
-        float* count = scratch.count.data() + c.source * n;
-        for (size_t m = 0; m < scratch.facing.size(); ++m) {
-            sum[scratch.facing[m]] += scratch.lit[m];
-            count[scratch.facing[m]] += 1.0f;
-        }
-    }
-    for (size_t src = 0; src < sources; ++src) {
-        float* visibility = buf.visibility.data() + src * samples;
+        float* visibility = buf.visibility.data() + source * samples;
         for (size_t m = 0; m < n; ++m) {
-            const float count = scratch.count[src * n + m];
-            if (count > 0.0f) visibility[scratch.index[m]] = scratch.sum[src * n + m] / count;
+            if (scratch.count[m] > 0.0f)
+                visibility[scratch.index[m]] = scratch.sum[m] / scratch.count[m];
         }
     }
 }

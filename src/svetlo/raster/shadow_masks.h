@@ -103,7 +103,7 @@ struct MaskScratch {
     std::vector<uint32_t> index;        // each one's index in the tile
     std::vector<uint32_t> facing;       // those that face the caster at hand
     std::vector<float> lit;             // its answers for them
-    std::vector<float> sum, count;      // per source and sample: the answers' sum and number
+    std::vector<float> sum, count;      // per sample, for one source: the answers' sum, number
     std::vector<const uint8_t*> masks;  // a screen-space technique's, per caster
 };
 
