@@ -3,7 +3,8 @@
 //   vertex_stage.cpp    stage 2: model, view, projection; projection and snapping; Gouraud
 //   clipper.cpp         stage 3: clipping in homogeneous coordinates
 //   setup_binning.cpp   stages 3-4: setup (area, facing, culling, bounds) and binning in tiles
-//   rasterize.cpp       stage 5: edge functions, the stencil and depth tests, per tile
+//   rasterize.cpp       stage 5: edge functions and the depth test, per tile
+//   rasterize_plain.cpp stage 5 with the stencil on or depth writes off (shadow volumes' counts)
 //   fragment.cpp        stage 6: shading of the visible samples, by mode
 //   fast_shading.cpp    stage 6's SIMD fast path (simd_kernel.inc)
 //   resolve.cpp         stage 7: the mean of the samples, the AOVs, and the wireframe
@@ -14,6 +15,9 @@
 // draw_pass.h or raster_engine.h instead.
 #pragma once
 
+#include <immintrin.h>
+
+#include <algorithm>
 #include <optional>
 #include <vector>
 
@@ -256,7 +260,14 @@ struct TriangleEdges {
 /// The pixels of a tile a triangle's bounds cover: [xs, xe) x [ys, ye).
 struct PixelSpan {
     int xs, xe, ys, ye;
+    bool empty() const { return xs >= xe || ys >= ye; }
 };
+
+/// The pixels of the tile that triangle t may cover.
+inline PixelSpan span_in(const SetupTriangle& t, const Tile& tile) {
+    return {std::max(t.x0(), tile.x0), std::min(t.x1(), tile.x1), std::max(t.y0(), tile.y0),
+            std::min(t.y1(), tile.y1)};
+}
 
 /// The tile's light visibility for the shading (simd_shading.h), `samples` samples a row.
 inline LightVisibility light_visibility(const TileBuffers& buf, size_t samples) {
@@ -326,8 +337,27 @@ void vertex_stage(const TriangleList& list, FrameState& f, int threads);
 void assemble(const TriangleList& list, FrameState& f, int threads);
 /// Stage 4 for the painter's algorithm: binned again, back to front.
 void bin_back_to_front(FrameState& f, int threads);
+/// Calls draw(id, triangle) for every triangle binned in the tile, in drawing order.
+template <class Draw>
+void for_each_binned(const FrameState& f, const Tile& tile, Draw&& draw) {
+    const size_t ti = static_cast<size_t>(tile.y0 / kTile) * f.tiles_x + tile.x0 / kTile;
+    for (const FrameState::Bins& b : f.bins) {
+        const uint32_t end = b.start[ti + 1];
+        for (uint32_t k = b.start[ti]; k < end; ++k) {
+            // The triangles of a tile are scattered over the frame's: fetch ahead.
+            constexpr uint32_t kAhead = 8;
+            if (k + kAhead < end)
+                _mm_prefetch(reinterpret_cast<const char*>(&f.tri(b.ids[k + kAhead])), _MM_HINT_T0);
+            draw(b.ids[k], f.tri(b.ids[k]));
+        }
+    }
+}
 /// Stage 5 (rasterize.cpp): every triangle binned in the tile, in order, into its buffers.
+/// Passes with the stencil on or depth writes off take rasterize_tile_plain.
 void rasterize_tile(const FrameState& f, const Tile& tile, const SamplePattern& sp,
                     const PipelineState& state, TileBuffers& buf);
+/// rasterize_tile for a pass with the stencil on or depth writes off (rasterize_plain.cpp).
+void rasterize_tile_plain(const FrameState& f, const Tile& tile, const SamplePattern& sp,
+                          const PipelineState& state, TileBuffers& buf);
 
 }  // namespace svetlo::raster
