@@ -51,12 +51,8 @@ void StencilMasks::reserve(const Scene& scene, int width, int height,
 
 float StencilMasks::lit(size_t k, const ShadowSample& at) const {
     const std::vector<uint8_t>& mask = lit_[k][static_cast<size_t>(at.pass)];
-    const auto samples = static_cast<size_t>(samples_per_pass_[static_cast<size_t>(at.pass)]);
-    const size_t i =
-        (static_cast<size_t>(at.j) * static_cast<size_t>(width_) + static_cast<size_t>(at.i)) *
-            samples +
-        static_cast<size_t>(at.s);
-    return static_cast<float>(mask[i]);
+    const int samples = samples_per_pass_[static_cast<size_t>(at.pass)];
+    return static_cast<float>(mask[frame_sample(width_, samples, at.i, at.j, at.s)]);
 }
 
 float scene_diameter(const Bounds3& bounds) {
@@ -117,11 +113,7 @@ void fill_masks(const ShadowTechniqueState& technique, const FrameState& f, cons
                 if (!needs_surface) {
                     // A screen-space mask: where every caster lights the sample, V is 1 whether
                     // it faces them or not; the surface is needed only where one does not.
-                    const size_t in_frame =
-                        (static_cast<size_t>(py) * static_cast<size_t>(f.cam.width) +
-                         static_cast<size_t>(px)) *
-                            static_cast<size_t>(S) +
-                        static_cast<size_t>(s);
+                    const size_t in_frame = frame_sample(f.cam.width, S, px, py, s);
                     bool all_lit = true;
                     for (const uint8_t* mask : scratch.masks) all_lit = all_lit && mask[in_frame];
                     if (all_lit) continue;

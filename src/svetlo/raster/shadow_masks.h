@@ -32,6 +32,14 @@ struct ShadowSample {
     int s = 0;         // the sample within the pass
 };
 
+/// Where sample s of pixel (i, j) lies in a mask of a frame `width` pixels wide, `samples`
+/// samples a pixel, pixel after pixel along the rows (StencilMasks' masks, screen_mask()).
+inline size_t frame_sample(int width, int samples, int i, int j, int s) {
+    return (static_cast<size_t>(j) * static_cast<size_t>(width) + static_cast<size_t>(i)) *
+               static_cast<size_t>(samples) +
+           static_cast<size_t>(s);
+}
+
 class ShadowTechniqueState {
 public:
     virtual ~ShadowTechniqueState() = default;

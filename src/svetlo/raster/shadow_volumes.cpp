@@ -147,15 +147,14 @@ public:
     Image stencil_image() const override {
         if (stencil_samples_ == 0) return {};
         Image image(width_, height_);
-        const auto S = static_cast<size_t>(stencil_samples_);
+        const int S = stencil_samples_;
         for (int j = 0; j < height_; ++j) {
             for (int i = 0; i < width_; ++i) {
-                const size_t first = (static_cast<size_t>(j) * static_cast<size_t>(width_) +
-                                      static_cast<size_t>(i)) *
-                                     S;
                 float sum = 0.0f;
-                for (size_t s = 0; s < S; ++s)
-                    sum += static_cast<float>(static_cast<int8_t>(stencil_[first + s]));
+                for (int s = 0; s < S; ++s) {
+                    sum += static_cast<float>(
+                        static_cast<int8_t>(stencil_[frame_sample(width_, S, i, j, s)]));
+                }
                 image.at(i, j) = Color(sum / static_cast<float>(S));
             }
         }
