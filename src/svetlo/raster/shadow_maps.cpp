@@ -263,14 +263,13 @@ private:
             const V fw[3] = {set1(forward.x), set1(forward.y), set1(forward.z)};
             // The receiver's distance (DepthMap::receiver), the direction to the light and a
             // texel's width there.
+            const V d[3] = {sub(p[0], e[0]), sub(p[1], e[1]), sub(p[2], e[2])};
             V distance, wi[3], texel;
             if (m.cam.orthographic) {
-                const V d[3] = {sub(p[0], e[0]), sub(p[1], e[1]), sub(p[2], e[2])};
                 distance = dot(d, fw);
                 for (int a = 0; a < 3; ++a) wi[a] = set1(-c.direction[a]);
                 texel = set1(m.texel);
             } else {
-                const V d[3] = {sub(p[0], e[0]), sub(p[1], e[1]), sub(p[2], e[2])};
                 distance = _mm_sqrt_ps(dot(d, d));
                 for (int a = 0; a < 3; ++a) wi[a] = div(sub(e[a], p[a]), distance);
                 texel = mul(set1(m.texel), distance);
