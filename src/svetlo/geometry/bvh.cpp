@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstddef>
 #include <memory>
 #include <mutex>
 
@@ -36,6 +37,29 @@ struct BuildRef {
     vec3 max;
     float pad;
     vec3 centroid() const { return 0.5f * min + 0.5f * max; }  // no overflow near 3.4e38
+};
+static_assert(sizeof(BuildRef) == 32 && offsetof(BuildRef, max) == 16);
+
+/// Where a reference's centroid lies along the axis of largest centroid extent, in bins
+/// (fractional), and the bin that holds it. The axis is an offset into the reference, so that
+/// the per-reference work has no switch on it.
+struct BinPosition {
+    int axis;
+    float cmin, scale;
+    explicit BinPosition(const Bounds3& centroids)
+        : axis(max_dimension(centroids.extent())),
+          cmin(centroids.min[axis]),
+          scale(static_cast<float>(kBins) * 0.99999f / centroids.extent()[axis]) {}
+    float operator()(const BuildRef& r) const {
+        const auto* f = reinterpret_cast<const float*>(&r);  // min at f[0..2], max at f[4..6]
+        return (0.5f * f[axis] + 0.5f * f[axis + 4] - cmin) * scale;
+    }
+    /// The position clamped to [0, kBins - 1] and truncated; maxss returns its second operand
+    /// (0) for a NaN position.
+    int bin(const BuildRef& r) const {
+        __m128 f = _mm_max_ss(_mm_set_ss((*this)(r)), _mm_setzero_ps());
+        return _mm_cvttss_si32(_mm_min_ss(f, _mm_set_ss(static_cast<float>(kBins - 1))));
+    }
 };
 
 /// SAH bins: the bounds (SSE registers; lane 3 unused) and the count of each.
@@ -200,21 +224,10 @@ private:
     bool sah_split(uint32_t begin, uint32_t end, const Bounds3& bounds, const Bounds3& centroids,
                    uint32_t& mid, Bounds3& lb, Bounds3& rb, Bounds3& lc, Bounds3& rc) {
         uint32_t n = end - begin;
-        int a = max_dimension(centroids.extent());
-        float cmin = centroids.min[a];
-        float scale = static_cast<float>(kBins) * 0.99999f / centroids.extent()[a];
-        const BuildRef* refs = refs_.data();
-        // A reference's centroid in bins along the axis (fractional).
-        auto position = [&](const BuildRef& r) {
-            return (0.5f * r.min[a] + 0.5f * r.max[a] - cmin) * scale;
-        };
-        auto bin_of = [&](const BuildRef& r) {
-            // Centroids past the float range (a generated vertex at inf) give NaN or inf here:
-            // they go to the end bins instead of indexing with an undefined conversion.
-            const float f = position(r);
-            if (!(f > 0.0f)) return 0;
-            return f < static_cast<float>(kBins - 1) ? static_cast<int>(f) : kBins - 1;
-        };
+        const BinPosition position(centroids);
+        // Centroids past the float range (a generated vertex at inf) give NaN or inf
+        // positions: they go to the end bins instead of indexing with an undefined conversion.
+        auto bin_of = [position](const BuildRef& r) { return position.bin(r); };
         Bins bins;
         if (n >= kParallelSplit) {
             // The top levels: bins of chunks in parallel, merged (min, max and sums are exact in
@@ -278,7 +291,10 @@ private:
         // non-positive one goes to bin 0 (left), and int(f) <= best_bin exactly when
         // f < best_bin + 1.
         const float split_at = static_cast<float>(best_bin + 1);
-        auto goes_left = [&](const BuildRef& r) { return !(position(r) >= split_at); };
+        auto goes_left = [position, split_at](const BuildRef& r) {
+            return !(position(r) >= split_at);
+        };
+        const BuildRef* refs = refs_.data();
         BuildRef* scratch = scratch_.data();
         if (n >= kParallelSplit) {
             // In parallel and stable: count the left references of each chunk, then every chunk
@@ -314,10 +330,13 @@ private:
         } else {
             // Branch-free, through a scratch buffer: each reference is written to the next slot
             // at the left or at the right end (a branch here mispredicts half the time).
+            // The slot is chosen with a mask: written as a conditional, the compiler makes it a
+            // branch again.
             uint32_t next_left = begin, next_right = end - 1;
             for (uint32_t j = begin; j < end; ++j) {
                 uint32_t left = goes_left(refs[j]) ? 1u : 0u;
-                scratch[left ? next_left : next_right] = refs[j];
+                uint32_t slot = next_right + ((next_left - next_right) & (0u - left));
+                scratch[slot] = refs[j];
                 next_left += left;
                 next_right -= 1u - left;
             }
