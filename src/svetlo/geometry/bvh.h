@@ -1,8 +1,8 @@
 // A bounding volume hierarchy built with the binned surface area heuristic (Wald, "On fast
 // Construction of SAH-based Bounding Volume Hierarchies", IEEE RT 2007): 16 bins on the
-// axis of largest extent, leaves of at most 8 primitives, subtrees built in parallel. Nodes are 32
-// bytes; the two children of an inner node are adjacent. Traversal visits the nearer child first
-// and skips nodes farther than the closest hit so far.
+// axis of largest extent, leaves of at most 8 primitives, subtrees built in parallel (the build
+// is bvh_build.cpp). Nodes are 32 bytes; the two children of an inner node are adjacent. Traversal
+// visits the nearer child first and skips nodes farther than the closest hit so far.
 #pragma once
 
 #include <cstdint>

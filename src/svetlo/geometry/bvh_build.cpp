@@ -1,0 +1,478 @@
+#include "svetlo/geometry/bvh_build.h"
+
+#include <immintrin.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+#include <tbb/task_arena.h>
+#include <tbb/task_group.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cstddef>
+#include <mutex>
+#include <vector>
+
+#include "svetlo/core/parallel.h"
+
+namespace svetlo {
+
+namespace {
+
+constexpr int kBins = 16;
+constexpr uint32_t kMaxLeaf = 8;
+constexpr uint32_t kMinSplit = 4;           // nodes this small become leaves without a SAH test
+constexpr float kTraversalCost = 2.0f;      // relative to one primitive test
+constexpr int kMedianDepth = 64;            // below this depth, split at the median
+constexpr uint32_t kParallelGrain = 4096;   // smaller subtrees are built serially
+constexpr uint32_t kParallelSplit = 65536;  // larger nodes bin and partition in parallel
+constexpr uint32_t kSplitChunk = 16384;     // references per task there
+
+/// A primitive during the build: its bounds and id, 32 bytes, partitioned in place.
+struct BuildRef {
+    vec3 min;
+    uint32_t id;
+    vec3 max;
+    float pad;
+    vec3 centroid() const { return 0.5f * min + 0.5f * max; }  // no overflow near 3.4e38
+};
+static_assert(sizeof(BuildRef) == 32 && offsetof(BuildRef, max) == 16);
+
+/// Where a reference's centroid lies along the axis of largest centroid extent, in bins
+/// (fractional), and the bin that holds it. The axis is an offset into the reference, so that
+/// the per-reference work has no switch on it.
+struct BinPosition {
+    int axis;
+    float cmin, scale;
+    explicit BinPosition(const Bounds3& centroids)
+        : axis(max_dimension(centroids.extent())),
+          cmin(centroids.min[axis]),
+          scale(static_cast<float>(kBins) * 0.99999f / centroids.extent()[axis]) {}
+    float operator()(const BuildRef& r) const {
+        const auto* f = reinterpret_cast<const float*>(&r);  // min at f[0..2], max at f[4..6]
+        return (0.5f * f[axis] + 0.5f * f[axis + 4] - cmin) * scale;
+    }
+    /// The position clamped to [0, kBins - 1] and truncated; maxss returns its second operand
+    /// (0) for a NaN position.
+    int bin(const BuildRef& r) const {
+        __m128 f = _mm_max_ss(_mm_set_ss((*this)(r)), _mm_setzero_ps());
+        return _mm_cvttss_si32(_mm_min_ss(f, _mm_set_ss(static_cast<float>(kBins - 1))));
+    }
+};
+
+/// SAH bins: the bounds (SSE registers; lane 3 unused) and the count of each.
+struct Bins {
+    __m128 min[kBins], max[kBins];
+    uint32_t count[kBins];
+    Bins() {
+        for (int b = 0; b < kBins; ++b) {
+            min[b] = _mm_set1_ps(kInfinity);
+            max[b] = _mm_set1_ps(-kInfinity);
+            count[b] = 0;
+        }
+    }
+    void add(int b, const BuildRef& r) {
+        // Lane 3 holds the id or padding bits: never read back.
+        min[b] = _mm_min_ps(min[b], _mm_loadu_ps(&r.min.x));
+        max[b] = _mm_max_ps(max[b], _mm_loadu_ps(&r.max.x));
+        count[b]++;
+    }
+    void merge(const Bins& o) {
+        for (int b = 0; b < kBins; ++b) {
+            min[b] = _mm_min_ps(min[b], o.min[b]);
+            max[b] = _mm_max_ps(max[b], o.max[b]);
+            count[b] += o.count[b];
+        }
+    }
+};
+
+/// The bins' bounds from the left (bins 0..b) and from the right (bins b..kBins - 1), and the
+/// SAH cost of splitting after each bin: area × count on each side, four splits at a time.
+struct Sweep {
+    __m128 left_min[kBins], left_max[kBins];
+    __m128 right_min[kBins + 1], right_max[kBins + 1];  // right_*[kBins]: the empty box
+    alignas(16) int left_count[kBins];                  // references in bins 0..b
+    uint32_t n;
+
+    Sweep(const Bins& bins, uint32_t total) : n(total) {
+        __m128 lo = _mm_set1_ps(kInfinity), hi = _mm_set1_ps(-kInfinity);
+        int count = 0;
+        for (int b = 0; b < kBins; ++b) {
+            left_min[b] = lo = _mm_min_ps(lo, bins.min[b]);
+            left_max[b] = hi = _mm_max_ps(hi, bins.max[b]);
+            left_count[b] = count += static_cast<int>(bins.count[b]);
+        }
+        right_min[kBins] = lo = _mm_set1_ps(kInfinity);
+        right_max[kBins] = hi = _mm_set1_ps(-kInfinity);
+        for (int b = kBins - 1; b >= 0; --b) {
+            right_min[b] = lo = _mm_min_ps(lo, bins.min[b]);
+            right_max[b] = hi = _mm_max_ps(hi, bins.max[b]);
+        }
+    }
+
+    /// The surface areas of four boxes, 2 (x y + y z + z x) in lanes, the same operations in
+    /// the same order as one box at a time.
+    static __m128 areas(const __m128* lo, const __m128* hi) {
+        __m128 x = _mm_sub_ps(hi[0], lo[0]), y = _mm_sub_ps(hi[1], lo[1]);
+        __m128 z = _mm_sub_ps(hi[2], lo[2]), w = _mm_sub_ps(hi[3], lo[3]);
+        _MM_TRANSPOSE4_PS(x, y, z, w);
+        __m128 sum = _mm_add_ps(_mm_add_ps(_mm_mul_ps(x, y), _mm_mul_ps(y, z)), _mm_mul_ps(z, x));
+        return _mm_mul_ps(_mm_set1_ps(2.0f), sum);
+    }
+
+    /// The cheapest split (the first of equal costs) and its cost, or -1 when no split leaves
+    /// references on both sides with a finite cost.
+    int cheapest(float& best_cost) const {
+        alignas(16) float cost[kBins];
+        const __m128i total = _mm_set1_epi32(static_cast<int>(n));
+        for (int b = 0; b < kBins; b += 4) {
+            // Split after bin b + lane: the left side is bins 0..b + lane, the right side the
+            // bins from b + lane + 1 on (none for the last lane of the last group: masked below).
+            __m128 right_area = areas(right_min + b + 1, right_max + b + 1);
+            __m128i left = _mm_load_si128(reinterpret_cast<const __m128i*>(left_count + b));
+            __m128i right = _mm_sub_epi32(total, left);
+            __m128 c =
+                _mm_add_ps(_mm_mul_ps(areas(left_min + b, left_max + b), _mm_cvtepi32_ps(left)),
+                           _mm_mul_ps(right_area, _mm_cvtepi32_ps(right)));
+            // Both sides must hold references (counts are below 2^31, so signed compares).
+            __m128i both = _mm_and_si128(_mm_cmpgt_epi32(left, _mm_setzero_si128()),
+                                         _mm_cmpgt_epi32(right, _mm_setzero_si128()));
+            __m128 valid =
+                _mm_and_ps(_mm_castsi128_ps(both), _mm_cmplt_ps(c, _mm_set1_ps(kInfinity)));
+            _mm_store_ps(cost + b, _mm_or_ps(_mm_and_ps(valid, c),
+                                             _mm_andnot_ps(valid, _mm_set1_ps(kInfinity))));
+        }
+        int best = -1;
+        for (int b = 0; b < kBins - 1; ++b) {
+            if (cost[b] < best_cost) {
+                best_cost = cost[b];
+                best = b;
+            }
+        }
+        return best;
+    }
+};
+
+/// Bounds from two SSE registers (lane 3 ignored).
+Bounds3 to_bounds(__m128 lo, __m128 hi) {
+    alignas(16) float l[4], h[4];
+    _mm_store_ps(l, lo);
+    _mm_store_ps(h, hi);
+    return Bounds3{vec3(l[0], l[1], l[2]), vec3(h[0], h[1], h[2])};
+}
+
+/// A node's references: indices [begin, end) of one of the two buffers, with their bounds and
+/// the bounds of their centroids (or a box holding them all).
+struct Span {
+    uint32_t begin, end;
+    int buffer;
+    Bounds3 bounds, centroids;
+    uint32_t size() const { return end - begin; }
+};
+
+/// Adds refs[first, last) to `out` along `position`'s axis, through two interleaved sets of
+/// bins: consecutive primitives of a mesh often fall into the same bin, and one set would chain
+/// every update on the previous one.
+void bin_range(const BuildRef* refs, uint32_t first, uint32_t last, const BinPosition& position,
+               Bins& out) {
+    Bins second;
+    uint32_t k = first;
+    for (; k + 1 < last; k += 2) {
+        out.add(position.bin(refs[k]), refs[k]);
+        second.add(position.bin(refs[k + 1]), refs[k + 1]);
+    }
+    if (k < last) out.add(position.bin(refs[k]), refs[k]);
+    out.merge(second);
+}
+
+/// Copies src[first, last) into dst in order, the left references (position < split_at, NaN
+/// included) to the slots from next_left on and the right ones to the slots from next_right
+/// on. The slot is chosen with a mask: written as a conditional, the compiler makes it a
+/// branch, which mispredicts half the time.
+void partition_range(const BuildRef* src, BuildRef* dst, uint32_t first, uint32_t last,
+                     uint32_t next_left, uint32_t next_right, const BinPosition& position,
+                     float split_at) {
+    for (uint32_t j = first; j < last; ++j) {
+        const uint32_t right = position(src[j]) >= split_at ? 1u : 0u;
+        dst[next_left + ((next_right - next_left) & (0u - right))] = src[j];
+        next_left += 1u - right;
+        next_right += right;
+    }
+}
+
+class Builder {
+public:
+    Builder(LargeArray<BuildRef>& refs, BvhNode* nodes, uint32_t* prims)
+        : scratch_(refs.size()),
+          buffers_{refs.data(), scratch_.data()},
+          nodes_(nodes),
+          prims_(prims),
+          size_(static_cast<uint32_t>(refs.size())) {}
+
+    uint32_t node_count() const { return node_count_.load(); }  // slots used, holes included
+    /// The unused slot ranges [first, last) of serial subtrees, in no particular order.
+    const std::vector<std::pair<uint32_t, uint32_t>>& holes() const { return holes_; }
+    int depth() const { return depth_.load(); }
+
+    void build_root(const Bounds3& bounds, const Bounds3& centroids) {
+        node_count_ = 1;
+        depth_ = build(0, Span{0, size_, 0, bounds, centroids}, 1, nullptr);
+        group_.wait();
+    }
+
+private:
+    /// Node slots reserved for a serial subtree: its descendants never touch the shared
+    /// counter (which two threads would otherwise bounce between their caches).
+    struct Slots {
+        uint32_t next;
+    };
+
+    void make_leaf(uint32_t node, const Span& s) {
+        nodes_[node] = BvhNode{s.bounds.min, s.begin, s.bounds.max, s.size()};
+        for (uint32_t k = s.begin; k < s.end; ++k) prims_[k] = buffers_[s.buffer][k].id;
+    }
+
+    /// Builds the subtree of span `s` into `node`; returns its depth.
+    int build(uint32_t node, const Span& s, int depth, Slots* slots) {
+        const uint32_t n = s.size();
+        if (n <= kMinSplit) {
+            make_leaf(node, s);
+            return depth;
+        }
+        Span left, right;
+        if (max_component(s.centroids.extent()) <= 0.0f) {
+            // All centroids coincide: no split can separate them.
+            if (n <= kMaxLeaf) {
+                make_leaf(node, s);
+                return depth;
+            }
+            split_at_index(s, s.begin + n / 2, left, right);
+        } else if (depth >= kMedianDepth) {
+            const int axis = max_dimension(s.centroids.extent());
+            BuildRef* refs = buffers_[s.buffer];
+            std::nth_element(refs + s.begin, refs + s.begin + n / 2, refs + s.end,
+                             [axis](const BuildRef& a, const BuildRef& b) {
+                                 return a.centroid()[axis] < b.centroid()[axis];
+                             });
+            split_at_index(s, s.begin + n / 2, left, right);
+        } else if (!sah_split(s, left, right)) {
+            make_leaf(node, s);
+            return depth;
+        }
+        Slots local{0};
+        if (!slots && n < kParallelGrain) {
+            // A subtree of n primitives has at most 2 n - 2 descendants; those it does not use
+            // are a hole at the end of its range, recorded for the compaction.
+            local.next = node_count_.fetch_add(2 * n - 2);
+            uint32_t start = local.next;
+            int d = build_children(node, s, left, right, depth, &local);
+            std::lock_guard<std::mutex> lock(holes_mutex_);
+            holes_.push_back({local.next, start + 2 * n - 2});
+            return d;
+        }
+        return build_children(node, s, left, right, depth, slots);
+    }
+
+    /// Makes `node` an inner node over its two children and builds them.
+    int build_children(uint32_t node, const Span& s, const Span& left, const Span& right, int depth,
+                       Slots* slots) {
+        uint32_t first = slots ? slots->next : node_count_.fetch_add(2);
+        if (slots) slots->next += 2;
+        nodes_[node] = BvhNode{s.bounds.min, first, s.bounds.max, 0};
+        if (s.size() >= kParallelGrain) {
+            group_.run([=, this] {
+                int d = build(first, left, depth + 1, nullptr);
+                int seen = depth_.load();
+                while (d > seen && !depth_.compare_exchange_weak(seen, d)) {
+                }
+            });
+            return build(first + 1, right, depth + 1, nullptr);
+        }
+        int dl = build(first, left, depth + 1, slots);
+        int dr = build(first + 1, right, depth + 1, slots);
+        return std::max(dl, dr);
+    }
+
+    /// The span of refs [begin, end) of `buffer`, with its exact bounds and centroid bounds.
+    Span span_of(uint32_t begin, uint32_t end, int buffer) const {
+        Span s{begin, end, buffer, Bounds3{}, Bounds3{}};
+        for (uint32_t k = begin; k < end; ++k) {
+            const BuildRef& r = buffers_[buffer][k];
+            s.bounds.extend(r.min);
+            s.bounds.extend(r.max);
+            s.centroids.extend(r.centroid());
+        }
+        return s;
+    }
+
+    /// Splits `s` where it lies, at index `mid`.
+    void split_at_index(const Span& s, uint32_t mid, Span& left, Span& right) const {
+        left = span_of(s.begin, mid, s.buffer);
+        right = span_of(mid, s.end, s.buffer);
+    }
+
+    /// Bins the centroids along the axis of largest centroid extent, chooses the cheapest of
+    /// the kBins - 1 bin boundaries by SAH and moves the references into the other buffer,
+    /// in order, the left child's first. Returns false when a leaf is cheaper and allowed.
+    /// Binning one axis (Wald 2007) costs a third of binning three and loses little quality.
+    /// Large spans are binned and partitioned in chunks in parallel: each chunk's bins give
+    /// it its place in the other buffer, and min, max and sums are exact in any order, so the
+    /// tree does not depend on the threads.
+    bool sah_split(const Span& s, Span& left, Span& right) {
+        const uint32_t n = s.size();
+        const BinPosition position(s.centroids);
+        const BuildRef* src = buffers_[s.buffer];
+        const uint32_t chunks = n < kParallelSplit ? 1 : (n + kSplitChunk - 1) / kSplitChunk;
+        auto chunk_first = [&](uint32_t c) { return s.begin + c * kSplitChunk; };
+        auto chunk_last = [&](uint32_t c) { return std::min(s.end, chunk_first(c + 1)); };
+        Bins bins;
+        std::vector<Bins> chunk_bins;
+        if (chunks == 1) {
+            bin_range(src, s.begin, s.end, position, bins);
+        } else {
+            chunk_bins.resize(chunks);
+            tbb::parallel_for(0u, chunks, [&](uint32_t c) {
+                bin_range(src, chunk_first(c), chunk_last(c), position, chunk_bins[c]);
+            });
+            for (const Bins& b : chunk_bins) bins.merge(b);
+        }
+        const Sweep sweep(bins, n);
+        float best_cost = kInfinity;
+        const int best_bin = sweep.cheapest(best_cost);
+        const float node_area = s.bounds.surface_area();
+        const float split_cost =
+            kTraversalCost + (node_area > 0.0f ? best_cost / node_area : kInfinity);
+        if (best_bin < 0 || (n <= kMaxLeaf && static_cast<float>(n) <= split_cost)) {
+            if (n <= kMaxLeaf) return false;
+            // No useful split but too many for a leaf: split at the median index.
+            split_at_index(s, s.begin + n / 2, left, right);
+            return true;
+        }
+        // bin(r) <= best_bin, as one comparison of the same position: a NaN or non-positive
+        // one goes to bin 0 (left), and int(f) <= best_bin exactly when f < best_bin + 1.
+        const float split_at = static_cast<float>(best_bin + 1);
+        BuildRef* dst = buffers_[1 - s.buffer];
+        const uint32_t mid = s.begin + static_cast<uint32_t>(sweep.left_count[best_bin]);
+        if (chunks == 1) {
+            partition_range(src, dst, s.begin, s.end, s.begin, mid, position, split_at);
+        } else {
+            std::vector<uint32_t> lefts(chunks + 1, 0);  // left references before each chunk
+            for (uint32_t c = 0; c < chunks; ++c) {
+                uint32_t in_left = 0;
+                for (int b = 0; b <= best_bin; ++b) in_left += chunk_bins[c].count[b];
+                lefts[c + 1] = lefts[c] + in_left;
+            }
+            tbb::parallel_for(0u, chunks, [&](uint32_t c) {
+                const uint32_t first = chunk_first(c);
+                partition_range(src, dst, first, chunk_last(c), s.begin + lefts[c],
+                                mid + (first - s.begin - lefts[c]), position, split_at);
+            });
+        }
+        // The children's bounds from the sweep; their centroid bounds are approximated by the
+        // primitive bounds, which contain every centroid (binning only needs a range).
+        const Bounds3 lb = to_bounds(sweep.left_min[best_bin], sweep.left_max[best_bin]);
+        const Bounds3 rb = to_bounds(sweep.right_min[best_bin + 1], sweep.right_max[best_bin + 1]);
+        left = Span{s.begin, mid, 1 - s.buffer, lb, lb};
+        right = Span{mid, s.end, 1 - s.buffer, rb, rb};
+        return true;
+    }
+
+    LargeArray<BuildRef> scratch_;  // the second buffer, same indices as the first
+    BuildRef* buffers_[2];          // a node's children lie in the other buffer than it
+    BvhNode* nodes_;                // room for 2 n - 1 nodes
+    uint32_t* prims_;               // the leaves' primitive ids, same indices as the buffers
+    uint32_t size_;
+    std::atomic<uint32_t> node_count_{0};
+    std::atomic<int> depth_{0};
+    std::mutex holes_mutex_;
+    std::vector<std::pair<uint32_t, uint32_t>> holes_;
+    tbb::task_group group_;
+};
+
+}  // namespace
+
+BvhBuild build_bvh(const Geometry& geometry, int threads) {
+    // Every triangle, then the bounded shapes (infinite planes are tested apart).
+    const uint32_t triangles = geometry.triangle_count();
+    std::vector<uint32_t> shapes;
+    for (uint32_t id : geometry.bounded_primitives_from(triangles)) shapes.push_back(id);
+    const size_t n = triangles + shapes.size();
+    BvhBuild out;
+    if (n == 0) return out;
+    LargeArray<BuildRef> refs(n);
+    int workers = resolve_threads(threads);
+    tbb::task_arena arena(workers);
+    // The references and their bounds, in chunks merged in order.
+    size_t chunks = std::min<size_t>(static_cast<size_t>(workers) * 4, (n + 4095) / 4096);
+    std::vector<Bounds3> chunk_bounds(chunks), chunk_centroids(chunks);
+    arena.execute([&] {
+        tbb::parallel_for(size_t{0}, chunks, [&](size_t c) {
+            Bounds3 b, cb;
+            const vec3* p = geometry.positions.data();
+            const uint32_t* index = geometry.indices.data();
+            for (size_t k = c * n / chunks; k < (c + 1) * n / chunks; ++k) {
+                Bounds3 pb;
+                uint32_t id;
+                if (k < triangles) {  // inline: the common case, 3 vertices
+                    id = static_cast<uint32_t>(k);
+                    vec3 a = p[index[3 * k]], v1 = p[index[3 * k + 1]], v2 = p[index[3 * k + 2]];
+                    pb = Bounds3{glm::min(a, glm::min(v1, v2)), glm::max(a, glm::max(v1, v2))};
+                } else {
+                    id = shapes[k - triangles];
+                    pb = geometry.primitive_bounds(id);
+                }
+                refs[k] = BuildRef{pb.min, id, pb.max, 0.0f};
+                b.extend(pb);
+                cb.extend(refs[k].centroid());
+            }
+            chunk_bounds[c] = b;
+            chunk_centroids[c] = cb;
+        });
+    });
+    Bounds3 bounds, centroids;
+    for (size_t c = 0; c < chunks; ++c) {
+        bounds.extend(chunk_bounds[c]);
+        centroids.extend(chunk_centroids[c]);
+    }
+    // Uninitialised room for the worst case (2 n - 1 nodes): untouched pages cost nothing.
+    // About a third of it is written, in runs, so it takes small pages.
+    LargeArray<BvhNode> room(2 * refs.size(), false);
+    out.prims = LargeArray<uint32_t>(refs.size());
+    Builder builder(refs, room.data(), out.prims.data());
+    arena.execute([&] { builder.build_root(bounds, centroids); });
+    out.depth = builder.depth();
+    // Serial subtrees leave unused slots at the end of their ranges: copy the used runs in
+    // order (each subtree stays contiguous, in the depth-first order it was built in) and move
+    // every child index down by the size of the holes before it.
+    std::vector<std::pair<uint32_t, uint32_t>> holes = builder.holes();
+    std::sort(holes.begin(), holes.end());
+    std::vector<uint32_t> run_start = {0}, shift = {0};  // from run_start[k] on, move down shift[k]
+    for (auto [first, last] : holes) {
+        run_start.push_back(last);
+        shift.push_back(shift.back() + (last - first));
+    }
+    uint32_t total = builder.node_count();
+    uint32_t count = total - shift.back();
+    out.nodes = LargeArray<BvhNode>(count);
+    auto moved = [&](uint32_t old) {
+        size_t k = static_cast<size_t>(std::upper_bound(run_start.begin(), run_start.end(), old) -
+                                       run_start.begin()) -
+                   1;
+        return old - shift[k];
+    };
+    arena.execute([&] {
+        tbb::parallel_for(size_t{0}, run_start.size(), [&](size_t k) {
+            uint32_t first = run_start[k];
+            uint32_t last = k + 1 < run_start.size() ? holes[k].first : total;
+            for (uint32_t i = first; i < last; ++i) {
+                BvhNode node = room[i];
+                if (node.count == 0) node.first = moved(node.first);
+                out.nodes[i - shift[k]] = node;
+            }
+        });
+    });
+    out.nodes.truncate(count);
+    return out;
+}
+
+}  // namespace svetlo

@@ -1,0 +1,23 @@
+// The binned-SAH build of the binary BVH (Wald, "On fast Construction of SAH-based Bounding
+// Volume Hierarchies", IEEE RT 2007), kept apart from its traversal (bvh.cpp): 16 bins on the
+// axis of largest centroid extent, leaves of at most 8 primitives, subtrees built in parallel.
+#pragma once
+
+#include <cstdint>
+
+#include "svetlo/core/large_array.h"
+#include "svetlo/geometry/bvh.h"
+
+namespace svetlo {
+
+struct BvhBuild {
+    LargeArray<BvhNode> nodes;   // depth first; the two children of an inner node adjacent
+    LargeArray<uint32_t> prims;  // primitive ids in leaf order
+    int depth = 0;
+};
+
+/// Builds the BVH over every triangle and bounded shape of `geometry` (infinite planes are
+/// left to the caller) on `threads` threads (0: all). The same tree on any number of threads.
+BvhBuild build_bvh(const Geometry& geometry, int threads);
+
+}  // namespace svetlo
