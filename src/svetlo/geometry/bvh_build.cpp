@@ -86,27 +86,49 @@ struct Bins {
     }
 };
 
-/// The bins' bounds from the left (bins 0..b) and from the right (bins b..kBins - 1), and the
-/// SAH cost of splitting after each bin: area × count on each side, four splits at a time.
+/// A cell of a sweep: a bin, or one reference.
+struct Cell {
+    __m128 min, max;
+    uint32_t count;
+};
+
+/// The cells' bounds from the left (cells 0..b) and from the right (cells b.. on), and the SAH
+/// cost of splitting after each cell: area × count on each side, four splits at a time. The
+/// cells are the bins of a large span, or the references of a small one sorted along the axis.
 struct Sweep {
     __m128 left_min[kBins], left_max[kBins];
-    __m128 right_min[kBins + 1], right_max[kBins + 1];  // right_*[kBins]: the empty box
-    alignas(16) int left_count[kBins];                  // references in bins 0..b
+    __m128 right_min[kBins + 1], right_max[kBins + 1];  // past the last cell: the empty box
+    alignas(16) int left_count[kBins];                  // references in cells 0..b
     uint32_t n;
+    int groups;  // of four splits
 
-    Sweep(const Bins& bins, uint32_t total) : n(total) {
+    /// `cell_of(b)` gives cell b of `cells` (at most kBins), which hold `total` references.
+    template <class CellOf>
+    Sweep(int cells, uint32_t total, const CellOf& cell_of) : n(total), groups((cells + 3) / 4) {
         __m128 lo = _mm_set1_ps(kInfinity), hi = _mm_set1_ps(-kInfinity);
         int count = 0;
-        for (int b = 0; b < kBins; ++b) {
-            left_min[b] = lo = _mm_min_ps(lo, bins.min[b]);
-            left_max[b] = hi = _mm_max_ps(hi, bins.max[b]);
-            left_count[b] = count += static_cast<int>(bins.count[b]);
+        alignas(16) Cell cell[kBins];
+        for (int b = 0; b < cells; ++b) {
+            cell[b] = cell_of(b);
+            left_min[b] = lo = _mm_min_ps(lo, cell[b].min);
+            left_max[b] = hi = _mm_max_ps(hi, cell[b].max);
+            left_count[b] = count += static_cast<int>(cell[b].count);
         }
-        right_min[kBins] = lo = _mm_set1_ps(kInfinity);
-        right_max[kBins] = hi = _mm_set1_ps(-kInfinity);
-        for (int b = kBins - 1; b >= 0; --b) {
-            right_min[b] = lo = _mm_min_ps(lo, bins.min[b]);
-            right_max[b] = hi = _mm_max_ps(hi, bins.max[b]);
+        // Splits past the last cell, up to the end of its group: nothing on the right.
+        for (int b = cells; b < 4 * groups; ++b) {
+            left_min[b] = lo;
+            left_max[b] = hi;
+            left_count[b] = count;
+        }
+        lo = _mm_set1_ps(kInfinity);
+        hi = _mm_set1_ps(-kInfinity);
+        for (int b = cells; b <= 4 * groups; ++b) {
+            right_min[b] = lo;
+            right_max[b] = hi;
+        }
+        for (int b = cells - 1; b >= 0; --b) {
+            right_min[b] = lo = _mm_min_ps(lo, cell[b].min);
+            right_max[b] = hi = _mm_max_ps(hi, cell[b].max);
         }
     }
 
@@ -125,7 +147,7 @@ struct Sweep {
     int cheapest(float& best_cost) const {
         alignas(16) float cost[kBins];
         const __m128i total = _mm_set1_epi32(static_cast<int>(n));
-        for (int b = 0; b < kBins; b += 4) {
+        for (int b = 0; b < 4 * groups; b += 4) {
             // Split after bin b + lane: the left side is bins 0..b + lane, the right side the
             // bins from b + lane + 1 on (none for the last lane of the last group: masked below).
             __m128 right_area = areas(right_min + b + 1, right_max + b + 1);
@@ -143,7 +165,7 @@ struct Sweep {
                                              _mm_andnot_ps(valid, _mm_set1_ps(kInfinity))));
         }
         int best = -1;
-        for (int b = 0; b < kBins - 1; ++b) {
+        for (int b = 0; b < 4 * groups; ++b) {
             if (cost[b] < best_cost) {
                 best_cost = cost[b];
                 best = b;
@@ -314,6 +336,7 @@ private:
     /// Bins the centroids along the axis of largest centroid extent, chooses the cheapest of
     /// the kBins - 1 bin boundaries by SAH and moves the references into the other buffer,
     /// in order, the left child's first. Returns false when a leaf is cheaper and allowed.
+    /// Spans of at most kBins references are sorted instead, every reference its own bin.
     /// Binning one axis (Wald 2007) costs a third of binning three and loses little quality.
     /// Large spans are binned and partitioned in chunks in parallel: each chunk's bins give
     /// it its place in the other buffer, and min, max and sums are exact in any order, so the
@@ -322,21 +345,11 @@ private:
         const uint32_t n = s.size();
         const BinPosition position(s.centroids);
         const BuildRef* src = buffers_[s.buffer];
-        const uint32_t chunks = n < kParallelSplit ? 1 : (n + kSplitChunk - 1) / kSplitChunk;
-        auto chunk_first = [&](uint32_t c) { return s.begin + c * kSplitChunk; };
-        auto chunk_last = [&](uint32_t c) { return std::min(s.end, chunk_first(c + 1)); };
-        Bins bins;
+        BuildRef* dst = buffers_[1 - s.buffer];
+        const bool sorted = n <= kBins;
         std::vector<Bins> chunk_bins;
-        if (chunks == 1) {
-            bin_range(src, s.begin, s.end, position, bins);
-        } else {
-            chunk_bins.resize(chunks);
-            tbb::parallel_for(0u, chunks, [&](uint32_t c) {
-                bin_range(src, chunk_first(c), chunk_last(c), position, chunk_bins[c]);
-            });
-            for (const Bins& b : chunk_bins) bins.merge(b);
-        }
-        const Sweep sweep(bins, n);
+        const Sweep sweep = sorted ? sorted_sweep(src, dst, s, position)
+                                   : binned_sweep(src, s, position, chunk_bins);
         float best_cost = kInfinity;
         const int best_bin = sweep.cheapest(best_cost);
         const float node_area = s.bounds.surface_area();
@@ -348,14 +361,16 @@ private:
             split_at_index(s, s.begin + n / 2, left, right);
             return true;
         }
+        const uint32_t mid = s.begin + static_cast<uint32_t>(sweep.left_count[best_bin]);
         // bin(r) <= best_bin, as one comparison of the same position: a NaN or non-positive
         // one goes to bin 0 (left), and int(f) <= best_bin exactly when f < best_bin + 1.
         const float split_at = static_cast<float>(best_bin + 1);
-        BuildRef* dst = buffers_[1 - s.buffer];
-        const uint32_t mid = s.begin + static_cast<uint32_t>(sweep.left_count[best_bin]);
-        if (chunks == 1) {
+        if (sorted) {
+            // Already in the other buffer, in order.
+        } else if (chunk_bins.empty()) {
             partition_range(src, dst, s.begin, s.end, s.begin, mid, position, split_at);
         } else {
+            const auto chunks = static_cast<uint32_t>(chunk_bins.size());
             std::vector<uint32_t> lefts(chunks + 1, 0);  // left references before each chunk
             for (uint32_t c = 0; c < chunks; ++c) {
                 uint32_t in_left = 0;
@@ -363,9 +378,10 @@ private:
                 lefts[c + 1] = lefts[c] + in_left;
             }
             tbb::parallel_for(0u, chunks, [&](uint32_t c) {
-                const uint32_t first = chunk_first(c);
-                partition_range(src, dst, first, chunk_last(c), s.begin + lefts[c],
-                                mid + (first - s.begin - lefts[c]), position, split_at);
+                const uint32_t first = s.begin + c * kSplitChunk;
+                partition_range(src, dst, first, std::min(s.end, first + kSplitChunk),
+                                s.begin + lefts[c], mid + (first - s.begin - lefts[c]), position,
+                                split_at);
             });
         }
         // The children's bounds from the sweep; their centroid bounds are approximated by the
@@ -375,6 +391,52 @@ private:
         left = Span{s.begin, mid, 1 - s.buffer, lb, lb};
         right = Span{mid, s.end, 1 - s.buffer, rb, rb};
         return true;
+    }
+
+    /// The sweep over the bins of a span of more than kBins references; a large span is binned
+    /// in chunks, whose bins are left in `chunk_bins`.
+    static Sweep binned_sweep(const BuildRef* src, const Span& s, const BinPosition& position,
+                              std::vector<Bins>& chunk_bins) {
+        Bins bins;
+        if (s.size() < kParallelSplit) {
+            bin_range(src, s.begin, s.end, position, bins);
+        } else {
+            chunk_bins.resize((s.size() + kSplitChunk - 1) / kSplitChunk);
+            tbb::parallel_for(size_t{0}, chunk_bins.size(), [&](size_t c) {
+                const uint32_t first = s.begin + static_cast<uint32_t>(c) * kSplitChunk;
+                bin_range(src, first, std::min(s.end, first + kSplitChunk), position,
+                          chunk_bins[c]);
+            });
+            for (const Bins& b : chunk_bins) bins.merge(b);
+        }
+        return Sweep(kBins, s.size(), [&](int b) {
+            return Cell{bins.min[b], bins.max[b], bins.count[b]};
+        });
+    }
+
+    /// The sweep over a span of at most kBins references, written into the other buffer
+    /// sorted along the axis, each its own cell: every split between two centroids is tried
+    /// (the exact SAH on that axis, cheaper than binning for so few).
+    static Sweep sorted_sweep(const BuildRef* src, BuildRef* dst, const Span& s,
+                              const BinPosition& position) {
+        const uint32_t n = s.size();
+        float key[kBins];
+        uint32_t order[kBins];
+        for (uint32_t k = 0; k < n; ++k) {  // insertion sort, stable
+            const float f = position(src[s.begin + k]);
+            uint32_t j = k;
+            for (; j > 0 && key[j - 1] > f; --j) {
+                key[j] = key[j - 1];
+                order[j] = order[j - 1];
+            }
+            key[j] = f;
+            order[j] = s.begin + k;
+        }
+        for (uint32_t k = 0; k < n; ++k) dst[s.begin + k] = src[order[k]];
+        return Sweep(static_cast<int>(n), n, [&](int b) {
+            const BuildRef& r = dst[s.begin + b];
+            return Cell{_mm_loadu_ps(&r.min.x), _mm_loadu_ps(&r.max.x), 1};
+        });
     }
 
     LargeArray<BuildRef> scratch_;  // the second buffer, same indices as the first
