@@ -33,7 +33,7 @@ struct BuildRef {
     vec3 min;
     uint32_t id;
     vec3 max;
-    float pad;
+    uint32_t bin;  // where the last binning of its span put it
     vec3 centroid() const { return 0.5f * min + 0.5f * max; }  // no overflow near 3.4e38
 };
 static_assert(sizeof(BuildRef) == 32 && offsetof(BuildRef, max) == 16);
@@ -71,10 +71,10 @@ struct Bins {
             count[b] = 0;
         }
     }
-    void add(int b, const BuildRef& r) {
-        // Lane 3 holds the id or padding bits: never read back.
-        min[b] = _mm_min_ps(min[b], _mm_loadu_ps(&r.min.x));
-        max[b] = _mm_max_ps(max[b], _mm_loadu_ps(&r.max.x));
+    /// Adds a reference's bounds, loaded whole (lane 3 holds its id or bin, never read back).
+    void add(int b, __m128 lo, __m128 hi) {
+        min[b] = _mm_min_ps(min[b], lo);
+        max[b] = _mm_max_ps(max[b], hi);
         count[b]++;
     }
     void merge(const Bins& o) {
@@ -192,30 +192,37 @@ struct Span {
     uint32_t size() const { return end - begin; }
 };
 
-/// Adds refs[first, last) to `out` along `position`'s axis, through two interleaved sets of
-/// bins: consecutive primitives of a mesh often fall into the same bin, and one set would chain
-/// every update on the previous one.
-void bin_range(const BuildRef* refs, uint32_t first, uint32_t last, const BinPosition& position,
+/// Adds refs[first, last) to `out` along `position`'s axis, and notes each reference's bin in
+/// it for the partition. Two interleaved sets of bins: consecutive primitives of a mesh often
+/// fall into the same bin, and one set would chain every update on the previous one.
+void bin_range(BuildRef* refs, uint32_t first, uint32_t last, const BinPosition& position,
                Bins& out) {
+    // The bounds are loaded before the bin is stored: a load over a store still in flight
+    // that it only partly covers waits for the store to land.
+    auto add = [&](BuildRef& r, Bins& bins) {
+        const __m128 lo = _mm_loadu_ps(&r.min.x), hi = _mm_loadu_ps(&r.max.x);
+        const int b = position.bin(r);
+        r.bin = static_cast<uint32_t>(b);
+        bins.add(b, lo, hi);
+    };
     Bins second;
     uint32_t k = first;
     for (; k + 1 < last; k += 2) {
-        out.add(position.bin(refs[k]), refs[k]);
-        second.add(position.bin(refs[k + 1]), refs[k + 1]);
+        add(refs[k], out);
+        add(refs[k + 1], second);
     }
-    if (k < last) out.add(position.bin(refs[k]), refs[k]);
+    if (k < last) add(refs[k], out);
     out.merge(second);
 }
 
-/// Copies src[first, last) into dst in order, the left references (position < split_at, NaN
-/// included) to the slots from next_left on and the right ones to the slots from next_right
-/// on. The slot is chosen with a mask: written as a conditional, the compiler makes it a
-/// branch, which mispredicts half the time.
+/// Copies src[first, last) into dst in order, the references binned at most `last_left` to the
+/// slots from next_left on and the others to the slots from next_right on. The slot is chosen
+/// with a mask: written as a conditional, the compiler makes it a branch, which mispredicts
+/// half the time.
 void partition_range(const BuildRef* src, BuildRef* dst, uint32_t first, uint32_t last,
-                     uint32_t next_left, uint32_t next_right, const BinPosition& position,
-                     float split_at) {
+                     uint32_t next_left, uint32_t next_right, uint32_t last_left) {
     for (uint32_t j = first; j < last; ++j) {
-        const uint32_t right = position(src[j]) >= split_at ? 1u : 0u;
+        const uint32_t right = src[j].bin > last_left ? 1u : 0u;
         dst[next_left + ((next_right - next_left) & (0u - right))] = src[j];
         next_left += 1u - right;
         next_right += right;
@@ -344,7 +351,7 @@ private:
     bool sah_split(const Span& s, Span& left, Span& right) {
         const uint32_t n = s.size();
         const BinPosition position(s.centroids);
-        const BuildRef* src = buffers_[s.buffer];
+        BuildRef* src = buffers_[s.buffer];
         BuildRef* dst = buffers_[1 - s.buffer];
         const bool sorted = n <= kBins;
         std::vector<Bins> chunk_bins;
@@ -362,13 +369,11 @@ private:
             return true;
         }
         const uint32_t mid = s.begin + static_cast<uint32_t>(sweep.left_count[best_bin]);
-        // bin(r) <= best_bin, as one comparison of the same position: a NaN or non-positive
-        // one goes to bin 0 (left), and int(f) <= best_bin exactly when f < best_bin + 1.
-        const float split_at = static_cast<float>(best_bin + 1);
+        const auto last_left = static_cast<uint32_t>(best_bin);
         if (sorted) {
             // Already in the other buffer, in order.
         } else if (chunk_bins.empty()) {
-            partition_range(src, dst, s.begin, s.end, s.begin, mid, position, split_at);
+            partition_range(src, dst, s.begin, s.end, s.begin, mid, last_left);
         } else {
             const auto chunks = static_cast<uint32_t>(chunk_bins.size());
             std::vector<uint32_t> lefts(chunks + 1, 0);  // left references before each chunk
@@ -380,8 +385,7 @@ private:
             tbb::parallel_for(0u, chunks, [&](uint32_t c) {
                 const uint32_t first = s.begin + c * kSplitChunk;
                 partition_range(src, dst, first, std::min(s.end, first + kSplitChunk),
-                                s.begin + lefts[c], mid + (first - s.begin - lefts[c]), position,
-                                split_at);
+                                s.begin + lefts[c], mid + (first - s.begin - lefts[c]), last_left);
             });
         }
         // The children's bounds from the sweep; their centroid bounds are approximated by the
@@ -395,7 +399,7 @@ private:
 
     /// The sweep over the bins of a span of more than kBins references; a large span is binned
     /// in chunks, whose bins are left in `chunk_bins`.
-    static Sweep binned_sweep(const BuildRef* src, const Span& s, const BinPosition& position,
+    static Sweep binned_sweep(BuildRef* src, const Span& s, const BinPosition& position,
                               std::vector<Bins>& chunk_bins) {
         Bins bins;
         if (s.size() < kParallelSplit) {
@@ -483,7 +487,7 @@ BvhBuild build_bvh(const Geometry& geometry, int threads) {
                     id = shapes[k - triangles];
                     pb = geometry.primitive_bounds(id);
                 }
-                refs[k] = BuildRef{pb.min, id, pb.max, 0.0f};
+                refs[k] = BuildRef{pb.min, id, pb.max, 0u};
                 b.extend(pb);
                 cb.extend(refs[k].centroid());
             }
