@@ -424,19 +424,31 @@ private:
     static Sweep sorted_sweep(const BuildRef* src, BuildRef* dst, const Span& s,
                               const BinPosition& position) {
         const uint32_t n = s.size();
-        float key[kBins];
-        uint32_t order[kBins];
-        for (uint32_t k = 0; k < n; ++k) {  // insertion sort, stable
-            const float f = position(src[s.begin + k]);
-            uint32_t j = k;
-            for (; j > 0 && key[j - 1] > f; --j) {
-                key[j] = key[j - 1];
-                order[j] = order[j - 1];
-            }
-            key[j] = f;
-            order[j] = s.begin + k;
+        // Each reference's rank: the keys below its own, and the equal ones before it (a
+        // stable order; a NaN key counts as -inf). Compared four at a time without a branch.
+        alignas(16) float key[kBins];
+        for (uint32_t k = 0; k < kBins; ++k) {
+            const float f = k < n ? position(src[s.begin + k]) : kInfinity;
+            key[k] = f == f ? f : -kInfinity;
         }
-        for (uint32_t k = 0; k < n; ++k) dst[s.begin + k] = src[order[k]];
+        const int groups = static_cast<int>(n + 3) / 4;
+        for (uint32_t k = 0; k < n; ++k) {
+            const __m128 own = _mm_set1_ps(key[k]);
+            const __m128i index = _mm_set1_epi32(static_cast<int>(k));
+            __m128i below = _mm_setzero_si128();
+            for (int g = 0; g < groups; ++g) {
+                const __m128 other = _mm_load_ps(key + 4 * g);
+                const __m128i before =
+                    _mm_cmpgt_epi32(index, _mm_setr_epi32(4 * g, 4 * g + 1, 4 * g + 2, 4 * g + 3));
+                const __m128 lower =
+                    _mm_or_ps(_mm_cmplt_ps(other, own),
+                              _mm_and_ps(_mm_cmpeq_ps(other, own), _mm_castsi128_ps(before)));
+                below = _mm_sub_epi32(below, _mm_castps_si128(lower));  // a true lane is -1
+            }
+            below = _mm_add_epi32(below, _mm_shuffle_epi32(below, _MM_SHUFFLE(1, 0, 3, 2)));
+            below = _mm_add_epi32(below, _mm_shuffle_epi32(below, _MM_SHUFFLE(2, 3, 0, 1)));
+            dst[s.begin + static_cast<uint32_t>(_mm_cvtsi128_si32(below))] = src[s.begin + k];
+        }
         return Sweep(static_cast<int>(n), n, [&](int b) {
             const BuildRef& r = dst[s.begin + b];
             return Cell{_mm_loadu_ps(&r.min.x), _mm_loadu_ps(&r.max.x), 1};
