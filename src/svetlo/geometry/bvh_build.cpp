@@ -544,7 +544,10 @@ BvhBuild build_bvh(const Geometry& geometry, int threads) {
             uint32_t last = k + 1 < run_start.size() ? holes[k].first : total;
             for (uint32_t i = first; i < last; ++i) {
                 BvhNode node = room[i];
-                if (node.count == 0) node.first = moved(node.first);
+                // A serial subtree's children lie in its own run: no search for them.
+                if (node.count == 0)
+                    node.first = node.first - first < last - first ? node.first - shift[k]
+                                                                   : moved(node.first);
                 out.nodes[i - shift[k]] = node;
             }
         });
