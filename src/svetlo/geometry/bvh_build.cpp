@@ -107,12 +107,11 @@ struct Sweep {
     Sweep(int cells, uint32_t total, const CellOf& cell_of) : n(total), groups((cells + 3) / 4) {
         __m128 lo = _mm_set1_ps(kInfinity), hi = _mm_set1_ps(-kInfinity);
         int count = 0;
-        alignas(16) Cell cell[kBins];
         for (int b = 0; b < cells; ++b) {
-            cell[b] = cell_of(b);
-            left_min[b] = lo = _mm_min_ps(lo, cell[b].min);
-            left_max[b] = hi = _mm_max_ps(hi, cell[b].max);
-            left_count[b] = count += static_cast<int>(cell[b].count);
+            const Cell cell = cell_of(b);
+            left_min[b] = lo = _mm_min_ps(lo, cell.min);
+            left_max[b] = hi = _mm_max_ps(hi, cell.max);
+            left_count[b] = count += static_cast<int>(cell.count);
         }
         // Splits past the last cell, up to the end of its group: nothing on the right.
         for (int b = cells; b < 4 * groups; ++b) {
@@ -127,8 +126,9 @@ struct Sweep {
             right_max[b] = hi;
         }
         for (int b = cells - 1; b >= 0; --b) {
-            right_min[b] = lo = _mm_min_ps(lo, cell[b].min);
-            right_max[b] = hi = _mm_max_ps(hi, cell[b].max);
+            const Cell cell = cell_of(b);
+            right_min[b] = lo = _mm_min_ps(lo, cell.min);
+            right_max[b] = hi = _mm_max_ps(hi, cell.max);
         }
     }
 
@@ -193,8 +193,10 @@ struct Span {
 };
 
 /// Adds refs[first, last) to `out` along `position`'s axis, and notes each reference's bin in
-/// it for the partition. Two interleaved sets of bins: consecutive primitives of a mesh often
-/// fall into the same bin, and one set would chain every update on the previous one.
+/// it for the partition. Long ranges go through two interleaved sets of bins: consecutive
+/// primitives of a mesh often fall into the same bin, and one set would chain every update on
+/// the previous one; for a short one, the second set costs more to clear and merge than it
+/// saves.
 void bin_range(BuildRef* refs, uint32_t first, uint32_t last, const BinPosition& position,
                Bins& out) {
     // The bounds are loaded before the bin is stored: a load over a store still in flight
@@ -205,14 +207,16 @@ void bin_range(BuildRef* refs, uint32_t first, uint32_t last, const BinPosition&
         r.bin = static_cast<uint32_t>(b);
         bins.add(b, lo, hi);
     };
-    Bins second;
     uint32_t k = first;
-    for (; k + 1 < last; k += 2) {
-        add(refs[k], out);
-        add(refs[k + 1], second);
+    if (last - first >= 64) {
+        Bins second;
+        for (; k + 1 < last; k += 2) {
+            add(refs[k], out);
+            add(refs[k + 1], second);
+        }
+        out.merge(second);
     }
-    if (k < last) add(refs[k], out);
-    out.merge(second);
+    for (; k < last; ++k) add(refs[k], out);
 }
 
 /// Copies src[first, last) into dst in order, the references binned at most `last_left` to the
