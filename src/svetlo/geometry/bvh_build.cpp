@@ -11,6 +11,7 @@
 #include <atomic>
 #include <cstddef>
 #include <mutex>
+#include <span>
 #include <vector>
 
 #include "svetlo/core/parallel.h"
@@ -471,6 +472,53 @@ private:
     tbb::task_group group_;
 };
 
+/// A vertex in an SSE register (lane 3 zero), read as 8 + 4 bytes: 16 would pass the end of
+/// the array at its last vertex.
+__m128 load_vertex(const vec3& v) {
+    return _mm_movelh_ps(_mm_loadl_pi(_mm_setzero_ps(), reinterpret_cast<const __m64*>(&v.x)),
+                         _mm_load_ss(&v.z));
+}
+
+/// The references [first, last) (the triangles, then the bounded shapes) written into refs,
+/// and their bounds and centroid bounds. _mm_min_ps(b, a) is glm::min(a, b), NaN included.
+void make_refs(const Geometry& geometry, std::span<const uint32_t> shapes, size_t first,
+               size_t last, BuildRef* refs, Bounds3& bounds, Bounds3& centroids) {
+    const size_t triangles = geometry.triangle_count();
+    const vec3* p = geometry.positions.data();
+    const uint32_t* index = geometry.indices.data();
+    const __m128 half = _mm_set1_ps(0.5f);
+    __m128 b_min = _mm_set1_ps(kInfinity), b_max = _mm_set1_ps(-kInfinity);
+    __m128 c_min = b_min, c_max = b_max;
+    for (size_t k = first; k < last; ++k) {
+        __m128 lo, hi;
+        uint32_t id;
+        if (k < triangles) {  // the common case, three vertices
+            id = static_cast<uint32_t>(k);
+            const __m128 a = load_vertex(p[index[3 * k]]), v1 = load_vertex(p[index[3 * k + 1]]),
+                         v2 = load_vertex(p[index[3 * k + 2]]);
+            lo = _mm_min_ps(_mm_min_ps(v2, v1), a);
+            hi = _mm_max_ps(_mm_max_ps(v2, v1), a);
+        } else {
+            id = shapes[k - triangles];
+            const Bounds3 pb = geometry.primitive_bounds(id);
+            lo = _mm_setr_ps(pb.min.x, pb.min.y, pb.min.z, 0.0f);
+            hi = _mm_setr_ps(pb.max.x, pb.max.y, pb.max.z, 0.0f);
+        }
+        BuildRef& r = refs[k];
+        _mm_storeu_ps(&r.min.x, lo);
+        _mm_storeu_ps(&r.max.x, hi);
+        r.id = id;
+        r.bin = 0;
+        b_min = _mm_min_ps(lo, b_min);
+        b_max = _mm_max_ps(hi, b_max);
+        const __m128 c = _mm_add_ps(_mm_mul_ps(half, lo), _mm_mul_ps(half, hi));  // centroid()
+        c_min = _mm_min_ps(c, c_min);
+        c_max = _mm_max_ps(c, c_max);
+    }
+    bounds = to_bounds(b_min, b_max);
+    centroids = to_bounds(c_min, c_max);
+}
+
 }  // namespace
 
 BvhBuild build_bvh(const Geometry& geometry, int threads) {
@@ -489,26 +537,8 @@ BvhBuild build_bvh(const Geometry& geometry, int threads) {
     std::vector<Bounds3> chunk_bounds(chunks), chunk_centroids(chunks);
     arena.execute([&] {
         tbb::parallel_for(size_t{0}, chunks, [&](size_t c) {
-            Bounds3 b, cb;
-            const vec3* p = geometry.positions.data();
-            const uint32_t* index = geometry.indices.data();
-            for (size_t k = c * n / chunks; k < (c + 1) * n / chunks; ++k) {
-                Bounds3 pb;
-                uint32_t id;
-                if (k < triangles) {  // inline: the common case, 3 vertices
-                    id = static_cast<uint32_t>(k);
-                    vec3 a = p[index[3 * k]], v1 = p[index[3 * k + 1]], v2 = p[index[3 * k + 2]];
-                    pb = Bounds3{glm::min(a, glm::min(v1, v2)), glm::max(a, glm::max(v1, v2))};
-                } else {
-                    id = shapes[k - triangles];
-                    pb = geometry.primitive_bounds(id);
-                }
-                refs[k] = BuildRef{pb.min, id, pb.max, 0u};
-                b.extend(pb);
-                cb.extend(refs[k].centroid());
-            }
-            chunk_bounds[c] = b;
-            chunk_centroids[c] = cb;
+            make_refs(geometry, shapes, c * n / chunks, (c + 1) * n / chunks, refs.data(),
+                      chunk_bounds[c], chunk_centroids[c]);
         });
     });
     Bounds3 bounds, centroids;
