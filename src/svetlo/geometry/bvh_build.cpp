@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <mutex>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "svetlo/core/parallel.h"
@@ -248,9 +249,18 @@ public:
     const std::vector<std::pair<uint32_t, uint32_t>>& holes() const { return holes_; }
     int depth() const { return depth_.load(); }
 
-    void build_root(const Bounds3& bounds, const Bounds3& centroids) {
+    /// Builds the tree; `serial` (one thread) takes every node's slot in depth-first order,
+    /// leaving no holes, where threads reserve room for their subtrees.
+    void build_root(const Bounds3& bounds, const Bounds3& centroids, bool serial) {
+        const Span root{0, size_, 0, bounds, centroids};
+        if (serial) {
+            Slots all{1};
+            depth_ = build(0, root, 1, &all);
+            node_count_ = all.next;
+            return;
+        }
         node_count_ = 1;
-        depth_ = build(0, Span{0, size_, 0, bounds, centroids}, 1, nullptr);
+        depth_ = build(0, root, 1, nullptr);
         group_.wait();
     }
 
@@ -313,7 +323,7 @@ private:
         uint32_t first = slots ? slots->next : node_count_.fetch_add(2);
         if (slots) slots->next += 2;
         nodes_[node] = BvhNode{s.bounds.min, first, s.bounds.max, 0};
-        if (s.size() >= kParallelGrain) {
+        if (!slots) {  // a subtree of kParallelGrain references or more, on several threads
             group_.run([=, this] {
                 int d = build(first, left, depth + 1, nullptr);
                 int seen = depth_.load();
@@ -551,8 +561,15 @@ BvhBuild build_bvh(const Geometry& geometry, int threads) {
     LargeArray<BvhNode> room(2 * refs.size(), false);
     out.prims = LargeArray<uint32_t>(refs.size());
     Builder builder(refs, room.data(), out.prims.data());
-    arena.execute([&] { builder.build_root(bounds, centroids); });
+    arena.execute([&] { builder.build_root(bounds, centroids, workers == 1); });
     out.depth = builder.depth();
+    if (builder.holes().empty()) {
+        // Built on one thread: the room holds the nodes as they are (the pages past them
+        // were never touched).
+        out.nodes = std::move(room);
+        out.nodes.truncate(builder.node_count());
+        return out;
+    }
     // Serial subtrees leave unused slots at the end of their ranges: copy the used runs in
     // order (each subtree stays contiguous, in the depth-first order it was built in) and move
     // every child index down by the size of the holes before it.
