@@ -1,10 +1,13 @@
 #include "svetlo/geometry/wide_bvh.h"
 
 #include <immintrin.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <stdexcept>
 
+#include "svetlo/core/parallel.h"
 #include "svetlo/geometry/bvh.h"
 #include "svetlo/geometry/ray_box.h"
 #include "svetlo/geometry/triangle.h"
@@ -87,11 +90,17 @@ WideBvh::WideBvh(const Geometry& geometry, int threads, int width) : geometry_(g
     leaves_ = LargeArray<Leaf>(leaves);
     packets_ = LargeArray<TrianglePacket>(packets);
     shapes_ = LargeArray<uint32_t>(shapes);
+    leaf_prims_.reserve(leaves);
     if (width_ == 8) {
         build<8>(bin, nodes8_, inner);
     } else {
         build<4>(bin, nodes4_, inner);
     }
+    // The leaves' packets, filled in parallel now that each knows its place.
+    tbb::task_arena arena(resolve_threads(threads));
+    arena.execute(
+        [&] { tbb::parallel_for(size_t{0}, leaf_count_, [&](size_t k) { fill_leaf(k); }); });
+    leaf_prims_ = {};
 }
 
 template <int W>
@@ -118,21 +127,34 @@ void WideBvh::build(const Bvh& bin, LargeArray<WideBvhNode<W>>& nodes, size_t in
 }
 
 uint32_t WideBvh::add_leaf(std::span<const uint32_t> prims) {
-    Leaf leaf{static_cast<uint32_t>(packet_count_), 0, static_cast<uint32_t>(shape_count_), 0};
-    int lane = 4;
-    TrianglePacket* p = nullptr;
-    for (uint32_t id : prims) {
+    auto triangles = static_cast<uint32_t>(std::count_if(
+        prims.begin(), prims.end(), [&](uint32_t id) { return geometry_.is_triangle(id); }));
+    auto count = static_cast<uint32_t>(prims.size());
+    leaves_[leaf_count_] = Leaf{static_cast<uint32_t>(packet_count_), (triangles + 3) / 4,
+                                static_cast<uint32_t>(shape_count_), count - triangles};
+    packet_count_ += (triangles + 3) / 4;
+    shape_count_ += count - triangles;
+    leaf_prims_.push_back(prims);
+    return kLeaf | static_cast<uint32_t>(leaf_count_++);
+}
+
+void WideBvh::fill_leaf(size_t index) {
+    const Leaf& leaf = leaves_[index];
+    uint32_t shape = leaf.first_shape;
+    TrianglePacket* p = &packets_[leaf.first_packet];
+    int lane = 0;
+    for (uint32_t id : leaf_prims_[index]) {
         if (!geometry_.is_triangle(id)) {
-            shapes_[shape_count_++] = id;
-            ++leaf.shapes;
+            shapes_[shape++] = id;
             continue;
         }
         if (lane == 4) {
-            p = &packets_[packet_count_++];
+            ++p;
+            lane = 0;
+        }
+        if (lane == 0) {
             for (auto& row : p->v) std::fill(row, row + 4, 0.0f);
             std::fill(p->id, p->id + 4, ~0u);
-            lane = 0;
-            ++leaf.packets;
         }
         for (int j = 0; j < 3; ++j) {
             vec3 q = geometry_.positions[geometry_.indices[3 * size_t{id} + j]];
@@ -140,8 +162,6 @@ uint32_t WideBvh::add_leaf(std::span<const uint32_t> prims) {
         }
         p->id[lane++] = id;
     }
-    leaves_[leaf_count_] = leaf;
-    return kLeaf | static_cast<uint32_t>(leaf_count_++);
 }
 
 /// Collapses the binary tree under `b` into wide node `w`: the largest inner child is opened

@@ -53,7 +53,10 @@ private:
         uint32_t first_packet, packets;
         uint32_t first_shape, shapes;
     };
+    /// Makes room for a leaf over `prims` (its packets and shapes, after the leaves before it)
+    /// and returns its child reference; fill_leaf fills it.
     uint32_t add_leaf(std::span<const uint32_t> prims);
+    void fill_leaf(size_t index);
     /// Leaf `index` against the ray, for the four-wide traversal (the eight-wide one tests its
     /// leaves inline, with the same functions: wide_bvh_packets.inc).
     bool leaf_intersect(uint32_t index, const Ray& ray, const RayPrecomputed& pre, Hit& hit) const;
@@ -77,6 +80,7 @@ private:
     LargeArray<TrianglePacket> packets_;
     LargeArray<uint32_t> shapes_;  // ids of the leaves' analytic shapes
     size_t node_count_ = 0, leaf_count_ = 0, packet_count_ = 0, shape_count_ = 0;
+    std::vector<std::span<const uint32_t>> leaf_prims_;  // each leaf's primitives, while building
     bool empty_ = true;
 };
 
