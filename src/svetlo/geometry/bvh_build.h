@@ -1,6 +1,8 @@
 // The binned-SAH build of the binary BVH (Wald, "On fast Construction of SAH-based Bounding
 // Volume Hierarchies", IEEE RT 2007), kept apart from its traversal (bvh.cpp): 16 bins on the
-// axis of largest centroid extent, leaves of at most 8 primitives, subtrees built in parallel.
+// axis of largest centroid extent (spans of at most 16 primitives sorted along it and swept
+// exactly), leaves of at most 8 primitives, subtrees built in parallel. The references move
+// between two buffers, level after level, without being copied back.
 #pragma once
 
 #include <cstdint>
