@@ -19,7 +19,8 @@ struct BvhBuild {
 };
 
 /// Builds the BVH over every triangle and bounded shape of `geometry` (infinite planes are
-/// left to the caller) on `threads` threads (0: all). The same tree on any number of threads.
+/// left to the caller) on `threads` threads (0: all): the same boxes and leaves on any number of
+/// threads, though not always at the same places in the arrays.
 BvhBuild build_bvh(const Geometry& geometry, int threads);
 
 }  // namespace svetlo
