@@ -1,27 +1,26 @@
 #include "svetlo/geometry/bvh_build.h"
 
 #include <immintrin.h>
-#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_reduce.h>
 #include <tbb/task_arena.h>
 #include <tbb/task_group.h>
 
 #include <algorithm>
 #include <atomic>
-#include <cstddef>
 #include <mutex>
 #include <span>
 #include <utility>
 #include <vector>
 
 #include "svetlo/core/parallel.h"
+#include "svetlo/geometry/bvh_sah.h"
 
 namespace svetlo {
 
 namespace {
 
-constexpr int kBins = 16;
+using namespace sah;
+
 constexpr uint32_t kMaxLeaf = 8;
 constexpr uint32_t kMinSplit = 4;           // nodes this small become leaves without a SAH test
 constexpr float kTraversalCost = 2.0f;      // relative to one primitive test
@@ -29,161 +28,6 @@ constexpr int kMedianDepth = 64;            // below this depth, split at the me
 constexpr uint32_t kParallelGrain = 4096;   // smaller subtrees are built serially
 constexpr uint32_t kParallelSplit = 65536;  // larger nodes bin and partition in parallel
 constexpr uint32_t kSplitChunk = 16384;     // references per task there
-
-/// A primitive during the build: its bounds and id, 32 bytes, partitioned in place.
-struct BuildRef {
-    vec3 min;
-    uint32_t id;
-    vec3 max;
-    uint32_t bin;  // where the last binning of its span put it
-    vec3 centroid() const { return 0.5f * min + 0.5f * max; }  // no overflow near 3.4e38
-};
-static_assert(sizeof(BuildRef) == 32 && offsetof(BuildRef, max) == 16);
-
-/// Where a reference's centroid lies along the axis of largest centroid extent, in bins
-/// (fractional), and the bin that holds it. The axis is an offset into the reference, so that
-/// the per-reference work has no switch on it.
-struct BinPosition {
-    int axis;
-    float cmin, scale;
-    explicit BinPosition(const Bounds3& centroids)
-        : axis(max_dimension(centroids.extent())),
-          cmin(centroids.min[axis]),
-          scale(static_cast<float>(kBins) * 0.99999f / centroids.extent()[axis]) {}
-    float operator()(const BuildRef& r) const {
-        const auto* f = reinterpret_cast<const float*>(&r);  // min at f[0..2], max at f[4..6]
-        return (0.5f * f[axis] + 0.5f * f[axis + 4] - cmin) * scale;
-    }
-    /// The position clamped to [0, kBins - 1] and truncated; maxss returns its second operand
-    /// (0) for a NaN position.
-    int bin(const BuildRef& r) const {
-        __m128 f = _mm_max_ss(_mm_set_ss((*this)(r)), _mm_setzero_ps());
-        return _mm_cvttss_si32(_mm_min_ss(f, _mm_set_ss(static_cast<float>(kBins - 1))));
-    }
-};
-
-/// SAH bins: the bounds (SSE registers; lane 3 unused) and the count of each.
-struct Bins {
-    __m128 min[kBins], max[kBins];
-    uint32_t count[kBins];
-    Bins() {
-        for (int b = 0; b < kBins; ++b) {
-            min[b] = _mm_set1_ps(kInfinity);
-            max[b] = _mm_set1_ps(-kInfinity);
-            count[b] = 0;
-        }
-    }
-    /// Adds a reference's bounds, loaded whole (lane 3 holds its id or bin, never read back).
-    void add(int b, __m128 lo, __m128 hi) {
-        min[b] = _mm_min_ps(min[b], lo);
-        max[b] = _mm_max_ps(max[b], hi);
-        count[b]++;
-    }
-    void merge(const Bins& o) {
-        for (int b = 0; b < kBins; ++b) {
-            min[b] = _mm_min_ps(min[b], o.min[b]);
-            max[b] = _mm_max_ps(max[b], o.max[b]);
-            count[b] += o.count[b];
-        }
-    }
-};
-
-/// A cell of a sweep: a bin, or one reference.
-struct Cell {
-    __m128 min, max;
-    uint32_t count;
-};
-
-/// The cells' bounds from the left (cells 0..b) and from the right (cells b.. on), and the SAH
-/// cost of splitting after each cell: area × count on each side, four splits at a time. The
-/// cells are the bins of a large span, or the references of a small one sorted along the axis.
-struct Sweep {
-    __m128 left_min[kBins], left_max[kBins];
-    __m128 right_min[kBins + 1], right_max[kBins + 1];  // past the last cell: the empty box
-    alignas(16) int left_count[kBins];                  // references in cells 0..b
-    uint32_t n;
-    int groups;  // of four splits
-
-    /// `cell_of(b)` gives cell b of `cells` (at most kBins), which hold `total` references.
-    template <class CellOf>
-    Sweep(int cells, uint32_t total, const CellOf& cell_of) : n(total), groups((cells + 3) / 4) {
-        __m128 lo = _mm_set1_ps(kInfinity), hi = _mm_set1_ps(-kInfinity);
-        int count = 0;
-        for (int b = 0; b < cells; ++b) {
-            const Cell cell = cell_of(b);
-            left_min[b] = lo = _mm_min_ps(lo, cell.min);
-            left_max[b] = hi = _mm_max_ps(hi, cell.max);
-            left_count[b] = count += static_cast<int>(cell.count);
-        }
-        // Splits past the last cell, up to the end of its group: nothing on the right.
-        for (int b = cells; b < 4 * groups; ++b) {
-            left_min[b] = lo;
-            left_max[b] = hi;
-            left_count[b] = count;
-        }
-        lo = _mm_set1_ps(kInfinity);
-        hi = _mm_set1_ps(-kInfinity);
-        for (int b = cells; b <= 4 * groups; ++b) {
-            right_min[b] = lo;
-            right_max[b] = hi;
-        }
-        for (int b = cells - 1; b >= 0; --b) {
-            const Cell cell = cell_of(b);
-            right_min[b] = lo = _mm_min_ps(lo, cell.min);
-            right_max[b] = hi = _mm_max_ps(hi, cell.max);
-        }
-    }
-
-    /// The surface areas of four boxes, 2 (x y + y z + z x) in lanes, the same operations in
-    /// the same order as one box at a time.
-    static __m128 areas(const __m128* lo, const __m128* hi) {
-        __m128 x = _mm_sub_ps(hi[0], lo[0]), y = _mm_sub_ps(hi[1], lo[1]);
-        __m128 z = _mm_sub_ps(hi[2], lo[2]), w = _mm_sub_ps(hi[3], lo[3]);
-        _MM_TRANSPOSE4_PS(x, y, z, w);
-        __m128 sum = _mm_add_ps(_mm_add_ps(_mm_mul_ps(x, y), _mm_mul_ps(y, z)), _mm_mul_ps(z, x));
-        return _mm_mul_ps(_mm_set1_ps(2.0f), sum);
-    }
-
-    /// The cheapest split (the first of equal costs) and its cost, or -1 when no split leaves
-    /// references on both sides with a finite cost.
-    int cheapest(float& best_cost) const {
-        alignas(16) float cost[kBins];
-        const __m128i total = _mm_set1_epi32(static_cast<int>(n));
-        for (int b = 0; b < 4 * groups; b += 4) {
-            // Split after bin b + lane: the left side is bins 0..b + lane, the right side the
-            // bins from b + lane + 1 on (none for the last lane of the last group: masked below).
-            __m128 right_area = areas(right_min + b + 1, right_max + b + 1);
-            __m128i left = _mm_load_si128(reinterpret_cast<const __m128i*>(left_count + b));
-            __m128i right = _mm_sub_epi32(total, left);
-            __m128 c =
-                _mm_add_ps(_mm_mul_ps(areas(left_min + b, left_max + b), _mm_cvtepi32_ps(left)),
-                           _mm_mul_ps(right_area, _mm_cvtepi32_ps(right)));
-            // Both sides must hold references (counts are below 2^31, so signed compares).
-            __m128i both = _mm_and_si128(_mm_cmpgt_epi32(left, _mm_setzero_si128()),
-                                         _mm_cmpgt_epi32(right, _mm_setzero_si128()));
-            __m128 valid =
-                _mm_and_ps(_mm_castsi128_ps(both), _mm_cmplt_ps(c, _mm_set1_ps(kInfinity)));
-            _mm_store_ps(cost + b, _mm_or_ps(_mm_and_ps(valid, c),
-                                             _mm_andnot_ps(valid, _mm_set1_ps(kInfinity))));
-        }
-        int best = -1;
-        for (int b = 0; b < 4 * groups; ++b) {
-            if (cost[b] < best_cost) {
-                best_cost = cost[b];
-                best = b;
-            }
-        }
-        return best;
-    }
-};
-
-/// Bounds from two SSE registers (lane 3 ignored).
-Bounds3 to_bounds(__m128 lo, __m128 hi) {
-    alignas(16) float l[4], h[4];
-    _mm_store_ps(l, lo);
-    _mm_store_ps(h, hi);
-    return Bounds3{vec3(l[0], l[1], l[2]), vec3(h[0], h[1], h[2])};
-}
 
 /// A node's references: indices [begin, end) of one of the two buffers, with their bounds and
 /// the bounds of their centroids (or a box holding them all).
