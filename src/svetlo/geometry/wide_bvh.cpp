@@ -140,21 +140,19 @@ uint32_t WideBvh::add_leaf(std::span<const uint32_t> prims) {
 
 void WideBvh::fill_leaf(size_t index) {
     const Leaf& leaf = leaves_[index];
-    uint32_t shape = leaf.first_shape;
-    TrianglePacket* p = &packets_[leaf.first_packet];
-    int lane = 0;
+    uint32_t shape = leaf.first_shape, packet = leaf.first_packet;
+    TrianglePacket* p = nullptr;  // taken when a triangle needs it: a leaf may have none
+    int lane = 4;
     for (uint32_t id : leaf_prims_[index]) {
         if (!geometry_.is_triangle(id)) {
             shapes_[shape++] = id;
             continue;
         }
         if (lane == 4) {
-            ++p;
-            lane = 0;
-        }
-        if (lane == 0) {
+            p = &packets_[packet++];
             for (auto& row : p->v) std::fill(row, row + 4, 0.0f);
             std::fill(p->id, p->id + 4, ~0u);
+            lane = 0;
         }
         for (int j = 0; j < 3; ++j) {
             vec3 q = geometry_.positions[geometry_.indices[3 * size_t{id} + j]];
