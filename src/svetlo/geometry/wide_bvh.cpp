@@ -139,6 +139,20 @@ uint32_t WideBvh::add_leaf(std::span<const uint32_t> prims) {
 }
 
 void WideBvh::fill_leaf(size_t index) {
+    // The leaves' triangles lie wherever the mesh put them, so fetching their vertex indices
+    // and then their vertices waits on the memory twice: both are asked for a few leaves
+    // ahead (the indices four leaves ahead, the vertices of those asked for before, two).
+    if (index + 4 < leaf_count_) {
+        for (uint32_t id : leaf_prims_[index + 4])
+            if (geometry_.is_triangle(id)) __builtin_prefetch(&geometry_.indices[3 * size_t{id}]);
+    }
+    if (index + 2 < leaf_count_) {
+        for (uint32_t id : leaf_prims_[index + 2]) {
+            if (!geometry_.is_triangle(id)) continue;
+            for (int j = 0; j < 3; ++j)
+                __builtin_prefetch(&geometry_.positions[geometry_.indices[3 * size_t{id} + j]]);
+        }
+    }
     const Leaf& leaf = leaves_[index];
     uint32_t shape = leaf.first_shape, packet = leaf.first_packet;
     TrianglePacket* p = nullptr;  // taken when a triangle needs it: a leaf may have none
