@@ -348,6 +348,12 @@ void make_refs(const Geometry& geometry, std::span<const uint32_t> shapes, size_
         uint32_t id;
         if (k < triangles) {  // the common case, three vertices
             id = static_cast<uint32_t>(k);
+            // The vertices of the triangle kAhead on are asked for now: a mesh's triangles
+            // reach for vertices all over its array, and the loads waited on the memory.
+            constexpr size_t kAhead = 16;
+            if (k + kAhead < triangles) {
+                for (int j = 0; j < 3; ++j) __builtin_prefetch(&p[index[3 * (k + kAhead) + j]]);
+            }
             const __m128 a = load_vertex(p[index[3 * k]]), v1 = load_vertex(p[index[3 * k + 1]]),
                          v2 = load_vertex(p[index[3 * k + 2]]);
             lo = _mm_min_ps(_mm_min_ps(v2, v1), a);
