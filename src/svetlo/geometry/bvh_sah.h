@@ -135,8 +135,8 @@ struct Sweep {
         alignas(16) float cost[kBins];
         const __m128i total = _mm_set1_epi32(static_cast<int>(n));
         for (int b = 0; b < 4 * groups; b += 4) {
-            // Split after bin b + lane: the left side is bins 0..b + lane, the right side the
-            // bins from b + lane + 1 on (none for the last lane of the last group: masked below).
+            // Split after cell b + lane: the left side is cells 0..b + lane, the right side the
+            // cells from b + lane + 1 on (none past the last cell: masked below).
             __m128 right_area = areas(right_min + b + 1, right_max + b + 1);
             __m128i left = _mm_load_si128(reinterpret_cast<const __m128i*>(left_count + b));
             __m128i right = _mm_sub_epi32(total, left);
