@@ -409,10 +409,11 @@ BvhBuild build_bvh(const Geometry& geometry, int threads) {
     // Uninitialised room for the worst case (2 n - 1 nodes): untouched pages cost nothing.
     // Threads write about a third of it, in runs spread over it, so it takes small pages
     // there; one thread writes it from the start, so huge pages (fewer faults) serve.
-    LargeArray<BvhNode> room(2 * refs.size(), workers == 1);
+    const bool serial = workers == 1;
+    LargeArray<BvhNode> room(2 * refs.size(), serial);
     out.prims = LargeArray<uint32_t>(refs.size());
     Builder builder(refs, room.data(), out.prims.data());
-    arena.execute([&] { builder.build_root(bounds, centroids, workers == 1); });
+    arena.execute([&] { builder.build_root(bounds, centroids, serial); });
     out.depth = builder.depth();
     if (builder.holes().empty()) {
         // Built on one thread: the room holds the nodes as they are (the pages past them

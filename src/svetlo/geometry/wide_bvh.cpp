@@ -71,32 +71,22 @@ WideBvh::WideBvh(const Geometry& geometry, int threads, int width) : geometry_(g
     Bvh bin(geometry, threads);
     if (bin.nodes().empty()) return;
     empty_ = false;
-    // Exact room: every binary leaf becomes one wide leaf, with a packet per four triangles;
-    // wide nodes are fewer than binary inner nodes.
-    size_t inner = 0, leaves = 0, packets = 0, shapes = 0;
-    for (const BvhNode& n : bin.nodes()) {
-        if (n.count == 0) {
-            ++inner;
-            continue;
-        }
-        ++leaves;
-        size_t triangles = 0;
-        for (uint32_t k = n.first; k < n.first + n.count; ++k)
-            triangles += geometry.is_triangle(bin.primitives()[k]);
-        packets += (triangles + 3) / 4;
-        shapes += n.count - triangles;
-    }
+    // Exact room: every binary leaf becomes one wide leaf; wide nodes are fewer than binary
+    // inner nodes.
+    size_t inner = 0, leaves = 0;
+    for (const BvhNode& n : bin.nodes()) (n.count == 0 ? inner : leaves)++;
     if (leaves >= kLeaf) throw std::runtime_error("the wide BVH holds at most 2^31 leaves");
     leaves_ = LargeArray<Leaf>(leaves);
-    packets_ = LargeArray<TrianglePacket>(packets);
-    shapes_ = LargeArray<uint32_t>(shapes);
     leaf_prims_.reserve(leaves);
     if (width_ == 8) {
         build<8>(bin, nodes8_, inner);
     } else {
         build<4>(bin, nodes4_, inner);
     }
-    // The leaves' packets, filled in parallel now that each knows its place.
+    // The leaves' packets and shapes, counted by the collapse, filled in parallel now that
+    // each leaf knows its place.
+    packets_ = LargeArray<TrianglePacket>(packet_count_);
+    shapes_ = LargeArray<uint32_t>(shape_count_);
     tbb::task_arena arena(resolve_threads(threads));
     arena.execute(
         [&] { tbb::parallel_for(size_t{0}, leaf_count_, [&](size_t k) { fill_leaf(k); }); });
