@@ -39,11 +39,13 @@ struct BinPosition {
         const auto* f = reinterpret_cast<const float*>(&r);  // min at f[0..2], max at f[4..6]
         return (0.5f * f[axis] + 0.5f * f[axis + 4] - cmin) * scale;
     }
-    /// The position clamped to [0, kBins - 1] and truncated; maxss returns its second operand
-    /// (0) for a NaN position.
+    /// The position truncated and clamped to [0, kBins - 1]. A NaN position truncates to
+    /// INT_MIN and lands in bin 0; a finite one lies within [0, kBins] up to rounding (the
+    /// centroid bounds hold every centroid), so truncating first never overflows. Clamped as
+    /// an integer: the float clamp's result had to leave the SSE register for the address.
     int bin(const BuildRef& r) const {
-        __m128 f = _mm_max_ss(_mm_set_ss((*this)(r)), _mm_setzero_ps());
-        return _mm_cvttss_si32(_mm_min_ss(f, _mm_set_ss(static_cast<float>(kBins - 1))));
+        const int b = _mm_cvttss_si32(_mm_set_ss((*this)(r)));
+        return b < 0 ? 0 : b > kBins - 1 ? kBins - 1 : b;
     }
 };
 
