@@ -132,11 +132,15 @@ struct Sweep {
     }
 
     /// The cheapest split (the first of equal costs) and its cost, or -1 when no split leaves
-    /// references on both sides with a finite cost.
+    /// references on both sides with a finite cost. Found without a branch per split: the
+    /// least cost of all lanes, then the first lane that holds it (a scan with a comparison
+    /// per split mispredicted a few times per node, a fifth of a small node's time).
     int cheapest(float& best_cost) const {
-        alignas(16) float cost[kBins];
+        __m128 cost[kBins / 4];
+        __m128 least = _mm_set1_ps(kInfinity);
         const __m128i total = _mm_set1_epi32(static_cast<int>(n));
-        for (int b = 0; b < 4 * groups; b += 4) {
+        for (int g = 0; g < groups; ++g) {
+            const int b = 4 * g;
             // Split after cell b + lane: the left side is cells 0..b + lane, the right side the
             // cells from b + lane + 1 on (none past the last cell: masked below).
             __m128 right_area = areas(right_min + b + 1, right_max + b + 1);
@@ -150,17 +154,18 @@ struct Sweep {
                                          _mm_cmpgt_epi32(right, _mm_setzero_si128()));
             __m128 valid =
                 _mm_and_ps(_mm_castsi128_ps(both), _mm_cmplt_ps(c, _mm_set1_ps(kInfinity)));
-            _mm_store_ps(cost + b, _mm_or_ps(_mm_and_ps(valid, c),
-                                             _mm_andnot_ps(valid, _mm_set1_ps(kInfinity))));
+            cost[g] = _mm_or_ps(_mm_and_ps(valid, c), _mm_andnot_ps(valid, _mm_set1_ps(kInfinity)));
+            least = _mm_min_ps(least, cost[g]);
         }
-        int best = -1;
-        for (int b = 0; b < 4 * groups; ++b) {
-            if (cost[b] < best_cost) {
-                best_cost = cost[b];
-                best = b;
-            }
-        }
-        return best;
+        least = _mm_min_ps(least, _mm_shuffle_ps(least, least, _MM_SHUFFLE(1, 0, 3, 2)));
+        least = _mm_min_ps(least, _mm_shuffle_ps(least, least, _MM_SHUFFLE(2, 3, 0, 1)));
+        const float lowest = _mm_cvtss_f32(least);
+        if (!(lowest < best_cost)) return -1;  // every cost infinite (invalid)
+        int mask = 0;
+        for (int g = groups - 1; g >= 0; --g)
+            mask = (mask << 4) | _mm_movemask_ps(_mm_cmpeq_ps(cost[g], least));
+        best_cost = lowest;
+        return __builtin_ctz(static_cast<unsigned>(mask));
     }
 };
 
