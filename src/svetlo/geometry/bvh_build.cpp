@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "svetlo/core/parallel.h"
+#include "svetlo/geometry/avx2.h"
 #include "svetlo/geometry/bvh_sah.h"
 
 namespace svetlo {
@@ -37,33 +38,6 @@ struct Span {
     Bounds3 bounds, centroids;
     uint32_t size() const { return end - begin; }
 };
-
-/// Adds refs[first, last) to `out` along `position`'s axis, and notes each reference's bin in
-/// it for the partition. Long ranges go through two interleaved sets of bins: consecutive
-/// primitives of a mesh often fall into the same bin, and one set would chain every update on
-/// the previous one; for a short one, the second set costs more to clear and merge than it
-/// saves.
-void bin_range(BuildRef* refs, uint32_t first, uint32_t last, const BinPosition& position,
-               Bins& out) {
-    // The bounds are loaded before the bin is stored: a load over a store still in flight
-    // that it only partly covers waits for the store to land.
-    auto add = [&](BuildRef& r, Bins& bins) {
-        const __m128 lo = _mm_loadu_ps(&r.min.x), hi = _mm_loadu_ps(&r.max.x);
-        const int b = position.bin(r);
-        r.bin = static_cast<uint32_t>(b);
-        bins.add(b, lo, hi);
-    };
-    uint32_t k = first;
-    if (last - first >= 64) {
-        Bins second;
-        for (; k + 1 < last; k += 2) {
-            add(refs[k], out);
-            add(refs[k + 1], second);
-        }
-        out.merge(second);
-    }
-    for (; k < last; ++k) add(refs[k], out);
-}
 
 /// Copies src[first, last) into dst in order, the references binned at most `last_left` to the
 /// slots from next_left on and the others to the slots from next_right on. The slot is chosen
@@ -258,17 +232,17 @@ private:
 
     /// The sweep over the bins of a span of more than kBins references; a large span is binned
     /// in chunks, whose bins are left in `chunk_bins`.
-    static Sweep binned_sweep(BuildRef* src, const Span& s, const BinPosition& position,
-                              std::vector<Bins>& chunk_bins) {
+    Sweep binned_sweep(BuildRef* src, const Span& s, const BinPosition& position,
+                       std::vector<Bins>& chunk_bins) const {
         Bins bins;
         if (s.size() < kParallelSplit) {
-            bin_range(src, s.begin, s.end, position, bins);
+            bin_range(src, s.begin, s.end, position, bins, avx2_);
         } else {
             chunk_bins.resize((s.size() + kSplitChunk - 1) / kSplitChunk);
             tbb::parallel_for(size_t{0}, chunk_bins.size(), [&](size_t c) {
                 const uint32_t first = s.begin + static_cast<uint32_t>(c) * kSplitChunk;
-                bin_range(src, first, std::min(s.end, first + kSplitChunk), position,
-                          chunk_bins[c]);
+                bin_range(src, first, std::min(s.end, first + kSplitChunk), position, chunk_bins[c],
+                          avx2_);
             });
             for (const Bins& b : chunk_bins) bins.merge(b);
         }
@@ -319,6 +293,7 @@ private:
     BvhNode* nodes_;                // room for 2 n - 1 nodes
     uint32_t* prims_;               // the leaves' primitive ids, same indices as the buffers
     uint32_t size_;
+    bool avx2_ = avx2_available();  // bin long ranges with bin_range_avx2
     std::atomic<uint32_t> node_count_{0};
     std::atomic<int> depth_{0};
     std::mutex holes_mutex_;

@@ -75,6 +75,44 @@ struct Bins {
     }
 };
 
+/// Adds refs[first, last) to `out` along `position`'s axis and notes each reference's bin in
+/// it, as bin_range below, with AVX2 (bvh_build_avx2.cpp): call it only where
+/// avx2_available() (avx2.h). The same bins, bit for bit.
+void bin_range_avx2(BuildRef* refs, uint32_t first, uint32_t last, const BinPosition& position,
+                    Bins& out);
+
+/// Adds refs[first, last) to `out` along `position`'s axis, and notes each reference's bin in
+/// it for the partition. Long ranges go through two interleaved sets of bins: consecutive
+/// primitives of a mesh often fall into the same bin, and one set would chain every update on
+/// the previous one; for a short one, the second set costs more to clear and merge than it
+/// saves. With `avx2`, long ranges take bin_range_avx2 (one update per reference instead of
+/// two: 5 % of the build).
+inline void bin_range(BuildRef* refs, uint32_t first, uint32_t last, const BinPosition& position,
+                      Bins& out, bool avx2) {
+    if (avx2 && last - first >= 64) {
+        bin_range_avx2(refs, first, last, position, out);
+        return;
+    }
+    // The bounds are loaded before the bin is stored: a load over a store still in flight
+    // that it only partly covers waits for the store to land.
+    auto add = [&](BuildRef& r, Bins& bins) {
+        const __m128 lo = _mm_loadu_ps(&r.min.x), hi = _mm_loadu_ps(&r.max.x);
+        const int b = position.bin(r);
+        r.bin = static_cast<uint32_t>(b);
+        bins.add(b, lo, hi);
+    };
+    uint32_t k = first;
+    if (last - first >= 64) {
+        Bins second;
+        for (; k + 1 < last; k += 2) {
+            add(refs[k], out);
+            add(refs[k + 1], second);
+        }
+        out.merge(second);
+    }
+    for (; k < last; ++k) add(refs[k], out);
+}
+
 /// A cell of a sweep: a bin, or one reference.
 struct Cell {
     __m128 min, max;

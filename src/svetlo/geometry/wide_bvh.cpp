@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "svetlo/core/parallel.h"
+#include "svetlo/geometry/avx2.h"
 #include "svetlo/geometry/bvh.h"
 #include "svetlo/geometry/ray_box.h"
 #include "svetlo/geometry/triangle.h"
@@ -58,13 +59,7 @@ struct RayBoxes4 {
 
 }  // namespace
 
-bool WideBvh::eight_wide_available() {
-#ifdef SVETLO_HAS_AVX2_BVH
-    return __builtin_cpu_supports("avx2") != 0;
-#else
-    return false;
-#endif
-}
+bool WideBvh::eight_wide_available() { return avx2_available(); }
 
 WideBvh::WideBvh(const Geometry& geometry, int threads, int width) : geometry_(geometry) {
     width_ = (width == 0 || width == 8) && eight_wide_available() ? 8 : 4;

@@ -1,0 +1,14 @@
+#include "svetlo/geometry/avx2.h"
+
+namespace svetlo {
+
+bool avx2_available() {
+#ifdef SVETLO_HAS_AVX2_BVH  // the library's AVX2 files are compiled (CMakeLists.txt)
+    static const bool has = __builtin_cpu_supports("avx2") != 0;
+    return has;
+#else
+    return false;
+#endif
+}
+
+}  // namespace svetlo

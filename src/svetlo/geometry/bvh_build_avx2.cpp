@@ -1,0 +1,64 @@
+// The BVH build's binning with AVX2 (bvh_sah.h's bin_range_avx2): used only where
+// avx2_available(). The target is set by pragma after the headers, as in wide_bvh_avx2.cpp.
+#include <immintrin.h>
+
+#include "svetlo/geometry/bvh_sah.h"
+
+#pragma GCC push_options
+#pragma GCC target("avx2")
+
+namespace svetlo::sah {
+
+namespace {
+
+/// Bins in eight-lane registers: lanes 0-2 the minimum, lanes 4-6 the maximum negated, so
+/// that one minimum updates both. max(a, b) = -min(-a, -b) exactly, NaN and signed zeros
+/// included (both instructions return their second operand then). Lanes 3 and 7 hold a
+/// minimum of ids and bins, never read.
+struct WideBins {
+    __m256 box[kBins];
+    uint32_t count[kBins];
+
+    WideBins() {
+        for (int b = 0; b < kBins; ++b) {
+            box[b] = _mm256_set1_ps(kInfinity);
+            count[b] = 0;
+        }
+    }
+
+    /// Adds r, and notes its bin in it. Its bounds are loaded before the bin is stored (see
+    /// bin_range).
+    void add(BuildRef& r, const BinPosition& position) {
+        const __m256 negate_max =
+            _mm256_setr_ps(0.0f, 0.0f, 0.0f, 0.0f, -0.0f, -0.0f, -0.0f, -0.0f);
+        const __m256 v = _mm256_xor_ps(_mm256_loadu_ps(&r.min.x), negate_max);
+        const int b = position.bin(r);
+        r.bin = static_cast<uint32_t>(b);
+        box[b] = _mm256_min_ps(box[b], v);
+        count[b]++;
+    }
+};
+
+}  // namespace
+
+void bin_range_avx2(BuildRef* refs, uint32_t first, uint32_t last, const BinPosition& position,
+                    Bins& out) {
+    WideBins even, odd;  // two sets, as bin_range: one would chain every update on the last
+    uint32_t k = first;
+    for (; k + 1 < last; k += 2) {
+        even.add(refs[k], position);
+        odd.add(refs[k + 1], position);
+    }
+    if (k < last) even.add(refs[k], position);
+    for (int b = 0; b < kBins; ++b) {
+        const __m256 m = _mm256_min_ps(even.box[b], odd.box[b]);
+        out.min[b] = _mm_min_ps(out.min[b], _mm256_castps256_ps128(m));
+        out.max[b] =
+            _mm_max_ps(out.max[b], _mm_xor_ps(_mm256_extractf128_ps(m, 1), _mm_set1_ps(-0.0f)));
+        out.count[b] += even.count[b] + odd.count[b];
+    }
+}
+
+}  // namespace svetlo::sah
+
+#pragma GCC pop_options

@@ -1,0 +1,65 @@
+// The binned SAH's pieces (geometry/bvh_sah.h) on their own.
+#include "svetlo/geometry/bvh_sah.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+#include "svetlo/core/rng.h"
+#include "svetlo/geometry/avx2.h"
+
+namespace svetlo::sah {
+namespace {
+
+/// The references of a mesh-like walk (consecutive ones close together, so that runs share a
+/// bin), with bounds that tie in signed zeros and a few NaN coordinates.
+std::vector<BuildRef> walk_refs(int n, uint64_t seed) {
+    Rng rng(seed, 3);
+    std::vector<BuildRef> refs(static_cast<size_t>(n));
+    vec3 p(0.0f);
+    for (int k = 0; k < n; ++k) {
+        p +=
+            0.02f * vec3(rng.next_float() - 0.5f, rng.next_float() - 0.5f, rng.next_float() - 0.5f);
+        BuildRef& r = refs[static_cast<size_t>(k)];
+        r.min = p - 0.01f * rng.next_float();
+        r.max = p + 0.01f * rng.next_float();
+        r.id = static_cast<uint32_t>(k);
+        r.bin = 0;
+        if (k % 7 == 0) r.min.y = r.max.y = (k % 14 == 0) ? 0.0f : -0.0f;  // zero ties
+        if (k % 97 == 5) r.max.z = std::nanf("");
+    }
+    return refs;
+}
+
+TEST(BvhSah, Avx2BinningGivesTheSameBinsBitForBit) {
+    if (!avx2_available()) GTEST_SKIP() << "no AVX2 on this processor";
+    for (int n : {64, 65, 1000, 4099}) {
+        std::vector<BuildRef> a = walk_refs(n, static_cast<uint64_t>(n));
+        Bounds3 centroids;
+        for (const BuildRef& r : a) centroids.extend(r.centroid());
+        for (int axis = 0; axis < 3; ++axis) {
+            BinPosition position(centroids);
+            position.axis = axis;  // every axis, not only the largest
+            position.cmin = centroids.min[axis];
+            position.scale = static_cast<float>(kBins) * 0.99999f / centroids.extent()[axis];
+            std::vector<BuildRef> b = a;
+            Bins sse, avx;
+            bin_range(a.data(), 0, static_cast<uint32_t>(n), position, sse, false);
+            bin_range_avx2(b.data(), 0, static_cast<uint32_t>(n), position, avx);
+            for (int k = 0; k < kBins; ++k) {
+                EXPECT_EQ(sse.count[k], avx.count[k])
+                    << n << " refs, axis " << axis << ", bin " << k;
+                // Lanes 0-2 as bits: signed zeros and NaN must agree too.
+                EXPECT_EQ(std::memcmp(&sse.min[k], &avx.min[k], 12), 0) << n << ", bin " << k;
+                EXPECT_EQ(std::memcmp(&sse.max[k], &avx.max[k], 12), 0) << n << ", bin " << k;
+            }
+            for (int k = 0; k < n; ++k)
+                ASSERT_EQ(a[static_cast<size_t>(k)].bin, b[static_cast<size_t>(k)].bin) << k;
+        }
+    }
+}
+
+}  // namespace
+}  // namespace svetlo::sah
