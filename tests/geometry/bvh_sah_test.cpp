@@ -61,5 +61,29 @@ TEST(BvhSah, Avx2BinningGivesTheSameBinsBitForBit) {
     }
 }
 
+TEST(BvhSah, Avx2PartitionMovesTheSameReferences) {
+    if (!avx2_available()) GTEST_SKIP() << "no AVX2 on this processor";
+    std::vector<BuildRef> src = walk_refs(1000, 9);
+    Rng rng(5, 5);
+    uint32_t left = 0;
+    for (BuildRef& r : src) {
+        r.bin = static_cast<uint32_t>(rng.next_float() * kBins) % kBins;
+        left += r.bin <= 6 ? 1u : 0u;
+    }
+    // Into the middle of larger buffers: nothing outside [10, 1010) may change.
+    std::vector<BuildRef> sse(1020), avx(1020);
+    std::memset(sse.data(), 0xab, sse.size() * sizeof(BuildRef));
+    std::memset(avx.data(), 0xab, avx.size() * sizeof(BuildRef));
+    partition_range(src.data(), sse.data() + 10, 0, 1000, 0, left, 6, false);
+    partition_range_avx2(src.data(), avx.data() + 10, 0, 1000, 0, left, 6);
+    EXPECT_EQ(std::memcmp(sse.data(), avx.data(), sse.size() * sizeof(BuildRef)), 0);
+    // The SSE one as the reference: left references first, each side in order.
+    uint32_t l = 0, r = left;
+    for (const BuildRef& ref : src) {
+        const BuildRef& moved = sse[10 + (ref.bin <= 6 ? l++ : r++)];
+        ASSERT_EQ(std::memcmp(&moved, &ref, sizeof(BuildRef)), 0) << ref.id;
+    }
+}
+
 }  // namespace
 }  // namespace svetlo::sah

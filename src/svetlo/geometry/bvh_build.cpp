@@ -39,20 +39,6 @@ struct Span {
     uint32_t size() const { return end - begin; }
 };
 
-/// Copies src[first, last) into dst in order, the references binned at most `last_left` to the
-/// slots from next_left on and the others to the slots from next_right on. The slot is chosen
-/// with a mask: written as a conditional, the compiler makes it a branch, which mispredicts
-/// half the time.
-void partition_range(const BuildRef* src, BuildRef* dst, uint32_t first, uint32_t last,
-                     uint32_t next_left, uint32_t next_right, uint32_t last_left) {
-    for (uint32_t j = first; j < last; ++j) {
-        const uint32_t right = src[j].bin > last_left ? 1u : 0u;
-        dst[next_left + ((next_right - next_left) & (0u - right))] = src[j];
-        next_left += 1u - right;
-        next_right += right;
-    }
-}
-
 class Builder {
 public:
     Builder(LargeArray<BuildRef>& refs, BvhNode* nodes, uint32_t* prims)
@@ -206,7 +192,7 @@ private:
         if (sorted) {
             // Already in the other buffer, in order.
         } else if (chunk_bins.empty()) {
-            partition_range(src, dst, s.begin, s.end, s.begin, mid, last_left);
+            partition_range(src, dst, s.begin, s.end, s.begin, mid, last_left, avx2_);
         } else {
             const auto chunks = static_cast<uint32_t>(chunk_bins.size());
             std::vector<uint32_t> lefts(chunks + 1, 0);  // left references before each chunk
@@ -218,7 +204,8 @@ private:
             tbb::parallel_for(0u, chunks, [&](uint32_t c) {
                 const uint32_t first = s.begin + c * kSplitChunk;
                 partition_range(src, dst, first, std::min(s.end, first + kSplitChunk),
-                                s.begin + lefts[c], mid + (first - s.begin - lefts[c]), last_left);
+                                s.begin + lefts[c], mid + (first - s.begin - lefts[c]), last_left,
+                                avx2_);
             });
         }
         // The children's bounds from the sweep; their centroid bounds are approximated by the
@@ -293,7 +280,7 @@ private:
     BvhNode* nodes_;                // room for 2 n - 1 nodes
     uint32_t* prims_;               // the leaves' primitive ids, same indices as the buffers
     uint32_t size_;
-    bool avx2_ = avx2_available();  // bin long ranges with bin_range_avx2
+    bool avx2_ = avx2_available();  // bin and partition with AVX2
     std::atomic<uint32_t> node_count_{0};
     std::atomic<int> depth_{0};
     std::mutex holes_mutex_;

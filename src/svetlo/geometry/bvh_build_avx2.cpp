@@ -1,5 +1,6 @@
-// The BVH build's binning with AVX2 (bvh_sah.h's bin_range_avx2): used only where
-// avx2_available(). The target is set by pragma after the headers, as in wide_bvh_avx2.cpp.
+// The BVH build's binning and partition with AVX2 (bvh_sah.h's bin_range_avx2 and
+// partition_range_avx2): used only where avx2_available(). The target is set by pragma after the
+// headers, as in wide_bvh_avx2.cpp.
 #include <immintrin.h>
 
 #include "svetlo/geometry/bvh_sah.h"
@@ -56,6 +57,17 @@ void bin_range_avx2(BuildRef* refs, uint32_t first, uint32_t last, const BinPosi
         out.max[b] =
             _mm_max_ps(out.max[b], _mm_xor_ps(_mm256_extractf128_ps(m, 1), _mm_set1_ps(-0.0f)));
         out.count[b] += even.count[b] + odd.count[b];
+    }
+}
+
+void partition_range_avx2(const BuildRef* src, BuildRef* dst, uint32_t first, uint32_t last,
+                          uint32_t next_left, uint32_t next_right, uint32_t last_left) {
+    for (uint32_t j = first; j < last; ++j) {
+        const __m256 r = _mm256_loadu_ps(&src[j].min.x);  // the whole reference
+        const uint32_t right = src[j].bin > last_left ? 1u : 0u;
+        _mm256_storeu_ps(&dst[next_left + ((next_right - next_left) & (0u - right))].min.x, r);
+        next_left += 1u - right;
+        next_right += right;
     }
 }
 

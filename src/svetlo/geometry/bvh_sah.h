@@ -113,6 +113,30 @@ inline void bin_range(BuildRef* refs, uint32_t first, uint32_t last, const BinPo
     for (; k < last; ++k) add(refs[k], out);
 }
 
+/// partition_range with AVX2 (bvh_build_avx2.cpp): call it only where avx2_available().
+void partition_range_avx2(const BuildRef* src, BuildRef* dst, uint32_t first, uint32_t last,
+                          uint32_t next_left, uint32_t next_right, uint32_t last_left);
+
+/// Copies src[first, last) into dst in order, the references binned at most `last_left` to the
+/// slots from next_left on and the others to the slots from next_right on. The slot is chosen
+/// with a mask: written as a conditional, the compiler makes it a branch, which mispredicts
+/// half the time. With `avx2`, partition_range_avx2 (one 32-byte copy per reference instead
+/// of two 16-byte ones: 2 % of the build).
+inline void partition_range(const BuildRef* src, BuildRef* dst, uint32_t first, uint32_t last,
+                            uint32_t next_left, uint32_t next_right, uint32_t last_left,
+                            bool avx2) {
+    if (avx2) {
+        partition_range_avx2(src, dst, first, last, next_left, next_right, last_left);
+        return;
+    }
+    for (uint32_t j = first; j < last; ++j) {
+        const uint32_t right = src[j].bin > last_left ? 1u : 0u;
+        dst[next_left + ((next_right - next_left) & (0u - right))] = src[j];
+        next_left += 1u - right;
+        next_right += right;
+    }
+}
+
 /// A cell of a sweep: a bin, or one reference.
 struct Cell {
     __m128 min, max;
