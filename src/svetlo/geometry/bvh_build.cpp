@@ -247,11 +247,12 @@ private:
         // Each reference's rank: the keys below its own, and the equal ones before it (a
         // stable order; a NaN key counts as -inf). Compared four at a time without a branch.
         alignas(16) float key[kBins];
-        for (uint32_t k = 0; k < kBins; ++k) {
-            const float f = k < n ? position(src[s.begin + k]) : kInfinity;
+        const int groups = static_cast<int>(n + 3) / 4;
+        for (uint32_t k = 0; k < n; ++k) {
+            const float f = position(src[s.begin + k]);
             key[k] = f == f ? f : -kInfinity;
         }
-        const int groups = static_cast<int>(n + 3) / 4;
+        for (uint32_t k = n; k < static_cast<uint32_t>(4 * groups); ++k) key[k] = kInfinity;
         for (uint32_t k = 0; k < n; ++k) {
             const __m128 own = _mm_set1_ps(key[k]);
             const __m128i index = _mm_set1_epi32(static_cast<int>(k));
