@@ -268,7 +268,13 @@ private:
             }
             below = _mm_add_epi32(below, _mm_shuffle_epi32(below, _MM_SHUFFLE(1, 0, 3, 2)));
             below = _mm_add_epi32(below, _mm_shuffle_epi32(below, _MM_SHUFFLE(2, 3, 0, 1)));
-            dst[s.begin + static_cast<uint32_t>(_mm_cvtsi128_si32(below))] = src[s.begin + k];
+            // Loaded whole before it is stored: copied as a struct, its second half was read
+            // after the first half's store, whose address the load had to wait for.
+            const __m128 lo = _mm_loadu_ps(&src[s.begin + k].min.x),
+                         hi = _mm_loadu_ps(&src[s.begin + k].max.x);
+            BuildRef& to = dst[s.begin + static_cast<uint32_t>(_mm_cvtsi128_si32(below))];
+            _mm_storeu_ps(&to.min.x, lo);
+            _mm_storeu_ps(&to.max.x, hi);
         }
         return Sweep(static_cast<int>(n), n, [&](int b) {
             const BuildRef& r = dst[s.begin + b];
