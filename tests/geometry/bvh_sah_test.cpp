@@ -35,7 +35,7 @@ std::vector<BuildRef> walk_refs(int n, uint64_t seed) {
 
 TEST(BvhSah, Avx2BinningGivesTheSameBinsBitForBit) {
     if (!avx2_available()) GTEST_SKIP() << "no AVX2 on this processor";
-    for (int n : {64, 65, 1000, 4099}) {
+    for (int n : {17, 40, 63, 64, 65, 1000, 4099}) {  // one set of bins below 64, two from 64
         std::vector<BuildRef> a = walk_refs(n, static_cast<uint64_t>(n));
         Bounds3 centroids;
         for (const BuildRef& r : a) centroids.extend(r.centroid());

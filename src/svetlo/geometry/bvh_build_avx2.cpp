@@ -44,8 +44,19 @@ struct WideBins {
 
 void bin_range_avx2(BuildRef* refs, uint32_t first, uint32_t last, const BinPosition& position,
                     Bins& out) {
-    WideBins even, odd;  // two sets, as bin_range: one would chain every update on the last
+    WideBins even;
     uint32_t k = first;
+    if (last - first < 64) {  // one set, as bin_range: the second costs more than it saves
+        for (; k < last; ++k) even.add(refs[k], position);
+        for (int b = 0; b < kBins; ++b) {
+            out.min[b] = _mm_min_ps(out.min[b], _mm256_castps256_ps128(even.box[b]));
+            out.max[b] = _mm_max_ps(
+                out.max[b], _mm_xor_ps(_mm256_extractf128_ps(even.box[b], 1), _mm_set1_ps(-0.0f)));
+            out.count[b] += even.count[b];
+        }
+        return;
+    }
+    WideBins odd;  // two sets, as bin_range: one would chain every update on the last
     for (; k + 1 < last; k += 2) {
         even.add(refs[k], position);
         odd.add(refs[k + 1], position);

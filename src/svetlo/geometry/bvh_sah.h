@@ -85,11 +85,11 @@ void bin_range_avx2(BuildRef* refs, uint32_t first, uint32_t last, const BinPosi
 /// it for the partition. Long ranges go through two interleaved sets of bins: consecutive
 /// primitives of a mesh often fall into the same bin, and one set would chain every update on
 /// the previous one; for a short one, the second set costs more to clear and merge than it
-/// saves. With `avx2`, long ranges take bin_range_avx2 (one update per reference instead of
+/// saves. With `avx2`, every range takes bin_range_avx2 (one update per reference instead of
 /// two: 5 % of the build).
 inline void bin_range(BuildRef* refs, uint32_t first, uint32_t last, const BinPosition& position,
                       Bins& out, bool avx2) {
-    if (avx2 && last - first >= 64) {
+    if (avx2) {
         bin_range_avx2(refs, first, last, position, out);
         return;
     }
