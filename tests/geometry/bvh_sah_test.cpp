@@ -3,8 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <numeric>
 #include <vector>
 
 #include "svetlo/core/rng.h"
@@ -82,6 +84,32 @@ TEST(BvhSah, Avx2PartitionMovesTheSameReferences) {
     for (const BuildRef& ref : src) {
         const BuildRef& moved = sse[10 + (ref.bin <= 6 ? l++ : r++)];
         ASSERT_EQ(std::memcmp(&moved, &ref, sizeof(BuildRef)), 0) << ref.id;
+    }
+}
+
+TEST(BvhSah, RanksAreAStableSortOnEveryPath) {
+    Rng rng(11, 4);
+    for (int trial = 0; trial < 200; ++trial) {
+        const auto n = 1 + static_cast<uint32_t>(trial % kBins);
+        alignas(32) float key[kBins];
+        for (uint32_t k = 0; k < kBins; ++k) {
+            // Few distinct values, so that ties are common; infinities at either end.
+            const int v = static_cast<int>(rng.next_float() * 6.0f);
+            key[k] = k >= n ? kInfinity : v == 0 ? -kInfinity : v == 5 ? kInfinity : 0.5f * v;
+        }
+        std::vector<uint32_t> order(n);
+        std::iota(order.begin(), order.end(), 0u);
+        std::stable_sort(order.begin(), order.end(),
+                         [&](uint32_t a, uint32_t b) { return key[a] < key[b]; });
+        uint32_t expected[kBins], sse[kBins], avx[kBins];
+        for (uint32_t r = 0; r < n; ++r) expected[order[r]] = r;
+        rank_keys(key, n, sse, false);
+        for (uint32_t k = 0; k < n; ++k)
+            ASSERT_EQ(sse[k], expected[k]) << "n " << n << ", key " << k;
+        if (!avx2_available()) continue;
+        rank_keys(key, n, avx, true);
+        for (uint32_t k = 0; k < n; ++k)
+            ASSERT_EQ(avx[k], expected[k]) << "n " << n << ", key " << k;
     }
 }
 

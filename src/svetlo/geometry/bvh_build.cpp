@@ -241,38 +241,24 @@ private:
     /// The sweep over a span of at most kBins references, written into the other buffer
     /// sorted along the axis, each its own cell: every split between two centroids is tried
     /// (the exact SAH on that axis, cheaper than binning for so few).
-    static Sweep sorted_sweep(const BuildRef* src, BuildRef* dst, const Span& s,
-                              const BinPosition& position) {
+    Sweep sorted_sweep(const BuildRef* src, BuildRef* dst, const Span& s,
+                       const BinPosition& position) const {
         const uint32_t n = s.size();
-        // Each reference's rank: the keys below its own, and the equal ones before it (a
-        // stable order; a NaN key counts as -inf). Compared four at a time without a branch.
-        alignas(16) float key[kBins];
-        const int groups = static_cast<int>(n + 3) / 4;
+        // The keys: a NaN counts as -inf; past the span, +inf.
+        alignas(32) float key[kBins];
         for (uint32_t k = 0; k < n; ++k) {
             const float f = position(src[s.begin + k]);
             key[k] = f == f ? f : -kInfinity;
         }
-        for (uint32_t k = n; k < static_cast<uint32_t>(4 * groups); ++k) key[k] = kInfinity;
+        for (uint32_t k = n; k < kBins; ++k) key[k] = kInfinity;
+        uint32_t rank[kBins];
+        rank_keys(key, n, rank, avx2_);
         for (uint32_t k = 0; k < n; ++k) {
-            const __m128 own = _mm_set1_ps(key[k]);
-            const __m128i index = _mm_set1_epi32(static_cast<int>(k));
-            __m128i below = _mm_setzero_si128();
-            for (int g = 0; g < groups; ++g) {
-                const __m128 other = _mm_load_ps(key + 4 * g);
-                const __m128i before =
-                    _mm_cmpgt_epi32(index, _mm_setr_epi32(4 * g, 4 * g + 1, 4 * g + 2, 4 * g + 3));
-                const __m128 lower =
-                    _mm_or_ps(_mm_cmplt_ps(other, own),
-                              _mm_and_ps(_mm_cmpeq_ps(other, own), _mm_castsi128_ps(before)));
-                below = _mm_sub_epi32(below, _mm_castps_si128(lower));  // a true lane is -1
-            }
-            below = _mm_add_epi32(below, _mm_shuffle_epi32(below, _MM_SHUFFLE(1, 0, 3, 2)));
-            below = _mm_add_epi32(below, _mm_shuffle_epi32(below, _MM_SHUFFLE(2, 3, 0, 1)));
             // Loaded whole before it is stored: copied as a struct, its second half was read
             // after the first half's store, whose address the load had to wait for.
             const __m128 lo = _mm_loadu_ps(&src[s.begin + k].min.x),
                          hi = _mm_loadu_ps(&src[s.begin + k].max.x);
-            BuildRef& to = dst[s.begin + static_cast<uint32_t>(_mm_cvtsi128_si32(below))];
+            BuildRef& to = dst[s.begin + rank[k]];
             _mm_storeu_ps(&to.min.x, lo);
             _mm_storeu_ps(&to.max.x, hi);
         }

@@ -1,12 +1,12 @@
-// The BVH build's binning and partition with AVX2 (bvh_sah.h's bin_range_avx2 and
-// partition_range_avx2): used only where avx2_available(). The target is set by pragma after the
-// headers, as in wide_bvh_avx2.cpp.
+// The BVH build's binning, partition and small spans' ranks with AVX2 (bvh_sah.h's
+// bin_range_avx2, partition_range_avx2 and rank_keys_avx2): used only where avx2_available(). The
+// target is set by pragma after the headers, as in wide_bvh_avx2.cpp.
 #include <immintrin.h>
 
 #include "svetlo/geometry/bvh_sah.h"
 
 #pragma GCC push_options
-#pragma GCC target("avx2")
+#pragma GCC target("avx2,popcnt")  // every processor with AVX2 has POPCNT
 
 namespace svetlo::sah {
 
@@ -79,6 +79,26 @@ void partition_range_avx2(const BuildRef* src, BuildRef* dst, uint32_t first, ui
         _mm256_storeu_ps(&dst[next_left + ((next_right - next_left) & (0u - right))].min.x, r);
         next_left += 1u - right;
         next_right += right;
+    }
+}
+
+void rank_keys_avx2(const float* key, uint32_t n, uint32_t* rank) {
+    const int groups = static_cast<int>(n + 7) / 8;
+    const __m256i lanes = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    for (uint32_t k = 0; k < n; ++k) {
+        const __m256 own = _mm256_set1_ps(key[k]);
+        const __m256i index = _mm256_set1_epi32(static_cast<int>(k));
+        int below = 0;
+        for (int g = 0; g < groups; ++g) {
+            const __m256 other = _mm256_loadu_ps(key + 8 * g);
+            const __m256i before =
+                _mm256_cmpgt_epi32(index, _mm256_add_epi32(lanes, _mm256_set1_epi32(8 * g)));
+            const __m256 lower = _mm256_or_ps(
+                _mm256_cmp_ps(other, own, _CMP_LT_OQ),
+                _mm256_and_ps(_mm256_cmp_ps(other, own, _CMP_EQ_OQ), _mm256_castsi256_ps(before)));
+            below += _mm_popcnt_u32(static_cast<unsigned>(_mm256_movemask_ps(lower)));
+        }
+        rank[k] = static_cast<uint32_t>(below);
     }
 }
 
