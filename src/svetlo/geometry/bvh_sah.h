@@ -29,6 +29,7 @@ static_assert(sizeof(BuildRef) == 32 && offsetof(BuildRef, max) == 16);
 /// (fractional), and the bin that holds it. The axis is an offset into the reference, so that
 /// the per-reference work has no switch on it.
 struct BinPosition {
+    static_assert((kBins & (kBins - 1)) == 0, "bin() masks the index");
     int axis;
     float cmin, scale;
     explicit BinPosition(const Bounds3& centroids)
@@ -39,13 +40,16 @@ struct BinPosition {
         const auto* f = reinterpret_cast<const float*>(&r);  // min at f[0..2], max at f[4..6]
         return (0.5f * f[axis] + 0.5f * f[axis + 4] - cmin) * scale;
     }
-    /// The position truncated and clamped to [0, kBins - 1]. A NaN position truncates to
-    /// INT_MIN and lands in bin 0; a finite one lies within [0, kBins] up to rounding (the
-    /// centroid bounds hold every centroid), so truncating first never overflows. Clamped as
-    /// an integer: the float clamp's result had to leave the SSE register for the address.
+    /// The position truncated, its bin. Every centroid lies within the centroid bounds (a
+    /// child's are its primitive bounds, which hold them), so a finite position lies in
+    /// [0, kBins): at most the bounds' extent times a scale a little under kBins / extent,
+    /// rounded. The mask keeps anything else inside the bins: a NaN position truncates to
+    /// INT_MIN, bin 0, as a clamp would put it; only centroids rounded past their bounds in
+    /// denormal arithmetic could wrap to the other end, a poorer split but the same bin for
+    /// the sweep and the partition. A clamp cost four instructions of the binning's twenty
+    /// (4 % of the build).
     int bin(const BuildRef& r) const {
-        const int b = _mm_cvttss_si32(_mm_set_ss((*this)(r)));
-        return b < 0 ? 0 : b > kBins - 1 ? kBins - 1 : b;
+        return _mm_cvttss_si32(_mm_set_ss((*this)(r))) & (kBins - 1);
     }
 };
 
