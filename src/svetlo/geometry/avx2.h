@@ -1,6 +1,7 @@
 // Whether the geometry library's AVX2 code may run: it is compiled (GCC on x86-64, in files
 // of their own under a target pragma) and the processor has AVX2 (checked once, at run
-// time). The eight-wide BVH's traversal and the BVH build's binning use it.
+// time). The eight-wide BVH's traversal uses it, and the BVH build's binning, partition and
+// small spans' ranks.
 #pragma once
 
 namespace svetlo {

@@ -1,6 +1,8 @@
 // The pieces of a binned-SAH split (Wald 2007), used by the BVH build (bvh_build.cpp): a
-// primitive's build reference, the bin its centroid falls in along the split axis, the bins,
-// and the sweep that prices every split between bins (or between sorted references).
+// primitive's build reference, the bin its centroid falls in along the split axis, the bins
+// and the binning, the partition, the ranks that sort a small span, and the sweep that prices
+// every split between bins (or between sorted references). The binning, partition and ranks
+// have AVX2 forms (bvh_build_avx2.cpp) that give the same results.
 #pragma once
 
 #include <immintrin.h>
