@@ -45,11 +45,12 @@ struct BinPosition {
     /// The position truncated, its bin. Every centroid lies within the centroid bounds (a
     /// child's are its primitive bounds, which hold them), so a finite position lies in
     /// [0, kBins): at most the bounds' extent times a scale a little under kBins / extent,
-    /// rounded. The mask keeps anything else inside the bins: a NaN position truncates to
-    /// INT_MIN, bin 0, as a clamp would put it; only centroids rounded past their bounds in
-    /// denormal arithmetic could wrap to the other end, a poorer split but the same bin for
-    /// the sweep and the partition. A clamp cost four instructions of the binning's twenty
-    /// (4 % of the build).
+    /// rounded. The mask keeps anything else inside the bins, the same bin for the sweep and
+    /// the partition: a NaN or infinite position (infinite coordinates, or an extent so small
+    /// that its scale overflows) truncates to INT_MIN, bin 0, and a centroid rounded past its
+    /// bounds in denormal arithmetic may wrap to the other end; such spans split poorly, or
+    /// at the median, but the tree holds every primitive (Bvh.DenormalSizedTrianglesBuildA
+    /// ValidTree). A clamp cost four instructions of the binning's twenty (4 % of the build).
     int bin(const BuildRef& r) const {
         return _mm_cvttss_si32(_mm_set_ss((*this)(r))) & (kBins - 1);
     }
