@@ -49,8 +49,9 @@ struct BinPosition {
     /// the partition: a NaN or infinite position (infinite coordinates, or an extent so small
     /// that its scale overflows) truncates to INT_MIN, bin 0, and a centroid rounded past its
     /// bounds in denormal arithmetic may wrap to the other end; such spans split poorly, or
-    /// at the median, but the tree holds every primitive (Bvh.DenormalSizedTrianglesBuildA
-    /// ValidTree). A clamp cost four instructions of the binning's twenty (4 % of the build).
+    /// at the median, but the tree holds every primitive (see the test
+    /// Bvh.DenormalSizedTrianglesBuildAValidTree). A clamp cost four instructions of the
+    /// binning's twenty (4 % of the build).
     int bin(const BuildRef& r) const {
         return _mm_cvttss_si32(_mm_set_ss((*this)(r))) & (kBins - 1);
     }
