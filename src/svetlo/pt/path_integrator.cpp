@@ -11,6 +11,9 @@ namespace svetlo {
 namespace {
 
 /// The bounce from which Russian roulette may end a path, and the highest survival chance.
+/// A path survives with probability min(kMaxSurvival, sqrt(max(beta))): the square root (as
+/// Cycles has it) ends paths later than max(beta) did, 6 % more time for 15-25 % less
+/// variance on the Cornell box (docs/path.md).
 constexpr int kRouletteDepth = 3;
 constexpr float kMaxSurvival = 0.95f;
 
@@ -164,7 +167,7 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, R
         after_lobes = after_lobes || !bs.delta;
         ray = Ray{offset_ray_origin(sh.p, frame.ng, bs.wi), bs.wi, kInfinity};
         if (depth + 1 >= kRouletteDepth) {
-            float survive = std::min(kMaxSurvival, max_component(beta));
+            float survive = std::min(kMaxSurvival, std::sqrt(max_component(beta)));
             if (sampler.next_float() >= survive) break;
             beta /= survive;
         }
