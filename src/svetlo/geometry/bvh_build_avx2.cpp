@@ -38,6 +38,21 @@ struct WideBins {
         box[b] = _mm256_min_ps(box[b], v);
         count[b]++;
     }
+    void merge(const WideBins& o) {
+        for (int b = 0; b < kBins; ++b) {
+            box[b] = _mm256_min_ps(box[b], o.box[b]);
+            count[b] += o.count[b];
+        }
+    }
+    /// Adds these bins to `out`, the maximum negated back.
+    void add_to(Bins& out) const {
+        for (int b = 0; b < kBins; ++b) {
+            out.min[b] = _mm_min_ps(out.min[b], _mm256_castps256_ps128(box[b]));
+            out.max[b] = _mm_max_ps(
+                out.max[b], _mm_xor_ps(_mm256_extractf128_ps(box[b], 1), _mm_set1_ps(-0.0f)));
+            out.count[b] += count[b];
+        }
+    }
 };
 
 }  // namespace
@@ -46,29 +61,16 @@ void bin_range_avx2(BuildRef* refs, uint32_t first, uint32_t last, const BinPosi
                     Bins& out) {
     WideBins even;
     uint32_t k = first;
-    if (last - first < 64) {  // one set, as bin_range: the second costs more than it saves
-        for (; k < last; ++k) even.add(refs[k], position);
-        for (int b = 0; b < kBins; ++b) {
-            out.min[b] = _mm_min_ps(out.min[b], _mm256_castps256_ps128(even.box[b]));
-            out.max[b] = _mm_max_ps(
-                out.max[b], _mm_xor_ps(_mm256_extractf128_ps(even.box[b], 1), _mm_set1_ps(-0.0f)));
-            out.count[b] += even.count[b];
+    if (last - first >= 64) {  // two sets, as bin_range: one would chain every update on the last
+        WideBins odd;
+        for (; k + 1 < last; k += 2) {
+            even.add(refs[k], position);
+            odd.add(refs[k + 1], position);
         }
-        return;
+        even.merge(odd);
     }
-    WideBins odd;  // two sets, as bin_range: one would chain every update on the last
-    for (; k + 1 < last; k += 2) {
-        even.add(refs[k], position);
-        odd.add(refs[k + 1], position);
-    }
-    if (k < last) even.add(refs[k], position);
-    for (int b = 0; b < kBins; ++b) {
-        const __m256 m = _mm256_min_ps(even.box[b], odd.box[b]);
-        out.min[b] = _mm_min_ps(out.min[b], _mm256_castps256_ps128(m));
-        out.max[b] =
-            _mm_max_ps(out.max[b], _mm_xor_ps(_mm256_extractf128_ps(m, 1), _mm_set1_ps(-0.0f)));
-        out.count[b] += even.count[b] + odd.count[b];
-    }
+    for (; k < last; ++k) even.add(refs[k], position);
+    even.add_to(out);
 }
 
 void partition_range_avx2(const BuildRef* src, BuildRef* dst, uint32_t first, uint32_t last,
