@@ -236,6 +236,60 @@ TEST(DrawPass, WithoutAnItemBufferTheDepthIsTheSame) {
     }
 }
 
+TEST(DrawPass, ADepthOnlyPassOfTrianglesOfEverySizeGivesTheDepthsOfAPassWithItems) {
+    // A depth-only pass sets up its small triangles eight at a time (AVX2, where the processor
+    // has it) and one at a time (the rest), into records of its own, and draws the tiniest
+    // without a loop: its depths must be those of a pass that keeps items (the SetupTriangle
+    // path), bit for bit. Triangles from a pixel to the whole view, straddling tiles, through
+    // the near plane, both windings, every cull mode, a count not a multiple of eight; one
+    // thread and two.
+    TriangleList list;
+    uint64_t state = 12345;
+    auto uniform = [&](float lo, float hi) {
+        state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+        return lo + (hi - lo) * static_cast<float>(state >> 40) / 16777216.0f;
+    };
+    for (int k = 0; k < 4001; ++k) {
+        const float size = k % 50 == 0 ? 2.0f : k % 7 == 0 ? 0.2f : 0.02f;
+        const vec3 c(uniform(-3.0f, 3.0f), uniform(-2.5f, 2.5f), uniform(-4.0f, 5.5f));
+        auto base = static_cast<uint32_t>(list.positions.size());
+        for (int v = 0; v < 3; ++v) {
+            list.positions.push_back(c +
+                                     size * vec3(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1)));
+            list.normals.push_back(vec3(0.0f));
+            list.uvs.push_back(vec2(0.0f));
+        }
+        for (uint32_t v : {0u, 1u, 2u}) list.indices.push_back(base + v);
+        list.material.push_back(0u);
+    }
+    Camera c;
+    c.position = vec3(0, 0, 5);
+    c.look_at = vec3(0.0f);
+    c.fov_deg = 50.0f;
+    const CameraMatrices cam =
+        camera_matrices(c, 200, 150, Bounds3{vec3(-3, -3, -5), vec3(3, 3, 6)});
+    for (CullMode cull : {CullMode::None, CullMode::Back, CullMode::Front}) {
+        PipelineState pass;
+        pass.cull = cull;
+        RenderTargets with;
+        with.clear(200, 150, 1, false, true);
+        draw_pass(list, cam, pass, with, 1);
+        for (int threads : {1, 2}) {
+            RenderTargets without;
+            without.clear(200, 150);
+            PassMemory memory;  // twice through the same memory, as a shadow map's passes
+            for (int again = 0; again < 2; ++again) {
+                draw_pass(list, cam, pass, without, threads, 0, &memory);
+                EXPECT_EQ(with.depth, without.depth)
+                    << "cull " << static_cast<int>(cull) << ", " << threads << " threads";
+            }
+        }
+        size_t covered = 0;
+        for (float d : with.depth) covered += d != kInfinity ? 1 : 0;
+        EXPECT_GT(covered, with.depth.size() / 4);
+    }
+}
+
 TEST(DrawPass, TheItemBufferNamesTheInputTriangleThroughClipping) {
     // A floor from under the camera to far ahead: its triangles cross the near plane, and
     // their clipped pieces still report the input triangle.

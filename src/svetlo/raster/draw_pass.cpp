@@ -60,11 +60,13 @@ void draw_samples(const TriangleList& list, const CameraMatrices& camera,
         f.vertices = std::move(memory->buffers->vertices);
         f.screen = std::move(memory->buffers->screen);
         f.tris = std::move(memory->buffers->tris);
+        f.depth_tris = std::move(memory->buffers->depth_tris);
     }
     fit_sample_bounds(f, {sp});
-    prepare_pass(list, camera, state, f, threads);
     const bool stencil = state.stencil.enabled && !targets.stencil.empty();
     const bool items = !targets.primitive.empty() && state.write_items;
+    f.depth_only = S == 1 && state.depth_test && state.depth_write && !stencil && !items;
+    prepare_pass(list, camera, state, f, threads);
     tbb::enumerable_thread_specific<TileBuffers> buffers;
     parallel_tiles(
         targets.width, targets.height, kTile, threads,
@@ -147,6 +149,7 @@ void draw_samples(const TriangleList& list, const CameraMatrices& camera,
         memory->buffers->vertices = std::move(f.vertices);
         memory->buffers->screen = std::move(f.screen);
         memory->buffers->tris = std::move(f.tris);
+        memory->buffers->depth_tris = std::move(f.depth_tris);
     }
 }
 

@@ -26,6 +26,11 @@ inline int32_t to_fixed(float x) {
     return static_cast<int32_t>(v >= 0.0f ? v + 0.5f : v - 0.5f);
 }
 
+/// The fill rule for the edge E(x, y) = a x + b y + c: the inside lies where E grows. A left
+/// edge has the inside to its right (a > 0); a top edge is horizontal with the inside below it
+/// (a == 0, b > 0; y points down). Samples on such an edge are inside.
+inline bool top_left(int64_t a, int64_t b) { return a > 0 || (a == 0 && b > 0); }
+
 struct Edge {
     int64_t a = 0, b = 0;  // E(x, y) = a x + b y + c, in fixed-point units
     int64_t c = 0;
@@ -37,10 +42,7 @@ struct Edge {
         e.a = -(y1 - y0);
         e.b = x1 - x0;
         e.c = -(e.a * x0 + e.b * y0);
-        // The inside lies where E grows. A left edge has the inside to its right (a > 0); a
-        // top edge is horizontal with the inside below it (a == 0, b > 0; y points down).
-        bool top_left = e.a > 0 || (e.a == 0 && e.b > 0);
-        e.bias = top_left ? 0 : -1;
+        e.bias = top_left(e.a, e.b) ? 0 : -1;
         return e;
     }
     int64_t at(int64_t x, int64_t y) const { return a * x + b * y + c; }

@@ -3,6 +3,8 @@
 //   vertex_stage.cpp    stage 2: model, view, projection; projection and snapping; Gouraud
 //   clipper.cpp         stage 3: clipping in homogeneous coordinates
 //   setup_binning.cpp   stages 3-4: setup (area, facing, culling, bounds) and binning in tiles
+//   depth_setup_avx2.cpp  a depth-only pass's setup, eight triangles at a time
+//   small_triangle.h    a small triangle's edges and depth plane, and a depth-only pass's record
 //   rasterize.cpp       stage 5: edge functions and the depth test, per tile
 //   rasterize_plain.cpp stage 5 with the stencil on or depth writes off (shadow volumes' counts)
 //   fragment.cpp        stage 6: shading of the visible samples, by mode
@@ -29,12 +31,12 @@
 #include "svetlo/raster/edge_function.h"
 #include "svetlo/raster/raster_lights.h"
 #include "svetlo/raster/simd_shading.h"
+#include "svetlo/raster/small_triangle.h"
 #include "svetlo/shading/mipmap.h"
 
 namespace svetlo::raster {
 
 constexpr int kTile = 64;                // pixels per side of a binning tile
-constexpr int kSmall = 32;               // pixels: the largest side of a "small" triangle
 constexpr int kMaxSamplesPerPass = 16;   // samples per pixel held at once; more take passes
 constexpr size_t kChunk = 4096;          // triangles per unit of parallel setup and binning
 constexpr float kGuardPixels = 4096.0f;  // guard band beyond each side of the viewport
@@ -89,6 +91,7 @@ struct PassMemory::Buffers {
     LargeArray<ClipVertex> vertices;
     LargeArray<raster::ScreenVertex> screen;
     LargeArray<raster::SetupTriangle> tris;
+    LargeArray<raster::DepthTriangle> depth_tris;
 };
 
 }  // namespace svetlo
@@ -140,6 +143,13 @@ struct FrameState {
     std::vector<uint32_t> clipped_source;  // the input triangle each clipped one comes from
     std::vector<std::pair<uint32_t, uint32_t>> clipped_range;  // per chunk, into `clipped`
     size_t triangle_count = 0;                                 // set up and drawn
+    // A depth-only pass (one sample per pixel at sample_bounds.lo, depth tested and written,
+    // nothing else kept, as a shadow map's): its small, unclipped triangles are set up as
+    // DepthTriangles instead, chunk c's from depth_tris[c kChunk] on, binned in depth_bins
+    // (their slots in `tris` are left as they were). The depth kept is the least of the
+    // samples', so the order in which the two kinds are drawn does not matter.
+    bool depth_only = false;
+    LargeArray<DepthTriangle> depth_tris;
     struct SampleBounds {
         glm::ivec2 lo{0}, hi{kSubpixel - 1};  // the samples' offsets in their pixel, fixed point
         int margin = 1;                       // pixels added on each side of a triangle's bounds
@@ -149,6 +159,7 @@ struct FrameState {
         std::vector<uint32_t> ids;
     };
     std::vector<Bins> bins;
+    std::vector<Bins> depth_bins;  // ids into depth_tris (a depth-only pass)
     int tiles_x = 0, tiles_y = 0;
 
     const ClipVertex& vertex(uint32_t v) const {
@@ -335,22 +346,38 @@ void fit_sample_bounds(FrameState& f, const std::vector<SamplePattern>& passes);
 void vertex_stage(const TriangleList& list, FrameState& f, int threads);
 /// Stages 3 and 4 (setup_binning.cpp): clipping, setup and binning in drawing order.
 void assemble(const TriangleList& list, FrameState& f, int threads);
+/// A depth-only pass's setup of `count` triangles of the list (`indices`, three each) eight at a
+/// time, with AVX2 (depth_setup_avx2.cpp; only where avx2_available()): the small ones whose
+/// vertices are all inside the clip volume become records out[0, n), bit for bit as
+/// setup_triangle and depth_record make them one at a time, n returned; those not inside, or
+/// not small, are listed in others[other_count...] (offsets from the first, in order) for the
+/// caller; the rest draw nothing. Only the first count - count % 8 are looked at.
+size_t setup_depth_avx2(const FrameState& f, const uint32_t* indices, size_t count,
+                        DepthTriangle* out, uint32_t* others, size_t& other_count);
 /// Stage 4 for the painter's algorithm: binned again, back to front.
 void bin_back_to_front(FrameState& f, int threads);
-/// Calls draw(id, triangle) for every triangle binned in the tile, in drawing order.
-template <class Draw>
-void for_each_binned(const FrameState& f, const Tile& tile, Draw&& draw) {
-    const size_t ti = static_cast<size_t>(tile.y0 / kTile) * f.tiles_x + tile.x0 / kTile;
-    for (const FrameState::Bins& b : f.bins) {
+/// Calls draw(id, record(id)) for every id of `bins` binned in tile `ti`, in drawing order.
+template <class Record, class Draw>
+void for_each_in_bins(const std::vector<FrameState::Bins>& bins, size_t ti, Record&& record,
+                      Draw&& draw) {
+    for (const FrameState::Bins& b : bins) {
         const uint32_t end = b.start[ti + 1];
         for (uint32_t k = b.start[ti]; k < end; ++k) {
             // The triangles of a tile are scattered over the frame's: fetch ahead.
             constexpr uint32_t kAhead = 8;
             if (k + kAhead < end)
-                _mm_prefetch(reinterpret_cast<const char*>(&f.tri(b.ids[k + kAhead])), _MM_HINT_T0);
-            draw(b.ids[k], f.tri(b.ids[k]));
+                _mm_prefetch(reinterpret_cast<const char*>(&record(b.ids[k + kAhead])),
+                             _MM_HINT_T0);
+            draw(b.ids[k], record(b.ids[k]));
         }
     }
+}
+/// Calls draw(id, triangle) for every triangle binned in the tile, in drawing order.
+template <class Draw>
+void for_each_binned(const FrameState& f, const Tile& tile, Draw&& draw) {
+    const size_t ti = static_cast<size_t>(tile.y0 / kTile) * f.tiles_x + tile.x0 / kTile;
+    for_each_in_bins(
+        f.bins, ti, [&](uint32_t id) -> const SetupTriangle& { return f.tri(id); }, draw);
 }
 /// Stage 5 (rasterize.cpp): every triangle binned in the tile, in order, into its buffers.
 /// Passes with the stencil on or depth writes off take rasterize_tile_plain.

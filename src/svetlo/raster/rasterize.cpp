@@ -13,58 +13,42 @@ namespace svetlo::raster {
 
 namespace {
 
-/// Stage 5 for small triangles and one sample per pixel: edge functions relative to the
-/// triangle's corner fit in 32 bits, so four pixels are tested and depth-tested at once, and
-/// each written sample keeps its triangle and screen barycentrics for the shading (`kItems`;
-/// a depth-only pass keeps the depth alone). The blocks' deepest depths are left as they
-/// were: larger than the truth, which is safe.
+/// Stage 5 for small triangles at one sample per pixel (small_triangle.h), `e` and `p` at the
+/// sample of pixel (cx, cy): four pixels of a row tested and depth-tested at once. Each
+/// written sample keeps its triangle `id` and screen barycentrics (edge over twice the area,
+/// `inv_area`) for the shading (`kItems`; a depth-only pass keeps the depth alone). The
+/// blocks' deepest depths are left as they were: larger than the truth, which is safe.
 template <bool kItems>
-void rasterize_small(uint32_t id, const SetupTriangle& t, PixelSpan span, const Tile& tile,
-                     const SamplePattern& sp, bool depth_test, TileBuffers& buf) {
+void rasterize_small(const SmallEdges& e, const DepthPlane& p, int cx, int cy, PixelSpan span,
+                     const Tile& tile, bool depth_test, TileBuffers& buf, uint32_t id = 0,
+                     float inv_area = 0.0f) {
     const auto [xs, xe, ys, ye] = span;
-    // Edge k, of vertex k's weight, runs from vertex i = k + 1 to j = k + 2 (Edge::make):
-    // E(x, y) = dx (y - y_i) - dy (x - x_i). Relative to vertex i, over the box |E| <=
-    // (|dx| + |dy|) (kSmall + 2) 256 with |dx|, |dy| <= kSmall 256: below 2^28, and the steps
-    // of four pixels below 2^24, so 32 bits hold everything exactly.
-    const int32_t ox = xs * kSubpixel + sp.ox[0], oy = ys * kSubpixel + sp.oy[0];
+    const int i0 = xs - cx, j0 = ys - cy;  // the span's first pixel from the corner
     __m128i w_row[3], step_x[3], step_y[3];
-    int32_t a[3], bias[3];
     for (int k = 0; k < 3; ++k) {
-        int i = (k + 1) % 3, j = (k + 2) % 3;
-        int32_t dx = t.x[j] - t.x[i], dy = t.y[j] - t.y[i];
-        bias[k] = (-dy > 0 || (dy == 0 && dx > 0)) ? 0 : -1;  // the top-left rule
-        int32_t origin = dx * (oy - t.y[i]) - dy * (ox - t.x[i]) + bias[k];
-        a[k] = -dy;
-        int32_t ax = a[k] * kSubpixel;
-        w_row[k] = _mm_add_epi32(_mm_set1_epi32(origin), _mm_set_epi32(3 * ax, 2 * ax, ax, 0));
-        step_x[k] = _mm_set1_epi32(4 * ax);
-        step_y[k] = _mm_set1_epi32(dx * kSubpixel);
+        const int32_t a = e.step_x[k];
+        w_row[k] = _mm_add_epi32(_mm_set1_epi32(e.w[k] + a * i0 + e.step_y[k] * j0),
+                                 _mm_set_epi32(3 * a, 2 * a, a, 0));
+        step_x[k] = _mm_set1_epi32(4 * a);
+        step_y[k] = _mm_set1_epi32(e.step_y[k]);
     }
-    // The depth plane (TriangleEdges::depth_gradient with these coefficients).
-    double per_pixel = static_cast<double>(kSubpixel) * static_cast<double>(t.inv_area);
-    double z1 = t.z[1] - t.z[0], z2 = t.z[2] - t.z[0];
-    auto dzdx = static_cast<float>(
-        (static_cast<double>(a[1]) * z1 + static_cast<double>(a[2]) * z2) * per_pixel);
-    auto dzdy = static_cast<float>(
-        (static_cast<double>(t.x[0] - t.x[2]) * z1 + static_cast<double>(t.x[1] - t.x[0]) * z2) *
-        per_pixel);
-    float z_origin = t.z[0] +
-                     dzdx * static_cast<float>(static_cast<double>(ox - t.x[0]) / kSubpixel) +
-                     dzdy * static_cast<float>(static_cast<double>(oy - t.y[0]) / kSubpixel);
-    const __m128 z_steps = _mm_mul_ps(_mm_set1_ps(dzdx), _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f));
-    const __m128 z_step4 = _mm_set1_ps(4.0f * dzdx);
+    // Depth: z0 + dzdx i + dzdy j in float, i and j from the corner (exact in float).
+    const __m128 dzdx = _mm_set1_ps(p.dzdx), four = _mm_set1_ps(4.0f);
+    const __m128 first_column =
+        _mm_add_ps(_mm_set1_ps(static_cast<float>(i0)), _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f));
     const int tw = tile.x1 - tile.x0;
     const __m128i lane = _mm_set_epi32(3, 2, 1, 0);
     const __m128i id4 = _mm_set1_epi32(static_cast<int32_t>(id));
     // The barycentrics the shading reads back: E / (2 area), without the fill rule's bias.
-    const __m128i bias1 = _mm_set1_epi32(bias[1]), bias2 = _mm_set1_epi32(bias[2]);
-    const __m128 inv_area = _mm_set1_ps(t.inv_area);
+    const __m128i bias1 = _mm_set1_epi32(e.bias[1]), bias2 = _mm_set1_epi32(e.bias[2]);
+    const __m128 inv_area4 = _mm_set1_ps(inv_area);
     auto blend = [](__m128 mask, __m128 yes, __m128 no) {  // yes where mask, else no
         return _mm_or_ps(_mm_and_ps(mask, yes), _mm_andnot_ps(mask, no));
     };
     for (int py = ys; py < ye; ++py) {
         __m128i w0 = w_row[0], w1 = w_row[1], w2 = w_row[2];
-        __m128 z4 = _mm_add_ps(_mm_set1_ps(z_origin + dzdy * static_cast<float>(py - ys)), z_steps);
+        const __m128 z_row = _mm_set1_ps(p.z0 + p.dzdy * static_cast<float>(py - cy));
+        __m128 column = first_column;
         for (int px = xs; px < xe; px += 4) {
             // Covered (every edge function's sign bit clear) and within the span.
             __m128i outside = _mm_srai_epi32(_mm_or_si128(_mm_or_si128(w0, w1), w2), 31);
@@ -74,6 +58,7 @@ void rasterize_small(uint32_t id, const SetupTriangle& t, PixelSpan span, const 
             // predict); the lanes not written write back what they read (the buffers have room
             // for four samples past the tile).
             size_t i = static_cast<size_t>(py - tile.y0) * tw + (px - tile.x0);
+            __m128 z4 = _mm_add_ps(z_row, _mm_mul_ps(dzdx, column));
             __m128 old_z = _mm_loadu_ps(&buf.depth[i]);
             __m128 pass = depth_test ? _mm_and_ps(covered, _mm_cmplt_ps(z4, old_z)) : covered;
             _mm_storeu_ps(&buf.depth[i], blend(pass, z4, old_z));
@@ -83,18 +68,65 @@ void rasterize_small(uint32_t id, const SetupTriangle& t, PixelSpan span, const 
                 _mm_storeu_si128(
                     reinterpret_cast<__m128i*>(&buf.tri[i]),
                     _mm_or_si128(_mm_and_si128(pass_i, id4), _mm_andnot_si128(pass_i, old_id)));
-                __m128 l1 = _mm_mul_ps(_mm_cvtepi32_ps(_mm_sub_epi32(w1, bias1)), inv_area);
-                __m128 l2 = _mm_mul_ps(_mm_cvtepi32_ps(_mm_sub_epi32(w2, bias2)), inv_area);
+                __m128 l1 = _mm_mul_ps(_mm_cvtepi32_ps(_mm_sub_epi32(w1, bias1)), inv_area4);
+                __m128 l2 = _mm_mul_ps(_mm_cvtepi32_ps(_mm_sub_epi32(w2, bias2)), inv_area4);
                 _mm_storeu_ps(&buf.l1[i], blend(pass, l1, _mm_loadu_ps(&buf.l1[i])));
                 _mm_storeu_ps(&buf.l2[i], blend(pass, l2, _mm_loadu_ps(&buf.l2[i])));
             }
             w0 = _mm_add_epi32(w0, step_x[0]);
             w1 = _mm_add_epi32(w1, step_x[1]);
             w2 = _mm_add_epi32(w2, step_x[2]);
-            z4 = _mm_add_ps(z4, z_step4);
+            column = _mm_add_ps(column, four);
         }
         for (int k = 0; k < 3; ++k) w_row[k] = _mm_add_epi32(w_row[k], step_y[k]);
     }
+}
+
+/// A depth-only pass's small triangle in the tile. Most cover at most 4 x 2 pixels of it (a
+/// million triangles on a 2048 x 2048 map cover three pixels of bounds on average), and
+/// those are drawn without a loop, whose trip counts would be hard to predict: both rows at
+/// once, the second row's place that of the first when there is none (stored first, and
+/// unchanged, so the first row's store wins). The same depths as rasterize_small.
+void rasterize_depth(const DepthTriangle& d, const Tile& tile, TileBuffers& buf) {
+    const PixelSpan span{std::max<int>(d.bx0, tile.x0), std::min(d.bx1 + 1, tile.x1),
+                         std::max<int>(d.by0, tile.y0), std::min(d.by1 + 1, tile.y1)};
+    if (span.empty()) return;
+    const SmallEdges e = d.edges();
+    const auto [xs, xe, ys, ye] = span;
+    if (xe - xs > 4 || ye - ys > 2) {
+        rasterize_small<false>(e, d.plane, d.bx0, d.by0, span, tile, true, buf);
+        return;
+    }
+    const int i0 = xs - d.bx0, j0 = ys - d.by0;
+    __m128i w0[3], w1[3];
+    for (int k = 0; k < 3; ++k) {
+        const int32_t a = e.step_x[k];
+        w0[k] = _mm_add_epi32(_mm_set1_epi32(e.w[k] + a * i0 + e.step_y[k] * j0),
+                              _mm_set_epi32(3 * a, 2 * a, a, 0));
+        w1[k] = _mm_add_epi32(w0[k], _mm_set1_epi32(e.step_y[k]));
+    }
+    const __m128i in_span = _mm_cmplt_epi32(_mm_set_epi32(3, 2, 1, 0), _mm_set1_epi32(xe - xs));
+    const __m128i second = _mm_set1_epi32(ye - ys > 1 ? -1 : 0);
+    auto covered = [&](const __m128i(&w)[3], __m128i also) {
+        __m128i outside = _mm_srai_epi32(_mm_or_si128(_mm_or_si128(w[0], w[1]), w[2]), 31);
+        return _mm_castsi128_ps(_mm_andnot_si128(outside, _mm_and_si128(in_span, also)));
+    };
+    const __m128 c0 = covered(w0, in_span), c1 = covered(w1, second);
+    const __m128 column =
+        _mm_add_ps(_mm_set1_ps(static_cast<float>(i0)), _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f));
+    const __m128 dz = _mm_mul_ps(_mm_set1_ps(d.plane.dzdx), column);
+    const __m128 z0 =
+        _mm_add_ps(_mm_set1_ps(d.plane.z0 + d.plane.dzdy * static_cast<float>(j0)), dz);
+    const __m128 z1 =
+        _mm_add_ps(_mm_set1_ps(d.plane.z0 + d.plane.dzdy * static_cast<float>(j0 + 1)), dz);
+    const int tw = tile.x1 - tile.x0;
+    float* row0 = &buf.depth[static_cast<size_t>(ys - tile.y0) * tw + (xs - tile.x0)];
+    float* row1 = ye - ys > 1 ? row0 + tw : row0;
+    const __m128 old0 = _mm_loadu_ps(row0), old1 = _mm_loadu_ps(row1);
+    const __m128 pass0 = _mm_and_ps(c0, _mm_cmplt_ps(z0, old0)),
+                 pass1 = _mm_and_ps(c1, _mm_cmplt_ps(z1, old1));
+    _mm_storeu_ps(row1, _mm_or_ps(_mm_and_ps(pass1, z1), _mm_andnot_ps(pass1, old1)));
+    _mm_storeu_ps(row0, _mm_or_ps(_mm_and_ps(pass0, z0), _mm_andnot_ps(pass0, old0)));
 }
 
 /// Stage 5: rasterizes triangle `id` into the tile's visibility buffer, 8 x 8 blocks at a
@@ -220,10 +252,17 @@ void draw_triangle(uint32_t id, const SetupTriangle& t, const Tile& tile, const 
     const PixelSpan span = span_in(t, tile);
     if (span.empty()) return;
     if (t.small && sp.count == 1) {
+        // Relative to the sample of the bounds' corner pixel (as a depth-only pass's record).
+        const int32_t sx = t.x0() * kSubpixel + sp.ox[0], sy = t.y0() * kSubpixel + sp.oy[0];
+        const int32_t rx[3] = {t.x[0] - sx, t.x[1] - sx, t.x[2] - sx},
+                      ry[3] = {t.y[0] - sy, t.y[1] - sy, t.y[2] - sy};
+        const SmallEdges e = small_edges(rx, ry);
+        const DepthPlane p = depth_plane(rx, ry, t.z, t.inv_area);
         if (state.write_items) {
-            rasterize_small<true>(id, t, span, tile, sp, state.depth_test, buf);
+            rasterize_small<true>(e, p, t.x0(), t.y0(), span, tile, state.depth_test, buf, id,
+                                  t.inv_area);
         } else {
-            rasterize_small<false>(id, t, span, tile, sp, state.depth_test, buf);
+            rasterize_small<false>(e, p, t.x0(), t.y0(), span, tile, state.depth_test, buf);
         }
     } else {
         rasterize(id, t, TriangleEdges(t), span, tile, sp, state.depth_test, buf);
@@ -259,6 +298,11 @@ void rasterize_tile(const FrameState& f, const Tile& tile, const SamplePattern& 
     for_each_binned(f, tile, [&](uint32_t id, const SetupTriangle& t) {
         draw_triangle(id, t, tile, sp, state, buf);
     });
+    if (!f.depth_only) return;
+    const size_t ti = static_cast<size_t>(tile.y0 / kTile) * f.tiles_x + tile.x0 / kTile;
+    for_each_in_bins(
+        f.depth_bins, ti, [&](uint32_t id) -> const DepthTriangle& { return f.depth_tris[id]; },
+        [&](uint32_t, const DepthTriangle& d) { rasterize_depth(d, tile, buf); });
 }
 
 }  // namespace svetlo::raster

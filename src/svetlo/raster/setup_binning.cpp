@@ -2,6 +2,7 @@
 #include <algorithm>
 
 #include "svetlo/core/parallel.h"
+#include "svetlo/geometry/avx2.h"
 #include "svetlo/raster/fragment.h"
 #include "svetlo/raster/pipeline.h"
 
@@ -53,18 +54,37 @@ bool setup_triangle(const FrameState& f, const ScreenVertex* sv[3], const uint32
     return true;
 }
 
-/// A normal of the counter-clockwise side of a set-up triangle (world space, twice the area
-
 /// A triangle to bin: its id and the tiles its bounds touch, [tx0, tx1] x [ty0, ty1].
 struct Binned {
     uint32_t id;
     uint16_t tx0, ty0, tx1, ty1;
 };
 
-Binned binned(uint32_t id, const SetupTriangle& t) {
-    return {id, static_cast<uint16_t>(t.x0() / kTile), static_cast<uint16_t>(t.y0() / kTile),
-            static_cast<uint16_t>((t.x1() - 1) / kTile),
-            static_cast<uint16_t>((t.y1() - 1) / kTile)};
+/// From a record's inclusive pixel bounds (a SetupTriangle's or a DepthTriangle's).
+template <class Record>
+Binned binned(uint32_t id, const Record& t) {
+    return {id, static_cast<uint16_t>(t.bx0 / kTile), static_cast<uint16_t>(t.by0 / kTile),
+            static_cast<uint16_t>(t.bx1 / kTile), static_cast<uint16_t>(t.by1 / kTile)};
+}
+
+/// A depth-only pass's record of small triangle t, its one sample per pixel at offset
+/// `sample` (fixed point) in the pixel.
+DepthTriangle depth_record(const SetupTriangle& t, glm::ivec2 sample) {
+    DepthTriangle d;
+    d.bx0 = t.bx0;
+    d.by0 = t.by0;
+    d.bx1 = t.bx1;
+    d.by1 = t.by1;
+    const int32_t sx = t.x0() * kSubpixel + sample.x, sy = t.y0() * kSubpixel + sample.y;
+    int32_t rx[3], ry[3];
+    for (int k = 0; k < 3; ++k) {
+        rx[k] = t.x[k] - sx;
+        ry[k] = t.y[k] - sy;
+        d.rx[k] = static_cast<int16_t>(rx[k]);
+        d.ry[k] = static_cast<int16_t>(ry[k]);
+    }
+    d.plane = depth_plane(rx, ry, t.z, t.inv_area);
+    return d;
 }
 
 /// Stage 4 for one chunk: its triangles (in drawing order) into tiles, as compressed rows:
@@ -101,36 +121,56 @@ void assemble(const TriangleList& list, FrameState& f, int threads) {
     f.tiles_x = (f.cam.width + kTile - 1) / kTile;
     f.tiles_y = (f.cam.height + kTile - 1) / kTile;
     f.bins.assign(chunks, {});
+    f.depth_bins.assign(f.depth_only ? chunks : 0, {});
+    if (f.depth_only) f.depth_tris.reuse(total);
     float gx = guard_x(f), gy = guard_y(f);
     const bool flat_mode = f.mode == Mode::Flat;
     if (flat_mode) f.flat.reuse(total);
     if (flat_mode && f.per_light) f.face_light.reuse(total * f.sources);
     std::vector<std::vector<Color>> clipped_flat(chunks);
     std::vector<std::vector<uint32_t>> clipped_source(chunks);
+#ifdef SVETLO_HAS_AVX2_KERNEL
+    const bool depth_setup_avx2 = avx2_available();
+#else
+    const bool depth_setup_avx2 = false;
+#endif
     parallel_indices(chunks, threads, [&](size_t c) {
         const size_t begin = c * kChunk, end = std::min(total, (c + 1) * kChunk);
         std::vector<Binned> to_bin(end - begin);  // binned while the chunk is in cache, below
         size_t binned_count = 0;
+        std::vector<Binned> to_bin_depth(f.depth_only ? end - begin : 0);
+        size_t depth_count = 0;
         // The list's arrays held in locals (the stores below could otherwise alias them, and
         // they would be reloaded every time).
-        const uint32_t* indices = list.indices.data() + 3 * begin;
-        const uint32_t* materials = list.material.data() + begin;
-        for (size_t s = begin; s < end; ++s, indices += 3, ++materials) {
+        const uint32_t* const indices = list.indices.data();
+        const uint32_t* const materials = list.material.data();
+        auto one = [&](size_t s) {
             uint32_t idx[3];
             const ScreenVertex* sv[3];
             for (int i = 0; i < 3; ++i) {
-                idx[i] = indices[i];
+                idx[i] = indices[3 * s + i];
                 sv[i] = &f.screen[idx[i]];
             }
-            const uint32_t material = *materials;
+            const uint32_t material = materials[s];
             SetupTriangle& slot = f.tris[s];
             if (flat_mode)
                 f.flat[s] = flat_colour(f, idx, material,
                                         f.per_light ? &f.face_light[s * f.sources] : nullptr);
+            if (f.depth_only && (sv[0]->inside & sv[1]->inside & sv[2]->inside)) {
+                SetupTriangle t;
+                if (!setup_triangle(f, sv, idx, material, t)) return;
+                if (t.small) {
+                    f.depth_tris[begin + depth_count++] = depth_record(t, f.sample_bounds.lo);
+                } else {
+                    slot = t;
+                    to_bin[binned_count++] = binned(static_cast<uint32_t>(s), slot);
+                }
+                return;
+            }
             if (sv[0]->inside & sv[1]->inside & sv[2]->inside) {
                 if (setup_triangle(f, sv, idx, material, slot))
                     to_bin[binned_count++] = binned(static_cast<uint32_t>(s), slot);
-                continue;
+                return;
             }
             slot.make_empty();
             // A vertex whose clip coordinates overflowed (world coordinates near a float's
@@ -139,15 +179,15 @@ void assemble(const TriangleList& list, FrameState& f, int threads) {
                        &c2 = f.vertices[idx[2]].clip;
             if (!std::isfinite(c0.x + c0.y + c0.z + c0.w + c1.x + c1.y + c1.z + c1.w + c2.x + c2.y +
                                c2.z + c2.w))
-                continue;
+                return;
             ClipPolygon poly =
                 clip_triangle(f.vertices[idx[0]], f.vertices[idx[1]], f.vertices[idx[2]], gx, gy);
-            if (poly.count < 3) continue;
+            if (poly.count < 3) return;
             // A piece through the eye (w = 0: a point at infinity seen edge-on) has no place.
             bool projectable = true;
             for (int k = 0; k < poly.count; ++k)
                 projectable &= poly.v[static_cast<size_t>(k)].clip.w > 0.0f;
-            if (!projectable) continue;
+            if (!projectable) return;
             auto first = static_cast<uint32_t>(extra[c].size());
             std::array<ScreenVertex, std::tuple_size_v<decltype(ClipPolygon::v)>> ps;
             for (int k = 0; k < poly.count; ++k) {
@@ -166,6 +206,21 @@ void assemble(const TriangleList& list, FrameState& f, int threads) {
                     if (flat_mode) clipped_flat[c].push_back(f.flat[s]);
                 }
             }
+        };
+        size_t s = begin;
+        if (f.depth_only && depth_setup_avx2) {
+            // Eight at a time where they take the fast road; the rest one at a time.
+            std::vector<uint32_t> others(end - begin);
+            size_t other_count = 0;
+            depth_count = setup_depth_avx2(f, indices + 3 * begin, end - begin,
+                                           &f.depth_tris[begin], others.data(), other_count);
+            for (size_t k = 0; k < other_count; ++k) one(begin + others[k]);
+            s = begin + (end - begin) / 8 * 8;
+        }
+        for (; s < end; ++s) one(s);
+        for (size_t k = 0; k < depth_count; ++k) {
+            const auto id = static_cast<uint32_t>(begin + k);
+            to_bin_depth[k] = binned(id, f.depth_tris[id]);
         }
         // Its slots, then its pieces (ids chunk-local until the pieces are concatenated below).
         to_bin.resize(binned_count);
@@ -173,6 +228,11 @@ void assemble(const TriangleList& list, FrameState& f, int threads) {
         for (size_t k = 0; k < clipped[c].size(); ++k)
             to_bin.push_back(binned(kExtra | static_cast<uint32_t>(k), clipped[c][k]));
         bin_chunk(f, to_bin, f.bins[c]);
+        if (f.depth_only) {
+            to_bin_depth.resize(depth_count);
+            bin_chunk(f, to_bin_depth, f.depth_bins[c]);
+        }
+        counts[c] += depth_count;
     });
     // Concatenate the clipped pieces and their vertices, chunk after chunk.
     for (size_t c = 0; c < chunks; ++c) {
@@ -232,7 +292,5 @@ void bin_back_to_front(FrameState& f, int threads) {
         bin_chunk(f, to_bin, f.bins[c]);
     });
 }
-
-/// Per-thread buffers of a tile: the visibility buffer (depth and triangle per sample), and
 
 }  // namespace svetlo::raster

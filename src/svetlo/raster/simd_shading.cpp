@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "svetlo/geometry/avx2.h"
 #include "svetlo/shading/bsdf.h"
 
 namespace svetlo {
@@ -24,10 +25,10 @@ void shade_run_avx2(const TriangleRun& q, float dl1, float dl2, int first, int g
 
 namespace {
 
+/// Whether the AVX2 kernel was built and the processor runs it (one check: avx2.h's).
 bool cpu_has_avx2() {
 #ifdef SVETLO_HAS_AVX2_KERNEL
-    static const bool has = __builtin_cpu_supports("avx2") != 0;
-    return has;
+    return avx2_available();
 #else
     return false;
 #endif
