@@ -236,48 +236,33 @@ TEST(DrawPass, WithoutAnItemBufferTheDepthIsTheSame) {
     }
 }
 
-TEST(DrawPass, ADepthOnlyPassOfTrianglesOfEverySizeGivesTheDepthsOfAPassWithItems) {
-    // A depth-only pass sets up its small triangles eight at a time (AVX2, where the processor
-    // has it) and one at a time (the rest), into records of its own, and draws the tiniest
-    // without a loop: its depths must be those of a pass that keeps items (the SetupTriangle
-    // path), bit for bit. Triangles from a pixel to the whole view, straddling tiles, through
-    // the near plane, both windings, every cull mode, a count not a multiple of eight; one
-    // thread and two.
-    TriangleList list;
-    uint64_t state = 12345;
-    auto uniform = [&](float lo, float hi) {
-        state = state * 6364136223846793005ULL + 1442695040888963407ULL;
-        return lo + (hi - lo) * static_cast<float>(state >> 40) / 16777216.0f;
-    };
-    for (int k = 0; k < 4001; ++k) {
-        const float size = k % 50 == 0 ? 2.0f : k % 7 == 0 ? 0.2f : 0.02f;
-        const vec3 c(uniform(-3.0f, 3.0f), uniform(-2.5f, 2.5f), uniform(-4.0f, 5.5f));
-        auto base = static_cast<uint32_t>(list.positions.size());
-        for (int v = 0; v < 3; ++v) {
-            list.positions.push_back(c +
-                                     size * vec3(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1)));
-            list.normals.push_back(vec3(0.0f));
-            list.uvs.push_back(vec2(0.0f));
-        }
-        for (uint32_t v : {0u, 1u, 2u}) list.indices.push_back(base + v);
-        list.material.push_back(0u);
+/// Appends triangle a, b, c (reversed when `flip`).
+void add_triangle(TriangleList& list, vec3 a, vec3 b, vec3 c, bool flip = false) {
+    auto base = static_cast<uint32_t>(list.positions.size());
+    for (vec3 p : {a, flip ? c : b, flip ? b : c}) {
+        list.positions.push_back(p);
+        list.normals.push_back(vec3(0.0f));
+        list.uvs.push_back(vec2(0.0f));
     }
-    Camera c;
-    c.position = vec3(0, 0, 5);
-    c.look_at = vec3(0.0f);
-    c.fov_deg = 50.0f;
-    const CameraMatrices cam =
-        camera_matrices(c, 200, 150, Bounds3{vec3(-3, -3, -5), vec3(3, 3, 6)});
+    for (uint32_t v : {0u, 1u, 2u}) list.indices.push_back(base + v);
+    list.material.push_back(0u);
+}
+
+/// A depth-only pass of `list` (its own records and rasterization: draw_pass.h) against the
+/// same pass with an item buffer, bit for bit: every cull mode, one thread and two, twice
+/// through one PassMemory. At least 1/`part` of the view covered.
+void expect_same_depths_with_and_without_items(const TriangleList& list, const CameraMatrices& cam,
+                                               size_t part) {
     for (CullMode cull : {CullMode::None, CullMode::Back, CullMode::Front}) {
         PipelineState pass;
         pass.cull = cull;
         RenderTargets with;
-        with.clear(200, 150, 1, false, true);
+        with.clear(cam.width, cam.height, 1, false, true);
         draw_pass(list, cam, pass, with, 1);
         for (int threads : {1, 2}) {
             RenderTargets without;
-            without.clear(200, 150);
-            PassMemory memory;  // twice through the same memory, as a shadow map's passes
+            without.clear(cam.width, cam.height);
+            PassMemory memory;
             for (int again = 0; again < 2; ++again) {
                 draw_pass(list, cam, pass, without, threads, 0, &memory);
                 EXPECT_EQ(with.depth, without.depth)
@@ -286,8 +271,62 @@ TEST(DrawPass, ADepthOnlyPassOfTrianglesOfEverySizeGivesTheDepthsOfAPassWithItem
         }
         size_t covered = 0;
         for (float d : with.depth) covered += d != kInfinity ? 1 : 0;
-        EXPECT_GT(covered, with.depth.size() / 4);
+        EXPECT_GT(covered, with.depth.size() / part) << "cull " << static_cast<int>(cull);
     }
+}
+
+TEST(DrawPass, ADepthOnlyPassOfTrianglesOfEverySizeGivesTheDepthsOfAPassWithItems) {
+    // A depth-only pass sets up its small triangles eight at a time (AVX2, where the processor
+    // has it) and one at a time (the rest), into records of its own, and draws them 4 x 2
+    // pixels at a time: its depths must be those of a pass that keeps items (the SetupTriangle
+    // path), bit for bit. Triangles from a pixel to the whole view, straddling tiles, through
+    // the near plane, both windings, every cull mode; one thread and two. Counts of seven past
+    // a multiple of eight: the last seven are set up one at a time.
+    TriangleList list;
+    uint64_t state = 12345;
+    auto uniform = [&](float lo, float hi) {
+        state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+        return lo + (hi - lo) * static_cast<float>(state >> 40) / 16777216.0f;
+    };
+    for (int k = 0; k < 4007; ++k) {
+        const float size = k % 50 == 0 ? 2.0f : k % 7 == 0 ? 0.2f : 0.02f;
+        const vec3 c(uniform(-3.0f, 3.0f), uniform(-2.5f, 2.5f), uniform(-4.0f, 5.5f));
+        auto corner = [&] {
+            return c + size * vec3(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1));
+        };
+        const vec3 a = corner(), b = corner();
+        add_triangle(list, a, b, corner());
+    }
+    Camera c;
+    c.position = vec3(0, 0, 5);
+    c.look_at = vec3(0.0f);
+    c.fov_deg = 50.0f;
+    const Bounds3 box{vec3(-3, -3, -5), vec3(3, 3, 6)};
+    expect_same_depths_with_and_without_items(list, camera_matrices(c, 200, 150, box), 4);
+    // Samples on the edges, where only the fill rule decides: small triangles whose corners
+    // lie on pixel centres (an orthographic view of 1/128 world unit per pixel), every
+    // orientation and both windings, alone (no neighbour to take the sample instead).
+    TriangleList on_centres;
+    auto centre = [](int i, int j, float z) {
+        return vec3(-100.0f / 128.0f + (static_cast<float>(i) + 0.5f) / 128.0f,
+                    75.0f / 128.0f - (static_cast<float>(j) + 0.5f) / 128.0f, z);
+    };
+    for (int j = 2, n = 0; j + 6 < 150; j += 6) {
+        for (int i = 2; i + 6 < 200 && n < 767; i += 6, ++n) {
+            const int a = 1 + n % 4, b = 1 + (n / 4) % 3, sx = n % 2 ? 1 : -1,
+                      sy = (n / 2) % 2 ? 1 : -1;
+            const int ci = sx > 0 ? i : i + 4, cj = sy > 0 ? j : j + 4;
+            const float z = 0.1f * static_cast<float>(n % 5);
+            add_triangle(on_centres, centre(ci, cj, z), centre(ci + sx * a, cj, z + 0.05f),
+                         centre(ci, cj + sy * b, z - 0.05f), n % 3 == 0);
+        }
+    }
+    Camera o;
+    o.type = Camera::Type::Orthographic;
+    o.position = vec3(0, 0, 5);
+    o.look_at = vec3(0.0f);
+    o.height = 150.0f / 128.0f;
+    expect_same_depths_with_and_without_items(on_centres, camera_matrices(o, 200, 150, box), 64);
 }
 
 TEST(DrawPass, TheItemBufferNamesTheInputTriangleThroughClipping) {

@@ -3,7 +3,7 @@
 //   vertex_stage.cpp    stage 2: model, view, projection; projection and snapping; Gouraud
 //   clipper.cpp         stage 3: clipping in homogeneous coordinates
 //   setup_binning.cpp   stages 3-4: setup (area, facing, culling, bounds) and binning in tiles
-//   depth_setup_avx2.cpp  a depth-only pass's setup, eight triangles at a time
+//   depth_pass_avx2.cpp a depth-only pass's setup and rasterization with AVX2
 //   small_triangle.h    a small triangle's edges and depth plane, and a depth-only pass's record
 //   rasterize.cpp       stage 5: edge functions and the depth test, per tile
 //   rasterize_plain.cpp stage 5 with the stencil on or depth writes off (shadow volumes' counts)
@@ -347,13 +347,16 @@ void vertex_stage(const TriangleList& list, FrameState& f, int threads);
 /// Stages 3 and 4 (setup_binning.cpp): clipping, setup and binning in drawing order.
 void assemble(const TriangleList& list, FrameState& f, int threads);
 /// A depth-only pass's setup of `count` triangles of the list (`indices`, three each) eight at a
-/// time, with AVX2 (depth_setup_avx2.cpp; only where avx2_available()): the small ones whose
+/// time, with AVX2 (depth_pass_avx2.cpp; only where avx2_available()): the small ones whose
 /// vertices are all inside the clip volume become records out[0, n), bit for bit as
 /// setup_triangle and depth_record make them one at a time, n returned; those not inside, or
 /// not small, are listed in others[other_count...] (offsets from the first, in order) for the
 /// caller; the rest draw nothing. Only the first count - count % 8 are looked at.
 size_t setup_depth_avx2(const FrameState& f, const uint32_t* indices, size_t count,
                         DepthTriangle* out, uint32_t* others, size_t& other_count);
+/// A depth-only pass's records binned in the tile, with AVX2 (depth_pass_avx2.cpp; only where
+/// avx2_available()): 4 x 2 pixels at a time, the same depths as rasterize_small.
+void rasterize_depth_avx2(const FrameState& f, const Tile& tile, TileBuffers& buf);
 /// Stage 4 for the painter's algorithm: binned again, back to front.
 void bin_back_to_front(FrameState& f, int threads);
 /// Calls draw(id, record(id)) for every id of `bins` binned in tile `ti`, in drawing order.

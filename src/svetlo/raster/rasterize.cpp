@@ -7,6 +7,7 @@
 
 #include "svetlo/core/rng.h"
 #include "svetlo/core/sampling.h"
+#include "svetlo/geometry/avx2.h"
 #include "svetlo/raster/pipeline.h"
 
 namespace svetlo::raster {
@@ -80,53 +81,6 @@ void rasterize_small(const SmallEdges& e, const DepthPlane& p, int cx, int cy, P
         }
         for (int k = 0; k < 3; ++k) w_row[k] = _mm_add_epi32(w_row[k], step_y[k]);
     }
-}
-
-/// A depth-only pass's small triangle in the tile. Most cover at most 4 x 2 pixels of it (a
-/// million triangles on a 2048 x 2048 map cover three pixels of bounds on average), and
-/// those are drawn without a loop, whose trip counts would be hard to predict: both rows at
-/// once, the second row's place that of the first when there is none (stored first, and
-/// unchanged, so the first row's store wins). The same depths as rasterize_small.
-void rasterize_depth(const DepthTriangle& d, const Tile& tile, TileBuffers& buf) {
-    const PixelSpan span{std::max<int>(d.bx0, tile.x0), std::min(d.bx1 + 1, tile.x1),
-                         std::max<int>(d.by0, tile.y0), std::min(d.by1 + 1, tile.y1)};
-    if (span.empty()) return;
-    const SmallEdges e = d.edges();
-    const auto [xs, xe, ys, ye] = span;
-    if (xe - xs > 4 || ye - ys > 2) {
-        rasterize_small<false>(e, d.plane, d.bx0, d.by0, span, tile, true, buf);
-        return;
-    }
-    const int i0 = xs - d.bx0, j0 = ys - d.by0;
-    __m128i w0[3], w1[3];
-    for (int k = 0; k < 3; ++k) {
-        const int32_t a = e.step_x[k];
-        w0[k] = _mm_add_epi32(_mm_set1_epi32(e.w[k] + a * i0 + e.step_y[k] * j0),
-                              _mm_set_epi32(3 * a, 2 * a, a, 0));
-        w1[k] = _mm_add_epi32(w0[k], _mm_set1_epi32(e.step_y[k]));
-    }
-    const __m128i in_span = _mm_cmplt_epi32(_mm_set_epi32(3, 2, 1, 0), _mm_set1_epi32(xe - xs));
-    const __m128i second = _mm_set1_epi32(ye - ys > 1 ? -1 : 0);
-    auto covered = [&](const __m128i(&w)[3], __m128i also) {
-        __m128i outside = _mm_srai_epi32(_mm_or_si128(_mm_or_si128(w[0], w[1]), w[2]), 31);
-        return _mm_castsi128_ps(_mm_andnot_si128(outside, _mm_and_si128(in_span, also)));
-    };
-    const __m128 c0 = covered(w0, in_span), c1 = covered(w1, second);
-    const __m128 column =
-        _mm_add_ps(_mm_set1_ps(static_cast<float>(i0)), _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f));
-    const __m128 dz = _mm_mul_ps(_mm_set1_ps(d.plane.dzdx), column);
-    const __m128 z0 =
-        _mm_add_ps(_mm_set1_ps(d.plane.z0 + d.plane.dzdy * static_cast<float>(j0)), dz);
-    const __m128 z1 =
-        _mm_add_ps(_mm_set1_ps(d.plane.z0 + d.plane.dzdy * static_cast<float>(j0 + 1)), dz);
-    const int tw = tile.x1 - tile.x0;
-    float* row0 = &buf.depth[static_cast<size_t>(ys - tile.y0) * tw + (xs - tile.x0)];
-    float* row1 = ye - ys > 1 ? row0 + tw : row0;
-    const __m128 old0 = _mm_loadu_ps(row0), old1 = _mm_loadu_ps(row1);
-    const __m128 pass0 = _mm_and_ps(c0, _mm_cmplt_ps(z0, old0)),
-                 pass1 = _mm_and_ps(c1, _mm_cmplt_ps(z1, old1));
-    _mm_storeu_ps(row1, _mm_or_ps(_mm_and_ps(pass1, z1), _mm_andnot_ps(pass1, old1)));
-    _mm_storeu_ps(row0, _mm_or_ps(_mm_and_ps(pass0, z0), _mm_andnot_ps(pass0, old0)));
 }
 
 /// Stage 5: rasterizes triangle `id` into the tile's visibility buffer, 8 x 8 blocks at a
@@ -299,10 +253,21 @@ void rasterize_tile(const FrameState& f, const Tile& tile, const SamplePattern& 
         draw_triangle(id, t, tile, sp, state, buf);
     });
     if (!f.depth_only) return;
+#ifdef SVETLO_HAS_AVX2_KERNEL
+    if (avx2_available()) {
+        rasterize_depth_avx2(f, tile, buf);
+        return;
+    }
+#endif
     const size_t ti = static_cast<size_t>(tile.y0 / kTile) * f.tiles_x + tile.x0 / kTile;
     for_each_in_bins(
         f.depth_bins, ti, [&](uint32_t id) -> const DepthTriangle& { return f.depth_tris[id]; },
-        [&](uint32_t, const DepthTriangle& d) { rasterize_depth(d, tile, buf); });
+        [&](uint32_t, const DepthTriangle& d) {
+            const PixelSpan span{std::max<int>(d.bx0, tile.x0), std::min(d.bx1 + 1, tile.x1),
+                                 std::max<int>(d.by0, tile.y0), std::min(d.by1 + 1, tile.y1)};
+            if (span.empty()) return;
+            rasterize_small<false>(d.edges(), d.plane, d.bx0, d.by0, span, tile, true, buf);
+        });
 }
 
 }  // namespace svetlo::raster

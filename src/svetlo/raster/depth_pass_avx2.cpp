@@ -1,9 +1,13 @@
-// A depth-only pass's setup eight triangles at a time with AVX2 (setup_depth_avx2 in
-// pipeline.h): the same records as setup_triangle and depth_record one at a time
-// (setup_binning.cpp), bit for bit, for the triangles that take the fast road (small, all
-// three vertices inside the clip volume); the others are handed back. Used only where
-// avx2_available(). The target is set by pragma after the headers, as in simd_shading_avx2.cpp.
+// A depth-only pass with AVX2 (pipeline.h): its setup eight triangles at a time
+// (setup_depth_avx2: the same records as setup_triangle and depth_record one at a time in
+// setup_binning.cpp, bit for bit, for the triangles that take the fast road, small with all
+// three vertices inside the clip volume; the others are handed back), and its records drawn
+// 4 x 2 pixels at a time (rasterize_depth_avx2: the same depths as rasterize_small). Used only
+// where avx2_available(). The target is set by pragma after the headers, as in
+// simd_shading_avx2.cpp.
 #include <immintrin.h>
+
+#include <algorithm>
 
 #include "svetlo/raster/pipeline.h"
 
@@ -205,6 +209,102 @@ size_t setup_depth_avx2(const FrameState& f, const uint32_t* indices, size_t cou
         }
     }
     return n;
+}
+
+namespace {
+
+/// Eight 16-bit lanes of bytes: pshufb's control taking 16-bit lanes l[0..7] of a register.
+__m128i words(int l0, int l1, int l2, int l3, int l4, int l5, int l6, int l7) {
+    const int l[8] = {l0, l1, l2, l3, l4, l5, l6, l7};
+    alignas(16) int8_t b[16];
+    for (int k = 0; k < 8; ++k) {
+        b[2 * k] = static_cast<int8_t>(2 * l[k]);
+        b[2 * k + 1] = static_cast<int8_t>(2 * l[k] + 1);
+    }
+    return _mm_load_si128(reinterpret_cast<const __m128i*>(b));
+}
+
+}  // namespace
+
+void rasterize_depth_avx2(const FrameState& f, const Tile& tile, TileBuffers& buf) {
+    // The record's rx[0..2], ry[0..2] as 16-bit lanes 0-5 of a load from rx (lanes 6-7: the
+    // plane's first float, unused). Edge k runs from vertex i = k + 1 to j = k + 2: in 32-bit
+    // lane k, the pairs (rx_i, ry_i) and (rx_j, ry_j) (lane 3 repeats lane 2, unused).
+    const __m128i take_i = words(1, 4, 2, 5, 0, 3, 0, 3), take_j = words(2, 5, 0, 3, 1, 4, 1, 4);
+    const __m128i swap = words(1, 0, 3, 2, 5, 4, 7, 6), minus_plus = _mm_set1_epi32(0x0001ffff);
+    // The 4 x 2 block: lanes 0-3 pixels 0-3 of its first row, 4-7 of its second; as pairs of
+    // 16-bit fixed-point offsets (x 256 in the low half, y 256 in the high half) for madd.
+    const __m256i ix = _mm256_setr_epi32(0, 1, 2, 3, 0, 1, 2, 3);
+    const __m256i iy = _mm256_setr_epi32(0, 0, 0, 0, 1, 1, 1, 1);
+    const __m256 ixf = _mm256_cvtepi32_ps(ix), iyf = _mm256_cvtepi32_ps(iy);
+    const __m256i lane_offsets = _mm256_or_si256(_mm256_slli_epi32(ix, kSubpixelBits),
+                                                 _mm256_slli_epi32(iy, 16 + kSubpixelBits));
+    const int tw = tile.x1 - tile.x0;
+    const size_t ti = static_cast<size_t>(tile.y0 / kTile) * f.tiles_x + tile.x0 / kTile;
+    for_each_in_bins(
+        f.depth_bins, ti, [&](uint32_t id) -> const DepthTriangle& { return f.depth_tris[id]; },
+        [&](uint32_t, const DepthTriangle& d) {
+            const int xs = std::max<int>(d.bx0, tile.x0), xe = std::min(d.bx1 + 1, tile.x1);
+            const int ys = std::max<int>(d.by0, tile.y0), ye = std::min(d.by1 + 1, tile.y1);
+            if (xs >= xe || ys >= ye) return;
+            // small_edges, three edges at once: D = (dx, dy) = vertex j - vertex i, Q = (-dy,
+            // dx) = (step_x, step_y) / 256, E at the corner = dy rx_i - dx ry_i = -Q . R_i.
+            const __m128i r = _mm_loadu_si128(reinterpret_cast<const __m128i*>(d.rx));
+            const __m128i ri = _mm_shuffle_epi8(r, take_i), rj = _mm_shuffle_epi8(r, take_j);
+            const __m128i q =
+                _mm_sign_epi16(_mm_shuffle_epi8(_mm_sub_epi16(rj, ri), swap), minus_plus);
+            const __m128i w = _mm_sub_epi32(_mm_setzero_si128(), _mm_madd_epi16(q, ri));
+            // top_left(a, b) with a = -dy (low half), b = dx (high half); bias -1 where not.
+            const __m128i gt = _mm_cmpgt_epi16(q, _mm_setzero_si128());
+            const __m128i eq = _mm_cmpeq_epi16(q, _mm_setzero_si128());
+            const __m128i tl = _mm_or_si128(gt, _mm_and_si128(eq, _mm_srli_epi32(gt, 16)));
+            const __m128i not_tl =
+                _mm_xor_si128(_mm_srai_epi32(_mm_slli_epi32(tl, 16), 16), _mm_set1_epi32(-1));
+            const __m128i wb = _mm_add_epi32(w, not_tl);
+            const __m256i w0 = _mm256_broadcastd_epi32(wb),
+                          w1 = _mm256_broadcastd_epi32(_mm_shuffle_epi32(wb, 1)),
+                          w2 = _mm256_broadcastd_epi32(_mm_shuffle_epi32(wb, 2));
+            const __m256i q0 = _mm256_broadcastd_epi32(q),
+                          q1 = _mm256_broadcastd_epi32(_mm_shuffle_epi32(q, 1)),
+                          q2 = _mm256_broadcastd_epi32(_mm_shuffle_epi32(q, 2));
+            const __m256 z0 = _mm256_set1_ps(d.plane.z0), dzdx = _mm256_set1_ps(d.plane.dzdx),
+                         dzdy = _mm256_set1_ps(d.plane.dzdy);
+            for (int py = ys; py < ye; py += 2) {
+                const int j = py - d.by0;
+                // rasterize_small's depth: z0 + dzdy j, then + dzdx i, each rounded in float.
+                const __m256 z_row = _mm256_add_ps(
+                    z0,
+                    _mm256_mul_ps(dzdy, _mm256_add_ps(_mm256_set1_ps(static_cast<float>(j)), iyf)));
+                const __m256i rows_in = _mm256_cmpgt_epi32(_mm256_set1_epi32(ye - py), iy);
+                float* row0 = &buf.depth[static_cast<size_t>(py - tile.y0) * tw];
+                float* row1 = py + 1 < ye ? row0 + tw : row0;
+                for (int px = xs; px < xe; px += 4) {
+                    const int i = px - d.bx0;
+                    const __m256i p = _mm256_add_epi32(
+                        lane_offsets,
+                        _mm256_set1_epi32((i << kSubpixelBits) | (j << (16 + kSubpixelBits))));
+                    const __m256i e0 = _mm256_add_epi32(w0, _mm256_madd_epi16(q0, p));
+                    const __m256i e1 = _mm256_add_epi32(w1, _mm256_madd_epi16(q1, p));
+                    const __m256i e2 = _mm256_add_epi32(w2, _mm256_madd_epi16(q2, p));
+                    const __m256i in = _mm256_and_si256(
+                        rows_in, _mm256_cmpgt_epi32(_mm256_set1_epi32(xe - px), ix));
+                    const __m256 covered = _mm256_castsi256_ps(_mm256_andnot_si256(
+                        _mm256_srai_epi32(_mm256_or_si256(_mm256_or_si256(e0, e1), e2), 31), in));
+                    const __m256 z = _mm256_add_ps(
+                        z_row,
+                        _mm256_mul_ps(dzdx,
+                                      _mm256_add_ps(_mm256_set1_ps(static_cast<float>(i)), ixf)));
+                    float* at0 = row0 + (px - tile.x0);
+                    float* at1 = row1 + (px - tile.x0);
+                    const __m256 old = _mm256_loadu2_m128(at1, at0);
+                    const __m256 pass = _mm256_and_ps(covered, _mm256_cmp_ps(z, old, _CMP_LT_OQ));
+                    const __m256 out = _mm256_blendv_ps(old, z, pass);
+                    // The second row first: where there is none it is the first, unchanged.
+                    _mm_storeu_ps(at1, _mm256_extractf128_ps(out, 1));
+                    _mm_storeu_ps(at0, _mm256_castps256_ps128(out));
+                }
+            }
+        });
 }
 
 }  // namespace svetlo::raster
