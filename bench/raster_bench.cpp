@@ -183,9 +183,18 @@ int main(int argc, char** argv) {
     int threads = argc > 1 ? std::max(1, std::atoi(argv[1])) : 1;
     int frames = argc > 2 ? std::max(1, std::atoi(argv[2])) : 5;
     if (argc > 3) {
-        // One shadow workload, svetlo alone (for a profiler).
+        // One workload, svetlo alone (for a profiler).
+        const std::string name = argv[3];
+        if (name == "geometry" || name == "fragment") {
+            const Workload w = name == "geometry" ? geometry_heavy() : fragment_heavy();
+            std::printf("%s: %.1f ms per frame (median of %d, %d threads)\n", name.c_str(),
+                        svetlo_frame_ms(w, threads, frames), frames, threads);
+            return 0;
+        }
         if (bench::shadow_profile(argv[3], threads, frames)) return 0;
-        std::fprintf(stderr, "unknown workload %s (map, zfail, zpass or depth)\n", argv[3]);
+        std::fprintf(stderr,
+                     "unknown workload %s (geometry, fragment, map, zfail, zpass or depth)\n",
+                     argv[3]);
         return 1;
     }
     std::printf("%-32s %7s %12s %12s %10s\n", "workload, 1920x1080", "threads", "svetlo ms",
