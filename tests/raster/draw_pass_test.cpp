@@ -329,6 +329,48 @@ TEST(DrawPass, ADepthOnlyPassOfTrianglesOfEverySizeGivesTheDepthsOfAPassWithItem
     expect_same_depths_with_and_without_items(on_centres, camera_matrices(o, 200, 150, box), 64);
 }
 
+TEST(DrawPass, AFanOfLongSliversCoversEveryPixelExactlyOnce) {
+    // Triangles are binned only in the tiles their edges reach, not every tile of their
+    // bounds: a fan of long, thin triangles across a view of many tiles (every one a diagonal
+    // through the bounds of its tiles), alternately wound, must still cover every pixel once:
+    // counted in the stencil (up on front faces, down on back faces: +1 or -1 each), and in
+    // the item buffer, on one thread and two.
+    TriangleList fan;
+    const vec3 apex(-2.0f, -1.5f, 0.0f);
+    std::vector<vec3> rim;
+    for (int k = 0; k <= 40; ++k)
+        rim.emplace_back(-2.0f + 0.1f * static_cast<float>(k), 1.5f, 0.0f);
+    for (int k = 1; k <= 30; ++k) rim.emplace_back(2.0f, 1.5f - 0.1f * static_cast<float>(k), 0.0f);
+    for (size_t k = 0; k + 1 < rim.size(); ++k)
+        add_triangle(fan, apex, rim[k + 1], rim[k], k % 2 == 1);
+    Camera c;
+    c.type = Camera::Type::Orthographic;
+    c.position = vec3(0, 0, 5);
+    c.look_at = vec3(0.0f);
+    c.height = 2.0f;
+    const CameraMatrices cam = camera_matrices(c, 300, 200, Bounds3{vec3(-2), vec3(2)});
+    PipelineState count = counting_state();
+    count.depth_test = false;
+    for (int threads : {1, 2}) {
+        RenderTargets t;
+        t.clear(300, 200, 1, true, true);
+        draw_pass(fan, cam, count, t, threads);
+        RenderTargets items;
+        items.clear(300, 200, 1, false, true);
+        draw_pass(fan, cam, PipelineState{}, items, threads);
+        int wrong = 0, uncovered = 0;
+        for (int j = 0; j < 200; ++j) {
+            for (int i = 0; i < 300; ++i) {
+                const uint8_t n = t.stencil[t.index(i, j)];
+                wrong += n == 1 || n == 255 ? 0 : 1;
+                uncovered += items.primitive[items.index(i, j)] == RenderTargets::kNoPrimitive;
+            }
+        }
+        EXPECT_EQ(wrong, 0) << threads << " threads";
+        EXPECT_EQ(uncovered, 0) << threads << " threads";
+    }
+}
+
 TEST(DrawPass, TheItemBufferNamesTheInputTriangleThroughClipping) {
     // A floor from under the camera to far ahead: its triangles cross the near plane, and
     // their clipped pieces still report the input triangle.

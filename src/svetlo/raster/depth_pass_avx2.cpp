@@ -267,18 +267,23 @@ void rasterize_depth_avx2(const FrameState& f, const Tile& tile, TileBuffers& bu
             const __m256i q0 = _mm256_broadcastd_epi32(q),
                           q1 = _mm256_broadcastd_epi32(_mm_shuffle_epi32(q, 1)),
                           q2 = _mm256_broadcastd_epi32(_mm_shuffle_epi32(q, 2));
-            const __m256 z0 = _mm256_set1_ps(d.plane.z0), dzdx = _mm256_set1_ps(d.plane.dzdx),
-                         dzdy = _mm256_set1_ps(d.plane.dzdy);
+            const __m256 z0 = _mm256_set1_ps(d.plane.z0), dzdy = _mm256_set1_ps(d.plane.dzdy);
+            // rasterize_small's depth: z0 + dzdy j, then + dzdx i for the first four pixels of
+            // a row, then 4 dzdx more per four, each rounded in float.
+            const __m256 first_step =
+                _mm256_mul_ps(_mm256_set1_ps(d.plane.dzdx),
+                              _mm256_add_ps(_mm256_set1_ps(static_cast<float>(xs - d.bx0)), ixf));
+            const __m256 dzdx4 = _mm256_set1_ps(4.0f * d.plane.dzdx);
             for (int py = ys; py < ye; py += 2) {
                 const int j = py - d.by0;
-                // rasterize_small's depth: z0 + dzdy j, then + dzdx i, each rounded in float.
                 const __m256 z_row = _mm256_add_ps(
                     z0,
                     _mm256_mul_ps(dzdy, _mm256_add_ps(_mm256_set1_ps(static_cast<float>(j)), iyf)));
                 const __m256i rows_in = _mm256_cmpgt_epi32(_mm256_set1_epi32(ye - py), iy);
                 float* row0 = &buf.depth[static_cast<size_t>(py - tile.y0) * tw];
                 float* row1 = py + 1 < ye ? row0 + tw : row0;
-                for (int px = xs; px < xe; px += 4) {
+                __m256 z = _mm256_add_ps(z_row, first_step);
+                for (int px = xs; px < xe; px += 4, z = _mm256_add_ps(z, dzdx4)) {
                     const int i = px - d.bx0;
                     const __m256i p = _mm256_add_epi32(
                         lane_offsets,
@@ -290,10 +295,6 @@ void rasterize_depth_avx2(const FrameState& f, const Tile& tile, TileBuffers& bu
                         rows_in, _mm256_cmpgt_epi32(_mm256_set1_epi32(xe - px), ix));
                     const __m256 covered = _mm256_castsi256_ps(_mm256_andnot_si256(
                         _mm256_srai_epi32(_mm256_or_si256(_mm256_or_si256(e0, e1), e2), 31), in));
-                    const __m256 z = _mm256_add_ps(
-                        z_row,
-                        _mm256_mul_ps(dzdx,
-                                      _mm256_add_ps(_mm256_set1_ps(static_cast<float>(i)), ixf)));
                     float* at0 = row0 + (px - tile.x0);
                     float* at1 = row1 + (px - tile.x0);
                     const __m256 old = _mm256_loadu2_m128(at1, at0);

@@ -33,10 +33,11 @@ void rasterize_small(const SmallEdges& e, const DepthPlane& p, int cx, int cy, P
         step_x[k] = _mm_set1_epi32(4 * a);
         step_y[k] = _mm_set1_epi32(e.step_y[k]);
     }
-    // Depth: z0 + dzdx i + dzdy j in float, i and j from the corner (exact in float).
-    const __m128 dzdx = _mm_set1_ps(p.dzdx), four = _mm_set1_ps(4.0f);
-    const __m128 first_column =
-        _mm_add_ps(_mm_set1_ps(static_cast<float>(i0)), _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f));
+    // Depth: (z0 + dzdy j) + dzdx i in float, i and j from the corner (exact in float), for
+    // the row's first four pixels; then 4 dzdx more per four pixels.
+    const __m128 dzdx = _mm_set1_ps(p.dzdx), dzdx4 = _mm_set1_ps(4.0f * p.dzdx);
+    const __m128 first_step = _mm_mul_ps(
+        dzdx, _mm_add_ps(_mm_set1_ps(static_cast<float>(i0)), _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f)));
     const int tw = tile.x1 - tile.x0;
     const __m128i lane = _mm_set_epi32(3, 2, 1, 0);
     const __m128i id4 = _mm_set1_epi32(static_cast<int32_t>(id));
@@ -49,7 +50,7 @@ void rasterize_small(const SmallEdges& e, const DepthPlane& p, int cx, int cy, P
     for (int py = ys; py < ye; ++py) {
         __m128i w0 = w_row[0], w1 = w_row[1], w2 = w_row[2];
         const __m128 z_row = _mm_set1_ps(p.z0 + p.dzdy * static_cast<float>(py - cy));
-        __m128 column = first_column;
+        __m128 z4 = _mm_add_ps(z_row, first_step);
         for (int px = xs; px < xe; px += 4) {
             // Covered (every edge function's sign bit clear) and within the span.
             __m128i outside = _mm_srai_epi32(_mm_or_si128(_mm_or_si128(w0, w1), w2), 31);
@@ -59,7 +60,6 @@ void rasterize_small(const SmallEdges& e, const DepthPlane& p, int cx, int cy, P
             // predict); the lanes not written write back what they read (the buffers have room
             // for four samples past the tile).
             size_t i = static_cast<size_t>(py - tile.y0) * tw + (px - tile.x0);
-            __m128 z4 = _mm_add_ps(z_row, _mm_mul_ps(dzdx, column));
             __m128 old_z = _mm_loadu_ps(&buf.depth[i]);
             __m128 pass = depth_test ? _mm_and_ps(covered, _mm_cmplt_ps(z4, old_z)) : covered;
             _mm_storeu_ps(&buf.depth[i], blend(pass, z4, old_z));
@@ -77,7 +77,7 @@ void rasterize_small(const SmallEdges& e, const DepthPlane& p, int cx, int cy, P
             w0 = _mm_add_epi32(w0, step_x[0]);
             w1 = _mm_add_epi32(w1, step_x[1]);
             w2 = _mm_add_epi32(w2, step_x[2]);
-            column = _mm_add_ps(column, four);
+            z4 = _mm_add_ps(z4, dzdx4);
         }
         for (int k = 0; k < 3; ++k) w_row[k] = _mm_add_epi32(w_row[k], step_y[k]);
     }

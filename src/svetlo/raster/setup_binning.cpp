@@ -1,5 +1,6 @@
 // Stages 3 and 4: primitive assembly, clipping, setup, and binning into tiles.
 #include <algorithm>
+#include <type_traits>
 
 #include "svetlo/core/parallel.h"
 #include "svetlo/geometry/avx2.h"
@@ -67,6 +68,59 @@ Binned binned(uint32_t id, const Record& t) {
             static_cast<uint16_t>(t.bx1 / kTile), static_cast<uint16_t>(t.by1 / kTile)};
 }
 
+/// Whether triangle `te` may cover a sample of tile (tx, ty): for each edge, its value at the
+/// corner of the tile's sample positions where it is largest (exact, in 64 bits). A long,
+/// thin triangle (a shadow volume's side) crosses its bounds' tiles on a diagonal; the others
+/// are left out.
+bool reaches(const FrameState& f, const TriangleEdges& te, size_t tx, size_t ty) {
+    const auto& b = f.sample_bounds;
+    const int64_t x0 = static_cast<int64_t>(tx) * kTile * kSubpixel + b.lo.x,
+                  y0 = static_cast<int64_t>(ty) * kTile * kSubpixel + b.lo.y;
+    const int64_t x1 = static_cast<int64_t>(tx + 1) * kTile * kSubpixel - kSubpixel + b.hi.x,
+                  y1 = static_cast<int64_t>(ty + 1) * kTile * kSubpixel - kSubpixel + b.hi.y;
+    for (const Edge& e : te.e) {
+        if (e.at(e.a > 0 ? x1 : x0, e.b > 0 ? y1 : y0) + e.bias < 0) return false;
+    }
+    return true;
+}
+
+/// Stage 4 for one chunk: its triangles (in drawing order) into the tiles they may cover, as
+/// compressed rows: tile k's triangles are b.ids[b.start[k] .. b.start[k + 1]). Triangles
+/// whose bounds meet more than two tiles are tested against each (`reaches`; `triangle(id)`
+/// gives the SetupTriangle of an id), unless the bounds have a margin (the wireframe draws
+/// beside the edges). A depth-only pass's records are small and not tested (`triangle`
+/// null).
+template <class Triangle = std::nullptr_t>
+void bin_chunk(const FrameState& f, const std::vector<Binned>& tris, FrameState::Bins& b,
+               Triangle&& triangle = nullptr) {
+    size_t tiles = static_cast<size_t>(f.tiles_x) * f.tiles_y;
+    b.start.assign(tiles + 1, 0);
+    const bool exact = f.sample_bounds.margin == 0;
+    auto each = [&](auto&& visit) {
+        for (const Binned& t : tris) {
+            if constexpr (!std::is_same_v<std::decay_t<Triangle>, std::nullptr_t>) {
+                if (exact && (t.tx1 - t.tx0 + 1) * (t.ty1 - t.ty0 + 1) > 2) {
+                    const TriangleEdges te(triangle(t.id));
+                    for (size_t ty = t.ty0; ty <= t.ty1; ++ty) {
+                        for (size_t tx = t.tx0; tx <= t.tx1; ++tx) {
+                            if (reaches(f, te, tx, ty)) visit(ty * f.tiles_x + tx, t.id);
+                        }
+                    }
+                    continue;
+                }
+            }
+            for (size_t ty = t.ty0; ty <= t.ty1; ++ty) {
+                for (size_t tx = t.tx0; tx <= t.tx1; ++tx) visit(ty * f.tiles_x + tx, t.id);
+            }
+        }
+    };
+    each([&](size_t tile, uint32_t) { b.start[tile + 1]++; });
+    for (size_t k = 0; k < tiles; ++k) b.start[k + 1] += b.start[k];
+    b.ids.resize(b.start[tiles]);
+    std::vector<uint32_t> fill(b.start.begin(), b.start.end() - 1);
+    each([&](size_t tile, uint32_t id) { b.ids[fill[tile]++] = id; });
+}
+
 /// A depth-only pass's record of small triangle t, its one sample per pixel at offset
 /// `sample` (fixed point) in the pixel.
 DepthTriangle depth_record(const SetupTriangle& t, glm::ivec2 sample) {
@@ -85,25 +139,6 @@ DepthTriangle depth_record(const SetupTriangle& t, glm::ivec2 sample) {
     }
     d.plane = depth_plane(rx, ry, t.z, t.inv_area);
     return d;
-}
-
-/// Stage 4 for one chunk: its triangles (in drawing order) into tiles, as compressed rows:
-/// tile k's triangles are b.ids[b.start[k] .. b.start[k + 1]).
-void bin_chunk(const FrameState& f, const std::vector<Binned>& tris, FrameState::Bins& b) {
-    size_t tiles = static_cast<size_t>(f.tiles_x) * f.tiles_y;
-    b.start.assign(tiles + 1, 0);
-    auto each = [&](auto&& visit) {
-        for (const Binned& t : tris) {
-            for (size_t ty = t.ty0; ty <= t.ty1; ++ty) {
-                for (size_t tx = t.tx0; tx <= t.tx1; ++tx) visit(ty * f.tiles_x + tx, t.id);
-            }
-        }
-    };
-    each([&](size_t tile, uint32_t) { b.start[tile + 1]++; });
-    for (size_t k = 0; k < tiles; ++k) b.start[k + 1] += b.start[k];
-    b.ids.resize(b.start[tiles]);
-    std::vector<uint32_t> fill(b.start.begin(), b.start.end() - 1);
-    each([&](size_t tile, uint32_t id) { b.ids[fill[tile]++] = id; });
 }
 
 }  // namespace
@@ -144,7 +179,7 @@ void assemble(const TriangleList& list, FrameState& f, int threads) {
         // they would be reloaded every time).
         const uint32_t* const indices = list.indices.data();
         const uint32_t* const materials = list.material.data();
-        auto one = [&](size_t s) {
+        auto one = [&](size_t s) __attribute__((always_inline)) {
             uint32_t idx[3];
             const ScreenVertex* sv[3];
             for (int i = 0; i < 3; ++i) {
@@ -227,7 +262,9 @@ void assemble(const TriangleList& list, FrameState& f, int threads) {
         counts[c] = binned_count;
         for (size_t k = 0; k < clipped[c].size(); ++k)
             to_bin.push_back(binned(kExtra | static_cast<uint32_t>(k), clipped[c][k]));
-        bin_chunk(f, to_bin, f.bins[c]);
+        bin_chunk(f, to_bin, f.bins[c], [&](uint32_t id) -> const SetupTriangle& {
+            return (id & kExtra) ? clipped[c][id & ~kExtra] : f.tris[id];
+        });
         if (f.depth_only) {
             to_bin_depth.resize(depth_count);
             bin_chunk(f, to_bin_depth, f.depth_bins[c]);
@@ -289,7 +326,8 @@ void bin_back_to_front(FrameState& f, int threads) {
         std::vector<Binned> to_bin;
         for (size_t k = c * kChunk; k < std::min(order.size(), (c + 1) * kChunk); ++k)
             to_bin.push_back(binned(order[k], f.tri(order[k])));
-        bin_chunk(f, to_bin, f.bins[c]);
+        bin_chunk(f, to_bin, f.bins[c],
+                  [&](uint32_t id) -> const SetupTriangle& { return f.tri(id); });
     });
 }
 

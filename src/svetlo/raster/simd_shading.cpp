@@ -25,10 +25,12 @@ void shade_run_avx2(const TriangleRun& q, float dl1, float dl2, int first, int g
 
 namespace {
 
-/// Whether the AVX2 kernel was built and the processor runs it (one check: avx2.h's).
+/// Whether the AVX2 kernel was built and the processor runs it (avx2.h's check, kept here:
+/// asked once per batch of samples).
 bool cpu_has_avx2() {
 #ifdef SVETLO_HAS_AVX2_KERNEL
-    return avx2_available();
+    static const bool has = avx2_available();
+    return has;
 #else
     return false;
 #endif
