@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cstring>
-#include <unordered_map>
 
 #include "svetlo/core/parallel.h"
 
@@ -62,58 +61,92 @@ TriangleList build_triangle_list(const std::vector<const Object*>& objects,
 
 namespace {
 
-struct PositionHash {
-    size_t operator()(const vec3& p) const {
+/// One id per distinct position, in the order of first appearance (-0 and +0 alike; a NaN
+/// coordinate matches nothing): open addressing over a table of twice the vertices.
+std::vector<uint32_t> weld_positions(const std::vector<vec3>& positions) {
+    constexpr uint32_t kEmpty = ~0u;
+    size_t capacity = 16;
+    while (capacity < 2 * positions.size()) capacity *= 2;
+    const size_t mask = capacity - 1;
+    std::vector<uint32_t> first(capacity, kEmpty);  // the first vertex at a position
+    std::vector<uint32_t> weld(positions.size());
+    uint32_t ids = 0;
+    for (size_t v = 0; v < positions.size(); ++v) {
+        const vec3 p = positions[v] + vec3(0.0f);  // -0 and +0 are one position
         uint32_t b[3];
         std::memcpy(b, &p, sizeof(b));
-        return (b[0] * 73856093u) ^ (b[1] * 19349663u) ^ (b[2] * 83492791u);
+        size_t slot = ((b[0] * 73856093u) ^ (b[1] * 19349663u) ^ (b[2] * 83492791u)) & mask;
+        for (;; slot = (slot + 1) & mask) {
+            if (first[slot] == kEmpty) {
+                first[slot] = static_cast<uint32_t>(v);
+                weld[v] = ids++;
+                break;
+            }
+            const vec3 q = positions[first[slot]] + vec3(0.0f);
+            if (q == p) {
+                weld[v] = weld[first[slot]];
+                break;
+            }
+        }
     }
-};
+    return weld;
+}
 
 }  // namespace
 
 void build_adjacency(TriangleList& list) {
-    // Weld: one id per distinct position.
-    std::unordered_map<vec3, uint32_t, PositionHash> ids;
-    std::vector<uint32_t> weld(list.positions.size());
-    for (size_t v = 0; v < list.positions.size(); ++v) {
-        vec3 p = list.positions[v] + vec3(0.0f);  // -0 and +0 are one position
-        weld[v] = ids.try_emplace(p, static_cast<uint32_t>(ids.size())).first->second;
-    }
-    // Every directed edge, sorted by its undirected key: a manifold edge is a pair of
-    // neighbours in this order, wound opposite ways.
+    const std::vector<uint32_t> weld = weld_positions(list.positions);
+    // Every directed edge, grouped by its undirected key (lower id, higher id), each group in
+    // the order of its slots (3 t + e): a manifold edge is a group of two, wound opposite
+    // ways. A counting sort by the lower id, then each vertex's few edges by the higher.
     struct Edge {
-        uint64_t key;
+        uint32_t high;
         uint32_t slot;  // 3 t + e
         bool forward;   // from the lower welded id to the higher
     };
     const size_t count = list.triangle_count();
-    std::vector<Edge> edges;
-    edges.reserve(3 * count);
-    for (size_t t = 0; t < count; ++t) {
-        uint32_t w[3] = {weld[list.indices[3 * t]], weld[list.indices[3 * t + 1]],
-                         weld[list.indices[3 * t + 2]]};
-        // A triangle with two vertices alike (a sphere's pole row, a cone's apex) has no area
-        // and joins nothing: its neighbours join each other across it.
-        if (w[0] == w[1] || w[1] == w[2] || w[2] == w[0]) continue;
-        for (int e = 0; e < 3; ++e) {
-            uint32_t a = w[e], b = w[(e + 1) % 3];
-            uint64_t key = (uint64_t{std::min(a, b)} << 32) | std::max(a, b);
-            edges.push_back({key, static_cast<uint32_t>(3 * t + e), a < b});
+    const size_t ids = weld.empty() ? 0 : *std::max_element(weld.begin(), weld.end()) + 1;
+    std::vector<uint32_t> start(ids + 1, 0);
+    auto each_edge = [&](auto&& visit) {
+        for (size_t t = 0; t < count; ++t) {
+            const uint32_t w[3] = {weld[list.indices[3 * t]], weld[list.indices[3 * t + 1]],
+                                   weld[list.indices[3 * t + 2]]};
+            // A triangle with two vertices alike (a sphere's pole row, a cone's apex) has no
+            // area and joins nothing: its neighbours join each other across it.
+            if (w[0] == w[1] || w[1] == w[2] || w[2] == w[0]) continue;
+            for (int e = 0; e < 3; ++e) {
+                const uint32_t a = w[e], b = w[(e + 1) % 3];
+                visit(std::min(a, b),
+                      Edge{std::max(a, b), static_cast<uint32_t>(3 * t + e), a < b});
+            }
         }
-    }
-    std::sort(edges.begin(), edges.end(), [](const Edge& x, const Edge& y) {
-        return x.key != y.key ? x.key < y.key : x.slot < y.slot;
-    });
+    };
+    each_edge([&](uint32_t low, const Edge&) { ++start[low + 1]; });
+    for (size_t k = 0; k < ids; ++k) start[k + 1] += start[k];
+    std::vector<Edge> edges(start[ids]);
+    std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+    each_edge([&](uint32_t low, const Edge& e) { edges[fill[low]++] = e; });
     list.neighbour.assign(3 * count, TriangleList::kOpen);
-    for (size_t i = 0; i < edges.size();) {
-        size_t j = i;
-        while (j < edges.size() && edges[j].key == edges[i].key) ++j;
-        if (j - i == 2 && edges[i].forward != edges[i + 1].forward) {
-            list.neighbour[edges[i].slot] = edges[i + 1].slot / 3;
-            list.neighbour[edges[i + 1].slot] = edges[i].slot / 3;
+    for (size_t low = 0; low < ids; ++low) {
+        Edge* first = edges.data() + start[low];
+        Edge* last = edges.data() + start[low + 1];
+        // By the higher id, stable: the slots stay in order within a key (insertion sort: a
+        // vertex has a few edges).
+        for (Edge* i = first + 1; i < last; ++i) {
+            const Edge e = *i;
+            Edge* j = i;
+            for (; j > first && (j - 1)->high > e.high; --j) *j = *(j - 1);
+            *j = e;
         }
-        i = j;
+        for (Edge* i = first; i < last;) {
+            Edge* j = i;
+            while (j < last && j->high == i->high) ++j;
+            if (j - i == 2 && i[0].forward != i[1].forward) {
+                list.neighbour[i[0].slot] = i[1].slot / 3;
+                list.neighbour[i[1].slot] = i[0].slot / 3;
+            }
+            i = j;
+        }
     }
 }
 
