@@ -85,65 +85,69 @@ void fill_masks(const ShadowTechniqueState& technique, const FrameState& f, cons
         found.resize(samples);
         scratch.index.resize(samples);
     }
-    size_t n = 0;  // samples found
+    // The samples that need a mask: covered, and for a screen-space technique, not lit by
+    // every caster (where every caster lights it, V is 1 whether it faces them or not).
+    size_t n = 0;
+    for (size_t i = 0; i < samples; ++i) {
+        if (buf.tri[i] == kNone) continue;
+        if (!needs_surface) {
+            const size_t pixel = i / static_cast<size_t>(S);
+            const int px = tile.x0 + static_cast<int>(pixel % static_cast<size_t>(tw)),
+                      py = tile.y0 + static_cast<int>(pixel / static_cast<size_t>(tw));
+            const size_t in_frame =
+                frame_sample(f.cam.width, S, px, py, static_cast<int>(i % static_cast<size_t>(S)));
+            bool all_lit = true;
+            for (const uint8_t* mask : scratch.masks) all_lit = all_lit && mask[in_frame];
+            if (all_lit) continue;
+        }
+        scratch.index[n++] = static_cast<uint32_t>(i);
+    }
+    // Their surfaces.
     EdgeCache edges(f);
     uint32_t normal_of = kNone;  // the triangle whose unit normal ng is
     vec3 ng(0.0f);               // and its unit normal
-    size_t i = 0;                // the sample's index in the tile
-    for (int py = tile.y0; py < tile.y1; ++py) {
-        for (int px = tile.x0; px < tile.x1; ++px) {
-            for (int s = 0; s < S; ++s, ++i) {
-                // The samples' triangles and their vertices are scattered over the frame's
-                // (a triangle covers a pixel or two): fetch ahead, the triangle first and its
-                // vertices once it has arrived.
-                constexpr size_t kAheadTriangle = 16, kAheadVertices = 8;
-                if (i + kAheadTriangle < samples && buf.tri[i + kAheadTriangle] != kNone) {
-                    _mm_prefetch(reinterpret_cast<const char*>(&f.tri(buf.tri[i + kAheadTriangle])),
-                                 _MM_HINT_T0);
-                }
-                if (i + kAheadVertices < samples && buf.tri[i + kAheadVertices] != kNone) {
-                    const SetupTriangle& ahead = f.tri(buf.tri[i + kAheadVertices]);
-                    for (int v = 0; v < 3; ++v) {
-                        _mm_prefetch(reinterpret_cast<const char*>(&f.vertex(ahead.v[v])),
-                                     _MM_HINT_T0);
-                    }
-                }
-                const uint32_t id = buf.tri[i];
-                if (id == kNone) continue;
-                if (!needs_surface) {
-                    // A screen-space mask: where every caster lights the sample, V is 1 whether
-                    // it faces them or not; the surface is needed only where one does not.
-                    const size_t in_frame = frame_sample(f.cam.width, S, px, py, s);
-                    bool all_lit = true;
-                    for (const uint8_t* mask : scratch.masks) all_lit = all_lit && mask[in_frame];
-                    if (all_lit) continue;
-                }
-                ShadowSample& at = found[n];
-                at.pass = pass;
-                at.i = px;
-                at.j = py;
-                at.s = s;
-                const SetupTriangle& t = f.tri(id);
-                const ClipVertex& A = f.vertex(t.v[0]);
-                const ClipVertex& B = f.vertex(t.v[1]);
-                const ClipVertex& C = f.vertex(t.v[2]);
-                if (id != normal_of) {
-                    normal_of = id;
-                    ng = face_normal(t, A, B, C);
-                }
-                const vec2 l =
-                    left_weights && t.small
-                        ? vec2(buf.l1[i], buf.l2[i])
-                        : edges.of(id).weights(static_cast<int64_t>(px) * kSubpixel + sp.ox[s],
-                                               static_cast<int64_t>(py) * kSubpixel + sp.oy[s]);
-                const Weights w = perspective_weights(l, A, B, C);
-                at.p = w.b[0] * A.world + w.b[1] * B.world + w.b[2] * C.world;
-                // The side the camera sees (the sign of ng . wo, wo not made unit).
-                const vec3 toward_eye = f.cam.orthographic ? -f.cam.forward : f.cam.eye - at.p;
-                at.n = glm::dot(ng, toward_eye) >= 0.0f ? ng : -ng;
-                scratch.index[n++] = static_cast<uint32_t>(i);
-            }
+    for (size_t m = 0; m < n; ++m) {
+        // The samples' triangles and their vertices are scattered over the frame's (a
+        // triangle covers a pixel or two): fetch ahead, the triangle first and its vertices
+        // once it has arrived.
+        constexpr size_t kAheadTriangle = 16, kAheadVertices = 8;
+        if (m + kAheadTriangle < n)
+            _mm_prefetch(
+                reinterpret_cast<const char*>(&f.tri(buf.tri[scratch.index[m + kAheadTriangle]])),
+                _MM_HINT_T0);
+        if (m + kAheadVertices < n) {
+            const SetupTriangle& ahead = f.tri(buf.tri[scratch.index[m + kAheadVertices]]);
+            for (int v = 0; v < 3; ++v)
+                _mm_prefetch(reinterpret_cast<const char*>(&f.vertex(ahead.v[v])), _MM_HINT_T0);
         }
+        const size_t i = scratch.index[m];
+        const uint32_t id = buf.tri[i];
+        const size_t pixel = i / static_cast<size_t>(S);
+        const int px = tile.x0 + static_cast<int>(pixel % static_cast<size_t>(tw)),
+                  py = tile.y0 + static_cast<int>(pixel / static_cast<size_t>(tw));
+        const int s = static_cast<int>(i % static_cast<size_t>(S));
+        ShadowSample& at = found[m];
+        at.pass = pass;
+        at.i = px;
+        at.j = py;
+        at.s = s;
+        const SetupTriangle& t = f.tri(id);
+        const ClipVertex& A = f.vertex(t.v[0]);
+        const ClipVertex& B = f.vertex(t.v[1]);
+        const ClipVertex& C = f.vertex(t.v[2]);
+        if (id != normal_of) {
+            normal_of = id;
+            ng = face_normal(t, A, B, C);
+        }
+        const vec2 l = left_weights && t.small
+                           ? vec2(buf.l1[i], buf.l2[i])
+                           : edges.of(id).weights(static_cast<int64_t>(px) * kSubpixel + sp.ox[s],
+                                                  static_cast<int64_t>(py) * kSubpixel + sp.oy[s]);
+        const Weights w = perspective_weights(l, A, B, C);
+        at.p = w.b[0] * A.world + w.b[1] * B.world + w.b[2] * C.world;
+        // The side the camera sees (the sign of ng . wo, wo not made unit).
+        const vec3 toward_eye = f.cam.orthographic ? -f.cam.forward : f.cam.eye - at.p;
+        at.n = glm::dot(ng, toward_eye) >= 0.0f ? ng : -ng;
     }
     // Source by source (shadow_casters groups a source's casters together), so that the sums
     // take memory for one source's samples, whatever the number of lights.
