@@ -4,6 +4,7 @@
 //   clipper.cpp         stage 3: clipping in homogeneous coordinates
 //   setup_binning.cpp   stages 3-4: setup (area, facing, culling, bounds) and binning in tiles
 //   depth_pass_avx2.cpp a depth-only pass's setup and rasterization with AVX2
+//   stencil_count_avx2.cpp  rasterize_plain's stencil count with AVX2
 //   small_triangle.h    a small triangle's edges and depth plane, and a depth-only pass's record
 //   rasterize.cpp       stage 5: edge functions and the depth test, per tile
 //   rasterize_plain.cpp stage 5 with the stencil on or depth writes off (shadow volumes' counts)
@@ -150,6 +151,9 @@ struct FrameState {
     // samples', so the order in which the two kinds are drawn does not matter.
     bool depth_only = false;
     LargeArray<DepthTriangle> depth_tris;
+    // Whether the stages take their AVX2 forms (the *_avx2.cpp files were built and the
+    // processor has AVX2: avx2_available()), decided once per pass by `assemble`.
+    bool avx2 = false;
     struct SampleBounds {
         glm::ivec2 lo{0}, hi{kSubpixel - 1};  // the samples' offsets in their pixel, fixed point
         int margin = 1;                       // pixels added on each side of a triangle's bounds
@@ -357,6 +361,13 @@ size_t setup_depth_avx2(const FrameState& f, const uint32_t* indices, size_t cou
 /// A depth-only pass's records binned in the tile, with AVX2 (depth_pass_avx2.cpp; only where
 /// avx2_available()): 4 x 2 pixels at a time, the same depths as rasterize_small.
 void rasterize_depth_avx2(const FrameState& f, const Tile& tile, TileBuffers& buf);
+/// rasterize_plain's count_block (a shadow volume's stencil count over the pixels [x0, x1) x
+/// [y0, y1) of a tile, in 32-bit lanes) with AVX2, 4 x 2 pixels at a time
+/// (stencil_count_avx2.cpp; only where avx2_available()): the same counts.
+void count_block_avx2(const SetupTriangle& t, const TriangleEdges& te, double dzdx, double dzdy,
+                      int x0, int x1, int y0, int y1, const Tile& tile, const SamplePattern& sp,
+                      float depth_bias, int delta_pass, int delta_fail, unsigned crossing,
+                      bool all_fail, TileBuffers& buf);
 /// Stage 4 for the painter's algorithm: binned again, back to front.
 void bin_back_to_front(FrameState& f, int threads);
 /// Calls draw(id, record(id)) for every id of `bins` binned in tile `ti`, in drawing order.

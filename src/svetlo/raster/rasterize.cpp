@@ -7,7 +7,6 @@
 
 #include "svetlo/core/rng.h"
 #include "svetlo/core/sampling.h"
-#include "svetlo/geometry/avx2.h"
 #include "svetlo/raster/pipeline.h"
 
 namespace svetlo::raster {
@@ -253,12 +252,10 @@ void rasterize_tile(const FrameState& f, const Tile& tile, const SamplePattern& 
         draw_triangle(id, t, tile, sp, state, buf);
     });
     if (!f.depth_only) return;
-#ifdef SVETLO_HAS_AVX2_KERNEL
-    if (avx2_available()) {
+    if (f.avx2) {
         rasterize_depth_avx2(f, tile, buf);
         return;
     }
-#endif
     const size_t ti = static_cast<size_t>(tile.y0 / kTile) * f.tiles_x + tile.x0 / kTile;
     for_each_in_bins(
         f.depth_bins, ti, [&](uint32_t id) -> const DepthTriangle& { return f.depth_tris[id]; },

@@ -86,12 +86,18 @@ private:
 /// written): the same coverage (edge functions exact, in 32-bit lanes where they fit, which
 /// the caller says by `kWide`), the same depths (the same double-precision operations, in the
 /// same order) and the same counts. `crossing`: the edges that cross the block (the others
-/// hold it whole). `all_fail`: every sample fails the depth test.
+/// hold it whole). `all_fail`: every sample fails the depth test. `avx2`: in count_block_avx2
+/// where the lanes are 32 bits.
 template <bool kWide>
 void count_block(const SetupTriangle& t, const TriangleEdges& te, double dzdx, double dzdy, int x0,
                  int x1, int y0, int y1, const Tile& tile, const SamplePattern& sp,
                  float depth_bias, int delta_pass, int delta_fail, unsigned crossing, bool all_fail,
-                 TileBuffers& buf) {
+                 bool avx2, TileBuffers& buf) {
+    if (!kWide && avx2) {
+        count_block_avx2(t, te, dzdx, dzdy, x0, x1, y0, y1, tile, sp, depth_bias, delta_pass,
+                         delta_fail, crossing, all_fail, buf);
+        return;
+    }
     const int tw = tile.x1 - tile.x0;
     const __m128i lane = _mm_set_epi32(3, 2, 1, 0);
     const __m128d z0 = _mm_set1_pd(static_cast<double>(t.z[0]));
@@ -157,7 +163,7 @@ constexpr int kBandBlocks = 3;
 /// (z-pass), else no depth is computed.
 void rasterize_plain(uint32_t id, const SetupTriangle& t, const TriangleEdges& te, PixelSpan span,
                      const Tile& tile, const SamplePattern& sp, const PipelineState& state,
-                     TileBuffers& buf) {
+                     bool avx2, TileBuffers& buf) {
     const auto [xs, xe, ys, ye] = span;
     const StencilState& st = state.stencil;
     const StencilFace& face = t.front ? st.front : st.back;
@@ -182,7 +188,7 @@ void rasterize_plain(uint32_t id, const SetupTriangle& t, const TriangleEdges& t
         // per-block tests, which would cost more than they save.
         count_block<false>(t, te, dzdx, dzdy, xs, xe, ys, ye, tile, sp, state.depth_bias,
                            stencil_delta(face.pass), stencil_delta(face.depth_fail), 7u, false,
-                           buf);
+                           avx2, buf);
         return;
     }
     // The depth plane at pixel position (px, py), in pixels.
@@ -235,10 +241,10 @@ void rasterize_plain(uint32_t id, const SetupTriangle& t, const TriangleEdges& t
         const int dp = stencil_delta(face.pass), df = stencil_delta(face.depth_fail);
         if (edges.reach < (int64_t{1} << 30)) {
             count_block<false>(t, te, dzdx, dzdy, x0, x1, y0, y1, tile, sp, state.depth_bias, dp,
-                               df, edges.crossing, all_fail, buf);
+                               df, edges.crossing, all_fail, avx2, buf);
         } else {
             count_block<true>(t, te, dzdx, dzdy, x0, x1, y0, y1, tile, sp, state.depth_bias, dp, df,
-                              edges.crossing, all_fail, buf);
+                              edges.crossing, all_fail, avx2, buf);
         }
     };
     // The same depth tests over the whole span first, against the tile's nearest and farthest
@@ -378,7 +384,8 @@ void rasterize_tile_plain(const FrameState& f, const Tile& tile, const SamplePat
                           const PipelineState& state, TileBuffers& buf) {
     for_each_binned(f, tile, [&](uint32_t id, const SetupTriangle& t) {
         const PixelSpan span = span_in(t, tile);
-        if (!span.empty()) rasterize_plain(id, t, TriangleEdges(t), span, tile, sp, state, buf);
+        if (!span.empty())
+            rasterize_plain(id, t, TriangleEdges(t), span, tile, sp, state, f.avx2, buf);
     });
 }
 

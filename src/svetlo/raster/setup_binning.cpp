@@ -147,6 +147,9 @@ DepthTriangle depth_record(const SetupTriangle& t, glm::ivec2 sample) {
 /// triangles. An unclipped triangle is set up in its own slot; the pieces of clipped ones go
 /// to per-chunk lists appended after the slots, so the order never depends on threads.
 void assemble(const TriangleList& list, FrameState& f, int threads) {
+#ifdef SVETLO_HAS_AVX2_KERNEL
+    f.avx2 = avx2_available();
+#endif
     const size_t total = list.triangle_count();
     size_t chunks = (total + kChunk - 1) / kChunk;
     f.tris.reuse(total);
@@ -164,11 +167,6 @@ void assemble(const TriangleList& list, FrameState& f, int threads) {
     if (flat_mode && f.per_light) f.face_light.reuse(total * f.sources);
     std::vector<std::vector<Color>> clipped_flat(chunks);
     std::vector<std::vector<uint32_t>> clipped_source(chunks);
-#ifdef SVETLO_HAS_AVX2_KERNEL
-    const bool depth_setup_avx2 = avx2_available();
-#else
-    const bool depth_setup_avx2 = false;
-#endif
     parallel_indices(chunks, threads, [&](size_t c) {
         const size_t begin = c * kChunk, end = std::min(total, (c + 1) * kChunk);
         std::vector<Binned> to_bin(end - begin);  // binned while the chunk is in cache, below
@@ -243,7 +241,7 @@ void assemble(const TriangleList& list, FrameState& f, int threads) {
             }
         };
         size_t s = begin;
-        if (f.depth_only && depth_setup_avx2) {
+        if (f.depth_only && f.avx2) {
             // Eight at a time where they take the fast road; the rest one at a time.
             std::vector<uint32_t> others(end - begin);
             size_t other_count = 0;
