@@ -362,12 +362,13 @@ size_t setup_depth_avx2(const FrameState& f, const uint32_t* indices, size_t cou
 /// avx2_available()): 4 x 2 pixels at a time, the same depths as rasterize_small.
 void rasterize_depth_avx2(const FrameState& f, const Tile& tile, TileBuffers& buf);
 /// rasterize_plain's count_block (a shadow volume's stencil count over the pixels [x0, x1) x
-/// [y0, y1) of a tile, in 32-bit lanes) with AVX2, 4 x 2 pixels at a time
-/// (stencil_count_avx2.cpp; only where avx2_available()): the same counts.
+/// [y0, y1) of a tile, its edge functions in 64-bit lanes where `wide`, else 32-bit ones) with
+/// AVX2, 4 x 2 pixels at a time (stencil_count_avx2.cpp; only where avx2_available()): the
+/// same counts.
 void count_block_avx2(const SetupTriangle& t, const TriangleEdges& te, double dzdx, double dzdy,
                       int x0, int x1, int y0, int y1, const Tile& tile, const SamplePattern& sp,
                       float depth_bias, int delta_pass, int delta_fail, unsigned crossing,
-                      bool all_fail, TileBuffers& buf);
+                      bool all_fail, bool wide, TileBuffers& buf);
 /// Stage 4 for the painter's algorithm: binned again, back to front.
 void bin_back_to_front(FrameState& f, int threads);
 /// Calls draw(id, record(id)) for every id of `bins` binned in tile `ti`, in drawing order.

@@ -86,16 +86,15 @@ private:
 /// written): the same coverage (edge functions exact, in 32-bit lanes where they fit, which
 /// the caller says by `kWide`), the same depths (the same double-precision operations, in the
 /// same order) and the same counts. `crossing`: the edges that cross the block (the others
-/// hold it whole). `all_fail`: every sample fails the depth test. `avx2`: in count_block_avx2
-/// where the lanes are 32 bits.
+/// hold it whole). `all_fail`: every sample fails the depth test. `avx2`: in count_block_avx2.
 template <bool kWide>
 void count_block(const SetupTriangle& t, const TriangleEdges& te, double dzdx, double dzdy, int x0,
                  int x1, int y0, int y1, const Tile& tile, const SamplePattern& sp,
                  float depth_bias, int delta_pass, int delta_fail, unsigned crossing, bool all_fail,
                  bool avx2, TileBuffers& buf) {
-    if (!kWide && avx2) {
+    if (avx2) {
         count_block_avx2(t, te, dzdx, dzdy, x0, x1, y0, y1, tile, sp, depth_bias, delta_pass,
-                         delta_fail, crossing, all_fail, buf);
+                         delta_fail, crossing, all_fail, kWide, buf);
         return;
     }
     const int tw = tile.x1 - tile.x0;

@@ -1,5 +1,5 @@
 // A shadow volume's stencil count with AVX2 (count_block_avx2 in pipeline.h): rasterize_plain's
-// count_block in 32-bit lanes, 4 x 2 pixels at a time instead of 4 x 1, with the same coverage
+// count_block, 4 x 2 pixels at a time instead of 4 x 1, with the same coverage
 // (the same exact edge functions), the same depths (the same double-precision operations in
 // the same order) and so the same counts. Used only where avx2_available(). The target is set
 // by pragma after the headers, as in simd_shading_avx2.cpp.
@@ -14,55 +14,103 @@
 
 namespace svetlo::raster {
 
-void count_block_avx2(const SetupTriangle& t, const TriangleEdges& te, double dzdx, double dzdy,
-                      int x0, int x1, int y0, int y1, const Tile& tile, const SamplePattern& sp,
-                      float depth_bias, int delta_pass, int delta_fail, unsigned crossing,
-                      bool all_fail, TileBuffers& buf) {
+namespace {
+
+// Lanes 0-3: pixels 0-3 of a row of the block; 4-7: of the row below (functions, not
+// globals: a global's initialiser would not be built for AVX2).
+__m256i column_of_lanes() { return _mm256_setr_epi32(0, 1, 2, 3, 0, 1, 2, 3); }
+__m256i row_of_lanes() { return _mm256_setr_epi32(0, 0, 0, 0, 1, 1, 1, 1); }
+
+/// The three edge functions over a block of 4 x 2 pixels, each plus its fill-rule bias, in
+/// 32-bit lanes (`kWide` false: the caller knows every value met fits) or in 64-bit lanes, a
+/// register per row. An edge left out of `crossing` is inside everywhere: zero, stepped by
+/// zero.
+template <bool kWide>
+struct BlockEdges {
+    __m256i w[3][kWide ? 2 : 1], step[3], down[3];
+
+    BlockEdges(const TriangleEdges& te, int64_t sx, int64_t sy, unsigned crossing) {
+        for (int k = 0; k < 3; ++k) {
+            const bool used = (crossing >> k) & 1u;
+            const int64_t a = used ? te.e[k].a * kSubpixel : 0;
+            const int64_t b = used ? te.e[k].b * kSubpixel : 0;
+            const int64_t e = used ? te.e[k].at(sx, sy) + te.e[k].bias : 0;
+            if constexpr (kWide) {
+                w[k][0] = _mm256_setr_epi64x(e, e + a, e + 2 * a, e + 3 * a);
+                w[k][1] = _mm256_add_epi64(w[k][0], _mm256_set1_epi64x(b));
+                step[k] = _mm256_set1_epi64x(4 * a);
+                down[k] = _mm256_set1_epi64x(2 * b);
+            } else {
+                // (Modulo 2^32, as the caller's 64-bit values cast: exact where they fit.)
+                const auto a32 = static_cast<int32_t>(a), b32 = static_cast<int32_t>(b);
+                w[k][0] = _mm256_add_epi32(
+                    _mm256_set1_epi32(static_cast<int32_t>(e)),
+                    _mm256_add_epi32(_mm256_mullo_epi32(column_of_lanes(), _mm256_set1_epi32(a32)),
+                                     _mm256_mullo_epi32(row_of_lanes(), _mm256_set1_epi32(b32))));
+                step[k] = _mm256_set1_epi32(static_cast<int32_t>(4 * a));
+                down[k] = _mm256_set1_epi32(static_cast<int32_t>(2 * b));
+            }
+        }
+    }
+    /// All ones in each of the eight 32-bit lanes where an edge is negative.
+    __m256i outside() const {
+        if constexpr (kWide) {
+            const __m256i zero = _mm256_setzero_si256();
+            const __m256i r0 = _mm256_cmpgt_epi64(
+                zero, _mm256_or_si256(_mm256_or_si256(w[0][0], w[1][0]), w[2][0]));
+            const __m256i r1 = _mm256_cmpgt_epi64(
+                zero, _mm256_or_si256(_mm256_or_si256(w[0][1], w[1][1]), w[2][1]));
+            // The low halves of row 0's lanes into lanes 0-3, of row 1's into 4-7.
+            const __m256i lo =
+                _mm256_permutevar8x32_epi32(r0, _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6));
+            const __m256i hi =
+                _mm256_permutevar8x32_epi32(r1, _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6));
+            return _mm256_blend_epi32(lo, hi, 0xF0);
+        } else {
+            return _mm256_srai_epi32(_mm256_or_si256(_mm256_or_si256(w[0][0], w[1][0]), w[2][0]),
+                                     31);
+        }
+    }
+    /// Four pixels to the right (`step`), or two rows down (`down`).
+    void next() { add(step); }
+    void next_rows() { add(down); }
+
+private:
+    void add(const __m256i (&by)[3]) {
+        for (int k = 0; k < 3; ++k) {
+            for (__m256i& v : w[k])
+                v = kWide ? _mm256_add_epi64(v, by[k]) : _mm256_add_epi32(v, by[k]);
+        }
+    }
+};
+
+template <bool kWide>
+void count(const SetupTriangle& t, const TriangleEdges& te, double dzdx, double dzdy, int x0,
+           int x1, int y0, int y1, const Tile& tile, const SamplePattern& sp, float depth_bias,
+           int delta_pass, int delta_fail, unsigned crossing, bool all_fail, TileBuffers& buf) {
     const int tw = tile.x1 - tile.x0;
-    // Lanes 0-3: pixels 0-3 of a row of the block; 4-7: of the row below.
-    const __m256i ix = _mm256_setr_epi32(0, 1, 2, 3, 0, 1, 2, 3);
-    const __m256i iy = _mm256_setr_epi32(0, 0, 0, 0, 1, 1, 1, 1);
     const __m256d z0 = _mm256_set1_pd(static_cast<double>(t.z[0]));
     const __m256d gx = _mm256_set1_pd(dzdx), scale = _mm256_set1_pd(1.0 / kSubpixel);
     const __m256d column = _mm256_setr_pd(0.0, kSubpixel, 2.0 * kSubpixel, 3.0 * kSubpixel);
     const __m256 bias = _mm256_set1_ps(depth_bias), sign = _mm256_set1_ps(-0.0f);
     const __m256i dpass = _mm256_set1_epi32(delta_pass), dfail = _mm256_set1_epi32(delta_fail);
     const int64_t sx = static_cast<int64_t>(x0) * kSubpixel + sp.ox[0];
-    const int64_t sy0 = static_cast<int64_t>(y0) * kSubpixel + sp.oy[0];
-    // Each edge at the block's first sample of each lane, plus its fill-rule bias (an edge
-    // left out of `crossing` is inside everywhere: zero, stepped by zero).
-    __m256i w_rows[3], step[3], down[3];
-    for (int k = 0; k < 3; ++k) {
-        const bool used = (crossing >> k) & 1u;
-        const int64_t a = used ? te.e[k].a * kSubpixel : 0;
-        const int64_t b = used ? te.e[k].b * kSubpixel : 0;
-        const int64_t e = used ? te.e[k].at(sx, sy0) + te.e[k].bias : 0;
-        w_rows[k] = _mm256_add_epi32(
-            _mm256_set1_epi32(static_cast<int32_t>(e)),
-            _mm256_add_epi32(_mm256_mullo_epi32(ix, _mm256_set1_epi32(static_cast<int32_t>(a))),
-                             _mm256_mullo_epi32(iy, _mm256_set1_epi32(static_cast<int32_t>(b)))));
-        step[k] = _mm256_set1_epi32(static_cast<int32_t>(4 * a));
-        down[k] = _mm256_set1_epi32(static_cast<int32_t>(2 * b));
-    }
+    BlockEdges<kWide> rows(te, sx, static_cast<int64_t>(y0) * kSubpixel + sp.oy[0], crossing);
     for (int py = y0; py < y1; py += 2) {
         // (dzdy (y - y0) / 256 per row, the same for the row.)
         const int64_t sy = static_cast<int64_t>(py) * kSubpixel + sp.oy[0];
         const __m256d ty0 = _mm256_set1_pd(dzdy * static_cast<double>(sy - t.y[0]) / kSubpixel);
         const __m256d ty1 =
             _mm256_set1_pd(dzdy * static_cast<double>(sy + kSubpixel - t.y[0]) / kSubpixel);
-        const __m256i rows_in = _mm256_cmpgt_epi32(_mm256_set1_epi32(y1 - py), iy);
+        const __m256i rows_in = _mm256_cmpgt_epi32(_mm256_set1_epi32(y1 - py), row_of_lanes());
         const size_t row0 = static_cast<size_t>(py - tile.y0) * tw;
         const size_t row1 = py + 1 < y1 ? row0 + static_cast<size_t>(tw) : row0;
-        __m256i w0 = w_rows[0], w1 = w_rows[1], w2 = w_rows[2];
+        BlockEdges<kWide> edges = rows;
         for (int px = x0; px < x1; px += 4) {
-            const __m256i in =
-                _mm256_and_si256(rows_in, _mm256_cmpgt_epi32(_mm256_set1_epi32(x1 - px), ix));
-            const __m256i outside =
-                _mm256_srai_epi32(_mm256_or_si256(_mm256_or_si256(w0, w1), w2), 31);
-            const __m256i covered = _mm256_andnot_si256(outside, in);
-            w0 = _mm256_add_epi32(w0, step[0]);
-            w1 = _mm256_add_epi32(w1, step[1]);
-            w2 = _mm256_add_epi32(w2, step[2]);
+            const __m256i in = _mm256_and_si256(
+                rows_in, _mm256_cmpgt_epi32(_mm256_set1_epi32(x1 - px), column_of_lanes()));
+            const __m256i covered = _mm256_andnot_si256(edges.outside(), in);
+            edges.next();
             if (_mm256_testz_si256(covered, covered)) continue;
             const size_t i0 = row0 + static_cast<size_t>(px - tile.x0),
                          i1 = row1 + static_cast<size_t>(px - tile.x0);
@@ -95,7 +143,22 @@ void count_block_avx2(const SetupTriangle& t, const TriangleEdges& te, double dz
             std::memcpy(&buf.stencil[i1], &c1, 4);
             std::memcpy(&buf.stencil[i0], &c0, 4);
         }
-        for (int k = 0; k < 3; ++k) w_rows[k] = _mm256_add_epi32(w_rows[k], down[k]);
+        rows.next_rows();
+    }
+}
+
+}  // namespace
+
+void count_block_avx2(const SetupTriangle& t, const TriangleEdges& te, double dzdx, double dzdy,
+                      int x0, int x1, int y0, int y1, const Tile& tile, const SamplePattern& sp,
+                      float depth_bias, int delta_pass, int delta_fail, unsigned crossing,
+                      bool all_fail, bool wide, TileBuffers& buf) {
+    if (wide) {
+        count<true>(t, te, dzdx, dzdy, x0, x1, y0, y1, tile, sp, depth_bias, delta_pass, delta_fail,
+                    crossing, all_fail, buf);
+    } else {
+        count<false>(t, te, dzdx, dzdy, x0, x1, y0, y1, tile, sp, depth_bias, delta_pass,
+                     delta_fail, crossing, all_fail, buf);
     }
 }
 
