@@ -88,19 +88,24 @@ void fill_masks(const ShadowTechniqueState& technique, const FrameState& f, cons
     // The samples that need a mask: covered, and for a screen-space technique, not lit by
     // every caster (where every caster lights it, V is 1 whether it faces them or not).
     size_t n = 0;
-    for (size_t i = 0; i < samples; ++i) {
-        if (buf.tri[i] == kNone) continue;
-        if (!needs_surface) {
-            const size_t pixel = i / static_cast<size_t>(S);
-            const int px = tile.x0 + static_cast<int>(pixel % static_cast<size_t>(tw)),
-                      py = tile.y0 + static_cast<int>(pixel / static_cast<size_t>(tw));
-            const size_t in_frame =
-                frame_sample(f.cam.width, S, px, py, static_cast<int>(i % static_cast<size_t>(S)));
-            bool all_lit = true;
-            for (const uint8_t* mask : scratch.masks) all_lit = all_lit && mask[in_frame];
-            if (all_lit) continue;
+    if (needs_surface) {
+        for (size_t i = 0; i < samples; ++i) {
+            if (buf.tri[i] != kNone) scratch.index[n++] = static_cast<uint32_t>(i);
         }
-        scratch.index[n++] = static_cast<uint32_t>(i);
+    } else {
+        size_t i = 0;
+        for (int py = tile.y0; py < tile.y1; ++py) {
+            for (int px = tile.x0; px < tile.x1; ++px) {
+                const size_t in_frame = frame_sample(f.cam.width, S, px, py, 0);
+                for (int s = 0; s < S; ++s, ++i) {
+                    if (buf.tri[i] == kNone) continue;
+                    bool all_lit = true;
+                    for (const uint8_t* mask : scratch.masks)
+                        all_lit = all_lit && mask[in_frame + static_cast<size_t>(s)];
+                    if (!all_lit) scratch.index[n++] = static_cast<uint32_t>(i);
+                }
+            }
+        }
     }
     // Their surfaces.
     EdgeCache edges(f);
