@@ -111,7 +111,9 @@ void count(const SetupTriangle& t, const TriangleEdges& te, double dzdx, double 
                 rows_in, _mm256_cmpgt_epi32(_mm256_set1_epi32(x1 - px), column_of_lanes()));
             const __m256i covered = _mm256_andnot_si256(edges.outside(), in);
             edges.next();
-            if (_mm256_testz_si256(covered, covered)) continue;
+            // (Where no depth is needed, without a branch: whether a block of a thin side is
+            // covered is hard to predict, and adding nothing is cheap.)
+            if (!all_fail && _mm256_testz_si256(covered, covered)) continue;
             const size_t i0 = row0 + static_cast<size_t>(px - tile.x0),
                          i1 = row1 + static_cast<size_t>(px - tile.x0);
             __m256i pass = _mm256_setzero_si256();
