@@ -84,6 +84,7 @@ TEST(TriangleList, AClosedMeshHasEveryEdgeJoined) {
     build_adjacency(list);
     EXPECT_EQ(open_edges(list), 0);
     expect_symmetric(list);
+    EXPECT_EQ(closed_objects(list), std::vector<char>{1});
 }
 
 TEST(TriangleList, HolesAndBordersAreOpenEdges) {
@@ -98,6 +99,8 @@ TEST(TriangleList, HolesAndBordersAreOpenEdges) {
     TriangleList q = build_triangle_list({&quad}, {}, 1);
     build_adjacency(q);
     EXPECT_EQ(open_edges(q), 4) << "a quad: only its four border edges are open";
+    EXPECT_EQ(closed_objects(list), std::vector<char>{0});
+    EXPECT_EQ(closed_objects(q), std::vector<char>{0});
 }
 
 TEST(TriangleList, TessellatedClosedShapesAreClosed) {
@@ -114,6 +117,9 @@ TEST(TriangleList, TessellatedClosedShapesAreClosed) {
         build_adjacency(list);
         EXPECT_EQ(open_edges(list), 0) << "shape " << shape.index();
         expect_symmetric(list);
+        // (A sphere's and a cone's rows of triangles with no area at a pole or the apex have
+        // no neighbours, and leave them closed.)
+        EXPECT_EQ(closed_objects(list), std::vector<char>{1}) << "shape " << shape.index();
     }
 }
 

@@ -150,4 +150,20 @@ void build_adjacency(TriangleList& list) {
     }
 }
 
+std::vector<char> closed_objects(const TriangleList& list) {
+    std::vector<char> closed(list.objects.size(), 1);
+    for (size_t o = 0; o < list.objects.size(); ++o) {
+        for (uint32_t t = list.objects[o].first; t < list.objects[o].end && closed[o]; ++t) {
+            const vec3 a = list.positions[list.indices[3 * t]],
+                       b = list.positions[list.indices[3 * t + 1]],
+                       c = list.positions[list.indices[3 * t + 2]];
+            if (a == b || b == c || c == a) continue;  // (build_adjacency's weld: -0 == +0)
+            for (int e = 0; e < 3; ++e) {
+                if (list.neighbour[3 * t + e] == TriangleList::kOpen) closed[o] = 0;
+            }
+        }
+    }
+    return closed;
+}
+
 }  // namespace svetlo

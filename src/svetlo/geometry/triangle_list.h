@@ -60,4 +60,9 @@ TriangleList build_triangle_list(const std::vector<const Object*>& objects,
 /// welded vertices alike have no area and no neighbours.
 void build_adjacency(TriangleList& list);
 
+/// Per object of a list with adjacency (build_adjacency): 1 where it is closed, every edge of
+/// its triangles joined. A triangle with two vertices alike (a sphere's pole row) has no area
+/// and no neighbours: it leaves its object closed.
+std::vector<char> closed_objects(const TriangleList& list);
+
 }  // namespace svetlo

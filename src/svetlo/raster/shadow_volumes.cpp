@@ -36,19 +36,6 @@ namespace svetlo::raster {
 
 namespace {
 
-/// Whether each object of the list is closed: every edge of its triangles has a neighbour.
-std::vector<char> closed_objects(const TriangleList& list) {
-    std::vector<char> closed(list.objects.size(), 1);
-    for (size_t o = 0; o < list.objects.size(); ++o) {
-        for (uint32_t t = list.objects[o].first; t < list.objects[o].end && closed[o]; ++t) {
-            for (int e = 0; e < 3; ++e) {
-                if (list.neighbour[3 * t + e] == TriangleList::kOpen) closed[o] = 0;
-            }
-        }
-    }
-    return closed;
-}
-
 class ShadowVolumes final : public StencilMasks {
 public:
     ShadowVolumes(const Scene& scene, const TriangleList& list, const FrameState& f,
