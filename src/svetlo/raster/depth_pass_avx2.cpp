@@ -50,10 +50,9 @@ void transpose8(const __m256i in[8], __m256i out[8]) {
     }
 }
 
-/// The depth plane of depth_plane (small_triangle.h) for four lanes, in the same operations.
-void plane4(__m128i rx0, __m128i rx1, __m128i rx2, __m128i ry0, __m128i ry1, __m128i ry2, __m128 z0,
-            __m128 dz1, __m128 dz2, __m128 inv_area, __m128& out_z0, __m128& out_dzdx,
-            __m128& out_dzdy) {
+/// The gradients of depth_plane (small_triangle.h) for four lanes, in the same operations.
+void gradients4(__m128i rx0, __m128i rx1, __m128i rx2, __m128i ry0, __m128i ry1, __m128i ry2,
+                __m128 dz1, __m128 dz2, __m128 inv_area, __m128& out_dzdx, __m128& out_dzdy) {
     const __m256d per_pixel =
         _mm256_mul_pd(_mm256_set1_pd(static_cast<double>(kSubpixel)), _mm256_cvtps_pd(inv_area));
     const __m256d z1 = _mm256_cvtps_pd(dz1), z2 = _mm256_cvtps_pd(dz2);
@@ -65,12 +64,6 @@ void plane4(__m128i rx0, __m128i rx1, __m128i rx2, __m128i ry0, __m128i ry1, __m
         _mm256_mul_pd(_mm256_add_pd(_mm256_mul_pd(_mm256_cvtepi32_pd(_mm_sub_epi32(rx0, rx2)), z1),
                                     _mm256_mul_pd(_mm256_cvtepi32_pd(_mm_sub_epi32(rx1, rx0)), z2)),
                       per_pixel);
-    const __m256d at_corner =
-        _mm256_sub_pd(_mm256_cvtps_pd(z0),
-                      _mm256_div_pd(_mm256_add_pd(_mm256_mul_pd(dzdx, _mm256_cvtepi32_pd(rx0)),
-                                                  _mm256_mul_pd(dzdy, _mm256_cvtepi32_pd(ry0))),
-                                    _mm256_set1_pd(static_cast<double>(kSubpixel))));
-    out_z0 = _mm256_cvtpd_ps(at_corner);
     out_dzdx = _mm256_cvtpd_ps(dzdx);
     out_dzdy = _mm256_cvtpd_ps(dzdy);
 }
@@ -184,11 +177,11 @@ size_t setup_depth_avx2(const FrameState& f, const uint32_t* indices, size_t cou
         const __m256 inv_area =
             _mm256_div_ps(_mm256_set1_ps(1.0f), _mm256_cvtepi32_ps(_mm256_abs_epi32(area)));
         const __m256 dz1 = _mm256_sub_ps(Z1, Z[0]), dz2 = _mm256_sub_ps(Z2, Z[0]);
-        __m128 z0[2], dzdx[2], dzdy[2];
+        __m128 dzdx[2], dzdy[2];
         for (int h = 0; h < 2; ++h) {
-            plane4(half(rx0, h), half(rx1, h), half(rx2, h), half(ry0, h), half(ry1, h),
-                   half(ry2, h), half(Z[0], h), half(dz1, h), half(dz2, h), half(inv_area, h),
-                   z0[h], dzdx[h], dzdy[h]);
+            gradients4(half(rx0, h), half(rx1, h), half(rx2, h), half(ry0, h), half(ry1, h),
+                       half(ry2, h), half(dz1, h), half(dz2, h), half(inv_area, h), dzdx[h],
+                       dzdy[h]);
         }
         const __m256i cols[8] = {lo16_hi16(x0, y0),
                                  lo16_hi16(_mm256_sub_epi32(x1, _mm256_set1_epi32(1)),
@@ -196,7 +189,7 @@ size_t setup_depth_avx2(const FrameState& f, const uint32_t* indices, size_t cou
                                  lo16_hi16(rx0, rx1),
                                  lo16_hi16(rx2, ry0),
                                  lo16_hi16(ry1, ry2),
-                                 join(z0[0], z0[1]),
+                                 _mm256_castps_si256(Z[0]),
                                  join(dzdx[0], dzdx[1]),
                                  join(dzdy[0], dzdy[1])};
         __m256i rows[8];
@@ -267,22 +260,23 @@ void rasterize_depth_avx2(const FrameState& f, const Tile& tile, TileBuffers& bu
             const __m256i q0 = _mm256_broadcastd_epi32(q),
                           q1 = _mm256_broadcastd_epi32(_mm_shuffle_epi32(q, 1)),
                           q2 = _mm256_broadcastd_epi32(_mm_shuffle_epi32(q, 2));
-            const __m256 z0 = _mm256_set1_ps(d.plane.z0), dzdy = _mm256_set1_ps(d.plane.dzdy);
-            // rasterize_small's depth: z0 + dzdy j, then + dzdx i for the first four pixels of
-            // a row, then 4 dzdx more per four, each rounded in float.
-            const __m256 first_step =
-                _mm256_mul_ps(_mm256_set1_ps(d.plane.dzdx),
-                              _mm256_add_ps(_mm256_set1_ps(static_cast<float>(xs - d.bx0)), ixf));
+            // Depth as rasterize_small: from the span's first sample (depth_at), dzdy per row
+            // and dzdx per pixel, each rounded in float.
+            const __m256 z_origin = _mm256_set1_ps(depth_at(
+                d.plane, (xs - d.bx0) * kSubpixel - d.rx[0], (ys - d.by0) * kSubpixel - d.ry[0]));
+            const __m256 dzdy = _mm256_set1_ps(d.plane.dzdy);
+            const __m256 z_steps = _mm256_mul_ps(_mm256_set1_ps(d.plane.dzdx), ixf);
             const __m256 dzdx4 = _mm256_set1_ps(4.0f * d.plane.dzdx);
             for (int py = ys; py < ye; py += 2) {
                 const int j = py - d.by0;
                 const __m256 z_row = _mm256_add_ps(
-                    z0,
-                    _mm256_mul_ps(dzdy, _mm256_add_ps(_mm256_set1_ps(static_cast<float>(j)), iyf)));
+                    z_origin,
+                    _mm256_mul_ps(dzdy,
+                                  _mm256_add_ps(_mm256_set1_ps(static_cast<float>(py - ys)), iyf)));
                 const __m256i rows_in = _mm256_cmpgt_epi32(_mm256_set1_epi32(ye - py), iy);
                 float* row0 = &buf.depth[static_cast<size_t>(py - tile.y0) * tw];
                 float* row1 = py + 1 < ye ? row0 + tw : row0;
-                __m256 z = _mm256_add_ps(z_row, first_step);
+                __m256 z = _mm256_add_ps(z_row, z_steps);
                 for (int px = xs; px < xe; px += 4, z = _mm256_add_ps(z, dzdx4)) {
                     const int i = px - d.bx0;
                     const __m256i p = _mm256_add_epi32(

@@ -13,30 +13,27 @@ namespace svetlo::raster {
 
 namespace {
 
-/// Stage 5 for small triangles at one sample per pixel (small_triangle.h), `e` and `p` at the
-/// sample of pixel (cx, cy): four pixels of a row tested and depth-tested at once. Each
-/// written sample keeps its triangle `id` and screen barycentrics (edge over twice the area,
-/// `inv_area`) for the shading (`kItems`; a depth-only pass keeps the depth alone). The
-/// blocks' deepest depths are left as they were: larger than the truth, which is safe.
+/// Stage 5 for small triangles at one sample per pixel (small_triangle.h), `e` at the span's
+/// first sample and `z_origin` the depth there (depth_at): four pixels of a row tested and
+/// depth-tested at once. Each written sample keeps its triangle `id` and screen barycentrics
+/// (edge over twice the area, `inv_area`) for the shading (`kItems`; a depth-only pass keeps
+/// the depth alone). The blocks' deepest depths are left as they were: larger than the truth,
+/// which is safe.
 template <bool kItems>
-void rasterize_small(const SmallEdges& e, const DepthPlane& p, int cx, int cy, PixelSpan span,
+void rasterize_small(const SmallEdges& e, float z_origin, const DepthPlane& p, PixelSpan span,
                      const Tile& tile, bool depth_test, TileBuffers& buf, uint32_t id = 0,
                      float inv_area = 0.0f) {
     const auto [xs, xe, ys, ye] = span;
-    const int i0 = xs - cx, j0 = ys - cy;  // the span's first pixel from the corner
     __m128i w_row[3], step_x[3], step_y[3];
     for (int k = 0; k < 3; ++k) {
         const int32_t a = e.step_x[k];
-        w_row[k] = _mm_add_epi32(_mm_set1_epi32(e.w[k] + a * i0 + e.step_y[k] * j0),
-                                 _mm_set_epi32(3 * a, 2 * a, a, 0));
+        w_row[k] = _mm_add_epi32(_mm_set1_epi32(e.w[k]), _mm_set_epi32(3 * a, 2 * a, a, 0));
         step_x[k] = _mm_set1_epi32(4 * a);
         step_y[k] = _mm_set1_epi32(e.step_y[k]);
     }
-    // Depth: (z0 + dzdy j) + dzdx i in float, i and j from the corner (exact in float), for
-    // the row's first four pixels; then 4 dzdx more per four pixels.
-    const __m128 dzdx = _mm_set1_ps(p.dzdx), dzdx4 = _mm_set1_ps(4.0f * p.dzdx);
-    const __m128 first_step = _mm_mul_ps(
-        dzdx, _mm_add_ps(_mm_set1_ps(static_cast<float>(i0)), _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f)));
+    // Depth: from the span's start, dzdy per row, dzdx per pixel, in float.
+    const __m128 z_steps = _mm_mul_ps(_mm_set1_ps(p.dzdx), _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f));
+    const __m128 z_step4 = _mm_set1_ps(4.0f * p.dzdx);
     const int tw = tile.x1 - tile.x0;
     const __m128i lane = _mm_set_epi32(3, 2, 1, 0);
     const __m128i id4 = _mm_set1_epi32(static_cast<int32_t>(id));
@@ -48,8 +45,8 @@ void rasterize_small(const SmallEdges& e, const DepthPlane& p, int cx, int cy, P
     };
     for (int py = ys; py < ye; ++py) {
         __m128i w0 = w_row[0], w1 = w_row[1], w2 = w_row[2];
-        const __m128 z_row = _mm_set1_ps(p.z0 + p.dzdy * static_cast<float>(py - cy));
-        __m128 z4 = _mm_add_ps(z_row, first_step);
+        __m128 z4 =
+            _mm_add_ps(_mm_set1_ps(z_origin + p.dzdy * static_cast<float>(py - ys)), z_steps);
         for (int px = xs; px < xe; px += 4) {
             // Covered (every edge function's sign bit clear) and within the span.
             __m128i outside = _mm_srai_epi32(_mm_or_si128(_mm_or_si128(w0, w1), w2), 31);
@@ -76,7 +73,7 @@ void rasterize_small(const SmallEdges& e, const DepthPlane& p, int cx, int cy, P
             w0 = _mm_add_epi32(w0, step_x[0]);
             w1 = _mm_add_epi32(w1, step_x[1]);
             w2 = _mm_add_epi32(w2, step_x[2]);
-            z4 = _mm_add_ps(z4, dzdx4);
+            z4 = _mm_add_ps(z4, z_step4);
         }
         for (int k = 0; k < 3; ++k) w_row[k] = _mm_add_epi32(w_row[k], step_y[k]);
     }
@@ -205,21 +202,46 @@ void draw_triangle(uint32_t id, const SetupTriangle& t, const Tile& tile, const 
     const PixelSpan span = span_in(t, tile);
     if (span.empty()) return;
     if (t.small && sp.count == 1) {
-        // Relative to the sample of the bounds' corner pixel (as a depth-only pass's record).
-        const int32_t sx = t.x0() * kSubpixel + sp.ox[0], sy = t.y0() * kSubpixel + sp.oy[0];
+        // Relative to the span's first sample.
+        const int32_t sx = span.xs * kSubpixel + sp.ox[0], sy = span.ys * kSubpixel + sp.oy[0];
         const int32_t rx[3] = {t.x[0] - sx, t.x[1] - sx, t.x[2] - sx},
                       ry[3] = {t.y[0] - sy, t.y[1] - sy, t.y[2] - sy};
         const SmallEdges e = small_edges(rx, ry);
         const DepthPlane p = depth_plane(rx, ry, t.z, t.inv_area);
+        const float z_origin = depth_at(p, -rx[0], -ry[0]);
         if (state.write_items) {
-            rasterize_small<true>(e, p, t.x0(), t.y0(), span, tile, state.depth_test, buf, id,
+            rasterize_small<true>(e, z_origin, p, span, tile, state.depth_test, buf, id,
                                   t.inv_area);
         } else {
-            rasterize_small<false>(e, p, t.x0(), t.y0(), span, tile, state.depth_test, buf);
+            rasterize_small<false>(e, z_origin, p, span, tile, state.depth_test, buf);
         }
     } else {
         rasterize(id, t, TriangleEdges(t), span, tile, sp, state.depth_test, buf);
     }
+}
+
+/// A depth-only pass's records binned in the tile (apart from the general loop, whose code it
+/// would otherwise crowd).
+[[gnu::noinline]] void rasterize_depth_records(const FrameState& f, const Tile& tile,
+                                               TileBuffers& buf) {
+    if (f.avx2) {
+        rasterize_depth_avx2(f, tile, buf);
+        return;
+    }
+    const size_t ti = static_cast<size_t>(tile.y0 / kTile) * f.tiles_x + tile.x0 / kTile;
+    for_each_in_bins(
+        f.depth_bins, ti, [&](uint32_t id) -> const DepthTriangle& { return f.depth_tris[id]; },
+        [&](uint32_t, const DepthTriangle& d) {
+            const PixelSpan span{std::max<int>(d.bx0, tile.x0), std::min(d.bx1 + 1, tile.x1),
+                                 std::max<int>(d.by0, tile.y0), std::min(d.by1 + 1, tile.y1)};
+            if (span.empty()) return;
+            // The record's vertices from its corner sample to the span's first.
+            const int32_t dx = (span.xs - d.bx0) * kSubpixel, dy = (span.ys - d.by0) * kSubpixel;
+            const int32_t rx[3] = {d.rx[0] - dx, d.rx[1] - dx, d.rx[2] - dx},
+                          ry[3] = {d.ry[0] - dy, d.ry[1] - dy, d.ry[2] - dy};
+            rasterize_small<false>(small_edges(rx, ry), depth_at(d.plane, -rx[0], -ry[0]), d.plane,
+                                   span, tile, true, buf);
+        });
 }
 
 }  // namespace
@@ -251,20 +273,7 @@ void rasterize_tile(const FrameState& f, const Tile& tile, const SamplePattern& 
     for_each_binned(f, tile, [&](uint32_t id, const SetupTriangle& t) {
         draw_triangle(id, t, tile, sp, state, buf);
     });
-    if (!f.depth_only) return;
-    if (f.avx2) {
-        rasterize_depth_avx2(f, tile, buf);
-        return;
-    }
-    const size_t ti = static_cast<size_t>(tile.y0 / kTile) * f.tiles_x + tile.x0 / kTile;
-    for_each_in_bins(
-        f.depth_bins, ti, [&](uint32_t id) -> const DepthTriangle& { return f.depth_tris[id]; },
-        [&](uint32_t, const DepthTriangle& d) {
-            const PixelSpan span{std::max<int>(d.bx0, tile.x0), std::min(d.bx1 + 1, tile.x1),
-                                 std::max<int>(d.by0, tile.y0), std::min(d.by1 + 1, tile.y1)};
-            if (span.empty()) return;
-            rasterize_small<false>(d.edges(), d.plane, d.bx0, d.by0, span, tile, true, buf);
-        });
+    if (f.depth_only) rasterize_depth_records(f, tile, buf);
 }
 
 }  // namespace svetlo::raster
