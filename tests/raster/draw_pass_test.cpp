@@ -277,11 +277,11 @@ void expect_same_depths_with_and_without_items(const TriangleList& list, const C
 
 TEST(DrawPass, ADepthOnlyPassOfTrianglesOfEverySizeGivesTheDepthsOfAPassWithItems) {
     // A depth-only pass sets up its small triangles eight at a time (AVX2, where the processor
-    // has it) and one at a time (the rest), into records of its own, and draws them 4 x 2
-    // pixels at a time: its depths must be those of a pass that keeps items (the SetupTriangle
-    // path), bit for bit. Triangles from a pixel to the whole view, straddling tiles, through
-    // the near plane, both windings, every cull mode; one thread and two. Counts of seven past
-    // a multiple of eight: the last seven are set up one at a time.
+    // has it) into records of its own, and draws them 4 x 2 pixels at a time: its depths must
+    // be those of a pass that keeps items (the SetupTriangle road), bit for bit. Triangles
+    // from a pixel to the whole view, straddling tiles, through the near plane, both windings,
+    // every cull mode; one thread and two. Counts of seven past a multiple of eight: the last
+    // seven take the general road in the same pass.
     TriangleList list;
     uint64_t state = 12345;
     auto uniform = [&](float lo, float hi) {

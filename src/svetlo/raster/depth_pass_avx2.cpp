@@ -1,8 +1,8 @@
 // A depth-only pass with AVX2 (pipeline.h): its setup eight triangles at a time
-// (setup_depth_avx2: the same records as setup_triangle and depth_record one at a time in
-// setup_binning.cpp, bit for bit, for the triangles that take the fast road, small with all
-// three vertices inside the clip volume; the others are handed back), and its records drawn
-// 4 x 2 pixels at a time (rasterize_depth_avx2: the same depths as rasterize_small). Used only
+// (setup_depth_avx2: setup_triangle's bounds, facing and culling, for the triangles that take
+// the fast road, small with all three vertices inside the clip volume; the others are handed
+// back), and its records drawn 4 x 2 pixels at a time (rasterize_depth_avx2: the same depths
+// as rasterize_small draws from a SetupTriangle, bit for bit). Used only
 // where avx2_available(). The target is set by pragma after the headers, as in
 // simd_shading_avx2.cpp.
 #include <immintrin.h>
@@ -167,7 +167,7 @@ size_t setup_depth_avx2(const FrameState& f, const uint32_t* indices, size_t cou
                       Y2 = _mm256_blendv_epi8(Y[2], Y[1], front);
         const __m256 fz = _mm256_castsi256_ps(front);
         const __m256 Z1 = _mm256_blendv_ps(Z[1], Z[2], fz), Z2 = _mm256_blendv_ps(Z[2], Z[1], fz);
-        // Relative to the sample of the corner pixel (depth_record).
+        // Relative to the sample of the corner pixel (DepthTriangle).
         const __m256i sx = _mm256_add_epi32(_mm256_slli_epi32(x0, kSubpixelBits), sample_x);
         const __m256i sy = _mm256_add_epi32(_mm256_slli_epi32(y0, kSubpixelBits), sample_y);
         const __m256i rx0 = _mm256_sub_epi32(X[0], sx), rx1 = _mm256_sub_epi32(X1, sx),

@@ -145,9 +145,10 @@ struct FrameState {
     std::vector<std::pair<uint32_t, uint32_t>> clipped_range;  // per chunk, into `clipped`
     size_t triangle_count = 0;                                 // set up and drawn
     // A depth-only pass (one sample per pixel at sample_bounds.lo, depth tested and written,
-    // nothing else kept, as a shadow map's): its small, unclipped triangles are set up as
-    // DepthTriangles instead, chunk c's from depth_tris[c kChunk] on, binned in depth_bins
-    // (their slots in `tris` are left as they were). The depth kept is the least of the
+    // nothing else kept, as a shadow map's): with AVX2, its small, unclipped triangles are set
+    // up eight at a time as DepthTriangles instead, chunk c's from depth_tris[c kChunk] on,
+    // binned in depth_bins (their slots in `tris` are left as they were); the others, and
+    // every triangle without AVX2, take the general road. The depth kept is the least of the
     // samples', so the order in which the two kinds are drawn does not matter.
     bool depth_only = false;
     LargeArray<DepthTriangle> depth_tris;
@@ -352,10 +353,10 @@ void vertex_stage(const TriangleList& list, FrameState& f, int threads);
 void assemble(const TriangleList& list, FrameState& f, int threads);
 /// A depth-only pass's setup of `count` triangles of the list (`indices`, three each) eight at a
 /// time, with AVX2 (depth_pass_avx2.cpp; only where avx2_available()): the small ones whose
-/// vertices are all inside the clip volume become records out[0, n), bit for bit as
-/// setup_triangle and depth_record make them one at a time, n returned; those not inside, or
-/// not small, are listed in others[other_count...] (offsets from the first, in order) for the
-/// caller; the rest draw nothing. Only the first count - count % 8 are looked at.
+/// vertices are all inside the clip volume become records out[0, n), n returned (with the
+/// bounds, facing and culling of setup_triangle); those not inside, or not small, are listed
+/// in others[other_count...] (offsets from the first, in order) for the caller; the rest draw
+/// nothing. Only the first count - count % 8 are looked at.
 size_t setup_depth_avx2(const FrameState& f, const uint32_t* indices, size_t count,
                         DepthTriangle* out, uint32_t* others, size_t& other_count);
 /// A depth-only pass's records binned in the tile, with AVX2 (depth_pass_avx2.cpp; only where

@@ -220,30 +220,6 @@ void draw_triangle(uint32_t id, const SetupTriangle& t, const Tile& tile, const 
     }
 }
 
-/// A depth-only pass's records binned in the tile (apart from the general loop, whose code it
-/// would otherwise crowd).
-[[gnu::noinline]] void rasterize_depth_records(const FrameState& f, const Tile& tile,
-                                               TileBuffers& buf) {
-    if (f.avx2) {
-        rasterize_depth_avx2(f, tile, buf);
-        return;
-    }
-    const size_t ti = static_cast<size_t>(tile.y0 / kTile) * f.tiles_x + tile.x0 / kTile;
-    for_each_in_bins(
-        f.depth_bins, ti, [&](uint32_t id) -> const DepthTriangle& { return f.depth_tris[id]; },
-        [&](uint32_t, const DepthTriangle& d) {
-            const PixelSpan span{std::max<int>(d.bx0, tile.x0), std::min(d.bx1 + 1, tile.x1),
-                                 std::max<int>(d.by0, tile.y0), std::min(d.by1 + 1, tile.y1)};
-            if (span.empty()) return;
-            // The record's vertices from its corner sample to the span's first.
-            const int32_t dx = (span.xs - d.bx0) * kSubpixel, dy = (span.ys - d.by0) * kSubpixel;
-            const int32_t rx[3] = {d.rx[0] - dx, d.rx[1] - dx, d.rx[2] - dx},
-                          ry[3] = {d.ry[0] - dy, d.ry[1] - dy, d.ry[2] - dy};
-            rasterize_small<false>(small_edges(rx, ry), depth_at(d.plane, -rx[0], -ry[0]), d.plane,
-                                   span, tile, true, buf);
-        });
-}
-
 }  // namespace
 
 SamplePattern sample_pattern(int spp, uint64_t seed, int first, int count) {
@@ -273,7 +249,8 @@ void rasterize_tile(const FrameState& f, const Tile& tile, const SamplePattern& 
     for_each_binned(f, tile, [&](uint32_t id, const SetupTriangle& t) {
         draw_triangle(id, t, tile, sp, state, buf);
     });
-    if (f.depth_only) rasterize_depth_records(f, tile, buf);
+    // A depth-only pass's records (made with AVX2 only).
+    if (f.depth_only && f.avx2) rasterize_depth_avx2(f, tile, buf);
 }
 
 }  // namespace svetlo::raster

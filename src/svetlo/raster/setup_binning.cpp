@@ -98,6 +98,10 @@ void bin_chunk(const FrameState& f, const std::vector<Binned>& tris, FrameState:
     const bool exact = f.sample_bounds.margin == 0;
     auto each = [&](auto&& visit) {
         for (const Binned& t : tris) {
+            if (t.tx0 == t.tx1 && t.ty0 == t.ty1) {  // most: one tile
+                visit(static_cast<size_t>(t.ty0) * f.tiles_x + t.tx0, t.id);
+                continue;
+            }
             if constexpr (!std::is_same_v<std::decay_t<Triangle>, std::nullptr_t>) {
                 if (exact && (t.tx1 - t.tx0 + 1) * (t.ty1 - t.ty0 + 1) > 2) {
                     const TriangleEdges te(triangle(t.id));
@@ -119,26 +123,6 @@ void bin_chunk(const FrameState& f, const std::vector<Binned>& tris, FrameState:
     b.ids.resize(b.start[tiles]);
     std::vector<uint32_t> fill(b.start.begin(), b.start.end() - 1);
     each([&](size_t tile, uint32_t id) { b.ids[fill[tile]++] = id; });
-}
-
-/// A depth-only pass's record of small triangle t, its one sample per pixel at offset
-/// `sample` (fixed point) in the pixel.
-DepthTriangle depth_record(const SetupTriangle& t, glm::ivec2 sample) {
-    DepthTriangle d;
-    d.bx0 = t.bx0;
-    d.by0 = t.by0;
-    d.bx1 = t.bx1;
-    d.by1 = t.by1;
-    const int32_t sx = t.x0() * kSubpixel + sample.x, sy = t.y0() * kSubpixel + sample.y;
-    int32_t rx[3], ry[3];
-    for (int k = 0; k < 3; ++k) {
-        rx[k] = t.x[k] - sx;
-        ry[k] = t.y[k] - sy;
-        d.rx[k] = static_cast<int16_t>(rx[k]);
-        d.ry[k] = static_cast<int16_t>(ry[k]);
-    }
-    d.plane = depth_plane(rx, ry, t.z, t.inv_area);
-    return d;
 }
 
 }  // namespace
@@ -189,17 +173,6 @@ void assemble(const TriangleList& list, FrameState& f, int threads) {
             if (flat_mode)
                 f.flat[s] = flat_colour(f, idx, material,
                                         f.per_light ? &f.face_light[s * f.sources] : nullptr);
-            if (f.depth_only && (sv[0]->inside & sv[1]->inside & sv[2]->inside)) {
-                SetupTriangle t;
-                if (!setup_triangle(f, sv, idx, material, t)) return;
-                if (t.small) {
-                    f.depth_tris[begin + depth_count++] = depth_record(t, f.sample_bounds.lo);
-                } else {
-                    slot = t;
-                    to_bin[binned_count++] = binned(static_cast<uint32_t>(s), slot);
-                }
-                return;
-            }
             if (sv[0]->inside & sv[1]->inside & sv[2]->inside) {
                 if (setup_triangle(f, sv, idx, material, slot))
                     to_bin[binned_count++] = binned(static_cast<uint32_t>(s), slot);
@@ -242,7 +215,7 @@ void assemble(const TriangleList& list, FrameState& f, int threads) {
         };
         size_t s = begin;
         if (f.depth_only && f.avx2) {
-            // Eight at a time where they take the fast road; the rest one at a time.
+            // Eight at a time where they take the fast road; the rest on the general one.
             std::vector<uint32_t> others(end - begin);
             size_t other_count = 0;
             depth_count = setup_depth_avx2(f, indices + 3 * begin, end - begin,
