@@ -2,9 +2,8 @@
 // (setup_depth_avx2: setup_triangle's bounds, facing and culling, for the triangles that take
 // the fast road, small with all three vertices inside the clip volume; the others are handed
 // back), and its records drawn 4 x 2 pixels at a time (rasterize_depth_avx2: the same depths
-// as rasterize_small draws from a SetupTriangle, bit for bit). Used only
-// where avx2_available(). The target is set by pragma after the headers, as in
-// simd_shading_avx2.cpp.
+// as rasterize_small draws from a SetupTriangle, bit for bit). Used only where
+// avx2_available(). The target is set by pragma after the headers, as in simd_shading_avx2.cpp.
 #include <immintrin.h>
 
 #include <algorithm>
@@ -83,6 +82,17 @@ __m256i lo16_hi16(__m256i lo, __m256i hi) {
                            _mm256_slli_epi32(hi, 16));
 }
 
+/// Eight 16-bit lanes of bytes: pshufb's control taking 16-bit lanes l[0..7] of a register.
+__m128i words(int l0, int l1, int l2, int l3, int l4, int l5, int l6, int l7) {
+    const int l[8] = {l0, l1, l2, l3, l4, l5, l6, l7};
+    alignas(16) int8_t b[16];
+    for (int k = 0; k < 8; ++k) {
+        b[2 * k] = static_cast<int8_t>(2 * l[k]);
+        b[2 * k + 1] = static_cast<int8_t>(2 * l[k] + 1);
+    }
+    return _mm_load_si128(reinterpret_cast<const __m128i*>(b));
+}
+
 }  // namespace
 
 size_t setup_depth_avx2(const FrameState& f, const uint32_t* indices, size_t count,
@@ -96,7 +106,6 @@ size_t setup_depth_avx2(const FrameState& f, const uint32_t* indices, size_t cou
     const __m256i margin = _mm256_set1_epi32(b.margin);
     const __m256i margin1 = _mm256_set1_epi32(b.margin + 1);
     const __m256i width = _mm256_set1_epi32(f.cam.width), height = _mm256_set1_epi32(f.cam.height);
-    const __m256i sample_x = _mm256_set1_epi32(b.lo.x), sample_y = _mm256_set1_epi32(b.lo.y);
     const ScreenVertex* screen = f.screen.data();
     size_t n = 0;
     for (size_t t = 0; t + 8 <= count; t += 8, indices += 24) {
@@ -167,9 +176,10 @@ size_t setup_depth_avx2(const FrameState& f, const uint32_t* indices, size_t cou
                       Y2 = _mm256_blendv_epi8(Y[2], Y[1], front);
         const __m256 fz = _mm256_castsi256_ps(front);
         const __m256 Z1 = _mm256_blendv_ps(Z[1], Z[2], fz), Z2 = _mm256_blendv_ps(Z[2], Z[1], fz);
-        // Relative to the sample of the corner pixel (DepthTriangle).
-        const __m256i sx = _mm256_add_epi32(_mm256_slli_epi32(x0, kSubpixelBits), sample_x);
-        const __m256i sy = _mm256_add_epi32(_mm256_slli_epi32(y0, kSubpixelBits), sample_y);
+        // Relative to the sample of the corner pixel (DepthTriangle; a depth-only pass's one
+        // sample is at sample_bounds.lo).
+        const __m256i sx = _mm256_add_epi32(_mm256_slli_epi32(x0, kSubpixelBits), lo_x);
+        const __m256i sy = _mm256_add_epi32(_mm256_slli_epi32(y0, kSubpixelBits), lo_y);
         const __m256i rx0 = _mm256_sub_epi32(X[0], sx), rx1 = _mm256_sub_epi32(X1, sx),
                       rx2 = _mm256_sub_epi32(X2, sx);
         const __m256i ry0 = _mm256_sub_epi32(Y[0], sy), ry1 = _mm256_sub_epi32(Y1, sy),
@@ -203,21 +213,6 @@ size_t setup_depth_avx2(const FrameState& f, const uint32_t* indices, size_t cou
     }
     return n;
 }
-
-namespace {
-
-/// Eight 16-bit lanes of bytes: pshufb's control taking 16-bit lanes l[0..7] of a register.
-__m128i words(int l0, int l1, int l2, int l3, int l4, int l5, int l6, int l7) {
-    const int l[8] = {l0, l1, l2, l3, l4, l5, l6, l7};
-    alignas(16) int8_t b[16];
-    for (int k = 0; k < 8; ++k) {
-        b[2 * k] = static_cast<int8_t>(2 * l[k]);
-        b[2 * k + 1] = static_cast<int8_t>(2 * l[k] + 1);
-    }
-    return _mm_load_si128(reinterpret_cast<const __m128i*>(b));
-}
-
-}  // namespace
 
 void rasterize_depth_avx2(const FrameState& f, const Tile& tile, TileBuffers& buf) {
     // The record's rx[0..2], ry[0..2] as 16-bit lanes 0-5 of a load from rx (lanes 6-7: the

@@ -155,6 +155,8 @@ struct FrameState {
     // Whether the stages take their AVX2 forms (the *_avx2.cpp files were built and the
     // processor has AVX2: avx2_available()), decided once per pass by `assemble`.
     bool avx2 = false;
+    /// Whether this pass makes and draws DepthTriangles.
+    bool depth_records() const { return depth_only && avx2; }
     struct SampleBounds {
         glm::ivec2 lo{0}, hi{kSubpixel - 1};  // the samples' offsets in their pixel, fixed point
         int margin = 1;                       // pixels added on each side of a triangle's bounds
@@ -272,6 +274,21 @@ struct TriangleEdges {
         dzdy = (static_cast<double>(e[1].b) * z1 + static_cast<double>(e[2].b) * z2) * per_pixel;
     }
 };
+
+/// Edge k of `te` for a stencil count from the sample (sx, sy) (fixed point): its value plus
+/// its fill-rule bias there, and its changes one pixel right and one pixel down. An edge left
+/// out of `crossing` (it holds the counted block whole) is zero, stepped by zero: inside
+/// everywhere. Shared by the count's SSE and AVX2 forms (rasterize_plain.cpp,
+/// stencil_count_avx2.cpp).
+struct CountEdge {
+    int64_t value = 0, right = 0, down = 0;
+};
+inline CountEdge count_edge(const TriangleEdges& te, int k, int64_t sx, int64_t sy,
+                            unsigned crossing) {
+    if (((crossing >> k) & 1u) == 0) return {};
+    const Edge& e = te.e[k];
+    return {e.at(sx, sy) + e.bias, e.a * kSubpixel, e.b * kSubpixel};
+}
 
 /// The pixels of a tile a triangle's bounds cover: [xs, xe) x [ys, ye).
 struct PixelSpan {

@@ -249,8 +249,7 @@ void rasterize_tile(const FrameState& f, const Tile& tile, const SamplePattern& 
     for_each_binned(f, tile, [&](uint32_t id, const SetupTriangle& t) {
         draw_triangle(id, t, tile, sp, state, buf);
     });
-    // A depth-only pass's records (made with AVX2 only).
-    if (f.depth_only && f.avx2) rasterize_depth_avx2(f, tile, buf);
+    if (f.depth_records()) rasterize_depth_avx2(f, tile, buf);
 }
 
 }  // namespace svetlo::raster

@@ -29,14 +29,10 @@ template <bool kWide>
 struct RowEdges {
     __m128i w[3][kWide ? 2 : 1], step[3], down[3];
 
-    /// Edges at row sy from sx, each the edge's value plus its fill-rule bias; an edge left
-    /// out of `crossing` counts as inside everywhere (zero, stepped by zero).
+    /// Edges at row sy from sx (count_edge).
     RowEdges(const TriangleEdges& te, int64_t sx, int64_t sy, unsigned crossing) {
         for (int k = 0; k < 3; ++k) {
-            const bool used = (crossing >> k) & 1u;
-            const int64_t d = used ? te.e[k].a * kSubpixel : 0;
-            const int64_t r = used ? te.e[k].b * kSubpixel : 0;
-            const int64_t e = used ? te.e[k].at(sx, sy) + te.e[k].bias : 0;
+            const auto [e, d, r] = count_edge(te, k, sx, sy, crossing);
             if constexpr (kWide) {
                 w[k][0] = _mm_set_epi64x(e + d, e);
                 w[k][1] = _mm_set_epi64x(e + 3 * d, e + 2 * d);

@@ -1,8 +1,8 @@
 // A small triangle (at most kSmall pixels on each side) at one sample per pixel, in the form
 // its rasterization reads: the three edge functions at the first sample of a span, the depth
-// plane, and their steps per pixel. Relative to that sample every edge
-// value a triangle's bounds can meet fits in 32 bits, so four pixels are tested at once in
-// 32-bit lanes (rasterize.cpp). The frame's colour pass makes it from a SetupTriangle; a
+// plane, and their steps per pixel. Relative to that sample every edge value a triangle's
+// bounds can meet fits in 32 bits, so four pixels are tested at once in 32-bit lanes
+// (rasterize.cpp). The frame's colour pass makes it from a SetupTriangle; a
 // depth-only pass keeps its vertices relative to one corner and its plane as a record
 // (DepthTriangle), made once at setup.
 #pragma once

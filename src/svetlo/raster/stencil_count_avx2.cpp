@@ -21,20 +21,16 @@ namespace {
 __m256i column_of_lanes() { return _mm256_setr_epi32(0, 1, 2, 3, 0, 1, 2, 3); }
 __m256i row_of_lanes() { return _mm256_setr_epi32(0, 0, 0, 0, 1, 1, 1, 1); }
 
-/// The three edge functions over a block of 4 x 2 pixels, each plus its fill-rule bias, in
-/// 32-bit lanes (`kWide` false: the caller knows every value met fits) or in 64-bit lanes, a
-/// register per row. An edge left out of `crossing` is inside everywhere: zero, stepped by
-/// zero.
+/// The three edge functions over a block of 4 x 2 pixels (count_edge), in 32-bit lanes
+/// (`kWide` false: the caller knows every value met fits) or in 64-bit lanes, a register per
+/// row.
 template <bool kWide>
 struct BlockEdges {
     __m256i w[3][kWide ? 2 : 1], step[3], down[3];
 
     BlockEdges(const TriangleEdges& te, int64_t sx, int64_t sy, unsigned crossing) {
         for (int k = 0; k < 3; ++k) {
-            const bool used = (crossing >> k) & 1u;
-            const int64_t a = used ? te.e[k].a * kSubpixel : 0;
-            const int64_t b = used ? te.e[k].b * kSubpixel : 0;
-            const int64_t e = used ? te.e[k].at(sx, sy) + te.e[k].bias : 0;
+            const auto [e, a, b] = count_edge(te, k, sx, sy, crossing);
             if constexpr (kWide) {
                 w[k][0] = _mm256_setr_epi64x(e, e + a, e + 2 * a, e + 3 * a);
                 w[k][1] = _mm256_add_epi64(w[k][0], _mm256_set1_epi64x(b));
