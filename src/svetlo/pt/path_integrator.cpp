@@ -106,7 +106,7 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, R
             break;
         }
         SurfaceHit sh = g.surface(ray, hit);
-        Bsdf bsdf = make_bsdf(rt_.materials()[sh.material], sh.uv, scene_.textures);
+        Bsdf bsdf = rt_.bsdf(sh.material, sh.uv);
         const vec3 wo = -ray.d;
         const ShadingFrame frame = make_shading_frame(sh.ng, sh.ns, wo);
         if (aov && depth == 0) {

@@ -12,6 +12,7 @@
 #include "svetlo/raster/fragment.h"
 #include "svetlo/raster/pipeline.h"
 #include "svetlo/raster/shadow_masks.h"
+#include "svetlo/scene/material_sources.h"
 
 namespace svetlo {
 
@@ -19,35 +20,10 @@ using namespace raster;
 
 namespace {
 
-bool is_textured(const ColorSource& c) { return c.kind != ColorSource::Kind::Constant; }
-
 /// Whether a colour needs mip chains and the pixel footprint (trilinear or anisotropic).
 bool uses_mips(const ColorSource& c) {
     return c.kind == ColorSource::Kind::Image &&
            (c.filter == TextureFilter::Trilinear || c.filter == TextureFilter::Anisotropic);
-}
-
-template <class F>
-bool any_source(const Material& m, F&& f) {
-    return std::visit(
-        [&](const auto& mat) {
-            using T = std::decay_t<decltype(mat)>;
-            if constexpr (std::is_same_v<T, LambertMaterial> ||
-                          std::is_same_v<T, OrenNayarMaterial>) {
-                return f(mat.albedo);
-            } else if constexpr (std::is_same_v<T, PhongMaterial>) {
-                return f(mat.ka) || f(mat.kd) || f(mat.ks) || f(mat.reflect) || f(mat.transmit);
-            } else if constexpr (std::is_same_v<T, CookTorranceMaterial>) {
-                return f(mat.base_color);
-            } else if constexpr (std::is_same_v<T, MirrorMaterial>) {
-                return f(mat.reflectance);
-            } else if constexpr (std::is_same_v<T, EmissiveMaterial>) {
-                return f(mat.radiance) || f(mat.albedo);
-            } else {
-                return false;
-            }
-        },
-        m);
 }
 
 /// Gouraud shading lights each vertex once: a vertex shared by faces of different materials

@@ -4,6 +4,7 @@
 
 #include "svetlo/core/error.h"
 #include "svetlo/geometry/scene_geometry.h"
+#include "svetlo/scene/material_sources.h"
 
 namespace svetlo {
 
@@ -19,6 +20,10 @@ RtScene::RtScene(const Scene& scene, const std::string& accel, int threads)
     }
     std::sort(emitter_ranges_.begin(), emitter_ranges_.end(),
               [](const EmitterRange& a, const EmitterRange& b) { return a.first < b.first; });
+    for (const Material& m : materials()) {
+        textured_.push_back(any_source(m, is_textured) ? 1 : 0);
+        uniform_bsdfs_.push_back(make_bsdf(m, vec2(0.0f), scene.textures));
+    }
     unbounded_ = geometry_.unbounded_primitives();
     accel_ = make_accel(accel, geometry_, threads);
     if (!accel_) {

@@ -10,6 +10,7 @@
 #include "svetlo/geometry/accel.h"
 #include "svetlo/geometry/scene_geometry.h"
 #include "svetlo/scene/scene.h"
+#include "svetlo/shading/bsdf.h"
 #include "svetlo/shading/light_set.h"
 
 namespace svetlo {
@@ -26,6 +27,12 @@ public:
     /// The scene's materials, then the area lights' (LightSet::materials).
     const std::vector<Material>& materials() const { return lights_.materials(); }
     const Accel& accel() const { return *accel_; }
+    /// The BSDF of material `material` at texture coordinates uv: made once for a material
+    /// without textures, at each call for one with.
+    Bsdf bsdf(uint32_t material, vec2 uv) const {
+        return textured_[material] ? make_bsdf(materials()[material], uv, scene_.textures)
+                                   : uniform_bsdfs_[material];
+    }
 
     /// The index in lights().sources() of the light with area that primitive `prim` belongs to,
     /// or -1 (the path tracer weighs an emitter it meets by the pdf of sampling it).
@@ -41,6 +48,8 @@ private:
     const Scene& scene_;
     LightSet lights_;
     Geometry geometry_;
+    std::vector<Bsdf> uniform_bsdfs_;  // per material (meaningless where textured)
+    std::vector<char> textured_;       // per material
     std::vector<uint32_t> unbounded_;
     std::vector<PrimitiveRange> ranges_;
     struct EmitterRange {

@@ -38,7 +38,7 @@ public:
         if (!rt_.intersect(ray, hit)) return scene_.render.background;
         const Geometry& g = rt_.geometry();
         SurfaceHit sh = g.surface(ray, hit);
-        Bsdf bsdf = make_bsdf(rt_.materials()[sh.material], sh.uv, scene_.textures);
+        Bsdf bsdf = rt_.bsdf(sh.material, sh.uv);
         vec3 wo = -glm::normalize(ray.d);
         const ShadingFrame frame = make_shading_frame(sh.ng, sh.ns, wo);
         const bool front = frame.front;

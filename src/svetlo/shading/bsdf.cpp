@@ -28,6 +28,10 @@ struct BsdfMaker {
         b.reflect = c(m.reflect);
         b.transmit = c(m.transmit);
         b.ior = m.ior;
+        // Nothing but the diffuse part: the Lambert BRDF, which the engines sample and
+        // evaluate more cheaply.
+        if (is_black(b.specular) && is_black(b.reflect) && is_black(b.transmit))
+            b.model = Bsdf::Model::Lambert;
         return b;
     }
     Bsdf operator()(const OrenNayarMaterial& m) const {

@@ -5,7 +5,8 @@
 //   lambert       f = albedo / pi
 //   phong         f = kd/pi + ks (n+2)/(2 pi) max(0, r.v)^n            (normalised Phong,
 //   blinn_phong   f = kd/pi + ks (n+8)/(8 pi) max(0, n.h)^n             Lafortune & Willems 1994;
-//                 (n+8)/(8 pi) is approximate: kd + ks = 1 can reflect 1.027 at n = 40)
+//                 (n+8)/(8 pi) is approximate: kd + ks = 1 can reflect 1.027 at n = 40;
+//                 with ks, reflect and transmit black, make_bsdf gives lambert)
 //   oren_nayar    f = albedo/pi (A + B max(0, cos(phi_i - phi_o)) sin(alpha) tan(beta))
 //                 (Oren & Nayar 1994, the qualitative model)
 //   cook_torrance glTF 2.0 metallic-roughness: GGX D (Walter et al. 2007), height-correlated

@@ -115,9 +115,16 @@ float local_pdf(const Bsdf& b, const LobeChoice& c, vec3 wo, vec3 wi) {
     return c.glossy > 0.0f ? pdf + c.glossy * glossy_pdf(b, wo, wi) : pdf;
 }
 
+/// Lambert's BRDF (and an emitter's albedo) are sampled by the cosine alone.
+bool cosine_only(const Bsdf& b) {
+    return b.model == Bsdf::Model::Lambert || b.model == Bsdf::Model::Emissive;
+}
+
 }  // namespace
 
 float pdf_bsdf(const Bsdf& b, vec3 n, vec3 wo, vec3 wi) {
+    if (cosine_only(b))
+        return glm::dot(n, wo) > 0.0f ? std::max(0.0f, glm::dot(n, wi)) * kInvPi : 0.0f;
     Frame frame = Frame::from_normal(n);
     vec3 lo = frame.to_local(wo);
     return local_pdf(b, lobe_choice(b, lo.z), lo, frame.to_local(wi));
@@ -128,6 +135,15 @@ BsdfSample sample_bsdf(const Bsdf& b, vec3 n, vec3 wo, bool front, vec2 u, float
     Frame frame = Frame::from_normal(n);
     vec3 lo = frame.to_local(wo);
     if (lo.z <= 0.0f) return s;
+    if (cosine_only(b)) {  // f = albedo / pi, pdf = cos / pi: the weight is the albedo
+        vec3 li = sample_cosine_hemisphere(u);
+        if (!(li.z > 0.0f)) return s;
+        s.wi = frame.to_world(li);
+        s.pdf = li.z * kInvPi;
+        s.f = b.diffuse * kInvPi;
+        s.weight = b.diffuse;
+        return s;
+    }
     LobeChoice c = lobe_choice(b, lo.z);
     auto delta = [&](vec3 wi, Color weight, float probability) {
         s.wi = wi;
