@@ -113,6 +113,9 @@ struct Case {
 std::vector<Case> glossy_cases() {
     return {{"lambert", lambert(0.7f)},
             {"oren_nayar", oren_nayar(30.0f)},
+            {"phong diffuse only", phong(0.6f, 0.0f, 10.0f, false)},
+            {"emissive albedo", EmissiveMaterial{ColorSource::constant(Color(2.0f)),
+                                                 ColorSource::constant(Color(0.5f))}},
             {"phong n=10", phong(0.3f, 0.5f, 10.0f, false)},
             {"phong n=200", phong(0.2f, 0.7f, 200.0f, false)},
             {"blinn_phong n=30", phong(0.4f, 0.4f, 30.0f, true)},

@@ -61,6 +61,23 @@ TEST(Lambert, IsAlbedoOverPiAndConservesEnergy) {
     EXPECT_NEAR(a.b, 1.0f, 1e-4f);  // white furnace: albedo 1 reflects everything
 }
 
+TEST(Phong, WithOnlyItsDiffusePartIsLambertAndKeepsItsAmbient) {
+    PhongMaterial m;
+    m.ka = ColorSource::constant(Color(0.1f));
+    m.kd = ColorSource::constant(Color(0.6f, 0.4f, 0.2f));
+    Bsdf b = make_bsdf(m, vec2(0.0f), kNoTextures);
+    EXPECT_EQ(b.model, Bsdf::Model::Lambert);
+    EXPECT_EQ(b.ambient, Color(0.1f));
+    EXPECT_NEAR(eval_bsdf(b, kN, dir(10, 0), dir(70, 120)).g, 0.4f / kPi, 1e-7f);
+    // Any specular, mirror or transmitted part keeps the Phong model.
+    for (ColorSource PhongMaterial::*part :
+         {&PhongMaterial::ks, &PhongMaterial::reflect, &PhongMaterial::transmit}) {
+        PhongMaterial p = m;
+        p.*part = ColorSource::constant(Color(0.0f, 0.1f, 0.0f));
+        EXPECT_EQ(make_bsdf(p, vec2(0.0f), kNoTextures).model, Bsdf::Model::Phong);
+    }
+}
+
 TEST(Phong, MatchesTheNormalisedFormula) {
     PhongMaterial m;
     m.kd = ColorSource::constant(Color(0.3f));

@@ -73,6 +73,35 @@ TEST(LightSet, AreaLightSamplesEstimateLambertsPolygonFormula) {
     EXPECT_EQ(lights.materials().size(), scene.materials.size() + 1);
 }
 
+TEST(LightSet, EmissiveMeshTrianglesEstimateLambertsPolygonFormulaFromBothWindings) {
+    // A unit square at y = 2 as two triangles, shining down; then the same square wound the
+    // other way, which shines up. The triangles' records (sample_area) must give each
+    // triangle's points, normal and area.
+    std::vector<vec3> square = {vec3(-0.5f, 2, -0.5f), vec3(0.5f, 2, -0.5f), vec3(0.5f, 2, 0.5f),
+                                vec3(-0.5f, 2, 0.5f)};
+    for (bool down : {true, false}) {
+        json j = base();
+        json indices = down ? json{0, 1, 2, 0, 2, 3} : json{0, 2, 1, 0, 3, 2};
+        j["objects"] = {
+            {{"type", "mesh"},
+             {"positions", {{-0.5, 2, -0.5}, {0.5, 2, -0.5}, {0.5, 2, 0.5}, {-0.5, 2, 0.5}}},
+             {"indices", indices},
+             {"material", "glow"}}};
+        Scene scene = scene_from_json(j, "t.json");
+        LightSet lights(scene);
+        ASSERT_EQ(lights.sources().size(), 1u);
+        const LightSet::Source& mesh = lights.sources()[0];
+        ASSERT_EQ(mesh.triangles.size(), 2u);
+        EXPECT_FLOAT_EQ(mesh.area, 1.0f);
+        vec3 p = down ? vec3(0.7f, 0.3f, -0.2f) : vec3(0.7f, 3.7f, -0.2f);
+        vec3 n(0.0f, down ? 1.0f : -1.0f, 0.0f);
+        float exact = polygon_irradiance(p, n, square, 2.0f);
+        EXPECT_NEAR(estimate(lights, 0, p, n, 200000), exact, 0.01 * exact) << down;
+        // From the other side it shows its back.
+        EXPECT_EQ(estimate(lights, 0, vec3(p.x, 4.0f - p.y, p.z), -n, 100), 0.0) << down;
+    }
+}
+
 TEST(LightSet, EmissiveSphereGivesPiLTimesTheSolidAngleFactor) {
     json j = base();
     j["objects"] = {
