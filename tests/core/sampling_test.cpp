@@ -44,6 +44,36 @@ TEST(Sampling, CosineHemisphereHasMeanCosTwoThirds) {
     EXPECT_NEAR(sum2 / n, 0.5, 0.003);
 }
 
+TEST(Sampling, QuarterCosineAndSineMatchTheLibrarysToARoundingError) {
+    for (int k = -1000; k <= 1000; ++k) {
+        float x = (kPi / 4.0f) * static_cast<float>(k) / 1000.0f;
+        vec2 cs = cos_sin_quarter(x);
+        EXPECT_NEAR(cs.x, std::cos(x), 2e-7f) << x;
+        EXPECT_NEAR(cs.y, std::sin(x), 2e-7f) << x;
+    }
+}
+
+TEST(Sampling, ConcentricDiskMapsEveryOctantAsShirleyAndChiu) {
+    // The map by its definition, in double: r = the coordinate of larger magnitude, the angle
+    // (pi/4) t from the x axis or pi/2 - (pi/4) t, on both sides of every diagonal.
+    for (int i = 0; i <= 64; ++i) {
+        for (int j = 0; j <= 64; ++j) {
+            vec2 u(static_cast<float>(i) / 64.0f, static_cast<float>(j) / 64.0f);
+            double a = 2.0 * u.x - 1.0, b = 2.0 * u.y - 1.0, r = 0.0, theta = 0.0;
+            if (std::abs(a) > std::abs(b)) {
+                r = a;
+                theta = (kPi / 4.0) * (b / a);
+            } else if (b != 0.0) {
+                r = b;
+                theta = kPi / 2.0 - (kPi / 4.0) * (a / b);
+            }
+            vec2 d = sample_disk_concentric(u);
+            EXPECT_NEAR(d.x, r * std::cos(theta), 3e-7) << u.x << " " << u.y;
+            EXPECT_NEAR(d.y, r * std::sin(theta), 3e-7) << u.x << " " << u.y;
+        }
+    }
+}
+
 TEST(Sampling, TriangleSamplesAreUniform) {
     Rng rng(5, 6);
     double b0 = 0.0, b1 = 0.0;

@@ -6,19 +6,30 @@
 
 namespace svetlo {
 
-/// Concentric map to the unit disk (Shirley and Chiu 1997): keeps strata compact.
+/// cos x and sin x for |x| <= pi/4 by their Taylor series to x^10 and x^9: the first terms
+/// left out are below 2e-9, under float's rounding.
+inline vec2 cos_sin_quarter(float x) {
+    float x2 = x * x;
+    float c =
+        1.0f +
+        x2 * (-1.0f / 2 +
+              x2 * (1.0f / 24 + x2 * (-1.0f / 720 + x2 * (1.0f / 40320 - x2 * (1.0f / 3628800)))));
+    float s =
+        x *
+        (1.0f + x2 * (-1.0f / 6 + x2 * (1.0f / 120 + x2 * (-1.0f / 5040 + x2 * (1.0f / 362880)))));
+    return {c, s};
+}
+
+/// Concentric map to the unit disk (Shirley and Chiu 1997): keeps strata compact. The point
+/// at angle (pi/4) t or pi/2 - (pi/4) t, t in [-1, 1], through cos_sin_quarter and a swap,
+/// chosen by selects: random u would mispredict a branch half of the time.
 inline vec2 sample_disk_concentric(vec2 u) {
     vec2 o = 2.0f * u - vec2(1.0f);
     if (o.x == 0.0f && o.y == 0.0f) return vec2(0.0f);
-    float r, theta;
-    if (std::abs(o.x) > std::abs(o.y)) {
-        r = o.x;
-        theta = (kPi / 4.0f) * (o.y / o.x);
-    } else {
-        r = o.y;
-        theta = kPi / 2.0f - (kPi / 4.0f) * (o.x / o.y);
-    }
-    return r * vec2(std::cos(theta), std::sin(theta));
+    const bool near_x = std::abs(o.x) > std::abs(o.y);  // within 45 degrees of the x axis
+    const float r = near_x ? o.x : o.y;
+    const vec2 cs = cos_sin_quarter((kPi / 4.0f) * ((near_x ? o.y : o.x) / r));
+    return r * (near_x ? cs : vec2(cs.y, cs.x));
 }
 
 /// Cosine-weighted direction about +z; pdf = cos(theta) / pi per steradian.

@@ -43,16 +43,18 @@ Color PathIntegrator::one_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& fr
                                 SobolSampler& sampler) {
     if (selection_.empty()) return Color(0.0f);
     const LightSet& lights = rt_.lights();
+    // The light and the primitive of its first sample are chosen from one pair of
+    // dimensions: stratified together, and one pair's scramble fewer than one apiece.
+    const vec2 choice = sampler.next_2d();
     float chosen;
-    const LightSet::Source& source =
-        lights.sources()[selection_.pick(sampler.next_float(), chosen)];
+    const LightSet::Source& source = lights.sources()[selection_.pick(choice.x, chosen)];
     if (source.delta) n = 1;
     Color sum(0.0f);
     for (int k = 0; k < n; ++k) {
         LightSample s = source.delta
                             ? lights.sample(source, p, vec2(0.0f), 0.0f)
                             : lights.sample(source, p, stratified_sample(k, n, sampler.next_2d()),
-                                            sampler.next_float());
+                                            k == 0 ? choice.y : sampler.next_float());
         Color c = unoccluded_light(bsdf, frame, wo, s);  // f E cos, the lighting core's
         if (is_black(c)) continue;
         float w = 1.0f;
