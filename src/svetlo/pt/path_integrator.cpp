@@ -40,21 +40,20 @@ float PathIntegrator::emitter_weight(uint32_t prim, vec3 from, float pdf_bsdf, i
 }
 
 Color PathIntegrator::one_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame, vec3 wo, int n,
-                                SobolSampler& sampler) {
+                                vec2 choice, vec2 u_first, SobolSampler& sampler) {
     if (selection_.empty()) return Color(0.0f);
     const LightSet& lights = rt_.lights();
-    // The light and the primitive of its first sample are chosen from one pair of
-    // dimensions: stratified together, and one pair's scramble fewer than one apiece.
-    const vec2 choice = sampler.next_2d();
     float chosen;
     const LightSet::Source& source = lights.sources()[selection_.pick(choice.x, chosen)];
     if (source.delta) n = 1;
     Color sum(0.0f);
     for (int k = 0; k < n; ++k) {
-        LightSample s = source.delta
-                            ? lights.sample(source, p, vec2(0.0f), 0.0f)
-                            : lights.sample(source, p, stratified_sample(k, n, sampler.next_2d()),
-                                            k == 0 ? choice.y : sampler.next_float());
+        LightSample s =
+            source.delta
+                ? lights.sample(source, p, vec2(0.0f), 0.0f)
+                : lights.sample(source, p,
+                                stratified_sample(k, n, k == 0 ? u_first : sampler.next_2d()),
+                                k == 0 ? choice.y : sampler.next_float());
         Color c = unoccluded_light(bsdf, frame, wo, s);  // f E cos, the lighting core's
         if (is_black(c)) continue;
         float w = 1.0f;
@@ -135,12 +134,16 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, R
         }
         if (depth > settings.max_depth) break;
 
+        // The vertex's sample values, four pairs: the light and its first sample's primitive
+        // (stratified together), the light sample's point, the BSDF's direction, and its lobe
+        // with the roulette. Further light samples and the background's draw after them.
+        const std::array<vec2, 4> u = sampler.next_8();
         if (bsdf.has_lobes()) {
             // render.light_samples at the first hit, where direct light shows most; one
             // sample deeper, where the path's own spread averages it out.
             const int n = depth == 0 ? settings.light_samples : 1;
             prev_light_samples = n;
-            L += beta * one_light(bsdf, sh.p, frame, wo, n, sampler);
+            L += beta * one_light(bsdf, sh.p, frame, wo, n, u[0], u[1], sampler);
             if (environment_)
                 L += beta * environment_light(bsdf, sh.p, frame, wo, sampler.next_2d());
             if (photons_) L += beta * photons_->radiance(sh.p, frame, wo, bsdf);
@@ -153,9 +156,7 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, R
             }
             bsdf.ior = cauchy_ior(bsdf.ior, bsdf.abbe, lambda);
         }
-        vec2 u = sampler.next_2d();
-        float u_lobe = sampler.next_float();
-        BsdfSample bs = sample_bsdf(bsdf, frame.ns, wo, frame.front, u, u_lobe);
+        BsdfSample bs = sample_bsdf(bsdf, frame.ns, wo, frame.front, u[2], u[3].x);
         if (!bs.valid()) break;
         // A reflection that leaves below the geometric surface would leak light through it.
         bool transmission = glm::dot(frame.ns, bs.wi) < 0.0f;
@@ -170,7 +171,7 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, R
         ray = Ray{offset_ray_origin(sh.p, frame.ng, bs.wi), bs.wi, kInfinity};
         if (depth + 1 >= kRouletteDepth) {
             float survive = std::min(kMaxSurvival, std::sqrt(max_component(beta)));
-            if (sampler.next_float() >= survive) break;
+            if (u[3].y >= survive) break;
             beta /= survive;
         }
     }

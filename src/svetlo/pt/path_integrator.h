@@ -39,8 +39,10 @@ private:
                          vec3 ng) const;
     /// Next-event estimation of one light, chosen by selection_, at p: `n` samples of it
     /// when it has area.
+    /// `choice` picks the light (x) and its first sample's primitive (y), `u_first` the first
+    /// sample's point; further samples draw from `sampler`.
     Color one_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame, vec3 wo, int n,
-                    SobolSampler& sampler);
+                    vec2 choice, vec2 u_first, SobolSampler& sampler);
     /// Next-event estimation of the background at p: a cosine-weighted direction about ng,
     /// drawn from u.
     Color environment_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame, vec3 wo, vec2 u);

@@ -9,6 +9,7 @@
 #include "svetlo/core/error.h"
 #include "svetlo/core/parallel.h"
 #include "svetlo/core/progress.h"
+#include "svetlo/geometry/avx2.h"
 #include "svetlo/pt/path_integrator.h"
 #include "svetlo/rt/camera.h"
 #include "svetlo/scene/scene_loader.h"
@@ -76,6 +77,7 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
         sums.aov2.assign(pixels, glm::dvec4(0.0));
     }
     CameraRays camera(scene.camera, width, height);
+    const bool avx2 = avx2_available();  // the sampler's eight lanes: the same numbers
     std::atomic<uint64_t> rays{0}, nonfinite{0};
     Progress progress("path", static_cast<int64_t>(max_passes) * static_cast<int64_t>(pixels),
                       options.progress);
@@ -102,7 +104,8 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
                 for (int j = tile.y0; j < tile.y1; ++j) {
                     for (int i = tile.x0; i < tile.x1; ++i) {
                         const size_t pixel = static_cast<size_t>(j) * width + i;
-                        SobolSampler sampler(scene.render.seed, pixel, static_cast<uint32_t>(pass));
+                        SobolSampler sampler(scene.render.seed, pixel, static_cast<uint32_t>(pass),
+                                             avx2);
                         // The visibility AOV's own stream, made only when it is asked for.
                         std::optional<Rng> aov_rng;
                         if (want_visibility)
