@@ -132,9 +132,8 @@ float pdf_bsdf(const Bsdf& b, vec3 n, vec3 wo, vec3 wi) {
 
 BsdfSample sample_bsdf(const Bsdf& b, vec3 n, vec3 wo, bool front, vec2 u, float u_lobe) {
     BsdfSample s;
+    if (glm::dot(n, wo) <= 0.0f) return s;
     Frame frame = Frame::from_normal(n);
-    vec3 lo = frame.to_local(wo);
-    if (lo.z <= 0.0f) return s;
     if (cosine_only(b)) {  // f = albedo / pi, pdf = cos / pi: the weight is the albedo
         vec3 li = sample_cosine_hemisphere(u);
         if (!(li.z > 0.0f)) return s;
@@ -144,6 +143,8 @@ BsdfSample sample_bsdf(const Bsdf& b, vec3 n, vec3 wo, bool front, vec2 u, float
         s.weight = b.diffuse;
         return s;
     }
+    vec3 lo = frame.to_local(wo);
+    if (lo.z <= 0.0f) return s;
     LobeChoice c = lobe_choice(b, lo.z);
     auto delta = [&](vec3 wi, Color weight, float probability) {
         s.wi = wi;

@@ -105,7 +105,7 @@ inline LightSample LightSet::sample_at(const AreaPoint& a, vec3 p, float min_dis
     float dist2 = glm::dot(d, d);
     if (!(dist2 > 0.0f)) return s;
     s.distance = std::sqrt(dist2);
-    s.wi = d / s.distance;
+    s.wi = d * (1.0f / s.distance);
     float cos_light = -glm::dot(s.n, s.wi);
     if (cos_light <= 0.0f) return s;  // its back: it emits nothing this way
     // E = L cos' / (d^2 pdf_area): the area form of the rendering equation.
