@@ -81,16 +81,23 @@ float primitive_area(const Geometry& g, uint32_t id) {
     return shape_area(g.shape(id));
 }
 
+SurfaceSample sample_triangle_primitive(const Geometry& g, uint32_t id, vec2 u, vec3 n) {
+    SurfaceSample s;
+    const uint32_t* t = &g.indices[3 * static_cast<size_t>(id)];
+    vec2 b = sample_triangle(u);
+    float b0 = 1.0f - b.x - b.y;
+    s.p = b0 * g.positions[t[0]] + b.x * g.positions[t[1]] + b.y * g.positions[t[2]];
+    s.n = n;
+    s.uv = g.uvs.empty() ? b : b0 * g.uvs[t[0]] + b.x * g.uvs[t[1]] + b.y * g.uvs[t[2]];
+    return s;
+}
+
 SurfaceSample sample_primitive(const Geometry& g, uint32_t id, vec2 u, float u_part) {
     SurfaceSample s;
     if (g.is_triangle(id)) {
         const uint32_t* t = &g.indices[3 * static_cast<size_t>(id)];
-        vec2 b = sample_triangle(u);
-        float b0 = 1.0f - b.x - b.y;
-        s.p = b0 * g.positions[t[0]] + b.x * g.positions[t[1]] + b.y * g.positions[t[2]];
-        s.n = triangle_normal(g.positions[t[0]], g.positions[t[1]], g.positions[t[2]]);
-        s.uv = g.uvs.empty() ? b : b0 * g.uvs[t[0]] + b.x * g.uvs[t[1]] + b.y * g.uvs[t[2]];
-        return s;
+        vec3 n = triangle_normal(g.positions[t[0]], g.positions[t[1]], g.positions[t[2]]);
+        return sample_triangle_primitive(g, id, u, n);
     }
     const AnalyticShape& shape = g.shape(id);
     if (shape.kind == ShapeKind::Quad) {

@@ -20,6 +20,10 @@ struct SurfaceSample {
 /// untransformed shapes and under uniform scaling.
 SurfaceSample sample_primitive(const Geometry& geometry, uint32_t id, vec2 u, float u_part);
 
+/// The same for triangle `id` whose unit front normal n is known (the light set keeps its
+/// emitters' normals, saving the cross product's normalisation per sample).
+SurfaceSample sample_triangle_primitive(const Geometry& geometry, uint32_t id, vec2 u, vec3 n);
+
 /// Area of one primitive in world space (m^2).
 float primitive_area(const Geometry& geometry, uint32_t id);
 

@@ -3,7 +3,6 @@
 #include <algorithm>
 
 #include "svetlo/core/error.h"
-#include "svetlo/core/sampling.h"
 #include "svetlo/geometry/scene_geometry.h"
 #include "svetlo/shading/bsdf.h"
 #include "svetlo/shading/lights.h"
@@ -41,14 +40,14 @@ bool finish_source(LightSet::Source& s, const Geometry& g) {
     for (float& c : s.cdf) c = static_cast<float>(c / total);
     s.cdf.back() = 1.0f;
     s.area = static_cast<float>(total);
-    // Triangles get records to sample from (sample_area): no indices, no normalisation.
+    // Triangles keep their normals (sample_area): no normalisation per sample.
     if (!std::all_of(s.prims.begin(), s.prims.end(),
                      [&](uint32_t id) { return g.is_triangle(id); }))
         return true;
     for (uint32_t id : s.prims) {
         const uint32_t* t = &g.indices[3 * static_cast<size_t>(id)];
-        vec3 p0 = g.positions[t[0]], p1 = g.positions[t[1]], p2 = g.positions[t[2]];
-        s.triangles.push_back({p0, p1 - p0, p2 - p0, triangle_normal(p0, p1, p2)});
+        s.normals.push_back(
+            triangle_normal(g.positions[t[0]], g.positions[t[1]], g.positions[t[2]]));
     }
     return true;
 }
@@ -148,21 +147,9 @@ AreaPoint LightSet::sample_area(const Source& source, vec2 u, float u_pick) cons
     float u_rest = width > 0.0f ? std::clamp((u_pick - lo) / width, 0.0f, 0.99999994f) : 0.5f;
     uint32_t prim = source.prims[k];
     AreaPoint a;
-    if (!source.triangles.empty()) {  // as sample_primitive, from the record
-        const Triangle& t = source.triangles[k];
-        vec2 b = sample_triangle(u);
-        a.surface.p = t.p0 + b.x * t.e1 + b.y * t.e2;
-        a.surface.n = t.n;
-        if (geometry_.uvs.empty()) {
-            a.surface.uv = b;
-        } else {
-            const uint32_t* i = &geometry_.indices[3 * static_cast<size_t>(prim)];
-            a.surface.uv = (1.0f - b.x - b.y) * geometry_.uvs[i[0]] + b.x * geometry_.uvs[i[1]] +
-                           b.y * geometry_.uvs[i[2]];
-        }
-    } else {
-        a.surface = sample_primitive(geometry_, prim, u, u_rest);
-    }
+    a.surface = source.normals.empty()
+                    ? sample_primitive(geometry_, prim, u, u_rest)
+                    : sample_triangle_primitive(geometry_, prim, u, source.normals[k]);
     a.pdf_area = 1.0f / source.area;
     const uint32_t m = geometry_.material(prim);
     a.radiance = emission_textured_[m]

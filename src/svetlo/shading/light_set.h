@@ -43,19 +43,14 @@ struct AreaPoint {
 
 class LightSet {
 public:
-    /// An emitting triangle, ready to sample: a point is p0 + b1 e1 + b2 e2.
-    struct Triangle {
-        vec3 p0{0.0f}, e1{0.0f}, e2{0.0f};
-        vec3 n{0.0f};  // unit front normal
-    };
     struct Source {
         bool delta = true;     // point, spot or directional (else a light with area)
         int light_index = -1;  // index into Scene::lights; -1 for an emissive object
         int object = -1;  // lights with area: index into Scene::objects, then area_light_quads()
-        std::vector<uint32_t> prims;      // lights with area: primitives of the set's geometry
-        std::vector<float> cdf;           // cumulative area over prims, ending at 1
-        std::vector<Triangle> triangles;  // per prim, when every prim is a triangle (else empty)
-        float area = 0.0f;                // m^2
+        std::vector<uint32_t> prims;  // lights with area: primitives of the set's geometry
+        std::vector<float> cdf;       // cumulative area over prims, ending at 1
+        std::vector<vec3> normals;    // unit front normal per prim, when all are triangles
+        float area = 0.0f;            // m^2
     };
 
     /// Throws Error for an emitter it cannot sample (an emissive plane, or an emissive shape
