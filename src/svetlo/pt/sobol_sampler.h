@@ -73,6 +73,18 @@ constexpr uint32_t sobol_hash(uint32_t key, uint32_t salt) {
 /// A fixed-point number's top 24 bits as a float in [0, 1).
 constexpr float sobol_to_unit(uint32_t x) { return static_cast<float>(x >> 8) * 0x1p-24f; }
 
+/// The shuffled index of pair k of the sample whose index, bit-reversed, is reversed_index:
+/// the index under a nested uniform scramble (an Owen scramble of the index), salt 2k + 1.
+constexpr uint32_t sobol_shuffled(uint32_t key, uint32_t reversed_index, uint32_t k) {
+    return owen_of_reversed(reversed_index, sobol_hash(key, 2 * k + 1));
+}
+
+/// Dimension d at its pair's shuffled index i: the first Sobol dimension for an even d, the
+/// second for an odd one, Owen-scrambled with salt 2d.
+constexpr float sobol_dimension(uint32_t key, uint32_t i, uint32_t d) {
+    return sobol_to_unit(owen_of_reversed(d & 1u ? sobol1_reversed(i) : i, sobol_hash(key, 2 * d)));
+}
+
 /// Dimensions d to d + 7 (d even) of the sample whose index, bit-reversed, is
 /// reversed_index, under the pixel's key: four next_2d() in eight AVX2 lanes. Call only
 /// where avx2_available() (geometry/avx2.h).
@@ -94,9 +106,7 @@ public:
             pair_ = d >> 1;
             pair_index_ = shuffled(pair_);
         }
-        const uint32_t i = pair_index_;
-        return sobol_to_unit(d & 1u ? owen_of_reversed(sobol1_reversed(i), seed(d))
-                                    : owen_of_reversed(i, seed(d)));
+        return sobol_dimension(key_, pair_index_, d);
     }
     /// The next pair of dimensions, starting at an even one: stratified together.
     vec2 next_2d() {
@@ -121,15 +131,9 @@ private:
     /// Dimensions d and d + 1 (d even).
     vec2 pair(uint32_t d) const {
         const uint32_t i = shuffled(d >> 1);
-        return {sobol_to_unit(owen_of_reversed(i, seed(d))),
-                sobol_to_unit(owen_of_reversed(sobol1_reversed(i), seed(d + 1)))};
+        return {sobol_dimension(key_, i, d), sobol_dimension(key_, i, d + 1)};
     }
-    /// The scramble of dimension d, and the shuffled index of pair k: the sample's index
-    /// under a nested uniform scramble (an Owen scramble of the index).
-    uint32_t seed(uint32_t d) const { return sobol_hash(key_, 2 * d); }
-    uint32_t shuffled(uint32_t k) const {
-        return owen_of_reversed(reversed_index_, sobol_hash(key_, 2 * k + 1));
-    }
+    uint32_t shuffled(uint32_t k) const { return sobol_shuffled(key_, reversed_index_, k); }
 
     uint32_t key_;
     uint32_t reversed_index_;  // the sample's index, bit-reversed

@@ -1,7 +1,8 @@
 // SobolSampler::next_8 with AVX2 (sobol_sampler.h): four pairs of dimensions in eight 32-bit
-// lanes, lane L holding dimension d + L of pair L / 2. Every step is the scalar code's
-// operation lane by lane (32-bit multiplications wrap alike), so the numbers are the same.
-// The target is set by pragma after the headers, as in the rasterizer's AVX2 files.
+// lanes, lane L holding dimension d + L of pair L / 2 (sobol_shuffled, then sobol_dimension).
+// Every step is the scalar code's operation lane by lane (32-bit multiplications wrap alike), so
+// the numbers are the same. The target is set by pragma after the headers, as in the rasterizer's
+// AVX2 files.
 #include <immintrin.h>
 
 #include "svetlo/pt/sobol_sampler.h"
