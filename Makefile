@@ -5,7 +5,7 @@ BUILD := build
 SVETLO := $(BUILD)/svetlo
 DEMO_SCENES := $(wildcard scenes/*.json)
 
-.PHONY: all build test demo bench setup clean format fuzz
+.PHONY: all build test demo bench setup clean format fuzz fuzz-scenes
 
 all: build
 
@@ -69,6 +69,17 @@ fuzz:
 	        -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -timeout=10 -rss_limit_mb=4096 \
 	        -artifact_prefix=build-fuzz/found/$$t- || exit 1; \
 	done
+
+# Mutate the bundled scenes and render them with every engine under ASan and UBSan, checking
+# the contract's two outcomes (tests/fuzz/mutate_scenes.py; docs/robustness.md). What breaks
+# it is kept in build-asan/mutants.
+FUZZ_RUNS ?= 1000
+FUZZ_SEED ?= 1
+fuzz-scenes:
+	@scripts/setup python
+	cmake --preset asan > /dev/null
+	cmake --build build-asan -j $(JOBS) --target svetlo
+	python3 tests/fuzz/mutate_scenes.py build-asan/svetlo --runs $(FUZZ_RUNS) --seed $(FUZZ_SEED)
 
 clean:
 	rm -rf $(BUILD) out

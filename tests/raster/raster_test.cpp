@@ -389,6 +389,39 @@ TEST(Raster, ClippingKeepsThePartInFrontOfTheNearPlane) {
     EXPECT_EQ(none.count, 0);
 }
 
+// Found by tests/fuzz/mutate_scenes.py: a sphere of radius 3.4e38 made clip coordinates of
+// w = inf that counted as inside the clip volume, and their division by w snapped a vertex to
+// INT_MIN (signed overflow in the triangle's bounds, under UBSan).
+TEST(Raster, AVertexWhoseWCannotBeDividedByIsNotInside) {
+    const float inf = std::numeric_limits<float>::infinity();
+    EXPECT_TRUE(inside(vec4(0.5f, -0.5f, 0.0f, 1.0f), 2.0f, 2.0f));
+    EXPECT_TRUE(inside(vec4(0.0f, 0.0f, 0.0f, std::numeric_limits<float>::min()), 2.0f, 2.0f));
+    EXPECT_FALSE(inside(vec4(inf, 0.0f, 0.0f, inf), 2.0f, 2.0f));      // overflowed
+    EXPECT_FALSE(inside(vec4(0.0f, 0.0f, 0.0f, inf), 2.0f, 2.0f));     // 0 / inf: nothing
+    EXPECT_FALSE(inside(vec4(0.0f, 0.0f, 0.0f, 1e-40f), 2.0f, 2.0f));  // 1 / w = inf
+    EXPECT_FALSE(inside(vec4(0.0f, 0.0f, 0.0f, 0.0f), 2.0f, 2.0f));
+    // The fuzzer's vertex: y overflowed, w did not, and g w does.
+    EXPECT_FALSE(inside(vec4(4.79f, -inf, 1.8e38f, 1.8e38f), 8193.0f, 8193.0f));
+    // The sphere itself, in every shading mode and on films down to one pixel: every value
+    // finite (and, under UBSan, no overflow on the way).
+    for (const char* shading : {"flat", "gouraud", "phong"}) {
+        for (int size : {1, 3, 24}) {
+            json j = oblique(size, size);
+            j["render"]["shading"] = shading;
+            j["materials"] = {{"grey", {{"type", "lambert"}, {"albedo", 0.5}}}};
+            j["lights"] = {
+                {{"type", "directional"}, {"direction", {0, -1, 0}}, {"irradiance", {1, 1, 1}}}};
+            j["objects"] = {{{"type", "sphere"},
+                             {"center", {2.25, 0.6, 0}},
+                             {"radius", 3.4e38},
+                             {"material", "grey"}}};
+            RenderResult r = render(j);
+            for (int y = 0; y < size; ++y)
+                for (int x = 0; x < size; ++x) EXPECT_TRUE(is_finite(r.color.at(x, y)));
+        }
+    }
+}
+
 TEST(Raster, MatricesProjectWhereTheCameraRaysGo) {
     Camera cam;
     cam.position = vec3(1, 2, 3);

@@ -9,6 +9,8 @@
 #pragma once
 
 #include <array>
+#include <cmath>
+#include <limits>
 
 #include "svetlo/core/math.h"
 
@@ -37,10 +39,20 @@ struct ClipPolygon {
 ClipPolygon clip_triangle(const ClipVertex& a, const ClipVertex& b, const ClipVertex& c,
                           float guard_x, float guard_y);
 
-/// True when a vertex lies inside every clip plane; a triangle of three such vertices needs no
-/// clipping (the common case).
+/// Whether a clip-space vertex can be projected: x, y and z finite, and w > 0 with 1/w finite
+/// and non-zero (w neither infinite nor denormal). Coordinates that overflowed (world
+/// coordinates near a float's limit) cannot be.
+inline bool projectable(const vec4& p) {
+    return p.w >= std::numeric_limits<float>::min() && p.w <= std::numeric_limits<float>::max() &&
+           std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+}
+
+/// True when a vertex can be projected and lies inside every clip plane; a triangle of three
+/// such vertices needs no clipping (the common case). Then |x / w|, |y / w| are within the
+/// guard band and |z / w| <= 1 (where g w overflows, w > FLT_MAX / g, so |x / w| < g still).
 inline bool inside(const vec4& p, float gx, float gy) {
-    return p.z >= -p.w && p.z <= p.w && std::abs(p.x) <= gx * p.w && std::abs(p.y) <= gy * p.w;
+    return projectable(p) && p.z >= -p.w && p.z <= p.w && std::abs(p.x) <= gx * p.w &&
+           std::abs(p.y) <= gy * p.w;
 }
 
 }  // namespace svetlo

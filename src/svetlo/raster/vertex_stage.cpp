@@ -46,7 +46,7 @@ void vertex_stage(const TriangleList& list, FrameState& f, int threads) {
             ScreenVertex& sv = f.screen[v];
             out.invw = 0.0f;
             sv = ScreenVertex{};
-            if (out.clip.w > 0.0f && inside(out.clip, gx, gy)) {
+            if (inside(out.clip, gx, gy)) {
                 out.invw = 1.0f / out.clip.w;
                 sv = project(f, out);
                 sv.inside = 1;
