@@ -389,10 +389,10 @@ TEST(Raster, ClippingKeepsThePartInFrontOfTheNearPlane) {
     EXPECT_EQ(none.count, 0);
 }
 
-// Found by tests/fuzz/mutate_scenes.py: a sphere of radius 3.4e38 made clip coordinates of
-// w = inf that counted as inside the clip volume, and their division by w snapped a vertex to
-// INT_MIN (signed overflow in the triangle's bounds, under UBSan).
-TEST(Raster, AVertexWhoseWCannotBeDividedByIsNotInside) {
+// Found by tests/fuzz/mutate_scenes.py: a sphere of radius 3.4e38 gave a vertex y = -inf with
+// a finite w, inside the clip volume because g w overflowed to inf; it was snapped to INT_MIN,
+// and the triangle's bounds overflowed a signed integer (under UBSan).
+TEST(Raster, AVertexThatCannotBeProjectedIsNotInside) {
     const float inf = std::numeric_limits<float>::infinity();
     EXPECT_TRUE(inside(vec4(0.5f, -0.5f, 0.0f, 1.0f), 2.0f, 2.0f));
     EXPECT_TRUE(inside(vec4(0.0f, 0.0f, 0.0f, std::numeric_limits<float>::min()), 2.0f, 2.0f));
