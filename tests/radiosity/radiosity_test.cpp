@@ -149,6 +149,32 @@ TEST(Radiosity, ColourBleedsInTheCornellBox) {
     EXPECT_GT(ratio(10, 14), 1.15 * ratio(50, 54));
 }
 
+// Found by tests/fuzz/mutate_scenes.py: the display's jittered item buffer was shifted the
+// wrong way, so a sample's ray was cut with the plane of the triangle seen at the pixel's
+// mirrored point. On films of a few pixels the depth AOV came out negative or past the
+// box (-2.2 and 48 for a true 4.1-4.5); on any film, samples on triangle edges were lit
+// from extrapolated points.
+TEST(Radiosity, TheDisplayShadesTheTriangleItsRayHits) {
+    for (int size : {1, 2, 3}) {
+        json j = cornell(size, "radiosity");
+        j["render"]["spp"] = 16;
+        j["render"]["radiosity"] = {{"element_size", 0.5}, {"max_subdivision", 0}};
+        const Image depth = render(j, 2, {"depth"}).aovs.at("depth");
+        // The mean distance over each pixel, from the path tracer's first hits (1024 jittered
+        // rays a pixel).
+        json p = cornell(size, "path");
+        p["render"]["spp"] = 1024;
+        p["render"]["max_depth"] = 0;
+        const Image reference = render_json<PathRenderer>(p, 2, {"depth"}).aovs.at("depth");
+        for (int y = 0; y < size; ++y) {
+            for (int x = 0; x < size; ++x) {
+                EXPECT_NEAR(depth.at(x, y).r, reference.at(x, y).r, 0.05f * reference.at(x, y).r)
+                    << size << " px, pixel " << x << ", " << y;
+            }
+        }
+    }
+}
+
 TEST(Radiosity, SolversAgree) {
     // On one mesh, the four solvers to a tight tolerance give the same image.
     json j = cornell(48, "radiosity");

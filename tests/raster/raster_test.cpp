@@ -442,6 +442,32 @@ TEST(Raster, MatricesProjectWhereTheCameraRaysGo) {
     }
 }
 
+TEST(Raster, AJitteredCameraShowsTheJitteredRayAtThePixelCentre) {
+    Camera cam;
+    cam.position = vec3(1, 2, 3);
+    cam.look_at = vec3(0, 0.5f, 0);
+    cam.fov_deg = 45.0f;
+    Bounds3 bounds{vec3(-2), vec3(2)};
+    for (auto type : {Camera::Type::Perspective, Camera::Type::Orthographic}) {
+        cam.type = type;
+        for (int w : {1, 3, 200}) {
+            const int h = w == 200 ? 100 : w;
+            const CameraMatrices m = camera_matrices(cam, w, h, bounds);
+            for (vec2 jitter : {vec2(0.5f), vec2(0.1f, 0.8f), vec2(0.95f, 0.05f)}) {
+                const CameraMatrices jm = jittered_camera(m, jitter);
+                const int i = w / 2, j = h / 3;
+                Ray r = contract_camera_ray(cam, w, h, (static_cast<float>(i) + jitter.x) / w,
+                                            (static_cast<float>(j) + jitter.y) / h);
+                vec3 p = r.o + 2.5f * r.d;
+                vec4 clip = jm.view_projection() * vec4(p, 1.0f);
+                vec2 px = jm.to_pixels(vec2(clip) / clip.w);
+                EXPECT_NEAR(px.x, static_cast<float>(i) + 0.5f, 1e-3f) << w << " " << jitter.x;
+                EXPECT_NEAR(px.y, static_cast<float>(j) + 0.5f, 1e-3f) << h << " " << jitter.y;
+            }
+        }
+    }
+}
+
 TEST(Raster, LinesCoverWhatTheyShould) {
     std::vector<std::pair<int, int>> pixels;
     draw_line_bresenham(vec2(0.5f, 0.5f), vec2(10.5f, 4.5f), [&](int i, int j, float c, float) {

@@ -137,14 +137,9 @@ RenderResult RadiosityRenderer::render(const Scene& scene, const RenderOptions& 
             : scene.camera.height / static_cast<float>(height);
     for (int s = 0; s < spp; ++s) {
         const vec2 jitter = pass_jitter(s, spp, seed);
-        CameraMatrices jittered = camera;
-        // A shift in normalised device coordinates moves the image by a fraction of a pixel.
-        mat4 shift = glm::translate(mat4(1.0f), vec3(2.0f * (jitter.x - 0.5f) / width,
-                                                     -2.0f * (jitter.y - 0.5f) / height, 0.0f));
-        jittered.projection = shift * camera.projection;
         buffers.clear(width, height, 1, false, true);
         PipelineState state;
-        draw_pass(mesh.list, jittered, state, buffers, threads, 0, &memory);
+        draw_pass(mesh.list, jittered_camera(camera, jitter), state, buffers, threads, 0, &memory);
         parallel_tiles(width, height, threads, [&](const Tile& tile) {
             uint64_t local_rays = 0, local_nonfinite = 0;
             for (int j = tile.y0; j < tile.y1; ++j) {

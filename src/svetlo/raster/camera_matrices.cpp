@@ -46,4 +46,15 @@ CameraMatrices camera_matrices(const Camera& camera, int width, int height, cons
     return m;
 }
 
+CameraMatrices jittered_camera(const CameraMatrices& camera, vec2 jitter) {
+    // to_pixels: a shift of d in normalised device coordinates moves x by d.x width / 2
+    // pixels and y by -d.y height / 2 (pixels count down).
+    const vec2 shift(0.5f - jitter.x, 0.5f - jitter.y);
+    const vec2 d(2.0f * shift.x / static_cast<float>(camera.width),
+                 -2.0f * shift.y / static_cast<float>(camera.height));
+    CameraMatrices m = camera;
+    m.projection = glm::translate(mat4(1.0f), vec3(d, 0.0f)) * camera.projection;
+    return m;
+}
+
 }  // namespace svetlo

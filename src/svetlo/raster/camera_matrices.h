@@ -36,4 +36,10 @@ struct CameraMatrices {
 CameraMatrices camera_matrices(const Camera& camera, int width, int height, const Bounds3& bounds,
                                float nearest = 0.0f);
 
+/// The matrices of a pass jittered within the pixel: the image moves by (0.5, 0.5) - `jitter`
+/// pixels, so that the centre of pixel (i, j) shows what the camera ray through (i + jitter.x,
+/// j + jitter.y) sees. An item buffer drawn with them at one sample a pixel (at its centre)
+/// matches that pass's rays.
+CameraMatrices jittered_camera(const CameraMatrices& camera, vec2 jitter);
+
 }  // namespace svetlo
