@@ -422,15 +422,20 @@ TEST(Raster, AVertexThatCannotBeProjectedIsNotInside) {
     }
 }
 
-TEST(Raster, MatricesProjectWhereTheCameraRaysGo) {
+/// A camera looking obliquely at the origin, for the matrices' tests.
+Camera oblique_camera(Camera::Type type) {
     Camera cam;
+    cam.type = type;
     cam.position = vec3(1, 2, 3);
     cam.look_at = vec3(0, 0.5f, 0);
     cam.fov_deg = 45.0f;
-    Bounds3 bounds{vec3(-2), vec3(2)};
+    return cam;
+}
+
+TEST(Raster, MatricesProjectWhereTheCameraRaysGo) {
     for (auto type : {Camera::Type::Perspective, Camera::Type::Orthographic}) {
-        cam.type = type;
-        CameraMatrices m = camera_matrices(cam, 200, 100, bounds);
+        const Camera cam = oblique_camera(type);
+        CameraMatrices m = camera_matrices(cam, 200, 100, Bounds3{vec3(-2), vec3(2)});
         for (vec2 film : {vec2(0.1f, 0.2f), vec2(0.5f, 0.5f), vec2(0.9f, 0.7f)}) {
             Ray r = contract_camera_ray(cam, 200, 100, film.x, film.y);
             vec3 p = r.o + 2.5f * r.d;
@@ -443,16 +448,11 @@ TEST(Raster, MatricesProjectWhereTheCameraRaysGo) {
 }
 
 TEST(Raster, AJitteredCameraShowsTheJitteredRayAtThePixelCentre) {
-    Camera cam;
-    cam.position = vec3(1, 2, 3);
-    cam.look_at = vec3(0, 0.5f, 0);
-    cam.fov_deg = 45.0f;
-    Bounds3 bounds{vec3(-2), vec3(2)};
     for (auto type : {Camera::Type::Perspective, Camera::Type::Orthographic}) {
-        cam.type = type;
+        const Camera cam = oblique_camera(type);
         for (int w : {1, 3, 200}) {
             const int h = w == 200 ? 100 : w;
-            const CameraMatrices m = camera_matrices(cam, w, h, bounds);
+            const CameraMatrices m = camera_matrices(cam, w, h, Bounds3{vec3(-2), vec3(2)});
             for (vec2 jitter : {vec2(0.5f), vec2(0.1f, 0.8f), vec2(0.95f, 0.05f)}) {
                 const CameraMatrices jm = jittered_camera(m, jitter);
                 const int i = w / 2, j = h / 3;
