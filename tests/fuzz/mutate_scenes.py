@@ -131,6 +131,45 @@ def workspace(repo):
     return root, os.path.join(root, "repo", "scenes")
 
 
+def random_command(rng, svetlo, scene_path, engine, root, run):
+    """The render command for a mutant, its image's path, and its AOV's (path, name) or
+    (None, None)."""
+    width, height = rng.choice([(24, 16), (1, 1), (3, 200), (17, 5)])
+    out = os.path.join(root, f"out_{run}" + rng.choice([".png", ".pfm", ".exr"]))
+    cmd = [svetlo, "render", scene_path, "-o", out, "--engine", engine, "-W", str(width),
+           "-H", str(height), "--spp", rng.choice("123"), "-t", rng.choice("12"), "--quiet"]
+    aov, name_aov = None, None
+    if rng.random() < 0.3:
+        aov = os.path.join(root, f"aov_{run}.pfm")
+        name_aov = rng.choice(["depth", "normal", "albedo", "visibility", "patches"])
+        cmd += ["--aov", f"{name_aov}={aov}"]
+    if engine == "path" and rng.random() < 0.2:
+        cmd += ["--time", rng.choice(["0.01", "0.5"])]
+    if rng.random() < 0.2:
+        cmd += ["--seed", rng.choice(["0", "4294967295", "123456789012"])]
+    return cmd, out, (aov, name_aov)
+
+
+def contract_problem(status, stderr, scene_path, out, aov, name_aov):
+    """None if a run ended in one of the contract's two outcomes, else what broke it."""
+    lines = [l for l in stderr.splitlines() if l.strip()]
+    written = [f for f in (out, aov) if f and os.path.exists(f)]
+    if status == 0:
+        if lines or out not in written:
+            return "exit 0 with stderr, or without the image"
+        pfms = [f for f in written if f.endswith(".pfm")]
+        problems = [pfm_problem(f, f == aov and name_aov == "normal") for f in pfms]
+        return next((p for p in problems if p), None)
+    if status == 1:
+        prefix = "svetlo: error: "
+        named = lines[0].removeprefix(prefix).split(": ")[0] if lines else ""
+        if (len(lines) != 1 or not lines[0].startswith(prefix) or
+                not (named in (scene_path, out, aov) or os.path.exists(named))):
+            return "exit 1 without one error line naming a file"
+        return "exit 1 with output written" if written else None
+    return f"exit status {status}"
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("svetlo")
@@ -142,13 +181,14 @@ def main():
     repo = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     scenes = {f: json.load(open(os.path.join(repo, "scenes", f)))
               for f in sorted(os.listdir(os.path.join(repo, "scenes"))) if f.endswith(".json")}
+    names = sorted(scenes)
     rng = random.Random(args.seed)
     root, here = workspace(repo)
     failures = rendered = 0
     started = time.time()
     try:
         for run in range(args.runs):
-            name = rng.choice(sorted(scenes))
+            name = rng.choice(names)
             engines = ["raster", "whitted", "path"]
             if name not in SLOW_FOR_RADIOSITY:
                 engines.append("radiosity")
@@ -156,46 +196,15 @@ def main():
             scene_path = os.path.join(here, f"mutant_{run}.json")
             with open(scene_path, "w") as f:
                 json.dump(mutate(scenes[name], rng), f)
-            width, height = rng.choice([(24, 16), (1, 1), (3, 200), (17, 5)])
-            out = os.path.join(root, f"out_{run}" + rng.choice([".png", ".pfm", ".exr"]))
-            cmd = [args.svetlo, "render", scene_path, "-o", out, "--engine", engine,
-                   "-W", str(width), "-H", str(height), "--spp", rng.choice("123"),
-                   "-t", rng.choice("12"), "--quiet"]
-            aov, name_aov = None, None
-            if rng.random() < 0.3:
-                aov = os.path.join(root, f"aov_{run}.pfm")
-                name_aov = rng.choice(["depth", "normal", "albedo", "visibility", "patches"])
-                cmd += ["--aov", f"{name_aov}={aov}"]
-            if engine == "path" and rng.random() < 0.2:
-                cmd += ["--time", rng.choice(["0.01", "0.5"])]
-            if rng.random() < 0.2:
-                cmd += ["--seed", rng.choice(["0", "4294967295", "123456789012"])]
+            cmd, out, (aov, name_aov) = random_command(rng, args.svetlo, scene_path, engine,
+                                                       root, run)
             t0 = time.time()
             try:
                 p = subprocess.run(cmd, capture_output=True, text=True, timeout=args.timeout)
                 status, stderr = p.returncode, p.stderr
             except subprocess.TimeoutExpired:
-                status, stderr = "timeout", ""
-            lines = [l for l in stderr.splitlines() if l.strip()]
-            written = [f for f in (out, aov) if f and os.path.exists(f)]
-            problem = None
-            if status == 0:
-                if lines or out not in written:
-                    problem = "exit 0 with stderr, or without the image"
-                else:
-                    rendered += 1
-                    for f in written:
-                        if f.endswith(".pfm") and not problem:
-                            problem = pfm_problem(f, f == aov and name_aov == "normal")
-            elif status == 1:
-                named = lines[0].removeprefix("svetlo: error: ").split(": ")[0] if lines else ""
-                if (len(lines) != 1 or not lines[0].startswith("svetlo: error: ") or
-                        not (named in (scene_path, out, aov) or os.path.exists(named))):
-                    problem = "exit 1 without one error line naming a file"
-                elif written:
-                    problem = "exit 1 with output written"
-            else:
-                problem = f"exit status {status}"
+                status, stderr = f"none: past {args.timeout} s", ""
+            problem = contract_problem(status, stderr, scene_path, out, aov, name_aov)
             if problem:
                 failures += 1
                 os.makedirs(args.found, exist_ok=True)
@@ -204,8 +213,11 @@ def main():
                 print(f"FAIL run {run} ({name}, {engine}, {time.time() - t0:.1f} s): {problem}\n"
                       f"  {' '.join(cmd)}\n  scene kept as {kept}\n  " +
                       "\n  ".join(stderr.splitlines()[:8]), flush=True)
-            for f in [scene_path] + written:
-                os.remove(f)
+            elif status == 0:
+                rendered += 1
+            for f in (scene_path, out, aov):
+                if f and os.path.exists(f):
+                    os.remove(f)
     finally:
         shutil.rmtree(root, ignore_errors=True)
     print(f"{args.runs} mutated scenes in {time.time() - started:.0f} s: {rendered} rendered, "

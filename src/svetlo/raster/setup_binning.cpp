@@ -190,10 +190,9 @@ void assemble(const TriangleList& list, FrameState& f, int threads) {
                 clip_triangle(f.vertices[idx[0]], f.vertices[idx[1]], f.vertices[idx[2]], gx, gy);
             if (poly.count < 3) return;
             // A piece through the eye (w = 0: a point at infinity seen edge-on) has no place.
-            bool all_projectable = true;
-            for (int k = 0; k < poly.count; ++k)
-                all_projectable &= projectable(poly.v[static_cast<size_t>(k)].clip);
-            if (!all_projectable) return;
+            if (!std::all_of(poly.v.begin(), poly.v.begin() + poly.count,
+                             [](const ClipVertex& v) { return projectable(v.clip); }))
+                return;
             auto first = static_cast<uint32_t>(extra[c].size());
             std::array<ScreenVertex, std::tuple_size_v<decltype(ClipPolygon::v)>> ps;
             for (int k = 0; k < poly.count; ++k) {
