@@ -7,6 +7,8 @@ find_package(OpenEXR CONFIG REQUIRED)
 find_package(tinyobjloader CONFIG REQUIRED)
 find_package(TinyGLTF CONFIG REQUIRED)
 find_package(Threads REQUIRED)
+find_package(ZLIB REQUIRED)      # CRC-32 of the PNG chunk that carries provenance
+find_package(OpenSSL REQUIRED)   # SHA-256 of scene files (provenance)
 
 find_path(STB_INCLUDE_DIR stb_image.h PATH_SUFFIXES stb REQUIRED)
 add_library(svetlo_stb INTERFACE)

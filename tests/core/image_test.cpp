@@ -160,5 +160,28 @@ TEST(ImageIo, FailedWriteLeavesTheOldFile) {
     EXPECT_EQ(files, 0);
 }
 
+TEST(ImageMetadata, RoundTripsInEveryFormat) {
+    Image image(5, 3, Color(0.25f, 0.5f, 1.0f));
+    const std::string text = "{\"engine\": \"path\", \"name\": \"caf\u00e9 \u00fc\"}";
+    for (const char* name : {"meta.png", "meta.pfm", "meta.exr"}) {
+        fs::path path = temp_file(name);
+        write_image(path, image, PixelMeaning::Radiance, 1.0f, "-o", text);
+        EXPECT_EQ(read_image_metadata(path, "info"), text) << name;
+        // The pixels are unchanged by the metadata.
+        LoadedImage back = read_image(path, "info");
+        ASSERT_EQ(back.image.width, 5);
+        EXPECT_NEAR(back.image.at(4, 2).g, 0.5f, 0.004f) << name;
+        EXPECT_EQ(back.ldr, std::string(name) == "meta.png");
+    }
+    // Without metadata: nothing to read back, and no sidecar.
+    fs::path plain = temp_file("plain.pfm");
+    write_image(plain, image, PixelMeaning::Radiance, 1.0f, "-o");
+    EXPECT_EQ(read_image_metadata(plain, "info"), "");
+    EXPECT_FALSE(fs::exists(temp_file("plain.pfm.json")));
+    fs::path png = temp_file("plain.png");
+    write_image(png, image, PixelMeaning::Radiance, 1.0f, "-o");
+    EXPECT_EQ(read_image_metadata(png, "info"), "");
+}
+
 }  // namespace
 }  // namespace svetlo

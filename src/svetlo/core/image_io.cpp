@@ -5,9 +5,11 @@
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfInputFile.h>
 #include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfStringAttribute.h>
 #include <stb_image.h>
 #include <stb_image_write.h>
 #include <unistd.h>
+#include <zlib.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -41,7 +43,23 @@ fs::path temporary_path(const fs::path& path) {
     return tmp;
 }
 
-void write_png(const fs::path& path, const Image& image, PixelMeaning meaning, float exposure) {
+/// A PNG chunk: length, type, data and the CRC-32 of type and data (PNG spec, 5.3).
+void append_png_chunk(std::vector<unsigned char>& png, const char type[4],
+                      const std::string& data) {
+    auto put32 = [&](uint32_t v) {
+        for (int s = 24; s >= 0; s -= 8) png.push_back(static_cast<unsigned char>(v >> s));
+    };
+    put32(static_cast<uint32_t>(data.size()));
+    size_t start = png.size();
+    png.insert(png.end(), type, type + 4);
+    png.insert(png.end(), data.begin(), data.end());
+    uLong crc = crc32(0L, Z_NULL, 0);
+    crc = crc32(crc, png.data() + start, static_cast<uInt>(png.size() - start));
+    put32(static_cast<uint32_t>(crc));
+}
+
+void write_png(const fs::path& path, const Image& image, PixelMeaning meaning, float exposure,
+               const std::string& metadata) {
     std::vector<unsigned char> bytes(image.pixels.size() * 3);
     for (size_t k = 0; k < image.pixels.size(); ++k) {
         for (int c = 0; c < 3; ++c) {
@@ -54,9 +72,61 @@ void write_png(const fs::path& path, const Image& image, PixelMeaning meaning, f
             }
         }
     }
-    if (!stbi_write_png(path.c_str(), image.width, image.height, 3, bytes.data(),
-                        image.width * 3)) {
+    std::vector<unsigned char> png;
+    auto append = [](void* context, void* data, int size) {
+        auto* out = static_cast<std::vector<unsigned char>*>(context);
+        auto* p = static_cast<unsigned char*>(data);
+        out->insert(out->end(), p, p + size);
+    };
+    if (!stbi_write_png_to_func(append, &png, image.width, image.height, 3, bytes.data(),
+                                image.width * 3)) {
         throw std::runtime_error("cannot write PNG");
+    }
+    if (!metadata.empty()) {
+        // An uncompressed iTXt chunk (UTF-8 text) before IEND, the last 12 bytes: keyword,
+        // NUL, compression flag and method, empty language tag and translated keyword.
+        std::vector<unsigned char> end(png.end() - 12, png.end());
+        png.resize(png.size() - 12);
+        std::string itxt = std::string(kMetadataKey) + '\0' + '\0' + '\0' + '\0' + '\0' + metadata;
+        append_png_chunk(png, "iTXt", itxt);
+        png.insert(png.end(), end.begin(), end.end());
+    }
+    std::ofstream out(path, std::ios::binary);
+    out.write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));
+    if (!out.flush()) throw std::runtime_error("write failed");
+}
+
+/// The text of the PNG's iTXt or tEXt chunk named `key`, empty when there is none.
+std::string read_png_text(const fs::path& path, const std::string& key) {
+    std::ifstream in(path, std::ios::binary);
+    char signature[8];
+    if (!in.read(signature, 8) || std::memcmp(signature, "\x89PNG\r\n\x1a\n", 8) != 0)
+        throw std::runtime_error("not a PNG file");
+    const uintmax_t file_bytes = fs::file_size(path);
+    while (true) {
+        unsigned char head[8];
+        if (!in.read(reinterpret_cast<char*>(head), 8)) return {};
+        uint32_t length = (uint32_t{head[0]} << 24) | (uint32_t{head[1]} << 16) |
+                          (uint32_t{head[2]} << 8) | uint32_t{head[3]};
+        std::string type(reinterpret_cast<char*>(head + 4), 4);
+        if (type == "IEND" || length > file_bytes) return {};
+        if (type != "iTXt" && type != "tEXt") {
+            in.seekg(static_cast<std::streamoff>(length) + 4, std::ios::cur);
+            continue;
+        }
+        std::string data(length, '\0');
+        if (!in.read(data.data(), length)) return {};
+        in.seekg(4, std::ios::cur);  // the CRC
+        size_t nul = data.find('\0');
+        if (nul == std::string::npos || data.substr(0, nul) != key) continue;
+        if (type == "tEXt") return data.substr(nul + 1);
+        // iTXt: compression flag and method, language tag, translated keyword, then the text.
+        if (nul + 2 >= data.size() || data[nul + 1] != 0) continue;  // compressed: not ours
+        size_t lang = data.find('\0', nul + 3);
+        if (lang == std::string::npos) continue;
+        size_t translated = data.find('\0', lang + 1);
+        if (translated == std::string::npos) continue;
+        return data.substr(translated + 1);
     }
 }
 
@@ -76,8 +146,9 @@ void write_pfm(const fs::path& path, const Image& image) {
     if (!out.flush()) throw std::runtime_error("write failed");
 }
 
-void write_exr(const fs::path& path, const Image& image) {
+void write_exr(const fs::path& path, const Image& image, const std::string& metadata) {
     Imf::Header header(image.width, image.height);
+    if (!metadata.empty()) header.insert(kMetadataKey, Imf::StringAttribute(metadata));
     const char* names[3] = {"R", "G", "B"};
     for (const char* name : names) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
     Imf::OutputFile file(path.c_str(), header);
@@ -214,27 +285,83 @@ void check_writable(const fs::path& path, const std::string& where) {
 }
 
 void write_image(const fs::path& path, const Image& image, PixelMeaning meaning, float exposure,
-                 const std::string& where) {
+                 const std::string& where, const std::string& metadata) {
     ImageFormat format = image_format_for(path, where);
     fs::path tmp = temporary_path(path);
+    fs::path sidecar = path, sidecar_tmp;
+    sidecar += ".json";
     try {
         switch (format) {
             case ImageFormat::Png:
-                write_png(tmp, image, meaning, exposure);
+                write_png(tmp, image, meaning, exposure, metadata);
                 break;
             case ImageFormat::Pfm:
                 write_pfm(tmp, image);
+                if (!metadata.empty()) {  // PFM has no room for text: a file beside it
+                    sidecar_tmp = temporary_path(sidecar);
+                    std::ofstream out(sidecar_tmp, std::ios::binary);
+                    out << metadata << "\n";
+                    if (!out.flush()) throw std::runtime_error("write failed");
+                }
                 break;
             case ImageFormat::Exr:
-                write_exr(tmp, image);
+                write_exr(tmp, image, metadata);
                 break;
         }
+        if (!sidecar_tmp.empty()) fs::rename(sidecar_tmp, sidecar);
         fs::rename(tmp, path);
     } catch (const std::exception& e) {
         std::error_code ec;
         fs::remove(tmp, ec);
+        if (!sidecar_tmp.empty()) fs::remove(sidecar_tmp, ec);
         throw Error(path.string(), where, std::string("cannot write: ") + e.what());
     }
+}
+
+std::string read_image_metadata(const fs::path& path, const std::string& where) {
+    std::string problem = input_file_problem(path);
+    if (!problem.empty()) throw Error(path.string(), where, problem);
+    try {
+        switch (image_format_for(path, where)) {
+            case ImageFormat::Png:
+                return read_png_text(path, kMetadataKey);
+            case ImageFormat::Exr: {
+                Imf::InputFile file(path.c_str());
+                const auto* text =
+                    file.header().findTypedAttribute<Imf::StringAttribute>(kMetadataKey);
+                return text ? text->value() : std::string();
+            }
+            case ImageFormat::Pfm: {
+                fs::path sidecar = path;
+                sidecar += ".json";
+                if (!fs::exists(sidecar)) return {};
+                std::ifstream in(sidecar, std::ios::binary);
+                std::ostringstream text;
+                text << in.rdbuf();
+                std::string json = text.str();
+                while (!json.empty() && std::isspace(static_cast<unsigned char>(json.back())))
+                    json.pop_back();  // the sidecar ends its line
+                return json;
+            }
+        }
+    } catch (const Error&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw Error(path.string(), where, std::string("cannot read image: ") + e.what());
+    }
+    return {};
+}
+
+LoadedImage read_image(const fs::path& path, const std::string& where) {
+    ImageFormat format = image_format_for(path, where);
+    TextureImage texture = read_texture(path, true, kMaxFilmImageBytes, where);
+    LoadedImage loaded;
+    loaded.ldr = format == ImageFormat::Png;
+    loaded.image = Image(texture.width(), texture.height());
+    for (int j = 0; j < texture.height(); ++j) {
+        for (int i = 0; i < texture.width(); ++i) loaded.image.at(i, j) = texture.texel(i, j);
+    }
+    return loaded;
 }
 
 TextureImage read_texture(const fs::path& path, bool srgb, size_t max_bytes,

@@ -28,8 +28,29 @@ ImageFormat image_format_for(const std::filesystem::path& path, const std::strin
 /// without touching an existing file there. Call before a long render.
 void check_writable(const std::filesystem::path& path, const std::string& where);
 
+/// The key under which an image carries svetlo's metadata (its provenance): a PNG iTXt
+/// chunk's keyword, an EXR header's string attribute; a PFM has it in `OUT.pfm.json`.
+inline constexpr const char* kMetadataKey = "svetlo";
+
+/// Writes `image` atomically; `metadata` (text, usually JSON), when not empty, goes inside
+/// the file or, for PFM, into the sidecar `path.json`, written before the image is renamed
+/// into place.
 void write_image(const std::filesystem::path& path, const Image& image, PixelMeaning meaning,
-                 float exposure, const std::string& where);
+                 float exposure, const std::string& where, const std::string& metadata = {});
+
+/// The metadata that write_image stored with the image, empty when there is none.
+std::string read_image_metadata(const std::filesystem::path& path, const std::string& where);
+
+/// An image read whole as linear RGB: an 8-bit PNG decoded through the sRGB curve (`ldr`
+/// true), PFM and EXR as they are. Throws Error(path, where, ...).
+struct LoadedImage {
+    Image image;
+    bool ldr = false;
+};
+LoadedImage read_image(const std::filesystem::path& path, const std::string& where);
+
+/// The largest image read_image reads: 8192² float pixels (the largest film).
+inline constexpr size_t kMaxFilmImageBytes = size_t{8192} * 8192 * 12;
 
 /// Reads a texture: PNG, JPEG, TGA and BMP keep their 8-bit codes (decoded through the sRGB
 /// curve unless `srgb` is false; 16-bit files are read at 8 bits), HDR, PFM and EXR float

@@ -1,0 +1,15 @@
+// SHA-256 (FIPS 180-4) of a file's bytes, as lowercase hex: the provenance's scene_sha256.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+namespace svetlo {
+
+/// The digest of the bytes of `path`; throws std::runtime_error when it cannot be read.
+std::string sha256_file(const std::filesystem::path& path);
+
+/// The digest of `bytes`.
+std::string sha256_hex(const std::string& bytes);
+
+}  // namespace svetlo
