@@ -2,9 +2,12 @@
 // throws svetlo::Error for bad input (main prints it as one line).
 #pragma once
 
+#include <CLI/CLI.hpp>
 #include <string>
 #include <vector>
 
+#include "svetlo/core/flip.h"
+#include "svetlo/core/image_metrics.h"
 #include "svetlo/scene/scene_loader.h"
 
 namespace svetlo {
@@ -19,12 +22,16 @@ struct RenderArgs {
     std::vector<std::string> sets;  // KEY=VALUE
     std::vector<std::string> aovs;  // NAME=FILE
     bool quiet = false;
+    std::string crop;                    // X0,X1,Y0,Y1
+    std::string mse_reference, mse_log;  // --mse-reference REF --mse-log LOG.csv
+    std::vector<std::string> command;    // the whole argument list, for the provenance
 };
 
 struct InfoArgs {
     std::string scene;
     std::vector<std::string> sets;
     bool matrices = false;  // also print the rasterizer's view, projection and model matrices
+    bool json = false;      // for an image: the raw provenance object
 };
 
 struct BenchArgs {
@@ -35,7 +42,62 @@ struct BenchArgs {
     std::vector<std::string> sets;
 };
 
+struct DiffArgs {
+    std::string a, b;  // b is the reference
+    std::string metric, tolerance, output;
+};
+
+struct ReproduceArgs {
+    std::string image, output;
+    std::string threads;
+    bool quiet = false;
+};
+
+struct CompareArgs {
+    std::string scene;
+    std::vector<std::string> techniques;  // SPECs
+    std::string reference;                // SPEC or image; empty: path:render.spp=1024
+    std::string html, png, json;
+    std::string width, height, threads, seed;
+    std::vector<std::string> sets;
+    bool curves = false;
+    bool quiet = false;
+};
+
+struct AssembleArgs {
+    std::vector<std::string> parts;
+    std::string output;
+};
+
 int run_render(const RenderArgs& args);
+int run_diff(const DiffArgs& args);  // exits 0, 1 or 2 as Unix diff; prints its own errors
+int run_reproduce(const ReproduceArgs& args);
+int run_assemble(const AssembleArgs& args);
+int run_compare(const CompareArgs& args);
+void add_compare_options(CLI::App& app, CompareArgs& args);
+
+/// Writes `text` to `path` atomically (a temporary file, then a rename); throws Error naming
+/// `where`.
+void write_text_file(const std::string& path, const std::string& text, const std::string& where);
+/// svetlo info IMAGE: the provenance (--json: the raw object).
+int run_image_info(const std::string& image, bool json);
+
+/// The metrics of `test` against `reference` (docs/metrics.md): LDR-ꟻLIP when `ldr` (both
+/// images came from 8-bit sRGB files), HDR-ꟻLIP otherwise.
+struct ImageComparison {
+    PixelMetrics pixels;
+    FlipMap flip;
+    double value(const std::string& metric) const;  // mae, rmse, relmse or flip
+};
+ImageComparison compare_images(const Image& test, const Image& reference, bool ldr, int threads);
+
+struct RenderJob;
+struct RenderResult;
+/// The render's summary line on stderr.
+void print_summary(const RenderJob& job, const RenderResult& result, const std::string& output);
+
+/// A render command's flags as scene overrides: --set, then --engine, -W, -H, --spp, --seed.
+std::vector<Override> render_overrides(const RenderArgs& args);
 int run_info(const InfoArgs& args);
 int run_bench(const BenchArgs& args);
 

@@ -60,37 +60,7 @@ void append_png_chunk(std::vector<unsigned char>& png, const char type[4],
 
 void write_png(const fs::path& path, const Image& image, PixelMeaning meaning, float exposure,
                const std::string& metadata) {
-    std::vector<unsigned char> bytes(image.pixels.size() * 3);
-    for (size_t k = 0; k < image.pixels.size(); ++k) {
-        for (int c = 0; c < 3; ++c) {
-            float v = image.pixels[k][c];
-            if (meaning == PixelMeaning::Radiance) {
-                bytes[3 * k + c] = linear_to_srgb8(v * exposure);
-            } else {
-                float clipped = std::clamp(std::isfinite(v) ? v : 0.0f, 0.0f, 1.0f);
-                bytes[3 * k + c] = static_cast<unsigned char>(std::lround(clipped * 255.0f));
-            }
-        }
-    }
-    std::vector<unsigned char> png;
-    auto append = [](void* context, void* data, int size) {
-        auto* out = static_cast<std::vector<unsigned char>*>(context);
-        auto* p = static_cast<unsigned char*>(data);
-        out->insert(out->end(), p, p + size);
-    };
-    if (!stbi_write_png_to_func(append, &png, image.width, image.height, 3, bytes.data(),
-                                image.width * 3)) {
-        throw std::runtime_error("cannot write PNG");
-    }
-    if (!metadata.empty()) {
-        // An uncompressed iTXt chunk (UTF-8 text) before IEND, the last 12 bytes: keyword,
-        // NUL, compression flag and method, empty language tag and translated keyword.
-        std::vector<unsigned char> end(png.end() - 12, png.end());
-        png.resize(png.size() - 12);
-        std::string itxt = std::string(kMetadataKey) + '\0' + '\0' + '\0' + '\0' + '\0' + metadata;
-        append_png_chunk(png, "iTXt", itxt);
-        png.insert(png.end(), end.begin(), end.end());
-    }
+    std::vector<unsigned char> png = encode_png(image, meaning, exposure, metadata);
     std::ofstream out(path, std::ios::binary);
     out.write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));
     if (!out.flush()) throw std::runtime_error("write failed");
@@ -261,6 +231,42 @@ TextureImage read_stb(const fs::path& path, bool srgb, size_t max_bytes) {
 }
 
 }  // namespace
+
+std::vector<unsigned char> encode_png(const Image& image, PixelMeaning meaning, float exposure,
+                                      const std::string& metadata) {
+    std::vector<unsigned char> bytes(image.pixels.size() * 3);
+    for (size_t k = 0; k < image.pixels.size(); ++k) {
+        for (int c = 0; c < 3; ++c) {
+            float v = image.pixels[k][c];
+            if (meaning == PixelMeaning::Radiance) {
+                bytes[3 * k + c] = linear_to_srgb8(v * exposure);
+            } else {
+                float clipped = std::clamp(std::isfinite(v) ? v : 0.0f, 0.0f, 1.0f);
+                bytes[3 * k + c] = static_cast<unsigned char>(std::lround(clipped * 255.0f));
+            }
+        }
+    }
+    std::vector<unsigned char> png;
+    auto append = [](void* context, void* data, int size) {
+        auto* out = static_cast<std::vector<unsigned char>*>(context);
+        auto* p = static_cast<unsigned char*>(data);
+        out->insert(out->end(), p, p + size);
+    };
+    if (!stbi_write_png_to_func(append, &png, image.width, image.height, 3, bytes.data(),
+                                image.width * 3)) {
+        throw std::runtime_error("cannot write PNG");
+    }
+    if (!metadata.empty()) {
+        // An uncompressed iTXt chunk (UTF-8 text) before IEND, the last 12 bytes: keyword,
+        // NUL, compression flag and method, empty language tag and translated keyword.
+        std::vector<unsigned char> end(png.end() - 12, png.end());
+        png.resize(png.size() - 12);
+        std::string itxt = std::string(kMetadataKey) + '\0' + '\0' + '\0' + '\0' + '\0' + metadata;
+        append_png_chunk(png, "iTXt", itxt);
+        png.insert(png.end(), end.begin(), end.end());
+    }
+    return png;
+}
 
 ImageFormat image_format_for(const fs::path& path, const std::string& where) {
     std::string ext = lower_extension(path);

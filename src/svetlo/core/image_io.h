@@ -8,6 +8,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "svetlo/core/image.h"
 #include "svetlo/core/texture_image.h"
@@ -37,6 +38,10 @@ inline constexpr const char* kMetadataKey = "svetlo";
 /// into place.
 void write_image(const std::filesystem::path& path, const Image& image, PixelMeaning meaning,
                  float exposure, const std::string& where, const std::string& metadata = {});
+
+/// The bytes of `image` as a PNG file (as write_image writes it): for pages that inline it.
+std::vector<unsigned char> encode_png(const Image& image, PixelMeaning meaning, float exposure,
+                                      const std::string& metadata = {});
 
 /// The metadata that write_image stored with the image, empty when there is none.
 std::string read_image_metadata(const std::filesystem::path& path, const std::string& where);

@@ -38,7 +38,11 @@ struct FilmSums {
 RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& options) {
     using Clock = std::chrono::steady_clock;
     const int width = scene.film.width, height = scene.film.height;
-    const size_t pixels = static_cast<size_t>(width) * static_cast<size_t>(height);
+    // The pixels rendered: the crop's, at their places in the full film; a pixel's samples
+    // depend only on its place and the pass, so a crop is the full render's.
+    const Crop window = film_window(scene, options);
+    const int ww = window.width(), wh = window.height();
+    const size_t pixels = static_cast<size_t>(ww) * static_cast<size_t>(wh);
     // The images and the accumulators, checked before they are allocated: 12 bytes a pixel
     // per image, 24 for the colour's sums and 64 for the AOVs'.
     const double images = 1.0 + static_cast<double>(options.aovs.size());
@@ -52,7 +56,7 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
                         " MiB (at most 4096)");
     }
     RenderResult result;
-    const AovTargets targets = prepare_result(result, options.aovs, width, height);
+    const AovTargets targets = prepare_result(result, options.aovs, ww, wh);
 
     auto t0 = Clock::now();
     RtScene rt(scene, scene.render.accel, options.threads);
@@ -88,6 +92,7 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
     for (int pass = 0; pass < max_passes; ++pass) {
         double elapsed = std::chrono::duration<double>(Clock::now() - t1).count();
         if (pass > 0 && budget && elapsed >= options.time_budget) break;
+        if (pass > 0 && options.cancel && options.cancel->load()) break;
         char status[48];
         if (budget && !options.spp_caps_time) {
             std::snprintf(status, sizeof status, "pass %d", pass + 1);
@@ -97,13 +102,15 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
         progress.set_status(status);
         if (photons) photons->build(pass, options.threads);
         parallel_tiles(
-            width, height, options.threads,
+            ww, wh, options.threads,
             [&](const Tile& tile) {
                 PathIntegrator integrator(rt, selection, wavelengths, photons.get());
                 uint64_t dropped = 0;
-                for (int j = tile.y0; j < tile.y1; ++j) {
-                    for (int i = tile.x0; i < tile.x1; ++i) {
+                for (int j = window.y0 + tile.y0; j < window.y0 + tile.y1; ++j) {
+                    for (int i = window.x0 + tile.x0; i < window.x0 + tile.x1; ++i) {
                         const size_t pixel = static_cast<size_t>(j) * width + i;
+                        const size_t slot =
+                            static_cast<size_t>(j - window.y0) * ww + (i - window.x0);
                         SobolSampler sampler(scene.render.seed, pixel, static_cast<uint32_t>(pass),
                                              avx2);
                         // The visibility AOV's own stream, made only when it is asked for.
@@ -124,10 +131,10 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
                             ++dropped;
                             continue;
                         }
-                        sums.color[pixel] += glm::dvec3(c);
+                        sums.color[slot] += glm::dvec3(c);
                         if (targets.any && is_finite(aov.normal) && is_finite(aov.albedo)) {
-                            sums.aov[pixel] += glm::dvec4(aov.depth, aov.normal);
-                            sums.aov2[pixel] += glm::dvec4(aov.albedo, aov.visibility);
+                            sums.aov[slot] += glm::dvec4(aov.depth, aov.normal);
+                            sums.aov2[slot] += glm::dvec4(aov.albedo, aov.visibility);
                         }
                     }
                 }
@@ -136,12 +143,19 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
             },
             [&](int n) { progress.advance(n); });
         ++passes;
+        if (options.on_pass) {
+            Image image(ww, wh);
+            for (size_t slot = 0; slot < pixels; ++slot)
+                image.pixels[slot] = Color(sums.color[slot] * (1.0 / passes));  // as below
+            options.on_pass(passes, std::chrono::duration<double>(Clock::now() - t1).count(),
+                            image);
+        }
     }
     progress.finish();
 
     const double inv = 1.0 / passes;
     for (size_t pixel = 0; pixel < pixels; ++pixel) {
-        const int i = static_cast<int>(pixel % width), j = static_cast<int>(pixel / width);
+        const int i = static_cast<int>(pixel % ww), j = static_cast<int>(pixel / ww);
         result.color.at(i, j) = Color(sums.color[pixel] * inv);
         if (!targets.any) continue;
         glm::dvec4 a = sums.aov[pixel] * inv, b = sums.aov2[pixel] * inv;

@@ -114,6 +114,8 @@ RenderResult RadiosityRenderer::render(const Scene& scene, const RenderOptions& 
     // The display: spp item-buffer passes of the scene's triangles, each jittered within the
     // pixel, and per sample L = L_e + rho / pi E from the field.
     const int width = scene.film.width, height = scene.film.height;
+    // A crop: the item buffer is drawn whole, the display gathers only the window's pixels.
+    const Crop window = film_window(scene, options);
     RenderResult result;
     const AovTargets targets = prepare_result(result, options.aovs, width, height);
     const bool gather = settings.display == RadiosityDisplay::Gather;
@@ -144,6 +146,8 @@ RenderResult RadiosityRenderer::render(const Scene& scene, const RenderOptions& 
             uint64_t local_rays = 0, local_nonfinite = 0;
             for (int j = tile.y0; j < tile.y1; ++j) {
                 for (int i = tile.x0; i < tile.x1; ++i) {
+                    if (i < window.x0 || i >= window.x1 || j < window.y0 || j >= window.y1)
+                        continue;
                     const size_t pixel = static_cast<size_t>(j) * width + i;
                     const uint32_t t = buffers.primitive[buffers.index(i, j)];
                     if (t == RenderTargets::kNoPrimitive) {
@@ -226,6 +230,7 @@ RenderResult RadiosityRenderer::render(const Scene& scene, const RenderOptions& 
         }
     }
     if (patches_aov) result.aovs["patches"] = std::move(patches_image);
+    cut_to_window(result, window, width, height);
 
     const auto t2 = Clock::now();
     result.stats.setup_seconds = std::chrono::duration<double>(t1 - t0).count();

@@ -319,6 +319,8 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     buffers_->screen = std::move(f.screen);
     buffers_->tris = std::move(f.tris);
     buffers_->flat = std::move(f.flat);
+    // A crop: the frame is drawn whole (its cost is the frame's setup) and cut.
+    cut_to_window(result, film_window(scene, options), width, height);
     return result;
 }
 

@@ -117,20 +117,25 @@ RenderResult WhittedRenderer::render(const Scene& scene, const RenderOptions& op
     auto t1 = Clock::now();
 
     const int width = scene.film.width, height = scene.film.height, spp = scene.render.spp;
+    // The pixels rendered: the crop's, at their places in the full film (result pixel (i - x0,
+    // j - y0)); a pixel's samples depend only on its place, so a crop is the full render's.
+    const Crop window = film_window(scene, options);
     RenderResult result;
     // Looked up once: the tiles write through these concurrently.
-    const AovTargets targets = prepare_result(result, options.aovs, width, height);
+    const AovTargets targets =
+        prepare_result(result, options.aovs, window.width(), window.height());
     bool want_visibility = targets.want[3] && !scene.lights.empty();
     CameraRays camera(scene.camera, width, height);
     std::atomic<uint64_t> rays{0}, nonfinite{0};
-    Progress progress("whitted", static_cast<int64_t>(width) * height, options.progress);
+    Progress progress("whitted", static_cast<int64_t>(window.width()) * window.height(),
+                      options.progress);
 
     parallel_tiles(
-        width, height, options.threads,
+        window.width(), window.height(), options.threads,
         [&](const Tile& tile) {
             Tracer tracer(rt, want_visibility);
-            for (int j = tile.y0; j < tile.y1; ++j) {
-                for (int i = tile.x0; i < tile.x1; ++i) {
+            for (int j = window.y0 + tile.y0; j < window.y0 + tile.y1; ++j) {
+                for (int i = window.x0 + tile.x0; i < window.x0 + tile.x1; ++i) {
                     uint64_t pixel = static_cast<uint64_t>(j) * width + i;
                     Rng rng = pixel_rng(scene.render.seed, pixel);
                     Rng aov_rng = pixel_rng(scene.render.seed ^ 0xa0a0a0a0ULL, pixel);
@@ -164,12 +169,13 @@ RenderResult WhittedRenderer::render(const Scene& scene, const RenderOptions& op
                         }
                     }
                     float inv = 1.0f / static_cast<float>(spp);
-                    result.color.at(i, j) = Color(sum / static_cast<double>(spp));
-                    if (targets.want[0]) targets.image[0]->at(i, j) = Color(aov_sum.depth * inv);
-                    if (targets.want[1]) targets.image[1]->at(i, j) = aov_sum.normal * inv;
-                    if (targets.want[2]) targets.image[2]->at(i, j) = aov_sum.albedo * inv;
+                    const int x = i - window.x0, y = j - window.y0;
+                    result.color.at(x, y) = Color(sum / static_cast<double>(spp));
+                    if (targets.want[0]) targets.image[0]->at(x, y) = Color(aov_sum.depth * inv);
+                    if (targets.want[1]) targets.image[1]->at(x, y) = aov_sum.normal * inv;
+                    if (targets.want[2]) targets.image[2]->at(x, y) = aov_sum.albedo * inv;
                     if (targets.want[3])
-                        targets.image[3]->at(i, j) = Color(aov_sum.visibility * inv);
+                        targets.image[3]->at(x, y) = Color(aov_sum.visibility * inv);
                 }
             }
             rays += tracer.rays;

@@ -2,9 +2,12 @@
 // apps/svetlo/engines.cpp maps names to factories.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,13 +30,30 @@ inline const std::vector<std::string>& debug_aov_names() {
     return names;
 }
 
+/// A window of the film: the pixels x0 <= i < x1, y0 <= j < y1 (contract: --crop). A render
+/// with one returns images of the window's size whose pixels are bit for bit those of the
+/// full render at the same place.
+struct Crop {
+    int x0 = 0, x1 = 0, y0 = 0, y1 = 0;
+    int width() const { return x1 - x0; }
+    int height() const { return y1 - y0; }
+    bool operator==(const Crop&) const = default;
+};
+
 struct RenderOptions {
     int threads = 0;                      // 0 = all cores
+    std::optional<Crop> crop;             // none: the whole film
     double time_budget = 0.0;             // seconds, 0 = none (--time; progressive engines)
     bool spp_caps_time = false;           // with a budget, stop at render.spp too (--spp given)
     bool progress = false;                // draw a progress bar on stderr
     std::vector<std::string> aovs;        // which of aov_names() to fill
     std::vector<std::string> debug_aovs;  // which of debug_aov_names() to make
+    /// Set (by a signal) to stop a progressive engine after the pass in progress; the result
+    /// holds the passes done. Engines of one pass finish it.
+    const std::atomic<bool>* cancel = nullptr;
+    /// Progressive engines call it after each pass with the passes done, the seconds since
+    /// the setup and the image of those passes (--mse-log, compare --curves).
+    std::function<void(int passes, double seconds, const Image& color)> on_pass;
 };
 
 struct RenderStats {
@@ -81,6 +101,27 @@ inline AovTargets prepare_result(RenderResult& result, const std::vector<std::st
     for (size_t k = 0; k < 4; ++k) t.image[k] = t.want[k] ? &result.aovs[aov_names()[k]] : nullptr;
     t.any = !result.aovs.empty();
     return t;
+}
+
+/// The window a render covers: options.crop, or the whole film.
+inline Crop film_window(const Scene& scene, const RenderOptions& options) {
+    return options.crop ? *options.crop : Crop{0, scene.film.width, 0, scene.film.height};
+}
+
+/// Cuts every image of `result` that covers the whole width x height film down to `window`
+/// (engines that draw the whole frame and keep the window: raster, radiosity's display).
+inline void cut_to_window(RenderResult& result, const Crop& window, int width, int height) {
+    if (window == Crop{0, width, 0, height}) return;
+    auto cut = [&](Image& image) {
+        if (image.width != width || image.height != height) return;  // a shadow map, say
+        Image part(window.width(), window.height());
+        for (int j = 0; j < part.height; ++j)
+            for (int i = 0; i < part.width; ++i)
+                part.at(i, j) = image.at(window.x0 + i, window.y0 + j);
+        image = std::move(part);
+    };
+    cut(result.color);
+    for (auto& [name, image] : result.aovs) cut(image);
 }
 
 class Renderer {

@@ -1,0 +1,223 @@
+// svetlo compare SCENE.json -T SPEC [-T SPEC]... [--reference SPEC|IMAGE] [-o SHEET.html]
+//                [--png SHEET.png] [--json METRICS.json] [-W W] [-H H] [--threads N] [--seed S]
+//                [--set KEY=VALUE]... [--curves]
+// One scene under several techniques, each against one reference (docs/compare.md). A SPEC is
+// an engine followed by scene overrides, separated by colons: raster:render.shading=gouraud.
+#include <cstdio>
+#include <fstream>
+
+#include "commands.h"
+#include "engines.h"
+#include "flags.h"
+#include "render_job.h"
+#include "sheet.h"
+#include "svetlo/core/error.h"
+#include "svetlo/core/image_io.h"
+#include "svetlo/core/progress.h"
+#include "svetlo/core/sha256.h"
+
+namespace svetlo {
+
+void add_compare_options(CLI::App& app, CompareArgs& args) {
+    app.add_option("scene", args.scene, "Scene file (JSON)")->required();
+    app.add_option("-T,--technique", args.techniques,
+                   "A technique: ENGINE[:KEY=VALUE]... (raster:render.shading=gouraud)")
+        ->required();
+    app.add_option("--reference", args.reference,
+                   "The reference: a SPEC or an image (default path:render.spp=1024)");
+    app.add_option("-o,--output", args.html, "The sheet as one HTML file");
+    app.add_option("--png", args.png, "The sheet as a PNG grid");
+    app.add_option("--json", args.json, "The metrics as JSON");
+    app.add_option("-W,--width", args.width, "Film width in pixels");
+    app.add_option("-H,--height", args.height, "Film height in pixels");
+    app.add_option("-t,--threads", args.threads, "Threads (0 = all cores)");
+    app.add_option("--seed", args.seed, "Random seed");
+    app.add_option("--set", args.sets, "Override a scene key for every technique: KEY=VALUE");
+    app.add_flag("--curves", args.curves,
+                 "Also plot the error of progressive techniques (path) against time");
+    app.add_flag("-q,--quiet", args.quiet, "Print nothing but errors");
+}
+
+namespace {
+
+/// The overrides of a SPEC: render.engine, then each KEY=VALUE.
+std::vector<Override> spec_overrides(const std::string& spec, const std::string& file) {
+    std::vector<std::string> parts;
+    size_t start = 0;
+    while (true) {
+        size_t colon = spec.find(':', start);
+        parts.push_back(spec.substr(start, colon == std::string::npos ? colon : colon - start));
+        if (colon == std::string::npos) break;
+        start = colon + 1;
+    }
+    const std::string& engine = parts[0];
+    if (engine.empty()) throw Error(file, "-T " + spec, "expected ENGINE[:KEY=VALUE]...");
+    try {
+        make_renderer(engine, file);
+    } catch (const Error& e) {
+        throw Error(file, "-T " + spec, e.message());
+    }
+    std::vector<Override> out = {{"render.engine", "\"" + engine + "\""}};
+    for (size_t k = 1; k < parts.size(); ++k) {
+        size_t eq = parts[k].find('=');
+        if (eq == std::string::npos || eq == 0)
+            throw Error(file, "-T " + spec, "expected KEY=VALUE, not '" + parts[k] + "'");
+        out.push_back({parts[k].substr(0, eq), parts[k].substr(eq + 1)});
+    }
+    return out;
+}
+
+/// The job of one SPEC over the scene's JSON (already with the command's overrides). Errors
+/// name the SPEC.
+RenderJob spec_job(const nlohmann::json& base, const CompareArgs& args, const std::string& spec,
+                   const std::string& sha256, int threads) {
+    nlohmann::json json = base;
+    try {
+        for (const Override& o : spec_overrides(spec, args.scene))
+            apply_override(json, o, args.scene);
+        RenderJob job = make_job(std::move(json), args.scene, sha256);
+        job.options.threads = threads;
+        job.run.threads = threads;
+        return job;
+    } catch (const Error& e) {
+        if (e.where().rfind("-T ", 0) == 0) throw;
+        throw Error(e.file(), "-T " + spec + ": " + e.where(), e.message());
+    }
+}
+
+bool is_image_path(const std::string& s) {
+    for (const char* ext : {".png", ".pfm", ".exr", ".PNG", ".PFM", ".EXR"}) {
+        if (s.size() > 4 && s.compare(s.size() - 4, 4, ext) == 0) return true;
+    }
+    return false;
+}
+
+/// An image as an 8-bit file would hold it, decoded back to linear: for comparing with a
+/// PNG reference on its own terms.
+Image as_8bit(const Image& image, float exposure) {
+    Image out(image.width, image.height);
+    for (size_t k = 0; k < image.pixels.size(); ++k)
+        for (int c = 0; c < 3; ++c)
+            out.pixels[k][c] =
+                srgb_to_linear(linear_to_srgb8(image.pixels[k][c] * exposure) / 255.0f);
+    return out;
+}
+
+}  // namespace
+
+int run_compare(const CompareArgs& args) {
+    const std::string& file = args.scene;
+    if (!args.png.empty()) check_writable(args.png, "--png");
+    if (args.html.empty() && args.png.empty() && args.json.empty())
+        throw Error(file, "compare", "nothing to write: give -o SHEET.html, --png or --json");
+    const int threads = flag_threads(file, args.threads);
+    std::vector<Override> overrides = parse_sets(args.sets, file);
+    add_flag_overrides(file, args.width, args.height, overrides);
+    if (!args.seed.empty()) {
+        overrides.push_back(
+            {"render.seed", std::to_string(flag_integer(file, "--seed", args.seed, 0, kMaxSeed))});
+    }
+    // The scene is read once; each technique applies its overrides to a copy of its JSON.
+    nlohmann::json base = read_scene_json(file);
+    for (const Override& o : overrides) apply_override(base, o, file);
+    const std::string sha256 = sha256_file(file);
+    std::vector<RenderJob> jobs;
+    for (const std::string& spec : args.techniques)
+        jobs.push_back(spec_job(base, args, spec, sha256, threads));
+
+    Sheet sheet;
+    sheet.scene = file;
+    const std::string reference = args.reference.empty() ? "path:render.spp=1024" : args.reference;
+    sheet.reference = reference;
+    bool ldr = false;
+    const bool quiet = args.quiet;
+    const Scene& first = jobs.front().scene;
+    if (is_image_path(reference)) {
+        LoadedImage loaded = read_image(reference, "--reference");
+        if (loaded.image.width != first.film.width || loaded.image.height != first.film.height) {
+            char why[160];
+            std::snprintf(why, sizeof why, "is %d x %d; the film is %d x %d", loaded.image.width,
+                          loaded.image.height, first.film.width, first.film.height);
+            throw Error(reference, "--reference", why);
+        }
+        ldr = loaded.ldr;
+        sheet.reference_image = std::move(loaded.image);
+        sheet.reference_exposure = ldr ? 1.0f : first.render.exposure;
+    } else {
+        RenderJob job = spec_job(base, args, reference, sha256, threads);
+        if (!quiet) std::fprintf(stderr, "svetlo compare: reference %s\n", reference.c_str());
+        job.options.progress = !quiet && stderr_is_terminal();
+        RenderResult r = run_job(job);
+        sheet.reference_image = std::move(r.color);
+        sheet.reference_exposure = job.scene.render.exposure;
+    }
+    for (RenderJob& job : jobs) {
+        if (job.scene.film.width != sheet.reference_image.width ||
+            job.scene.film.height != sheet.reference_image.height) {
+            throw Error(file, "-T " + args.techniques[&job - jobs.data()],
+                        "changes the film's size; every technique must match the reference");
+        }
+    }
+    for (size_t k = 0; k < jobs.size(); ++k) {
+        RenderJob& job = jobs[k];
+        SheetEntry e;
+        e.spec = args.techniques[k];
+        e.engine = job.scene.render.engine;
+        e.exposure = job.scene.render.exposure;
+        if (args.curves) {
+            job.options.on_pass = [&](int passes, double seconds, const Image& image) {
+                PixelMetrics m =
+                    pixel_metrics(ldr ? as_8bit(image, e.exposure) : image, sheet.reference_image);
+                e.curve.push_back({passes, seconds, m.rmse, m.relmse});
+            };
+        }
+        if (!quiet) std::fprintf(stderr, "svetlo compare: %s\n", e.spec.c_str());
+        job.options.progress = !quiet && stderr_is_terminal();
+        RenderResult r = run_job(job);
+        e.seconds = r.stats.seconds;
+        e.image = std::move(r.color);
+        e.metrics = compare_images(ldr ? as_8bit(e.image, e.exposure) : e.image,
+                                   sheet.reference_image, ldr, threads);
+        if (args.curves && e.curve.empty()) {  // one pass: one point
+            e.curve.push_back(
+                {reached_spp(job, r), e.seconds, e.metrics.pixels.rmse, e.metrics.pixels.relmse});
+        }
+        if (!quiet) {
+            std::fprintf(stderr, "  %s: mae %.5g rmse %.5g relmse %.5g flip %.5f, %.3f s\n",
+                         e.spec.c_str(), e.metrics.pixels.mae, e.metrics.pixels.rmse,
+                         e.metrics.pixels.relmse, e.metrics.flip.mean, e.seconds);
+        }
+        sheet.entries.push_back(std::move(e));
+    }
+
+    if (!args.json.empty()) {
+        // The contract's keys in its order.
+        nlohmann::ordered_json j = {{"scene", file}, {"reference", reference}};
+        j["techniques"] = nlohmann::ordered_json::array();
+        for (const SheetEntry& e : sheet.entries) {
+            nlohmann::ordered_json t = {{"spec", e.spec},
+                                        {"engine", e.engine},
+                                        {"seconds", e.seconds},
+                                        {"mae", e.metrics.pixels.mae},
+                                        {"rmse", e.metrics.pixels.rmse},
+                                        {"relmse", e.metrics.pixels.relmse},
+                                        {"flip", e.metrics.flip.mean}};
+            if (!e.curve.empty()) {
+                t["curve"] = nlohmann::ordered_json::array();
+                for (const CurvePoint& p : e.curve)
+                    t["curve"].push_back({{"spp", p.spp},
+                                          {"seconds", p.seconds},
+                                          {"rmse", p.rmse},
+                                          {"relmse", p.relmse}});
+            }
+            j["techniques"].push_back(t);
+        }
+        write_text_file(args.json, j.dump(2) + "\n", "--json");
+    }
+    if (!args.html.empty()) write_text_file(args.html, sheet_html(sheet), "-o");
+    if (!args.png.empty())
+        write_image(args.png, sheet_png(sheet), PixelMeaning::Radiance, 1.0f, "--png");
+    return 0;
+}
+
+}  // namespace svetlo

@@ -1,0 +1,195 @@
+#include "render_job.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+
+#include "engines.h"
+#include "flags.h"
+#include "svetlo/core/error.h"
+#include "svetlo/core/image_io.h"
+
+namespace svetlo {
+
+RenderJob make_job(nlohmann::json json, const std::filesystem::path& path, std::string sha256) {
+    RenderJob job;
+    job.scene = scene_from_json(json, path);
+    job.run.scene_file = path;
+    job.run.scene_sha256 = std::move(sha256);
+    job.run.scene = std::move(json);
+    job.run.engine = job.scene.render.engine;
+    job.run.seed = job.scene.render.seed;
+    job.run.full_width = job.scene.film.width;
+    job.run.full_height = job.scene.film.height;
+    job.run.crop = {0, job.scene.film.width, 0, job.scene.film.height};
+    job.run.image = "color";
+    return job;
+}
+
+Crop parse_crop(const std::string& text, const std::string& file, int width, int height) {
+    long long v[4];
+    size_t start = 0;
+    for (int k = 0; k < 4; ++k) {
+        size_t comma = text.find(',', start);
+        if ((k < 3) != (comma != std::string::npos))
+            throw Error(file, "--crop", "expected X0,X1,Y0,Y1 (is '" + text + "')");
+        std::string part = text.substr(start, k < 3 ? comma - start : std::string::npos);
+        v[k] = flag_integer(file, "--crop", part, 0, kMaxFilmSide);
+        start = comma + 1;
+    }
+    Crop c{static_cast<int>(v[0]), static_cast<int>(v[1]), static_cast<int>(v[2]),
+           static_cast<int>(v[3])};
+    char why[160];
+    if (c.x1 <= c.x0 || c.y1 <= c.y0) {
+        std::snprintf(why, sizeof why, "the window %s is empty (X0 < X1 and Y0 < Y1 needed)",
+                      text.c_str());
+        throw Error(file, "--crop", why);
+    }
+    if (c.x1 > width || c.y1 > height) {
+        std::snprintf(why, sizeof why, "the window %s leaves the %d x %d film", text.c_str(), width,
+                      height);
+        throw Error(file, "--crop", why);
+    }
+    return c;
+}
+
+void request_aovs(RenderJob& job, const std::vector<std::string>& specs,
+                  const std::string& output) {
+    const Scene& scene = job.scene;
+    for (const std::string& spec : specs) {
+        size_t eq = spec.find('=');
+        std::string name = spec.substr(0, eq);
+        if (eq == std::string::npos || eq + 1 == spec.size()) {
+            throw Error(spec, "--aov", "expected NAME=FILE");
+        }
+        const auto& names = aov_names();
+        const auto& debug = debug_aov_names();
+        if (std::find(names.begin(), names.end(), name) == names.end() &&
+            std::find(debug.begin(), debug.end(), name) == debug.end()) {
+            throw Error(spec, "--aov",
+                        "unknown AOV '" + name +
+                            "' (expected depth, normal, albedo, visibility, shadow_map, stencil or "
+                            "patches)");
+        }
+        job.aov_files.emplace_back(name, spec.substr(eq + 1));
+        check_writable(job.aov_files.back().second, "--aov " + name);
+    }
+    // Two outputs to one file: the later would overwrite the earlier.
+    auto same_file = [](const std::string& a, const std::string& b) {
+        std::error_code ec;
+        return std::filesystem::weakly_canonical(a, ec) == std::filesystem::weakly_canonical(b, ec);
+    };
+    for (size_t k = 0; k < job.aov_files.size(); ++k) {
+        const auto& [name, file] = job.aov_files[k];
+        if (same_file(file, output))
+            throw Error(file, "--aov " + name, "is also the image's file (-o)");
+        for (size_t m = 0; m < k; ++m) {
+            if (same_file(file, job.aov_files[m].second))
+                throw Error(file, "--aov " + name,
+                            "is also the file of --aov " + job.aov_files[m].first);
+        }
+    }
+    for (const auto& [name, file] : job.aov_files) {
+        if (name == "patches") {
+            if (scene.render.engine != "radiosity")
+                throw Error(file, "--aov patches", "needs render.engine radiosity");
+            job.options.debug_aovs.push_back(name);
+            continue;
+        }
+        if (name != "shadow_map" && name != "stencil") {
+            job.options.aovs.push_back(name);
+            continue;
+        }
+        // The rasterizer's teaching buffers exist for one technique each.
+        const ShadowTechnique needs =
+            name == "shadow_map" ? ShadowTechnique::Map : ShadowTechnique::Volume;
+        if (scene.render.engine != "raster" || scene.render.shadows != needs) {
+            throw Error(file, "--aov " + name,
+                        "needs render.engine raster with render.shadows " +
+                            std::string(name_of(kShadowTechniques, needs)));
+        }
+        job.options.debug_aovs.push_back(name);
+    }
+}
+
+RenderResult run_job(const RenderJob& job) {
+    std::unique_ptr<Renderer> renderer = make_renderer(job.scene.render.engine, job.run.scene_file);
+    return renderer->render(job.scene, job.options);
+}
+
+int reached_spp(const RenderJob& job, const RenderResult& result) {
+    return result.stats.passes > 0 ? result.stats.passes : job.scene.render.spp;
+}
+
+namespace {
+
+/// An AOV made visible in 8 bits: normals mapped to [0, 1], counts and depths scaled.
+Image aov_for_png(const std::string& name, Image image) {
+    if (name == "normal") {
+        for (Color& c : image.pixels) c = 0.5f * c + Color(0.5f);  // [-1,1] -> [0,1]
+    } else if (name == "stencil") {
+        // Counts of a few: scaled by the largest magnitude, so that 1 is visible.
+        float most = 0.0f;
+        for (const Color& c : image.pixels) most = std::max(most, std::abs(c.r));
+        if (most > 0.0f) {
+            for (Color& c : image.pixels) c = glm::abs(c) / most;
+        }
+    } else if (name == "depth" || name == "shadow_map") {
+        // Normalised by the 90th percentile of the hits' depths, not the farthest hit: an
+        // infinite plane's horizon, thousands of units away, would leave the rest black.
+        // Farther hits are white.
+        std::vector<float> hits;
+        for (const Color& c : image.pixels) {
+            if (c.r > 0.0f) hits.push_back(c.r);
+        }
+        if (!hits.empty()) {
+            auto k = hits.begin() + static_cast<std::ptrdiff_t>(hits.size() * 9 / 10);
+            std::nth_element(hits.begin(), k, hits.end());
+            for (Color& c : image.pixels) c = glm::min(c / *k, Color(1.0f));
+        }
+    }
+    return image;
+}
+
+}  // namespace
+
+void write_job_outputs(const RenderJob& job, const RenderResult& result,
+                       const std::string& output) {
+    const int spp = reached_spp(job, result);
+    if (!output.empty())
+        write_image(output, result.color, PixelMeaning::Radiance, job.scene.render.exposure, "-o",
+                    make_provenance(job.run, result.stats, spp).dump());
+    for (const auto& [name, file] : job.aov_files) {
+        Image image = result.aovs.at(name);
+        if (image_format_for(file, "--aov") == ImageFormat::Png)
+            image = aov_for_png(name, std::move(image));
+        RunRecord run = job.run;
+        run.image = name;
+        write_image(file, image, name == "albedo" ? PixelMeaning::Radiance : PixelMeaning::Data,
+                    1.0f, "--aov " + name, make_provenance(run, result.stats, spp).dump());
+    }
+}
+
+}  // namespace svetlo
+
+namespace svetlo {
+
+void write_text_file(const std::string& path, const std::string& text, const std::string& where) {
+    std::filesystem::path tmp = path + ".tmp" + std::to_string(::getpid());
+    {
+        std::ofstream out(tmp, std::ios::binary);
+        out << text;
+        if (!out.flush()) {
+            std::error_code ec;
+            std::filesystem::remove(tmp, ec);
+            throw Error(path, where, "cannot write");
+        }
+    }
+    std::error_code ec;
+    std::filesystem::rename(tmp, path, ec);
+    if (ec) throw Error(path, where, "cannot write: " + ec.message());
+}
+
+}  // namespace svetlo

@@ -1,0 +1,45 @@
+// One render as the commands run it (render, reproduce, compare): the effective scene, the
+// engine's options, the AOVs asked for, and the images written with their provenance.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "provenance.h"
+#include "svetlo/scene/renderer.h"
+#include "svetlo/scene/scene_loader.h"
+
+namespace svetlo {
+
+struct RenderJob {
+    RunRecord run;
+    Scene scene;
+    RenderOptions options;
+    std::vector<std::pair<std::string, std::string>> aov_files;  // NAME, FILE
+};
+
+/// The job of `json` (an effective scene, every override applied) read as the file `path`:
+/// the scene built and validated, the record filled but for the command and the threads.
+RenderJob make_job(nlohmann::json json, const std::filesystem::path& path, std::string sha256);
+
+/// Parses --crop X0,X1,Y0,Y1 for a film of width x height; throws Error naming --crop for a
+/// window outside the film or empty.
+Crop parse_crop(const std::string& text, const std::string& file, int width, int height);
+
+/// Checks the AOV NAME=FILE specs against the job's engine and techniques and asks the engine
+/// for them; their files are checked writable.
+void request_aovs(RenderJob& job, const std::vector<std::string>& specs, const std::string& output);
+
+/// Renders the job with its renderer.
+RenderResult run_job(const RenderJob& job);
+
+/// Writes the colour image to `output` (none when empty) and each AOV to its file, every one
+/// with its provenance.
+void write_job_outputs(const RenderJob& job, const RenderResult& result, const std::string& output);
+
+/// The samples per pixel a result reached: the passes of a progressive engine, else the
+/// scene's spp.
+int reached_spp(const RenderJob& job, const RenderResult& result);
+
+}  // namespace svetlo

@@ -1,0 +1,51 @@
+// The comparison sheet of `svetlo compare` (docs/compare.md): each technique's image beside
+// its ꟻLIP error against the reference in false colour, its metrics and seconds, and for the
+// progressive techniques their error against time. Two forms: one self-contained HTML file
+// (images inline as PNG, the plot as inline SVG) and one PNG (a labelled grid).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "commands.h"
+#include "svetlo/core/image.h"
+
+namespace svetlo {
+
+/// One point of a convergence curve: after `spp` passes, `seconds` in, the error.
+struct CurvePoint {
+    int spp = 0;
+    double seconds = 0.0;
+    double rmse = 0.0, relmse = 0.0;
+};
+
+struct SheetEntry {
+    std::string spec;  // the technique SPEC
+    std::string engine;
+    Image image;  // linear radiance
+    float exposure = 1.0f;
+    ImageComparison metrics;
+    double seconds = 0.0;
+    std::vector<CurvePoint> curve;  // progressive engines, with --curves
+};
+
+struct Sheet {
+    std::string scene;      // the scene file
+    std::string reference;  // SPEC or image file
+    Image reference_image;
+    float reference_exposure = 1.0f;
+    std::vector<SheetEntry> entries;
+};
+
+/// The HTML page: one file, nothing fetched.
+std::string sheet_html(const Sheet& sheet);
+
+/// The PNG grid: a column per image (the reference first), the images above their error
+/// images, each labelled with its SPEC and numbers; a legend of the false colour below.
+Image sheet_png(const Sheet& sheet);
+
+/// The error-against-time plot of the entries that have curves, as an SVG element (log-log
+/// axes, relMSE against seconds); empty when none has a curve.
+std::string curves_svg(const Sheet& sheet);
+
+}  // namespace svetlo
