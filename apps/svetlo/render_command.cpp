@@ -160,7 +160,7 @@ int run_render(const RenderArgs& args) {
     job.run.interrupted = interrupt.signal() != 0;
     write_job_outputs(job, result, args.output);
     if (!args.quiet) print_summary(job, result, args.output);
-    if (job.run.interrupted) {
+    if (job.run.interrupted && !args.quiet) {
         std::fprintf(stderr, "svetlo: interrupted: wrote the %d passes done to %s\n",
                      reached_spp(job, result), args.output.c_str());
     }

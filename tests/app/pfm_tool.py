@@ -1,0 +1,58 @@
+"""Reads PFM files without svetlo, for tests/app/results_test.sh.
+
+  pfm_tool.py crop-equal FULL PART X0 X1 Y0 Y1   exit 0 when PART holds FULL's window bit for bit
+  pfm_tool.py pixel FILE X Y                     prints the pixel's r g b (row 0 is the top)
+  pfm_tool.py rmse2 A B                          prints mean (a - b)² over pixels and channels
+"""
+import struct
+import sys
+
+
+def read(path):
+    with open(path, "rb") as f:
+        data = f.read()
+    fields, pos = [], 0
+    while len(fields) < 4:  # PF, width, height, scale, separated by whitespace
+        while data[pos : pos + 1].isspace():
+            pos += 1
+        start = pos
+        while not data[pos : pos + 1].isspace():
+            pos += 1
+        fields.append(data[start:pos].decode())
+    pos += 1
+    assert fields[0] == "PF" and float(fields[3]) < 0, "little-endian RGB PFM expected"
+    w, h = int(fields[1]), int(fields[2])
+    values = struct.unpack("<%df" % (w * h * 3), data[pos : pos + w * h * 12])
+    rows = [values[(h - 1 - j) * w * 3 : (h - j) * w * 3] for j in range(h)]  # top row first
+    return w, h, rows
+
+
+def main():
+    cmd = sys.argv[1]
+    if cmd == "crop-equal":
+        fw, fh, full = read(sys.argv[2])
+        pw, ph, part = read(sys.argv[3])
+        x0, x1, y0, y1 = map(int, sys.argv[4:8])
+        if (pw, ph) != (x1 - x0, y1 - y0):
+            print("size %dx%d, window %dx%d" % (pw, ph, x1 - x0, y1 - y0))
+            return 1
+        for j in range(ph):
+            if part[j] != full[y0 + j][3 * x0 : 3 * x1]:
+                print("row %d differs" % j)
+                return 1
+        return 0
+    if cmd == "pixel":
+        w, h, rows = read(sys.argv[2])
+        x, y = int(sys.argv[3]), int(sys.argv[4])
+        print("%.9g %.9g %.9g" % tuple(rows[y][3 * x : 3 * x + 3]))
+        return 0
+    if cmd == "rmse2":
+        _, _, a = read(sys.argv[2])
+        _, _, b = read(sys.argv[3])
+        diffs = [(p - q) ** 2 for ra, rb in zip(a, b) for p, q in zip(ra, rb)]
+        print("%.9g" % (sum(diffs) / len(diffs)))
+        return 0
+    return 2
+
+
+sys.exit(main())
