@@ -5,7 +5,7 @@ BUILD := build
 SVETLO := $(BUILD)/svetlo
 DEMO_SCENES := $(wildcard scenes/*.json)
 
-.PHONY: all build test demo bench setup clean format fuzz fuzz-scenes
+.PHONY: all build test demo bench setup clean format fuzz fuzz-scenes figures
 
 all: build
 
@@ -48,6 +48,10 @@ bench: build
 	/usr/bin/python3 bench/radiosity/scaling.py $(SVETLO) $(JOBS)
 	/usr/bin/python3 bench/radiosity/equal_error.py $(SVETLO) 512 2048 $(JOBS)
 	@echo "The path tracer against Cycles needs Blender: bench/cycles/convergence.py (docs/performance.md)."
+
+# Every picture of docs/ again, from fixed seeds (scripts/figures.sh; docs/techniques.md).
+figures: build
+	scripts/figures.sh $(SVETLO)
 
 format:
 	clang-format -i $$(git ls-files '*.cpp' '*.h' '*.inc')

@@ -92,17 +92,6 @@ bool is_image_path(const std::string& s) {
     return false;
 }
 
-/// An image as an 8-bit file would hold it, decoded back to linear: for comparing with a
-/// PNG reference on its own terms.
-Image as_8bit(const Image& image, float exposure) {
-    Image out(image.width, image.height);
-    for (size_t k = 0; k < image.pixels.size(); ++k)
-        for (int c = 0; c < 3; ++c)
-            out.pixels[k][c] =
-                srgb_to_linear(linear_to_srgb8(image.pixels[k][c] * exposure) / 255.0f);
-    return out;
-}
-
 }  // namespace
 
 int run_compare(const CompareArgs& args) {
@@ -166,8 +155,8 @@ int run_compare(const CompareArgs& args) {
         e.exposure = job.scene.render.exposure;
         if (args.curves) {
             job.options.on_pass = [&](int passes, double seconds, const Image& image) {
-                PixelMetrics m =
-                    pixel_metrics(ldr ? as_8bit(image, e.exposure) : image, sheet.reference_image);
+                PixelMetrics m = pixel_metrics(ldr ? as_8bit_srgb(image, e.exposure) : image,
+                                               sheet.reference_image);
                 e.curve.push_back({passes, seconds, m.rmse, m.relmse});
             };
         }
@@ -176,7 +165,7 @@ int run_compare(const CompareArgs& args) {
         RenderResult r = run_job(job);
         e.seconds = r.stats.seconds;
         e.image = std::move(r.color);
-        e.metrics = compare_images(ldr ? as_8bit(e.image, e.exposure) : e.image,
+        e.metrics = compare_images(ldr ? as_8bit_srgb(e.image, e.exposure) : e.image,
                                    sheet.reference_image, ldr, threads);
         if (args.curves && e.curve.empty()) {  // one pass: one point
             e.curve.push_back(

@@ -189,6 +189,7 @@ namespace {
 void draw_text(Image& image, int x, int y, const std::string& text, Color color, int scale = 2) {
     std::vector<char> buffer(text.size() * 300 + 64);
     std::string copy = text;
+
     int quads = stb_easy_font_print(0, 0, copy.data(), nullptr, buffer.data(),
                                     static_cast<int>(buffer.size()));
     // Each vertex: x, y, z (floats) and a 4-byte colour; four vertices a quad.
@@ -205,18 +206,6 @@ void draw_text(Image& image, int x, int y, const std::string& text, Color color,
             }
         }
     }
-}
-
-/// Display values in [0, 1] of a radiance image: the PNG's encoding, decoded to linear so
-/// that the sheet, written as radiance with exposure 1, shows the same codes.
-Image displayed(const Image& image, float exposure) {
-    Image out(image.width, image.height);
-    for (size_t k = 0; k < image.pixels.size(); ++k) {
-        for (int c = 0; c < 3; ++c)
-            out.pixels[k][c] =
-                srgb_to_linear(linear_to_srgb8(image.pixels[k][c] * exposure) / 255.0f);
-    }
-    return out;
 }
 
 void paste(Image& sheet, const Image& image, int x, int y) {
@@ -241,11 +230,13 @@ Image sheet_png(const Sheet& sheet) {
     };
     int x = gap;
     draw_text(out, x, 4, "reference: " + sheet.reference, ink);
-    paste(out, displayed(sheet.reference_image, sheet.reference_exposure), x, label);
+    paste(out, as_8bit_srgb(sheet.reference_image, sheet.reference_exposure), x, label);
     for (const SheetEntry& e : sheet.entries) {
         x += col_w;
-        draw_text(out, x, 4, e.spec, ink);
-        paste(out, displayed(e.image, e.exposure), x, label);
+        std::string spec = e.spec;
+        // Twice the font's size where the SPEC fits the column, else its own size.
+        draw_text(out, x, 4, spec, ink, 2 * stb_easy_font_width(spec.data()) < col_w - gap ? 2 : 1);
+        paste(out, as_8bit_srgb(e.image, e.exposure), x, label);
         Image err = error_image(e);
         for (Color& c : err.pixels) c = srgb(c);
         paste(out, err, x, label + h + gap);

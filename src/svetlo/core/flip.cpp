@@ -31,40 +31,33 @@ struct Plane {
     float at(int i, int j) const { return v[static_cast<size_t>(j) * width + i]; }
 };
 
-/// Convolves rows with `kx` then columns with `ky` (both of odd length, centred), repeating
-/// the border pixels.
-Plane separable(const Plane& in, const std::vector<float>& kx, const std::vector<float>& ky,
-                int threads) {
-    const int w = in.width, h = in.height;
-    const int rx = static_cast<int>(kx.size() / 2), ry = static_cast<int>(ky.size() / 2);
-    Plane rows(w, h), out(w, h);
+/// Convolves every row (`across` true) or every column with `k` (odd length, centred),
+/// repeating the border pixels.
+Plane convolve(const Plane& in, const std::vector<float>& k, bool across, int threads) {
+    const int w = in.width, h = in.height, r = static_cast<int>(k.size() / 2);
+    Plane out(w, h);
     parallel_ranges(
         static_cast<size_t>(h), threads,
         [&](size_t j0, size_t j1) {
             for (int j = static_cast<int>(j0); j < static_cast<int>(j1); ++j) {
                 for (int i = 0; i < w; ++i) {
                     float s = 0.0f;
-                    for (int k = -rx; k <= rx; ++k)
-                        s += kx[k + rx] * in.at(std::clamp(i + k, 0, w - 1), j);
-                    rows.at(i, j) = s;
-                }
-            }
-        },
-        8);
-    parallel_ranges(
-        static_cast<size_t>(h), threads,
-        [&](size_t j0, size_t j1) {
-            for (int j = static_cast<int>(j0); j < static_cast<int>(j1); ++j) {
-                for (int i = 0; i < w; ++i) {
-                    float s = 0.0f;
-                    for (int k = -ry; k <= ry; ++k)
-                        s += ky[k + ry] * rows.at(i, std::clamp(j + k, 0, h - 1));
+                    for (int d = -r; d <= r; ++d) {
+                        s += k[d + r] * (across ? in.at(std::clamp(i + d, 0, w - 1), j)
+                                                : in.at(i, std::clamp(j + d, 0, h - 1)));
+                    }
                     out.at(i, j) = s;
                 }
             }
         },
         8);
     return out;
+}
+
+/// Convolves rows with `kx`, then columns with `ky`.
+Plane separable(const Plane& in, const std::vector<float>& kx, const std::vector<float>& ky,
+                int threads) {
+    return convolve(convolve(in, kx, true, threads), ky, false, threads);
 }
 
 // sRGB's primaries and D65 white (IEC 61966-2-1), linear RGB <-> CIE XYZ.

@@ -16,4 +16,15 @@ unsigned char linear_to_srgb8(float v) {
     return static_cast<unsigned char>(std::lround(linear_to_srgb(v) * 255.0f));
 }
 
+Image as_8bit_srgb(const Image& image, float exposure) {
+    Image out(image.width, image.height);
+    for (size_t k = 0; k < image.pixels.size(); ++k) {
+        for (int c = 0; c < 3; ++c) {
+            out.pixels[k][c] = srgb_to_linear(
+                static_cast<float>(linear_to_srgb8(image.pixels[k][c] * exposure)) / 255.0f);
+        }
+    }
+    return out;
+}
+
 }  // namespace svetlo

@@ -28,4 +28,8 @@ float linear_to_srgb(float v);
 /// Linear value in [0, 1] (clipped) to an 8-bit sRGB code.
 unsigned char linear_to_srgb8(float v);
 
+/// A radiance image as an 8-bit PNG holds it (scaled by `exposure`, clipped, sRGB-encoded),
+/// decoded back to linear values: what a viewer of the PNG sees.
+Image as_8bit_srgb(const Image& image, float exposure);
+
 }  // namespace svetlo
