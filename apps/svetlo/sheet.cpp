@@ -229,7 +229,8 @@ Image sheet_png(const Sheet& sheet) {
                      srgb_to_linear(display.b));
     };
     int x = gap;
-    draw_text(out, x, 4, "reference: " + sheet.reference, ink);
+    std::string title = "reference: " + sheet.reference;
+    draw_text(out, x, 4, title, ink, 2 * stb_easy_font_width(title.data()) < col_w - gap ? 2 : 1);
     paste(out, as_8bit_srgb(sheet.reference_image, sheet.reference_exposure), x, label);
     for (const SheetEntry& e : sheet.entries) {
         x += col_w;
