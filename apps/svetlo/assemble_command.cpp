@@ -49,8 +49,8 @@ int run_assemble(const AssembleArgs& args) {
         Crop c = provenance_crop(p, part);
         LoadedImage image = read_image(part, "assemble");
         all_ldr = all_ldr && image.ldr;
-        if (c.x0 < 0 || c.y0 < 0 || c.x1 > width || c.y1 > height || c.width() <= 0 ||
-            c.height() <= 0 || image.image.width != c.width() || image.image.height != c.height()) {
+        if (!c.inside(width, height) || image.image.width != c.width() ||
+            image.image.height != c.height()) {
             throw Error(part, "provenance.crop", "does not match the image or leaves the film");
         }
         for (int j = c.y0; j < c.y1; ++j) {

@@ -2,7 +2,6 @@
 // throws svetlo::Error for bad input (main prints it as one line).
 #pragma once
 
-#include <CLI/CLI.hpp>
 #include <string>
 #include <vector>
 
@@ -74,7 +73,6 @@ int run_diff(const DiffArgs& args);  // exits 0, 1 or 2 as Unix diff; prints its
 int run_reproduce(const ReproduceArgs& args);
 int run_assemble(const AssembleArgs& args);
 int run_compare(const CompareArgs& args);
-void add_compare_options(CLI::App& app, CompareArgs& args);
 
 /// Writes `text` to `path` atomically (a temporary file, then a rename); throws Error naming
 /// `where`.
@@ -96,8 +94,6 @@ struct RenderResult;
 /// The render's summary line on stderr.
 void print_summary(const RenderJob& job, const RenderResult& result, const std::string& output);
 
-/// A render command's flags as scene overrides: --set, then --engine, -W, -H, --spp, --seed.
-std::vector<Override> render_overrides(const RenderArgs& args);
 int run_info(const InfoArgs& args);
 int run_bench(const BenchArgs& args);
 

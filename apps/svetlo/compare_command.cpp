@@ -4,7 +4,7 @@
 // One scene under several techniques, each against one reference (docs/compare.md). A SPEC is
 // an engine followed by scene overrides, separated by colons: raster:render.shading=gouraud.
 #include <cstdio>
-#include <fstream>
+#include <optional>
 
 #include "commands.h"
 #include "engines.h"
@@ -17,26 +17,6 @@
 #include "svetlo/core/sha256.h"
 
 namespace svetlo {
-
-void add_compare_options(CLI::App& app, CompareArgs& args) {
-    app.add_option("scene", args.scene, "Scene file (JSON)")->required();
-    app.add_option("-T,--technique", args.techniques,
-                   "A technique: ENGINE[:KEY=VALUE]... (raster:render.shading=gouraud)")
-        ->required();
-    app.add_option("--reference", args.reference,
-                   "The reference: a SPEC or an image (default path:render.spp=1024)");
-    app.add_option("-o,--output", args.html, "The sheet as one HTML file");
-    app.add_option("--png", args.png, "The sheet as a PNG grid");
-    app.add_option("--json", args.json, "The metrics as JSON");
-    app.add_option("-W,--width", args.width, "Film width in pixels");
-    app.add_option("-H,--height", args.height, "Film height in pixels");
-    app.add_option("-t,--threads", args.threads, "Threads (0 = all cores)");
-    app.add_option("--seed", args.seed, "Random seed");
-    app.add_option("--set", args.sets, "Override a scene key for every technique: KEY=VALUE");
-    app.add_flag("--curves", args.curves,
-                 "Also plot the error of progressive techniques (path) against time");
-    app.add_flag("-q,--quiet", args.quiet, "Print nothing but errors");
-}
 
 namespace {
 
@@ -77,19 +57,11 @@ RenderJob spec_job(const nlohmann::json& base, const CompareArgs& args, const st
             apply_override(json, o, args.scene);
         RenderJob job = make_job(std::move(json), args.scene, sha256);
         job.options.threads = threads;
-        job.run.threads = threads;
         return job;
     } catch (const Error& e) {
         if (e.where().rfind("-T ", 0) == 0) throw;
         throw Error(e.file(), "-T " + spec + ": " + e.where(), e.message());
     }
-}
-
-bool is_image_path(const std::string& s) {
-    for (const char* ext : {".png", ".pfm", ".exr", ".PNG", ".PFM", ".EXR"}) {
-        if (s.size() > 4 && s.compare(s.size() - 4, 4, ext) == 0) return true;
-    }
-    return false;
 }
 
 }  // namespace
@@ -107,8 +79,7 @@ int run_compare(const CompareArgs& args) {
             {"render.seed", std::to_string(flag_integer(file, "--seed", args.seed, 0, kMaxSeed))});
     }
     // The scene is read once; each technique applies its overrides to a copy of its JSON.
-    nlohmann::json base = read_scene_json(file);
-    for (const Override& o : overrides) apply_override(base, o, file);
+    const nlohmann::json base = effective_scene_json(file, overrides);
     const std::string sha256 = sha256_file(file);
     std::vector<RenderJob> jobs;
     for (const std::string& spec : args.techniques)
@@ -121,6 +92,9 @@ int run_compare(const CompareArgs& args) {
     bool ldr = false;
     const bool quiet = args.quiet;
     const Scene& first = jobs.front().scene;
+    // The reference: an image, or a job rendered once every technique's film is checked.
+    std::optional<RenderJob> reference_job;
+    int ref_width = first.film.width, ref_height = first.film.height;
     if (is_image_path(reference)) {
         LoadedImage loaded = read_image(reference, "--reference");
         if (loaded.image.width != first.film.width || loaded.image.height != first.film.height) {
@@ -133,19 +107,22 @@ int run_compare(const CompareArgs& args) {
         sheet.reference_image = std::move(loaded.image);
         sheet.reference_exposure = ldr ? 1.0f : first.render.exposure;
     } else {
-        RenderJob job = spec_job(base, args, reference, sha256, threads);
-        if (!quiet) std::fprintf(stderr, "svetlo compare: reference %s\n", reference.c_str());
-        job.options.progress = !quiet && stderr_is_terminal();
-        RenderResult r = run_job(job);
-        sheet.reference_image = std::move(r.color);
-        sheet.reference_exposure = job.scene.render.exposure;
+        reference_job = spec_job(base, args, reference, sha256, threads);
+        ref_width = reference_job->scene.film.width;
+        ref_height = reference_job->scene.film.height;
     }
-    for (RenderJob& job : jobs) {
-        if (job.scene.film.width != sheet.reference_image.width ||
-            job.scene.film.height != sheet.reference_image.height) {
-            throw Error(file, "-T " + args.techniques[&job - jobs.data()],
+    for (size_t k = 0; k < jobs.size(); ++k) {
+        if (jobs[k].scene.film.width != ref_width || jobs[k].scene.film.height != ref_height) {
+            throw Error(file, "-T " + args.techniques[k],
                         "changes the film's size; every technique must match the reference");
         }
+    }
+    if (reference_job) {
+        if (!quiet) std::fprintf(stderr, "svetlo compare: reference %s\n", reference.c_str());
+        reference_job->options.progress = !quiet && stderr_is_terminal();
+        RenderResult r = run_job(*reference_job);
+        sheet.reference_image = std::move(r.color);
+        sheet.reference_exposure = reference_job->scene.render.exposure;
     }
     for (size_t k = 0; k < jobs.size(); ++k) {
         RenderJob& job = jobs[k];

@@ -1,11 +1,11 @@
 // svetlo: the command line (contract: ../../../shared/CONTRACT.md, docs/cli.md).
 #include <CLI/CLI.hpp>
 #include <cstdio>
-#include <filesystem>
 #include <new>
 
 #include "commands.h"
 #include "svetlo/core/error.h"
+#include "svetlo/core/image_io.h"
 
 #ifndef SVETLO_VERSION
 #define SVETLO_VERSION "unknown"
@@ -89,7 +89,23 @@ int main(int argc, char** argv) {
     CompareArgs compare;
     CLI::App* cmp = app.add_subcommand(
         "compare", "Render a scene under several techniques and write a comparison sheet");
-    add_compare_options(*cmp, compare);
+    cmp->add_option("scene", compare.scene, "Scene file (JSON)")->required();
+    cmp->add_option("-T,--technique", compare.techniques,
+                    "A technique: ENGINE[:KEY=VALUE]... (raster:render.shading=gouraud)")
+        ->required();
+    cmp->add_option("--reference", compare.reference,
+                    "The reference: a SPEC or an image (default path:render.spp=1024)");
+    cmp->add_option("-o,--output", compare.html, "The sheet as one HTML file");
+    cmp->add_option("--png", compare.png, "The sheet as a PNG grid");
+    cmp->add_option("--json", compare.json, "The metrics as JSON");
+    cmp->add_option("-W,--width", compare.width, "Film width in pixels");
+    cmp->add_option("-H,--height", compare.height, "Film height in pixels");
+    cmp->add_option("-t,--threads", compare.threads, "Threads (0 = all cores)");
+    cmp->add_option("--seed", compare.seed, "Random seed");
+    cmp->add_option("--set", compare.sets, "Override a scene key for every technique: KEY=VALUE");
+    cmp->add_flag("--curves", compare.curves,
+                  "Also plot the error of progressive techniques (path) against time");
+    cmp->add_flag("-q,--quiet", compare.quiet, "Print nothing but errors");
 
     // The contract's commands that this version does not have yet: one line, exit 1.
     std::vector<std::string> ignored;
@@ -113,10 +129,7 @@ int main(int argc, char** argv) {
     try {
         if (*r) return run_render(render);
         if (*i) {
-            const std::string ext = std::filesystem::path(info.scene).extension().string();
-            if (ext == ".png" || ext == ".pfm" || ext == ".exr" || ext == ".PNG" || ext == ".PFM" ||
-                ext == ".EXR")
-                return run_image_info(info.scene, info.json);
+            if (is_image_path(info.scene)) return run_image_info(info.scene, info.json);
             return run_info(info);
         }
         if (*d) return run_diff(diff);

@@ -12,30 +12,31 @@
 
 namespace svetlo {
 
-nlohmann::json make_provenance(const RunRecord& run, const RenderStats& stats, int spp) {
+nlohmann::json make_provenance(const RunRecord& run, const Scene& scene,
+                               const RenderOptions& options, const RenderStats& stats, int spp) {
     namespace fs = std::filesystem;
     std::error_code ec;
     fs::path absolute = fs::weakly_canonical(fs::absolute(run.scene_file, ec), ec);
-    nlohmann::json p = {
+    const Crop crop = film_window(scene, options);
+    return {
         {"version", SVETLO_VERSION},
         {"commit", SVETLO_COMMIT},
         {"command", run.command},
         {"scene_file", absolute.string()},
         {"scene_sha256", run.scene_sha256},
         {"scene", run.scene},
-        {"engine", run.engine},
+        {"engine", scene.render.engine},
         {"image", run.image},
         {"spp", spp},
-        {"seed", run.seed},
-        {"threads", run.threads},
+        {"seed", scene.render.seed},
+        {"threads", options.threads},
         {"seconds", stats.seconds},
         {"setup_seconds", stats.setup_seconds},
-        {"crop", {run.crop.x0, run.crop.x1, run.crop.y0, run.crop.y1}},
-        {"full_resolution", {run.full_width, run.full_height}},
+        {"crop", {crop.x0, crop.x1, crop.y0, crop.y1}},
+        {"full_resolution", {scene.film.width, scene.film.height}},
         {"processes", 1},
         {"interrupted", run.interrupted},
     };
-    return p;
 }
 
 nlohmann::json read_provenance(const std::filesystem::path& path, const std::string& where) {

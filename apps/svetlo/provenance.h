@@ -14,23 +14,21 @@
 
 namespace svetlo {
 
-/// What a render command knows of its run, besides the result.
+/// What a render command knows of its run beyond the scene and the engine's options.
 struct RunRecord {
     std::vector<std::string> command;  // the argument list, argv[0] first
     std::filesystem::path scene_file;
-    std::string scene_sha256;  // of the scene file's bytes when it was read
-    nlohmann::json scene;      // the effective scene
-    std::string engine;
-    uint64_t seed = 0;
-    int threads = 0;  // as asked (0: every core)
-    Crop crop;
-    int full_width = 0, full_height = 0;
-    bool interrupted = false;  // SIGINT or SIGTERM ended it early
-    std::string image;         // "color", or the AOV's name
+    std::string scene_sha256;     // of the scene file's bytes when it was read
+    nlohmann::json scene;         // the effective scene
+    bool interrupted = false;     // SIGINT or SIGTERM ended it early
+    std::string image = "color";  // or the AOV's name
 };
 
-/// The provenance object of an image of `run` whose render reported `stats`.
-nlohmann::json make_provenance(const RunRecord& run, const RenderStats& stats, int spp);
+/// The provenance object of an image of `run`, rendered from `scene` with `options` (engine,
+/// seed, threads, crop and film come from these), whose render reported `stats` and reached
+/// `spp`.
+nlohmann::json make_provenance(const RunRecord& run, const Scene& scene,
+                               const RenderOptions& options, const RenderStats& stats, int spp);
 
 /// The provenance in an image file; throws Error(path, where, ...) when the file has none
 /// or it is not a JSON object.

@@ -3,7 +3,6 @@
 //               [--quiet] [--crop X0,X1,Y0,Y1] [--mse-reference REF --mse-log LOG.csv]
 #include <algorithm>
 #include <cstdio>
-#include <nlohmann/json.hpp>
 
 #include "commands.h"
 #include "engines.h"
@@ -47,6 +46,10 @@ int flag_threads(const std::string& file, const std::string& text) {
     return text.empty() ? 0 : static_cast<int>(flag_integer(file, "-t", text, 0, kMaxThreads));
 }
 
+namespace {
+
+/// The render command's flags as scene overrides: --set, then --engine, -W, -H, --spp, --seed
+/// (the flags win).
 std::vector<Override> render_overrides(const RenderArgs& args) {
     std::vector<Override> overrides = parse_sets(args.sets, args.scene);
     // The flags override the scene and any --set.
@@ -63,8 +66,6 @@ std::vector<Override> render_overrides(const RenderArgs& args) {
     return overrides;
 }
 
-namespace {
-
 /// --mse-reference REF --mse-log LOG.csv: after each pass, `spp,seconds,mse,relmse` against
 /// the reference (the crop's pixels of it when the reference is the full film).
 class MseLog {
@@ -76,15 +77,9 @@ public:
         }
         if (args.mse_log.empty()) return;
         reference_ = read_image(args.mse_reference, "--mse-reference").image;
-        const Crop& c = job.run.crop;
-        if (reference_.width == job.run.full_width && reference_.height == job.run.full_height &&
-            (c.width() != reference_.width || c.height() != reference_.height)) {
-            Image part(c.width(), c.height());
-            for (int j = 0; j < c.height(); ++j)
-                for (int i = 0; i < c.width(); ++i)
-                    part.at(i, j) = reference_.at(c.x0 + i, c.y0 + j);
-            reference_ = std::move(part);
-        }
+        const Crop c = film_window(job.scene, job.options);
+        if (reference_.width == job.scene.film.width && reference_.height == job.scene.film.height)
+            reference_ = crop_image(reference_, c.x0, c.y0, c.width(), c.height());
         if (reference_.width != c.width() || reference_.height != c.height()) {
             char why[128];
             std::snprintf(why, sizeof why, "is %d x %d; the render is %d x %d", reference_.width,
@@ -125,16 +120,13 @@ int run_render(const RenderArgs& args) {
 
     // Check every output before the (possibly long) render.
     check_writable(args.output, "-o");
-    nlohmann::json json = read_scene_json(args.scene);
-    for (const Override& o : overrides) apply_override(json, o, args.scene);
+    // The scene first: reading it checks the file (a device, a folder) before it is hashed.
+    nlohmann::json json = effective_scene_json(args.scene, overrides);
     RenderJob job = make_job(std::move(json), args.scene, sha256_file(args.scene));
     const Scene& scene = job.scene;
     job.run.command = args.command;
-    job.run.threads = threads;
-    if (!args.crop.empty()) {
-        job.run.crop = parse_crop(args.crop, args.scene, scene.film.width, scene.film.height);
-        job.options.crop = job.run.crop;
-    }
+    if (!args.crop.empty())
+        job.options.crop = parse_crop(args.crop, args.scene, scene.film.width, scene.film.height);
     request_aovs(job, args.aovs, args.output);
     make_renderer(scene.render.engine, args.scene);  // an unknown engine, before the checks below
     if (time_budget > 0.0 && scene.render.engine != "path") {
@@ -169,7 +161,7 @@ int run_render(const RenderArgs& args) {
 
 void print_summary(const RenderJob& job, const RenderResult& result, const std::string& output) {
     const Scene& scene = job.scene;
-    const Crop& crop = job.run.crop;
+    const Crop crop = film_window(scene, job.options);
     double per_second = result.stats.seconds > 0.0 ? 1e-6 / result.stats.seconds : 0.0;
     char rate[160];
     if (!result.stats.detail.empty()) {  // the engine's own account
@@ -190,7 +182,7 @@ void print_summary(const RenderJob& job, const RenderResult& result, const std::
     if (result.stats.nonfinite > 0)
         dropped = ", " + std::to_string(result.stats.nonfinite) + " non-finite samples dropped";
     std::string window;
-    if (crop.width() != scene.film.width || crop.height() != scene.film.height) {
+    if (!(crop == Crop::full(scene.film.width, scene.film.height))) {
         window = " (crop " + std::to_string(crop.x0) + "," + std::to_string(crop.x1) + "," +
                  std::to_string(crop.y0) + "," + std::to_string(crop.y1) + ")";
     }

@@ -1,13 +1,11 @@
 #include "render_job.h"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cstdio>
-#include <fstream>
 
 #include "engines.h"
 #include "flags.h"
+#include "svetlo/core/atomic_file.h"
 #include "svetlo/core/error.h"
 #include "svetlo/core/image_io.h"
 
@@ -19,12 +17,6 @@ RenderJob make_job(nlohmann::json json, const std::filesystem::path& path, std::
     job.run.scene_file = path;
     job.run.scene_sha256 = std::move(sha256);
     job.run.scene = std::move(json);
-    job.run.engine = job.scene.render.engine;
-    job.run.seed = job.scene.render.seed;
-    job.run.full_width = job.scene.film.width;
-    job.run.full_height = job.scene.film.height;
-    job.run.crop = {0, job.scene.film.width, 0, job.scene.film.height};
-    job.run.image = "color";
     return job;
 }
 
@@ -160,7 +152,7 @@ void write_job_outputs(const RenderJob& job, const RenderResult& result,
     const int spp = reached_spp(job, result);
     if (!output.empty())
         write_image(output, result.color, PixelMeaning::Radiance, job.scene.render.exposure, "-o",
-                    make_provenance(job.run, result.stats, spp).dump());
+                    make_provenance(job.run, job.scene, job.options, result.stats, spp).dump());
     for (const auto& [name, file] : job.aov_files) {
         Image image = result.aovs.at(name);
         if (image_format_for(file, "--aov") == ImageFormat::Png)
@@ -168,28 +160,17 @@ void write_job_outputs(const RenderJob& job, const RenderResult& result,
         RunRecord run = job.run;
         run.image = name;
         write_image(file, image, name == "albedo" ? PixelMeaning::Radiance : PixelMeaning::Data,
-                    1.0f, "--aov " + name, make_provenance(run, result.stats, spp).dump());
+                    1.0f, "--aov " + name,
+                    make_provenance(run, job.scene, job.options, result.stats, spp).dump());
     }
 }
 
-}  // namespace svetlo
-
-namespace svetlo {
-
 void write_text_file(const std::string& path, const std::string& text, const std::string& where) {
-    std::filesystem::path tmp = path + ".tmp" + std::to_string(::getpid());
-    {
-        std::ofstream out(tmp, std::ios::binary);
-        out << text;
-        if (!out.flush()) {
-            std::error_code ec;
-            std::filesystem::remove(tmp, ec);
-            throw Error(path, where, "cannot write");
-        }
+    try {
+        write_file_atomically(path, text);
+    } catch (const std::exception& e) {
+        throw Error(path, where, std::string("cannot write: ") + e.what());
     }
-    std::error_code ec;
-    std::filesystem::rename(tmp, path, ec);
-    if (ec) throw Error(path, where, "cannot write: " + ec.message());
 }
 
 }  // namespace svetlo

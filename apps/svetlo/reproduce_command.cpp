@@ -28,19 +28,14 @@ int run_reproduce(const ReproduceArgs& args) {
     json["render"]["spp"] = spp->get<int>();
     RenderJob job = make_job(json, file->get<std::string>(), p.value("scene_sha256", ""));
     job.run.command = p.value("command", std::vector<std::string>{});
-    const int threads =
+    job.options.threads =
         args.threads.empty() ? p.value("threads", 0) : flag_threads(args.image, args.threads);
-    job.run.threads = threads;
-    job.options.threads = threads;
     const auto [w, h] = provenance_resolution(p, args.image);
     if (w != job.scene.film.width || h != job.scene.film.height)
         throw Error(args.image, "provenance.full_resolution", "differs from the scene's film");
-    Crop crop = provenance_crop(p, args.image);
-    if (crop.x0 < 0 || crop.y0 < 0 || crop.x1 > w || crop.y1 > h || crop.width() <= 0 ||
-        crop.height() <= 0)
-        throw Error(args.image, "provenance.crop", "leaves the film");
-    job.run.crop = crop;
-    if (!(crop == Crop{0, w, 0, h})) job.options.crop = crop;
+    const Crop crop = provenance_crop(p, args.image);
+    if (!crop.inside(w, h)) throw Error(args.image, "provenance.crop", "leaves the film");
+    job.options.crop = crop;
     const std::string image = p.value("image", "color");
     if (image != "color") request_aovs(job, {image + "=" + args.output}, "");
     job.options.progress = !args.quiet && stderr_is_terminal();
@@ -64,8 +59,10 @@ int run_image_info(const std::string& image, bool json) {
                         value.size());
         } else if (key == "command" && value.is_array()) {
             std::string line;
-            for (const auto& arg : value)
-                line += (line.empty() ? "" : " ") + arg.get<std::string>();
+            for (const auto& arg : value) {
+                if (!line.empty()) line += ' ';
+                line += arg.is_string() ? arg.get<std::string>() : arg.dump();
+            }
             std::printf("%-16s %s\n", key.c_str(), line.c_str());
         } else {
             std::printf(

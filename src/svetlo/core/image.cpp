@@ -16,6 +16,13 @@ unsigned char linear_to_srgb8(float v) {
     return static_cast<unsigned char>(std::lround(linear_to_srgb(v) * 255.0f));
 }
 
+Image crop_image(const Image& image, int x0, int y0, int w, int h) {
+    Image part(w, h);
+    for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i) part.at(i, j) = image.at(x0 + i, y0 + j);
+    return part;
+}
+
 Image as_8bit_srgb(const Image& image, float exposure) {
     Image out(image.width, image.height);
     for (size_t k = 0; k < image.pixels.size(); ++k) {

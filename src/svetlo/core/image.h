@@ -28,6 +28,9 @@ float linear_to_srgb(float v);
 /// Linear value in [0, 1] (clipped) to an 8-bit sRGB code.
 unsigned char linear_to_srgb8(float v);
 
+/// The w x h pixels of `image` whose top-left corner is (x0, y0), all inside it.
+Image crop_image(const Image& image, int x0, int y0, int w, int h);
+
 /// A radiance image as an 8-bit PNG holds it (scaled by `exposure`, clipped, sRGB-encoded),
 /// decoded back to linear values: what a viewer of the PNG sees.
 Image as_8bit_srgb(const Image& image, float exposure);

@@ -8,7 +8,6 @@
 #include <OpenEXR/ImfStringAttribute.h>
 #include <stb_image.h>
 #include <stb_image_write.h>
-#include <unistd.h>
 #include <zlib.h>
 
 #include <algorithm>
@@ -17,9 +16,9 @@
 #include <cstring>
 #include <fstream>
 #include <memory>
-#include <random>
 #include <sstream>
 
+#include "svetlo/core/atomic_file.h"
 #include "svetlo/core/error.h"
 #include "svetlo/core/input_file.h"
 
@@ -33,14 +32,6 @@ std::string lower_extension(const fs::path& path) {
     std::transform(ext.begin(), ext.end(), ext.begin(),
                    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     return ext;
-}
-
-/// A temporary name in the target's folder, so that the final rename stays on one file system.
-fs::path temporary_path(const fs::path& path) {
-    std::random_device rd;
-    fs::path tmp = path;
-    tmp += ".tmp" + std::to_string(rd() % 1000000) + "." + std::to_string(::getpid());
-    return tmp;
 }
 
 /// A PNG chunk: length, type, data and the CRC-32 of type and data (PNG spec, 5.3).
@@ -266,6 +257,11 @@ std::vector<unsigned char> encode_png(const Image& image, PixelMeaning meaning, 
         png.insert(png.end(), end.begin(), end.end());
     }
     return png;
+}
+
+bool is_image_path(const fs::path& path) {
+    std::string ext = lower_extension(path);
+    return ext == ".png" || ext == ".pfm" || ext == ".exr";
 }
 
 ImageFormat image_format_for(const fs::path& path, const std::string& where) {

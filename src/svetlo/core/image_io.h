@@ -22,6 +22,9 @@ enum class ImageFormat { Png, Pfm, Exr };
 /// (visibility, normals mapped to [0, 1], normalised depth).
 enum class PixelMeaning { Radiance, Data };
 
+/// True when the path's extension is one svetlo writes (.png, .pfm, .exr, any case).
+bool is_image_path(const std::filesystem::path& path);
+
 /// The format for a path's extension; throws Error(path, where, ...) for an unknown one.
 ImageFormat image_format_for(const std::filesystem::path& path, const std::string& where);
 

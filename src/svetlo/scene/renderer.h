@@ -38,6 +38,12 @@ struct Crop {
     int width() const { return x1 - x0; }
     int height() const { return y1 - y0; }
     bool operator==(const Crop&) const = default;
+    /// The whole of a width x height film.
+    static Crop full(int width, int height) { return {0, width, 0, height}; }
+    /// Not empty, and inside a width x height film.
+    bool inside(int width, int height) const {
+        return x0 >= 0 && y0 >= 0 && x0 < x1 && y0 < y1 && x1 <= width && y1 <= height;
+    }
 };
 
 struct RenderOptions {
@@ -105,20 +111,16 @@ inline AovTargets prepare_result(RenderResult& result, const std::vector<std::st
 
 /// The window a render covers: options.crop, or the whole film.
 inline Crop film_window(const Scene& scene, const RenderOptions& options) {
-    return options.crop ? *options.crop : Crop{0, scene.film.width, 0, scene.film.height};
+    return options.crop ? *options.crop : Crop::full(scene.film.width, scene.film.height);
 }
 
 /// Cuts every image of `result` that covers the whole width x height film down to `window`
 /// (engines that draw the whole frame and keep the window: raster, radiosity's display).
 inline void cut_to_window(RenderResult& result, const Crop& window, int width, int height) {
-    if (window == Crop{0, width, 0, height}) return;
+    if (window == Crop::full(width, height)) return;
     auto cut = [&](Image& image) {
         if (image.width != width || image.height != height) return;  // a shadow map, say
-        Image part(window.width(), window.height());
-        for (int j = 0; j < part.height; ++j)
-            for (int i = 0; i < part.width; ++i)
-                part.at(i, j) = image.at(window.x0 + i, window.y0 + j);
-        image = std::move(part);
+        image = crop_image(image, window.x0, window.y0, window.width(), window.height());
     };
     cut(result.color);
     for (auto& [name, image] : result.aovs) cut(image);

@@ -112,10 +112,14 @@ void apply_override(nlohmann::json& root, const Override& o, const std::string& 
     *node = value;
 }
 
-Scene load_scene(const fs::path& path, const std::vector<Override>& overrides) {
+nlohmann::json effective_scene_json(const fs::path& path, const std::vector<Override>& overrides) {
     nlohmann::json root = read_scene_json(path);
     for (const Override& o : overrides) apply_override(root, o, path.string());
-    return scene_from_json(root, path);
+    return root;
+}
+
+Scene load_scene(const fs::path& path, const std::vector<Override>& overrides) {
+    return scene_from_json(effective_scene_json(path, overrides), path);
 }
 
 Scene scene_from_json(const nlohmann::json& root, const fs::path& path) {

@@ -34,6 +34,11 @@ inline constexpr long long kMaxSeed = 1LL << 53;  // seeds are exact as JSON num
 
 Scene load_scene(const std::filesystem::path& path, const std::vector<Override>& overrides = {});
 
+/// The effective scene: the file's JSON with every override applied, in order (what
+/// load_scene builds the Scene from, and what an image's provenance records).
+nlohmann::json effective_scene_json(const std::filesystem::path& path,
+                                    const std::vector<Override>& overrides);
+
 /// Builds a Scene from JSON already in memory (tests); `path` names it in messages and
 /// anchors relative paths.
 Scene scene_from_json(const nlohmann::json& root, const std::filesystem::path& path);
