@@ -183,5 +183,17 @@ TEST(ImageMetadata, RoundTripsInEveryFormat) {
     EXPECT_EQ(read_image_metadata(png, "info"), "");
 }
 
+TEST(ImageMetadata, APfmWrittenWithoutMetadataLeavesNoStaleSidecar) {
+    // `svetlo diff -o err.pfm` over a render's err.pfm: the old provenance must not describe
+    // the new image.
+    fs::path path = temp_file("stale.pfm");
+    Image image(2, 2, Color(0.5f));
+    write_image(path, image, PixelMeaning::Radiance, 1.0f, "-o", "{\"engine\": \"path\"}");
+    ASSERT_FALSE(read_image_metadata(path, "info").empty());
+    write_image(path, image, PixelMeaning::Data, 1.0f, "-o");
+    EXPECT_EQ(read_image_metadata(path, "info"), "");
+    EXPECT_FALSE(fs::exists(temp_file("stale.pfm.json")));
+}
+
 }  // namespace
 }  // namespace svetlo

@@ -312,6 +312,8 @@ void write_image(const fs::path& path, const Image& image, PixelMeaning meaning,
         }
         if (!sidecar_tmp.empty()) fs::rename(sidecar_tmp, sidecar);
         fs::rename(tmp, path);
+        // A PFM without metadata replaces one that had it: the old sidecar would describe it.
+        if (format == ImageFormat::Pfm && metadata.empty()) fs::remove(sidecar);
     } catch (const std::exception& e) {
         std::error_code ec;
         fs::remove(tmp, ec);
