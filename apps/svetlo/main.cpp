@@ -1,4 +1,4 @@
-// svetlo: the command line (contract: ../../../shared/CONTRACT.md, docs/cli.md).
+// svetlo: the command line (docs/cli.md).
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <new>

@@ -8,7 +8,7 @@ that still parse. Each run takes a scene of scenes/, changes one to eight of its
 (most often numbers: set to 0, -1, 1e-30, 1e38, 2^31, ...; else an array shortened,
 lengthened or emptied, a key deleted, a value replaced by another type or by another value
 of the scene), and renders it with a random engine, film size, spp, thread count, output
-format, seed, AOV and time budget. The contract (../shared/CONTRACT.md) allows two outcomes:
+format, seed, AOV and time budget. The command line (docs/robustness.md) allows two outcomes:
 
 - exit 0, the image written, nothing on stderr (--quiet), and in a PFM output every value
   finite and non-negative;

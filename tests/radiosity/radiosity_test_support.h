@@ -1,4 +1,4 @@
-// Scenes the radiosity tests share (JSON, ../shared/CONTRACT.md).
+// Scenes the radiosity tests share (JSON, docs/scene-format.md).
 #pragma once
 
 #include <nlohmann/json.hpp>

@@ -1,5 +1,5 @@
 // The contract's camera, written again here as an independent reference for the rasterizer's
-// tests (../shared/CONTRACT.md, "camera"): the ray through film point (x, y), x to the right
+// tests (docs/scene-format.md, "camera"): the ray through film point (x, y), x to the right
 // and y downward from the top-left corner, in [0, 1]^2. The direction is unit length.
 #pragma once
 

@@ -1,4 +1,4 @@
-// Pieces of scenes (JSON, ../shared/CONTRACT.md) that several test programs build on.
+// Pieces of scenes (JSON, docs/scene-format.md) that several test programs build on.
 #pragma once
 
 #include <nlohmann/json.hpp>

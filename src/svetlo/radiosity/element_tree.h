@@ -5,7 +5,7 @@
 // below element_size, split further where the light changes fast (adaptive subdivision) or
 // where the hierarchical solver's links ask for it. Every node has two sides, each with its
 // own radiosity: side 0 faces where the triangle's counter-clockwise normal points, side 1
-// the other way (surfaces are two-sided, ../shared/CONTRACT.md); only an emissive
+// the other way (surfaces are two-sided, docs/shading.md); only an emissive
 // material's front side emits.
 //
 // Units: radiosity B and irradiance E in W/m^2 (B = pi L on a diffuse surface), areas in m^2.

@@ -27,7 +27,7 @@ Color sky_irradiance(const Accel& accel, Color background, vec3 x, vec3 n, int r
 
 /// The fraction of light 0 that reaches x (n facing the viewer): 0 or 1 for a delta light,
 /// the free fraction of max(samples, 16) stratified points for a light with area, 1 where x
-/// faces away from it or there is no light 0 (../shared/CONTRACT.md, --aov visibility).
+/// faces away from it or there is no light 0 (docs/shading.md, "Radiometric conventions").
 float light0_visibility(const LightSet& lights, const Accel& accel, vec3 x, vec3 n, int samples,
                         Rng& rng, uint64_t& rays);
 

@@ -1,6 +1,6 @@
 // Shadow rays, shared by the engines that trace them (Whitted, the path tracer): the test
 // toward one light sample, the stratified sampling of the light set, and the visibility AOV
-// of light 0 (../shared/CONTRACT.md, --aov visibility).
+// of light 0 (docs/shading.md, "Radiometric conventions").
 #pragma once
 
 #include <cstdint>

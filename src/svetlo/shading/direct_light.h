@@ -3,7 +3,7 @@
 //
 //   L_direct(p, wo) = sum over lights of  f(wo, wi) E(wi) cos(theta) V
 //
-// (../shared/CONTRACT.md, "Radiometric conventions"). E is a light sample's irradiance
+// (docs/shading.md, "Radiometric conventions"). E is a light sample's irradiance
 // (light_set.h), f the BSDF (bsdf.h), theta the angle between wi and the shading normal, and
 // V the visibility from a callable the engine passes: traced shadow rays (Whitted, the path
 // tracer), a per-light shadow mask (the rasterizer's shadow techniques), or 1 (no shadows).

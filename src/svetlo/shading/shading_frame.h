@@ -3,7 +3,7 @@
 //
 // The front side is the one the geometric normal ng points to: a triangle's counter-clockwise
 // side, a quad's edge_u x edge_v, a closed shape's outside. Emission leaves the front side only;
-// every other surface is two-sided (../shared/CONTRACT.md): seen from behind, it is shaded with
+// every other surface is two-sided (docs/shading.md): seen from behind, it is shaded with
 // both normals turned toward the viewer. The SIMD kernel (raster/simd_kernel.inc) applies the
 // same three rules lane by lane.
 #pragma once
