@@ -68,7 +68,10 @@ RenderJob spec_job(const nlohmann::json& base, const CompareArgs& args, const st
 
 int run_compare(const CompareArgs& args) {
     const std::string& file = args.scene;
+    // Every output is checked before the renders, which may be long.
     if (!args.png.empty()) check_writable(args.png, "--png");
+    if (!args.html.empty()) check_creatable(args.html, "-o");
+    if (!args.json.empty()) check_creatable(args.json, "--json");
     if (args.html.empty() && args.png.empty() && args.json.empty())
         throw Error(file, "compare", "nothing to write: give -o SHEET.html, --png or --json");
     const int threads = flag_threads(file, args.threads);
@@ -94,15 +97,11 @@ int run_compare(const CompareArgs& args) {
     const Scene& first = jobs.front().scene;
     // The reference: an image, or a job rendered once every technique's film is checked.
     std::optional<RenderJob> reference_job;
-    int ref_width = first.film.width, ref_height = first.film.height;
+    int ref_width = 0, ref_height = 0;
     if (is_image_path(reference)) {
         LoadedImage loaded = read_image(reference, "--reference");
-        if (loaded.image.width != first.film.width || loaded.image.height != first.film.height) {
-            char why[160];
-            std::snprintf(why, sizeof why, "is %d x %d; the film is %d x %d", loaded.image.width,
-                          loaded.image.height, first.film.width, first.film.height);
-            throw Error(reference, "--reference", why);
-        }
+        ref_width = loaded.image.width;
+        ref_height = loaded.image.height;
         ldr = loaded.ldr;
         sheet.reference_image = std::move(loaded.image);
         sheet.reference_exposure = ldr ? 1.0f : first.render.exposure;
@@ -112,9 +111,12 @@ int run_compare(const CompareArgs& args) {
         ref_height = reference_job->scene.film.height;
     }
     for (size_t k = 0; k < jobs.size(); ++k) {
-        if (jobs[k].scene.film.width != ref_width || jobs[k].scene.film.height != ref_height) {
-            throw Error(file, "-T " + args.techniques[k],
-                        "changes the film's size; every technique must match the reference");
+        const Film& film = jobs[k].scene.film;
+        if (film.width != ref_width || film.height != ref_height) {
+            char why[160];
+            std::snprintf(why, sizeof why, "its film is %d x %d; the reference's is %d x %d",
+                          film.width, film.height, ref_width, ref_height);
+            throw Error(file, "-T " + args.techniques[k], why);
         }
     }
     if (reference_job) {

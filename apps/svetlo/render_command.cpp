@@ -67,7 +67,8 @@ std::vector<Override> render_overrides(const RenderArgs& args) {
 }
 
 /// --mse-reference REF --mse-log LOG.csv: after each pass, `spp,seconds,mse,relmse` against
-/// the reference (the crop's pixels of it when the reference is the full film).
+/// the reference (the crop's pixels of it when the reference is the full film). The lines
+/// are kept and written with the image, whole or not at all.
 class MseLog {
 public:
     MseLog(const RenderArgs& args, const RenderJob& job) {
@@ -76,6 +77,7 @@ public:
                         "needs --mse-reference and --mse-log together");
         }
         if (args.mse_log.empty()) return;
+        check_creatable(args.mse_log, "--mse-log");
         reference_ = read_image(args.mse_reference, "--mse-reference").image;
         const Crop c = film_window(job.scene, job.options);
         if (reference_.width == job.scene.film.width && reference_.height == job.scene.film.height)
@@ -87,28 +89,25 @@ public:
             throw Error(args.mse_reference, "--mse-reference", why);
         }
         path_ = args.mse_log;
-        out_ = std::fopen(path_.c_str(), "w");
-        if (!out_) throw Error(path_, "--mse-log", "cannot write");
-        std::fprintf(out_, "spp,seconds,mse,relmse\n");
+        text_ = "spp,seconds,mse,relmse\n";
     }
-    ~MseLog() {
-        if (out_) std::fclose(out_);
-    }
-    MseLog(const MseLog&) = delete;
-    MseLog& operator=(const MseLog&) = delete;
 
-    bool active() const { return out_ != nullptr; }
-    /// The line of one pass; the single-pass engines write it once, after the render.
+    bool active() const { return !path_.empty(); }
+    /// The line of one pass; the single-pass engines log once, after the render.
     void log(int spp, double seconds, const Image& image) {
         PixelMetrics m = pixel_metrics(image, reference_);
-        std::fprintf(out_, "%d,%.6f,%.9g,%.9g\n", spp, seconds, m.rmse * m.rmse, m.relmse);
-        std::fflush(out_);
+        char line[160];
+        std::snprintf(line, sizeof line, "%d,%.6f,%.9g,%.9g\n", spp, seconds, m.rmse * m.rmse,
+                      m.relmse);
+        text_ += line;
+    }
+    void write() const {
+        if (active()) write_text_file(path_, text_, "--mse-log");
     }
 
 private:
     Image reference_;
-    std::string path_;
-    std::FILE* out_ = nullptr;
+    std::string path_, text_;
 };
 
 }  // namespace
@@ -151,6 +150,7 @@ int run_render(const RenderArgs& args) {
         mse.log(reached_spp(job, result), result.stats.seconds, result.color);
     job.run.interrupted = interrupt.signal() != 0;
     write_job_outputs(job, result, args.output);
+    mse.write();
     if (!args.quiet) print_summary(job, result, args.output);
     if (job.run.interrupted && !args.quiet) {
         std::fprintf(stderr, "svetlo: interrupted: wrote the %d passes done to %s\n",

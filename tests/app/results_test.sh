@@ -174,12 +174,16 @@ assert '<svg' in text
 "
 check "the PNG sheet" test "$(head -c 4 "$work/sheet.png" | tail -c 3)" = PNG
 expect_error "compare: unknown engine" "-T phong: engine 'phong' is not available" 1 compare "$cornell" -T phong --json "$work/x.json"
+expect_error "compare: a film unlike the reference's" "-T whitted:film.width=41: its film is 41 x 32; the reference's is 40 x 32" 1 compare "$cornell" -T whitted:film.width=41 --reference "$work/full_whitted.pfm" "${size[@]}" --json "$work/x.json"
+expect_error "compare: an unwritable JSON, before any render" "--json: cannot write" 1 compare "$cornell" -T whitted "${size[@]}" --json "$work/no/such/folder/m.json"
 expect_error "compare: unknown key" "-T raster:render.shadow=map: render.shadow: unknown key" 1 compare "$cornell" -T raster:render.shadow=map --json "$work/x.json"
 
 # --mse-log: a line a pass, its last MSE the final image's.
 "$svetlo" render "$cornell" --engine path "${size[@]}" --spp 16 -q -o "$work/ref.pfm"
 "$svetlo" render "$cornell" --engine path "${size[@]}" --spp 4 --seed 3 -q -o "$work/logged.pfm" \
     --mse-reference "$work/ref.pfm" --mse-log "$work/log.csv"
+expect_error "mse-log of a render that fails leaves no log" "camera.aperture: the rasterizer draws through a pinhole" 1 render "$cornell" --engine raster --set camera.aperture=0.1 "${size[@]}" --mse-reference "$work/ref.pfm" --mse-log "$work/failed.csv" -o "$work/x.pfm"
+check "no log after the failure" test ! -e "$work/failed.csv"
 check "mse-log has a line a pass" test "$(head -1 "$work/log.csv"),$(wc -l < "$work/log.csv")" = "spp,seconds,mse,relmse,5"
 mse2=$($tool rmse2 "$work/logged.pfm" "$work/ref.pfm")
 check "mse-log's last MSE is the image's" python3 -c "

@@ -275,6 +275,10 @@ ImageFormat image_format_for(const fs::path& path, const std::string& where) {
 
 void check_writable(const fs::path& path, const std::string& where) {
     image_format_for(path, where);
+    check_creatable(path, where);
+}
+
+void check_creatable(const fs::path& path, const std::string& where) {
     if (fs::is_directory(path)) throw Error(path.string(), where, "is a directory");
     fs::path tmp = temporary_path(path);
     std::FILE* f = std::fopen(tmp.c_str(), "wb");

@@ -31,6 +31,8 @@ ImageFormat image_format_for(const std::filesystem::path& path, const std::strin
 /// Throws Error when a file cannot be created at `path` (missing folder, no permission),
 /// without touching an existing file there. Call before a long render.
 void check_writable(const std::filesystem::path& path, const std::string& where);
+/// The same for a file of any kind (a page, a JSON file), without the image format's check.
+void check_creatable(const std::filesystem::path& path, const std::string& where);
 
 /// The key under which an image carries svetlo's metadata (its provenance): a PNG iTXt
 /// chunk's keyword, an EXR header's string attribute; a PFM has it in `OUT.pfm.json`.
