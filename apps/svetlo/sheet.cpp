@@ -119,14 +119,20 @@ std::string curves_svg(const Sheet& sheet) {
     for (const SheetEntry& e : sheet.entries) {
         if (e.curve.empty()) continue;
         const char* color = kCurveColors[k % 6];
-        std::string points;
+        // The line through the passes, and the last pass marked: an engine of one pass is
+        // that mark alone.
+        std::string points, mark;
         for (const CurvePoint& p : e.curve) {
             if (p.seconds <= 0.0 || p.relmse <= 0.0) continue;
             std::snprintf(line, sizeof line, "%.1f,%.1f ", x(p.seconds), y(p.relmse));
             points += line;
+            std::snprintf(line, sizeof line,
+                          "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"4\" fill=\"%s\"/>\n", x(p.seconds),
+                          y(p.relmse), color);
+            mark = line;
         }
         svg += "<polyline fill=\"none\" stroke-width=\"2\" stroke=\"" + std::string(color) +
-               "\" points=\"" + points + "\"/>\n";
+               "\" points=\"" + points + "\"/>\n" + mark;
         std::snprintf(line, sizeof line, "<text x=\"%.1f\" y=\"%.1f\" fill=\"%s\">", W - R - 240,
                       T + 16.0 * (k + 1), color);
         svg += line + escape_html(e.spec) + "</text>\n";

@@ -171,6 +171,8 @@ assert not p.stack, p.stack
 assert p.srcs and all(s.startswith('data:image/png;base64,') for s in p.srcs), p.srcs[:3]
 for spec in ['raster:render.shading=gouraud', 'whitted', 'path:render.spp=4']: assert spec in text, spec
 assert '<svg' in text
+# Every technique is seen on the plot: one marked last pass each, an engine of one pass too.
+assert text.count('<circle') == 3, text.count('<circle')
 "
 check "the PNG sheet" test "$(head -c 4 "$work/sheet.png" | tail -c 3)" = PNG
 expect_error "compare: unknown engine" "-T phong: engine 'phong' is not available" 1 compare "$cornell" -T phong --json "$work/x.json"
