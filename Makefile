@@ -80,7 +80,7 @@ fuzz:
 FUZZ_RUNS ?= 1000
 FUZZ_SEED ?= 1
 fuzz-scenes:
-	@scripts/setup python
+	@scripts/setup
 	cmake --preset asan > /dev/null
 	cmake --build build-asan -j $(JOBS) --target svetlo
 	python3 tests/fuzz/mutate_scenes.py build-asan/svetlo --runs $(FUZZ_RUNS) --seed $(FUZZ_SEED)

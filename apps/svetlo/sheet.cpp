@@ -3,6 +3,7 @@
 #include <stb_easy_font.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 
@@ -61,12 +62,13 @@ Image error_image(const SheetEntry& e) {
     return false_color(e.metrics.flip.error, e.image.width, e.image.height, 1.0f);
 }
 
-std::string numbers(const SheetEntry& e) {
-    char text[200];
-    std::snprintf(text, sizeof text, "mae %.4g  rmse %.4g  relmse %.4g  flip %.4f  %.2f s",
-                  e.metrics.pixels.mae, e.metrics.pixels.rmse, e.metrics.pixels.relmse,
-                  e.metrics.flip.mean, e.seconds);
-    return text;
+/// The numbers under a technique's error image, in two lines that fit the narrowest column.
+std::array<std::string, 2> numbers(const SheetEntry& e) {
+    char first[120], second[120];
+    std::snprintf(first, sizeof first, "mae %.4g  rmse %.4g  relmse %.4g", e.metrics.pixels.mae,
+                  e.metrics.pixels.rmse, e.metrics.pixels.relmse);
+    std::snprintf(second, sizeof second, "flip %.4f  %.2f s", e.metrics.flip.mean, e.seconds);
+    return {first, second};
 }
 
 const char* kCurveColors[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b"};
@@ -247,7 +249,9 @@ Image sheet_png(const Sheet& sheet) {
         Image err = error_image(e);
         for (Color& c : err.pixels) c = srgb(c);
         paste(out, err, x, label + h + gap);
-        draw_text(out, x, label + 2 * h + gap + 4, numbers(e), ink, 1);
+        const std::array<std::string, 2> lines = numbers(e);
+        draw_text(out, x, label + 2 * h + gap + 4, lines[0], ink, 1);
+        draw_text(out, x, label + 2 * h + gap + 16, lines[1], ink, 1);
     }
     // The legend: the false colour from 0 to 1.
     const int ly = out.height - legend + 10;

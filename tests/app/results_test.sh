@@ -129,6 +129,17 @@ mse = float(subprocess.check_output(['python3', '$(dirname "$0")/pfm_tool.py', '
 assert abs(math.sqrt(mse) - $rmse) < 1e-6 * max(1, $rmse), (math.sqrt(mse), $rmse)"
 check "diff writes an error image" "$svetlo" diff "$work/full_whitted.pfm" "$work/full_raster.pfm" --metric flip --tolerance 1 -o "$work/err.png"
 check "the error image is a PNG" test "$(head -c 4 "$work/err.png" | tail -c 3)" = PNG
+# ꟻLIP against a second implementation straight from the papers' 2D kernels, in numpy
+# (tests/app/flip_reference.py): LDR on PNGs, HDR on PFMs.
+"$svetlo" render "$cornell" --engine raster "${size[@]}" -q -o "$work/raster.png"
+"$svetlo" render "$cornell" --engine path --spp 2 "${size[@]}" -q -o "$work/path.png"
+for pair in "ldr $work/raster.png $work/path.png" "hdr $work/full_raster.pfm $work/full_path.pfm"; do
+    set -- $pair
+    ours=$("$svetlo" diff "$3" "$2" --metric flip | cut -d' ' -f2)
+    theirs=$(/usr/bin/python3 "$(dirname "$0")/flip_reference.py" "$1" "$2" "$3")
+    check "ꟻLIP $1 agrees with the papers' 2D kernels ($ours, $theirs)" /usr/bin/python3 -c "
+assert abs($ours - $theirs) <= 1e-5 * max(1.0, $theirs), ($ours, $theirs)"
+done
 expect_error "diff of different sizes" "is 22 x 18 but" 2 diff "$work/crop_raster_1.pfm" "$work/full_raster.pfm"
 expect_error "diff of a missing file" "diff: no such file" 2 diff "$work/nothing.pfm" "$work/full_raster.pfm"
 expect_error "diff's unknown metric" "--metric: unknown metric" 2 diff "$work/orig.pfm" "$work/orig.pfm" --metric psnr
