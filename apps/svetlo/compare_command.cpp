@@ -1,6 +1,6 @@
 // svetlo compare SCENE.json -T SPEC [-T SPEC]... [--reference SPEC|IMAGE] [-o SHEET.html]
 //                [--png SHEET.png] [--json METRICS.json] [-W W] [-H H] [--threads N] [--seed S]
-//                [--set KEY=VALUE]... [--curves]
+//                [--set KEY=VALUE]... [--curves] [-q]
 // One scene under several techniques, each against one reference (docs/compare.md). A SPEC is
 // an engine followed by scene overrides, separated by colons: raster:render.shading=gouraud.
 #include <cstdio>
