@@ -38,6 +38,12 @@ sheet shadows scenes/shadows.json -W 240 -H 150 "${direct[@]}" \
 sheet global scenes/cornell.json -W 160 -H 160 --curves \
     -T whitted -T path:render.spp=64 -T radiosity
 
+# The ray tracers' debug AOVs (docs/trace.md).
+"$svetlo" render scenes/bunny.json -e whitted --spp 1 --aov bvh_cost=$out/bvh_cost.png \
+    -o /tmp/svetlo_bunny.png -q
+"$svetlo" render scenes/cornell.json -e path --spp 16 -W 256 -H 256 \
+    --aov path_depth=$out/path_depth.png -o /tmp/svetlo_cornell.png -q
+
 if [ "${SVETLO_FIGURES_SHEETS_ONLY:-0}" = 1 ]; then exit 0; fi
 scripts/radiosity_figures.sh "$svetlo"
 python3 scripts/shadow_figures.py "$svetlo"

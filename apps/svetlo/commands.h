@@ -7,6 +7,7 @@
 
 #include "svetlo/core/flip.h"
 #include "svetlo/core/image_metrics.h"
+#include "svetlo/scene/pixel_trace.h"
 #include "svetlo/scene/scene_loader.h"
 
 namespace svetlo {
@@ -63,6 +64,12 @@ struct CompareArgs {
     bool quiet = false;
 };
 
+struct TraceArgs {
+    std::string scene, pixel, sample, json, obj;
+    std::string engine, width, height, spp, seed, threads;
+    std::vector<std::string> sets;
+};
+
 struct AssembleArgs {
     std::vector<std::string> parts;
     std::string output;
@@ -73,6 +80,7 @@ int run_diff(const DiffArgs& args);  // exits 0, 1 or 2 as Unix diff; prints its
 int run_reproduce(const ReproduceArgs& args);
 int run_assemble(const AssembleArgs& args);
 int run_compare(const CompareArgs& args);
+int run_trace(const TraceArgs& args);
 
 /// Writes `text` to `path` atomically (a temporary file, then a rename); throws Error naming
 /// `where`.
@@ -93,6 +101,11 @@ struct RenderJob;
 struct RenderResult;
 /// The render's summary line on stderr.
 void print_summary(const RenderJob& job, const RenderResult& result, const std::string& output);
+
+/// svetlo trace's pixel sample, recorded by the scene's engine (engine: its name).
+PixelTrace trace_pixel(const TraceArgs& args, std::string& engine);
+/// The trace as the contract's JSON object.
+nlohmann::json trace_json(const PixelTrace& trace, const std::string& engine);
 
 int run_info(const InfoArgs& args);
 int run_bench(const BenchArgs& args);

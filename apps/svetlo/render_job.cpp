@@ -8,6 +8,7 @@
 #include "svetlo/core/atomic_file.h"
 #include "svetlo/core/error.h"
 #include "svetlo/core/image_io.h"
+#include "svetlo/core/image_metrics.h"
 
 namespace svetlo {
 
@@ -57,13 +58,14 @@ void request_aovs(RenderJob& job, const std::vector<std::string>& specs,
             throw Error(spec, "--aov", "expected NAME=FILE");
         }
         const auto& names = aov_names();
-        const auto& debug = debug_aov_names();
+        const std::vector<std::string> debug = debug_aov_names();
         if (std::find(names.begin(), names.end(), name) == names.end() &&
             std::find(debug.begin(), debug.end(), name) == debug.end()) {
+            std::string known;
+            for (const std::string& n : names) known += n + ", ";
+            for (const std::string& n : debug) known += n + (n == debug.back() ? "" : ", ");
             throw Error(spec, "--aov",
-                        "unknown AOV '" + name +
-                            "' (expected depth, normal, albedo, visibility, shadow_map, stencil or "
-                            "patches)");
+                        "unknown AOV '" + name + "' (expected one of " + known + ")");
         }
         job.aov_files.emplace_back(name, spec.substr(eq + 1));
         check_writable(job.aov_files.back().second, "--aov " + name);
@@ -84,24 +86,14 @@ void request_aovs(RenderJob& job, const std::vector<std::string>& specs,
         }
     }
     for (const auto& [name, file] : job.aov_files) {
-        if (name == "patches") {
-            if (scene.render.engine != "radiosity")
-                throw Error(file, "--aov patches", "needs render.engine radiosity");
-            job.options.debug_aovs.push_back(name);
-            continue;
-        }
-        if (name != "shadow_map" && name != "stencil") {
+        const auto& plain = aov_names();
+        if (std::find(plain.begin(), plain.end(), name) != plain.end()) {
             job.options.aovs.push_back(name);
             continue;
         }
-        // The rasterizer's teaching buffers exist for one technique each.
-        const ShadowTechnique needs =
-            name == "shadow_map" ? ShadowTechnique::Map : ShadowTechnique::Volume;
-        if (scene.render.engine != "raster" || scene.render.shadows != needs) {
-            throw Error(file, "--aov " + name,
-                        "needs render.engine raster with render.shadows " +
-                            std::string(name_of(kShadowTechniques, needs)));
-        }
+        // The teaching buffers exist for some engines and techniques each.
+        if (std::string why = debug_aov_refusal(scene, name); !why.empty())
+            throw Error(file, "--aov " + name, why);
         job.options.debug_aovs.push_back(name);
     }
 }
@@ -128,6 +120,15 @@ Image aov_for_png(const std::string& name, Image image) {
         if (most > 0.0f) {
             for (Color& c : image.pixels) c = glm::abs(c) / most;
         }
+    } else if (name == "bvh_cost" || name == "path_depth") {
+        // A heat map (magma) of the count (for bvh_cost, nodes plus primitives) up to its
+        // 99th percentile, so that a few costly pixels do not leave the rest dark.
+        std::vector<float> counts;
+        for (const Color& c : image.pixels) counts.push_back(name == "bvh_cost" ? c.b : c.r);
+        std::vector<float> sorted = counts;
+        auto k = sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() * 99 / 100);
+        std::nth_element(sorted.begin(), k, sorted.end());
+        image = false_color(counts, image.width, image.height, std::max(*k, 1.0f));
     } else if (name == "depth" || name == "shadow_map") {
         // Normalised by the 90th percentile of the hits' depths, not the farthest hit: an
         // infinite plane's horizon, thousands of units away, would leave the rest black.

@@ -3,6 +3,10 @@
   pfm_tool.py crop-equal FULL PART X0 X1 Y0 Y1   exit 0 when PART holds FULL's window bit for bit
   pfm_tool.py pixel FILE X Y                     prints the pixel's r g b (row 0 is the top)
   pfm_tool.py rmse2 A B                          prints mean (a - b)² over pixels and channels
+  pfm_tool.py values FILE CHANNEL                prints the distinct values of a channel (0-2)
+  pfm_tool.py channel-sum FILE                   exit 0 when every pixel's b is r + g
+  pfm_tool.py agree A B TOLERANCE [complement]   prints the fraction of pixels whose r channels
+                                                 differ by at most TOLERANCE (A's against 1 - B's)
 """
 import struct
 import sys
@@ -52,7 +56,29 @@ def main():
         diffs = [(p - q) ** 2 for ra, rb in zip(a, b) for p, q in zip(ra, rb)]
         print("%.9g" % (sum(diffs) / len(diffs)))
         return 0
+    if cmd == "values":
+        _, _, rows = read(sys.argv[2])
+        c = int(sys.argv[3])
+        print(" ".join("%.9g" % v for v in sorted({row[k] for row in rows for k in range(c, len(row), 3)})))
+        return 0
+    if cmd == "channel-sum":
+        _, _, rows = read(sys.argv[2])
+        for row in rows:
+            for k in range(0, len(row), 3):
+                if row[k + 2] != row[k] + row[k + 1]:
+                    print("b %g is not r %g + g %g" % (row[k + 2], row[k], row[k + 1]))
+                    return 1
+        return 0
+    if cmd == "agree":
+        _, _, a = read(sys.argv[2])
+        _, _, b = read(sys.argv[3])
+        tol = float(sys.argv[4])
+        flip = len(sys.argv) > 5 and sys.argv[5] == "complement"
+        pairs = [(ra[k], 1 - rb[k] if flip else rb[k]) for ra, rb in zip(a, b) for k in range(0, len(ra), 3)]
+        print("%.6f" % (sum(abs(p - q) <= tol for p, q in pairs) / len(pairs)))
+        return 0
     return 2
 
 
-sys.exit(main())
+if __name__ == "__main__":
+    sys.exit(main())

@@ -8,30 +8,7 @@ set -u
 svetlo=$1
 scenes=$2
 tool="python3 $(dirname "$0")/pfm_tool.py"
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-passed=0
-failed=0
-pass() { passed=$((passed + 1)); }
-fail() { echo "FAIL: $*"; failed=$((failed + 1)); }
-check() {  # check NAME COMMAND...: passes when the command succeeds
-    local name=$1
-    shift
-    if "$@" > "$work/check.out" 2>&1; then pass; else fail "$name: $(head -c 400 "$work/check.out")"; fi
-}
-# expect_error NAME WHERE CODE ARGS...: exit CODE, one stderr line naming WHERE.
-expect_error() {
-    local name=$1 where=$2 code=$3
-    shift 3
-    "$svetlo" "$@" > "$work/stdout" 2> "$work/stderr"
-    local rc=$?
-    if [ $rc -ne "$code" ]; then fail "$name: exit $rc, not $code: $(cat "$work/stderr")"; return; fi
-    if [ "$(wc -l < "$work/stderr")" -ne 1 ]; then fail "$name: $(cat "$work/stderr")"; return; fi
-    if ! grep -Eq "^svetlo: error: [^:]+: .*${where}" "$work/stderr"; then
-        fail "$name: '$(cat "$work/stderr")' does not name '$where'"; return
-    fi
-    pass
-}
+source "$(dirname "$0")/checks.sh"
 
 cornell="$scenes/cornell.json"
 size=(-W 40 -H 32)
@@ -217,7 +194,6 @@ p = json.load(open('$work/int.pfm.json'))
 assert p['interrupted'] is True and 1 <= p['spp'] < 100000, p['spp']"
 
 # The contract's commands not built yet say so in one line.
-expect_error "trace" "trace: not built yet" 1 trace "$cornell" --pixel 1,1
+expect_error "serve" "serve: not built yet" 1 serve "$scenes"
 
-echo "$passed passed, $failed failed"
-[ "$failed" -eq 0 ]
+summary

@@ -11,11 +11,24 @@
 
 namespace svetlo {
 
+/// The work of one closest-hit query (the bvh_cost AOV): inner nodes whose children's boxes
+/// were tested, and primitives tested (a packet counts its four lanes).
+struct TraversalCost {
+    uint32_t nodes = 0, primitives = 0;
+};
+
 class Accel {
 public:
     virtual ~Accel() = default;
     /// Closest hit with 0 < t < ray.tmax; fills `hit` and returns true when there is one.
     virtual bool intersect(const Ray& ray, Hit& hit) const = 0;
+    /// The same, adding its work to `cost`. False from a structure that does not count (then
+    /// nothing is traced): see counts_cost().
+    virtual bool intersect_cost(const Ray& ray, Hit& hit, TraversalCost& cost) const {
+        (void)cost;
+        return intersect(ray, hit);
+    }
+    virtual bool counts_cost() const { return false; }
     /// True when anything lies on the ray at 0 < t < ray.tmax.
     virtual bool occluded(const Ray& ray) const = 0;
     /// Bytes of the structure itself (not the geometry).
@@ -36,6 +49,11 @@ public:
         : geometry_(geometry), prims_(geometry.bounded_primitives()) {}
     bool intersect(const Ray& ray, Hit& hit) const override;
     bool occluded(const Ray& ray) const override;
+    bool intersect_cost(const Ray& ray, Hit& hit, TraversalCost& cost) const override {
+        cost.primitives += static_cast<uint32_t>(prims_.size());
+        return intersect(ray, hit);
+    }
+    bool counts_cost() const override { return true; }
     size_t memory_bytes() const override { return prims_.size() * sizeof(uint32_t); }
 
 private:

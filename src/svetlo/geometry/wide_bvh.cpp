@@ -225,6 +225,21 @@ bool WideBvh::intersect(const Ray& ray, Hit& hit) const {
     });
 }
 
+bool WideBvh::intersect_cost(const Ray& ray, Hit& hit, TraversalCost& cost) const {
+    hit = Hit{};
+    hit.t = ray.tmax;
+    if (empty_) return false;
+    if (width_ == 8) return intersect8(ray, hit, &cost);
+    RayPrecomputed pre(ray);
+    return traverse_closest<RayBoxes4>(
+        nodes4_.data(), ray, hit,
+        [&](uint32_t leaf) {
+            cost.primitives += leaf_lanes(leaf);
+            return leaf_intersect(leaf, ray, pre, hit);
+        },
+        NodeCount{&cost.nodes});
+}
+
 bool WideBvh::occluded(const Ray& ray) const {
     if (empty_) return false;
     if (width_ == 8) return occluded8(ray);
@@ -235,7 +250,7 @@ bool WideBvh::occluded(const Ray& ray) const {
 
 #ifndef SVETLO_HAS_AVX2_BVH
 // Never called: width_ is 8 only where eight_wide_available().
-bool WideBvh::intersect8(const Ray&, Hit&) const { return false; }
+bool WideBvh::intersect8(const Ray&, Hit&, TraversalCost*) const { return false; }
 bool WideBvh::occluded8(const Ray&) const { return false; }
 #endif
 

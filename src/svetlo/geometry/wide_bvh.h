@@ -38,6 +38,8 @@ public:
     explicit WideBvh(const Geometry& geometry, int threads = 0, int width = 0);
     bool intersect(const Ray& ray, Hit& hit) const override;
     bool occluded(const Ray& ray) const override;
+    bool intersect_cost(const Ray& ray, Hit& hit, TraversalCost& cost) const override;
+    bool counts_cost() const override { return true; }
     size_t memory_bytes() const override {
         return nodes4_.size() * sizeof(WideBvhNode<4>) + nodes8_.size() * sizeof(WideBvhNode<8>) +
                leaves_.size() * sizeof(Leaf) + packets_.size() * sizeof(TrianglePacket) +
@@ -66,8 +68,12 @@ private:
     template <int W>
     void collapse(std::span<const BvhNode> bin, std::span<const uint32_t> prims, uint32_t b,
                   uint32_t w, LargeArray<WideBvhNode<W>>& nodes);
-    // The eight-wide traversal (wide_bvh_avx2.cpp).
-    bool intersect8(const Ray& ray, Hit& hit) const;
+    /// The primitives a test of leaf `index` tests: four per packet, and its shapes.
+    uint32_t leaf_lanes(uint32_t index) const {
+        return 4 * leaves_[index].packets + leaves_[index].shapes;
+    }
+    // The eight-wide traversal (wide_bvh_avx2.cpp); with `cost`, counting its work.
+    bool intersect8(const Ray& ray, Hit& hit, TraversalCost* cost = nullptr) const;
     bool occluded8(const Ray& ray) const;
 
     const Geometry& geometry_;

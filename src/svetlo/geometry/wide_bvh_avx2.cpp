@@ -55,13 +55,21 @@ struct RayBoxes8 {
 }  // namespace
 
 // (The leaves tested inline: leaf_closest and leaf_any, as leaf_intersect and leaf_occluded.)
-bool WideBvh::intersect8(const Ray& ray, Hit& hit) const {
+bool WideBvh::intersect8(const Ray& ray, Hit& hit, TraversalCost* cost) const {
     const RayPrecomputed pre(ray);
     const PacketTest test(ray, pre);
-    return traverse_closest<RayBoxes8>(nodes8_.data(), ray, hit, [&](uint32_t leaf) {
+    auto leaf_test = [&](uint32_t leaf) {
         return leaf_closest(leaves_[leaf], packets_.data(), shapes_.data(), geometry_, test, ray,
                             pre, hit);
-    });
+    };
+    if (!cost) return traverse_closest<RayBoxes8>(nodes8_.data(), ray, hit, leaf_test);
+    return traverse_closest<RayBoxes8>(
+        nodes8_.data(), ray, hit,
+        [&](uint32_t leaf) {
+            cost->primitives += leaf_lanes(leaf);
+            return leaf_test(leaf);
+        },
+        NodeCount{&cost->nodes});
 }
 
 bool WideBvh::occluded8(const Ray& ray) const {

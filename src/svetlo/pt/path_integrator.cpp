@@ -55,13 +55,25 @@ Color PathIntegrator::one_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& fr
                                 stratified_sample(k, n, k == 0 ? u_first : sampler.next_2d()),
                                 k == 0 ? choice.y : sampler.next_float());
         Color c = unoccluded_light(bsdf, frame, wo, s);  // f E cos, the lighting core's
-        if (is_black(c)) continue;
+        if (is_black(c)) {
+            if (log)
+                log_light(p, frame.ng, s.wi, s.distance, 0.0f, 0.0f, 0.0f, Color(0.0f),
+                          "brings no light here (below the surface): not traced");
+            continue;
+        }
         float w = 1.0f;
         if (!s.delta) {
             w = light_weight(scene_.render.mis, static_cast<float>(n) * chosen * s.pdf,
                              pdf_bsdf(bsdf, frame.ns, wo, s.wi));
         }
-        if (w == 0.0f || shadow_blocked(rt_, p, frame.ng, s, rays)) continue;
+        const bool blocked = w == 0.0f || shadow_blocked(rt_, p, frame.ng, s, rays);
+        if (log) {
+            const float scale = 1.0f / (static_cast<float>(n) * chosen);
+            log_light(p, frame.ng, s.wi, s.distance, s.delta ? chosen : n * chosen * s.pdf, w,
+                      blocked ? 0.0f : 1.0f, blocked ? Color(0.0f) : log_beta_ * c * (w * scale),
+                      w == 0.0f ? "MIS weight 0: not traced" : nullptr);
+        }
+        if (blocked) continue;
         sum += c * w;
     }
     return sum / (static_cast<float>(n) * chosen);
@@ -77,9 +89,43 @@ Color PathIntegrator::environment_light(const Bsdf& bsdf, vec3 p, const ShadingF
     Color f = eval_bsdf(bsdf, frame.ns, wo, wi);
     if (is_black(f)) return Color(0.0f);
     ++rays;
-    if (rt_.occluded(Ray{offset_ray_origin(p, frame.ng, wi), wi, kInfinity})) return Color(0.0f);
+    const bool blocked = rt_.occluded(Ray{offset_ray_origin(p, frame.ng, wi), wi, kInfinity});
     float w = light_weight(scene_.render.mis, pdf, pdf_bsdf(bsdf, frame.ns, wo, wi));
-    return f * scene_.render.background * (cos_theta * w / pdf);
+    const Color c = blocked ? Color(0.0f) : f * scene_.render.background * (cos_theta * w / pdf);
+    if (log)
+        log_light(p, frame.ng, wi, kInfinity, pdf, w, blocked ? 0.0f : 1.0f, log_beta_ * c,
+                  "the background");
+    return c;
+}
+
+int PathIntegrator::log_ray(const Ray& ray, int depth, int parent, float t, Color beta, float pdf,
+                            bool delta) {
+    TraceRay r;
+    r.kind = parent < 0 ? "camera" : "bsdf";
+    r.parent = parent;
+    r.depth = depth;
+    r.origin = ray.o;
+    r.direction = ray.d;
+    r.t = t;
+    r.set("throughput", beta);
+    if (parent >= 0) r.set("pdf", {delta ? 0.0f : pdf});
+    if (delta && parent >= 0) r.note = "a delta lobe";
+    return log->add(std::move(r));
+}
+
+void PathIntegrator::log_light(vec3 p, vec3 ng, vec3 wi, float distance, float pdf, float w,
+                               float visible, Color contribution, const char* note) {
+    TraceRay r;
+    r.kind = "light";
+    r.parent = log_parent_;
+    r.depth = log_depth_;
+    r.origin = offset_ray_origin(p, ng, wi);
+    r.direction = wi;
+    r.t = distance;
+    r.contribution = contribution;
+    r.note = note ? note : visible > 0.0f ? "the light is visible" : "blocked";
+    r.set("pdf", {pdf}).set("mis_weight", {w}).set("visibility", {visible});
+    log->add(std::move(r));
 }
 
 Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, Rng* aov_rng) {
@@ -95,14 +141,23 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, R
     vec3 prev_p(0.0f), prev_ng(0.0f);
     bool after_lobes = false;  // a non-delta vertex lies behind: caustic paths start there
     float lambda = 0.0f;       // nm, picked at the first dispersive interface
-    for (int depth = 0;; ++depth) {
+    int self = -1;             // the log's entry of the ray being followed
+    int depth = 0;
+    for (;; ++depth) {
         ++rays;
         Hit hit;
-        if (!rt_.intersect(ray, hit)) {
+        const bool met = rt_.intersect(ray, hit);
+        if (log)
+            self = log_ray(ray, depth, self, met ? hit.t : kInfinity, beta, prev_pdf, prev_delta);
+        if (!met) {
             if (environment_) {
                 float pdf_env = std::max(0.0f, glm::dot(prev_ng, ray.d)) * kInvPi;
                 float w = prev_delta ? 1.0f : bsdf_weight(settings.mis, prev_pdf, pdf_env);
                 L += beta * settings.background * w;
+                if (log) {
+                    log->rays[self].contribution = beta * settings.background * w;
+                    log->rays[self].set("mis_weight", {w}).note = "the background";
+                }
             }
             break;
         }
@@ -110,6 +165,13 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, R
         Bsdf bsdf = rt_.bsdf(sh.material, sh.uv);
         const vec3 wo = -ray.d;
         const ShadingFrame frame = make_shading_frame(sh.ng, sh.ns, wo);
+        if (log) {
+            describe_hit(log->rays[self], scene_.material_names, sh.material, sh.p, frame.ns,
+                         frame.front);
+            log_parent_ = self;
+            log_depth_ = depth;
+            log_beta_ = beta;
+        }
         if (aov && depth == 0) {
             aov->depth = hit.t;
             aov->normal = frame.ns;
@@ -130,6 +192,10 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, R
                                      : emitter_weight(hit.prim, prev_p, prev_pdf,
                                                       prev_light_samples, sh.p, frame.ng);
                 L += beta * bsdf.emission * w;
+                if (log) {
+                    log->rays[self].contribution += beta * bsdf.emission * w;
+                    log->rays[self].set("mis_weight", {w});
+                }
             }
         }
         if (depth > settings.max_depth) break;
@@ -146,7 +212,12 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, R
             L += beta * one_light(bsdf, sh.p, frame, wo, n, u[0], u[1], sampler);
             if (environment_)
                 L += beta * environment_light(bsdf, sh.p, frame, wo, sampler.next_2d());
-            if (photons_) L += beta * photons_->radiance(sh.p, frame, wo, bsdf);
+            if (photons_) {
+                const Color caustic = photons_->radiance(sh.p, frame, wo, bsdf);
+                L += beta * caustic;
+                if (log) log->rays[self].contribution += beta * caustic;
+                if (log) log->rays[self].set("photon_radiance", caustic);
+            }
         }
 
         if (bsdf.model == Bsdf::Model::Dielectric && bsdf.abbe > 0.0f) {
@@ -171,10 +242,15 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, R
         ray = Ray{offset_ray_origin(sh.p, frame.ng, bs.wi), bs.wi, kInfinity};
         if (depth + 1 >= kRouletteDepth) {
             float survive = std::min(kMaxSurvival, std::sqrt(max_component(beta)));
-            if (u[3].y >= survive) break;
+            if (log) log->rays[self].set("survival", {survive});
+            if (u[3].y >= survive) {
+                if (log) log->rays[self].note += "; Russian roulette ends the path here";
+                break;
+            }
             beta /= survive;
         }
     }
+    bounces = depth;  // every exit leaves depth at the BSDF-sampled rays traced
     return L;
 }
 

@@ -29,8 +29,9 @@ Rng sample_rng(uint64_t seed, int pass, uint64_t pixel) {
 /// Per pixel, the sums of the passes (double: a million passes keep their precision).
 struct FilmSums {
     std::vector<glm::dvec3> color;
-    std::vector<glm::dvec4> aov;   // depth, then normal (when any AOV is asked for)
-    std::vector<glm::dvec4> aov2;  // albedo, then visibility
+    std::vector<glm::dvec4> aov;    // depth, then normal (when any AOV is asked for)
+    std::vector<glm::dvec4> aov2;   // albedo, then visibility
+    std::vector<glm::dvec4> debug;  // the bvh_cost (nodes, primitives, sum), then bounces
 };
 
 }  // namespace
@@ -74,8 +75,13 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
     const int max_passes =
         budget && !options.spp_caps_time ? static_cast<int>(kMaxSpp) : scene.render.spp;
     const bool want_visibility = targets.want[3] && !scene.lights.empty();
+    // The debug AOVs: the camera rays' cost, cast again, and the bounces of the paths.
+    const bool want_cost = wants_debug_aov(options, "bvh_cost");
+    const bool want_depth = wants_debug_aov(options, "path_depth");
+    if (want_cost) rt.check_counts_cost();
     FilmSums sums;
     sums.color.assign(pixels, glm::dvec3(0.0));
+    if (want_cost || want_depth) sums.debug.assign(pixels, glm::dvec4(0.0));
     if (targets.any) {
         sums.aov.assign(pixels, glm::dvec4(0.0));
         sums.aov2.assign(pixels, glm::dvec4(0.0));
@@ -123,8 +129,17 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
                         AovSample aov;
                         Ray ray = camera.thin_lens() ? camera.generate(x, y, sampler.next_2d())
                                                      : camera.generate(x, y);
+                        if (want_cost)
+                            sums.debug[slot] +=
+                                glm::dvec4(glm::dvec3(rt.camera_ray_cost(ray)), 0.0);
+                        PixelTrace* log = options.trace;
+                        integrator.log =
+                            log && log->at(i, j) && log->sample == pass ? log : nullptr;
                         Color c = integrator.radiance(ray, sampler, targets.any ? &aov : nullptr,
                                                       aov_rng ? &*aov_rng : nullptr);
+                        if (integrator.log) record_total(*integrator.log, c, is_finite(c));
+                        integrator.log = nullptr;
+                        if (want_depth) sums.debug[slot].w += integrator.bounces;
                         // A sample that is not finite never reaches the pixel: it counts as
                         // black, and is reported.
                         if (!is_finite(c)) {
@@ -154,6 +169,16 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
     progress.finish();
 
     const double inv = 1.0 / passes;
+    if (want_cost || want_depth) {
+        Image cost(ww, wh), depth(ww, wh);
+        for (size_t pixel = 0; pixel < pixels; ++pixel) {
+            const glm::dvec4 d = sums.debug[pixel] * inv;
+            cost.pixels[pixel] = Color(d.x, d.y, d.z);
+            depth.pixels[pixel] = Color(static_cast<float>(d.w));
+        }
+        if (want_cost) result.aovs["bvh_cost"] = std::move(cost);
+        if (want_depth) result.aovs["path_depth"] = std::move(depth);
+    }
     for (size_t pixel = 0; pixel < pixels; ++pixel) {
         const int i = static_cast<int>(pixel % ww), j = static_cast<int>(pixel / ww);
         result.color.at(i, j) = Color(sums.color[pixel] * inv);

@@ -57,6 +57,47 @@ vec2 pass_jitter(int s, int count, uint64_t seed) {
     return stratified_sample(s, count, rng.next_2d());
 }
 
+/// svetlo trace: the camera sample `at` of the display, on root triangle t, and how its
+/// radiance L = L_e + rho / pi (E + E_ambient) was made.
+void log_display_sample(PixelTrace& log, const Scene& scene, const ElementTree& tree,
+                        const Ray& ray, const DisplaySample& at, uint32_t t, uint32_t material,
+                        float patch_size, Color emitted, Color irradiance, Color ambient, Color rho,
+                        Color L) {
+    TraceRay r;
+    r.kind = "camera";
+    r.origin = ray.o;
+    r.direction = glm::normalize(ray.d);
+    r.t = at.distance;
+    r.contribution = L;
+    vec3 local;
+    const uint32_t element = tree.locate(t, at.b, local);
+    const uint32_t patch = tree.locate(t, at.b, local, tree.level_for(t, patch_size));
+    describe_hit(r, scene.material_names, material, at.x, at.n, at.side == 0);
+    r.set("element", {static_cast<float>(element)})
+        .set("patch", {static_cast<float>(patch)})
+        .set("emitted", emitted)
+        .set("irradiance", irradiance)
+        .set("ambient_irradiance", ambient)
+        .set("reflectance", rho);
+    log.add(std::move(r));
+    log.notes.push_back("L = L_e + rho / pi (E + E_ambient), E from the solution at the element");
+}
+
+/// svetlo trace: a display sample that meets nothing and shows the background.
+void log_background_sample(PixelTrace& log, const CameraRays& camera, int i, int j, vec2 jitter,
+                           const Scene& scene) {
+    const Ray ray = camera.generate((static_cast<float>(i) + jitter.x) / scene.film.width,
+                                    (static_cast<float>(j) + jitter.y) / scene.film.height);
+    TraceRay r;
+    r.kind = "camera";
+    r.origin = ray.o;
+    r.direction = glm::normalize(ray.d);
+    r.contribution = scene.render.background;
+    r.note = "the background";
+    log.add(std::move(r));
+    record_total(log, scene.render.background, true);
+}
+
 }  // namespace
 
 RenderResult RadiosityRenderer::render(const Scene& scene, const RenderOptions& options) {
@@ -119,8 +160,7 @@ RenderResult RadiosityRenderer::render(const Scene& scene, const RenderOptions& 
     RenderResult result;
     const AovTargets targets = prepare_result(result, options.aovs, width, height);
     const bool gather = settings.display == RadiosityDisplay::Gather;
-    const bool patches_aov = std::find(options.debug_aovs.begin(), options.debug_aovs.end(),
-                                       "patches") != options.debug_aovs.end();
+    const bool patches_aov = wants_debug_aov(options, "patches");
     Image patches_image;
     if (patches_aov) patches_image = Image(width, height);
     const int spp = scene.render.spp;
@@ -151,6 +191,10 @@ RenderResult RadiosityRenderer::render(const Scene& scene, const RenderOptions& 
                     const size_t pixel = static_cast<size_t>(j) * width + i;
                     const uint32_t t = buffers.primitive[buffers.index(i, j)];
                     if (t == RenderTargets::kNoPrimitive) {
+                        if (PixelTrace* log = options.trace;
+                            log && log->at(i, j) && log->sample == s) {
+                            log_background_sample(*log, camera_rays, i, j, jitter, scene);
+                        }
                         sums[pixel] += glm::dvec3(scene.render.background);
                         if (targets.any) aov_sums[2 * pixel + 1].w += 1.0f;  // visibility 1
                         continue;
@@ -165,9 +209,10 @@ RenderResult RadiosityRenderer::render(const Scene& scene, const RenderOptions& 
                                           scene.textures);
                     const bool emissive = bsdf.model == Bsdf::Model::Emissive;
                     const Color rho = radiosity_reflectance(bsdf);
-                    Color L = emissive && side == 0 ? bsdf.emission : Color(0.0f);
+                    const Color emitted = emissive && side == 0 ? bsdf.emission : Color(0.0f);
                     IrradianceField::Value E = field.at(t, b, side);
                     Rng rng = pixel_rng(mix64(seed + static_cast<uint64_t>(s)), pixel);
+                    Color irradiance = E.total;  // W/m^2, the ambient term's aside
                     if (gather) {
                         // Every light and emitter, and the background: what the solution
                         // counted as direct.
@@ -176,10 +221,9 @@ RenderResult RadiosityRenderer::render(const Scene& scene, const RenderOptions& 
                                              scene.render.light_samples, rng, local_rays) +
                             sky_irradiance(*mesh.accel, scene.render.background, x, n, kSkyRays,
                                            rng);
-                        L += rho * inv_pi * (E.indirect + sol.ambient + direct);
-                    } else {
-                        L += rho * inv_pi * (E.total + sol.ambient);
+                        irradiance = E.indirect + direct;
                     }
+                    Color L = emitted + rho * inv_pi * (irradiance + sol.ambient);
                     glm::vec4 aov[2]{glm::vec4(0.0f), glm::vec4(0.0f)};
                     if (targets.any) {
                         float vis =
@@ -190,9 +234,16 @@ RenderResult RadiosityRenderer::render(const Scene& scene, const RenderOptions& 
                         aov[0] = glm::vec4(at.distance, n);
                         aov[1] = glm::vec4(albedo_of(bsdf), vis);
                     }
+                    const bool finite = is_finite(L) && is_finite(aov[0]) && is_finite(aov[1]);
+                    if (PixelTrace* log = options.trace; log && log->at(i, j) && log->sample == s) {
+                        log_display_sample(*log, scene, tree, ray, at, t, mesh.list.material[t],
+                                           settings.patch_size, emitted, irradiance, sol.ambient,
+                                           rho, L);
+                        record_total(*log, L, finite);
+                    }
                     // A sample that is not finite is dropped (black) and counted, as in every
                     // engine.
-                    if (!is_finite(L) || !is_finite(aov[0]) || !is_finite(aov[1])) {
+                    if (!finite) {
                         ++local_nonfinite;
                         continue;
                     }

@@ -11,6 +11,7 @@
 #include "svetlo/geometry/tessellate.h"
 #include "svetlo/raster/fragment.h"
 #include "svetlo/raster/pipeline.h"
+#include "svetlo/raster/raster_trace.h"
 #include "svetlo/raster/shadow_masks.h"
 #include "svetlo/scene/material_sources.h"
 
@@ -213,6 +214,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                     "the rasterizer draws through a pinhole; a thin lens needs the whitted or "
                     "path engine");
     }
+    if (options.trace) return trace_raster_pixel(*this, scene, options);
     using Clock = std::chrono::steady_clock;
     auto t0 = Clock::now();
     const int width = scene.film.width, height = scene.film.height, spp = scene.render.spp;
@@ -307,11 +309,14 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     for (const std::string& name : options.debug_aovs) {
         Image image = !shadows               ? Image()
                       : name == "shadow_map" ? shadows->shadow_map_image()
+                      : name == "planar"     ? shadows->mask_image()
                                              : shadows->stencil_image();
         if (image.width == 0) {
             throw Error(scene.path.string(), "render.shadows",
                         "the " + name + " AOV needs render.shadows " +
-                            (name == "shadow_map" ? "map" : "volume"));
+                            (name == "shadow_map" ? "map"
+                             : name == "planar"   ? "planar"
+                                                  : "volume"));
         }
         result.aovs[name] = std::move(image);
     }

@@ -55,6 +55,23 @@ float StencilMasks::lit(size_t k, const ShadowSample& at) const {
     return static_cast<float>(mask[frame_sample(width_, samples, at.i, at.j, at.s)]);
 }
 
+Image StencilMasks::mask_image() const {
+    if (casters_.empty()) return Image(width_, height_);  // nothing casts: no shadow
+    Image image(width_, height_);
+    int total = 0;
+    for (size_t pass = 0; pass < samples_per_pass_.size(); ++pass) {
+        const int S = samples_per_pass_[pass];
+        const std::vector<uint8_t>& mask = lit_[0][pass];
+        for (int j = 0; j < height_; ++j)
+            for (int i = 0; i < width_; ++i)
+                for (int s = 0; s < S; ++s)
+                    image.at(i, j) += Color(mask[frame_sample(width_, S, i, j, s)] ? 0.0f : 1.0f);
+        total += S;
+    }
+    for (Color& c : image.pixels) c /= static_cast<float>(std::max(total, 1));
+    return image;
+}
+
 float scene_diameter(const Bounds3& bounds) {
     return bounds.empty() ? 1.0f : std::max(glm::length(bounds.extent()), 1e-6f);
 }

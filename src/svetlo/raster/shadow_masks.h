@@ -65,6 +65,9 @@ public:
     /// the shadow-volume count per pixel; empty images where the technique has none.
     virtual Image shadow_map_image() const { return {}; }
     virtual Image stencil_image() const { return {}; }
+    /// A stencil technique's mask of light 0's first caster: per pixel, the fraction of its
+    /// samples in shadow (the planar AOV: where the projected shadows land).
+    virtual Image mask_image() const { return {}; }
 
 protected:
     std::vector<ShadowCaster> casters_;
@@ -80,6 +83,7 @@ public:
     const uint8_t* screen_mask(size_t k, int pass) const override {
         return lit_[k][static_cast<size_t>(pass)].data();
     }
+    Image mask_image() const override;
 
 protected:
     /// For casters_ (set before) over `passes`: refuses with an Error naming

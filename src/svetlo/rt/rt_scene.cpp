@@ -60,6 +60,32 @@ bool RtScene::intersect(const Ray& ray, Hit& hit) const {
     return geometry_.intersect(unbounded_.data(), unbounded_.size(), ray, pre, hit) || found;
 }
 
+bool RtScene::intersect_cost(const Ray& ray, Hit& hit, TraversalCost& cost) const {
+    if (!traceable(ray)) return false;
+    bool found = accel_->intersect_cost(ray, hit, cost);
+    if (unbounded_.empty()) return found;
+    if (!found) hit.t = ray.tmax;
+    cost.primitives += static_cast<uint32_t>(unbounded_.size());
+    RayPrecomputed pre(ray);
+    return geometry_.intersect(unbounded_.data(), unbounded_.size(), ray, pre, hit) || found;
+}
+
+void RtScene::check_counts_cost() const {
+    if (!accel_->counts_cost()) {
+        throw Error(scene_.path.string(), "render.accel",
+                    "the bvh_cost AOV needs render.accel bvh or none (" + scene_.render.accel +
+                        " does not count its work)");
+    }
+}
+
+Color RtScene::camera_ray_cost(const Ray& ray) const {
+    TraversalCost cost;
+    Hit hit;
+    intersect_cost(ray, hit, cost);
+    const auto nodes = static_cast<float>(cost.nodes), prims = static_cast<float>(cost.primitives);
+    return Color(nodes, prims, nodes + prims);
+}
+
 bool RtScene::occluded(const Ray& ray) const {
     if (!traceable(ray)) return false;
     if (!unbounded_.empty() &&

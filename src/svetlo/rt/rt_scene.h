@@ -43,6 +43,14 @@ public:
 
     bool intersect(const Ray& ray, Hit& hit) const;
     bool occluded(const Ray& ray) const;
+    /// intersect(), adding its work to `cost` (the unbounded primitives count as tested);
+    /// needs an accel() that counts_cost().
+    bool intersect_cost(const Ray& ray, Hit& hit, TraversalCost& cost) const;
+    /// The bvh_cost AOV's value for a camera ray: nodes, primitives, and their sum.
+    Color camera_ray_cost(const Ray& ray) const;
+    /// Before a render with the bvh_cost AOV: throws Error naming render.accel when the
+    /// structure does not count its work.
+    void check_counts_cost() const;
 
 private:
     const Scene& scene_;

@@ -23,19 +23,34 @@ namespace {
 /// contributions under 1e-5 of the pixel's radiance scale.
 constexpr float kMinBranchWeight = 1e-5f;
 
+/// Where a ray sits in svetlo trace's tree: its kind, the ray it branches from, and the product
+/// of the weights between it and the camera.
+struct Branch {
+    const char* kind = "camera";
+    int parent = -1;
+    Color to_pixel{1.0f};
+};
+
 class Tracer {
 public:
     Tracer(const RtScene& rt, bool want_visibility)
         : rt_(rt), scene_(rt.scene()), want_visibility_(want_visibility) {}
 
     uint64_t rays = 0;
-    uint64_t nonfinite = 0;  // camera samples dropped for a radiance that is not finite
-    Rng* aov_rng = nullptr;  // the visibility AOV's own stream, so AOVs never change the image
+    uint64_t nonfinite = 0;     // camera samples dropped for a radiance that is not finite
+    Rng* aov_rng = nullptr;     // the visibility AOV's own stream, so AOVs never change the image
+    PixelTrace* log = nullptr;  // svetlo trace: every ray of the sample, when set
 
-    Color trace(const Ray& ray, int depth, float weight, Rng& rng, AovSample* aov) {
+    Color trace(const Ray& ray, int depth, float weight, Rng& rng, AovSample* aov,
+                const Branch& branch = {}) {
         ++rays;
         Hit hit;
-        if (!rt_.intersect(ray, hit)) return scene_.render.background;
+        const bool met = rt_.intersect(ray, hit);
+        const int self = log ? log_ray(ray, depth, branch, met ? hit.t : kInfinity) : -1;
+        if (!met) {
+            if (log) log->rays[self].contribution = branch.to_pixel * scene_.render.background;
+            return scene_.render.background;
+        }
         const Geometry& g = rt_.geometry();
         SurfaceHit sh = g.surface(ray, hit);
         Bsdf bsdf = rt_.bsdf(sh.material, sh.uv);
@@ -43,6 +58,7 @@ public:
         const ShadingFrame frame = make_shading_frame(sh.ng, sh.ns, wo);
         const bool front = frame.front;
         const vec3 ng = frame.ng, ns = frame.ns;
+        if (log) describe_hit(log->rays[self], scene_.material_names, sh.material, sh.p, ns, front);
 
         if (aov) {
             aov->depth = hit.t * glm::length(ray.d);
@@ -55,22 +71,29 @@ public:
         }
 
         Color L = emitted_and_ambient(bsdf, frame, scene_.render.ambient);
+        if (log) log->rays[self].contribution = branch.to_pixel * L;
         L += direct_light(rt_.lights(), bsdf, sh.p, frame, wo,
                           StratifiedLightSampling{rt_.lights(), rng, scene_.render.light_samples},
-                          [&](size_t, const LightSample& s) {
-                              return shadow_blocked(rt_, sh.p, ng, s, rays) ? 0.0f : 1.0f;
+                          [&](size_t index, const LightSample& s) {
+                              const float v = shadow_blocked(rt_, sh.p, ng, s, rays) ? 0.0f : 1.0f;
+                              if (log)
+                                  log_shadow_ray(sh.p, ng, index, s, v, bsdf, frame, wo, self,
+                                                 depth, branch.to_pixel);
+                              return v;
                           });
         if (depth >= scene_.render.max_depth) return L;
 
-        auto follow = [&](Color scale, vec3 dir) {
+        auto follow = [&](Color scale, vec3 dir, const char* kind, float fresnel) {
             float w = weight * max_component(scale);
             if (w < kMinBranchWeight) return Color(0.0f);
             Ray next{offset_ray_origin(sh.p, ng, dir), dir, kInfinity};
-            return scale * trace(next, depth + 1, w, rng, nullptr);
+            const Branch next_branch{kind, self, branch.to_pixel * scale};
+            if (log && fresnel >= 0.0f) log_fresnel_ = fresnel;
+            return scale * trace(next, depth + 1, w, rng, nullptr, next_branch);
         };
         switch (bsdf.model) {
             case Bsdf::Model::Mirror:
-                L += follow(bsdf.reflect, reflect(wo, ns));
+                L += follow(bsdf.reflect, reflect(wo, ns), "reflect", -1.0f);
                 break;
             case Bsdf::Model::Dielectric: {
                 // Entering when we hit the outside; eta = n_transmitted / n_incident.
@@ -78,21 +101,23 @@ public:
                 float fr = fresnel_dielectric(glm::dot(ns, wo), eta);
                 vec3 wt;
                 if (fr < 1.0f && refract(wo, ns, eta, wt))
-                    L += follow(Color(1.0f - fr), wt);
+                    L += follow(Color(1.0f - fr), wt, "refract", 1.0f - fr);
                 else
                     fr = 1.0f;  // total internal reflection
-                L += follow(Color(fr), reflect(wo, ns));
+                L += follow(Color(fr), reflect(wo, ns), "reflect", fr);
                 break;
             }
             case Bsdf::Model::Phong:
             case Bsdf::Model::BlinnPhong: {
-                if (!is_black(bsdf.reflect)) L += follow(bsdf.reflect, reflect(wo, ns));
+                if (!is_black(bsdf.reflect))
+                    L += follow(bsdf.reflect, reflect(wo, ns), "reflect", -1.0f);
                 if (!is_black(bsdf.transmit)) {
                     float eta = front ? bsdf.ior : 1.0f / bsdf.ior;
                     vec3 wt;
                     // Under total internal reflection the transmitted part reflects.
-                    if (!refract(wo, ns, eta, wt)) wt = reflect(wo, ns);
-                    L += follow(bsdf.transmit, wt);
+                    const bool tir = !refract(wo, ns, eta, wt);
+                    if (tir) wt = reflect(wo, ns);
+                    L += follow(bsdf.transmit, wt, tir ? "reflect" : "refract", -1.0f);
                 }
                 break;
             }
@@ -103,9 +128,48 @@ public:
     }
 
 private:
+    /// The log's entry for a ray that met something at distance t (or nothing).
+    int log_ray(const Ray& ray, int depth, const Branch& branch, float t) {
+        TraceRay r;
+        r.kind = branch.kind;
+        r.parent = branch.parent;
+        r.depth = depth;
+        r.origin = ray.o;
+        r.direction = glm::normalize(ray.d);
+        r.t = std::isfinite(t) ? t * glm::length(ray.d) : kInfinity;
+        r.set("weight", branch.to_pixel);
+        if (log_fresnel_ >= 0.0f) r.set("fresnel", {log_fresnel_});
+        log_fresnel_ = -1.0f;
+        return log->add(std::move(r));
+    }
+
+    /// The log's entry for the shadow ray toward light sample s: its visibility v, and what it
+    /// adds, the sample's f E cos over the light's sample count.
+    void log_shadow_ray(vec3 p, vec3 ng, size_t index, const LightSample& s, float v,
+                        const Bsdf& bsdf, const ShadingFrame& frame, vec3 wo, int parent, int depth,
+                        Color to_pixel) {
+        const LightSet::Source& source = rt_.lights().sources()[index];
+        const float n = source.delta ? 1.0f : static_cast<float>(scene_.render.light_samples);
+        const Color c = unoccluded_light(bsdf, frame, wo, s);
+        TraceRay r;
+        r.kind = "shadow";
+        r.parent = parent;
+        r.depth = depth;
+        r.origin = offset_ray_origin(p, ng, s.wi);
+        r.direction = s.wi;
+        r.t = s.distance;
+        r.contribution = to_pixel * c * (v / n);
+        r.note = v > 0.0f ? "the light is visible" : "blocked";
+        r.set("light", {static_cast<float>(source.light_index)});
+        r.set("visibility", {v});
+        r.set("unoccluded", c / n);
+        log->add(std::move(r));
+    }
+
     const RtScene& rt_;
     const Scene& scene_;
     bool want_visibility_;
+    float log_fresnel_ = -1.0f;  // the Fresnel weight of the next ray logged (-1: none)
 };
 
 }  // namespace
@@ -125,6 +189,13 @@ RenderResult WhittedRenderer::render(const Scene& scene, const RenderOptions& op
     const AovTargets targets =
         prepare_result(result, options.aovs, window.width(), window.height());
     bool want_visibility = targets.want[3] && !scene.lights.empty();
+    // The debug AOV: the camera rays' cost, cast again (the image does not change).
+    const bool want_cost = wants_debug_aov(options, "bvh_cost");
+    if (want_cost) {
+        rt.check_counts_cost();
+        result.aovs["bvh_cost"] = Image(window.width(), window.height());
+    }
+    Image* cost_image = want_cost ? &result.aovs["bvh_cost"] : nullptr;
     CameraRays camera(scene.camera, width, height);
     std::atomic<uint64_t> rays{0}, nonfinite{0};
     Progress progress("whitted", static_cast<int64_t>(window.width()) * window.height(),
@@ -142,6 +213,7 @@ RenderResult WhittedRenderer::render(const Scene& scene, const RenderOptions& op
                     tracer.aov_rng = &aov_rng;
                     glm::dvec3 sum(0.0);
                     AovSample aov_sum{0.0f, vec3(0.0f), Color(0.0f), 0.0f};
+                    Color cost(0.0f);
                     for (int s = 0; s < spp; ++s) {
                         vec2 offset = spp == 1
                                           ? vec2(0.5f)
@@ -151,12 +223,18 @@ RenderResult WhittedRenderer::render(const Scene& scene, const RenderOptions& op
                         const float y = (static_cast<float>(j) + offset.y) / height;
                         Ray ray = camera.thin_lens() ? camera.generate(x, y, rng.next_2d())
                                                      : camera.generate(x, y);
+                        if (cost_image) cost += rt.camera_ray_cost(ray);
                         AovSample aov;
+                        PixelTrace* log = options.trace;
+                        tracer.log = log && log->at(i, j) && log->sample == s ? log : nullptr;
                         Color c = tracer.trace(ray, 0, 1.0f, rng, targets.any ? &aov : nullptr);
                         // A sample that is not finite never reaches the pixel: it is dropped
                         // (black) and counted.
-                        if (!is_finite(c) || !is_finite(aov.normal) || !is_finite(aov.albedo) ||
-                            !std::isfinite(aov.depth)) {
+                        const bool finite = is_finite(c) && is_finite(aov.normal) &&
+                                            is_finite(aov.albedo) && std::isfinite(aov.depth);
+                        if (tracer.log) record_total(*tracer.log, c, finite);
+                        tracer.log = nullptr;
+                        if (!finite) {
                             ++tracer.nonfinite;
                             continue;
                         }
@@ -176,6 +254,7 @@ RenderResult WhittedRenderer::render(const Scene& scene, const RenderOptions& op
                     if (targets.want[2]) targets.image[2]->at(x, y) = aov_sum.albedo * inv;
                     if (targets.want[3])
                         targets.image[3]->at(x, y) = Color(aov_sum.visibility * inv);
+                    if (cost_image) cost_image->at(x, y) = cost * inv;
                 }
             }
             rays += tracer.rays;

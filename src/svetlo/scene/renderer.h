@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "svetlo/core/image.h"
+#include "svetlo/scene/pixel_trace.h"
 #include "svetlo/scene/scene.h"
 
 namespace svetlo {
@@ -22,12 +23,47 @@ inline const std::vector<std::string>& aov_names() {
     return names;
 }
 
-/// The teaching buffers: the rasterizer's (docs/shadows.md) light 0's shadow map (a cube map
-/// unfolded) and the shadow-volume stencil count per pixel; radiosity's patch mesh with each
-/// element's value (docs/radiosity.md).
-inline const std::vector<std::string>& debug_aov_names() {
-    static const std::vector<std::string> names = {"shadow_map", "stencil", "patches"};
+/// The teaching buffers (contract: debug AOVs), each made by some engines under some settings:
+/// the rasterizer's light 0 shadow map (a cube map unfolded), shadow-volume stencil count and
+/// projected planar shadow mask (docs/shadows.md); radiosity's patch mesh with each element's
+/// value (docs/radiosity.md); the ray tracers' BVH cost of the camera ray (nodes, primitives,
+/// their sum) and the path tracer's mean bounces per path (docs/trace.md).
+struct DebugAov {
+    std::string name;
+    std::vector<std::string> engines;        // the engines that make it
+    std::optional<ShadowTechnique> shadows;  // the technique it shows, where it shows one
+};
+inline const std::vector<DebugAov>& debug_aovs() {
+    static const std::vector<DebugAov> table = {
+        {"shadow_map", {"raster"}, ShadowTechnique::Map},
+        {"stencil", {"raster"}, ShadowTechnique::Volume},
+        {"planar", {"raster"}, ShadowTechnique::Planar},
+        {"patches", {"radiosity"}, std::nullopt},
+        {"bvh_cost", {"whitted", "path"}, std::nullopt},
+        {"path_depth", {"path"}, std::nullopt},
+    };
+    return table;
+}
+inline std::vector<std::string> debug_aov_names() {
+    std::vector<std::string> names;
+    for (const DebugAov& d : debug_aovs()) names.push_back(d.name);
     return names;
+}
+/// Why `scene` cannot make debug AOV `name` ("needs render.engine raster with render.shadows
+/// map"); empty when it can, or when `name` is not a debug AOV.
+inline std::string debug_aov_refusal(const Scene& scene, const std::string& name) {
+    for (const DebugAov& d : debug_aovs()) {
+        if (d.name != name) continue;
+        bool engine = false;
+        for (const std::string& e : d.engines) engine |= e == scene.render.engine;
+        if (engine && (!d.shadows || scene.render.shadows == *d.shadows)) return {};
+        std::string why = "needs render.engine " + d.engines[0];
+        for (size_t k = 1; k < d.engines.size(); ++k) why += " or " + d.engines[k];
+        if (d.shadows)
+            why += " with render.shadows " + std::string(name_of(kShadowTechniques, *d.shadows));
+        return why;
+    }
+    return {};
 }
 
 /// A window of the film: the pixels x0 <= i < x1, y0 <= j < y1 (contract: --crop). A render
@@ -60,6 +96,9 @@ struct RenderOptions {
     /// Progressive engines call it after each pass with the passes done, the seconds since
     /// the setup and the image of those passes (--mse-log, compare --curves).
     std::function<void(int passes, double seconds, const Image& color)> on_pass;
+    /// When set, the engine follows sample trace->sample of pixel (trace->x, trace->y) and
+    /// records it there (svetlo trace); the crop should then be that pixel alone.
+    PixelTrace* trace = nullptr;
 };
 
 struct RenderStats {
@@ -107,6 +146,13 @@ inline AovTargets prepare_result(RenderResult& result, const std::vector<std::st
     for (size_t k = 0; k < 4; ++k) t.image[k] = t.want[k] ? &result.aovs[aov_names()[k]] : nullptr;
     t.any = !result.aovs.empty();
     return t;
+}
+
+/// Whether the render is asked for debug AOV `name`.
+inline bool wants_debug_aov(const RenderOptions& options, const std::string& name) {
+    for (const std::string& n : options.debug_aovs)
+        if (n == name) return true;
+    return false;
 }
 
 /// The window a render covers: options.crop, or the whole film.
