@@ -20,8 +20,10 @@ namespace svetlo {
 
 namespace {
 
-/// The overrides of a SPEC: render.engine, then each KEY=VALUE.
-std::vector<Override> spec_overrides(const std::string& spec, const std::string& file) {
+/// The overrides of a SPEC: render.engine, then each KEY=VALUE; `aov=NAME` parts go to
+/// `aovs` (the buffers the sheet shows beside the image).
+std::vector<Override> spec_overrides(const std::string& spec, const std::string& file,
+                                     std::vector<std::string>& aovs) {
     std::vector<std::string> parts;
     size_t start = 0;
     while (true) {
@@ -42,6 +44,10 @@ std::vector<Override> spec_overrides(const std::string& spec, const std::string&
         size_t eq = parts[k].find('=');
         if (eq == std::string::npos || eq == 0)
             throw Error(file, "-T " + spec, "expected KEY=VALUE, not '" + parts[k] + "'");
+        if (parts[k].substr(0, eq) == "aov") {
+            aovs.push_back(parts[k].substr(eq + 1));
+            continue;
+        }
         out.push_back({parts[k].substr(0, eq), parts[k].substr(eq + 1)});
     }
     return out;
@@ -53,10 +59,12 @@ RenderJob spec_job(const nlohmann::json& base, const CompareArgs& args, const st
                    const std::string& sha256, int threads) {
     nlohmann::json json = base;
     try {
-        for (const Override& o : spec_overrides(spec, args.scene))
+        std::vector<std::string> aovs;
+        for (const Override& o : spec_overrides(spec, args.scene, aovs))
             apply_override(json, o, args.scene);
         RenderJob job = make_job(std::move(json), args.scene, sha256);
         job.options.threads = threads;
+        for (const std::string& name : aovs) request_aov(job, name, args.scene, "-T " + spec);
         return job;
     } catch (const Error& e) {
         if (e.where().rfind("-T ", 0) == 0) throw;
@@ -144,6 +152,10 @@ int run_compare(const CompareArgs& args) {
         RenderResult r = run_job(job);
         e.seconds = r.stats.seconds;
         e.image = std::move(r.color);
+        for (const std::string& name : job.options.aovs)
+            e.buffers.emplace_back(name, aov_for_display(name, r.aovs.at(name)));
+        for (const std::string& name : job.options.debug_aovs)
+            e.buffers.emplace_back(name, aov_for_display(name, r.aovs.at(name)));
         e.metrics = compare_images(ldr ? as_8bit_srgb(e.image, e.exposure) : e.image,
                                    sheet.reference_image, ldr, threads);
         if (args.curves && e.curve.empty()) {  // one pass: one point
@@ -170,6 +182,7 @@ int run_compare(const CompareArgs& args) {
                                         {"rmse", e.metrics.pixels.rmse},
                                         {"relmse", e.metrics.pixels.relmse},
                                         {"flip", e.metrics.flip.mean}};
+            for (const auto& [name, image] : e.buffers) t["aovs"].push_back(name);
             if (!e.curve.empty()) {
                 t["curve"] = nlohmann::ordered_json::array();
                 for (const CurvePoint& p : e.curve)

@@ -48,27 +48,34 @@ Crop parse_crop(const std::string& text, const std::string& file, int width, int
     return c;
 }
 
+void request_aov(RenderJob& job, const std::string& name, const std::string& file,
+                 const std::string& where) {
+    const std::vector<std::string>& plain = aov_names();
+    const std::vector<std::string> debug = debug_aov_names();
+    if (std::find(plain.begin(), plain.end(), name) != plain.end()) {
+        job.options.aovs.push_back(name);
+        return;
+    }
+    if (std::find(debug.begin(), debug.end(), name) == debug.end()) {
+        std::string known;
+        for (const std::string& n : plain) known += n + ", ";
+        for (const std::string& n : debug) known += n + (n == debug.back() ? "" : ", ");
+        throw Error(file, where, "unknown AOV '" + name + "' (expected one of " + known + ")");
+    }
+    // The teaching buffers exist for some engines and techniques each.
+    if (std::string why = debug_aov_refusal(job.scene, name); !why.empty())
+        throw Error(file, where, why);
+    job.options.debug_aovs.push_back(name);
+}
+
 void request_aovs(RenderJob& job, const std::vector<std::string>& specs,
                   const std::string& output) {
-    const Scene& scene = job.scene;
     for (const std::string& spec : specs) {
         size_t eq = spec.find('=');
-        std::string name = spec.substr(0, eq);
         if (eq == std::string::npos || eq + 1 == spec.size()) {
             throw Error(spec, "--aov", "expected NAME=FILE");
         }
-        const auto& names = aov_names();
-        const std::vector<std::string> debug = debug_aov_names();
-        if (std::find(names.begin(), names.end(), name) == names.end() &&
-            std::find(debug.begin(), debug.end(), name) == debug.end()) {
-            std::string known;
-            for (const std::string& n : names) known += n + ", ";
-            for (const std::string& n : debug) known += n + (n == debug.back() ? "" : ", ");
-            throw Error(spec, "--aov",
-                        "unknown AOV '" + name + "' (expected one of " + known + ")");
-        }
-        job.aov_files.emplace_back(name, spec.substr(eq + 1));
-        check_writable(job.aov_files.back().second, "--aov " + name);
+        job.aov_files.emplace_back(spec.substr(0, eq), spec.substr(eq + 1));
     }
     // Two outputs to one file: the later would overwrite the earlier.
     auto same_file = [](const std::string& a, const std::string& b) {
@@ -77,6 +84,8 @@ void request_aovs(RenderJob& job, const std::vector<std::string>& specs,
     };
     for (size_t k = 0; k < job.aov_files.size(); ++k) {
         const auto& [name, file] = job.aov_files[k];
+        request_aov(job, name, file, "--aov " + name);
+        check_writable(file, "--aov " + name);
         if (same_file(file, output))
             throw Error(file, "--aov " + name, "is also the image's file (-o)");
         for (size_t m = 0; m < k; ++m) {
@@ -84,17 +93,6 @@ void request_aovs(RenderJob& job, const std::vector<std::string>& specs,
                 throw Error(file, "--aov " + name,
                             "is also the file of --aov " + job.aov_files[m].first);
         }
-    }
-    for (const auto& [name, file] : job.aov_files) {
-        const auto& plain = aov_names();
-        if (std::find(plain.begin(), plain.end(), name) != plain.end()) {
-            job.options.aovs.push_back(name);
-            continue;
-        }
-        // The teaching buffers exist for some engines and techniques each.
-        if (std::string why = debug_aov_refusal(scene, name); !why.empty())
-            throw Error(file, "--aov " + name, why);
-        job.options.debug_aovs.push_back(name);
     }
 }
 
@@ -107,10 +105,7 @@ int reached_spp(const RenderJob& job, const RenderResult& result) {
     return result.stats.passes > 0 ? result.stats.passes : job.scene.render.spp;
 }
 
-namespace {
-
-/// An AOV made visible in 8 bits: normals mapped to [0, 1], counts and depths scaled.
-Image aov_for_png(const std::string& name, Image image) {
+Image aov_for_display(const std::string& name, Image image) {
     if (name == "normal") {
         for (Color& c : image.pixels) c = 0.5f * c + Color(0.5f);  // [-1,1] -> [0,1]
     } else if (name == "stencil") {
@@ -146,8 +141,6 @@ Image aov_for_png(const std::string& name, Image image) {
     return image;
 }
 
-}  // namespace
-
 void write_job_outputs(const RenderJob& job, const RenderResult& result,
                        const std::string& output) {
     const int spp = reached_spp(job, result);
@@ -157,7 +150,7 @@ void write_job_outputs(const RenderJob& job, const RenderResult& result,
     for (const auto& [name, file] : job.aov_files) {
         Image image = result.aovs.at(name);
         if (image_format_for(file, "--aov") == ImageFormat::Png)
-            image = aov_for_png(name, std::move(image));
+            image = aov_for_display(name, std::move(image));
         RunRecord run = job.run;
         run.image = name;
         write_image(file, image, name == "albedo" ? PixelMeaning::Radiance : PixelMeaning::Data,

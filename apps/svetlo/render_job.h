@@ -27,9 +27,17 @@ RenderJob make_job(nlohmann::json json, const std::filesystem::path& path, std::
 /// window outside the film or empty.
 Crop parse_crop(const std::string& text, const std::string& file, int width, int height);
 
-/// Checks the AOV NAME=FILE specs against the job's engine and techniques and asks the engine
-/// for them; their files are checked writable.
+/// Asks the job's engine for AOV `name` (a plain or a debug one); throws Error(file, where)
+/// for an unknown name or one the job's engine and technique do not make.
+void request_aov(RenderJob& job, const std::string& name, const std::string& file,
+                 const std::string& where);
+
+/// request_aov for each of the NAME=FILE specs; their files are checked writable.
 void request_aovs(RenderJob& job, const std::vector<std::string>& specs, const std::string& output);
+
+/// An AOV made visible in 8 bits, as PNG writes it: values in [0, 1] to be written linearly
+/// (normals mapped from [-1, 1], depths and counts scaled, costs as a heat map).
+Image aov_for_display(const std::string& name, Image image);
 
 /// Renders the job with its renderer.
 RenderResult run_job(const RenderJob& job);

@@ -163,11 +163,12 @@ std::string sheet_html(const Sheet& sheet) {
          escape_html(sheet.scene) + "</code>, reference <code>" + escape_html(sheet.reference) +
          "</code>. Errors are ꟻLIP against the reference (0: no visible difference).</p>\n"
          "<div>ꟻLIP 0 <span class=\"legend\" style=\"display:inline-block\"></span> 1</div>\n"
-         "<table>\n<tr><th>technique</th><th>image</th><th>ꟻLIP error</th><th>numbers</th></tr>\n";
+         "<table>\n<tr><th>technique</th><th>image</th><th>ꟻLIP error</th><th>numbers</th>"
+         "<th>buffers</th></tr>\n";
     h += "<tr class=\"reference\"><td><code>" + escape_html(sheet.reference) +
          "</code><br>reference</td><td><img alt=\"reference\" src=\"" +
          png_data_url(sheet.reference_image, PixelMeaning::Radiance, sheet.reference_exposure) +
-         "\"></td><td></td><td></td></tr>\n";
+         "\"></td><td></td><td></td><td></td></tr>\n";
     for (const SheetEntry& e : sheet.entries) {
         char seconds[64];
         std::snprintf(seconds, sizeof seconds, "%.3f", e.seconds);
@@ -182,6 +183,12 @@ std::string sheet_html(const Sheet& sheet) {
                       e.metrics.pixels.mae, e.metrics.pixels.rmse, e.metrics.pixels.relmse,
                       e.metrics.flip.mean, seconds);
         h += cell;
+        h += "</td><td>";
+        for (const auto& [name, image] : e.buffers) {
+            h += "<figure><img alt=\"" + escape_html(name) + " of " + escape_html(e.spec) +
+                 "\" src=\"" + png_data_url(image, PixelMeaning::Data, 1.0f) +
+                 "\"><figcaption><code>" + escape_html(name) + "</code></figcaption></figure>";
+        }
         h += "</td></tr>\n";
     }
     h += "</table>\n";
@@ -222,6 +229,19 @@ void paste(Image& sheet, const Image& image, int x, int y) {
             sheet.at(x + i, y + j) = image.at(i, j);
 }
 
+/// `image` shrunk (nearest texel) to fit max_w x max_h, or as it is when it fits.
+Image fit(const Image& image, int max_w, int max_h) {
+    const double scale = std::min(
+        {1.0, static_cast<double>(max_w) / image.width, static_cast<double>(max_h) / image.height});
+    if (scale >= 1.0) return image;
+    Image out(std::max(1, static_cast<int>(image.width * scale)),
+              std::max(1, static_cast<int>(image.height * scale)));
+    for (int j = 0; j < out.height; ++j)
+        for (int i = 0; i < out.width; ++i)
+            out.at(i, j) = image.at(static_cast<int>(i / scale), static_cast<int>(j / scale));
+    return out;
+}
+
 }  // namespace
 
 Image sheet_png(const Sheet& sheet) {
@@ -230,7 +250,22 @@ Image sheet_png(const Sheet& sheet) {
     const int columns = static_cast<int>(sheet.entries.size()) + 1;
     const int col_w = std::max(w, 360) + gap;
     const int legend = 60;
-    Image out(columns * col_w + gap, label + h + gap + h + text * 2 + legend, Color(1.0f));
+    // Rows of buffers below the numbers, as many as the entry with most, each labelled above;
+    // a buffer larger than the column (a shadow map's cross) is shrunk to fit it.
+    std::vector<std::vector<Image>> shown(sheet.entries.size());
+    std::vector<int> row_height;
+    for (size_t n = 0; n < sheet.entries.size(); ++n) {
+        const SheetEntry& e = sheet.entries[n];
+        for (size_t k = 0; k < e.buffers.size(); ++k) {
+            shown[n].push_back(fit(e.buffers[k].second, col_w - gap, 2 * h));
+            if (row_height.size() <= k) row_height.push_back(0);
+            row_height[k] = std::max(row_height[k], shown[n].back().height);
+        }
+    }
+    int buffers_height = 0;
+    for (int rh : row_height) buffers_height += label + rh + gap;
+    Image out(columns * col_w + gap, label + h + gap + h + text * 2 + buffers_height + legend,
+              Color(1.0f));
     const Color ink(0.0f);
     auto srgb = [](Color display) {  // a display colour as the linear value PNG encodes back
         return Color(srgb_to_linear(display.r), srgb_to_linear(display.g),
@@ -240,7 +275,8 @@ Image sheet_png(const Sheet& sheet) {
     std::string title = "reference: " + sheet.reference;
     draw_text(out, x, 4, title, ink, 2 * stb_easy_font_width(title.data()) < col_w - gap ? 2 : 1);
     paste(out, as_8bit_srgb(sheet.reference_image, sheet.reference_exposure), x, label);
-    for (const SheetEntry& e : sheet.entries) {
+    for (size_t n = 0; n < sheet.entries.size(); ++n) {
+        const SheetEntry& e = sheet.entries[n];
         x += col_w;
         std::string spec = e.spec;
         // Twice the font's size where the SPEC fits the column, else its own size.
@@ -252,6 +288,14 @@ Image sheet_png(const Sheet& sheet) {
         const std::array<std::string, 2> lines = numbers(e);
         draw_text(out, x, label + 2 * h + gap + 4, lines[0], ink, 1);
         draw_text(out, x, label + 2 * h + gap + 16, lines[1], ink, 1);
+        int y = label + 2 * h + gap + text * 2;
+        for (size_t k = 0; k < e.buffers.size(); ++k) {
+            draw_text(out, x, y + 4, e.buffers[k].first, ink);
+            Image buffer = shown[n][k];  // written linearly: undo PNG's sRGB encoding
+            for (Color& c : buffer.pixels) c = srgb(c);
+            paste(out, buffer, x, y + label);
+            y += label + row_height[k] + gap;
+        }
     }
     // The legend: the false colour from 0 to 1.
     const int ly = out.height - legend + 10;

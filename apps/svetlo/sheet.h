@@ -27,6 +27,8 @@ struct SheetEntry {
     ImageComparison metrics;
     double seconds = 0.0;
     std::vector<CurvePoint> curve;  // progressive engines, with --curves
+    /// The buffers asked for by `aov=NAME` in the SPEC, as aov_for_display makes them.
+    std::vector<std::pair<std::string, Image>> buffers;
 };
 
 struct Sheet {
@@ -41,7 +43,8 @@ struct Sheet {
 std::string sheet_html(const Sheet& sheet);
 
 /// The PNG grid: a column per image (the reference first), the images above their error
-/// images, each labelled with its SPEC and numbers; a legend of the false colour below.
+/// images, each labelled with its SPEC and numbers, then the buffers of each, labelled; a
+/// legend of the false colour below.
 Image sheet_png(const Sheet& sheet);
 
 /// The error-against-time plot of the entries that have curves, as an SVG element (log-log

@@ -167,6 +167,34 @@ expect_error "compare: unknown engine" "-T phong: engine 'phong' is not availabl
 expect_error "compare: a film unlike the reference's" "-T whitted:film.width=41: its film is 41 x 32; the reference's is 40 x 32" 1 compare "$cornell" -T whitted:film.width=41 --reference "$work/full_whitted.pfm" "${size[@]}" --json "$work/x.json"
 expect_error "compare: an unwritable JSON, before any render" "--json: cannot write" 1 compare "$cornell" -T whitted "${size[@]}" --json "$work/no/such/folder/m.json"
 expect_error "compare: unknown key" "-T raster:render.shadow=map: render.shadow: unknown key" 1 compare "$cornell" -T raster:render.shadow=map --json "$work/x.json"
+# compare with buffers: a SPEC's aov=NAME shows its buffer beside its image, the very
+# buffer render --aov writes (the PNG's pixels, as the sheet inlines them).
+shadows="$scenes/shadows.json"
+check "compare with buffers" "$svetlo" compare "$shadows" "${size[@]}" --reference path:render.spp=4 \
+    -T raster:render.shadows=map:aov=shadow_map -T path:render.spp=2:aov=path_depth:aov=depth \
+    -o "$work/buffers.html" --json "$work/buffers.json" --png "$work/buffers.png" -q
+"$svetlo" render "$shadows" "${size[@]}" -e raster --set render.shadows='"map"' -q -o "$work/x.pfm" \
+    --aov shadow_map="$work/map.png"
+check "compare's buffers in its JSON and HTML" python3 -c "
+import base64, json
+m = json.load(open('$work/buffers.json'))
+assert [t.get('aovs') for t in m['techniques']] == [['shadow_map'], ['depth', 'path_depth']], m
+text = open('$work/buffers.html').read()
+for name in ('shadow_map', 'path_depth', 'depth'): assert 'alt=\"%s of ' % name in text, name
+start = text.index('alt=\"shadow_map of ')
+src = text[text.index('base64,', start) + 7 : text.index('\"', text.index('base64,', start))]
+import zlib
+def pixels(png):  # the IDAT stream, inflated: the pixels whatever the text chunks
+    data, pos, out = png[8:], 0, b''
+    while pos < len(data):
+        n = int.from_bytes(data[pos:pos + 4], 'big'); kind = data[pos + 4:pos + 8]
+        if kind == b'IDAT': out += data[pos + 8:pos + 8 + n]
+        pos += 12 + n
+    return zlib.decompress(out)
+assert pixels(base64.b64decode(src)) == pixels(open('$work/map.png', 'rb').read())
+"
+expect_error "compare: a buffer its technique does not make" "-T raster:aov=planar: needs render.engine raster with render.shadows planar" 1 compare "$shadows" -T raster:aov=planar --json "$work/x.json"
+expect_error "compare: an unknown buffer" "-T whitted:aov=albedos: unknown AOV 'albedos'" 1 compare "$shadows" -T whitted:aov=albedos --json "$work/x.json"
 
 # --mse-log: a line a pass, its last MSE the final image's.
 "$svetlo" render "$cornell" --engine path "${size[@]}" --spp 16 -q -o "$work/ref.pfm"
