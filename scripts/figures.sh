@@ -44,6 +44,15 @@ sheet global scenes/cornell.json -W 160 -H 160 --curves \
 "$svetlo" render scenes/cornell.json -e path --spp 16 -W 256 -H 256 \
     --aov path_depth=$out/path_depth.png -o /tmp/svetlo_cornell.png -q
 
+# The teaching pages: two projections (docs/cameras.md), three exposures (docs/radiometry.md).
+"$svetlo" render scenes/solids.json -e raster -W 320 -H 200 -o $out/camera_perspective.png -q
+"$svetlo" render scenes/solids.json -e raster -W 320 -H 200 -o $out/camera_orthographic.png -q \
+    --set camera.type='"orthographic"' --set camera.height=4.5
+for e in 0.5 1 2; do
+    "$svetlo" render scenes/spheres.json -W 320 -H 200 --set render.exposure=$e \
+        -o $out/exposure_$e.png -q
+done
+
 if [ "${SVETLO_FIGURES_SHEETS_ONLY:-0}" = 1 ]; then exit 0; fi
 scripts/radiosity_figures.sh "$svetlo"
 python3 scripts/shadow_figures.py "$svetlo"
