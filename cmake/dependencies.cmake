@@ -32,3 +32,18 @@ find_package(PkgConfig QUIET)
 if(PKG_CONFIG_FOUND AND SVETLO_BENCH)
     pkg_check_modules(OSMESA QUIET IMPORTED_TARGET osmesa)
 endif()
+
+# The Python module: pybind11 for Debian's python3 (/usr/bin/python3, where python3-numpy is),
+# not whatever python3 comes first on the PATH. Without them the module is left out, and the
+# build says so.
+if(SVETLO_PYTHON)
+    if(NOT DEFINED Python_EXECUTABLE AND EXISTS /usr/bin/python3)
+        set(Python_EXECUTABLE /usr/bin/python3)
+    endif()
+    set(PYBIND11_FINDPYTHON ON)
+    find_package(pybind11 CONFIG QUIET)
+    if(NOT pybind11_FOUND)
+        message(STATUS "svetlo: pybind11 not found: the Python module is not built")
+        set(SVETLO_PYTHON OFF)
+    endif()
+endif()

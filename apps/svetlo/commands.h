@@ -104,6 +104,10 @@ void print_summary(const RenderJob& job, const RenderResult& result, const std::
 
 /// svetlo trace's pixel sample, recorded by the scene's engine (engine: its name).
 PixelTrace trace_pixel(const TraceArgs& args, std::string& engine);
+/// Sample `sample` of pixel (x, y) of the job's scene, recorded by its engine, with `spp`
+/// samples per pixel (a path renders sample + 1 passes at least); throws Error naming
+/// --pixel or --sample for a pixel or sample that does not exist.
+PixelTrace trace_job(RenderJob& job, int x, int y, long long sample, long long spp);
 /// The trace as the contract's JSON object.
 nlohmann::json trace_json(const PixelTrace& trace, const std::string& engine);
 

@@ -133,6 +133,41 @@ nlohmann::json trace_json(const PixelTrace& log, const std::string& engine) {
             {"total", vec_json(log.total)}, {"rays", std::move(rays)}, {"notes", log.notes}};
 }
 
+PixelTrace trace_job(RenderJob& job, int x, int y, long long sample, long long spp) {
+    Scene& scene = job.scene;
+    const std::string file = job.run.scene_file.string();
+    const std::string& engine = scene.render.engine;
+    // One sample per pixel unless spp says otherwise, as the contract's `render --spp 1`; a
+    // path's sample K is its pass K, the same whatever the spp, so it renders K + 1 passes.
+    if (engine == "path") spp = std::max(spp, sample + 1);
+    if (sample >= spp) {
+        throw Error(file, "--sample",
+                    "sample " + std::to_string(sample) + " of " + std::to_string(spp) +
+                        " per pixel does not exist (--spp sets the samples of " + engine + ")");
+    }
+    if (engine == "raster" && sample > 0)
+        throw Error(file, "--sample", "the rasterizer's trace is of the whole pixel (--sample 0)");
+    if (x < 0 || y < 0 || x >= scene.film.width || y >= scene.film.height) {
+        char why[160];
+        std::snprintf(why, sizeof why, "(%d, %d) lies outside the %d x %d film", x, y,
+                      scene.film.width, scene.film.height);
+        throw Error(file, "--pixel", why);
+    }
+    scene.render.spp = static_cast<int>(spp);
+    PixelTrace log;
+    log.x = x;
+    log.y = y;
+    log.sample = static_cast<int>(sample);
+    job.options.crop = Crop{x, x + 1, y, y + 1};
+    job.options.trace = &log;
+    make_renderer(engine, file)->render(scene, job.options);
+    job.options.trace = nullptr;
+    if (!log.recorded)
+        throw Error(file, "--pixel",
+                    "the " + engine + " engine does not trace pixels in this version");
+    return log;
+}
+
 PixelTrace trace_pixel(const TraceArgs& args, std::string& engine) {
     std::vector<Override> overrides = parse_sets(args.sets, args.scene);
     if (!args.engine.empty()) overrides.push_back({"render.engine", "\"" + args.engine + "\""});
@@ -143,41 +178,17 @@ PixelTrace trace_pixel(const TraceArgs& args, std::string& engine) {
     }
     const long long sample =
         args.sample.empty() ? 0 : flag_integer(args.scene, "--sample", args.sample, 0, kMaxSpp - 1);
-    // One sample per pixel unless --spp says otherwise, as the contract's `render --spp 1`;
-    // a path's sample K is its pass K, the same whatever the spp, so it renders K + 1 passes.
-    long long spp = args.spp.empty() ? 1 : flag_integer(args.scene, "--spp", args.spp, 1, kMaxSpp);
+    const long long spp =
+        args.spp.empty() ? 1 : flag_integer(args.scene, "--spp", args.spp, 1, kMaxSpp);
     RenderJob job =
         make_job(effective_scene_json(args.scene, overrides), args.scene, sha256_file(args.scene));
-    Scene& scene = job.scene;
-    engine = scene.render.engine;
-    if (engine == "path") spp = std::max(spp, sample + 1);
-    if (sample >= spp) {
-        throw Error(args.scene, "--sample",
-                    "sample " + std::to_string(sample) + " of " + std::to_string(spp) +
-                        " per pixel does not exist (--spp sets the samples of " + engine + ")");
-    }
-    if (engine == "raster" && sample > 0) {
-        throw Error(args.scene, "--sample",
-                    "the rasterizer's trace is of the whole pixel (--sample 0)");
-    }
-    scene.render.spp = static_cast<int>(spp);
-    const auto [x, y] = parse_pixel(args.pixel, args.scene, scene.film.width, scene.film.height);
+    engine = job.scene.render.engine;
+    const auto [x, y] =
+        parse_pixel(args.pixel, args.scene, job.scene.film.width, job.scene.film.height);
     if (!args.json.empty()) check_creatable(args.json, "--json");
     if (!args.obj.empty()) check_creatable(args.obj, "--obj");
-
-    PixelTrace log;
-    log.x = x;
-    log.y = y;
-    log.sample = static_cast<int>(sample);
     job.options.threads = flag_threads(args.scene, args.threads);
-    job.options.crop = Crop{x, x + 1, y, y + 1};
-    job.options.trace = &log;
-    make_renderer(engine, args.scene)->render(scene, job.options);
-    if (!log.recorded) {
-        throw Error(args.scene, "--pixel",
-                    "the " + engine + " engine does not trace pixels in this version");
-    }
-    return log;
+    return trace_job(job, x, y, sample, spp);
 }
 
 int run_trace(const TraceArgs& args) {

@@ -4,6 +4,6 @@
 set -euo pipefail
 cd "$1"
 command -v clang-format > /dev/null || { echo "clang-format is missing (scripts/setup installs it)"; exit 1; }
-files=$(find src apps tests bench -name '*.cpp' -o -name '*.h' -o -name '*.inc' | sort)
+files=$(find src apps python tests bench -name '*.cpp' -o -name '*.h' -o -name '*.inc' | sort)
 clang-format --dry-run --Werror $files
 echo "$(echo "$files" | wc -l) files formatted"

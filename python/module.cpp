@@ -1,0 +1,233 @@
+// svetlo._svetlo: the compiled half of the Python module (docs/python.md). Every function
+// takes a scene as its effective JSON (text), the path that names it in messages and anchors
+// its relative files, and the SHA-256 its provenance records; python/svetlo/__init__.py
+// wraps them in Scene, render, diff and trace. The renders run through the command line's
+// own code (apps/svetlo: RenderJob, the provenance, the metrics), so an image is bit for bit
+// the command line's.
+#include <pybind11/functional.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <csignal>
+#include <cstring>
+
+#include "commands.h"
+#include "interrupt.h"
+#include "render_job.h"
+#include "svetlo/core/error.h"
+#include "svetlo/core/image_io.h"
+#include "svetlo/core/sha256.h"
+#include "svetlo/geometry/scene_geometry.h"
+#include "svetlo/geometry/tessellate.h"
+#include "svetlo/geometry/triangle_list.h"
+#include "svetlo/shading/light_set.h"
+
+namespace py = pybind11;
+using namespace svetlo;
+
+namespace {
+
+using FloatArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
+
+/// An image as a new H x W x 3 float32 array: one copy, sharing nothing with the renderer.
+FloatArray to_array(const Image& image) {
+    FloatArray out({static_cast<py::ssize_t>(image.height), static_cast<py::ssize_t>(image.width),
+                    py::ssize_t{3}});
+    static_assert(sizeof(Color) == 3 * sizeof(float));
+    std::memcpy(out.mutable_data(), image.pixels.data(), image.pixels.size() * sizeof(Color));
+    return out;
+}
+
+/// An H x W x 3 array (any float type, made contiguous float32) as an Image.
+Image from_array(const FloatArray& a, const char* name) {
+    if (a.ndim() != 3 || a.shape(2) != 3)
+        throw py::value_error(std::string(name) + ": expected an H x W x 3 array of RGB");
+    Image image(static_cast<int>(a.shape(1)), static_cast<int>(a.shape(0)));
+    std::memcpy(image.pixels.data(), a.data(), image.pixels.size() * sizeof(Color));
+    return image;
+}
+
+nlohmann::json parse(const std::string& text, const std::string& path) {
+    try {
+        return nlohmann::json::parse(text);
+    } catch (const nlohmann::json::exception& e) {
+        throw Error(path, "scene", e.what());
+    }
+}
+
+/// The scene's JSON checked as a scene file is (throws Error, which becomes SceneError).
+void validate(const std::string& text, const std::string& path) {
+    (void)scene_from_json(parse(text, path), path);
+}
+
+/// The JSON of the scene after `key` (dotted, as --set) is set to `value` (JSON text).
+std::string set_key(const std::string& text, const std::string& path, const std::string& key,
+                    const std::string& value) {
+    nlohmann::json json = parse(text, path);
+    apply_override(json, Override{key, value}, path);
+    (void)scene_from_json(json, path);
+    return json.dump();
+}
+
+/// The job of a render from Python: the scene's JSON with the overrides (KEY, JSON value) in
+/// order, its AOVs and threads.
+RenderJob python_job(const std::string& text, const std::string& path, const std::string& sha256,
+                     const std::vector<std::pair<std::string, std::string>>& overrides,
+                     const std::vector<std::string>& aovs, int threads,
+                     const std::vector<std::string>& command) {
+    nlohmann::json json = parse(text, path);
+    for (const auto& [key, value] : overrides) apply_override(json, Override{key, value}, path);
+    RenderJob job = make_job(std::move(json), path, sha256);
+    job.run.command = command;
+    job.options.threads = threads;
+    for (const std::string& name : aovs) request_aov(job, name, path, "aovs");
+    return job;
+}
+
+/// Renders with the GIL released. SIGINT (on the main thread) ends the pass in progress, as
+/// on the command line, and then raises KeyboardInterrupt. `progress(fraction, spp, seconds)`
+/// runs after each pass, with the GIL.
+py::dict render(const std::string& text, const std::string& path, const std::string& sha256,
+                const std::vector<std::pair<std::string, std::string>>& overrides,
+                const std::vector<std::string>& aovs, int threads, double time_budget,
+                const std::vector<std::string>& command, const py::object& progress) {
+    RenderJob job = python_job(text, path, sha256, overrides, aovs, threads, command);
+    if (time_budget > 0.0 && job.scene.render.engine != "path") {
+        throw Error(
+            path, "time",
+            "needs a progressive engine (path); " + job.scene.render.engine + " is not one");
+    }
+    job.options.time_budget = time_budget;
+    const int planned = job.scene.render.spp;
+    if (!progress.is_none()) {
+        job.options.on_pass = [&](int passes, double seconds, const Image&) {
+            py::gil_scoped_acquire gil;
+            const double fraction = time_budget > 0.0 ? std::min(1.0, seconds / time_budget)
+                                                      : static_cast<double>(passes) / planned;
+            progress(fraction, passes, seconds);
+        };
+    }
+    const py::module_ threading = py::module_::import("threading");
+    const bool main_thread = threading.attr("current_thread")().is(threading.attr("main_thread")());
+    RenderResult result;
+    int signal = 0;
+    {
+        std::optional<InterruptGuard> guard;
+        if (main_thread) {
+            guard.emplace();
+            job.options.cancel = &guard->flag();
+        }
+        py::gil_scoped_release release;
+        result = run_job(job);
+        if (guard) signal = guard->signal();
+    }
+    if (signal == SIGTERM) std::raise(SIGTERM);  // the handler is Python's again
+    if (signal != 0) {
+        PyErr_SetNone(PyExc_KeyboardInterrupt);
+        throw py::error_already_set();
+    }
+    const int spp = reached_spp(job, result);
+    if (!progress.is_none() && result.stats.passes == 0) progress(1.0, spp, result.stats.seconds);
+
+    py::dict out;
+    out["image"] = to_array(result.color);
+    py::dict images;
+    for (const auto& [name, image] : result.aovs) images[py::str(name)] = to_array(image);
+    out["aovs"] = images;
+    py::dict stats;
+    stats["seconds"] = result.stats.seconds;
+    stats["setup_seconds"] = result.stats.setup_seconds;
+    stats["spp"] = spp;
+    stats["rays"] = result.stats.rays;
+    stats["nonfinite"] = result.stats.nonfinite;
+    stats["engine"] = job.scene.render.engine;
+    out["stats"] = stats;
+    out["provenance"] = make_provenance(job.run, job.scene, job.options, result.stats, spp).dump();
+    out["exposure"] = job.scene.render.exposure;
+    return out;
+}
+
+/// svetlo trace's JSON of sample `sample` of pixel (x, y).
+std::string trace(const std::string& text, const std::string& path, const std::string& sha256,
+                  const std::vector<std::pair<std::string, std::string>>& overrides, int x, int y,
+                  long long sample, long long spp, int threads) {
+    RenderJob job = python_job(text, path, sha256, overrides, {}, threads, {});
+    PixelTrace log;
+    {
+        py::gil_scoped_release release;
+        log = trace_job(job, x, y, sample, spp);
+    }
+    return trace_json(log, job.scene.render.engine).dump();
+}
+
+/// The four metrics of `svetlo diff` (docs/metrics.md): LDR-ꟻLIP when `ldr`.
+py::dict diff(const FloatArray& a, const FloatArray& b, bool ldr, int threads) {
+    const Image test = from_array(a, "a"), reference = from_array(b, "b");
+    if (test.width != reference.width || test.height != reference.height)
+        throw py::value_error("a is " + std::to_string(test.width) + " x " +
+                              std::to_string(test.height) + " but b is " +
+                              std::to_string(reference.width) + " x " +
+                              std::to_string(reference.height));
+    ImageComparison c;
+    {
+        py::gil_scoped_release release;
+        c = compare_images(test, reference, ldr, threads);
+    }
+    py::dict out;
+    for (const char* metric : {"mae", "rmse", "relmse", "flip"}) out[metric] = c.value(metric);
+    return out;
+}
+
+/// An image file as svetlo reads it: (H x W x 3 linear array, whether it was 8-bit sRGB).
+py::tuple read_image_file(const std::string& path) {
+    LoadedImage loaded = read_image(path, "image");
+    return py::make_tuple(to_array(loaded.image), loaded.ldr);
+}
+
+/// The PNG bytes of a radiance image, as `render -o x.png` encodes it.
+py::bytes png(const FloatArray& a, float exposure) {
+    const std::vector<unsigned char> bytes =
+        encode_png(from_array(a, "image"), PixelMeaning::Radiance, exposure, "");
+    return py::bytes(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+}
+
+/// The scene's triangles as the rasterizer tessellates them: world-space positions (N x 3
+/// float32) and the vertex indices of each triangle (M x 3 uint32), counter-clockwise from its
+/// front.
+py::tuple triangles(const std::string& text, const std::string& path) {
+    const Scene scene = scene_from_json(parse(text, path), path);
+    const LightSet lights(scene);
+    const TriangleList list =
+        build_triangle_list(object_pointers(scene.objects, lights.area_light_quads()),
+                            tessellation_options(scene.render), 0);
+    py::array_t<float> positions({static_cast<py::ssize_t>(list.positions.size()), py::ssize_t{3}});
+    std::memcpy(positions.mutable_data(), list.positions.data(),
+                list.positions.size() * sizeof(vec3));
+    py::array_t<uint32_t> indices(
+        {static_cast<py::ssize_t>(list.indices.size() / 3), py::ssize_t{3}});
+    std::memcpy(indices.mutable_data(), list.indices.data(),
+                list.indices.size() * sizeof(uint32_t));
+    return py::make_tuple(positions, indices);
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_svetlo, m) {
+    m.doc() = "svetlo's compiled core; use the package `svetlo` (docs/python.md)";
+    py::register_exception<Error>(m, "SceneError", PyExc_ValueError);
+    m.def("read_scene",
+          [](const std::string& path) { return effective_scene_json(path, {}).dump(); });
+    m.def("sha256_file", [](const std::string& path) { return sha256_file(path); });
+    m.def("sha256_text", [](const std::string& text) { return sha256_hex(text); });
+    m.def("validate", &validate);
+    m.def("set_key", &set_key);
+    m.def("render", &render);
+    m.def("trace", &trace);
+    m.def("diff", &diff);
+    m.def("read_image", &read_image_file);
+    m.def("png", &png);
+    m.def("triangles", &triangles);
+    m.attr("aov_names") = aov_names();
+    m.attr("debug_aov_names") = debug_aov_names();
+}

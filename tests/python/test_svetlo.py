@@ -1,0 +1,231 @@
+"""The Python module against the command line (docs/python.md): the same images bit for bit
+for every engine, dict and file scenes alike, set as --set, diff and trace with the command
+line's numbers; the GIL released and Ctrl-C honoured; every kind of bad input raising the
+right exception and never crashing the interpreter."""
+import json
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import svetlo
+from conftest import ROOT, read_pfm
+
+SMALL = dict(width=40, height=32)
+
+
+def cli_render(svetlo_bin, tmp_path, scene, *args):
+    out = str(tmp_path / "cli.pfm")
+    subprocess.run([svetlo_bin, "render", scene, "-q", "-o", out] + list(args), check=True)
+    return read_pfm(out)
+
+
+@pytest.mark.parametrize("engine,scene", [("raster", "shadows.json"), ("whitted", "spheres.json"),
+                                          ("path", "cornell.json"), ("radiosity", "cornell_radiosity.json")])
+@pytest.mark.parametrize("threads", [1, 2])
+def test_image_is_the_cli_pfm_bit_for_bit(svetlo_bin, scenes, tmp_path, engine, scene, threads):
+    path = os.path.join(scenes, scene)
+    r = svetlo.render(svetlo.load(path), engine=engine, spp=2, threads=threads, seed=3, **SMALL)
+    cli = cli_render(svetlo_bin, tmp_path, path, "-e", engine, "--spp", "2", "-t", str(threads),
+                     "--seed", "3", "-W", "40", "-H", "32")
+    assert r.image.dtype == np.float32 and r.image.shape == (32, 40, 3)
+    assert np.array_equal(r.image, cli)
+    assert r.stats["spp"] == 2 and r.stats["engine"] == engine and r.stats["seconds"] > 0
+    assert r.provenance["engine"] == engine and r.provenance["full_resolution"] == [40, 32]
+
+
+def test_aovs_are_the_cli_aovs(svetlo_bin, scenes, tmp_path):
+    path = os.path.join(scenes, "spheres.json")
+    r = svetlo.render(path, engine="whitted", spp=1, aovs=["depth", "normal", "bvh_cost"], **SMALL)
+    out = tmp_path / "depth.pfm"
+    cost = tmp_path / "cost.pfm"
+    subprocess.run([svetlo_bin, "render", path, "-q", "-e", "whitted", "--spp", "1", "-W", "40",
+                    "-H", "32", "-o", str(tmp_path / "x.pfm"), "--aov", "depth=%s" % out,
+                    "--aov", "bvh_cost=%s" % cost], check=True)
+    assert np.array_equal(r.aovs["depth"], read_pfm(str(out)))
+    assert np.array_equal(r.aovs["bvh_cost"], read_pfm(str(cost)))
+    assert sorted(r.aovs) == ["bvh_cost", "depth", "normal"]
+
+
+def test_results_share_no_memory(scenes):
+    r1 = svetlo.render(os.path.join(scenes, "cornell.json"), engine="raster", **SMALL)
+    r2 = svetlo.render(os.path.join(scenes, "cornell.json"), engine="raster", **SMALL)
+    assert r1.image.flags.owndata and r1.image.flags.writeable
+    r1.image[:] = 0  # the renderer keeps nothing that the next render would show
+    assert r2.image.any() and not np.shares_memory(r1.image, r2.image)
+
+
+def test_dict_and_file_scenes_give_one_image(scenes):
+    path = os.path.join(scenes, "shadows.json")
+    with open(path) as f:
+        as_dict = json.load(f)
+    a = svetlo.render(svetlo.load(path), **SMALL)
+    b = svetlo.render(svetlo.Scene(as_dict, base=scenes), **SMALL)
+    assert np.array_equal(a.image, b.image)
+
+
+def test_set_is_cli_set(svetlo_bin, scenes, tmp_path):
+    path = os.path.join(scenes, "shadows.json")
+    scene = svetlo.load(path)
+    scene["lights.0.intensity"] = [5, 5, 5]
+    scene.set("render.shadows", "map")
+    assert scene["lights.0.intensity"] == [5, 5, 5] and scene.to_dict()["render"]["shadows"] == "map"
+    cli = cli_render(svetlo_bin, tmp_path, path, "--set", "lights.0.intensity=[5,5,5]",
+                     "--set", 'render.shadows="map"', "-W", "40", "-H", "32")
+    assert np.array_equal(svetlo.render(scene, **SMALL).image, cli)
+    # render's own set= is the same rule
+    again = svetlo.render(path, set={"lights.0.intensity": [5, 5, 5], "render.shadows": "map"}, **SMALL)
+    assert np.array_equal(again.image, cli)
+
+
+def test_diff_is_cli_diff(svetlo_bin, scenes, tmp_path):
+    path = os.path.join(scenes, "cornell.json")
+    a, b = tmp_path / "a.pfm", tmp_path / "b.pfm"
+    subprocess.run([svetlo_bin, "render", path, "-q", "-e", "raster", "-W", "40", "-H", "32", "-o", str(a)], check=True)
+    subprocess.run([svetlo_bin, "render", path, "-q", "-e", "path", "--spp", "2", "-W", "40", "-H", "32", "-o", str(b)], check=True)
+    out = subprocess.run([svetlo_bin, "diff", str(a), str(b)], capture_output=True, text=True).stdout
+    cli = {line.split()[0]: float(line.split()[1]) for line in out.splitlines()}
+    ours = svetlo.diff(read_pfm(str(a)), read_pfm(str(b)))
+    for metric in ("mae", "rmse", "relmse", "flip"):
+        assert ours[metric] == pytest.approx(cli[metric], rel=1e-5), metric
+    assert svetlo.diff(str(a), str(b), metric="flip") == pytest.approx(cli["flip"], rel=1e-5)
+    with pytest.raises(ValueError):
+        svetlo.diff(read_pfm(str(a)), read_pfm(str(b)), metric="psnr")
+
+
+def test_trace_is_cli_trace(svetlo_bin, scenes, tmp_path):
+    path = os.path.join(scenes, "cornell.json")
+    out = tmp_path / "t.json"
+    subprocess.run([svetlo_bin, "trace", path, "-e", "path", "--pixel", "20,12", "--sample", "3",
+                    "-W", "40", "-H", "32", "--json", str(out)], check=True, capture_output=True)
+    ours = svetlo.trace(path, (20, 12), sample=3, engine="path", **SMALL)
+    assert ours == json.load(open(out))
+
+
+def test_progress_is_called_after_each_pass(scenes):
+    calls = []
+    svetlo.render(os.path.join(scenes, "cornell.json"), engine="path", spp=4,
+                  progress=lambda f, spp, s: calls.append((f, spp, s)), **SMALL)
+    assert [c[1] for c in calls] == [1, 2, 3, 4] and calls[-1][0] == 1.0
+    one = []
+    svetlo.render(os.path.join(scenes, "cornell.json"), engine="whitted",
+                  progress=lambda f, spp, s: one.append(f), **SMALL)
+    assert one == [1.0]
+
+
+def test_the_gil_is_released(scenes):
+    ticks = []
+    stop = threading.Event()
+
+    def count():
+        while not stop.is_set():
+            ticks.append(1)
+            time.sleep(0.001)
+
+    t = threading.Thread(target=count)
+    t.start()
+    before = len(ticks)
+    svetlo.render(os.path.join(scenes, "cornell.json"), engine="path", spp=16, width=160,
+                  height=160, threads=1)
+    during = len(ticks) - before
+    stop.set()
+    t.join()
+    assert during > 20, during
+
+
+def test_ctrl_c_stops_the_render():
+    script = """
+import signal, sys, time, svetlo
+t0 = time.time()
+try:
+    svetlo.render(%r, engine="path", spp=100000, width=64, height=64, threads=1)
+    print("finished")
+except KeyboardInterrupt:
+    print("interrupted %%.1f" %% (time.time() - t0))
+""" % os.path.join(ROOT, "scenes", "cornell.json")
+    p = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True,
+                         env=dict(os.environ))
+    time.sleep(2.0)
+    p.send_signal(signal.SIGINT)
+    out, _ = p.communicate(timeout=30)
+    assert out.startswith("interrupted"), out
+
+
+def test_repr_png(scenes):
+    r = svetlo.render(os.path.join(scenes, "cornell.json"), engine="raster", **SMALL)
+    assert r._repr_png_()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_triangles(scenes):
+    positions, indices = svetlo.load(os.path.join(scenes, "cornell.json")).triangles()
+    assert positions.dtype == np.float32 and positions.shape[1] == 3
+    assert indices.dtype == np.uint32 and indices.shape[1] == 3 and indices.max() < len(positions)
+
+
+def test_bad_keywords_and_types_raise_type_error(scenes):
+    path = os.path.join(scenes, "cornell.json")
+    with pytest.raises(TypeError, match="spq"):
+        svetlo.render(path, spq=4)
+    with pytest.raises(TypeError, match="spp"):
+        svetlo.render(path, spp="4")
+    with pytest.raises(TypeError, match="threads"):
+        svetlo.render(path, threads=1.5)
+    with pytest.raises(TypeError, match="aovs"):
+        svetlo.render(path, aovs="depth")
+    with pytest.raises(TypeError):
+        svetlo.Scene([1, 2])
+    with pytest.raises(TypeError):
+        svetlo.render(42)
+
+
+def test_scene_errors_raise_scene_error(scenes):
+    path = os.path.join(scenes, "cornell.json")
+    assert issubclass(svetlo.SceneError, ValueError)
+    with pytest.raises(svetlo.SceneError, match="render.spp"):
+        svetlo.render(path, spp=0)
+    with pytest.raises(svetlo.SceneError, match="film.width"):
+        svetlo.render(path, width=-3)
+    with pytest.raises(svetlo.SceneError, match="render.engine"):
+        svetlo.render(path, engine="phong")
+    with pytest.raises(svetlo.SceneError, match="unknown AOV"):
+        svetlo.render(path, aovs=["depths"])
+    with pytest.raises(svetlo.SceneError, match="planar"):
+        svetlo.render(path, engine="raster", aovs=["planar"])
+    scene = svetlo.load(path)
+    with pytest.raises(svetlo.SceneError, match="camera.fov"):
+        scene["camera.fov"] = 200
+    assert scene["camera.fov"] != 200  # a refused change leaves the scene as it was
+    with pytest.raises(svetlo.SceneError, match="nan"):
+        scene["camera.fov"] = float("nan")
+    with pytest.raises(svetlo.SceneError, match="inf"):
+        svetlo.Scene({"camera": {"fov": float("inf")}})
+    with pytest.raises(svetlo.SceneError):
+        svetlo.load(os.path.join(scenes, "no_such_scene.json"))
+    with pytest.raises(svetlo.SceneError, match="--pixel"):
+        svetlo.trace(path, (4000, 0))
+    # the message is the command line's line after "svetlo: error: "
+    try:
+        svetlo.render(path, spp=0)
+    except svetlo.SceneError as e:
+        assert str(e) == path + ": render.spp: must be in [1, 1048576] (is 0)"
+
+
+def test_fuzz_corpus_never_crashes(scenes):
+    corpus = os.path.join(ROOT, "tests", "fuzz", "corpus", "scene")
+    for name in sorted(os.listdir(corpus)):
+        try:
+            with open(os.path.join(corpus, name)) as f:
+                as_dict = json.load(f)
+        except ValueError:
+            continue  # not JSON: the file parser's business
+        if not isinstance(as_dict, dict):
+            continue
+        try:
+            svetlo.render(svetlo.Scene(as_dict, base=corpus), width=16, height=12, spp=1, threads=1)
+        except svetlo.SceneError:
+            pass
