@@ -47,6 +47,7 @@ bench: build
 	    --set render.light_samples=1 -W 512 -H 512 --spp 16 --threads $(JOBS) -o $(BUILD)/bench_path.pfm
 	/usr/bin/python3 bench/radiosity/scaling.py $(SVETLO) $(JOBS)
 	/usr/bin/python3 bench/radiosity/equal_error.py $(SVETLO) 512 2048 $(JOBS)
+	PYTHONPATH=$(BUILD)/python /usr/bin/python3 bench/python_overhead.py
 	@echo "The path tracer against Cycles needs Blender: bench/cycles/convergence.py (docs/performance.md)."
 
 # Every picture of docs/ again, from fixed seeds (scripts/figures.sh; docs/techniques.md).

@@ -9,6 +9,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <chrono>
 #include <csignal>
 #include <cstring>
 
@@ -130,10 +131,16 @@ py::dict render(const std::string& text, const std::string& path, const std::str
     const int spp = reached_spp(job, result);
     if (!progress.is_none() && result.stats.passes == 0) progress(1.0, spp, result.stats.seconds);
 
+    // Each image is copied once and freed at once: the peak is the render's and one image.
     py::dict out;
     out["image"] = to_array(result.color);
+    result.color = Image();
     py::dict images;
-    for (const auto& [name, image] : result.aovs) images[py::str(name)] = to_array(image);
+    while (!result.aovs.empty()) {
+        auto first = result.aovs.begin();
+        images[py::str(first->first)] = to_array(first->second);
+        result.aovs.erase(first);
+    }
     out["aovs"] = images;
     py::dict stats;
     stats["seconds"] = result.stats.seconds;
@@ -146,6 +153,24 @@ py::dict render(const std::string& text, const std::string& path, const std::str
     out["provenance"] = make_provenance(job.run, job.scene, job.options, result.stats, spp).dump();
     out["exposure"] = job.scene.render.exposure;
     return out;
+}
+
+/// For bench/python_overhead.py: the mean wall-clock seconds of the same render as `render`
+/// (the job made from the JSON, then run), `repeats` times in C++ with no Python in the loop.
+double native_render_seconds(const std::string& text, const std::string& path,
+                             const std::string& sha256,
+                             const std::vector<std::pair<std::string, std::string>>& overrides,
+                             int threads, int repeats) {
+    py::gil_scoped_release release;
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int k = 0; k < repeats; ++k) {
+        RenderJob job = python_job(text, path, sha256, overrides, {}, threads, {});
+        RenderResult result = run_job(job);
+        (void)make_provenance(job.run, job.scene, job.options, result.stats,
+                              reached_spp(job, result));
+    }
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() /
+           std::max(repeats, 1);
 }
 
 /// svetlo trace's JSON of sample `sample` of pixel (x, y).
@@ -224,6 +249,7 @@ PYBIND11_MODULE(_svetlo, m) {
     m.def("set_key", &set_key);
     m.def("render", &render);
     m.def("trace", &trace);
+    m.def("native_render_seconds", &native_render_seconds);
     m.def("diff", &diff);
     m.def("read_image", &read_image_file);
     m.def("png", &png);

@@ -148,8 +148,9 @@ try:
 except KeyboardInterrupt:
     print("interrupted %%.1f" %% (time.time() - t0))
 """ % os.path.join(ROOT, "scenes", "cornell.json")
+    env = dict(os.environ, PYTHONPATH=os.path.dirname(os.path.dirname(svetlo.__file__)))
     p = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True,
-                         env=dict(os.environ))
+                         env=env)
     time.sleep(2.0)
     p.send_signal(signal.SIGINT)
     out, _ = p.communicate(timeout=30)
