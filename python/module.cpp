@@ -16,6 +16,7 @@
 #include "commands.h"
 #include "interrupt.h"
 #include "render_job.h"
+#include "sheet.h"
 #include "svetlo/core/error.h"
 #include "svetlo/core/image_io.h"
 #include "svetlo/core/sha256.h"
@@ -186,6 +187,28 @@ std::string trace(const std::string& text, const std::string& path, const std::s
     return trace_json(log, job.scene.render.engine).dump();
 }
 
+/// svetlo compare's --json of the techniques (SPECs) against the reference; with `html` or
+/// `png`, the sheet is written there too.
+std::string compare(const std::string& text, const std::string& path, const std::string& sha256,
+                    const std::vector<std::pair<std::string, std::string>>& overrides,
+                    const std::vector<std::string>& techniques, const std::string& reference,
+                    int threads, bool curves, const std::string& html, const std::string& png) {
+    if (techniques.empty()) throw Error(path, "techniques", "give at least one technique SPEC");
+    if (!png.empty()) check_writable(png, "png");
+    if (!html.empty()) check_creatable(html, "html");
+    nlohmann::json json = parse(text, path);
+    for (const auto& [key, value] : overrides) apply_override(json, Override{key, value}, path);
+    Sheet sheet;
+    {
+        py::gil_scoped_release release;
+        sheet =
+            compare_techniques(json, path, sha256, techniques, reference, threads, curves, true);
+    }
+    if (!html.empty()) write_text_file(html, sheet_html(sheet), "html");
+    if (!png.empty()) write_image(png, sheet_png(sheet), PixelMeaning::Radiance, 1.0f, "png");
+    return sheet_json(sheet).dump();
+}
+
 /// The four metrics of `svetlo diff` (docs/metrics.md): LDR-ꟻLIP when `ldr`.
 py::dict diff(const FloatArray& a, const FloatArray& b, bool ldr, int threads) {
     const Image test = from_array(a, "a"), reference = from_array(b, "b");
@@ -251,6 +274,7 @@ PYBIND11_MODULE(_svetlo, m) {
     m.def("trace", &trace);
     m.def("native_render_seconds", &native_render_seconds);
     m.def("diff", &diff);
+    m.def("compare", &compare);
     m.def("read_image", &read_image_file);
     m.def("png", &png);
     m.def("triangles", &triangles);

@@ -55,16 +55,15 @@ std::vector<Override> spec_overrides(const std::string& spec, const std::string&
 
 /// The job of one SPEC over the scene's JSON (already with the command's overrides). Errors
 /// name the SPEC.
-RenderJob spec_job(const nlohmann::json& base, const CompareArgs& args, const std::string& spec,
+RenderJob spec_job(const nlohmann::json& base, const std::string& file, const std::string& spec,
                    const std::string& sha256, int threads) {
     nlohmann::json json = base;
     try {
         std::vector<std::string> aovs;
-        for (const Override& o : spec_overrides(spec, args.scene, aovs))
-            apply_override(json, o, args.scene);
-        RenderJob job = make_job(std::move(json), args.scene, sha256);
+        for (const Override& o : spec_overrides(spec, file, aovs)) apply_override(json, o, file);
+        RenderJob job = make_job(std::move(json), file, sha256);
         job.options.threads = threads;
-        for (const std::string& name : aovs) request_aov(job, name, args.scene, "-T " + spec);
+        for (const std::string& name : aovs) request_aov(job, name, file, "-T " + spec);
         return job;
     } catch (const Error& e) {
         if (e.where().rfind("-T ", 0) == 0) throw;
@@ -73,6 +72,115 @@ RenderJob spec_job(const nlohmann::json& base, const CompareArgs& args, const st
 }
 
 }  // namespace
+
+Sheet compare_techniques(const nlohmann::json& base, const std::string& file,
+                         const std::string& sha256, const std::vector<std::string>& techniques,
+                         const std::string& reference_spec, int threads, bool curves, bool quiet) {
+    std::vector<RenderJob> jobs;
+    for (const std::string& spec : techniques)
+        jobs.push_back(spec_job(base, file, spec, sha256, threads));
+
+    Sheet sheet;
+    sheet.scene = file;
+    const std::string reference = reference_spec.empty() ? "path:render.spp=1024" : reference_spec;
+    sheet.reference = reference;
+    bool ldr = false;
+    const Scene& first = jobs.front().scene;
+    // The reference: an image, or a job rendered once every technique's film is checked.
+    std::optional<RenderJob> reference_job;
+    int ref_width = 0, ref_height = 0;
+    if (is_image_path(reference)) {
+        LoadedImage loaded = read_image(reference, "--reference");
+        ref_width = loaded.image.width;
+        ref_height = loaded.image.height;
+        ldr = loaded.ldr;
+        sheet.reference_image = std::move(loaded.image);
+        sheet.reference_exposure = ldr ? 1.0f : first.render.exposure;
+    } else {
+        reference_job = spec_job(base, file, reference, sha256, threads);
+        ref_width = reference_job->scene.film.width;
+        ref_height = reference_job->scene.film.height;
+    }
+    for (size_t k = 0; k < jobs.size(); ++k) {
+        const Film& film = jobs[k].scene.film;
+        if (film.width != ref_width || film.height != ref_height) {
+            char why[160];
+            std::snprintf(why, sizeof why, "its film is %d x %d; the reference's is %d x %d",
+                          film.width, film.height, ref_width, ref_height);
+            throw Error(file, "-T " + techniques[k], why);
+        }
+    }
+    if (reference_job) {
+        if (!quiet) std::fprintf(stderr, "svetlo compare: reference %s\n", reference.c_str());
+        reference_job->options.progress = !quiet && stderr_is_terminal();
+        RenderResult r = run_job(*reference_job);
+        sheet.reference_image = std::move(r.color);
+        sheet.reference_exposure = reference_job->scene.render.exposure;
+    }
+    for (size_t k = 0; k < jobs.size(); ++k) {
+        RenderJob& job = jobs[k];
+        SheetEntry e;
+        e.spec = techniques[k];
+        e.engine = job.scene.render.engine;
+        e.exposure = job.scene.render.exposure;
+        if (curves) {
+            job.options.on_pass = [&](int passes, double seconds, const Image& image) {
+                PixelMetrics m = pixel_metrics(ldr ? as_8bit_srgb(image, e.exposure) : image,
+                                               sheet.reference_image);
+                e.curve.push_back({passes, seconds, m.rmse, m.relmse});
+            };
+        }
+        if (!quiet) std::fprintf(stderr, "svetlo compare: %s\n", e.spec.c_str());
+        job.options.progress = !quiet && stderr_is_terminal();
+        RenderResult r = run_job(job);
+        e.seconds = r.stats.seconds;
+        e.image = std::move(r.color);
+        for (const std::string& name : job.options.aovs)
+            e.buffers.emplace_back(name, aov_for_display(name, r.aovs.at(name)));
+        for (const std::string& name : job.options.debug_aovs)
+            e.buffers.emplace_back(name, aov_for_display(name, r.aovs.at(name)));
+        e.metrics = compare_images(ldr ? as_8bit_srgb(e.image, e.exposure) : e.image,
+                                   sheet.reference_image, ldr, threads);
+        if (curves && e.curve.empty()) {  // one pass: one point
+            e.curve.push_back(
+                {reached_spp(job, r), e.seconds, e.metrics.pixels.rmse, e.metrics.pixels.relmse});
+        }
+        if (!quiet) {
+            std::fprintf(stderr, "  %s: mae %.5g rmse %.5g relmse %.5g flip %.5f, %.3f s\n",
+                         e.spec.c_str(), e.metrics.pixels.mae, e.metrics.pixels.rmse,
+                         e.metrics.pixels.relmse, e.metrics.flip.mean, e.seconds);
+        }
+        sheet.entries.push_back(std::move(e));
+    }
+
+    return sheet;
+}
+
+nlohmann::ordered_json sheet_json(const Sheet& sheet) {
+    // The contract's keys in its order.
+    nlohmann::ordered_json j = {{"scene", sheet.scene}, {"reference", sheet.reference}};
+    j["techniques"] = nlohmann::ordered_json::array();
+    for (const SheetEntry& e : sheet.entries) {
+        nlohmann::ordered_json t = {{"spec", e.spec},
+                                    {"engine", e.engine},
+                                    {"seconds", e.seconds},
+                                    {"mae", e.metrics.pixels.mae},
+                                    {"rmse", e.metrics.pixels.rmse},
+                                    {"relmse", e.metrics.pixels.relmse},
+                                    {"flip", e.metrics.flip.mean}};
+        for (const auto& [name, image] : e.buffers) t["aovs"].push_back(name);
+        if (!e.curve.empty()) {
+            t["curve"] = nlohmann::ordered_json::array();
+            for (const CurvePoint& p : e.curve)
+                t["curve"].push_back({{"spp", p.spp},
+                                      {"seconds", p.seconds},
+                                      {"rmse", p.rmse},
+                                      {"relmse", p.relmse}});
+        }
+        j["techniques"].push_back(t);
+    }
+    return j;
+}
 
 int run_compare(const CompareArgs& args) {
     const std::string& file = args.scene;
@@ -91,110 +199,9 @@ int run_compare(const CompareArgs& args) {
     }
     // The scene is read once; each technique applies its overrides to a copy of its JSON.
     const nlohmann::json base = effective_scene_json(file, overrides);
-    const std::string sha256 = sha256_file(file);
-    std::vector<RenderJob> jobs;
-    for (const std::string& spec : args.techniques)
-        jobs.push_back(spec_job(base, args, spec, sha256, threads));
-
-    Sheet sheet;
-    sheet.scene = file;
-    const std::string reference = args.reference.empty() ? "path:render.spp=1024" : args.reference;
-    sheet.reference = reference;
-    bool ldr = false;
-    const bool quiet = args.quiet;
-    const Scene& first = jobs.front().scene;
-    // The reference: an image, or a job rendered once every technique's film is checked.
-    std::optional<RenderJob> reference_job;
-    int ref_width = 0, ref_height = 0;
-    if (is_image_path(reference)) {
-        LoadedImage loaded = read_image(reference, "--reference");
-        ref_width = loaded.image.width;
-        ref_height = loaded.image.height;
-        ldr = loaded.ldr;
-        sheet.reference_image = std::move(loaded.image);
-        sheet.reference_exposure = ldr ? 1.0f : first.render.exposure;
-    } else {
-        reference_job = spec_job(base, args, reference, sha256, threads);
-        ref_width = reference_job->scene.film.width;
-        ref_height = reference_job->scene.film.height;
-    }
-    for (size_t k = 0; k < jobs.size(); ++k) {
-        const Film& film = jobs[k].scene.film;
-        if (film.width != ref_width || film.height != ref_height) {
-            char why[160];
-            std::snprintf(why, sizeof why, "its film is %d x %d; the reference's is %d x %d",
-                          film.width, film.height, ref_width, ref_height);
-            throw Error(file, "-T " + args.techniques[k], why);
-        }
-    }
-    if (reference_job) {
-        if (!quiet) std::fprintf(stderr, "svetlo compare: reference %s\n", reference.c_str());
-        reference_job->options.progress = !quiet && stderr_is_terminal();
-        RenderResult r = run_job(*reference_job);
-        sheet.reference_image = std::move(r.color);
-        sheet.reference_exposure = reference_job->scene.render.exposure;
-    }
-    for (size_t k = 0; k < jobs.size(); ++k) {
-        RenderJob& job = jobs[k];
-        SheetEntry e;
-        e.spec = args.techniques[k];
-        e.engine = job.scene.render.engine;
-        e.exposure = job.scene.render.exposure;
-        if (args.curves) {
-            job.options.on_pass = [&](int passes, double seconds, const Image& image) {
-                PixelMetrics m = pixel_metrics(ldr ? as_8bit_srgb(image, e.exposure) : image,
-                                               sheet.reference_image);
-                e.curve.push_back({passes, seconds, m.rmse, m.relmse});
-            };
-        }
-        if (!quiet) std::fprintf(stderr, "svetlo compare: %s\n", e.spec.c_str());
-        job.options.progress = !quiet && stderr_is_terminal();
-        RenderResult r = run_job(job);
-        e.seconds = r.stats.seconds;
-        e.image = std::move(r.color);
-        for (const std::string& name : job.options.aovs)
-            e.buffers.emplace_back(name, aov_for_display(name, r.aovs.at(name)));
-        for (const std::string& name : job.options.debug_aovs)
-            e.buffers.emplace_back(name, aov_for_display(name, r.aovs.at(name)));
-        e.metrics = compare_images(ldr ? as_8bit_srgb(e.image, e.exposure) : e.image,
-                                   sheet.reference_image, ldr, threads);
-        if (args.curves && e.curve.empty()) {  // one pass: one point
-            e.curve.push_back(
-                {reached_spp(job, r), e.seconds, e.metrics.pixels.rmse, e.metrics.pixels.relmse});
-        }
-        if (!quiet) {
-            std::fprintf(stderr, "  %s: mae %.5g rmse %.5g relmse %.5g flip %.5f, %.3f s\n",
-                         e.spec.c_str(), e.metrics.pixels.mae, e.metrics.pixels.rmse,
-                         e.metrics.pixels.relmse, e.metrics.flip.mean, e.seconds);
-        }
-        sheet.entries.push_back(std::move(e));
-    }
-
-    if (!args.json.empty()) {
-        // The contract's keys in its order.
-        nlohmann::ordered_json j = {{"scene", file}, {"reference", reference}};
-        j["techniques"] = nlohmann::ordered_json::array();
-        for (const SheetEntry& e : sheet.entries) {
-            nlohmann::ordered_json t = {{"spec", e.spec},
-                                        {"engine", e.engine},
-                                        {"seconds", e.seconds},
-                                        {"mae", e.metrics.pixels.mae},
-                                        {"rmse", e.metrics.pixels.rmse},
-                                        {"relmse", e.metrics.pixels.relmse},
-                                        {"flip", e.metrics.flip.mean}};
-            for (const auto& [name, image] : e.buffers) t["aovs"].push_back(name);
-            if (!e.curve.empty()) {
-                t["curve"] = nlohmann::ordered_json::array();
-                for (const CurvePoint& p : e.curve)
-                    t["curve"].push_back({{"spp", p.spp},
-                                          {"seconds", p.seconds},
-                                          {"rmse", p.rmse},
-                                          {"relmse", p.relmse}});
-            }
-            j["techniques"].push_back(t);
-        }
-        write_text_file(args.json, j.dump(2) + "\n", "--json");
-    }
+    const Sheet sheet = compare_techniques(base, file, sha256_file(file), args.techniques,
+                                           args.reference, threads, args.curves, args.quiet);
+    if (!args.json.empty()) write_text_file(args.json, sheet_json(sheet).dump(2) + "\n", "--json");
     if (!args.html.empty()) write_text_file(args.html, sheet_html(sheet), "-o");
     if (!args.png.empty())
         write_image(args.png, sheet_png(sheet), PixelMeaning::Radiance, 1.0f, "--png");

@@ -39,6 +39,17 @@ struct Sheet {
     std::vector<SheetEntry> entries;
 };
 
+/// compare's renders: each technique SPEC over `base` (the scene's JSON with the command's
+/// overrides, read as `file`) against the reference (a SPEC or an image; empty:
+/// path:render.spp=1024), with its metrics, and with `curves` its error after each pass.
+/// Every film is checked against the reference's before any render; errors name the SPEC.
+Sheet compare_techniques(const nlohmann::json& base, const std::string& file,
+                         const std::string& sha256, const std::vector<std::string>& techniques,
+                         const std::string& reference, int threads, bool curves, bool quiet);
+
+/// The sheet's metrics as compare --json writes them: the contract's keys in its order.
+nlohmann::ordered_json sheet_json(const Sheet& sheet);
+
 /// The HTML page: one file, nothing fetched.
 std::string sheet_html(const Sheet& sheet);
 

@@ -21,7 +21,8 @@ from . import _svetlo
 
 SceneError = _svetlo.SceneError
 
-__all__ = ["Scene", "Result", "SceneError", "load", "render", "trace", "diff", "read_image"]
+__all__ = ["Scene", "Result", "SceneError", "load", "render", "trace", "diff", "compare",
+           "read_image"]
 
 
 def _check_finite(value, where, name):
@@ -229,6 +230,24 @@ def trace(scene, pixel, *, sample=0, spp=None, engine=None, width=None, height=N
     overrides = _overrides(scene, engine, width, height, None, seed, set)
     text = _svetlo.trace(scene._text, scene._path, scene._sha256, overrides, pixel[0], pixel[1],
                          sample, spp_value, _threads(threads))
+    return json.loads(text)
+
+
+def compare(scene, techniques, *, reference=None, width=None, height=None, threads=None,
+            seed=None, set=None, curves=False, html=None, png=None):
+    """svetlo compare: each technique (a SPEC, "raster:render.shading=gouraud") against the
+    reference (a SPEC or an image file; default path:render.spp=1024). Returns the dict of
+    `compare --json`; with `html` or `png`, writes the sheet there too (docs/compare.md)."""
+    scene = _as_scene(scene)
+    if isinstance(techniques, str) or not all(isinstance(t, str) for t in techniques):
+        raise TypeError("techniques must be a list of SPECs (str)")
+    if reference is not None and not isinstance(reference, (str, os.PathLike)):
+        raise TypeError("reference must be a SPEC or an image file")
+    overrides = _overrides(scene, None, width, height, None, seed, set)
+    text = _svetlo.compare(scene._text, scene._path, scene._sha256, overrides, list(techniques),
+                           os.fspath(reference) if reference is not None else "",
+                           _threads(threads), bool(curves), os.fspath(html) if html else "",
+                           os.fspath(png) if png else "")
     return json.loads(text)
 
 

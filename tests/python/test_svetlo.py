@@ -230,3 +230,25 @@ def test_fuzz_corpus_never_crashes(scenes):
             svetlo.render(svetlo.Scene(as_dict, base=corpus), width=16, height=12, spp=1, threads=1)
         except svetlo.SceneError:
             pass
+
+
+def test_compare_is_cli_compare(svetlo_bin, scenes, tmp_path):
+    path = os.path.join(scenes, "cornell.json")
+    specs = ["raster:render.shading=gouraud", "whitted", "path:render.spp=2"]
+    args = []
+    for spec in specs:
+        args += ["-T", spec]
+    out = tmp_path / "m.json"
+    subprocess.run([svetlo_bin, "compare", path, *args, "--reference", "path:render.spp=4",
+                    "-W", "40", "-H", "32", "--json", str(out), "-q"], check=True)
+    cli = json.load(open(out))
+    ours = svetlo.compare(path, specs, reference="path:render.spp=4", html=tmp_path / "s.html",
+                          **SMALL)
+    assert list(ours) == ["scene", "reference", "techniques"]
+    assert [t["spec"] for t in ours["techniques"]] == specs
+    for a, b in zip(ours["techniques"], cli["techniques"]):
+        for metric in ("mae", "rmse", "relmse", "flip"):
+            assert a[metric] == b[metric], (a["spec"], metric)
+    assert (tmp_path / "s.html").read_text().startswith("<!DOCTYPE html>")
+    with pytest.raises(svetlo.SceneError, match="-T phong"):
+        svetlo.compare(path, ["phong"], **SMALL)
