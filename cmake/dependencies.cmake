@@ -14,6 +14,15 @@ find_path(STB_INCLUDE_DIR stb_image.h PATH_SUFFIXES stb REQUIRED)
 add_library(svetlo_stb INTERFACE)
 target_include_directories(svetlo_stb SYSTEM INTERFACE ${STB_INCLUDE_DIR})
 
+# OpenMPI is optional: `mpirun -np N build/svetlo render` (docs/distributed.md); without it
+# the program runs as one process.
+find_package(MPI COMPONENTS CXX QUIET)
+if(MPI_CXX_FOUND)
+    message(STATUS "svetlo: MPI ${MPI_CXX_VERSION} found")
+else()
+    message(STATUS "svetlo: MPI not found: one process only")
+endif()
+
 # Embree is optional: the comparison backend is built only when it is found.
 find_package(embree 3 CONFIG QUIET)
 if(embree_FOUND)

@@ -22,9 +22,10 @@ struct RenderArgs {
     std::vector<std::string> sets;  // KEY=VALUE
     std::vector<std::string> aovs;  // NAME=FILE
     bool quiet = false;
-    std::string crop;                    // X0,X1,Y0,Y1
-    std::string mse_reference, mse_log;  // --mse-reference REF --mse-log LOG.csv
-    std::vector<std::string> command;    // the whole argument list, for the provenance
+    std::string crop;                       // X0,X1,Y0,Y1
+    std::string mse_reference, mse_log;     // --mse-reference REF --mse-log LOG.csv
+    std::vector<std::string> command;       // the whole argument list, for the provenance
+    const class MpiSession* mpi = nullptr;  // the MPI job (one process when null)
 };
 
 struct InfoArgs {

@@ -4,6 +4,7 @@
 #include <new>
 
 #include "commands.h"
+#include "distributed.h"
 #include "svetlo/core/error.h"
 #include "svetlo/core/image_io.h"
 
@@ -13,6 +14,8 @@
 
 int main(int argc, char** argv) {
     using namespace svetlo;
+    // Under mpirun: the MPI job (docs/distributed.md); rank 0 alone prints errors.
+    const MpiSession mpi(argc, argv);
     CLI::App app{
         "svetlo: lighting, shading and shadows, every classical technique in one renderer"};
     app.set_version_flag("--version", std::string("svetlo ") + SVETLO_VERSION);
@@ -41,6 +44,7 @@ int main(int argc, char** argv) {
     r->add_option("--mse-log", render.mse_log,
                   "Write spp,seconds,mse,relmse after each pass to this CSV file");
     render.command.assign(argv, argv + argc);
+    render.mpi = &mpi;
 
     InfoArgs info;
     CLI::App* i = app.add_subcommand(
@@ -161,8 +165,10 @@ int main(int argc, char** argv) {
         }
         if (*b) return run_bench(bench);
     } catch (const Error& e) {
-        std::fprintf(stderr, "svetlo: error: %s: %s: %s\n", e.file().c_str(), e.where().c_str(),
-                     e.message().c_str());
+        if (mpi.rank() == 0) {
+            std::fprintf(stderr, "svetlo: error: %s: %s: %s\n", e.file().c_str(), e.where().c_str(),
+                         e.message().c_str());
+        }
         return 1;
     } catch (const std::bad_alloc&) {
         std::fprintf(stderr, "svetlo: error: %s: memory: out of memory\n",

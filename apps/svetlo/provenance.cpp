@@ -34,7 +34,7 @@ nlohmann::json make_provenance(const RunRecord& run, const Scene& scene,
         {"setup_seconds", stats.setup_seconds},
         {"crop", {crop.x0, crop.x1, crop.y0, crop.y1}},
         {"full_resolution", {scene.film.width, scene.film.height}},
-        {"processes", 1},
+        {"processes", run.processes},
         {"interrupted", run.interrupted},
     };
 }

@@ -22,6 +22,7 @@ struct RunRecord {
     nlohmann::json scene;         // the effective scene
     bool interrupted = false;     // SIGINT or SIGTERM ended it early
     std::string image = "color";  // or the AOV's name
+    int processes = 1;            // MPI ranks that rendered it (docs/distributed.md)
 };
 
 /// The provenance object of an image of `run`, rendered from `scene` with `options` (engine,

@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "commands.h"
+#include "distributed.h"
 #include "engines.h"
 #include "flags.h"
 #include "interrupt.h"
@@ -132,11 +133,22 @@ int run_render(const RenderArgs& args) {
         throw Error(args.scene, "--time",
                     "needs a progressive engine (path); " + scene.render.engine + " is not one");
     }
+    // Many processes (mpirun): every rank checks all of the above, so that bad input ends
+    // them all alike; rank 0 alone writes and speaks.
+    const int processes = args.mpi ? args.mpi->size() : 1;
+    const bool speaker = !args.mpi || args.mpi->rank() == 0;
+    if (processes > 1) {
+        if (time_budget > 0.0)
+            throw Error(args.scene, "--time", "renders on one process only (not under mpirun)");
+        if (!args.mse_log.empty())
+            throw Error(args.scene, "--mse-log", "renders on one process only (not under mpirun)");
+    }
+    job.run.processes = processes;
     RenderOptions& options = job.options;
     options.threads = threads;
     options.time_budget = time_budget;
     options.spp_caps_time = !args.spp.empty();  // the scene's spp does not cap --time
-    options.progress = !args.quiet && stderr_is_terminal();
+    options.progress = !args.quiet && stderr_is_terminal() && processes == 1;
     MseLog mse(args, job);
     if (mse.active()) {
         options.on_pass = [&](int passes, double seconds, const Image& image) {
@@ -145,7 +157,17 @@ int run_render(const RenderArgs& args) {
     }
     InterruptGuard interrupt;
     options.cancel = &interrupt.flag();
-    RenderResult result = run_job(job);
+    DistributedStats distributed;
+    RenderResult result =
+        processes > 1 ? run_job_distributed(job, *args.mpi, distributed) : run_job(job);
+    if (!speaker) return 0;
+    if (processes > 1) {
+        char detail[160];
+        std::snprintf(detail, sizeof detail, "%d processes, %d tiles (%d on rank 0), %.1f MiB sent",
+                      processes, distributed.tiles, distributed.rank0_tiles,
+                      static_cast<double>(distributed.bytes) / (1 << 20));
+        result.stats.detail = detail;
+    }
     if (mse.active() && result.stats.passes == 0)
         mse.log(reached_spp(job, result), result.stats.seconds, result.color);
     job.run.interrupted = interrupt.signal() != 0;

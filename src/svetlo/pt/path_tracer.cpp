@@ -39,16 +39,13 @@ struct FilmSums {
 RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& options) {
     using Clock = std::chrono::steady_clock;
     const int width = scene.film.width, height = scene.film.height;
-    // The pixels rendered: the crop's, at their places in the full film; a pixel's samples
-    // depend only on its place and the pass, so a crop is the full render's.
-    const Crop window = film_window(scene, options);
-    const int ww = window.width(), wh = window.height();
-    const size_t pixels = static_cast<size_t>(ww) * static_cast<size_t>(wh);
-    // The images and the accumulators, checked before they are allocated: 12 bytes a pixel
-    // per image, 24 for the colour's sums and 64 for the AOVs'.
+    // The images and the accumulators, checked before they are allocated (for the crop, or
+    // the whole film when windows are handed out): 12 bytes a pixel per image, 24 for the
+    // colour's sums and 64 for the AOVs'.
+    const Crop largest = film_window(scene, options);
     const double images = 1.0 + static_cast<double>(options.aovs.size());
-    double bytes =
-        static_cast<double>(pixels) * (12.0 * images + 24.0 + (options.aovs.empty() ? 0.0 : 64.0));
+    double bytes = static_cast<double>(largest.width()) * largest.height() *
+                   (12.0 * images + 24.0 + (options.aovs.empty() ? 0.0 : 64.0));
     if (bytes > kMaxFilmBytes) {
         throw Error(scene.path.string(), "film",
                     "the path tracer's film of " + std::to_string(width) + " x " +
@@ -56,9 +53,6 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
                         std::to_string(static_cast<long long>(bytes / (1 << 20))) +
                         " MiB (at most 4096)");
     }
-    RenderResult result;
-    const AovTargets targets = prepare_result(result, options.aovs, ww, wh);
-
     auto t0 = Clock::now();
     RtScene rt(scene, scene.render.accel, options.threads);
     WavelengthWeights wavelengths;
@@ -71,130 +65,143 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
     if (!photons->active()) photons.reset();
     auto t1 = Clock::now();
 
-    const bool budget = options.time_budget > 0.0;
-    const int max_passes =
-        budget && !options.spp_caps_time ? static_cast<int>(kMaxSpp) : scene.render.spp;
-    const bool want_visibility = targets.want[3] && !scene.lights.empty();
-    // The debug AOVs: the camera rays' cost, cast again, and the bounces of the paths.
-    const bool want_cost = wants_debug_aov(options, "bvh_cost");
-    const bool want_depth = wants_debug_aov(options, "path_depth");
-    if (want_cost) rt.check_counts_cost();
-    FilmSums sums;
-    sums.color.assign(pixels, glm::dvec3(0.0));
-    if (want_cost || want_depth) sums.debug.assign(pixels, glm::dvec4(0.0));
-    if (targets.any) {
-        sums.aov.assign(pixels, glm::dvec4(0.0));
-        sums.aov2.assign(pixels, glm::dvec4(0.0));
-    }
-    CameraRays camera(scene.camera, width, height);
-    const bool avx2 = avx2_available();  // the sampler's eight lanes: the same numbers
-    std::atomic<uint64_t> rays{0}, nonfinite{0};
-    Progress progress("path", static_cast<int64_t>(max_passes) * static_cast<int64_t>(pixels),
-                      options.progress);
-    progress.show_rate("samples");
-    if (budget) progress.set_budget(options.time_budget);
-
-    int passes = 0;
-    for (int pass = 0; pass < max_passes; ++pass) {
-        double elapsed = std::chrono::duration<double>(Clock::now() - t1).count();
-        if (pass > 0 && budget && elapsed >= options.time_budget) break;
-        if (pass > 0 && options.cancel && options.cancel->load()) break;
-        char status[48];
-        if (budget && !options.spp_caps_time) {
-            std::snprintf(status, sizeof status, "pass %d", pass + 1);
-        } else {
-            std::snprintf(status, sizeof status, "pass %d/%d", pass + 1, max_passes);
+    // The pixels rendered: a window's (the crop's, or each of options.windows), at their
+    // places in the full film; a pixel's samples depend only on its place and the pass, so a
+    // window is the full render's.
+    RenderResult all = render_windows(largest, options, [&](const Crop& window) {
+        const auto start = Clock::now();
+        const int ww = window.width(), wh = window.height();
+        const size_t pixels = static_cast<size_t>(ww) * static_cast<size_t>(wh);
+        RenderResult result;
+        const AovTargets targets = prepare_result(result, options.aovs, ww, wh);
+        const bool budget = options.time_budget > 0.0;
+        const int max_passes =
+            budget && !options.spp_caps_time ? static_cast<int>(kMaxSpp) : scene.render.spp;
+        const bool want_visibility = targets.want[3] && !scene.lights.empty();
+        // The debug AOVs: the camera rays' cost, cast again, and the bounces of the paths.
+        const bool want_cost = wants_debug_aov(options, "bvh_cost");
+        const bool want_depth = wants_debug_aov(options, "path_depth");
+        if (want_cost) rt.check_counts_cost();
+        FilmSums sums;
+        sums.color.assign(pixels, glm::dvec3(0.0));
+        if (want_cost || want_depth) sums.debug.assign(pixels, glm::dvec4(0.0));
+        if (targets.any) {
+            sums.aov.assign(pixels, glm::dvec4(0.0));
+            sums.aov2.assign(pixels, glm::dvec4(0.0));
         }
-        progress.set_status(status);
-        if (photons) photons->build(pass, options.threads);
-        parallel_tiles(
-            ww, wh, options.threads,
-            [&](const Tile& tile) {
-                PathIntegrator integrator(rt, selection, wavelengths, photons.get());
-                uint64_t dropped = 0;
-                for (int j = window.y0 + tile.y0; j < window.y0 + tile.y1; ++j) {
-                    for (int i = window.x0 + tile.x0; i < window.x0 + tile.x1; ++i) {
-                        const size_t pixel = static_cast<size_t>(j) * width + i;
-                        const size_t slot =
-                            static_cast<size_t>(j - window.y0) * ww + (i - window.x0);
-                        SobolSampler sampler(scene.render.seed, pixel, static_cast<uint32_t>(pass),
-                                             avx2);
-                        // The visibility AOV's own stream, made only when it is asked for.
-                        std::optional<Rng> aov_rng;
-                        if (want_visibility)
-                            aov_rng = sample_rng(scene.render.seed ^ 0xa0a0a0a0ULL, pass, pixel);
-                        vec2 jitter = sampler.next_2d();
-                        float x = (static_cast<float>(i) + jitter.x) / width;
-                        float y = (static_cast<float>(j) + jitter.y) / height;
-                        AovSample aov;
-                        Ray ray = camera.thin_lens() ? camera.generate(x, y, sampler.next_2d())
-                                                     : camera.generate(x, y);
-                        if (want_cost)
-                            sums.debug[slot] +=
-                                glm::dvec4(glm::dvec3(rt.camera_ray_cost(ray)), 0.0);
-                        PixelTrace* log = options.trace;
-                        integrator.log =
-                            log && log->at(i, j) && log->sample == pass ? log : nullptr;
-                        Color c = integrator.radiance(ray, sampler, targets.any ? &aov : nullptr,
-                                                      aov_rng ? &*aov_rng : nullptr);
-                        if (integrator.log) record_total(*integrator.log, c, is_finite(c));
-                        integrator.log = nullptr;
-                        if (want_depth) sums.debug[slot].w += integrator.bounces;
-                        // A sample that is not finite never reaches the pixel: it counts as
-                        // black, and is reported.
-                        if (!is_finite(c)) {
-                            ++dropped;
-                            continue;
-                        }
-                        sums.color[slot] += glm::dvec3(c);
-                        if (targets.any && is_finite(aov.normal) && is_finite(aov.albedo)) {
-                            sums.aov[slot] += glm::dvec4(aov.depth, aov.normal);
-                            sums.aov2[slot] += glm::dvec4(aov.albedo, aov.visibility);
+        CameraRays camera(scene.camera, width, height);
+        const bool avx2 = avx2_available();  // the sampler's eight lanes: the same numbers
+        std::atomic<uint64_t> rays{0}, nonfinite{0};
+        Progress progress("path", static_cast<int64_t>(max_passes) * static_cast<int64_t>(pixels),
+                          options.progress);
+        progress.show_rate("samples");
+        if (budget) progress.set_budget(options.time_budget);
+
+        int passes = 0;
+        for (int pass = 0; pass < max_passes; ++pass) {
+            double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
+            if (pass > 0 && budget && elapsed >= options.time_budget) break;
+            if (pass > 0 && options.cancel && options.cancel->load()) break;
+            char status[48];
+            if (budget && !options.spp_caps_time) {
+                std::snprintf(status, sizeof status, "pass %d", pass + 1);
+            } else {
+                std::snprintf(status, sizeof status, "pass %d/%d", pass + 1, max_passes);
+            }
+            progress.set_status(status);
+            if (photons) photons->build(pass, options.threads);
+            parallel_tiles(
+                ww, wh, options.threads,
+                [&](const Tile& tile) {
+                    PathIntegrator integrator(rt, selection, wavelengths, photons.get());
+                    uint64_t dropped = 0;
+                    for (int j = window.y0 + tile.y0; j < window.y0 + tile.y1; ++j) {
+                        for (int i = window.x0 + tile.x0; i < window.x0 + tile.x1; ++i) {
+                            const size_t pixel = static_cast<size_t>(j) * width + i;
+                            const size_t slot =
+                                static_cast<size_t>(j - window.y0) * ww + (i - window.x0);
+                            SobolSampler sampler(scene.render.seed, pixel,
+                                                 static_cast<uint32_t>(pass), avx2);
+                            // The visibility AOV's own stream, made only when it is asked for.
+                            std::optional<Rng> aov_rng;
+                            if (want_visibility)
+                                aov_rng =
+                                    sample_rng(scene.render.seed ^ 0xa0a0a0a0ULL, pass, pixel);
+                            vec2 jitter = sampler.next_2d();
+                            float x = (static_cast<float>(i) + jitter.x) / width;
+                            float y = (static_cast<float>(j) + jitter.y) / height;
+                            AovSample aov;
+                            Ray ray = camera.thin_lens() ? camera.generate(x, y, sampler.next_2d())
+                                                         : camera.generate(x, y);
+                            if (want_cost)
+                                sums.debug[slot] +=
+                                    glm::dvec4(glm::dvec3(rt.camera_ray_cost(ray)), 0.0);
+                            PixelTrace* log = options.trace;
+                            integrator.log =
+                                log && log->at(i, j) && log->sample == pass ? log : nullptr;
+                            Color c =
+                                integrator.radiance(ray, sampler, targets.any ? &aov : nullptr,
+                                                    aov_rng ? &*aov_rng : nullptr);
+                            if (integrator.log) record_total(*integrator.log, c, is_finite(c));
+                            integrator.log = nullptr;
+                            if (want_depth) sums.debug[slot].w += integrator.bounces;
+                            // A sample that is not finite never reaches the pixel: it counts as
+                            // black, and is reported.
+                            if (!is_finite(c)) {
+                                ++dropped;
+                                continue;
+                            }
+                            sums.color[slot] += glm::dvec3(c);
+                            if (targets.any && is_finite(aov.normal) && is_finite(aov.albedo)) {
+                                sums.aov[slot] += glm::dvec4(aov.depth, aov.normal);
+                                sums.aov2[slot] += glm::dvec4(aov.albedo, aov.visibility);
+                            }
                         }
                     }
-                }
-                rays += integrator.rays;
-                nonfinite += dropped;
-            },
-            [&](int n) { progress.advance(n); });
-        ++passes;
-        if (options.on_pass) {
-            Image image(ww, wh);
-            for (size_t slot = 0; slot < pixels; ++slot)
-                image.pixels[slot] = Color(sums.color[slot] * (1.0 / passes));  // as below
-            options.on_pass(passes, std::chrono::duration<double>(Clock::now() - t1).count(),
-                            image);
+                    rays += integrator.rays;
+                    nonfinite += dropped;
+                },
+                [&](int n) { progress.advance(n); });
+            ++passes;
+            if (options.on_pass) {
+                Image image(ww, wh);
+                for (size_t slot = 0; slot < pixels; ++slot)
+                    image.pixels[slot] = Color(sums.color[slot] * (1.0 / passes));  // as below
+                options.on_pass(passes, std::chrono::duration<double>(Clock::now() - start).count(),
+                                image);
+            }
         }
-    }
-    progress.finish();
+        progress.finish();
 
-    const double inv = 1.0 / passes;
-    if (want_cost || want_depth) {
-        Image cost(ww, wh), depth(ww, wh);
-        for (size_t pixel = 0; pixel < pixels; ++pixel) {
-            const glm::dvec4 d = sums.debug[pixel] * inv;
-            cost.pixels[pixel] = Color(d.x, d.y, d.z);
-            depth.pixels[pixel] = Color(static_cast<float>(d.w));
+        const double inv = 1.0 / passes;
+        if (want_cost || want_depth) {
+            Image cost(ww, wh), depth(ww, wh);
+            for (size_t pixel = 0; pixel < pixels; ++pixel) {
+                const glm::dvec4 d = sums.debug[pixel] * inv;
+                cost.pixels[pixel] = Color(d.x, d.y, d.z);
+                depth.pixels[pixel] = Color(static_cast<float>(d.w));
+            }
+            if (want_cost) result.aovs["bvh_cost"] = std::move(cost);
+            if (want_depth) result.aovs["path_depth"] = std::move(depth);
         }
-        if (want_cost) result.aovs["bvh_cost"] = std::move(cost);
-        if (want_depth) result.aovs["path_depth"] = std::move(depth);
-    }
-    for (size_t pixel = 0; pixel < pixels; ++pixel) {
-        const int i = static_cast<int>(pixel % ww), j = static_cast<int>(pixel / ww);
-        result.color.at(i, j) = Color(sums.color[pixel] * inv);
-        if (!targets.any) continue;
-        glm::dvec4 a = sums.aov[pixel] * inv, b = sums.aov2[pixel] * inv;
-        if (targets.want[0]) targets.image[0]->at(i, j) = Color(static_cast<float>(a.x));
-        if (targets.want[1]) targets.image[1]->at(i, j) = Color(a.y, a.z, a.w);
-        if (targets.want[2]) targets.image[2]->at(i, j) = Color(b.x, b.y, b.z);
-        if (targets.want[3]) targets.image[3]->at(i, j) = Color(static_cast<float>(b.w));
-    }
-    result.stats.setup_seconds = std::chrono::duration<double>(t1 - t0).count();
-    result.stats.seconds = std::chrono::duration<double>(Clock::now() - t1).count();
-    result.stats.rays = rays.load() + (photons ? photons->rays() : 0);
-    result.stats.nonfinite = nonfinite.load();
-    result.stats.passes = passes;
-    return result;
+        for (size_t pixel = 0; pixel < pixels; ++pixel) {
+            const int i = static_cast<int>(pixel % ww), j = static_cast<int>(pixel / ww);
+            result.color.at(i, j) = Color(sums.color[pixel] * inv);
+            if (!targets.any) continue;
+            glm::dvec4 a = sums.aov[pixel] * inv, b = sums.aov2[pixel] * inv;
+            if (targets.want[0]) targets.image[0]->at(i, j) = Color(static_cast<float>(a.x));
+            if (targets.want[1]) targets.image[1]->at(i, j) = Color(a.y, a.z, a.w);
+            if (targets.want[2]) targets.image[2]->at(i, j) = Color(b.x, b.y, b.z);
+            if (targets.want[3]) targets.image[3]->at(i, j) = Color(static_cast<float>(b.w));
+        }
+        result.stats.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+        result.stats.rays = rays.load() + (photons ? photons->rays() : 0);
+        result.stats.nonfinite = nonfinite.load();
+        result.stats.passes = passes;
+        return result;
+    });
+    all.stats.setup_seconds = std::chrono::duration<double>(t1 - t0).count();
+    return all;
 }
 
 }  // namespace svetlo

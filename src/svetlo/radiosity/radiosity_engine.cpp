@@ -155,134 +155,148 @@ RenderResult RadiosityRenderer::render(const Scene& scene, const RenderOptions& 
     // The display: spp item-buffer passes of the scene's triangles, each jittered within the
     // pixel, and per sample L = L_e + rho / pi E from the field.
     const int width = scene.film.width, height = scene.film.height;
-    // A crop: the item buffer is drawn whole, the display gathers only the window's pixels.
-    const Crop window = film_window(scene, options);
-    RenderResult result;
-    const AovTargets targets = prepare_result(result, options.aovs, width, height);
-    const bool gather = settings.display == RadiosityDisplay::Gather;
-    const bool patches_aov = wants_debug_aov(options, "patches");
-    Image patches_image;
-    if (patches_aov) patches_image = Image(width, height);
-    const int spp = scene.render.spp;
-    std::vector<glm::dvec3> sums(static_cast<size_t>(width) * height, glm::dvec3(0.0));
-    std::vector<glm::vec4> aov_sums(targets.any ? sums.size() * 2 : 0, glm::vec4(0.0f));
-    const CameraMatrices camera = frame_camera(scene, mesh.list);
-    const CameraRays camera_rays(scene.camera, width, height);
-    RenderTargets buffers;
-    PassMemory memory;
+    // A window (the crop, or each of options.windows): the item buffer is drawn whole, the
+    // display gathers only the window's pixels.
     std::atomic<uint64_t> display_rays{0}, nonfinite{0};
-    const float inv_pi = 1.0f / kPi;
-    // A pixel's size at unit distance (perspective) or its size (orthographic), scene units.
-    const float pixel_footprint =
-        scene.camera.type == Camera::Type::Perspective
-            ? 2.0f * std::tan(0.5f * radians(scene.camera.fov_deg)) / static_cast<float>(height)
-            : scene.camera.height / static_cast<float>(height);
-    for (int s = 0; s < spp; ++s) {
-        const vec2 jitter = pass_jitter(s, spp, seed);
-        buffers.clear(width, height, 1, false, true);
-        PipelineState state;
-        draw_pass(mesh.list, jittered_camera(camera, jitter), state, buffers, threads, 0, &memory);
-        parallel_tiles(width, height, threads, [&](const Tile& tile) {
-            uint64_t local_rays = 0, local_nonfinite = 0;
-            for (int j = tile.y0; j < tile.y1; ++j) {
-                for (int i = tile.x0; i < tile.x1; ++i) {
-                    if (i < window.x0 || i >= window.x1 || j < window.y0 || j >= window.y1)
-                        continue;
-                    const size_t pixel = static_cast<size_t>(j) * width + i;
-                    const uint32_t t = buffers.primitive[buffers.index(i, j)];
-                    if (t == RenderTargets::kNoPrimitive) {
-                        if (PixelTrace* log = options.trace;
-                            log && log->at(i, j) && log->sample == s) {
-                            log_background_sample(*log, camera_rays, i, j, jitter, scene);
+    RenderResult out =
+        render_windows(film_window(scene, options), options, [&](const Crop& window) {
+            RenderResult result;
+            const AovTargets targets = prepare_result(result, options.aovs, width, height);
+            const bool gather = settings.display == RadiosityDisplay::Gather;
+            const bool patches_aov = wants_debug_aov(options, "patches");
+            Image patches_image;
+            if (patches_aov) patches_image = Image(width, height);
+            const int spp = scene.render.spp;
+            std::vector<glm::dvec3> sums(static_cast<size_t>(width) * height, glm::dvec3(0.0));
+            std::vector<glm::vec4> aov_sums(targets.any ? sums.size() * 2 : 0, glm::vec4(0.0f));
+            const CameraMatrices camera = frame_camera(scene, mesh.list);
+            const CameraRays camera_rays(scene.camera, width, height);
+            RenderTargets buffers;
+            PassMemory memory;
+            const float inv_pi = 1.0f / kPi;
+            // A pixel's size at unit distance (perspective) or its size (orthographic), scene
+            // units.
+            const float pixel_footprint = scene.camera.type == Camera::Type::Perspective
+                                              ? 2.0f *
+                                                    std::tan(0.5f * radians(scene.camera.fov_deg)) /
+                                                    static_cast<float>(height)
+                                              : scene.camera.height / static_cast<float>(height);
+            for (int s = 0; s < spp; ++s) {
+                const vec2 jitter = pass_jitter(s, spp, seed);
+                buffers.clear(width, height, 1, false, true);
+                PipelineState state;
+                draw_pass(mesh.list, jittered_camera(camera, jitter), state, buffers, threads, 0,
+                          &memory);
+                parallel_tiles(width, height, threads, [&](const Tile& tile) {
+                    uint64_t local_rays = 0, local_nonfinite = 0;
+                    for (int j = tile.y0; j < tile.y1; ++j) {
+                        for (int i = tile.x0; i < tile.x1; ++i) {
+                            if (i < window.x0 || i >= window.x1 || j < window.y0 || j >= window.y1)
+                                continue;
+                            const size_t pixel = static_cast<size_t>(j) * width + i;
+                            const uint32_t t = buffers.primitive[buffers.index(i, j)];
+                            if (t == RenderTargets::kNoPrimitive) {
+                                if (PixelTrace* log = options.trace;
+                                    log && log->at(i, j) && log->sample == s) {
+                                    log_background_sample(*log, camera_rays, i, j, jitter, scene);
+                                }
+                                sums[pixel] += glm::dvec3(scene.render.background);
+                                if (targets.any) aov_sums[2 * pixel + 1].w += 1.0f;  // visibility 1
+                                continue;
+                            }
+                            Ray ray =
+                                camera_rays.generate((static_cast<float>(i) + jitter.x) / width,
+                                                     (static_cast<float>(j) + jitter.y) / height);
+                            const DisplaySample at =
+                                sample_on_triangle(mesh.list, t, tree.normal(t), ray);
+                            const vec3 x = at.x, n = at.n;
+                            const vec2 b = at.b;
+                            const int side = at.side;
+                            Bsdf bsdf = make_bsdf(mesh.lights.materials()[mesh.list.material[t]],
+                                                  at.uv, scene.textures);
+                            const bool emissive = bsdf.model == Bsdf::Model::Emissive;
+                            const Color rho = radiosity_reflectance(bsdf);
+                            const Color emitted =
+                                emissive && side == 0 ? bsdf.emission : Color(0.0f);
+                            IrradianceField::Value E = field.at(t, b, side);
+                            Rng rng = pixel_rng(mix64(seed + static_cast<uint64_t>(s)), pixel);
+                            Color irradiance = E.total;  // W/m^2, the ambient term's aside
+                            if (gather) {
+                                // Every light and emitter, and the background: what the solution
+                                // counted as direct.
+                                Color direct =
+                                    light_irradiance(mesh.lights, *mesh.accel, x, n,
+                                                     LightSources::All, scene.render.light_samples,
+                                                     rng, local_rays) +
+                                    sky_irradiance(*mesh.accel, scene.render.background, x, n,
+                                                   kSkyRays, rng);
+                                irradiance = E.indirect + direct;
+                            }
+                            Color L = emitted + rho * inv_pi * (irradiance + sol.ambient);
+                            glm::vec4 aov[2]{glm::vec4(0.0f), glm::vec4(0.0f)};
+                            if (targets.any) {
+                                float vis = targets.want[3]
+                                                ? light0_visibility(mesh.lights, *mesh.accel, x, n,
+                                                                    scene.render.light_samples, rng,
+                                                                    local_rays)
+                                                : 1.0f;
+                                aov[0] = glm::vec4(at.distance, n);
+                                aov[1] = glm::vec4(albedo_of(bsdf), vis);
+                            }
+                            const bool finite =
+                                is_finite(L) && is_finite(aov[0]) && is_finite(aov[1]);
+                            if (PixelTrace* log = options.trace;
+                                log && log->at(i, j) && log->sample == s) {
+                                log_display_sample(*log, scene, tree, ray, at, t,
+                                                   mesh.list.material[t], settings.patch_size,
+                                                   emitted, irradiance, sol.ambient, rho, L);
+                                record_total(*log, L, finite);
+                            }
+                            // A sample that is not finite is dropped (black) and counted, as in
+                            // every engine.
+                            if (!finite) {
+                                ++local_nonfinite;
+                                continue;
+                            }
+                            sums[pixel] += glm::dvec3(L);
+                            if (targets.any) {
+                                aov_sums[2 * pixel] += aov[0];
+                                aov_sums[2 * pixel + 1] += aov[1];
+                            }
+                            if (patches_aov && s == 0) {
+                                // Lines about a pixel wide: the pixel's footprint at the point.
+                                const float footprint =
+                                    scene.camera.type == Camera::Type::Perspective
+                                        ? pixel_footprint * at.distance
+                                        : pixel_footprint;
+                                patches_image.at(i, j) = patches_view(
+                                    tree, t, b, side, sol.E, rho, settings.patch_size, footprint);
+                            }
                         }
-                        sums[pixel] += glm::dvec3(scene.render.background);
-                        if (targets.any) aov_sums[2 * pixel + 1].w += 1.0f;  // visibility 1
-                        continue;
                     }
-                    Ray ray = camera_rays.generate((static_cast<float>(i) + jitter.x) / width,
-                                                   (static_cast<float>(j) + jitter.y) / height);
-                    const DisplaySample at = sample_on_triangle(mesh.list, t, tree.normal(t), ray);
-                    const vec3 x = at.x, n = at.n;
-                    const vec2 b = at.b;
-                    const int side = at.side;
-                    Bsdf bsdf = make_bsdf(mesh.lights.materials()[mesh.list.material[t]], at.uv,
-                                          scene.textures);
-                    const bool emissive = bsdf.model == Bsdf::Model::Emissive;
-                    const Color rho = radiosity_reflectance(bsdf);
-                    const Color emitted = emissive && side == 0 ? bsdf.emission : Color(0.0f);
-                    IrradianceField::Value E = field.at(t, b, side);
-                    Rng rng = pixel_rng(mix64(seed + static_cast<uint64_t>(s)), pixel);
-                    Color irradiance = E.total;  // W/m^2, the ambient term's aside
-                    if (gather) {
-                        // Every light and emitter, and the background: what the solution
-                        // counted as direct.
-                        Color direct =
-                            light_irradiance(mesh.lights, *mesh.accel, x, n, LightSources::All,
-                                             scene.render.light_samples, rng, local_rays) +
-                            sky_irradiance(*mesh.accel, scene.render.background, x, n, kSkyRays,
-                                           rng);
-                        irradiance = E.indirect + direct;
-                    }
-                    Color L = emitted + rho * inv_pi * (irradiance + sol.ambient);
-                    glm::vec4 aov[2]{glm::vec4(0.0f), glm::vec4(0.0f)};
-                    if (targets.any) {
-                        float vis =
-                            targets.want[3]
-                                ? light0_visibility(mesh.lights, *mesh.accel, x, n,
-                                                    scene.render.light_samples, rng, local_rays)
-                                : 1.0f;
-                        aov[0] = glm::vec4(at.distance, n);
-                        aov[1] = glm::vec4(albedo_of(bsdf), vis);
-                    }
-                    const bool finite = is_finite(L) && is_finite(aov[0]) && is_finite(aov[1]);
-                    if (PixelTrace* log = options.trace; log && log->at(i, j) && log->sample == s) {
-                        log_display_sample(*log, scene, tree, ray, at, t, mesh.list.material[t],
-                                           settings.patch_size, emitted, irradiance, sol.ambient,
-                                           rho, L);
-                        record_total(*log, L, finite);
-                    }
-                    // A sample that is not finite is dropped (black) and counted, as in every
-                    // engine.
-                    if (!finite) {
-                        ++local_nonfinite;
-                        continue;
-                    }
-                    sums[pixel] += glm::dvec3(L);
-                    if (targets.any) {
-                        aov_sums[2 * pixel] += aov[0];
-                        aov_sums[2 * pixel + 1] += aov[1];
-                    }
-                    if (patches_aov && s == 0) {
-                        // Lines about a pixel wide: the pixel's footprint at the point.
-                        const float footprint = scene.camera.type == Camera::Type::Perspective
-                                                    ? pixel_footprint * at.distance
-                                                    : pixel_footprint;
-                        patches_image.at(i, j) = patches_view(tree, t, b, side, sol.E, rho,
-                                                              settings.patch_size, footprint);
-                    }
+                    display_rays += local_rays;
+                    nonfinite += local_nonfinite;
+                });
+            }
+            const float inv = 1.0f / static_cast<float>(spp);
+            for (int j = 0; j < height; ++j) {
+                for (int i = 0; i < width; ++i) {
+                    const size_t pixel = static_cast<size_t>(j) * width + i;
+                    Color c(sums[pixel] * static_cast<double>(inv));
+                    result.color.at(i, j) = c;
+                    if (!targets.any) continue;
+                    glm::vec4 a = aov_sums[2 * pixel] * inv, b = aov_sums[2 * pixel + 1] * inv;
+                    if (targets.want[0]) targets.image[0]->at(i, j) = Color(a.x);
+                    if (targets.want[1]) targets.image[1]->at(i, j) = Color(a.y, a.z, a.w);
+                    if (targets.want[2]) targets.image[2]->at(i, j) = Color(b.x, b.y, b.z);
+                    if (targets.want[3]) targets.image[3]->at(i, j) = Color(b.w);
                 }
             }
-            display_rays += local_rays;
-            nonfinite += local_nonfinite;
+            if (patches_aov) result.aovs["patches"] = std::move(patches_image);
+            cut_to_window(result, window, width, height);
+            return result;
         });
-    }
-    const float inv = 1.0f / static_cast<float>(spp);
-    for (int j = 0; j < height; ++j) {
-        for (int i = 0; i < width; ++i) {
-            const size_t pixel = static_cast<size_t>(j) * width + i;
-            Color c(sums[pixel] * static_cast<double>(inv));
-            result.color.at(i, j) = c;
-            if (!targets.any) continue;
-            glm::vec4 a = aov_sums[2 * pixel] * inv, b = aov_sums[2 * pixel + 1] * inv;
-            if (targets.want[0]) targets.image[0]->at(i, j) = Color(a.x);
-            if (targets.want[1]) targets.image[1]->at(i, j) = Color(a.y, a.z, a.w);
-            if (targets.want[2]) targets.image[2]->at(i, j) = Color(b.x, b.y, b.z);
-            if (targets.want[3]) targets.image[3]->at(i, j) = Color(b.w);
-        }
-    }
-    if (patches_aov) result.aovs["patches"] = std::move(patches_image);
-    cut_to_window(result, window, width, height);
-
+    RenderResult& result = out;
     const auto t2 = Clock::now();
     result.stats.setup_seconds = std::chrono::duration<double>(t1 - t0).count();
     result.stats.seconds = std::chrono::duration<double>(t2 - t1).count();

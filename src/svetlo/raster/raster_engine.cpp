@@ -215,6 +215,21 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                     "path engine");
     }
     if (options.trace) return trace_raster_pixel(*this, scene, options);
+    if (options.windows) {  // the frame is drawn once, and each window cut from it
+        RenderOptions whole = options;
+        whole.windows = nullptr;
+        whole.crop.reset();
+        const RenderResult frame = render(scene, whole);
+        Crop window;
+        while (options.windows->next(window)) {
+            RenderResult part = frame;
+            cut_to_window(part, window, scene.film.width, scene.film.height);
+            options.windows->done(window, std::move(part));
+        }
+        RenderResult total;
+        total.stats = frame.stats;
+        return total;
+    }
     using Clock = std::chrono::steady_clock;
     auto t0 = Clock::now();
     const int width = scene.film.width, height = scene.film.height, spp = scene.render.spp;

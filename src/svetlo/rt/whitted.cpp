@@ -181,92 +181,100 @@ RenderResult WhittedRenderer::render(const Scene& scene, const RenderOptions& op
     auto t1 = Clock::now();
 
     const int width = scene.film.width, height = scene.film.height, spp = scene.render.spp;
-    // The pixels rendered: the crop's, at their places in the full film (result pixel (i - x0,
-    // j - y0)); a pixel's samples depend only on its place, so a crop is the full render's.
-    const Crop window = film_window(scene, options);
-    RenderResult result;
-    // Looked up once: the tiles write through these concurrently.
-    const AovTargets targets =
-        prepare_result(result, options.aovs, window.width(), window.height());
-    bool want_visibility = targets.want[3] && !scene.lights.empty();
-    // The debug AOV: the camera rays' cost, cast again (the image does not change).
-    const bool want_cost = wants_debug_aov(options, "bvh_cost");
-    if (want_cost) {
-        rt.check_counts_cost();
-        result.aovs["bvh_cost"] = Image(window.width(), window.height());
-    }
-    Image* cost_image = want_cost ? &result.aovs["bvh_cost"] : nullptr;
+    if (wants_debug_aov(options, "bvh_cost")) rt.check_counts_cost();
     CameraRays camera(scene.camera, width, height);
-    std::atomic<uint64_t> rays{0}, nonfinite{0};
-    Progress progress("whitted", static_cast<int64_t>(window.width()) * window.height(),
-                      options.progress);
+    // The pixels rendered: a window's (the crop's, or each of options.windows), at their
+    // places in the full film (result pixel (i - x0, j - y0)); a pixel's samples depend only
+    // on its place, so a window is the full render's.
+    RenderResult all =
+        render_windows(film_window(scene, options), options, [&](const Crop& window) {
+            const auto start = Clock::now();
+            RenderResult result;
+            // Looked up once: the tiles write through these concurrently.
+            const AovTargets targets =
+                prepare_result(result, options.aovs, window.width(), window.height());
+            bool want_visibility = targets.want[3] && !scene.lights.empty();
+            // The debug AOV: the camera rays' cost, cast again (the image does not change).
+            const bool want_cost = wants_debug_aov(options, "bvh_cost");
+            if (want_cost) result.aovs["bvh_cost"] = Image(window.width(), window.height());
+            Image* cost_image = want_cost ? &result.aovs["bvh_cost"] : nullptr;
+            std::atomic<uint64_t> rays{0}, nonfinite{0};
+            Progress progress("whitted", static_cast<int64_t>(window.width()) * window.height(),
+                              options.progress);
 
-    parallel_tiles(
-        window.width(), window.height(), options.threads,
-        [&](const Tile& tile) {
-            Tracer tracer(rt, want_visibility);
-            for (int j = window.y0 + tile.y0; j < window.y0 + tile.y1; ++j) {
-                for (int i = window.x0 + tile.x0; i < window.x0 + tile.x1; ++i) {
-                    uint64_t pixel = static_cast<uint64_t>(j) * width + i;
-                    Rng rng = pixel_rng(scene.render.seed, pixel);
-                    Rng aov_rng = pixel_rng(scene.render.seed ^ 0xa0a0a0a0ULL, pixel);
-                    tracer.aov_rng = &aov_rng;
-                    glm::dvec3 sum(0.0);
-                    AovSample aov_sum{0.0f, vec3(0.0f), Color(0.0f), 0.0f};
-                    Color cost(0.0f);
-                    for (int s = 0; s < spp; ++s) {
-                        vec2 offset = spp == 1
-                                          ? vec2(0.5f)
-                                          : stratified_sample(
-                                                s, spp, vec2(rng.next_float(), rng.next_float()));
-                        const float x = (static_cast<float>(i) + offset.x) / width;
-                        const float y = (static_cast<float>(j) + offset.y) / height;
-                        Ray ray = camera.thin_lens() ? camera.generate(x, y, rng.next_2d())
-                                                     : camera.generate(x, y);
-                        if (cost_image) cost += rt.camera_ray_cost(ray);
-                        AovSample aov;
-                        PixelTrace* log = options.trace;
-                        tracer.log = log && log->at(i, j) && log->sample == s ? log : nullptr;
-                        Color c = tracer.trace(ray, 0, 1.0f, rng, targets.any ? &aov : nullptr);
-                        // A sample that is not finite never reaches the pixel: it is dropped
-                        // (black) and counted.
-                        const bool finite = is_finite(c) && is_finite(aov.normal) &&
-                                            is_finite(aov.albedo) && std::isfinite(aov.depth);
-                        if (tracer.log) record_total(*tracer.log, c, finite);
-                        tracer.log = nullptr;
-                        if (!finite) {
-                            ++tracer.nonfinite;
-                            continue;
-                        }
-                        sum += glm::dvec3(c);
-                        if (targets.any) {
-                            aov_sum.depth += aov.depth;
-                            aov_sum.normal += aov.normal;
-                            aov_sum.albedo += aov.albedo;
-                            aov_sum.visibility += aov.visibility;
+            parallel_tiles(
+                window.width(), window.height(), options.threads,
+                [&](const Tile& tile) {
+                    Tracer tracer(rt, want_visibility);
+                    for (int j = window.y0 + tile.y0; j < window.y0 + tile.y1; ++j) {
+                        for (int i = window.x0 + tile.x0; i < window.x0 + tile.x1; ++i) {
+                            uint64_t pixel = static_cast<uint64_t>(j) * width + i;
+                            Rng rng = pixel_rng(scene.render.seed, pixel);
+                            Rng aov_rng = pixel_rng(scene.render.seed ^ 0xa0a0a0a0ULL, pixel);
+                            tracer.aov_rng = &aov_rng;
+                            glm::dvec3 sum(0.0);
+                            AovSample aov_sum{0.0f, vec3(0.0f), Color(0.0f), 0.0f};
+                            Color cost(0.0f);
+                            for (int s = 0; s < spp; ++s) {
+                                vec2 offset =
+                                    spp == 1
+                                        ? vec2(0.5f)
+                                        : stratified_sample(
+                                              s, spp, vec2(rng.next_float(), rng.next_float()));
+                                const float x = (static_cast<float>(i) + offset.x) / width;
+                                const float y = (static_cast<float>(j) + offset.y) / height;
+                                Ray ray = camera.thin_lens() ? camera.generate(x, y, rng.next_2d())
+                                                             : camera.generate(x, y);
+                                if (cost_image) cost += rt.camera_ray_cost(ray);
+                                AovSample aov;
+                                PixelTrace* log = options.trace;
+                                tracer.log =
+                                    log && log->at(i, j) && log->sample == s ? log : nullptr;
+                                Color c =
+                                    tracer.trace(ray, 0, 1.0f, rng, targets.any ? &aov : nullptr);
+                                // A sample that is not finite never reaches the pixel: it is
+                                // dropped (black) and counted.
+                                const bool finite = is_finite(c) && is_finite(aov.normal) &&
+                                                    is_finite(aov.albedo) &&
+                                                    std::isfinite(aov.depth);
+                                if (tracer.log) record_total(*tracer.log, c, finite);
+                                tracer.log = nullptr;
+                                if (!finite) {
+                                    ++tracer.nonfinite;
+                                    continue;
+                                }
+                                sum += glm::dvec3(c);
+                                if (targets.any) {
+                                    aov_sum.depth += aov.depth;
+                                    aov_sum.normal += aov.normal;
+                                    aov_sum.albedo += aov.albedo;
+                                    aov_sum.visibility += aov.visibility;
+                                }
+                            }
+                            float inv = 1.0f / static_cast<float>(spp);
+                            const int x = i - window.x0, y = j - window.y0;
+                            result.color.at(x, y) = Color(sum / static_cast<double>(spp));
+                            if (targets.want[0])
+                                targets.image[0]->at(x, y) = Color(aov_sum.depth * inv);
+                            if (targets.want[1]) targets.image[1]->at(x, y) = aov_sum.normal * inv;
+                            if (targets.want[2]) targets.image[2]->at(x, y) = aov_sum.albedo * inv;
+                            if (targets.want[3])
+                                targets.image[3]->at(x, y) = Color(aov_sum.visibility * inv);
+                            if (cost_image) cost_image->at(x, y) = cost * inv;
                         }
                     }
-                    float inv = 1.0f / static_cast<float>(spp);
-                    const int x = i - window.x0, y = j - window.y0;
-                    result.color.at(x, y) = Color(sum / static_cast<double>(spp));
-                    if (targets.want[0]) targets.image[0]->at(x, y) = Color(aov_sum.depth * inv);
-                    if (targets.want[1]) targets.image[1]->at(x, y) = aov_sum.normal * inv;
-                    if (targets.want[2]) targets.image[2]->at(x, y) = aov_sum.albedo * inv;
-                    if (targets.want[3])
-                        targets.image[3]->at(x, y) = Color(aov_sum.visibility * inv);
-                    if (cost_image) cost_image->at(x, y) = cost * inv;
-                }
-            }
-            rays += tracer.rays;
-            nonfinite += tracer.nonfinite;
-        },
-        [&](int pixels) { progress.advance(pixels); });
-    progress.finish();
-    result.stats.setup_seconds = std::chrono::duration<double>(t1 - t0).count();
-    result.stats.seconds = std::chrono::duration<double>(Clock::now() - t1).count();
-    result.stats.rays = rays.load();
-    result.stats.nonfinite = nonfinite.load();
-    return result;
+                    rays += tracer.rays;
+                    nonfinite += tracer.nonfinite;
+                },
+                [&](int pixels) { progress.advance(pixels); });
+            progress.finish();
+            result.stats.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+            result.stats.rays = rays.load();
+            result.stats.nonfinite = nonfinite.load();
+            return result;
+        });
+    all.stats.setup_seconds = std::chrono::duration<double>(t1 - t0).count();
+    return all;
 }
 
 }  // namespace svetlo

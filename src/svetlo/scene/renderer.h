@@ -82,6 +82,17 @@ struct Crop {
     }
 };
 
+struct RenderResult;
+
+/// Many windows with one setup (docs/distributed.md): the engine renders the windows that
+/// `next` hands out, one after the other, after one setup (the BVH, the radiosity solve), and
+/// gives each window's result to `done`. A window's pixels are bit for bit those of the full
+/// render, as a crop's.
+struct WindowSource {
+    std::function<bool(Crop& window)> next;  // false: no window left
+    std::function<void(const Crop& window, RenderResult&& result)> done;
+};
+
 struct RenderOptions {
     int threads = 0;                      // 0 = all cores
     std::optional<Crop> crop;             // none: the whole film
@@ -99,6 +110,9 @@ struct RenderOptions {
     /// When set, the engine follows sample trace->sample of pixel (trace->x, trace->y) and
     /// records it there (svetlo trace); the crop should then be that pixel alone.
     PixelTrace* trace = nullptr;
+    /// When set, the engine renders the windows it hands out instead of `crop`, and returns
+    /// a result with no image and the stats of them all.
+    WindowSource* windows = nullptr;
 };
 
 struct RenderStats {
@@ -153,6 +167,27 @@ inline bool wants_debug_aov(const RenderOptions& options, const std::string& nam
     for (const std::string& n : options.debug_aovs)
         if (n == name) return true;
     return false;
+}
+
+/// The engines' loop over what they render after their setup: `draw(window)` renders one
+/// window. Without options.windows, the crop's window (or the whole film's), returned; with
+/// them, each window handed out, given to windows->done, and the stats summed.
+template <class Draw>
+RenderResult render_windows(const Crop& single, const RenderOptions& options, Draw&& draw) {
+    if (!options.windows) return draw(single);
+    RenderResult total;
+    Crop window;
+    while (options.windows->next(window)) {
+        RenderResult r = draw(window);
+        total.stats.seconds += r.stats.seconds;
+        total.stats.rays += r.stats.rays;
+        total.stats.nonfinite += r.stats.nonfinite;
+        total.stats.passes = r.stats.passes;
+        total.stats.triangles = r.stats.triangles;
+        total.stats.detail = r.stats.detail;
+        options.windows->done(window, std::move(r));
+    }
+    return total;
 }
 
 /// The window a render covers: options.crop, or the whole film.

@@ -1,0 +1,85 @@
+#!/usr/bin/env bash
+# One image on many processes (docs/distributed.md), driven as a user would through mpirun:
+# for every engine, -np 1, 2 and 3 with 1 and 2 threads write the bytes of the plain program;
+# the provenance says how many processes; a slowed rank still gets the image right; a rank
+# killed mid-render ends the job within 10 s, naming the rank; the flags that need one process
+# are refused with one line.
+# Usage: mpi_test.sh SVETLO SCENES_DIR MPIRUN
+set -u
+svetlo=$1
+scenes=$2
+mpirun=$3
+source "$(dirname "$0")/checks.sh"
+# As root in a container OpenMPI wants --allow-run-as-root; more ranks than cores need
+# --oversubscribe.
+run=("$mpirun" --oversubscribe --allow-run-as-root)
+cornell="$scenes/cornell.json"
+size=(-W 72 -H 40 --spp 2)
+
+for engine in raster whitted path radiosity; do
+    scene=$cornell
+    [ "$engine" = radiosity ] && scene="$scenes/cornell_radiosity.json"
+    "$svetlo" render "$scene" -e "$engine" "${size[@]}" -q -o "$work/one.pfm"
+    for np in 1 2 3; do
+        for threads in 1 2; do
+            rm -f "$work/many.pfm"
+            "${run[@]}" -np "$np" "$svetlo" render "$scene" -e "$engine" "${size[@]}" -t "$threads" \
+                -q -o "$work/many.pfm" > "$work/out.txt" 2>&1
+            check "$engine -np $np -t $threads: the plain program's bytes" cmp "$work/one.pfm" "$work/many.pfm"
+        done
+    done
+    check "$engine: the provenance counts 3 processes" grep -q '"processes":3' "$work/many.pfm.json"
+done
+check "one process: the provenance counts 1" grep -q '"processes":1' "$work/one.pfm.json"
+
+# A crop and AOVs, across processes: the same bytes.
+"$svetlo" render "$cornell" -e path "${size[@]}" --crop 10,60,5,33 -q -o "$work/one.pfm" \
+    --aov depth="$work/one_depth.pfm" --aov bvh_cost="$work/one_cost.pfm"
+"${run[@]}" -np 3 "$svetlo" render "$cornell" -e path "${size[@]}" --crop 10,60,5,33 -q \
+    -o "$work/many.pfm" --aov depth="$work/many_depth.pfm" --aov bvh_cost="$work/many_cost.pfm"
+check "a crop on 3 processes" cmp "$work/one.pfm" "$work/many.pfm"
+check "its depth AOV" cmp "$work/one_depth.pfm" "$work/many_depth.pfm"
+check "its bvh_cost AOV" cmp "$work/one_cost.pfm" "$work/many_cost.pfm"
+"$svetlo" render "$scenes/shadows.json" -W 64 -H 40 -q -o "$work/one.pfm" \
+    --aov shadow_map="$work/one_map.pfm"
+"${run[@]}" -np 2 "$svetlo" render "$scenes/shadows.json" -W 64 -H 40 -q -o "$work/many.pfm" \
+    --aov shadow_map="$work/many_map.pfm"
+check "a shadow map (not the film's size) on 2 processes" cmp "$work/one_map.pfm" "$work/many_map.pfm"
+
+# A rank three times slower: the image is the same, and the other takes most tiles.
+SVETLO_TEST_SLOW_RANK=1:3 "${run[@]}" -x SVETLO_TEST_SLOW_RANK -np 2 "$svetlo" render "$cornell" \
+    -e whitted -W 160 -H 96 -t 1 -o "$work/slow.pfm" > "$work/slow.txt" 2>&1
+"$svetlo" render "$cornell" -e whitted -W 160 -H 96 -q -o "$work/fast.pfm"
+check "a slow rank: the same image" cmp "$work/slow.pfm" "$work/fast.pfm"
+check "a slow rank gets fewer tiles" python3 -c "
+import re
+t = open('$work/slow.txt').read()
+m = re.search(r'(\d+) tiles \((\d+) on rank 0\)', t)
+assert m and int(m.group(2)) > int(m.group(1)) // 2, t"
+
+# A rank killed mid-render: the job ends within 10 s, and says which rank.
+"${run[@]}" -np 2 "$svetlo" render "$cornell" -e path -W 256 -H 256 --spp 100000 -t 1 -q \
+    -o "$work/killed.pfm" > "$work/killed.txt" 2>&1 &
+job=$!
+sleep 3
+victim=""
+for pid in $(pgrep -f "svetlo render $cornell -e path -W 256 -H 256 --spp 100000"); do
+    if tr '\0' '\n' < /proc/$pid/environ 2>/dev/null | grep -qx 'OMPI_COMM_WORLD_RANK=1'; then victim=$pid; fi
+done
+check "found rank 1" test -n "$victim"
+[ -n "$victim" ] && kill -9 "$victim"
+for _ in $(seq 1 100); do kill -0 $job 2>/dev/null || break; sleep 0.1; done
+if kill -0 $job 2>/dev/null; then
+    fail "the job still runs 10 s after rank 1 was killed"
+    kill -9 $job
+else
+    wait $job
+    check "the killed job exits non-zero" test $? -ne 0
+    check "the job names the killed rank" grep -q "rank 1" "$work/killed.txt"
+    check "no image from a killed job" test ! -e "$work/killed.pfm"
+fi
+
+# What needs one process, refused on every rank with one line from rank 0.
+"${run[@]}" -np 2 "$svetlo" render "$cornell" -e path --time 1 -o "$work/x.pfm" > "$work/out.txt" 2>&1
+check "--time under mpirun: one line" test "$(grep -c '^svetlo: error: .*--time: renders on one process only' "$work/out.txt")" = 1
+summary
