@@ -24,6 +24,7 @@ struct RenderArgs {
     bool quiet = false;
     std::string crop;                       // X0,X1,Y0,Y1
     std::string mse_reference, mse_log;     // --mse-reference REF --mse-log LOG.csv
+    std::string checkpoint;                 // --checkpoint FILE
     std::vector<std::string> command;       // the whole argument list, for the provenance
     const class MpiSession* mpi = nullptr;  // the MPI job (one process when null)
 };

@@ -43,6 +43,8 @@ int main(int argc, char** argv) {
                   "Reference image for --mse-log (PNG, PFM or EXR)");
     r->add_option("--mse-log", render.mse_log,
                   "Write spp,seconds,mse,relmse after each pass to this CSV file");
+    r->add_option("--checkpoint", render.checkpoint,
+                  "Save the passes done to FILE after each, and resume from it (path)");
     render.command.assign(argv, argv + argc);
     render.mpi = &mpi;
 

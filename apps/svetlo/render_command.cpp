@@ -3,7 +3,9 @@
 //               [--quiet] [--crop X0,X1,Y0,Y1] [--mse-reference REF --mse-log LOG.csv]
 #include <algorithm>
 #include <cstdio>
+#include <optional>
 
+#include "checkpoint.h"
 #include "commands.h"
 #include "distributed.h"
 #include "engines.h"
@@ -144,6 +146,19 @@ int run_render(const RenderArgs& args) {
             throw Error(args.scene, "--mse-log", "renders on one process only (not under mpirun)");
     }
     job.run.processes = processes;
+    // --checkpoint: read and checked before the render (one line for a file of another run).
+    std::optional<CheckpointFile> checkpoint;
+    if (!args.checkpoint.empty()) {
+        if (job.scene.render.engine != "path")
+            throw Error(args.scene, "--checkpoint",
+                        "needs a progressive engine (path); " + job.scene.render.engine +
+                            " renders in one pass");
+        if (processes > 1)
+            throw Error(args.scene, "--checkpoint",
+                        "renders on one process only (not under mpirun)");
+        checkpoint.emplace(args.checkpoint, job);
+        job.options.checkpoint = &checkpoint->callbacks();
+    }
     RenderOptions& options = job.options;
     options.threads = threads;
     options.time_budget = time_budget;
@@ -174,6 +189,10 @@ int run_render(const RenderArgs& args) {
     write_job_outputs(job, result, args.output);
     mse.write();
     if (!args.quiet) print_summary(job, result, args.output);
+    if (checkpoint && checkpoint->resumed_passes() > 0 && !args.quiet) {
+        std::fprintf(stderr, "svetlo: resumed from %s after pass %d\n", args.checkpoint.c_str(),
+                     checkpoint->resumed_passes());
+    }
     if (job.run.interrupted && !args.quiet) {
         std::fprintf(stderr, "svetlo: interrupted: wrote the %d passes done to %s\n",
                      reached_spp(job, result), args.output.c_str());

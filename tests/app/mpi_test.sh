@@ -82,4 +82,6 @@ fi
 # What needs one process, refused on every rank with one line from rank 0.
 "${run[@]}" -np 2 "$svetlo" render "$cornell" -e path --time 1 -o "$work/x.pfm" > "$work/out.txt" 2>&1
 check "--time under mpirun: one line" test "$(grep -c '^svetlo: error: .*--time: renders on one process only' "$work/out.txt")" = 1
+"${run[@]}" -np 2 "$svetlo" render "$cornell" -e path --checkpoint "$work/ck" -o "$work/x.pfm" > "$work/out.txt" 2>&1
+check "--checkpoint under mpirun: one line" test "$(grep -c '^svetlo: error: .*--checkpoint: renders on one process only' "$work/out.txt")" = 1
 summary

@@ -264,7 +264,7 @@ size_t CausticPhotons::bucket(glm::ivec3 c) const {
     return static_cast<size_t>(mix64(h) & (bucket_start_.size() - 2));
 }
 
-void CausticPhotons::build(int pass, int threads) {
+void CausticPhotons::shrink_radius(int pass) {
     const PhotonSettings& settings = rt_.scene().render.photons;
     // The pass's radius: r_0 from the settings, then Knaus and Zwicker's shrinking, one step
     // per pass (passes are built in order).
@@ -276,6 +276,11 @@ void CausticPhotons::build(int pass, int threads) {
     }
     radius_ = static_cast<float>(std::sqrt(radius2_));
     cell_ = 2.0f * radius_;
+}
+
+void CausticPhotons::build(int pass, int threads) {
+    const PhotonSettings& settings = rt_.scene().render.photons;
+    shrink_radius(pass);
 
     const auto count = static_cast<uint64_t>(settings.count);
     const size_t tasks = static_cast<size_t>((count + kPhotonsPerTask - 1) / kPhotonsPerTask);

@@ -38,6 +38,9 @@ public:
     /// Traces pass `pass`'s photons on `threads` threads and builds its lookup grid. Passes
     /// are built in order, from 0: each shrinks the radius of the one before.
     void build(int pass, int threads);
+    /// The radius of pass `pass` alone, after pass - 1's, without tracing its photons: how a
+    /// render resumed from a checkpoint catches up with the passes it did not build.
+    void shrink_radius(int pass);
     /// The caustic radiance toward wo at p (frame and BSDF of the point).
     Color radiance(vec3 p, const ShadingFrame& frame, vec3 wo, const Bsdf& bsdf) const;
 

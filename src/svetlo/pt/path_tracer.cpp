@@ -32,6 +32,32 @@ struct FilmSums {
     std::vector<glm::dvec4> aov;    // depth, then normal (when any AOV is asked for)
     std::vector<glm::dvec4> aov2;   // albedo, then visibility
     std::vector<glm::dvec4> debug;  // the bvh_cost (nodes, primitives, sum), then bounces
+
+    /// Every sum as one array of doubles, in the order above (--checkpoint), and back.
+    size_t doubles() const {
+        return 3 * color.size() + 4 * (aov.size() + aov2.size() + debug.size());
+    }
+    std::vector<double> flat() const {
+        std::vector<double> out;
+        out.reserve(doubles());
+        for (const glm::dvec3& v : color) out.insert(out.end(), {v.x, v.y, v.z});
+        for (const auto* part : {&aov, &aov2, &debug})
+            for (const glm::dvec4& v : *part) out.insert(out.end(), {v.x, v.y, v.z, v.w});
+        return out;
+    }
+    void load(const std::vector<double>& in) {
+        size_t k = 0;
+        for (glm::dvec3& v : color) {
+            v = glm::dvec3(in[k], in[k + 1], in[k + 2]);
+            k += 3;
+        }
+        for (auto* part : {&aov, &aov2, &debug}) {
+            for (glm::dvec4& v : *part) {
+                v = glm::dvec4(in[k], in[k + 1], in[k + 2], in[k + 3]);
+                k += 4;
+            }
+        }
+    }
 };
 
 }  // namespace
@@ -97,11 +123,20 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
         progress.show_rate("samples");
         if (budget) progress.set_budget(options.time_budget);
 
+        // --checkpoint: the passes already saved, and their sums; the photon map's radius
+        // catches up with them.
         int passes = 0;
-        for (int pass = 0; pass < max_passes; ++pass) {
+        if (options.checkpoint) {
+            std::vector<double> state(sums.doubles());
+            passes = options.checkpoint->restore(state);
+            if (passes > 0) sums.load(state);
+            for (int pass = 0; photons && pass < passes; ++pass) photons->shrink_radius(pass);
+        }
+        const int first = passes;
+        for (int pass = first; pass < max_passes; ++pass) {
             double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
-            if (pass > 0 && budget && elapsed >= options.time_budget) break;
-            if (pass > 0 && options.cancel && options.cancel->load()) break;
+            if (pass > first && budget && elapsed >= options.time_budget) break;
+            if (pass > first && options.cancel && options.cancel->load()) break;
             char status[48];
             if (budget && !options.spp_caps_time) {
                 std::snprintf(status, sizeof status, "pass %d", pass + 1);
@@ -163,6 +198,7 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
                 },
                 [&](int n) { progress.advance(n); });
             ++passes;
+            if (options.checkpoint) options.checkpoint->save(passes, sums.flat());
             if (options.on_pass) {
                 Image image(ww, wh);
                 for (size_t slot = 0; slot < pixels; ++slot)

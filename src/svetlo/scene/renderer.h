@@ -93,6 +93,15 @@ struct WindowSource {
     std::function<void(const Crop& window, RenderResult&& result)> done;
 };
 
+/// --checkpoint (docs/distributed.md): a progressive engine's accumulators, laid out as it
+/// chooses, restored before its first pass and saved after each.
+struct Checkpoint {
+    /// Fills `state` (sized by the engine) from what was saved; returns the passes it holds (0:
+    /// nothing saved, `state` untouched). Throws Error for a state of another size.
+    std::function<int(std::vector<double>& state)> restore;
+    std::function<void(int passes, const std::vector<double>& state)> save;
+};
+
 struct RenderOptions {
     int threads = 0;                      // 0 = all cores
     std::optional<Crop> crop;             // none: the whole film
@@ -113,6 +122,8 @@ struct RenderOptions {
     /// When set, the engine renders the windows it hands out instead of `crop`, and returns
     /// a result with no image and the stats of them all.
     WindowSource* windows = nullptr;
+    /// When set, a progressive engine resumes from it and saves to it after every pass.
+    const Checkpoint* checkpoint = nullptr;
 };
 
 struct RenderStats {
