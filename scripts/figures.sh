@@ -53,6 +53,9 @@ for e in 0.5 1 2; do
         -o $out/exposure_$e.png -q
 done
 
+# The viewer, screenshotted by its browser test in headless chromium (docs/viewer.md).
+/usr/bin/python3 tests/app/viewer_test.py "$svetlo" scenes $out/viewer.png > /dev/null
+
 if [ "${SVETLO_FIGURES_SHEETS_ONLY:-0}" = 1 ]; then exit 0; fi
 scripts/radiosity_figures.sh "$svetlo"
 python3 scripts/shadow_figures.py "$svetlo"

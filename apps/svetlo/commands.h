@@ -72,6 +72,11 @@ struct TraceArgs {
     std::vector<std::string> sets;
 };
 
+struct ServeArgs {
+    std::string target;  // a scene file or a folder of them (default: .)
+    std::string port, host;
+};
+
 struct AssembleArgs {
     std::vector<std::string> parts;
     std::string output;
@@ -83,6 +88,7 @@ int run_reproduce(const ReproduceArgs& args);
 int run_assemble(const AssembleArgs& args);
 int run_compare(const CompareArgs& args);
 int run_trace(const TraceArgs& args);
+int run_serve(const ServeArgs& args);
 
 /// Writes `text` to `path` atomically (a temporary file, then a rename); throws Error naming
 /// `where`.

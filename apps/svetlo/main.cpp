@@ -128,13 +128,11 @@ int main(int argc, char** argv) {
     trace->add_option("-t,--threads", trace_args.threads, "Threads (0 = all cores)");
     trace->add_option("--set", trace_args.sets, "Override a scene key: KEY=VALUE");
 
-    // The contract's commands that this version does not have yet: one line, exit 1.
-    std::vector<std::string> ignored;
-    CLI::App* serve = app.add_subcommand("serve", "A live browser viewer");
-    for (CLI::App* later : {serve}) {
-        later->allow_extras();
-        later->add_option("args", ignored);
-    }
+    ServeArgs serve_args;
+    CLI::App* serve = app.add_subcommand("serve", "A live browser viewer of a scene folder");
+    serve->add_option("target", serve_args.target, "A scene file, or a folder of scenes (.)");
+    serve->add_option("--port", serve_args.port, "Port (8080; 0: any free port)");
+    serve->add_option("--host", serve_args.host, "Address to listen on (127.0.0.1)");
 
     try {
         app.parse(argc, argv);
@@ -157,14 +155,7 @@ int main(int argc, char** argv) {
         if (*as) return run_assemble(assemble);
         if (*cmp) return run_compare(compare);
         if (*trace) return run_trace(trace_args);
-        for (CLI::App* later : {serve}) {
-            if (*later) {
-                std::fprintf(stderr,
-                             "svetlo: error: svetlo: %s: not built yet in this version of svetlo\n",
-                             later->get_name().c_str());
-                return 1;
-            }
-        }
+        if (*serve) return run_serve(serve_args);
         if (*b) return run_bench(bench);
     } catch (const Error& e) {
         if (mpi.rank() == 0) {

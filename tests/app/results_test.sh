@@ -221,7 +221,7 @@ import json
 p = json.load(open('$work/int.pfm.json'))
 assert p['interrupted'] is True and 1 <= p['spp'] < 100000, p['spp']"
 
-# The contract's commands not built yet say so in one line.
-expect_error "serve" "serve: not built yet" 1 serve "$scenes"
+# serve: a target that is neither a scene nor a folder, one line.
+expect_error "serve of nothing" "serve: is neither a scene file nor a folder" 1 serve "$work/nothing"
 
 summary

@@ -1,0 +1,210 @@
+// svetlo serve [SCENE.json|DIR] [--port P] [--host H]: a live browser viewer (docs/viewer.md).
+// It serves one page (viewer/index.html, inside the binary) and a small API that renders
+// through the command line's own code:
+//   GET /api/scenes                  the scene files of the folder, and the one given
+//   GET /api/scene?scene=NAME        a scene's effective JSON (the page orbits its camera)
+//   GET /api/render?scene=NAME&engine=E&spp=N&width=W&height=H&set=KEY=VALUE...&client=ID
+//                                    a PNG; X-Svetlo-Seconds and X-Svetlo-Spp say how it went
+//   GET /api/trace?...&x=X&y=Y      svetlo trace's JSON of that pixel
+// A bad value gets HTTP 400 and the one-line message; a render superseded by a newer request
+// of the same page is cancelled after its pass and answered 409. Only files directly in the
+// scene folder are read as scenes, and nothing else of the disk is served.
+#include <httplib.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <thread>
+
+#include "commands.h"
+#include "engines.h"
+#include "flags.h"
+#include "interrupt.h"
+#include "render_job.h"
+#include "svetlo/core/error.h"
+#include "svetlo/core/image_io.h"
+#include "svetlo/core/sha256.h"
+
+namespace svetlo {
+
+const char* viewer_page();  // viewer_page.cpp, generated
+
+namespace {
+
+namespace fs = std::filesystem;
+
+/// What one request may ask: the viewer's film and samples are bounded, so that no client
+/// can hold the machine.
+constexpr long long kMaxSide = 1920, kMaxSamples = 4096;
+
+struct Server {
+    fs::path folder;  // canonical
+    std::string default_scene;
+    std::mutex mutex;                                                   // guards `current`
+    std::map<std::string, std::shared_ptr<std::atomic<bool>>> current;  // per client: its render
+};
+
+/// The scene NAME of a request, a regular file directly in the folder (no path, no dot file,
+/// no link out of it); throws Error naming `scene`.
+fs::path scene_path(const Server& server, const std::string& name) {
+    if (name.empty()) throw Error("svetlo serve", "scene", "no scene given");
+    if (name.find('/') != std::string::npos || name.find('\\') != std::string::npos ||
+        name.front() == '.' || name.find('\0') != std::string::npos)
+        throw Error(name, "scene", "is not a file of the scene folder");
+    std::error_code ec;
+    const fs::path path = fs::weakly_canonical(server.folder / name, ec);
+    if (ec || path.parent_path() != server.folder || !fs::is_regular_file(path) ||
+        path.extension() != ".json")
+        throw Error(name, "scene", "is not a scene file of the scene folder");
+    return path;
+}
+
+/// The request's job: the scene, then the engine, spp, film and --set overrides, checked as
+/// the command line checks them.
+RenderJob request_job(const Server& server, const httplib::Request& req) {
+    const fs::path path = scene_path(server, req.get_param_value("scene"));
+    const std::string file = path.string();
+    std::vector<Override> overrides;
+    for (size_t k = 0; k < req.get_param_value_count("set"); ++k) {
+        const std::string set = req.get_param_value("set", k);
+        const size_t eq = set.find('=');
+        if (eq == std::string::npos || eq == 0)
+            throw Error(file, "set " + set, "expected KEY=VALUE");
+        overrides.push_back({set.substr(0, eq), set.substr(eq + 1)});
+    }
+    if (req.has_param("engine"))
+        overrides.push_back({"render.engine", "\"" + req.get_param_value("engine") + "\""});
+    auto integer = [&](const char* name, const char* key, long long lo, long long hi) {
+        if (!req.has_param(name)) return;
+        const long long v = flag_integer(file, name, req.get_param_value(name), lo, hi);
+        overrides.push_back({key, std::to_string(v)});
+    };
+    integer("width", "film.width", 1, kMaxSide);
+    integer("height", "film.height", 1, kMaxSide);
+    integer("spp", "render.spp", 1, kMaxSamples);
+    RenderJob job = make_job(effective_scene_json(path, overrides), path, sha256_file(path));
+    make_renderer(job.scene.render.engine, file);  // an unknown engine: one line
+    return job;
+}
+
+void fail(httplib::Response& res, int status, const std::string& message) {
+    res.status = status;
+    res.set_content(message + "\n", "text/plain; charset=utf-8");
+}
+
+}  // namespace
+
+int run_serve(const ServeArgs& args) {
+    Server server;
+    std::error_code ec;
+    fs::path target = args.target.empty() ? fs::path(".") : fs::path(args.target);
+    if (fs::is_regular_file(target)) {
+        server.default_scene = target.filename().string();
+        target = target.has_parent_path() ? target.parent_path() : fs::path(".");
+    } else if (!fs::is_directory(target)) {
+        throw Error(args.target, "serve", "is neither a scene file nor a folder");
+    }
+    server.folder = fs::canonical(target, ec);
+    if (ec) throw Error(args.target, "serve", "cannot be read: " + ec.message());
+    const long long port =
+        flag_integer(args.target, "--port", args.port.empty() ? "8080" : args.port, 0, 65535);
+    const std::string host = args.host.empty() ? "127.0.0.1" : args.host;
+
+    httplib::Server http;
+    // SO_REUSEADDR only: cpp-httplib also sets SO_REUSEPORT, with which a second server would
+    // share a port in use instead of being refused.
+    http.set_socket_options([](socket_t sock) {
+        int yes = 1;
+        setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+    });
+    // A pool of four: each client's work is one render at a time, and renders share the cores.
+    http.new_task_queue = [] { return new httplib::ThreadPool(4); };
+    http.Get("/", [](const httplib::Request&, httplib::Response& res) {
+        res.set_content(viewer_page(), "text/html; charset=utf-8");
+    });
+    http.Get("/api/scenes", [&](const httplib::Request&, httplib::Response& res) {
+        std::vector<std::string> names;
+        for (const auto& entry : fs::directory_iterator(server.folder, ec)) {
+            const std::string name = entry.path().filename().string();
+            if (entry.is_regular_file() && entry.path().extension() == ".json" && name[0] != '.')
+                names.push_back(name);
+        }
+        std::sort(names.begin(), names.end());
+        res.set_content(nlohmann::json{{"scenes", names}, {"default", server.default_scene}}.dump(),
+                        "application/json");
+    });
+    http.Get("/api/scene", [&](const httplib::Request& req, httplib::Response& res) {
+        try {
+            const fs::path path = scene_path(server, req.get_param_value("scene"));
+            res.set_content(effective_scene_json(path, {}).dump(), "application/json");
+        } catch (const Error& e) {
+            fail(res, 400, e.what());
+        }
+    });
+    http.Get("/api/render", [&](const httplib::Request& req, httplib::Response& res) {
+        try {
+            RenderJob job = request_job(server, req);
+            // This client's newer request supersedes the one in progress: it is cancelled.
+            auto cancel = std::make_shared<std::atomic<bool>>(false);
+            const std::string client = req.get_param_value("client");
+            if (!client.empty()) {
+                std::lock_guard lock(server.mutex);
+                auto& slot = server.current[client];
+                if (slot) slot->store(true);
+                slot = cancel;
+            }
+            job.options.cancel = cancel.get();
+            const RenderResult result = run_job(job);
+            if (cancel->load()) return fail(res, 409, "superseded by a newer request");
+            const std::vector<unsigned char> png =
+                encode_png(result.color, PixelMeaning::Radiance, job.scene.render.exposure);
+            res.set_header("X-Svetlo-Seconds", std::to_string(result.stats.seconds));
+            res.set_header("X-Svetlo-Spp", std::to_string(reached_spp(job, result)));
+            res.set_header("Cache-Control", "no-store");
+            res.set_content(std::string(png.begin(), png.end()), "image/png");
+        } catch (const Error& e) {
+            fail(res, 400, e.what());
+        } catch (const std::exception& e) {
+            fail(res, 500, std::string("svetlo: internal: ") + e.what());
+        }
+    });
+    http.Get("/api/trace", [&](const httplib::Request& req, httplib::Response& res) {
+        try {
+            RenderJob job = request_job(server, req);
+            const std::string file = job.run.scene_file.string();
+            const auto x = flag_integer(file, "x", req.get_param_value("x"), 0, kMaxSide);
+            const auto y = flag_integer(file, "y", req.get_param_value("y"), 0, kMaxSide);
+            const PixelTrace log = trace_job(job, static_cast<int>(x), static_cast<int>(y), 0, 1);
+            res.set_content(trace_json(log, job.scene.render.engine).dump(), "application/json");
+        } catch (const Error& e) {
+            fail(res, 400, e.what());
+        }
+    });
+
+    const int bound =
+        port == 0 ? http.bind_to_any_port(host)
+                  : (http.bind_to_port(host, static_cast<int>(port)) ? static_cast<int>(port) : -1);
+    if (bound < 0)
+        throw Error(host + ":" + std::to_string(port), "--port", "cannot listen there (in use?)");
+    if (host != "127.0.0.1" && host != "localhost" && host != "::1") {
+        std::fprintf(stderr,
+                     "svetlo: warning: serving on %s: every machine that reaches it can render "
+                     "(and read the scenes of %s)\n",
+                     host.c_str(), server.folder.c_str());
+    }
+    std::fprintf(stderr, "svetlo: serving http://%s:%d/\n", host.c_str(), bound);
+    std::fflush(stderr);
+    // SIGINT or SIGTERM stops the server (exit 0).
+    InterruptGuard interrupt;
+    std::thread listener([&] { http.listen_after_bind(); });
+    while (!interrupt.flag().load()) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    http.stop();
+    listener.join();
+    return 0;
+}
+
+}  // namespace svetlo

@@ -1,0 +1,218 @@
+"""svetlo serve in a real browser (docs/viewer.md): Debian's chromium, headless, driven through
+its DevTools protocol with Debian's python3-websocket. The page must show a non-blank image
+in #view; switching the engine, the shading mode and the samples slider must change its
+pixels and the query string; the query string must restore the same view in a new tab; the
+console must stay free of errors. The HTTP API's refusals are checked too.
+
+    viewer_test.py SVETLO SCENES_DIR [SCREENSHOT.png]
+Exit 0 when every check passes; 77 (CTest's skip) when chromium or websocket is missing.
+"""
+import base64
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+import urllib.error
+import urllib.parse
+import urllib.request
+
+try:
+    import websocket
+except ImportError:
+    print("python3-websocket is missing: skipped")
+    sys.exit(77)
+
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+if not CHROMIUM:
+    print("chromium is missing: skipped")
+    sys.exit(77)
+
+failures = []
+
+
+def check(name, ok, detail=""):
+    print(("ok   " if ok else "FAIL ") + name + ("" if ok else ": " + str(detail)))
+    if not ok:
+        failures.append(name)
+
+
+def http(port, path):
+    try:
+        with urllib.request.urlopen("http://127.0.0.1:%d%s" % (port, path), timeout=30) as r:
+            return r.status, r.read()
+    except urllib.error.HTTPError as e:
+        return e.code, e.read()
+
+
+class Tab:
+    """One page of the browser, through the DevTools protocol."""
+
+    def __init__(self, ws_url):
+        self.ws = websocket.create_connection(ws_url, timeout=60, suppress_origin=True)
+        self.next_id = 0
+        self.errors = []
+        self.call("Runtime.enable")
+        self.call("Log.enable")
+
+    def call(self, method, **params):
+        self.next_id += 1
+        self.ws.send(json.dumps({"id": self.next_id, "method": method, "params": params}))
+        while True:
+            message = json.loads(self.ws.recv())
+            if message.get("id") == self.next_id:
+                return message.get("result", {})
+            self.event(message)
+
+    def event(self, message):
+        method = message.get("method", "")
+        p = message.get("params", {})
+        if method == "Runtime.exceptionThrown":
+            self.errors.append(p["exceptionDetails"].get("text", "exception"))
+        elif method == "Runtime.consoleAPICalled" and p.get("type") == "error":
+            self.errors.append(str(p.get("args")))
+        elif method == "Log.entryAdded" and p["entry"].get("level") == "error":
+            self.errors.append(p["entry"].get("text"))
+
+    def eval(self, expression):
+        r = self.call("Runtime.evaluate", expression=expression, returnByValue=True,
+                      awaitPromise=True)
+        return r.get("result", {}).get("value")
+
+
+# The pixels of #view once loaded: a hash, the count of non-black pixels, and its source.
+VIEW = """(() => {
+  const img = document.getElementById('view');
+  if (!img || !img.src.startsWith('blob:') || !img.complete || !img.naturalWidth) return null;
+  const c = document.createElement('canvas');
+  c.width = img.naturalWidth; c.height = img.naturalHeight;
+  const g = c.getContext('2d'); g.drawImage(img, 0, 0);
+  const d = g.getImageData(0, 0, c.width, c.height).data;
+  let h = 0, lit = 0;
+  for (let i = 0; i < d.length; i += 4) {
+    h = (Math.imul(h, 31) + d[i] + 7 * d[i + 1] + 13 * d[i + 2]) >>> 0;
+    if (d[i] + d[i + 1] + d[i + 2] > 30) lit++;
+  }
+  return [h, lit, img.src];
+})()"""
+
+
+def wait_view(tab, previous_src=None, seconds=60):
+    end = time.time() + seconds
+    while time.time() < end:
+        v = tab.eval(VIEW)
+        if v and v[2] != previous_src and not tab.eval("window.svetloBusy()"):
+            return v
+        time.sleep(0.1)
+    return None
+
+
+def set_control(tab, element, value, event="change"):
+    tab.eval("(() => { const e = document.getElementById(%s); e.value = %s; "
+             "e.dispatchEvent(new Event(%s)); })()"
+             % (json.dumps(element), json.dumps(value), json.dumps(event)))
+
+
+def main():
+    svetlo, scenes = sys.argv[1], sys.argv[2]
+    screenshot = sys.argv[3] if len(sys.argv) > 3 else None
+    server = subprocess.Popen([svetlo, "serve", scenes, "--port", "0"], stderr=subprocess.PIPE,
+                              text=True)
+    line = server.stderr.readline()
+    m = re.match(r"svetlo: serving http://127\.0\.0\.1:(\d+)/$", line.strip())
+    check("the contract's line", m is not None, line)
+    if not m:
+        server.kill()
+        return 1
+    port = int(m.group(1))
+    profile = tempfile.mkdtemp(prefix="svetlo_chromium_")
+    browser = None
+    try:
+        # The API: refusals with one line, and a PNG.
+        status, body = http(port, "/api/render?scene=cornell.json&engine=raster&width=64&height=36")
+        check("a render is a PNG", status == 200 and body[:8] == b"\x89PNG\r\n\x1a\n", status)
+        for bad in ["../CMakeLists.txt", "..%2FREADME.md", "%2Fetc%2Fpasswd", ".hidden.json",
+                    "cornell.json%00.json"]:
+            status, body = http(port, "/api/render?scene=" + bad)
+            check("refused: " + bad, status == 400 and body.count(b"\n") == 1, (status, body[:100]))
+        status, body = http(port, "/api/render?scene=cornell.json&spp=0")
+        check("a bad value gets 400 and one line", status == 400 and b"spp" in body, body)
+        status, body = http(port, "/api/render?scene=cornell.json&set=render.shading%3D%22glow%22")
+        check("a bad key's value gets the scene's message", status == 400 and b"render.shading" in body, body)
+        check("the server keeps serving", http(port, "/api/scenes")[0] == 200)
+        taken = subprocess.run([svetlo, "serve", scenes, "--port", str(port)], capture_output=True,
+                               text=True, timeout=30)
+        check("a port in use: one line naming --port", taken.returncode == 1 and
+              taken.stderr.count("\n") == 1 and "--port" in taken.stderr, taken.stderr)
+
+        url = "http://127.0.0.1:%d/?scene=shadows.json&engine=raster" % port
+        browser = subprocess.Popen(
+            [CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
+             "--disable-background-networking", "--disable-component-update", "--disable-sync",
+             "--remote-debugging-port=0", "--user-data-dir=" + profile, "--window-size=1000,600",
+             url], stderr=subprocess.PIPE, text=True)
+        devtools = None
+        end = time.time() + 30
+        while time.time() < end and devtools is None:
+            m = re.search(r"DevTools listening on ws://127\.0\.0\.1:(\d+)/", browser.stderr.readline())
+            if m:
+                devtools = int(m.group(1))
+        check("chromium's DevTools", devtools is not None)
+        if devtools is None:
+            return 1
+        pages = []
+        for _ in range(50):
+            pages = [t for t in json.loads(http(devtools, "/json/list")[1]) if t["type"] == "page"]
+            if pages:
+                break
+            time.sleep(0.1)
+        tab = Tab(pages[0]["webSocketDebuggerUrl"])
+
+        first = wait_view(tab)
+        check("#view shows an image", first is not None)
+        if first is None:
+            return 1
+        check("#view is not blank", first[1] > 100, first[1])
+        views = [first]
+        for element, value, event in [("shading", "flat", "change"), ("engine", "whitted", "change"),
+                                      ("engine", "raster", "change"), ("spp", "0", "input")]:
+            set_control(tab, element, value, event)
+            v = wait_view(tab, views[-1][2])
+            check("%s=%s changes the pixels" % (element, value), v is not None and v[0] != views[-1][0],
+                  v and v[:2])
+            if v:
+                views.append(v)
+        search = tab.eval("location.search")
+        check("the controls write the query string",
+              "engine=raster" in search and "render.shading" in search and "spp=1" in search, search)
+        command = tab.eval("document.getElementById('command').textContent")
+        check("the command line of the view", command.startswith("svetlo render shadows.json"), command)
+
+        # A new tab at the same address shows the same pixels.
+        href = tab.eval("location.href")
+        req = urllib.request.Request("http://127.0.0.1:%d/json/new?%s"
+                                     % (devtools, urllib.parse.quote(href, safe="")), method="PUT")
+        target = json.loads(urllib.request.urlopen(req, timeout=30).read())
+        again = Tab(target["webSocketDebuggerUrl"])
+        restored = wait_view(again)
+        check("the query string restores the view", restored is not None and restored[0] == views[-1][0],
+              (restored and restored[:2], views[-1][:2], href, again.eval("location.href")))
+        if screenshot:
+            shot = tab.call("Page.captureScreenshot", format="png")
+            with open(screenshot, "wb") as f:
+                f.write(base64.b64decode(shot["data"]))
+        check("no error in the console", not tab.errors and not again.errors, tab.errors + again.errors)
+    finally:
+        if browser:
+            browser.kill()
+        server.kill()
+        shutil.rmtree(profile, ignore_errors=True)
+    print("%d failed" % len(failures))
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
