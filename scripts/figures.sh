@@ -57,6 +57,7 @@ done
 /usr/bin/python3 tests/app/viewer_test.py "$svetlo" scenes $out/viewer.png > /dev/null
 
 if [ "${SVETLO_FIGURES_SHEETS_ONLY:-0}" = 1 ]; then exit 0; fi
+scripts/page_figures.sh "$svetlo"
 scripts/radiosity_figures.sh "$svetlo"
 python3 scripts/shadow_figures.py "$svetlo"
 scripts/path_figures.sh "$svetlo"
