@@ -125,10 +125,11 @@ int run_bench(const BenchArgs& args);
 /// --set KEY=VALUE strings as overrides.
 std::vector<Override> parse_sets(const std::vector<std::string>& sets, const std::string& file);
 
-/// The flags that stand for scene keys (-W, -H, and for render --spp and --seed), checked, as
-/// overrides after the --set ones: the flags win.
+/// The flags that stand for scene keys, checked, as overrides after the --set ones (the flags
+/// win): -e (render.engine), -W and -H (film), --seed (render.seed); empty ones are left out.
 void add_flag_overrides(const std::string& file, const std::string& width,
-                        const std::string& height, std::vector<Override>& overrides);
+                        const std::string& height, std::vector<Override>& overrides,
+                        const std::string& engine = {}, const std::string& seed = {});
 
 /// The thread count a -t flag asks for (0: every core; empty: 0).
 int flag_threads(const std::string& file, const std::string& text);

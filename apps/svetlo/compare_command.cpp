@@ -192,11 +192,7 @@ int run_compare(const CompareArgs& args) {
         throw Error(file, "compare", "nothing to write: give -o SHEET.html, --png or --json");
     const int threads = flag_threads(file, args.threads);
     std::vector<Override> overrides = parse_sets(args.sets, file);
-    add_flag_overrides(file, args.width, args.height, overrides);
-    if (!args.seed.empty()) {
-        overrides.push_back(
-            {"render.seed", std::to_string(flag_integer(file, "--seed", args.seed, 0, kMaxSeed))});
-    }
+    add_flag_overrides(file, args.width, args.height, overrides, {}, args.seed);
     // The scene is read once; each technique applies its overrides to a copy of its JSON.
     const nlohmann::json base = effective_scene_json(file, overrides);
     const Sheet sheet = compare_techniques(base, file, sha256_file(file), args.techniques,

@@ -34,7 +34,9 @@ std::vector<Override> parse_sets(const std::vector<std::string>& sets, const std
 }
 
 void add_flag_overrides(const std::string& file, const std::string& width,
-                        const std::string& height, std::vector<Override>& overrides) {
+                        const std::string& height, std::vector<Override>& overrides,
+                        const std::string& engine, const std::string& seed) {
+    if (!engine.empty()) overrides.push_back({"render.engine", "\"" + engine + "\""});
     if (!width.empty()) {
         overrides.push_back(
             {"film.width", std::to_string(flag_integer(file, "-W", width, 1, kMaxFilmSide))});
@@ -42,6 +44,10 @@ void add_flag_overrides(const std::string& file, const std::string& width,
     if (!height.empty()) {
         overrides.push_back(
             {"film.height", std::to_string(flag_integer(file, "-H", height, 1, kMaxFilmSide))});
+    }
+    if (!seed.empty()) {
+        overrides.push_back(
+            {"render.seed", std::to_string(flag_integer(file, "--seed", seed, 0, kMaxSeed))});
     }
 }
 
@@ -55,16 +61,10 @@ namespace {
 /// (the flags win).
 std::vector<Override> render_overrides(const RenderArgs& args) {
     std::vector<Override> overrides = parse_sets(args.sets, args.scene);
-    // The flags override the scene and any --set.
-    if (!args.engine.empty()) overrides.push_back({"render.engine", "\"" + args.engine + "\""});
-    add_flag_overrides(args.scene, args.width, args.height, overrides);
+    add_flag_overrides(args.scene, args.width, args.height, overrides, args.engine, args.seed);
     if (!args.spp.empty()) {
         overrides.push_back({"render.spp", std::to_string(flag_integer(args.scene, "--spp",
                                                                        args.spp, 1, kMaxSpp))});
-    }
-    if (!args.seed.empty()) {
-        overrides.push_back({"render.seed", std::to_string(flag_integer(args.scene, "--seed",
-                                                                        args.seed, 0, kMaxSeed))});
     }
     return overrides;
 }

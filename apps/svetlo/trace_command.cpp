@@ -170,12 +170,7 @@ PixelTrace trace_job(RenderJob& job, int x, int y, long long sample, long long s
 
 PixelTrace trace_pixel(const TraceArgs& args, std::string& engine) {
     std::vector<Override> overrides = parse_sets(args.sets, args.scene);
-    if (!args.engine.empty()) overrides.push_back({"render.engine", "\"" + args.engine + "\""});
-    add_flag_overrides(args.scene, args.width, args.height, overrides);
-    if (!args.seed.empty()) {
-        overrides.push_back({"render.seed", std::to_string(flag_integer(args.scene, "--seed",
-                                                                        args.seed, 0, kMaxSeed))});
-    }
+    add_flag_overrides(args.scene, args.width, args.height, overrides, args.engine, args.seed);
     const long long sample =
         args.sample.empty() ? 0 : flag_integer(args.scene, "--sample", args.sample, 0, kMaxSpp - 1);
     const long long spp =

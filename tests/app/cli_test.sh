@@ -6,13 +6,9 @@
 set -u
 svetlo=$1
 data=$2
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-passed=0
-failed=0
-
-pass() { passed=$((passed + 1)); }
-fail() { echo "FAIL: $*"; failed=$((failed + 1)); }
+# The scratch folder and counts of checks.sh; this test's own expect_error, below, also wants
+# no output left behind.
+source "$(dirname "$0")/checks.sh"
 
 cat > "$work/good.json" <<'JSON'
 {
