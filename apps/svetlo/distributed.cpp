@@ -160,6 +160,7 @@ RenderResult run_job_distributed(const RenderJob& job, const MpiSession& mpi,
     std::vector<std::vector<float>> sending;
     std::vector<MPI_Request> requests;
 
+    auto interrupted = [&] { return job.options.cancel && job.options.cancel->load(); };
     WindowSource source;
     if (mpi.rank() == 0) {
         full.color = Image(window.width(), window.height());
@@ -186,7 +187,10 @@ RenderResult run_job_distributed(const RenderJob& job, const MpiSession& mpi,
             bytes += static_cast<uint64_t>(count) * sizeof(float);
         };
         // (The helpers are copied in: they end with this block; what they use does not.)
-        source.next = [&, handle](Crop& w) {
+        source.next = [&, handle, interrupted](Crop& w) {
+            // SIGINT or SIGTERM (every rank gets it from mpirun): no tile is begun after it;
+            // the tiles in progress end their pass and come in, the others stay black.
+            if (interrupted()) next = tiles.size();
             for (int flag = 1; flag;) {  // answer every rank that asked meanwhile
                 MPI_Status status;
                 MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &status);
@@ -229,8 +233,12 @@ RenderResult run_job_distributed(const RenderJob& job, const MpiSession& mpi,
                 sending.erase(sending.begin() + static_cast<std::ptrdiff_t>(k));
             }
         };
-        source.next = [&, reap](Crop& w) {
+        source.next = [&, reap, interrupted](Crop& w) {
             reap(false);
+            if (interrupted()) {  // begin nothing more; collect the answers still due
+                exhausted = true;
+                queue.clear();
+            }
             while (!exhausted && static_cast<int>(queue.size()) + asked < kAhead) {
                 MPI_Send(nullptr, 0, MPI_INT, 0, kRequest, MPI_COMM_WORLD);
                 ++asked;
@@ -241,7 +249,7 @@ RenderResult run_job_distributed(const RenderJob& job, const MpiSession& mpi,
                 --asked;
                 if (answer < 0)
                     exhausted = true;
-                else
+                else if (!interrupted())
                     queue.push_back(answer);
             }
             if (queue.empty()) {  // every request answered, the last with -1

@@ -160,12 +160,20 @@ int run_serve(const ServeArgs& args) {
             job.options.cancel = cancel.get();
             const RenderResult result = run_job(job);
             if (cancel->load()) return fail(res, 409, "superseded by a newer request");
-            const std::vector<unsigned char> png =
-                encode_png(result.color, PixelMeaning::Radiance, job.scene.render.exposure);
+            // JPEG while the view moves (fast), PNG when it is still (lossless).
+            const bool jpeg = req.get_param_value("format") == "jpeg";
+            const auto t0 = std::chrono::steady_clock::now();
+            const std::vector<unsigned char> bytes =
+                jpeg ? encode_jpeg(result.color, job.scene.render.exposure, 90)
+                     : encode_png(result.color, PixelMeaning::Radiance, job.scene.render.exposure);
+            const double encode =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
             res.set_header("X-Svetlo-Seconds", std::to_string(result.stats.seconds));
+            res.set_header("X-Svetlo-Encode-Seconds", std::to_string(encode));
             res.set_header("X-Svetlo-Spp", std::to_string(reached_spp(job, result)));
             res.set_header("Cache-Control", "no-store");
-            res.set_content(std::string(png.begin(), png.end()), "image/png");
+            res.set_content(std::string(bytes.begin(), bytes.end()),
+                            jpeg ? "image/jpeg" : "image/png");
         } catch (const Error& e) {
             fail(res, 400, e.what());
         } catch (const std::exception& e) {

@@ -79,6 +79,19 @@ else
     check "no image from a killed job" test ! -e "$work/killed.pfm"
 fi
 
+# SIGINT to mpirun reaches every rank: no tile is begun after it, the tiles in progress end
+# their pass, and rank 0 writes the image, marked interrupted.
+"${run[@]}" -np 2 "$svetlo" render "$cornell" -e path -W 128 -H 128 --spp 100000 -t 1 -q \
+    -o "$work/int.pfm" > "$work/int.txt" 2>&1 &
+job=$!
+sleep 3
+pkill -INT -f "^$mpirun.*-W 128 -H 128 --spp 100000" || kill -INT $job
+for _ in $(seq 1 100); do kill -0 $job 2>/dev/null || break; sleep 0.1; done
+if kill -0 $job 2>/dev/null; then fail "SIGINT: the job still runs after 10 s"; kill -9 $job; fi
+wait $job
+check "SIGINT under mpirun writes the image, marked interrupted" \
+    grep -q '"interrupted":true' "$work/int.pfm.json"
+
 # What needs one process, refused on every rank with one line from rank 0.
 "${run[@]}" -np 2 "$svetlo" render "$cornell" -e path --time 1 -o "$work/x.pfm" > "$work/out.txt" 2>&1
 check "--time under mpirun: one line" test "$(grep -c '^svetlo: error: .*--time: renders on one process only' "$work/out.txt")" = 1

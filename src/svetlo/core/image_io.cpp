@@ -223,8 +223,12 @@ TextureImage read_stb(const fs::path& path, bool srgb, size_t max_bytes) {
 
 }  // namespace
 
-std::vector<unsigned char> encode_png(const Image& image, PixelMeaning meaning, float exposure,
-                                      const std::string& metadata) {
+namespace {
+
+/// The 8-bit RGB bytes of an image as PNG and JPEG hold them: radiance scaled by `exposure`,
+/// clipped and sRGB-encoded; data clipped to [0, 1] and written linearly.
+std::vector<unsigned char> eight_bit_bytes(const Image& image, PixelMeaning meaning,
+                                           float exposure) {
     std::vector<unsigned char> bytes(image.pixels.size() * 3);
     for (size_t k = 0; k < image.pixels.size(); ++k) {
         for (int c = 0; c < 3; ++c) {
@@ -237,13 +241,32 @@ std::vector<unsigned char> encode_png(const Image& image, PixelMeaning meaning, 
             }
         }
     }
+    return bytes;
+}
+
+/// stb_image_write's callback: appends to a byte vector.
+void append_bytes(void* context, void* data, int size) {
+    auto* out = static_cast<std::vector<unsigned char>*>(context);
+    auto* p = static_cast<unsigned char*>(data);
+    out->insert(out->end(), p, p + size);
+}
+
+}  // namespace
+
+std::vector<unsigned char> encode_jpeg(const Image& image, float exposure, int quality) {
+    const std::vector<unsigned char> bytes = eight_bit_bytes(image, PixelMeaning::Radiance, exposure);
+    std::vector<unsigned char> jpeg;
+    if (!stbi_write_jpg_to_func(append_bytes, &jpeg, image.width, image.height, 3, bytes.data(),
+                                quality))
+        throw std::runtime_error("cannot write JPEG");
+    return jpeg;
+}
+
+std::vector<unsigned char> encode_png(const Image& image, PixelMeaning meaning, float exposure,
+                                      const std::string& metadata) {
+    const std::vector<unsigned char> bytes = eight_bit_bytes(image, meaning, exposure);
     std::vector<unsigned char> png;
-    auto append = [](void* context, void* data, int size) {
-        auto* out = static_cast<std::vector<unsigned char>*>(context);
-        auto* p = static_cast<unsigned char*>(data);
-        out->insert(out->end(), p, p + size);
-    };
-    if (!stbi_write_png_to_func(append, &png, image.width, image.height, 3, bytes.data(),
+    if (!stbi_write_png_to_func(append_bytes, &png, image.width, image.height, 3, bytes.data(),
                                 image.width * 3)) {
         throw std::runtime_error("cannot write PNG");
     }
