@@ -382,5 +382,23 @@ render_bad "unknown caustics" "render.caustics: unknown value" 'scene["render"][
 render_bad "small abbe" "materials.glass.dispersion.abbe: must be 0" 'scene["materials"]["glass"] = {"type": "dielectric", "dispersion": {"abbe": 0.5}}'
 render_bad "cauchy with ior" "materials.glass.dispersion.cauchy: gives the ior" 'scene["materials"]["glass"] = {"type": "dielectric", "ior": 1.5, "dispersion": {"cauchy": [1.5, 0.004]}}'
 
+# Flat and Gouraud shading under a shadow technique with no light at all: the ambient term
+# alone, as with no technique (per-light shading indexed an empty array of light terms; the
+# sanitizer build saw it).
+cat > "$work/dark.json" <<'JSON'
+{"camera": {"position": [0, 1, 5], "look_at": [0, 0.5, 0], "fov": 40}, "film": {"width": 32, "height": 24},
+ "render": {"engine": "raster", "ambient": [0.1, 0.1, 0.1]},
+ "materials": {"w": {"type": "lambert", "albedo": 0.8}}, "lights": [],
+ "objects": [{"type": "sphere", "center": [0, 0.5, 0], "radius": 0.5, "material": "w"}]}
+JSON
+for shading in flat gouraud; do
+    "$svetlo" render "$work/dark.json" --set render.shading="\"$shading\"" --set render.shadows='"none"' \
+        -q -o "$work/dark_none.pfm"
+    "$svetlo" render "$work/dark.json" --set render.shading="\"$shading\"" --set render.shadows='"map"' \
+        -q -o "$work/dark_map.pfm" 2> "$work/dark.err"
+    check "$shading, shadow map, no light: the ambient term alone" cmp "$work/dark_none.pfm" "$work/dark_map.pfm"
+    check "$shading, shadow map, no light: nothing on stderr" test ! -s "$work/dark.err"
+done
+
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

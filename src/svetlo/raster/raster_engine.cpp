@@ -246,7 +246,9 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     const CameraMatrices camera = frame_camera(scene, list);
     f.list = &list;
     f.sources = f.lights->set.sources().size();
-    f.per_light = scene.render.shadows != ShadowTechnique::None &&
+    // Each light's term apart, for its mask (flat and Gouraud shading under a shadow
+    // technique); with no light there is no term to mask.
+    f.per_light = scene.render.shadows != ShadowTechnique::None && f.sources > 0 &&
                   (f.mode == Mode::Flat || f.mode == Mode::Gouraud);
     // The frame's sample positions, pass by pass (the same in every pixel).
     std::vector<SamplePattern> passes;
