@@ -110,6 +110,20 @@ def wait_view(tab, previous_src=None, seconds=60):
     return None
 
 
+def settle(tab, seconds=60):
+    """#view once it has stopped changing: no render due, the same image half a second apart
+    (the page sends a JPEG while the view moves, then one PNG)."""
+    end = time.time() + seconds
+    last = None
+    while time.time() < end:
+        v = tab.eval(VIEW)
+        if v and not tab.eval("window.svetloBusy()") and last and v[2] == last[2]:
+            return v
+        last = v
+        time.sleep(0.5)
+    return None
+
+
 def set_control(tab, element, value, event="change"):
     tab.eval("(() => { const e = document.getElementById(%s); e.value = %s; "
              "e.dispatchEvent(new Event(%s)); })()"
@@ -185,6 +199,7 @@ def main():
                   v and v[:2])
             if v:
                 views.append(v)
+        final = settle(tab)
         search = tab.eval("location.search")
         check("the controls write the query string",
               "engine=raster" in search and "render.shading" in search and "spp=1" in search, search)
@@ -197,9 +212,10 @@ def main():
                                      % (devtools, urllib.parse.quote(href, safe="")), method="PUT")
         target = json.loads(urllib.request.urlopen(req, timeout=30).read())
         again = Tab(target["webSocketDebuggerUrl"])
-        restored = wait_view(again)
-        check("the query string restores the view", restored is not None and restored[0] == views[-1][0],
-              (restored and restored[:2], views[-1][:2], href, again.eval("location.href")))
+        restored = settle(again)
+        check("the query string restores the view",
+              restored is not None and final is not None and restored[0] == final[0],
+              (restored and restored[:2], final and final[:2], href, again.eval("location.href")))
         if screenshot:
             shot = tab.call("Page.captureScreenshot", format="png")
             with open(screenshot, "wb") as f:
