@@ -4,7 +4,6 @@
 // wraps them in Scene, render, diff and trace. The renders run through the command line's
 // own code (apps/svetlo: RenderJob, the provenance, the metrics), so an image is bit for bit
 // the command line's.
-#include <pybind11/functional.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -58,6 +57,17 @@ nlohmann::json parse(const std::string& text, const std::string& path) {
     }
 }
 
+/// Overrides from Python: (dotted KEY, JSON value text), applied in order as --set's.
+using Overrides = std::vector<std::pair<std::string, std::string>>;
+
+/// The scene's JSON with `overrides` applied.
+nlohmann::json with_overrides(const std::string& text, const std::string& path,
+                              const Overrides& overrides) {
+    nlohmann::json json = parse(text, path);
+    for (const auto& [key, value] : overrides) apply_override(json, Override{key, value}, path);
+    return json;
+}
+
 /// The scene's JSON checked as a scene file is (throws Error, which becomes SceneError).
 void validate(const std::string& text, const std::string& path) {
     (void)scene_from_json(parse(text, path), path);
@@ -66,8 +76,7 @@ void validate(const std::string& text, const std::string& path) {
 /// The JSON of the scene after `key` (dotted, as --set) is set to `value` (JSON text).
 std::string set_key(const std::string& text, const std::string& path, const std::string& key,
                     const std::string& value) {
-    nlohmann::json json = parse(text, path);
-    apply_override(json, Override{key, value}, path);
+    const nlohmann::json json = with_overrides(text, path, {{key, value}});
     (void)scene_from_json(json, path);
     return json.dump();
 }
@@ -75,12 +84,9 @@ std::string set_key(const std::string& text, const std::string& path, const std:
 /// The job of a render from Python: the scene's JSON with the overrides (KEY, JSON value) in
 /// order, its AOVs and threads.
 RenderJob python_job(const std::string& text, const std::string& path, const std::string& sha256,
-                     const std::vector<std::pair<std::string, std::string>>& overrides,
-                     const std::vector<std::string>& aovs, int threads,
+                     const Overrides& overrides, const std::vector<std::string>& aovs, int threads,
                      const std::vector<std::string>& command) {
-    nlohmann::json json = parse(text, path);
-    for (const auto& [key, value] : overrides) apply_override(json, Override{key, value}, path);
-    RenderJob job = make_job(std::move(json), path, sha256);
+    RenderJob job = make_job(with_overrides(text, path, overrides), path, sha256);
     job.run.command = command;
     job.options.threads = threads;
     for (const std::string& name : aovs) request_aov(job, name, path, "aovs");
@@ -91,9 +97,9 @@ RenderJob python_job(const std::string& text, const std::string& path, const std
 /// on the command line, and then raises KeyboardInterrupt. `progress(fraction, spp, seconds)`
 /// runs after each pass, with the GIL.
 py::dict render(const std::string& text, const std::string& path, const std::string& sha256,
-                const std::vector<std::pair<std::string, std::string>>& overrides,
-                const std::vector<std::string>& aovs, int threads, double time_budget,
-                const std::vector<std::string>& command, const py::object& progress) {
+                const Overrides& overrides, const std::vector<std::string>& aovs, int threads,
+                double time_budget, const std::vector<std::string>& command,
+                const py::object& progress) {
     RenderJob job = python_job(text, path, sha256, overrides, aovs, threads, command);
     if (time_budget > 0.0 && job.scene.render.engine != "path") {
         throw Error(
@@ -159,9 +165,8 @@ py::dict render(const std::string& text, const std::string& path, const std::str
 /// For bench/python_overhead.py: the mean wall-clock seconds of the same render as `render`
 /// (the job made from the JSON, then run), `repeats` times in C++ with no Python in the loop.
 double native_render_seconds(const std::string& text, const std::string& path,
-                             const std::string& sha256,
-                             const std::vector<std::pair<std::string, std::string>>& overrides,
-                             int threads, int repeats) {
+                             const std::string& sha256, const Overrides& overrides, int threads,
+                             int repeats) {
     py::gil_scoped_release release;
     const auto t0 = std::chrono::steady_clock::now();
     for (int k = 0; k < repeats; ++k) {
@@ -176,8 +181,8 @@ double native_render_seconds(const std::string& text, const std::string& path,
 
 /// svetlo trace's JSON of sample `sample` of pixel (x, y).
 std::string trace(const std::string& text, const std::string& path, const std::string& sha256,
-                  const std::vector<std::pair<std::string, std::string>>& overrides, int x, int y,
-                  long long sample, long long spp, int threads) {
+                  const Overrides& overrides, int x, int y, long long sample, long long spp,
+                  int threads) {
     RenderJob job = python_job(text, path, sha256, overrides, {}, threads, {});
     PixelTrace log;
     {
@@ -190,14 +195,13 @@ std::string trace(const std::string& text, const std::string& path, const std::s
 /// svetlo compare's --json of the techniques (SPECs) against the reference; with `html` or
 /// `png`, the sheet is written there too.
 std::string compare(const std::string& text, const std::string& path, const std::string& sha256,
-                    const std::vector<std::pair<std::string, std::string>>& overrides,
-                    const std::vector<std::string>& techniques, const std::string& reference,
-                    int threads, bool curves, const std::string& html, const std::string& png) {
+                    const Overrides& overrides, const std::vector<std::string>& techniques,
+                    const std::string& reference, int threads, bool curves, const std::string& html,
+                    const std::string& png) {
     if (techniques.empty()) throw Error(path, "techniques", "give at least one technique SPEC");
     if (!png.empty()) check_writable(png, "png");
     if (!html.empty()) check_creatable(html, "html");
-    nlohmann::json json = parse(text, path);
-    for (const auto& [key, value] : overrides) apply_override(json, Override{key, value}, path);
+    const nlohmann::json json = with_overrides(text, path, overrides);
     Sheet sheet;
     {
         py::gil_scoped_release release;

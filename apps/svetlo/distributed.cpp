@@ -87,7 +87,7 @@ std::vector<float> pack(const RenderResult& r) {
     return out;
 }
 
-RenderResult unpack(const std::vector<float>& data, const RenderResult& names) {
+RenderResult unpack(const std::vector<float>& data, const std::vector<std::string>& names) {
     RenderResult r;
     size_t pos = 0;
     auto take = [&](Image& image) {
@@ -100,7 +100,7 @@ RenderResult unpack(const std::vector<float>& data, const RenderResult& names) {
         }
     };
     take(r.color);
-    for (const auto& [name, image] : names.aovs) take(r.aovs[name]);
+    for (const std::string& name : names) take(r.aovs[name]);
     return r;
 }
 
@@ -135,8 +135,13 @@ RenderResult run_job_distributed(const RenderJob& job, const MpiSession& mpi,
     RenderJob local = job;
     local.options.progress = false;
     local.options.crop.reset();
-    RenderResult full;   // rank 0: the window's images
-    RenderResult names;  // its aovs' names: the images each tile carries
+    RenderResult full;  // rank 0: the window's images
+    // The images a tile carries besides the colour: the AOVs the job asks for (the engines
+    // name them so), in name order on every rank, as pack sends a result's std::map.
+    std::vector<std::string> names = job.options.aovs;
+    names.insert(names.end(), job.options.debug_aovs.begin(), job.options.debug_aovs.end());
+    std::sort(names.begin(), names.end());
+    names.erase(std::unique(names.begin(), names.end()), names.end());  // one AOV, two files
     uint64_t bytes = 0;
     auto clock = std::chrono::steady_clock::now();
     auto pace = [&]() {  // the test's slow rank: wait (F - 1) times the tile's time
@@ -272,10 +277,6 @@ RenderResult run_job_distributed(const RenderJob& job, const MpiSession& mpi,
                       kResult, MPI_COMM_WORLD, &requests.back());
         };
     }
-    // The images a tile carries besides the colour: the AOVs the job asks for (the engines
-    // name them so), in name order on every rank.
-    for (const std::string& name : job.options.aovs) names.aovs[name];
-    for (const std::string& name : job.options.debug_aovs) names.aovs[name];
     local.options.windows = &source;
     RenderResult result = run_job(local);
     uint64_t total_rays = 0, total_nonfinite = 0;

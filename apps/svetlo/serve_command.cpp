@@ -68,16 +68,11 @@ fs::path scene_path(const Server& server, const std::string& name) {
 RenderJob request_job(const Server& server, const httplib::Request& req) {
     const fs::path path = scene_path(server, req.get_param_value("scene"));
     const std::string file = path.string();
-    std::vector<Override> overrides;
-    for (size_t k = 0; k < req.get_param_value_count("set"); ++k) {
-        const std::string set = req.get_param_value("set", k);
-        const size_t eq = set.find('=');
-        if (eq == std::string::npos || eq == 0)
-            throw Error(file, "set " + set, "expected KEY=VALUE");
-        overrides.push_back({set.substr(0, eq), set.substr(eq + 1)});
-    }
-    if (req.has_param("engine"))
-        overrides.push_back({"render.engine", "\"" + req.get_param_value("engine") + "\""});
+    std::vector<std::string> sets;
+    for (size_t k = 0; k < req.get_param_value_count("set"); ++k)
+        sets.push_back(req.get_param_value("set", k));
+    std::vector<Override> overrides = parse_sets(sets, file);
+    add_flag_overrides(file, {}, {}, overrides, req.get_param_value("engine"));
     auto integer = [&](const char* name, const char* key, long long lo, long long hi) {
         if (!req.has_param(name)) return;
         const long long v = flag_integer(file, name, req.get_param_value(name), lo, hi);

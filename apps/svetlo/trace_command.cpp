@@ -6,7 +6,6 @@
 // X,X+1,Y,Y+1` for sample 0.
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <sstream>
 
 #include "commands.h"

@@ -11,11 +11,9 @@ Bad input raises SceneError (a ValueError) with the command line's one-line mess
 (FILE: WHERE: WHAT); a wrong keyword or type raises TypeError, naming it.
 """
 
-import copy
 import json
 import math
 import os
-import sys
 
 from . import _svetlo
 
@@ -147,11 +145,16 @@ def _as_scene(scene):
     raise TypeError("expected a svetlo.Scene, a dict or a path, not %s" % type(scene).__name__)
 
 
+def _require_int(name, value):
+    """TypeError unless value is an int (bool is not one here)."""
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise TypeError("%s must be an int, not %s" % (name, type(value).__name__))
+
+
 def _int(name, value, lo, hi, where):
     if value is None:
         return None
-    if isinstance(value, bool) or not isinstance(value, int):
-        raise TypeError("%s must be an int, not %s" % (name, type(value).__name__))
+    _require_int(name, value)
     if not lo <= value <= hi:
         raise SceneError("<python>: %s: must be in [%d, %d] (is %d)" % (where, lo, hi, value))
     return value
@@ -175,8 +178,7 @@ def _overrides(scene, engine, width, height, spp, seed, set):
     for name, key, value in (("width", "film.width", width), ("height", "film.height", height),
                              ("spp", "render.spp", spp), ("seed", "render.seed", seed)):
         if value is not None:
-            if isinstance(value, bool) or not isinstance(value, int):
-                raise TypeError("%s must be an int, not %s" % (name, type(value).__name__))
+            _require_int(name, value)
             out.append((key, json.dumps(value)))
     return out
 

@@ -91,6 +91,15 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
     if (!photons->active()) photons.reset();
     auto t1 = Clock::now();
 
+    const bool budget = options.time_budget > 0.0;
+    const int max_passes =
+        budget && !options.spp_caps_time ? static_cast<int>(kMaxSpp) : scene.render.spp;
+    // The debug AOVs: the camera rays' cost, cast again, and the bounces of the paths.
+    const bool want_cost = wants_debug_aov(options, "bvh_cost");
+    const bool want_depth = wants_debug_aov(options, "path_depth");
+    if (want_cost) rt.check_counts_cost();
+    const CameraRays camera(scene.camera, width, height);
+
     // The pixels rendered: a window's (the crop's, or each of options.windows), at their
     // places in the full film; a pixel's samples depend only on its place and the pass, so a
     // window is the full render's.
@@ -100,14 +109,7 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
         const size_t pixels = static_cast<size_t>(ww) * static_cast<size_t>(wh);
         RenderResult result;
         const AovTargets targets = prepare_result(result, options.aovs, ww, wh);
-        const bool budget = options.time_budget > 0.0;
-        const int max_passes =
-            budget && !options.spp_caps_time ? static_cast<int>(kMaxSpp) : scene.render.spp;
         const bool want_visibility = targets.want[3] && !scene.lights.empty();
-        // The debug AOVs: the camera rays' cost, cast again, and the bounces of the paths.
-        const bool want_cost = wants_debug_aov(options, "bvh_cost");
-        const bool want_depth = wants_debug_aov(options, "path_depth");
-        if (want_cost) rt.check_counts_cost();
         FilmSums sums;
         sums.color.assign(pixels, glm::dvec3(0.0));
         if (want_cost || want_depth) sums.debug.assign(pixels, glm::dvec4(0.0));
@@ -115,7 +117,6 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
             sums.aov.assign(pixels, glm::dvec4(0.0));
             sums.aov2.assign(pixels, glm::dvec4(0.0));
         }
-        CameraRays camera(scene.camera, width, height);
         const bool avx2 = avx2_available();  // the sampler's eight lanes: the same numbers
         std::atomic<uint64_t> rays{0}, nonfinite{0};
         Progress progress("path", static_cast<int64_t>(max_passes) * static_cast<int64_t>(pixels),

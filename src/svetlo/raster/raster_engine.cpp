@@ -221,11 +221,9 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
         whole.crop.reset();
         const RenderResult frame = render(scene, whole);
         Crop window;
-        while (options.windows->next(window)) {
-            RenderResult part = frame;
-            cut_to_window(part, window, scene.film.width, scene.film.height);
-            options.windows->done(window, std::move(part));
-        }
+        while (options.windows->next(window))
+            options.windows->done(window,
+                                  window_of(frame, window, scene.film.width, scene.film.height));
         RenderResult total;
         total.stats = frame.stats;
         return total;

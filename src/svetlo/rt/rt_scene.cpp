@@ -51,21 +51,18 @@ bool traceable(const Ray& ray) {
 
 }  // namespace
 
-bool RtScene::intersect(const Ray& ray, Hit& hit) const {
-    if (!traceable(ray)) return false;
-    bool found = accel_->intersect(ray, hit);
-    if (unbounded_.empty()) return found;
-    if (!found) hit.t = ray.tmax;
-    RayPrecomputed pre(ray);
-    return geometry_.intersect(unbounded_.data(), unbounded_.size(), ray, pre, hit) || found;
-}
+bool RtScene::intersect(const Ray& ray, Hit& hit) const { return closest(ray, hit, nullptr); }
 
 bool RtScene::intersect_cost(const Ray& ray, Hit& hit, TraversalCost& cost) const {
+    return closest(ray, hit, &cost);
+}
+
+bool RtScene::closest(const Ray& ray, Hit& hit, TraversalCost* cost) const {
     if (!traceable(ray)) return false;
-    bool found = accel_->intersect_cost(ray, hit, cost);
+    bool found = cost ? accel_->intersect_cost(ray, hit, *cost) : accel_->intersect(ray, hit);
     if (unbounded_.empty()) return found;
     if (!found) hit.t = ray.tmax;
-    cost.primitives += static_cast<uint32_t>(unbounded_.size());
+    if (cost) cost->primitives += static_cast<uint32_t>(unbounded_.size());
     RayPrecomputed pre(ray);
     return geometry_.intersect(unbounded_.data(), unbounded_.size(), ray, pre, hit) || found;
 }

@@ -53,6 +53,10 @@ public:
     void check_counts_cost() const;
 
 private:
+    /// The closest hit of the structure and the unbounded primitives, counting the work into
+    /// `cost` when it is given.
+    bool closest(const Ray& ray, Hit& hit, TraversalCost* cost) const;
+
     const Scene& scene_;
     LightSet lights_;
     Geometry geometry_;

@@ -181,7 +181,9 @@ RenderResult WhittedRenderer::render(const Scene& scene, const RenderOptions& op
     auto t1 = Clock::now();
 
     const int width = scene.film.width, height = scene.film.height, spp = scene.render.spp;
-    if (wants_debug_aov(options, "bvh_cost")) rt.check_counts_cost();
+    // The debug AOV: the camera rays' cost, cast again (the image does not change).
+    const bool want_cost = wants_debug_aov(options, "bvh_cost");
+    if (want_cost) rt.check_counts_cost();
     CameraRays camera(scene.camera, width, height);
     // The pixels rendered: a window's (the crop's, or each of options.windows), at their
     // places in the full film (result pixel (i - x0, j - y0)); a pixel's samples depend only
@@ -194,8 +196,6 @@ RenderResult WhittedRenderer::render(const Scene& scene, const RenderOptions& op
             const AovTargets targets =
                 prepare_result(result, options.aovs, window.width(), window.height());
             bool want_visibility = targets.want[3] && !scene.lights.empty();
-            // The debug AOV: the camera rays' cost, cast again (the image does not change).
-            const bool want_cost = wants_debug_aov(options, "bvh_cost");
             if (want_cost) result.aovs["bvh_cost"] = Image(window.width(), window.height());
             Image* cost_image = want_cost ? &result.aovs["bvh_cost"] : nullptr;
             std::atomic<uint64_t> rays{0}, nonfinite{0};

@@ -206,16 +206,26 @@ inline Crop film_window(const Scene& scene, const RenderOptions& options) {
     return options.crop ? *options.crop : Crop::full(scene.film.width, scene.film.height);
 }
 
-/// Cuts every image of `result` that covers the whole width x height film down to `window`
-/// (engines that draw the whole frame and keep the window: raster, radiosity's display).
+/// The window `window` of `frame`, a render of the whole width x height film: its images
+/// that cover the film cut down to the window, the others (a shadow map) as they are.
+inline RenderResult window_of(const RenderResult& frame, const Crop& window, int width,
+                              int height) {
+    auto cut = [&](const Image& image) {
+        if (image.width != width || image.height != height) return image;
+        return crop_image(image, window.x0, window.y0, window.width(), window.height());
+    };
+    RenderResult part;
+    part.stats = frame.stats;
+    part.color = cut(frame.color);
+    for (const auto& [name, image] : frame.aovs) part.aovs[name] = cut(image);
+    return part;
+}
+
+/// Cuts `result`, a render of the whole width x height film, down to `window` (engines that
+/// draw the whole frame and keep the window: raster, radiosity's display).
 inline void cut_to_window(RenderResult& result, const Crop& window, int width, int height) {
     if (window == Crop::full(width, height)) return;
-    auto cut = [&](Image& image) {
-        if (image.width != width || image.height != height) return;  // a shadow map, say
-        image = crop_image(image, window.x0, window.y0, window.width(), window.height());
-    };
-    cut(result.color);
-    for (auto& [name, image] : result.aovs) cut(image);
+    result = window_of(result, window, width, height);
 }
 
 class Renderer {
