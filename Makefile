@@ -5,7 +5,7 @@ BUILD := build
 SVETLO := $(BUILD)/svetlo
 DEMO_SCENES := $(wildcard scenes/*.json)
 
-.PHONY: all build test demo bench setup clean format fuzz fuzz-scenes figures
+.PHONY: all build test test-scalar test-arm64 demo bench setup clean format fuzz fuzz-scenes figures
 
 all: build
 
@@ -20,6 +20,26 @@ build: setup $(BUILD)/CMakeCache.txt
 
 test: build
 	ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS)
+
+# The suite built from the scalar twins alone (SVETLO_SIMD=OFF: no SSE or AVX2 anywhere), then
+# every engine's images held against the SIMD build's (tests/app/twins_test.sh; docs/kernels.md).
+SCALAR := build-scalar
+test-scalar: build
+	cmake -S . -B $(SCALAR) -DCMAKE_BUILD_TYPE=Release -DSVETLO_SIMD=OFF -DSVETLO_BENCH=OFF \
+	    -DSVETLO_PYTHON=OFF
+	cmake --build $(SCALAR) -j $(JOBS)
+	ctest --test-dir $(SCALAR) --output-on-failure -j $(JOBS)
+	bash tests/app/twins_test.sh $(SVETLO) $(SCALAR)/svetlo scenes
+
+# The suite on ARM64: cross-built with Debian's g++-aarch64-linux-gnu and arm64 libraries
+# (multiarch; scripts/setup arm64 installs them), run under qemu-user (docs/kernels.md).
+ARM64 := build-arm64
+test-arm64:
+	@scripts/setup arm64
+	cmake -S . -B $(ARM64) --toolchain cmake/aarch64-linux-gnu.cmake -DCMAKE_BUILD_TYPE=Release \
+	    -DSVETLO_BENCH=OFF -DSVETLO_PYTHON=OFF
+	cmake --build $(ARM64) -j $(JOBS)
+	ctest --test-dir $(ARM64) --output-on-failure -j $(JOBS)
 
 demo: build
 	@mkdir -p out

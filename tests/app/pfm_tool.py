@@ -77,6 +77,13 @@ def main():
         pairs = [(ra[k], 1 - rb[k] if flip else rb[k]) for ra, rb in zip(a, b) for k in range(0, len(ra), 3)]
         print("%.6f" % (sum(abs(p - q) <= tol for p, q in pairs) / len(pairs)))
         return 0
+    if cmd == "worst-relative":  # the largest |a - b| / max(|b|, floor) of two images
+        _, _, a = read(sys.argv[2])
+        _, _, b = read(sys.argv[3])
+        floor = float(sys.argv[4])
+        print("%.3g" % max(abs(p - q) / max(abs(q), floor) for ra, rb in zip(a, b)
+                           for p, q in zip(ra, rb)))
+        return 0
     return 2
 
 

@@ -117,7 +117,10 @@ done
 "$svetlo" render "$scenes/bunny.json" -e whitted -W 64 -H 40 --spp 1 -q -o "$work/x.pfm" \
     --aov bvh_cost="$work/cost.pfm" --aov bvh_cost="$work/cost.png"
 check "bvh_cost sum, bvh" $tool channel-sum "$work/cost.pfm"
-check "bvh_cost from 1 node" test "$($tool values "$work/cost.pfm" 0 | cut -d' ' -f1)" = "1"
+# The fewest nodes: the root alone on the eight-wide tree, the root and a child on the
+# four-wide one (a processor without AVX2, or a build without SIMD).
+fewest=$($tool values "$work/cost.pfm" 0 | cut -d' ' -f1)
+check "bvh_cost from 1 node ($fewest)" test "$fewest" -ge 1 -a "$fewest" -le 2
 check "bvh_cost to many" test "$($tool values "$work/cost.pfm" 0 | wc -w)" -gt 10
 check "bvh_cost as a PNG" test -s "$work/cost.png"
 # path_depth: at max_depth 0 a path that meets a surface traces its one BSDF ray (for MIS),

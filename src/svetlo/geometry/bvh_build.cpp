@@ -1,6 +1,5 @@
 #include "svetlo/geometry/bvh_build.h"
 
-#include <immintrin.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 #include <tbb/task_group.h>
@@ -15,12 +14,23 @@
 #include "svetlo/core/parallel.h"
 #include "svetlo/geometry/avx2.h"
 #include "svetlo/geometry/bvh_sah.h"
+#if SVETLO_SIMD
+#include "svetlo/geometry/bvh_sah_sse.h"
+#else
+#include "svetlo/geometry/bvh_sah_reference.h"
+#endif
 
 namespace svetlo {
 
 namespace {
 
 using namespace sah;
+// The SAH's kernels: SSE (and AVX2) with SVETLO_SIMD, else their plain twins.
+#if SVETLO_SIMD
+namespace K = sah::sse;
+#else
+namespace K = sah::reference;
+#endif
 
 constexpr uint32_t kMaxLeaf = 8;
 constexpr uint32_t kMinSplit = 4;           // nodes this small become leaves without a SAH test
@@ -173,9 +183,9 @@ private:
         BuildRef* src = buffers_[s.buffer];
         BuildRef* dst = buffers_[1 - s.buffer];
         const bool sorted = n <= kBins;
-        std::vector<Bins> chunk_bins;
-        const Sweep sweep = sorted ? sorted_sweep(src, dst, s, position)
-                                   : binned_sweep(src, s, position, chunk_bins);
+        std::vector<K::Bins> chunk_bins;
+        const K::Sweep sweep = sorted ? sorted_sweep(src, dst, s, position)
+                                      : binned_sweep(src, s, position, chunk_bins);
         float best_cost = kInfinity;
         const int best_bin = sweep.cheapest(best_cost);
         const float node_area = s.bounds.surface_area();
@@ -192,7 +202,7 @@ private:
         if (sorted) {
             // Already in the other buffer, in order.
         } else if (chunk_bins.empty()) {
-            partition_range(src, dst, s.begin, s.end, s.begin, mid, last_left, avx2_);
+            K::partition_range(src, dst, s.begin, s.end, s.begin, mid, last_left, avx2_);
         } else {
             const auto chunks = static_cast<uint32_t>(chunk_bins.size());
             std::vector<uint32_t> lefts(chunks + 1, 0);  // left references before each chunk
@@ -203,15 +213,16 @@ private:
             }
             tbb::parallel_for(0u, chunks, [&](uint32_t c) {
                 const uint32_t first = s.begin + c * kSplitChunk;
-                partition_range(src, dst, first, std::min(s.end, first + kSplitChunk),
-                                s.begin + lefts[c], mid + (first - s.begin - lefts[c]), last_left,
-                                avx2_);
+                K::partition_range(src, dst, first, std::min(s.end, first + kSplitChunk),
+                                   s.begin + lefts[c], mid + (first - s.begin - lefts[c]),
+                                   last_left, avx2_);
             });
         }
         // The children's bounds from the sweep; their centroid bounds are approximated by the
         // primitive bounds, which contain every centroid (binning only needs a range).
-        const Bounds3 lb = to_bounds(sweep.left_min[best_bin], sweep.left_max[best_bin]);
-        const Bounds3 rb = to_bounds(sweep.right_min[best_bin + 1], sweep.right_max[best_bin + 1]);
+        const Bounds3 lb = K::to_bounds(sweep.left_min[best_bin], sweep.left_max[best_bin]);
+        const Bounds3 rb =
+            K::to_bounds(sweep.right_min[best_bin + 1], sweep.right_max[best_bin + 1]);
         left = Span{s.begin, mid, 1 - s.buffer, lb, lb};
         right = Span{mid, s.end, 1 - s.buffer, rb, rb};
         return true;
@@ -219,30 +230,30 @@ private:
 
     /// The sweep over the bins of a span of more than kBins references; a large span is binned
     /// in chunks, whose bins are left in `chunk_bins`.
-    Sweep binned_sweep(BuildRef* src, const Span& s, const BinPosition& position,
-                       std::vector<Bins>& chunk_bins) const {
-        Bins bins;
+    K::Sweep binned_sweep(BuildRef* src, const Span& s, const BinPosition& position,
+                          std::vector<K::Bins>& chunk_bins) const {
+        K::Bins bins;
         if (s.size() < kParallelSplit) {
-            bin_range(src, s.begin, s.end, position, bins, avx2_);
+            K::bin_range(src, s.begin, s.end, position, bins, avx2_);
         } else {
             chunk_bins.resize((s.size() + kSplitChunk - 1) / kSplitChunk);
             tbb::parallel_for(size_t{0}, chunk_bins.size(), [&](size_t c) {
                 const uint32_t first = s.begin + static_cast<uint32_t>(c) * kSplitChunk;
-                bin_range(src, first, std::min(s.end, first + kSplitChunk), position, chunk_bins[c],
-                          avx2_);
+                K::bin_range(src, first, std::min(s.end, first + kSplitChunk), position,
+                             chunk_bins[c], avx2_);
             });
-            for (const Bins& b : chunk_bins) bins.merge(b);
+            for (const K::Bins& b : chunk_bins) bins.merge(b);
         }
-        return Sweep(kBins, s.size(), [&](int b) {
-            return Cell{bins.min[b], bins.max[b], bins.count[b]};
+        return K::Sweep(kBins, s.size(), [&](int b) {
+            return K::Cell{bins.min[b], bins.max[b], bins.count[b]};
         });
     }
 
     /// The sweep over a span of at most kBins references, written into the other buffer
     /// sorted along the axis, each its own cell: every split between two centroids is tried
     /// (the exact SAH on that axis, cheaper than binning for so few).
-    Sweep sorted_sweep(const BuildRef* src, BuildRef* dst, const Span& s,
-                       const BinPosition& position) const {
+    K::Sweep sorted_sweep(const BuildRef* src, BuildRef* dst, const Span& s,
+                          const BinPosition& position) const {
         const uint32_t n = s.size();
         // The keys: a NaN counts as -inf; past the span, +inf.
         alignas(32) float key[kBins];
@@ -252,20 +263,10 @@ private:
         }
         for (uint32_t k = n; k < kBins; ++k) key[k] = kInfinity;
         uint32_t rank[kBins];
-        rank_keys(key, n, rank, avx2_);
-        for (uint32_t k = 0; k < n; ++k) {
-            // Loaded whole before it is stored: copied as a struct, its second half was read
-            // after the first half's store, whose address the load had to wait for.
-            const __m128 lo = _mm_loadu_ps(&src[s.begin + k].min.x),
-                         hi = _mm_loadu_ps(&src[s.begin + k].max.x);
-            BuildRef& to = dst[s.begin + rank[k]];
-            _mm_storeu_ps(&to.min.x, lo);
-            _mm_storeu_ps(&to.max.x, hi);
-        }
-        return Sweep(static_cast<int>(n), n, [&](int b) {
-            const BuildRef& r = dst[s.begin + b];
-            return Cell{_mm_loadu_ps(&r.min.x), _mm_loadu_ps(&r.max.x), 1};
-        });
+        K::rank_keys(key, n, rank, avx2_);
+        for (uint32_t k = 0; k < n; ++k) K::copy_ref(src[s.begin + k], dst[s.begin + rank[k]]);
+        return K::Sweep(static_cast<int>(n), n,
+                        [&](int b) { return K::cell_of(dst[s.begin + b]); });
     }
 
     LargeArray<BuildRef> scratch_;  // the second buffer, same indices as the first
@@ -280,59 +281,6 @@ private:
     std::vector<std::pair<uint32_t, uint32_t>> holes_;
     tbb::task_group group_;
 };
-
-/// A vertex in an SSE register (lane 3 zero), read as 8 + 4 bytes: 16 would pass the end of
-/// the array at its last vertex.
-__m128 load_vertex(const vec3& v) {
-    return _mm_movelh_ps(_mm_loadl_pi(_mm_setzero_ps(), reinterpret_cast<const __m64*>(&v.x)),
-                         _mm_load_ss(&v.z));
-}
-
-/// The references [first, last) (the triangles, then the bounded shapes) written into refs,
-/// and their bounds and centroid bounds. _mm_min_ps(b, a) is glm::min(a, b), NaN included.
-void make_refs(const Geometry& geometry, std::span<const uint32_t> shapes, size_t first,
-               size_t last, BuildRef* refs, Bounds3& bounds, Bounds3& centroids) {
-    const size_t triangles = geometry.triangle_count();
-    const vec3* p = geometry.positions.data();
-    const uint32_t* index = geometry.indices.data();
-    const __m128 half = _mm_set1_ps(0.5f);
-    __m128 b_min = _mm_set1_ps(kInfinity), b_max = _mm_set1_ps(-kInfinity);
-    __m128 c_min = b_min, c_max = b_max;
-    for (size_t k = first; k < last; ++k) {
-        __m128 lo, hi;
-        uint32_t id;
-        if (k < triangles) {  // the common case, three vertices
-            id = static_cast<uint32_t>(k);
-            // The vertices of the triangle kAhead on are asked for now: a mesh's triangles
-            // reach for vertices all over its array, and the loads waited on the memory.
-            constexpr size_t kAhead = 16;
-            if (k + kAhead < triangles) {
-                for (int j = 0; j < 3; ++j) __builtin_prefetch(&p[index[3 * (k + kAhead) + j]]);
-            }
-            const __m128 a = load_vertex(p[index[3 * k]]), v1 = load_vertex(p[index[3 * k + 1]]),
-                         v2 = load_vertex(p[index[3 * k + 2]]);
-            lo = _mm_min_ps(_mm_min_ps(v2, v1), a);
-            hi = _mm_max_ps(_mm_max_ps(v2, v1), a);
-        } else {
-            id = shapes[k - triangles];
-            const Bounds3 pb = geometry.primitive_bounds(id);
-            lo = _mm_setr_ps(pb.min.x, pb.min.y, pb.min.z, 0.0f);
-            hi = _mm_setr_ps(pb.max.x, pb.max.y, pb.max.z, 0.0f);
-        }
-        BuildRef& r = refs[k];
-        _mm_storeu_ps(&r.min.x, lo);
-        _mm_storeu_ps(&r.max.x, hi);
-        r.id = id;
-        r.bin = 0;
-        b_min = _mm_min_ps(lo, b_min);
-        b_max = _mm_max_ps(hi, b_max);
-        const __m128 c = _mm_add_ps(_mm_mul_ps(half, lo), _mm_mul_ps(half, hi));  // centroid()
-        c_min = _mm_min_ps(c, c_min);
-        c_max = _mm_max_ps(c, c_max);
-    }
-    bounds = to_bounds(b_min, b_max);
-    centroids = to_bounds(c_min, c_max);
-}
 
 }  // namespace
 
@@ -352,8 +300,8 @@ BvhBuild build_bvh(const Geometry& geometry, int threads) {
     std::vector<Bounds3> chunk_bounds(chunks), chunk_centroids(chunks);
     arena.execute([&] {
         tbb::parallel_for(size_t{0}, chunks, [&](size_t c) {
-            make_refs(geometry, shapes, c * n / chunks, (c + 1) * n / chunks, refs.data(),
-                      chunk_bounds[c], chunk_centroids[c]);
+            K::make_refs(geometry, shapes, c * n / chunks, (c + 1) * n / chunks, refs.data(),
+                         chunk_bounds[c], chunk_centroids[c]);
         });
     });
     Bounds3 bounds, centroids;

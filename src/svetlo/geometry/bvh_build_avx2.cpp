@@ -1,14 +1,14 @@
-// The BVH build's binning, partition and small spans' ranks with AVX2 (bvh_sah.h's
+// The BVH build's binning, partition and small spans' ranks with AVX2 (bvh_sah_sse.h's
 // bin_range_avx2, partition_range_avx2 and rank_keys_avx2): used only where avx2_available(). The
 // target is set by pragma after the headers, as in wide_bvh_avx2.cpp.
 #include <immintrin.h>
 
-#include "svetlo/geometry/bvh_sah.h"
+#include "svetlo/geometry/bvh_sah_sse.h"
 
 #pragma GCC push_options
 #pragma GCC target("avx2,popcnt")  // every processor with AVX2 has POPCNT
 
-namespace svetlo::sah {
+namespace svetlo::sah::sse {
 
 namespace {
 
@@ -104,6 +104,6 @@ void rank_keys_avx2(const float* key, uint32_t n, uint32_t* rank) {
     }
 }
 
-}  // namespace svetlo::sah
+}  // namespace svetlo::sah::sse
 
 #pragma GCC pop_options

@@ -1,6 +1,11 @@
+// The wide BVH's build and its four-wide traversal. The kernels' plain statement, and what runs
+// without SIMD, is wide_bvh_reference.h (ScalarBoxes, ScalarPackets); RayBoxes4 and
+// wide_bvh_packets.inc are their SSE forms.
 #include "svetlo/geometry/wide_bvh.h"
 
+#if SVETLO_SIMD
 #include <immintrin.h>
+#endif
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -12,12 +17,15 @@
 #include "svetlo/geometry/bvh.h"
 #include "svetlo/geometry/ray_box.h"
 #include "svetlo/geometry/triangle.h"
+#include "svetlo/geometry/wide_bvh_reference.h"
 
 namespace svetlo {
 
 namespace {
 
+#if SVETLO_SIMD
 #include "svetlo/geometry/wide_bvh_packets.inc"
+#endif
 #include "svetlo/geometry/wide_bvh_traversal.inc"
 
 float half_area(const BvhNode& n) {
@@ -25,8 +33,9 @@ float half_area(const BvhNode& n) {
     return e.x * e.y + e.y * e.z + e.z * e.x;
 }
 
+#if SVETLO_SIMD
 /// A ray against the four boxes of a node (SSE): returns the mask of children hit and their
-/// entry distances.
+/// entry distances. Its twin: wide::ScalarBoxes<4> (wide_bvh_reference.h).
 struct RayBoxes4 {
     static constexpr int kWidth = 4;
     __m128 o[3], inv[3];
@@ -56,8 +65,29 @@ struct RayBoxes4 {
         return _mm_movemask_ps(_mm_cmple_ps(enter, exit));
     }
 };
+using Boxes4 = RayBoxes4;
+using Packets = SsePackets;
+#else
+using Boxes4 = wide::ScalarBoxes<4>;
+using Packets = wide::ScalarPackets;
+#endif
 
 }  // namespace
+
+#if SVETLO_SIMD
+int wide::boxes_sse(const Ray& ray, const WideBvhNode<4>& node, float tmax, float* t_enter) {
+    return RayBoxes4(ray).test(node, tmax, t_enter);
+}
+bool wide::packets_closest_sse(const Ray& ray, const TrianglePacket* packets, uint32_t count,
+                               Hit& hit) {
+    const RayPrecomputed pre(ray);
+    return SsePackets(ray, pre).closest(packets, count, hit);
+}
+bool wide::packets_any_sse(const Ray& ray, const TrianglePacket* packets, uint32_t count) {
+    const RayPrecomputed pre(ray);
+    return SsePackets(ray, pre).any(packets, count);
+}
+#endif
 
 bool WideBvh::eight_wide_available() { return avx2_available(); }
 
@@ -203,25 +233,15 @@ void WideBvh::collapse(std::span<const BvhNode> bin, std::span<const uint32_t> p
     nodes[w] = node;
 }
 
-bool WideBvh::leaf_intersect(uint32_t index, const Ray& ray, const RayPrecomputed& pre,
-                             Hit& hit) const {
-    return leaf_closest(leaves_[index], packets_.data(), shapes_.data(), geometry_,
-                        PacketTest(ray, pre), ray, pre, hit);
-}
-
-bool WideBvh::leaf_occluded(uint32_t index, const Ray& ray, const RayPrecomputed& pre) const {
-    return leaf_any(leaves_[index], packets_.data(), shapes_.data(), geometry_,
-                    PacketTest(ray, pre), ray, pre);
-}
-
 bool WideBvh::intersect(const Ray& ray, Hit& hit) const {
     hit = Hit{};
     hit.t = ray.tmax;
     if (empty_) return false;
     if (width_ == 8) return intersect8(ray, hit);
-    RayPrecomputed pre(ray);
-    return traverse_closest<RayBoxes4>(nodes4_.data(), ray, hit, [&](uint32_t leaf) {
-        return leaf_intersect(leaf, ray, pre, hit);
+    const RayPrecomputed pre(ray);
+    const Packets test(ray, pre);
+    return traverse_closest<Boxes4>(nodes4_.data(), ray, hit, [&](uint32_t leaf) {
+        return leaf_closest(leaves_[leaf], packets_.data(), shapes_.data(), geometry_, test, hit);
     });
 }
 
@@ -230,12 +250,14 @@ bool WideBvh::intersect_cost(const Ray& ray, Hit& hit, TraversalCost& cost) cons
     hit.t = ray.tmax;
     if (empty_) return false;
     if (width_ == 8) return intersect8(ray, hit, &cost);
-    RayPrecomputed pre(ray);
-    return traverse_closest<RayBoxes4>(
+    const RayPrecomputed pre(ray);
+    const Packets test(ray, pre);
+    return traverse_closest<Boxes4>(
         nodes4_.data(), ray, hit,
         [&](uint32_t leaf) {
             cost.primitives += leaf_lanes(leaf);
-            return leaf_intersect(leaf, ray, pre, hit);
+            return leaf_closest(leaves_[leaf], packets_.data(), shapes_.data(), geometry_, test,
+                                hit);
         },
         NodeCount{&cost.nodes});
 }
@@ -243,9 +265,11 @@ bool WideBvh::intersect_cost(const Ray& ray, Hit& hit, TraversalCost& cost) cons
 bool WideBvh::occluded(const Ray& ray) const {
     if (empty_) return false;
     if (width_ == 8) return occluded8(ray);
-    RayPrecomputed pre(ray);
-    return traverse_any<RayBoxes4>(nodes4_.data(), ray,
-                                   [&](uint32_t leaf) { return leaf_occluded(leaf, ray, pre); });
+    const RayPrecomputed pre(ray);
+    const Packets test(ray, pre);
+    return traverse_any<Boxes4>(nodes4_.data(), ray, [&](uint32_t leaf) {
+        return leaf_any(leaves_[leaf], packets_.data(), shapes_.data(), geometry_, test);
+    });
 }
 
 #ifndef SVETLO_HAS_AVX2_BVH

@@ -59,10 +59,6 @@ private:
     /// and returns its child reference; fill_leaf fills it.
     uint32_t add_leaf(std::span<const uint32_t> prims);
     void fill_leaf(size_t index);
-    /// Leaf `index` against the ray, for the four-wide traversal (the eight-wide one tests its
-    /// leaves inline, with the same functions: wide_bvh_packets.inc).
-    bool leaf_intersect(uint32_t index, const Ray& ray, const RayPrecomputed& pre, Hit& hit) const;
-    bool leaf_occluded(uint32_t index, const Ray& ray, const RayPrecomputed& pre) const;
     template <int W>
     void build(const Bvh& bin, LargeArray<WideBvhNode<W>>& nodes, size_t inner);
     template <int W>

@@ -8,6 +8,7 @@
 #include "svetlo/geometry/ray_box.h"
 #include "svetlo/geometry/triangle.h"
 #include "svetlo/geometry/wide_bvh.h"
+#include "svetlo/geometry/wide_bvh_reference.h"
 
 #pragma GCC push_options
 #pragma GCC target("avx2")
@@ -19,7 +20,8 @@ namespace {
 #include "svetlo/geometry/wide_bvh_packets.inc"
 #include "svetlo/geometry/wide_bvh_traversal.inc"
 
-/// A ray against the eight boxes of a node.
+/// A ray against the eight boxes of a node. Its twin: wide::ScalarBoxes<8>
+/// (wide_bvh_reference.h).
 struct RayBoxes8 {
     static constexpr int kWidth = 8;
     __m256 o[3], inv[3];
@@ -54,13 +56,16 @@ struct RayBoxes8 {
 
 }  // namespace
 
+int wide::boxes_avx2(const Ray& ray, const WideBvhNode<8>& node, float tmax, float* t_enter) {
+    return RayBoxes8(ray).test(node, tmax, t_enter);
+}
+
 // (The leaves tested inline: leaf_closest and leaf_any, as leaf_intersect and leaf_occluded.)
 bool WideBvh::intersect8(const Ray& ray, Hit& hit, TraversalCost* cost) const {
     const RayPrecomputed pre(ray);
-    const PacketTest test(ray, pre);
+    const SsePackets test(ray, pre);
     auto leaf_test = [&](uint32_t leaf) {
-        return leaf_closest(leaves_[leaf], packets_.data(), shapes_.data(), geometry_, test, ray,
-                            pre, hit);
+        return leaf_closest(leaves_[leaf], packets_.data(), shapes_.data(), geometry_, test, hit);
     };
     if (!cost) return traverse_closest<RayBoxes8>(nodes8_.data(), ray, hit, leaf_test);
     return traverse_closest<RayBoxes8>(
@@ -74,9 +79,9 @@ bool WideBvh::intersect8(const Ray& ray, Hit& hit, TraversalCost* cost) const {
 
 bool WideBvh::occluded8(const Ray& ray) const {
     const RayPrecomputed pre(ray);
-    const PacketTest test(ray, pre);
+    const SsePackets test(ray, pre);
     return traverse_any<RayBoxes8>(nodes8_.data(), ray, [&](uint32_t leaf) {
-        return leaf_any(leaves_[leaf], packets_.data(), shapes_.data(), geometry_, test, ray, pre);
+        return leaf_any(leaves_[leaf], packets_.data(), shapes_.data(), geometry_, test);
     });
 }
 

@@ -1,6 +1,8 @@
 #include "svetlo/raster/draw_pass.h"
 
+#if SVETLO_SIMD
 #include <immintrin.h>
+#endif
 #include <tbb/enumerable_thread_specific.h>
 
 #include <algorithm>
@@ -92,7 +94,7 @@ void draw_samples(const TriangleList& list, const CameraMatrices& camera,
                 const size_t blocks = static_cast<size_t>(kTile / kB) * (kTile / kB);
                 buf.block_near.assign(blocks, kInfinity);
                 buf.block_far.assign(blocks, -kInfinity);
-                // Each block's rows are runs of kB x S samples: four at a time.
+                // Each block's rows are runs of kB x S samples.
                 const size_t run = static_cast<size_t>(kB) * S;
                 for (int j = tile.y0; j < tile.y1; ++j) {
                     const float* d = buf.depth.data() + static_cast<size_t>(j - tile.y0) * row;
@@ -101,9 +103,12 @@ void draw_samples(const TriangleList& list, const CameraMatrices& camera,
                                          static_cast<size_t>(i / kB);
                         const float* z = d + static_cast<size_t>(i) * S;
                         const size_t n = std::min(run, row - static_cast<size_t>(i) * S);
-                        __m128 lo = _mm_set1_ps(buf.block_near[b]),
-                               hi = _mm_set1_ps(buf.block_far[b]);
+                        float near = buf.block_near[b], far = buf.block_far[b];
                         size_t k = 0;
+#if SVETLO_SIMD
+                        // Four lanes at a time (the loop below is its twin; min and max are
+                        // exact in any order).
+                        __m128 lo = _mm_set1_ps(near), hi = _mm_set1_ps(far);
                         for (; k + 4 <= n; k += 4) {
                             lo = _mm_min_ps(lo, _mm_loadu_ps(z + k));
                             hi = _mm_max_ps(hi, _mm_loadu_ps(z + k));
@@ -111,8 +116,9 @@ void draw_samples(const TriangleList& list, const CameraMatrices& camera,
                         alignas(16) float l[4], h[4];
                         _mm_store_ps(l, lo);
                         _mm_store_ps(h, hi);
-                        float near = std::min({l[0], l[1], l[2], l[3]}),
-                              far = std::max({h[0], h[1], h[2], h[3]});
+                        near = std::min({l[0], l[1], l[2], l[3]});
+                        far = std::max({h[0], h[1], h[2], h[3]});
+#endif
                         for (; k < n; ++k) {
                             near = std::min(near, z[k]);
                             far = std::max(far, z[k]);

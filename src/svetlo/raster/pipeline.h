@@ -18,8 +18,6 @@
 // draw_pass.h or raster_engine.h instead.
 #pragma once
 
-#include <immintrin.h>
-
 #include <algorithm>
 #include <optional>
 #include <vector>
@@ -204,7 +202,9 @@ inline vec3 face_normal(const SetupTriangle& t, const ClipVertex& A, const ClipV
     return unit_or_z(face_cross(t, A, B, C));
 }
 
-/// hierarchical z-buffer: a triangle nearer nowhere than that is skipped for the block).
+/// A tile's sample buffers, reused from tile to tile. Each 8 x 8 block of pixels keeps the
+/// farthest depth it holds (and, in passes that write no depth, the nearest): a coarse
+/// hierarchical z-buffer, so that a triangle nearer nowhere than that is skipped for the block.
 struct TileBuffers {
     static constexpr int kBlock = 8;
     static constexpr size_t kPad = 4;  // samples past the end, for four-wide loads and stores
@@ -398,9 +398,7 @@ void for_each_in_bins(const std::vector<FrameState::Bins>& bins, size_t ti, Reco
         for (uint32_t k = b.start[ti]; k < end; ++k) {
             // The triangles of a tile are scattered over the frame's: fetch ahead.
             constexpr uint32_t kAhead = 8;
-            if (k + kAhead < end)
-                _mm_prefetch(reinterpret_cast<const char*>(&record(b.ids[k + kAhead])),
-                             _MM_HINT_T0);
+            if (k + kAhead < end) __builtin_prefetch(&record(b.ids[k + kAhead]));
             draw(b.ids[k], record(b.ids[k]));
         }
     }

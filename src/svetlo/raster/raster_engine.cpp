@@ -275,7 +275,10 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
         shadows = make_shadow_technique(scene, list, f, passes, threads, &buffers_->passes);
 
     const bool msaa = scene.render.raster.msaa;
-    const bool simd = f.mode == Mode::Phong && !msaa && !targets.any && f.simd_lights_ok;
+    // The fast path (fast_shading.cpp, SSE or AVX2) where it applies; its twin, the general
+    // shading (fragment.cpp), everywhere else and in a build without SIMD.
+    const bool simd =
+        SVETLO_SIMD && f.mode == Mode::Phong && !msaa && !targets.any && f.simd_lights_ok;
     // Small triangles go through rasterize_small, which keeps the screen barycentrics of the
     // samples it writes, unless the stencil is on.
     const bool small_left_weights = !state.stencil.enabled;
@@ -305,7 +308,9 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                 if (!simd) {
                     shade_tile(f, tile, sp, msaa, targets.any, buf);
                 } else {
+#if SVETLO_SIMD
                     shade_tile_fast(f, tile, sp, small_left_weights, buf);
+#endif
                     if (spp == 1) {  // nothing to add up: the samples are the pixels
                         std::swap(buf.color, buf.sample_color);
                     } else {

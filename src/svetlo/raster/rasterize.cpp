@@ -1,7 +1,13 @@
 // Stage 5: rasterization of the set-up triangles into a tile's buffers: Pineda's edge
 // functions with the top-left rule (edge_function.h) and the depth test; passes with the
 // stencil on or depth writes off go through rasterize_plain (rasterize_plain.cpp).
+//
+// Two kernels here have an SSE form (four pixels of a row at once) and a plain twin, chosen by
+// SVETLO_SIMD: rasterize_small and depth_test_four. The twins are the statement (read them
+// first); the SSE forms write the same depths, ids and barycentrics, bit for bit.
+#if SVETLO_SIMD
 #include <immintrin.h>
+#endif
 
 #include <algorithm>
 
@@ -19,6 +25,63 @@ namespace {
 /// (edge over twice the area, `inv_area`) for the shading (`kItems`; a depth-only pass keeps
 /// the depth alone). The blocks' deepest depths are left as they were: larger than the truth,
 /// which is safe.
+#if !SVETLO_SIMD
+template <bool kItems>
+void rasterize_small(const SmallEdges& e, float z_origin, const DepthPlane& p, PixelSpan span,
+                     const Tile& tile, bool depth_test, TileBuffers& buf, uint32_t id = 0,
+                     float inv_area = 0.0f) {
+    const auto [xs, xe, ys, ye] = span;
+    const int tw = tile.x1 - tile.x0;
+    for (int py = ys; py < ye; ++py) {
+        const int row = py - ys;
+        // The depth along the row, stepped as the SSE form's four lanes step it: lane L starts
+        // at the row's depth plus L dzdx and moves 4 dzdx each four pixels.
+        float z[4];
+        for (int lane = 0; lane < 4; ++lane)
+            z[lane] =
+                (z_origin + p.dzdy * static_cast<float>(row)) + p.dzdx * static_cast<float>(lane);
+        for (int px = xs; px < xe; px += 4) {
+            for (int lane = 0; lane < 4 && px + lane < xe; ++lane) {
+                const int32_t dx = px + lane - xs;
+                int32_t w[3];  // E_k + bias_k: covered where all three are >= 0
+                for (int k = 0; k < 3; ++k) w[k] = e.w[k] + dx * e.step_x[k] + row * e.step_y[k];
+                if ((w[0] | w[1] | w[2]) < 0) continue;
+                const size_t i = static_cast<size_t>(py - tile.y0) * tw + (px + lane - tile.x0);
+                if (depth_test && !(z[lane] < buf.depth[i])) continue;
+                buf.depth[i] = z[lane];
+                if constexpr (kItems) {
+                    // The barycentrics the shading reads back: E / (2 area), without the bias.
+                    buf.tri[i] = id;
+                    buf.l1[i] = static_cast<float>(w[1] - e.bias[1]) * inv_area;
+                    buf.l2[i] = static_cast<float>(w[2] - e.bias[2]) * inv_area;
+                }
+            }
+            for (float& zl : z) zl += 4.0f * p.dzdx;
+        }
+    }
+}
+
+/// Four pixels of a block's row wholly inside the triangle, from sample i on, at depths
+/// z + dz lane: depth-tested (with `depth_test`) and written. Whether any was written.
+bool depth_test_four(float z, float dz, size_t i, uint32_t id, bool depth_test, TileBuffers& buf) {
+    bool wrote = false;
+    for (int lane = 0; lane < 4; ++lane) {
+        const float zl = z + dz * static_cast<float>(lane);
+        if (depth_test && !(zl < buf.depth[i + lane])) continue;
+        buf.depth[i + lane] = zl;
+        buf.tri[i + lane] = id;
+        wrote = true;
+    }
+    return wrote;
+}
+
+/// The deepest of n depths from `row` on, and `deepest`.
+float deepest_of(const float* row, size_t n, float deepest) {
+    for (size_t i = 0; i < n; ++i) deepest = std::max(deepest, row[i]);
+    return deepest;
+}
+#else
+// rasterize_small's SSE form: its twin is above (#if !SVETLO_SIMD).
 template <bool kItems>
 void rasterize_small(const SmallEdges& e, float z_origin, const DepthPlane& p, PixelSpan span,
                      const Tile& tile, bool depth_test, TileBuffers& buf, uint32_t id = 0,
@@ -79,6 +142,34 @@ void rasterize_small(const SmallEdges& e, float z_origin, const DepthPlane& p, P
     }
 }
 
+// depth_test_four's SSE form (its twin is above).
+bool depth_test_four(float z, float dz, size_t i, uint32_t id, bool depth_test, TileBuffers& buf) {
+    const __m128 steps = _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f);
+    __m128 z4 = _mm_add_ps(_mm_set1_ps(z), _mm_mul_ps(_mm_set1_ps(dz), steps));
+    __m128 d = _mm_loadu_ps(&buf.depth[i]);
+    __m128 m = depth_test ? _mm_cmplt_ps(z4, d) : _mm_castsi128_ps(_mm_set1_epi32(-1));
+    if (_mm_movemask_ps(m) == 0) return false;
+    _mm_storeu_ps(&buf.depth[i], _mm_or_ps(_mm_and_ps(m, z4), _mm_andnot_ps(m, d)));
+    auto* tp = reinterpret_cast<__m128i*>(&buf.tri[i]);
+    __m128i mi = _mm_castps_si128(m);
+    const __m128i ids = _mm_set1_epi32(static_cast<int>(id));
+    _mm_storeu_si128(
+        tp, _mm_or_si128(_mm_and_si128(mi, ids), _mm_andnot_si128(mi, _mm_loadu_si128(tp))));
+    return true;
+}
+
+// deepest_of's SSE form: the max four lanes at a time (its twin is above).
+float deepest_of(const float* row, size_t n, float deepest) {
+    __m128 lanes4 = _mm_set1_ps(deepest);
+    size_t i = 0;
+    for (; i + 4 <= n; i += 4) lanes4 = _mm_max_ps(lanes4, _mm_loadu_ps(row + i));
+    for (; i < n; ++i) deepest = std::max(deepest, row[i]);
+    alignas(16) float lanes[4];
+    _mm_store_ps(lanes, lanes4);
+    return std::max({lanes[0], lanes[1], lanes[2], lanes[3], deepest});
+}
+#endif
+
 /// Stage 5: rasterizes triangle `id` into the tile's visibility buffer, 8 x 8 blocks at a
 /// time: a block where the triangle's nearest depth lies behind everything stored is skipped.
 /// Depth is the plane z(x, y) of the depth keys, stepped incrementally along each row.
@@ -116,8 +207,6 @@ void rasterize(uint32_t id, const SetupTriangle& t, const TriangleEdges& te, Pix
                 full = lowest + e.bias >= 0;
             }
             if (full) {
-                const __m128 steps = _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f);
-                const __m128i ids = _mm_set1_epi32(static_cast<int>(id));
                 auto dz = static_cast<float>(dzdx);
                 for (int py = y0; py < y1; ++py) {
                     double fx = static_cast<double>(static_cast<int64_t>(x0) * kSubpixel +
@@ -129,21 +218,8 @@ void rasterize(uint32_t id, const SetupTriangle& t, const TriangleEdges& te, Pix
                     auto z = static_cast<float>(t.z[0] + dzdx * fx + dzdy * fy);
                     size_t i = static_cast<size_t>(py - tile.y0) * tw + (x0 - tile.x0);
                     int px = x0;
-                    for (; px + 4 <= x1; px += 4, i += 4, z += 4.0f * dz) {
-                        __m128 z4 = _mm_add_ps(_mm_set1_ps(z), _mm_mul_ps(_mm_set1_ps(dz), steps));
-                        __m128 d = _mm_loadu_ps(&buf.depth[i]);
-                        __m128 m =
-                            depth_test ? _mm_cmplt_ps(z4, d) : _mm_castsi128_ps(_mm_set1_epi32(-1));
-                        if (_mm_movemask_ps(m) == 0) continue;
-                        _mm_storeu_ps(&buf.depth[i],
-                                      _mm_or_ps(_mm_and_ps(m, z4), _mm_andnot_ps(m, d)));
-                        auto* tp = reinterpret_cast<__m128i*>(&buf.tri[i]);
-                        __m128i mi = _mm_castps_si128(m);
-                        _mm_storeu_si128(tp,
-                                         _mm_or_si128(_mm_and_si128(mi, ids),
-                                                      _mm_andnot_si128(mi, _mm_loadu_si128(tp))));
-                        wrote = true;
-                    }
+                    for (; px + 4 <= x1; px += 4, i += 4, z += 4.0f * dz)
+                        wrote |= depth_test_four(z, dz, i, id, depth_test, buf);
                     for (; px < x1; ++px, ++i, z += dz) {
                         if (depth_test && !(z < buf.depth[i])) continue;
                         buf.depth[i] = z;
@@ -174,22 +250,17 @@ void rasterize(uint32_t id, const SetupTriangle& t, const TriangleEdges& te, Pix
                 }
             }
             if (wrote && depth_test) {
-                // The block's deepest sample may have come nearer: the max over its rows, four
-                // lanes at a time (each row of the block is contiguous).
-                __m128 deepest = _mm_set1_ps(-kInfinity);
-                float tail = -kInfinity;
+                // The block's deepest sample may have come nearer: the max over its rows (each
+                // row of the block is contiguous).
+                float deepest = -kInfinity;
                 int px0 = bx * kB, px1 = std::min(tw, (bx + 1) * kB);
                 for (int py = tile.y0 + by * kB; py < std::min(tile.y1, tile.y0 + (by + 1) * kB);
                      ++py) {
                     const float* row =
                         buf.depth.data() + (static_cast<size_t>(py - tile.y0) * tw + px0) * S;
-                    size_t n = static_cast<size_t>(px1 - px0) * S, i = 0;
-                    for (; i + 4 <= n; i += 4) deepest = _mm_max_ps(deepest, _mm_loadu_ps(row + i));
-                    for (; i < n; ++i) tail = std::max(tail, row[i]);
+                    deepest = deepest_of(row, static_cast<size_t>(px1 - px0) * S, deepest);
                 }
-                alignas(16) float lanes[4];
-                _mm_store_ps(lanes, deepest);
-                far = std::max({lanes[0], lanes[1], lanes[2], lanes[3], tail});
+                far = deepest;
             }
         }
     }
@@ -249,7 +320,9 @@ void rasterize_tile(const FrameState& f, const Tile& tile, const SamplePattern& 
     for_each_binned(f, tile, [&](uint32_t id, const SetupTriangle& t) {
         draw_triangle(id, t, tile, sp, state, buf);
     });
+#if SVETLO_SIMD
     if (f.depth_records()) rasterize_depth_avx2(f, tile, buf);
+#endif
 }
 
 }  // namespace svetlo::raster

@@ -2,7 +2,13 @@
 // stencil test and its operations around the depth test (stencil.h), with the shortcuts a
 // shadow volume's stencil count needs (its long sides, its small caps), each giving the same
 // counts as the count sample by sample.
+//
+// The shadow volume's stencil count over a block has a plain twin (count_block below, under
+// !SVETLO_SIMD: the statement) and an SSE form (four pixels at once; AVX2: eight, in
+// stencil_count_avx2.cpp), which give the same counts.
+#if SVETLO_SIMD
 #include <immintrin.h>
+#endif
 
 #include <algorithm>
 #include <cstring>
@@ -21,6 +27,46 @@ int stencil_delta(StencilOp op) {
                                        : 2;
 }
 
+#if !SVETLO_SIMD
+/// rasterize_plain's per-sample loop over one block, for what a shadow volume's stencil pass
+/// asks: one sample per pixel, the stencil test Always, the pass and depth-fail operations
+/// adding `delta_pass` and `delta_fail` with wrapping, no depth or item written. `crossing`:
+/// the edges that cross the block (the others hold it whole). `all_fail`: every sample fails
+/// the depth test. (`kWide` and `avx2` choose the SSE and AVX2 forms' lanes: unused here.)
+template <bool kWide>
+void count_block(const SetupTriangle& t, const TriangleEdges& te, double dzdx, double dzdy, int x0,
+                 int x1, int y0, int y1, const Tile& tile, const SamplePattern& sp,
+                 float depth_bias, int delta_pass, int delta_fail, unsigned crossing, bool all_fail,
+                 bool /*avx2*/, TileBuffers& buf) {
+    const int tw = tile.x1 - tile.x0;
+    const int64_t sx = static_cast<int64_t>(x0) * kSubpixel + sp.ox[0];
+    const int64_t sy0 = static_cast<int64_t>(y0) * kSubpixel + sp.oy[0];
+    CountEdge edge[3];
+    for (int k = 0; k < 3; ++k) edge[k] = count_edge(te, k, sx, sy0, crossing);
+    for (int py = y0; py < y1; ++py) {
+        const int64_t sy = static_cast<int64_t>(py) * kSubpixel + sp.oy[0];
+        const double ty = dzdy * static_cast<double>(sy - t.y[0]) / kSubpixel;
+        size_t i = static_cast<size_t>(py - tile.y0) * tw + (x0 - tile.x0);
+        for (int px = x0; px < x1; ++px, ++i) {
+            bool covered = true;
+            for (const CountEdge& e : edge)
+                covered &= e.value + e.right * (px - x0) + e.down * (py - y0) >= 0;
+            if (!covered) continue;
+            int delta = delta_fail;
+            if (!all_fail) {
+                // z = (z0 + dzdx (x - x0) / 256) + dzdy (y - y0) / 256, in double, then the
+                // bias slope-scaled by |z|.
+                const auto dx =
+                    static_cast<double>(static_cast<int64_t>(px) * kSubpixel + sp.ox[0] - t.x[0]);
+                const auto z = static_cast<float>(
+                    (static_cast<double>(t.z[0]) + dzdx * dx * (1.0 / kSubpixel)) + ty);
+                if (z + depth_bias * std::fabs(z) < buf.depth[i]) delta = delta_pass;
+            }
+            buf.stencil[i] = static_cast<uint8_t>(buf.stencil[i] + delta);  // wrapping
+        }
+    }
+}
+#else
 /// The edge functions of four neighbouring pixels of a row, stepped four pixels at a time:
 /// in 32-bit lanes where every value met fits (`kWide` false), else in 64-bit lanes, two to a
 /// register (a shadow volume's sides reach the guard band). outside() is all ones in each
@@ -76,7 +122,8 @@ private:
     }
 };
 
-/// rasterize_plain's per-sample loop over one block, four pixels at a time, for what a shadow
+/// count_block's SSE form (its twin is above, under !SVETLO_SIMD): rasterize_plain's per-sample
+/// loop over one block, four pixels at a time, for what a shadow
 /// volume's stencil pass asks (one sample per pixel, the stencil test Always, the pass and
 /// depth-fail operations adding `delta_pass` and `delta_fail` with wrapping, no depth or item
 /// written): the same coverage (edge functions exact, in 32-bit lanes where they fit, which
@@ -140,6 +187,7 @@ void count_block(const SetupTriangle& t, const TriangleEdges& te, double dzdx, d
         }
     }
 }
+#endif
 
 /// rasterize_plain counts a row of blocks as one band where a triangle reaches fewer blocks of
 /// it than this.

@@ -213,6 +213,7 @@ void assemble(const TriangleList& list, FrameState& f, int threads) {
             }
         };
         size_t s = begin;
+#if SVETLO_SIMD
         if (f.depth_records()) {
             // Eight at a time where they take the fast road; the rest on the general one.
             std::vector<uint32_t> others(end - begin);
@@ -222,6 +223,7 @@ void assemble(const TriangleList& list, FrameState& f, int threads) {
             for (size_t k = 0; k < other_count; ++k) one(begin + others[k]);
             s = begin + (end - begin) / 8 * 8;
         }
+#endif
         for (; s < end; ++s) one(s);
         // Its slots, then its pieces (ids chunk-local until the pieces are concatenated below).
         to_bin.resize(binned_count);

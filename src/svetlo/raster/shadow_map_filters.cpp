@@ -2,7 +2,9 @@
 // filtering, and percentage-closer soft shadows.
 #include "svetlo/raster/shadow_map_filters.h"
 
+#if SVETLO_SIMD
 #include <immintrin.h>
+#endif
 
 #include <algorithm>
 
@@ -44,8 +46,10 @@ float shadow_pcf(const DepthMap& m, const ShadowMapSettings& settings, vec2 px, 
         const float fx = base.x - static_cast<float>(x0), fy = base.y - static_cast<float>(y0);
         const float limit = receiver - bias;
         const bool inside = x0 >= 0 && y0 >= 0 && x0 + n < m.res && y0 + n < m.res;
+#if SVETLO_SIMD
         if (inside && n <= 3 && x0 + 3 < m.res) {
-            // A row's n + 1 texels in one four-wide load, weighted (1 - fx, 1, ..., fx, 0).
+            // A row's n + 1 texels in one four-wide load, weighted (1 - fx, 1, ..., fx, 0): the
+            // sum of the loop below (its twin), in another order.
             const __m128 at = _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f);
             const __m128 inner = _mm_and_ps(_mm_cmpgt_ps(at, _mm_setzero_ps()),
                                             _mm_cmplt_ps(at, _mm_set1_ps(static_cast<float>(n))));
@@ -68,6 +72,7 @@ float shadow_pcf(const DepthMap& m, const ShadowMapSettings& settings, vec2 px, 
             return _mm_cvtss_f32(_mm_add_ss(pair, _mm_shuffle_ps(pair, pair, 1))) /
                    static_cast<float>(n * n);
         }
+#endif
         float sum = 0.0f;
         for (int v = 0; v <= n; ++v) {
             const float wy = v == 0 ? 1.0f - fy : v == n ? fy : 1.0f;

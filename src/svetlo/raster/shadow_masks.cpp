@@ -1,7 +1,5 @@
 #include "svetlo/raster/shadow_masks.h"
 
-#include <immintrin.h>
-
 #include "svetlo/core/error.h"
 #include "svetlo/raster/fragment.h"
 #include "svetlo/raster/shadow_techniques.h"
@@ -134,13 +132,10 @@ void fill_masks(const ShadowTechniqueState& technique, const FrameState& f, cons
         // once it has arrived.
         constexpr size_t kAheadTriangle = 16, kAheadVertices = 8;
         if (m + kAheadTriangle < n)
-            _mm_prefetch(
-                reinterpret_cast<const char*>(&f.tri(buf.tri[scratch.index[m + kAheadTriangle]])),
-                _MM_HINT_T0);
+            __builtin_prefetch(&f.tri(buf.tri[scratch.index[m + kAheadTriangle]]));
         if (m + kAheadVertices < n) {
             const SetupTriangle& ahead = f.tri(buf.tri[scratch.index[m + kAheadVertices]]);
-            for (int v = 0; v < 3; ++v)
-                _mm_prefetch(reinterpret_cast<const char*>(&f.vertex(ahead.v[v])), _MM_HINT_T0);
+            for (int v = 0; v < 3; ++v) __builtin_prefetch(&f.vertex(ahead.v[v]));
         }
         const size_t i = scratch.index[m];
         const uint32_t id = buf.tri[i];

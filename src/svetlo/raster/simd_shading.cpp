@@ -1,6 +1,11 @@
+// The fast path's kernel with SSE (simd_kernel.inc), and AVX2 where the processor has it. Its
+// twin is the general shading (fragment.cpp, shading/bsdf.cpp): a build without SIMD keeps
+// only SimdMaterial here, which the frame prepares either way.
 #include "svetlo/raster/simd_shading.h"
 
+#if SVETLO_SIMD
 #include <immintrin.h>
+#endif
 
 #include <algorithm>
 #include <cmath>
@@ -10,6 +15,7 @@
 
 namespace svetlo {
 
+#if SVETLO_SIMD
 #define SVETLO_SIMD_WIDTH 4
 #include "svetlo/raster/simd_kernel.inc"
 
@@ -37,6 +43,7 @@ bool cpu_has_avx2() {
 }
 
 }  // namespace
+#endif
 
 namespace {
 
@@ -58,6 +65,7 @@ SimdMaterial::SimdMaterial(Color ka_, Color kd_, Color ks_, float shininess_, bo
       whole(whole_shininess(shininess_)),
       tiny(whole > 0 ? std::exp2(-100.0f / static_cast<float>(whole)) : 0.0f) {}
 
+#if SVETLO_SIMD
 int simd_lanes() { return cpu_has_avx2() ? 8 : 4; }
 
 void pow4(const float x[4], const float n[4], float out[4]) {
@@ -94,5 +102,7 @@ void shade_run(const TriangleRun& q, float dl1, float dl2, int groups, const Sim
     shade_run_kernel(q, dl1, dl2, first, left, mat, ng, lights, eye, ortho, forward, ambient, vis,
                      out + first);
 }
+
+#endif
 
 }  // namespace svetlo
