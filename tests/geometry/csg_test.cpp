@@ -161,6 +161,58 @@ TEST(Csg, AFlushCylinderDrillsACleanHole) {
     EXPECT_EQ(speckles, 0);
 }
 
+TEST(Csg, TheDrilledCubesHoleWallsAreLitWhereALightReachesThem) {
+    // The classic drilled cube: a box intersected with a sphere, minus three cylinders longer
+    // than the solid (not flush: their caps lie outside it), rotated and moved. A point the
+    // light's ray reaches is lit: the shadow ray back from it must reach the light. Each
+    // light's rays aim at the holes' walls, from their mouths to the junction of the holes,
+    // where the rays meet the walls at every angle down to grazing.
+    Transform placed;
+    placed.matrix = glm::translate(mat4(1.0f), vec3(-2.1f, 0.7f, -0.3f)) *
+                    glm::rotate(mat4(1.0f), glm::radians(30.0f), vec3(0, 1, 0));
+    placed.is_identity = false;
+    const float r = 0.38f;
+    std::vector<Object> cutters;
+    for (int axis = 0; axis < 3; ++axis) {
+        vec3 base(0.0f), along(0.0f);
+        base[axis] = -1.0f;
+        along[axis] = 2.0f;
+        cutters.push_back(leaf(Cylinder{base, along, r}));
+    }
+    AnalyticShape s =
+        make(node(CsgOp::Difference, {node(CsgOp::Intersection, {leaf(Box{vec3(-0.7f), vec3(0.7f)}),
+                                                                 leaf(Sphere{vec3(0.0f), 0.95f})}),
+                                      cutters[0], cutters[1], cutters[2]}),
+             placed);
+    auto world = [&](vec3 local) { return vec3(placed.matrix * vec4(local, 1.0f)); };
+    Rng rng(11, 12);
+    int lit = 0, speckles = 0;
+    for (vec3 light : {vec3(-5, 8, 6), vec3(6, 5, 2)}) {
+        for (int k = 0; k < 30000; ++k) {
+            // A point of a cylinder's wall, anywhere along the hole.
+            const int axis = k % 3;
+            const float a = 6.2831853f * rng.next_float(), along = 1.4f * rng.next_float() - 0.7f;
+            vec3 local(0.0f);
+            local[axis] = along;
+            local[(axis + 1) % 3] = r * std::cos(a);
+            local[(axis + 2) % 3] = r * std::sin(a);
+            Probe p = probe(s, light, glm::normalize(world(local) - light));
+            if (!p.hit) continue;
+            const vec3 wi = light - p.s.p;
+            Probe back = probe(s, offset_ray_origin(p.s.p, p.s.n, wi), wi, 1.0f);
+            ++lit;
+            if (back.hit) {
+                ++speckles;
+                ADD_FAILURE() << "blocked at t " << back.t << " (of 1), from " << p.s.p.x << " "
+                              << p.s.p.y << " " << p.s.p.z << " toward " << light.x << " "
+                              << light.y << " " << light.z;
+            }
+        }
+    }
+    EXPECT_GT(lit, 20000);
+    EXPECT_EQ(speckles, 0);
+}
+
 TEST(Csg, NestedTreesWithTransformsAtEveryLevel) {
     Transform up;
     up.matrix = glm::translate(mat4(1.0f), vec3(0, 2, 0));
