@@ -122,7 +122,8 @@ int run_bench(const BenchArgs& args) {
         std::printf("accel=%s build_ms=%.3f mrays_per_s=%.6g hits=%llu\n", name.c_str(), build_ms,
                     mrays, static_cast<unsigned long long>(hits));
         std::fflush(stdout);
-        std::fprintf(stderr, "  %s: %.1f MiB structure, %.1f MiB geometry\n", name.c_str(),
+        std::fprintf(stderr, "  %s (%s): %.1f MiB structure, %.1f MiB geometry\n", name.c_str(),
+                     accel_description(name).c_str(),
                      static_cast<double>(accel->memory_bytes()) / (1 << 20),
                      static_cast<double>(g.memory_bytes()) / (1 << 20));
     }

@@ -1,4 +1,4 @@
-// --checkpoint FILE (contract; docs/distributed.md): a progressive render's accumulators and
+// --checkpoint FILE (docs/distributed.md): a progressive render's accumulators and
 // the passes they hold, saved after every pass, atomically (a temporary file, then a rename),
 // with the key of the run they belong to: a hash of the effective scene and the settings that
 // change its pixels. The same command with the same FILE resumes where the last save left,

@@ -116,7 +116,7 @@ PixelTrace trace_pixel(const TraceArgs& args, std::string& engine);
 /// samples per pixel (a path renders sample + 1 passes at least); throws Error naming
 /// --pixel or --sample for a pixel or sample that does not exist.
 PixelTrace trace_job(RenderJob& job, int x, int y, long long sample, long long spp);
-/// The trace as the contract's JSON object.
+/// The trace as the JSON object of docs/trace.md.
 nlohmann::json trace_json(const PixelTrace& trace, const std::string& engine);
 
 int run_info(const InfoArgs& args);

@@ -157,7 +157,7 @@ Sheet compare_techniques(const nlohmann::json& base, const std::string& file,
 }
 
 nlohmann::ordered_json sheet_json(const Sheet& sheet) {
-    // The contract's keys in its order.
+    // The keys of docs/compare.md, in their order.
     nlohmann::ordered_json j = {{"scene", sheet.scene}, {"reference", sheet.reference}};
     j["techniques"] = nlohmann::ordered_json::array();
     for (const SheetEntry& e : sheet.entries) {

@@ -1,4 +1,4 @@
-// One image on many processes (contract: `mpirun -np N build/svetlo render ...`;
+// One image on many processes (docs/distributed.md: `mpirun -np N build/svetlo render ...`;
 // docs/distributed.md). Every rank reads the scene and sets up its engine once (the BVH, the
 // radiosity solve); rank 0 hands out the film's tiles one at a time, to the ranks that ask
 // and to itself between its own tiles, so a slow rank takes fewer; each tile is a window of

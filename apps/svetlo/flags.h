@@ -1,5 +1,5 @@
 // The command line's own values, checked as the scene's keys are: one line naming the flag,
-// in the contract's format (`svetlo: error: SCENE: --spp: must be >= 1 (is 0)`).
+// in the format of docs/cli.md (`svetlo: error: SCENE: --spp: must be >= 1 (is 0)`).
 #pragma once
 
 #include <string>

@@ -1,4 +1,4 @@
-// SIGINT and SIGTERM during a render (contract: the current pass ends, the image of the
+// SIGINT and SIGTERM during a render (docs/cli.md: the current pass ends, the image of the
 // passes done is written, its provenance says so, and the program exits 130 or 143).
 #pragma once
 

@@ -138,7 +138,7 @@ int main(int argc, char** argv) {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
-        // One line in the contract's format; `svetlo SUBCOMMAND --help` shows the usage.
+        // One line in the format of docs/cli.md; `svetlo SUBCOMMAND --help` shows the usage.
         std::fprintf(stderr, "svetlo: error: svetlo: command line: %s (see svetlo --help)\n",
                      e.what());
         return 2;

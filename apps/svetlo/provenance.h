@@ -1,8 +1,7 @@
-// Provenance: how an image was made, carried inside it (docs/provenance.md; contract:
-// "Seeing, checking and reproducing results"). A JSON object with the program's version and
-// commit, the command line, the scene file and its SHA-256, the whole effective scene after
-// every override, the engine, spp reached, seed, threads, seconds, the crop and the full
-// resolution; `svetlo info IMAGE` prints it and `svetlo reproduce` renders it again.
+// Provenance: how an image was made, carried inside it (docs/provenance.md). A JSON object with the
+// program's version and commit, the command line, the scene file and its SHA-256, the whole
+// effective scene after every override, the engine, spp reached, seed, threads, seconds, the crop
+// and the full resolution; `svetlo info IMAGE` prints it and `svetlo reproduce` renders it again.
 #pragma once
 
 #include <filesystem>

@@ -47,7 +47,7 @@ Sheet compare_techniques(const nlohmann::json& base, const std::string& file,
                          const std::string& sha256, const std::vector<std::string>& techniques,
                          const std::string& reference, int threads, bool curves, bool quiet);
 
-/// The sheet's metrics as compare --json writes them: the contract's keys in its order.
+/// The sheet's metrics as compare --json writes them: the keys of docs/compare.md in their order.
 nlohmann::ordered_json sheet_json(const Sheet& sheet);
 
 /// The HTML page: one file, nothing fetched.

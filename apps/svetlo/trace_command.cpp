@@ -136,7 +136,7 @@ PixelTrace trace_job(RenderJob& job, int x, int y, long long sample, long long s
     Scene& scene = job.scene;
     const std::string file = job.run.scene_file.string();
     const std::string& engine = scene.render.engine;
-    // One sample per pixel unless spp says otherwise, as the contract's `render --spp 1`; a
+    // One sample per pixel unless spp says otherwise, as `render --spp 1` (docs/trace.md); a
     // path's sample K is its pass K, the same whatever the spp, so it renders K + 1 passes.
     if (engine == "path") spp = std::max(spp, sample + 1);
     if (sample >= spp) {

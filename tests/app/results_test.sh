@@ -79,9 +79,9 @@ open(sys.argv[2], "wb").write(out)
 PY
 expect_error "reproduce without provenance" "no provenance" 1 reproduce "$work/stripped.png" -o "$work/x.png"
 
-# info IMAGE: the contract's keys.
+# info IMAGE: the keys of docs/provenance.md.
 "$svetlo" info "$work/orig.pfm" --json > "$work/info.json"
-check "info --json has the contract's keys" python3 -c "
+check "info --json has the documented keys" python3 -c "
 import json, sys
 p = json.load(open('$work/info.json'))
 keys = ['version', 'commit', 'command', 'scene_file', 'scene_sha256', 'scene', 'engine', 'spp',

@@ -3,8 +3,8 @@ for tests/app/trace_test.sh.
 
   trace_check.py TRACE.json PIXEL.pfm|- [OBJ]
 
-Exit 0 when: the object has the contract's keys; every ray has kind, origin, direction, t and
-contribution, its kind one of the contract's, its parent before it; `total` equals the
+Exit 0 when: the object has the keys of docs/trace.md; every ray has kind, origin, direction, t and
+contribution, its kind one of those listed there, its parent before it; `total` equals the
 rendered pixel within 1e-5; the contributions sum to the total (relative 1e-4); and the OBJ,
 when given, draws one segment per ray.
 """

@@ -137,7 +137,7 @@ def main():
                               text=True)
     line = server.stderr.readline()
     m = re.match(r"svetlo: serving http://127\.0\.0\.1:(\d+)/$", line.strip())
-    check("the contract's line", m is not None, line)
+    check("the line of docs/viewer.md", m is not None, line)
     if not m:
         server.kill()
         return 1

@@ -20,7 +20,7 @@ namespace {
 /// The contract broken: abort, so that the fuzzer keeps the input and the replay test fails.
 void require(bool ok, const char* what) {
     if (!ok) {
-        std::fprintf(stderr, "fuzz: accepted input broke the contract: %s\n", what);
+        std::fprintf(stderr, "fuzz: accepted input broke docs/robustness.md's rule: %s\n", what);
         std::abort();
     }
 }

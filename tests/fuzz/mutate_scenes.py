@@ -1,4 +1,4 @@
-"""Scene mutation: the bundled scenes, mutated, rendered by every engine, against the contract.
+"""Scene mutation: the bundled scenes, mutated, rendered by every engine, against docs/robustness.md's rule.
 
     /usr/bin/python3 tests/fuzz/mutate_scenes.py SVETLO [--runs N] [--seed S] [--timeout T]
         [--found DIR]
@@ -151,7 +151,7 @@ def random_command(rng, svetlo, scene_path, engine, root, run):
 
 
 def contract_problem(status, stderr, scene_path, out, aov, name_aov):
-    """None if a run ended in one of the contract's two outcomes, else what broke it."""
+    """None if a run ended in one of docs/robustness.md's two outcomes, else what broke it."""
     lines = [l for l in stderr.splitlines() if l.strip()]
     written = [f for f in (out, aov) if f and os.path.exists(f)]
     if status == 0:
@@ -221,7 +221,7 @@ def main():
     finally:
         shutil.rmtree(root, ignore_errors=True)
     print(f"{args.runs} mutated scenes in {time.time() - started:.0f} s: {rendered} rendered, "
-          f"{args.runs - rendered - failures} refused, {failures} broke the contract")
+          f"{args.runs - rendered - failures} refused, {failures} broke the rule")
     sys.exit(1 if failures else 0)
 
 

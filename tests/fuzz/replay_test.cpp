@@ -21,7 +21,8 @@ TEST(FuzzCorpus, EveryInputIsRefusedOrReadAsFiniteValues) {
             std::ifstream in(entry.path(), std::ios::binary);
             std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)),
                                        std::istreambuf_iterator<char>());
-            fuzz::run(target, bytes.data(), bytes.size());  // aborts if the contract breaks
+            fuzz::run(target, bytes.data(),
+                      bytes.size());  // aborts if docs/robustness.md's rule breaks
             ++in_target;
         }
         EXPECT_GT(in_target, 0) << target;

@@ -109,7 +109,7 @@ TEST(Path, ClosedEmittingBoxGivesEmissionOverOneMinusAlbedo) {
 
 TEST(Path, DirectLightOfAPointLightMatchesTheClosedForm) {
     // Nothing but a floor: no other surface sends it light, so every depth gives the direct
-    // light, albedo / pi * I cos / d^2 (the contract's common ground of all engines).
+    // light, albedo / pi * I cos / d^2 (docs/radiometry.md: the common ground of all engines).
     const int n = 16;
     const float half = 2.0f;
     for (int depth : {0, 5}) {

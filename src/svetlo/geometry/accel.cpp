@@ -14,6 +14,20 @@ std::vector<std::string> accel_names() {
     return names;
 }
 
+std::string accel_description(std::string_view name) {
+    const std::string lanes = SVETLO_SIMD ? "SSE" : "scalar";
+    if (name == "none") return "every primitive, no structure";
+    if (name == "grid") return "uniform grid, 3D-DDA";
+    if (name == "octree") return "octree";
+    if (name == "bvh2") return "binary binned-SAH BVH, one box at a time (the readable one)";
+    if (name == "bvh4") return "four-wide BVH, " + lanes;
+    if (name == "bvh")
+        return WideBvh::eight_wide_available() ? "eight-wide BVH, AVX2 (the fastest)"
+                                               : "four-wide BVH, " + lanes + " (the fastest here)";
+    if (name == "embree") return "Embree";
+    return "";
+}
+
 std::unique_ptr<Accel> make_accel(std::string_view name, const Geometry& geometry, int threads) {
     if (name == "none") return std::make_unique<BruteForce>(geometry);
     if (name == "grid") return std::make_unique<Grid>(geometry);

@@ -38,6 +38,10 @@ public:
 /// The names make_accel accepts, in the order `svetlo bench` lists them.
 std::vector<std::string> accel_names();
 
+/// What the structure called `name` is, in a few words, as this build and processor make it:
+/// "bvh2" is the binary BVH a student reads first; "bvh" the fastest (docs/geometry.md).
+std::string accel_description(std::string_view name);
+
 /// Builds the structure called `name` (one of accel_names()) over `geometry`'s bounded primitives
 /// on `threads` threads (0 = all cores). Returns nullptr for an unknown name.
 std::unique_ptr<Accel> make_accel(std::string_view name, const Geometry& geometry, int threads = 0);

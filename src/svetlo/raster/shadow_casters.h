@@ -3,7 +3,7 @@
 // casters spread over it by area, the lecture's approximation of an area light by point
 // lights. A light's visibility V at a sample is the mean, over the casters of that light
 // that the sample faces, of what each technique says of it (0 shadowed, 1 lit, or between
-// for a filter); 1 where the sample faces none (contract: the visibility AOV).
+// for a filter); 1 where the sample faces none (docs/cli.md: the visibility AOV).
 #pragma once
 
 #include <vector>

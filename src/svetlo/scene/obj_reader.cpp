@@ -1,7 +1,7 @@
 // OBJ and MTL through tinyobjloader. Every (position, normal, uv) triple becomes one vertex,
-// so seams keep their own normals and texture coordinates. MTL mapping (the contract):
-// Ke > 0 -> emissive (Kd as albedo); illum 3 or 5 -> mirror (Ks); illum 4, 6, 7 or d < 1 ->
-// dielectric (Ni); otherwise phong with Ka, Kd, Ks, Ns.
+// so seams keep their own normals and texture coordinates. MTL mapping (docs/scene-format.md,
+// "OBJ/MTL"): Ke > 0 -> emissive (Kd as albedo); illum 3 or 5 -> mirror (Ks); illum 4, 6, 7 or d <
+// 1 -> dielectric (Ni); otherwise phong with Ka, Kd, Ks, Ns.
 #include <tiny_obj_loader.h>
 
 #include <cmath>

@@ -1,4 +1,4 @@
-// One camera sample of one pixel, followed through an engine (contract: `svetlo trace`;
+// One camera sample of one pixel, followed through an engine (docs/trace.md: `svetlo trace`;
 // docs/trace.md): every ray it casts or path vertex it makes, with what each adds to the
 // pixel. An engine records into it when RenderOptions::trace points at one; `total` is then
 // the sample's radiance, the number the pixel gets from it.

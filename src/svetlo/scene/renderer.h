@@ -17,13 +17,13 @@
 
 namespace svetlo {
 
-/// The auxiliary buffers (contract: --aov NAME=FILE).
+/// The auxiliary buffers (docs/cli.md: --aov NAME=FILE).
 inline const std::vector<std::string>& aov_names() {
     static const std::vector<std::string> names = {"depth", "normal", "albedo", "visibility"};
     return names;
 }
 
-/// The teaching buffers (contract: debug AOVs), each made by some engines under some settings:
+/// The teaching buffers (docs/trace.md: debug AOVs), each made by some engines under some settings:
 /// the rasterizer's light 0 shadow map (a cube map unfolded), shadow-volume stencil count and
 /// projected planar shadow mask (docs/shadows.md); radiosity's patch mesh with each element's
 /// value (docs/radiosity.md); the ray tracers' BVH cost of the camera ray (nodes, primitives,
@@ -66,7 +66,7 @@ inline std::string debug_aov_refusal(const Scene& scene, const std::string& name
     return {};
 }
 
-/// A window of the film: the pixels x0 <= i < x1, y0 <= j < y1 (contract: --crop). A render
+/// A window of the film: the pixels x0 <= i < x1, y0 <= j < y1 (docs/cli.md: --crop). A render
 /// with one returns images of the window's size whose pixels are bit for bit those of the
 /// full render at the same place.
 struct Crop {

@@ -307,7 +307,7 @@ struct ShadowTeachingSettings {
 /// Settings of the rasterizer (svetlo extensions, docs/raster.md).
 struct RasterSettings {
     VisibilityMethod visibility = VisibilityMethod::ZBuffer;
-    bool cull_back_faces = false;  // contract: surfaces are two-sided by default
+    bool cull_back_faces = false;  // docs/scene-format.md: surfaces are two-sided by default
     bool msaa = false;             // false: supersampling (shade every sample)
     WireframeMode wireframe = WireframeMode::None;
     Color wireframe_color{1.0f};
