@@ -29,20 +29,20 @@ Rng sample_rng(uint64_t seed, int pass, uint64_t pixel) {
 /// Per pixel, the sums of the passes (double: a million passes keep their precision).
 struct FilmSums {
     std::vector<glm::dvec3> color;
-    std::vector<glm::dvec4> aov;    // depth, then normal (when any AOV is asked for)
-    std::vector<glm::dvec4> aov2;   // albedo, then visibility
+    std::vector<AovSum> aov;        // when any AOV is asked for
     std::vector<glm::dvec4> debug;  // the bvh_cost (nodes, primitives, sum), then bounces
 
     /// Every sum as one array of doubles, in the order above (--checkpoint), and back.
-    size_t doubles() const {
-        return 3 * color.size() + 4 * (aov.size() + aov2.size() + debug.size());
-    }
+    size_t doubles() const { return 3 * color.size() + 8 * aov.size() + 4 * debug.size(); }
     std::vector<double> flat() const {
         std::vector<double> out;
         out.reserve(doubles());
         for (const glm::dvec3& v : color) out.insert(out.end(), {v.x, v.y, v.z});
-        for (const auto* part : {&aov, &aov2, &debug})
-            for (const glm::dvec4& v : *part) out.insert(out.end(), {v.x, v.y, v.z, v.w});
+        for (const AovSum& a : aov) {
+            out.insert(out.end(), {a.depth, a.normal.x, a.normal.y, a.normal.z, a.albedo.x,
+                                   a.albedo.y, a.albedo.z, a.visibility});
+        }
+        for (const glm::dvec4& v : debug) out.insert(out.end(), {v.x, v.y, v.z, v.w});
         return out;
     }
     void load(const std::vector<double>& in) {
@@ -51,11 +51,16 @@ struct FilmSums {
             v = glm::dvec3(in[k], in[k + 1], in[k + 2]);
             k += 3;
         }
-        for (auto* part : {&aov, &aov2, &debug}) {
-            for (glm::dvec4& v : *part) {
-                v = glm::dvec4(in[k], in[k + 1], in[k + 2], in[k + 3]);
-                k += 4;
-            }
+        for (AovSum& a : aov) {
+            a.depth = in[k];
+            a.normal = glm::dvec3(in[k + 1], in[k + 2], in[k + 3]);
+            a.albedo = glm::dvec3(in[k + 4], in[k + 5], in[k + 6]);
+            a.visibility = in[k + 7];
+            k += 8;
+        }
+        for (glm::dvec4& v : debug) {
+            v = glm::dvec4(in[k], in[k + 1], in[k + 2], in[k + 3]);
+            k += 4;
         }
     }
 };
@@ -109,14 +114,11 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
         const size_t pixels = static_cast<size_t>(ww) * static_cast<size_t>(wh);
         RenderResult result;
         const AovTargets targets = prepare_result(result, options.aovs, ww, wh);
-        const bool want_visibility = targets.want[3] && !scene.lights.empty();
+        const bool want_visibility = targets.want(Aov::Visibility) && !scene.lights.empty();
         FilmSums sums;
         sums.color.assign(pixels, glm::dvec3(0.0));
         if (want_cost || want_depth) sums.debug.assign(pixels, glm::dvec4(0.0));
-        if (targets.any) {
-            sums.aov.assign(pixels, glm::dvec4(0.0));
-            sums.aov2.assign(pixels, glm::dvec4(0.0));
-        }
+        if (targets.any) sums.aov.assign(pixels, AovSum{});
         const bool avx2 = avx2_available();  // the sampler's eight lanes: the same numbers
         std::atomic<uint64_t> rays{0}, nonfinite{0};
         Progress progress("path", static_cast<int64_t>(max_passes) * static_cast<int64_t>(pixels),
@@ -188,10 +190,8 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
                                 continue;
                             }
                             sums.color[slot] += glm::dvec3(c);
-                            if (targets.any && is_finite(aov.normal) && is_finite(aov.albedo)) {
-                                sums.aov[slot] += glm::dvec4(aov.depth, aov.normal);
-                                sums.aov2[slot] += glm::dvec4(aov.albedo, aov.visibility);
-                            }
+                            if (targets.any && is_finite(aov.normal) && is_finite(aov.albedo))
+                                sums.aov[slot].add(aov);
                         }
                     }
                     rays += integrator.rays;
@@ -224,12 +224,7 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
         for (size_t pixel = 0; pixel < pixels; ++pixel) {
             const int i = static_cast<int>(pixel % ww), j = static_cast<int>(pixel / ww);
             result.color.at(i, j) = Color(sums.color[pixel] * inv);
-            if (!targets.any) continue;
-            glm::dvec4 a = sums.aov[pixel] * inv, b = sums.aov2[pixel] * inv;
-            if (targets.want[0]) targets.image[0]->at(i, j) = Color(static_cast<float>(a.x));
-            if (targets.want[1]) targets.image[1]->at(i, j) = Color(a.y, a.z, a.w);
-            if (targets.want[2]) targets.image[2]->at(i, j) = Color(b.x, b.y, b.z);
-            if (targets.want[3]) targets.image[3]->at(i, j) = Color(static_cast<float>(b.w));
+            if (targets.any) targets.write(i, j, sums.aov[pixel].mean(passes));
         }
         result.stats.seconds = std::chrono::duration<double>(Clock::now() - start).count();
         result.stats.rays = rays.load() + (photons ? photons->rays() : 0);

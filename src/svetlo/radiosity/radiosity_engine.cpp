@@ -168,7 +168,7 @@ RenderResult RadiosityRenderer::render(const Scene& scene, const RenderOptions& 
             if (patches_aov) patches_image = Image(width, height);
             const int spp = scene.render.spp;
             std::vector<glm::dvec3> sums(static_cast<size_t>(width) * height, glm::dvec3(0.0));
-            std::vector<glm::vec4> aov_sums(targets.any ? sums.size() * 2 : 0, glm::vec4(0.0f));
+            std::vector<AovSum> aov_sums(targets.any ? sums.size() : 0);
             const CameraMatrices camera = frame_camera(scene, mesh.list);
             const CameraRays camera_rays(scene.camera, width, height);
             RenderTargets buffers;
@@ -201,7 +201,7 @@ RenderResult RadiosityRenderer::render(const Scene& scene, const RenderOptions& 
                                     log_background_sample(*log, camera_rays, i, j, jitter, scene);
                                 }
                                 sums[pixel] += glm::dvec3(scene.render.background);
-                                if (targets.any) aov_sums[2 * pixel + 1].w += 1.0f;  // visibility 1
+                                if (targets.any) aov_sums[pixel].visibility += 1.0;
                                 continue;
                             }
                             Ray ray =
@@ -233,18 +233,21 @@ RenderResult RadiosityRenderer::render(const Scene& scene, const RenderOptions& 
                                 irradiance = E.indirect + direct;
                             }
                             Color L = emitted + rho * inv_pi * (irradiance + sol.ambient);
-                            glm::vec4 aov[2]{glm::vec4(0.0f), glm::vec4(0.0f)};
+                            AovSample aov{0.0f, vec3(0.0f), Color(0.0f), 0.0f};
                             if (targets.any) {
-                                float vis = targets.want[3]
-                                                ? light0_visibility(mesh.lights, *mesh.accel, x, n,
-                                                                    scene.render.light_samples, rng,
-                                                                    local_rays)
-                                                : 1.0f;
-                                aov[0] = glm::vec4(at.distance, n);
-                                aov[1] = glm::vec4(albedo_of(bsdf), vis);
+                                aov.visibility =
+                                    targets.want(Aov::Visibility)
+                                        ? light0_visibility(mesh.lights, *mesh.accel, x, n,
+                                                            scene.render.light_samples, rng,
+                                                            local_rays)
+                                        : 1.0f;
+                                aov.depth = at.distance;
+                                aov.normal = n;
+                                aov.albedo = albedo_of(bsdf);
                             }
-                            const bool finite =
-                                is_finite(L) && is_finite(aov[0]) && is_finite(aov[1]);
+                            const bool finite = is_finite(L) && is_finite(aov.normal) &&
+                                                is_finite(aov.albedo) &&
+                                                std::isfinite(aov.depth + aov.visibility);
                             if (PixelTrace* log = options.trace;
                                 log && log->at(i, j) && log->sample == s) {
                                 log_display_sample(*log, scene, tree, ray, at, t,
@@ -259,10 +262,7 @@ RenderResult RadiosityRenderer::render(const Scene& scene, const RenderOptions& 
                                 continue;
                             }
                             sums[pixel] += glm::dvec3(L);
-                            if (targets.any) {
-                                aov_sums[2 * pixel] += aov[0];
-                                aov_sums[2 * pixel + 1] += aov[1];
-                            }
+                            if (targets.any) aov_sums[pixel].add(aov);
                             if (patches_aov && s == 0) {
                                 // Lines about a pixel wide: the pixel's footprint at the point.
                                 const float footprint =
@@ -284,12 +284,7 @@ RenderResult RadiosityRenderer::render(const Scene& scene, const RenderOptions& 
                     const size_t pixel = static_cast<size_t>(j) * width + i;
                     Color c(sums[pixel] * static_cast<double>(inv));
                     result.color.at(i, j) = c;
-                    if (!targets.any) continue;
-                    glm::vec4 a = aov_sums[2 * pixel] * inv, b = aov_sums[2 * pixel + 1] * inv;
-                    if (targets.want[0]) targets.image[0]->at(i, j) = Color(a.x);
-                    if (targets.want[1]) targets.image[1]->at(i, j) = Color(a.y, a.z, a.w);
-                    if (targets.want[2]) targets.image[2]->at(i, j) = Color(b.x, b.y, b.z);
-                    if (targets.want[3]) targets.image[3]->at(i, j) = Color(b.w);
+                    if (targets.any) targets.write(i, j, aov_sums[pixel].mean(spp));
                 }
             }
             if (patches_aov) result.aovs["patches"] = std::move(patches_image);

@@ -62,6 +62,8 @@ struct ShadeResult {
     float distance = 0.0f;
     vec3 normal{0.0f};
     Color albedo{0.0f};
+    /// Its AOVs but the visibility, which shade_tile adds for every sample (light 0's mask).
+    AovSample aov() const { return AovSample{distance, normal, albedo, 0.0f}; }
 };
 
 /// Stage 6: the colour of a visible sample of triangle `ti` with screen barycentrics (l1, l2).
@@ -203,22 +205,18 @@ void shade_tile(const FrameState& f, const Tile& tile, const SamplePattern& sp, 
     };
     for (size_t pixel = 0; pixel < pixels; ++pixel) {
         Color sum(0.0f);
-        ShadeResult aov_sum;
-        float visibility = 0.0f;
+        AovSum aov_sum;
         for (int s = 0; s < S; ++s) {
             size_t i = pixel * static_cast<size_t>(S) + static_cast<size_t>(s);
             uint32_t tri = buf.tri[i];
             // The visibility AOV: light 0's mask, 1 where nothing is hit.
-            visibility += tri == kNone || f.light0_source < 0
-                              ? 1.0f
-                              : vis.at(static_cast<size_t>(f.light0_source), i);
+            aov_sum.visibility += tri == kNone || f.light0_source < 0
+                                      ? 1.0f
+                                      : vis.at(static_cast<size_t>(f.light0_source), i);
             if (f.mode == Mode::Overdraw) {
                 sum += Color(static_cast<float>(buf.stencil[i]) / kOverdrawPerUnit);
                 if (tri == kNone || !aovs) continue;
-                ShadeResult r = shade(tri, pixel, s, true);
-                aov_sum.distance += r.distance;
-                aov_sum.normal += r.normal;
-                aov_sum.albedo += r.albedo;
+                aov_sum.add(shade(tri, pixel, s, true).aov());
                 continue;
             }
             if (tri == kNone) {
@@ -239,25 +237,11 @@ void shade_tile(const FrameState& f, const Tile& tile, const SamplePattern& sp, 
                 ++buf.nonfinite;
                 continue;
             }
-            if (msaa) {
-                sum += w * r.color;
-                aov_sum.distance += w * r.distance;
-                aov_sum.normal += w * r.normal;
-                aov_sum.albedo += w * r.albedo;
-            } else {
-                sum += r.color;
-                aov_sum.distance += r.distance;
-                aov_sum.normal += r.normal;
-                aov_sum.albedo += r.albedo;
-            }
+            sum += msaa ? w * r.color : r.color;
+            aov_sum.add(r.aov(), w);
         }
         buf.color[pixel] += sum;
-        if (aovs) {
-            buf.aov[0][pixel] += Color(aov_sum.distance);
-            buf.aov[1][pixel] += aov_sum.normal;
-            buf.aov[2][pixel] += aov_sum.albedo;
-            buf.aov[3][pixel] += Color(visibility);
-        }
+        if (aovs) buf.aov[pixel].add(aov_sum);
     }
 }
 

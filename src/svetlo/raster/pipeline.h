@@ -31,6 +31,7 @@
 #include "svetlo/raster/raster_lights.h"
 #include "svetlo/raster/simd_shading.h"
 #include "svetlo/raster/small_triangle.h"
+#include "svetlo/scene/renderer.h"
 #include "svetlo/shading/mipmap.h"
 
 namespace svetlo::raster {
@@ -220,7 +221,7 @@ struct TileBuffers {
     float tile_near = 0.0f, tile_far = 0.0f;  // with block_near: min and max over the tile
     std::vector<Color> color;                 // resolved colour per pixel, accumulated over passes
     std::vector<Color> sample_color;          // the fast path's colour per sample
-    std::vector<Color> aov[4];                // depth, normal, albedo, visibility per pixel
+    std::vector<AovSum> aov;                  // per pixel, when AOVs are asked for
     // The visibility of each light of the light set at each sample (a shadow technique's
     // masks, row by row: light_visibility()); empty: every light visible.
     std::vector<float> visibility;
@@ -235,9 +236,7 @@ struct TileBuffers {
         }
         block_far.assign(static_cast<size_t>(kTile / kBlock) * (kTile / kBlock), kInfinity);
         if (color.size() != pixels) color.resize(pixels);
-        if (aovs) {
-            for (auto& a : aov) a.resize(pixels);
-        }
+        if (aovs) aov.resize(pixels);
     }
 };
 

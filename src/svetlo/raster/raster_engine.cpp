@@ -271,7 +271,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     // (for the lit modes, and for the visibility AOV).
     const bool lit_mode = f.mode == Mode::Phong || f.mode == Mode::Gouraud || f.mode == Mode::Flat;
     std::unique_ptr<ShadowTechniqueState> shadows;
-    if (lit_mode || targets.want[3] || !options.debug_aovs.empty())
+    if (lit_mode || targets.want(Aov::Visibility) || !options.debug_aovs.empty())
         shadows = make_shadow_technique(scene, list, f, passes, threads, &buffers_->passes);
 
     const bool msaa = scene.render.raster.msaa;
@@ -293,7 +293,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
             // (One sample per pixel on the fast path writes every pixel: nothing to clear.)
             if (!(simd && spp == 1)) buf.color.assign(pixels, Color(0.0f));
             if (targets.any) {
-                for (auto& a : buf.aov) a.assign(pixels, Color(0.0f));
+                buf.aov.assign(pixels, AovSum{});
             }
             for (size_t pass = 0; pass < passes.size(); ++pass) {
                 const SamplePattern& sp = passes[pass];

@@ -51,21 +51,14 @@ void resolve_tile(const FrameState& f, const Tile& tile, int spp, int last_pass_
     const int tw = tile.x1 - tile.x0;
     const size_t pixels = static_cast<size_t>(tw) * (tile.y1 - tile.y0);
     float inv = 1.0f / static_cast<float>(spp);
-    for (size_t pixel = 0; pixel < pixels && spp > 1; ++pixel) {
-        buf.color[pixel] *= inv;
-        if (targets.any) {
-            for (auto& a : buf.aov) a[pixel] *= inv;
-        }
-    }
+    for (size_t pixel = 0; pixel < pixels && spp > 1; ++pixel) buf.color[pixel] *= inv;
     if (f.scene->render.raster.wireframe != WireframeMode::None)
         draw_wireframe(f, tile, buf, last_pass_samples);
     for (int j = tile.y0; j < tile.y1; ++j) {
         auto row = static_cast<std::ptrdiff_t>(j - tile.y0) * tw;
         std::copy_n(buf.color.begin() + row, tw, &color.at(tile.x0, j));
-        for (int k = 0; k < 4; ++k) {
-            if (targets.want[k])
-                std::copy_n(buf.aov[k].begin() + row, tw, &targets.image[k]->at(tile.x0, j));
-        }
+        for (int i = 0; targets.any && i < tw; ++i)
+            targets.write(tile.x0 + i, j, buf.aov[static_cast<size_t>(row + i)].mean(spp));
     }
 }
 

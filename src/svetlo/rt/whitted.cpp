@@ -195,7 +195,7 @@ RenderResult WhittedRenderer::render(const Scene& scene, const RenderOptions& op
             // Looked up once: the tiles write through these concurrently.
             const AovTargets targets =
                 prepare_result(result, options.aovs, window.width(), window.height());
-            bool want_visibility = targets.want[3] && !scene.lights.empty();
+            bool want_visibility = targets.want(Aov::Visibility) && !scene.lights.empty();
             if (want_cost) result.aovs["bvh_cost"] = Image(window.width(), window.height());
             Image* cost_image = want_cost ? &result.aovs["bvh_cost"] : nullptr;
             std::atomic<uint64_t> rays{0}, nonfinite{0};
@@ -213,7 +213,7 @@ RenderResult WhittedRenderer::render(const Scene& scene, const RenderOptions& op
                             Rng aov_rng = pixel_rng(scene.render.seed ^ 0xa0a0a0a0ULL, pixel);
                             tracer.aov_rng = &aov_rng;
                             glm::dvec3 sum(0.0);
-                            AovSample aov_sum{0.0f, vec3(0.0f), Color(0.0f), 0.0f};
+                            AovSum aov_sum;
                             Color cost(0.0f);
                             for (int s = 0; s < spp; ++s) {
                                 vec2 offset =
@@ -244,22 +244,12 @@ RenderResult WhittedRenderer::render(const Scene& scene, const RenderOptions& op
                                     continue;
                                 }
                                 sum += glm::dvec3(c);
-                                if (targets.any) {
-                                    aov_sum.depth += aov.depth;
-                                    aov_sum.normal += aov.normal;
-                                    aov_sum.albedo += aov.albedo;
-                                    aov_sum.visibility += aov.visibility;
-                                }
+                                if (targets.any) aov_sum.add(aov);
                             }
                             float inv = 1.0f / static_cast<float>(spp);
                             const int x = i - window.x0, y = j - window.y0;
                             result.color.at(x, y) = Color(sum / static_cast<double>(spp));
-                            if (targets.want[0])
-                                targets.image[0]->at(x, y) = Color(aov_sum.depth * inv);
-                            if (targets.want[1]) targets.image[1]->at(x, y) = aov_sum.normal * inv;
-                            if (targets.want[2]) targets.image[2]->at(x, y) = aov_sum.albedo * inv;
-                            if (targets.want[3])
-                                targets.image[3]->at(x, y) = Color(aov_sum.visibility * inv);
+                            if (targets.any) targets.write(x, y, aov_sum.mean(spp));
                             if (cost_image) cost_image->at(x, y) = cost * inv;
                         }
                     }

@@ -150,25 +150,67 @@ struct AovSample {
     float visibility = 1.0f;  // the fraction of light 0 that reaches the point
 };
 
+/// The auxiliary buffers, in the order of aov_names().
+enum class Aov { Depth, Normal, Albedo, Visibility };
+inline constexpr int kAovCount = 4;
+
+/// One pixel's AOV samples added up, and their mean: the one accumulator of every engine
+/// (double: the path tracer adds up a million passes).
+struct AovSum {
+    double depth = 0.0;
+    glm::dvec3 normal{0.0}, albedo{0.0};
+    double visibility = 0.0;
+
+    /// Adds a sample with weight w (the rasterizer's MSAA weighs a shaded sample by the
+    /// samples it covers).
+    void add(const AovSample& s, double w = 1.0) {
+        depth += w * s.depth;
+        normal += w * glm::dvec3(s.normal);
+        albedo += w * glm::dvec3(s.albedo);
+        visibility += w * s.visibility;
+    }
+    void add(const AovSum& o) {
+        depth += o.depth;
+        normal += o.normal;
+        albedo += o.albedo;
+        visibility += o.visibility;
+    }
+    /// The mean of n samples.
+    AovSample mean(double n) const {
+        const double inv = 1.0 / n;
+        return AovSample{static_cast<float>(depth * inv), vec3(normal * inv), Color(albedo * inv),
+                         static_cast<float>(visibility * inv)};
+    }
+};
+static_assert(sizeof(AovSum) == 8 * sizeof(double), "checkpoints store it as eight doubles");
+
 /// The images a render fills: the colour, and the AOVs asked for (depth, normal and albedo
-/// zero, visibility one), with pointers indexed like aov_names() (null when not asked for).
+/// zero, visibility one).
 struct AovTargets {
-    bool want[4] = {false, false, false, false};
-    Image* image[4] = {nullptr, nullptr, nullptr, nullptr};
+    Image* image[kAovCount] = {nullptr, nullptr, nullptr, nullptr};  // null: not asked for
     bool any = false;
+
+    bool want(Aov a) const { return image[static_cast<int>(a)] != nullptr; }
+    /// Writes one pixel's AOVs (a mean of its samples) into each image asked for.
+    void write(int x, int y, const AovSample& s) const {
+        if (Image* d = image[static_cast<int>(Aov::Depth)]) d->at(x, y) = Color(s.depth);
+        if (Image* n = image[static_cast<int>(Aov::Normal)]) n->at(x, y) = s.normal;
+        if (Image* a = image[static_cast<int>(Aov::Albedo)]) a->at(x, y) = s.albedo;
+        if (Image* v = image[static_cast<int>(Aov::Visibility)]) v->at(x, y) = Color(s.visibility);
+    }
 };
 inline AovTargets prepare_result(RenderResult& result, const std::vector<std::string>& aovs,
                                  int width, int height) {
     result.color = Image(width, height);
     AovTargets t;
     for (const std::string& name : aovs) {
-        for (size_t k = 0; k < aov_names().size(); ++k) {
-            if (name != aov_names()[k]) continue;
-            t.want[k] = true;
-            result.aovs[name] = Image(width, height, k == 3 ? Color(1.0f) : Color(0.0f));
+        for (int k = 0; k < kAovCount; ++k) {
+            if (name != aov_names()[static_cast<size_t>(k)]) continue;
+            const bool visibility = k == static_cast<int>(Aov::Visibility);
+            t.image[k] =
+                &(result.aovs[name] = Image(width, height, Color(visibility ? 1.0f : 0.0f)));
         }
     }
-    for (size_t k = 0; k < 4; ++k) t.image[k] = t.want[k] ? &result.aovs[aov_names()[k]] : nullptr;
     t.any = !result.aovs.empty();
     return t;
 }
