@@ -7,6 +7,8 @@
 #include <thread>
 #include <vector>
 
+#include "engines.h"
+
 #ifdef SVETLO_MPI
 #include <mpi.h>
 #endif
@@ -18,11 +20,11 @@ namespace svetlo {
 namespace {
 
 /// The tiles of `window`, in a fixed order: 32 x 32 pixels for the ray tracers, whose cost
-/// is per pixel; for raster and radiosity, whose windows redraw the frame or its item
-/// buffers, 4 bands per rank, full width.
+/// is per pixel; for the engines that draw the whole frame at once (raster, radiosity), whose
+/// windows redraw the frame or its item buffers, 4 bands per rank, full width.
 std::vector<Crop> make_tiles(const Crop& window, const std::string& engine, int ranks) {
     std::vector<Crop> tiles;
-    const bool bands = engine == "raster" || engine == "radiosity";
+    const bool bands = capabilities_of(engine, "").whole_frame;
     const int th = bands ? std::max(1, (window.height() + 4 * ranks - 1) / (4 * ranks)) : 32;
     const int tw = bands ? window.width() : 32;
     for (int y = window.y0; y < window.y1; y += th)

@@ -130,11 +130,14 @@ int run_render(const RenderArgs& args) {
     if (!args.crop.empty())
         job.options.crop = parse_crop(args.crop, args.scene, scene.film.width, scene.film.height);
     request_aovs(job, args.aovs, args.output);
-    make_renderer(scene.render.engine, args.scene);  // an unknown engine, before the checks below
-    if (time_budget > 0.0 && scene.render.engine != "path") {
-        throw Error(args.scene, "--time",
-                    "needs a progressive engine (path); " + scene.render.engine + " is not one");
-    }
+    // An unknown engine, before the checks below; a progressive one for --time and
+    // --checkpoint.
+    const Capabilities& engine = capabilities_of(scene.render.engine, args.scene);
+    const std::string progressive =
+        "needs a progressive engine (" +
+        engines_with([](const Capabilities& c) { return c.progressive; }) + "); ";
+    if (time_budget > 0.0 && !engine.progressive)
+        throw Error(args.scene, "--time", progressive + engine.name + " is not one");
     // Many processes (mpirun): every rank checks all of the above, so that bad input ends
     // them all alike; rank 0 alone writes and speaks.
     const int processes = args.mpi ? args.mpi->size() : 1;
@@ -149,10 +152,9 @@ int run_render(const RenderArgs& args) {
     // --checkpoint: read and checked before the render (one line for a file of another run).
     std::optional<CheckpointFile> checkpoint;
     if (!args.checkpoint.empty()) {
-        if (job.scene.render.engine != "path")
+        if (!engine.progressive)
             throw Error(args.scene, "--checkpoint",
-                        "needs a progressive engine (path); " + job.scene.render.engine +
-                            " renders in one pass");
+                        progressive + engine.name + " renders in one pass");
         if (processes > 1)
             throw Error(args.scene, "--checkpoint",
                         "renders on one process only (not under mpirun)");

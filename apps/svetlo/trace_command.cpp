@@ -137,8 +137,9 @@ PixelTrace trace_job(RenderJob& job, int x, int y, long long sample, long long s
     const std::string file = job.run.scene_file.string();
     const std::string& engine = scene.render.engine;
     // One sample per pixel unless spp says otherwise, as `render --spp 1` (docs/trace.md); a
-    // path's sample K is its pass K, the same whatever the spp, so it renders K + 1 passes.
-    if (engine == "path") spp = std::max(spp, sample + 1);
+    // progressive engine's sample K is its pass K, the same whatever the spp, so it renders K + 1
+    // passes.
+    if (capabilities_of(engine, file).progressive) spp = std::max(spp, sample + 1);
     if (sample >= spp) {
         throw Error(file, "--sample",
                     "sample " + std::to_string(sample) + " of " + std::to_string(spp) +

@@ -11,6 +11,9 @@ namespace svetlo {
 
 class RadiosityRenderer final : public Renderer {
 public:
+    Capabilities capabilities() const override {
+        return {.name = "radiosity", .whole_frame = true, .debug_aovs = {"patches"}};
+    }
     RenderResult render(const Scene& scene, const RenderOptions& options) override;
 };
 

@@ -214,6 +214,14 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                     "the rasterizer draws through a pinhole; a thin lens needs the whitted or "
                     "path engine");
     }
+    // A debug AOV of a shadow technique needs that technique (the table in renderer.h).
+    for (const std::string& name : options.debug_aovs) {
+        const std::optional<ShadowTechnique> technique = debug_aov_technique(name);
+        if (technique && scene.render.shadows != *technique)
+            throw Error(scene.path.string(), "render.shadows",
+                        "the " + name + " AOV needs render.shadows " +
+                            std::string(name_of(kShadowTechniques, *technique)));
+    }
     if (options.trace) return trace_raster_pixel(*this, scene, options);
     if (options.windows) {  // the frame is drawn once, and each window cut from it
         RenderOptions whole = options;
@@ -327,17 +335,14 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     result.stats.triangles = f.triangle_count;
     for (TileBuffers& buf : buffers) result.stats.nonfinite += buf.nonfinite;
     for (const std::string& name : options.debug_aovs) {
-        Image image = !shadows               ? Image()
-                      : name == "shadow_map" ? shadows->shadow_map_image()
-                      : name == "planar"     ? shadows->mask_image()
-                                             : shadows->stencil_image();
-        if (image.width == 0) {
-            throw Error(scene.path.string(), "render.shadows",
-                        "the " + name + " AOV needs render.shadows " +
-                            (name == "shadow_map" ? "map"
-                             : name == "planar"   ? "planar"
-                                                  : "volume"));
-        }
+        // The scene's technique, checked above.
+        const ShadowTechnique technique = *debug_aov_technique(name);
+        Image image = technique == ShadowTechnique::Map      ? shadows->shadow_map_image()
+                      : technique == ShadowTechnique::Planar ? shadows->mask_image()
+                                                             : shadows->stencil_image();
+        if (image.width == 0)
+            throw Error(scene.path.string(), "lights",
+                        "the " + name + " AOV shows light 0's shadows, and it casts none");
         result.aovs[name] = std::move(image);
     }
     buffers_->vertices = std::move(f.vertices);

@@ -40,6 +40,11 @@ class RasterRenderer final : public Renderer {
 public:
     RasterRenderer();
     ~RasterRenderer() override;
+    Capabilities capabilities() const override {
+        return {.name = "raster",
+                .whole_frame = true,
+                .debug_aovs = {"shadow_map", "stencil", "planar"}};
+    }
     RenderResult render(const Scene& scene, const RenderOptions& options) override;
 
     struct Buffers;

@@ -11,6 +11,9 @@ namespace svetlo {
 
 class WhittedRenderer final : public Renderer {
 public:
+    Capabilities capabilities() const override {
+        return {.name = "whitted", .debug_aovs = {"bvh_cost"}};
+    }
     RenderResult render(const Scene& scene, const RenderOptions& options) override;
 };
 

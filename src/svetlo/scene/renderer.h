@@ -30,17 +30,13 @@ inline const std::vector<std::string>& aov_names() {
 /// their sum) and the path tracer's mean bounces per path (docs/trace.md).
 struct DebugAov {
     std::string name;
-    std::vector<std::string> engines;        // the engines that make it
     std::optional<ShadowTechnique> shadows;  // the technique it shows, where it shows one
 };
 inline const std::vector<DebugAov>& debug_aovs() {
     static const std::vector<DebugAov> table = {
-        {"shadow_map", {"raster"}, ShadowTechnique::Map},
-        {"stencil", {"raster"}, ShadowTechnique::Volume},
-        {"planar", {"raster"}, ShadowTechnique::Planar},
-        {"patches", {"radiosity"}, std::nullopt},
-        {"bvh_cost", {"whitted", "path"}, std::nullopt},
-        {"path_depth", {"path"}, std::nullopt},
+        {"shadow_map", ShadowTechnique::Map}, {"stencil", ShadowTechnique::Volume},
+        {"planar", ShadowTechnique::Planar},  {"patches", std::nullopt},
+        {"bvh_cost", std::nullopt},           {"path_depth", std::nullopt},
     };
     return table;
 }
@@ -49,22 +45,22 @@ inline std::vector<std::string> debug_aov_names() {
     for (const DebugAov& d : debug_aovs()) names.push_back(d.name);
     return names;
 }
-/// Why `scene` cannot make debug AOV `name` ("needs render.engine raster with render.shadows
-/// map"); empty when it can, or when `name` is not a debug AOV.
-inline std::string debug_aov_refusal(const Scene& scene, const std::string& name) {
-    for (const DebugAov& d : debug_aovs()) {
-        if (d.name != name) continue;
-        bool engine = false;
-        for (const std::string& e : d.engines) engine |= e == scene.render.engine;
-        if (engine && (!d.shadows || scene.render.shadows == *d.shadows)) return {};
-        std::string why = "needs render.engine " + d.engines[0];
-        for (size_t k = 1; k < d.engines.size(); ++k) why += " or " + d.engines[k];
-        if (d.shadows)
-            why += " with render.shadows " + std::string(name_of(kShadowTechniques, *d.shadows));
-        return why;
-    }
-    return {};
+/// The shadow technique debug AOV `name` shows (render.shadows must be it), if any.
+inline std::optional<ShadowTechnique> debug_aov_technique(const std::string& name) {
+    for (const DebugAov& d : debug_aovs())
+        if (d.name == name) return d.shadows;
+    return std::nullopt;
 }
+
+/// What an engine is and can do. The command line's checks and their messages are made from
+/// it (apps/svetlo/engines.h), not from engines' names.
+struct Capabilities {
+    std::string name;                     // its render.engine
+    bool progressive = false;             // refines pass by pass: --time, --checkpoint
+    bool whole_frame = false;             // draws the whole frame at once: under MPI its
+                                          // windows are bands of rows, each cut from a frame
+    std::vector<std::string> debug_aovs;  // the teaching buffers it makes
+};
 
 /// A window of the film: the pixels x0 <= i < x1, y0 <= j < y1 (docs/cli.md: --crop). A render
 /// with one returns images of the window's size whose pixels are bit for bit those of the
@@ -273,6 +269,7 @@ inline void cut_to_window(RenderResult& result, const Crop& window, int width, i
 class Renderer {
 public:
     virtual ~Renderer() = default;
+    virtual Capabilities capabilities() const = 0;
     virtual RenderResult render(const Scene& scene, const RenderOptions& options) = 0;
 };
 
