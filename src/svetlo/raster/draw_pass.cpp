@@ -87,7 +87,7 @@ void draw_samples(const TriangleList& list, const CameraMatrices& camera,
                     std::copy_n(targets.stencil.begin() + from, row, buf.stencil.begin() + to);
             }
             // The nearest stored depth per 8 x 8 block, for a pass that tests depth without
-            // writing it (rasterize_plain skips blocks its triangles are wholly in front of).
+            // writing it (rasterize_stencil skips blocks its triangles are wholly in front of).
             buf.block_near.clear();
             if (state.depth_test && !state.depth_write) {
                 constexpr int kB = TileBuffers::kBlock;

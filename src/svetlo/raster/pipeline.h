@@ -4,10 +4,11 @@
 //   clipper.cpp         stage 3: clipping in homogeneous coordinates
 //   setup_binning.cpp   stages 3-4: setup (area, facing, culling, bounds) and binning in tiles
 //   depth_pass_avx2.cpp a depth-only pass's setup and rasterization with AVX2
-//   stencil_count_avx2.cpp  rasterize_plain's stencil count with AVX2
+//   stencil_count_avx2.cpp  the stencil count with AVX2
 //   small_triangle.h    a small triangle's edges and depth plane, and a depth-only pass's record
 //   rasterize.cpp       stage 5: edge functions and the depth test, per tile
-//   rasterize_plain.cpp stage 5 with the stencil on or depth writes off (shadow volumes' counts)
+//   rasterize_stencil.cpp stage 5 with the stencil on or depth writes off: the per-sample loop
+//   stencil_count.cpp   a shadow volume's stencil count over a rectangle of pixels
 //   fragment.cpp        stage 6: shading of the visible samples, by mode
 //   fast_shading.cpp    stage 6's SIMD fast path (simd_kernel.inc)
 //   resolve.cpp         stage 7: the mean of the samples, the AOVs, and the wireframe
@@ -277,7 +278,7 @@ struct TriangleEdges {
 /// Edge k of `te` for a stencil count from the sample (sx, sy) (fixed point): its value plus
 /// its fill-rule bias there, and its changes one pixel right and one pixel down. An edge left
 /// out of `crossing` (it holds the counted block whole) is zero, stepped by zero: inside
-/// everywhere. Shared by the count's SSE and AVX2 forms (rasterize_plain.cpp,
+/// everywhere. Shared by the count's forms (stencil_count.cpp,
 /// stencil_count_avx2.cpp).
 struct CountEdge {
     int64_t value = 0, right = 0, down = 0;
@@ -294,6 +295,34 @@ struct PixelSpan {
     int xs, xe, ys, ye;
     bool empty() const { return xs >= xe || ys >= ye; }
 };
+
+/// A shadow volume's stencil count over a rectangle of one tile's pixels (one sample per pixel,
+/// the stencil test Always, no depth or item written; stencil_count.cpp): what every rectangle
+/// of one triangle shares.
+struct StencilCount {
+    const SetupTriangle& t;
+    const TriangleEdges& te;
+    double dzdx, dzdy;  // the depth plane's gradient, per pixel
+    const Tile& tile;
+    const SamplePattern& sp;
+    float depth_bias;
+    int delta_pass, delta_fail;  // the count's change where the depth test passes, fails
+};
+
+/// A stencil count's change per operation: Keep, IncrWrap and DecrWrap only (else 2).
+inline int stencil_delta(StencilOp op) {
+    return op == StencilOp::Keep       ? 0
+           : op == StencilOp::IncrWrap ? 1
+           : op == StencilOp::DecrWrap ? -1
+                                       : 2;
+}
+
+/// The count over the pixels r, adding delta_pass or delta_fail at every covered pixel
+/// (wrapping), `crossing` the edges that cross r (the others hold it whole), `reach` the
+/// largest |edge function| its steps can meet (32-bit lanes below 2^30), `all_fail` where every
+/// sample fails the depth test; with AVX2 where `avx2`.
+void count_stencil(const StencilCount& c, PixelSpan r, unsigned crossing, int64_t reach,
+                   bool all_fail, bool avx2, TileBuffers& buf);
 
 /// The pixels of the tile that triangle t may cover.
 inline PixelSpan span_in(const SetupTriangle& t, const Tile& tile) {
@@ -378,14 +407,11 @@ size_t setup_depth_avx2(const FrameState& f, const uint32_t* indices, size_t cou
 /// A depth-only pass's records binned in the tile, with AVX2 (depth_pass_avx2.cpp; only where
 /// avx2_available()): 4 x 2 pixels at a time, the same depths as rasterize_small.
 void rasterize_depth_avx2(const FrameState& f, const Tile& tile, TileBuffers& buf);
-/// rasterize_plain's count_block (a shadow volume's stencil count over the pixels [x0, x1) x
-/// [y0, y1) of a tile, its edge functions in 64-bit lanes where `wide`, else 32-bit ones) with
-/// AVX2, 4 x 2 pixels at a time (stencil_count_avx2.cpp; only where avx2_available()): the
-/// same counts.
-void count_block_avx2(const SetupTriangle& t, const TriangleEdges& te, double dzdx, double dzdy,
-                      int x0, int x1, int y0, int y1, const Tile& tile, const SamplePattern& sp,
-                      float depth_bias, int delta_pass, int delta_fail, unsigned crossing,
-                      bool all_fail, bool wide, TileBuffers& buf);
+/// count_stencil's count over the pixels r of a tile (its edge functions in 64-bit lanes where
+/// `wide`, else 32-bit ones) with AVX2, 4 x 2 pixels at a time (stencil_count_avx2.cpp; only
+/// where avx2_available()): the same counts.
+void count_block_avx2(const StencilCount& c, PixelSpan r, unsigned crossing, bool all_fail,
+                      bool wide, TileBuffers& buf);
 /// Stage 4 for the painter's algorithm: binned again, back to front.
 void bin_back_to_front(FrameState& f, int threads);
 /// Calls draw(id, record(id)) for every id of `bins` binned in tile `ti`, in drawing order.
@@ -410,11 +436,11 @@ void for_each_binned(const FrameState& f, const Tile& tile, Draw&& draw) {
         f.bins, ti, [&](uint32_t id) -> const SetupTriangle& { return f.tri(id); }, draw);
 }
 /// Stage 5 (rasterize.cpp): every triangle binned in the tile, in order, into its buffers.
-/// Passes with the stencil on or depth writes off take rasterize_tile_plain.
+/// Passes with the stencil on or depth writes off take rasterize_tile_stencil.
 void rasterize_tile(const FrameState& f, const Tile& tile, const SamplePattern& sp,
                     const PipelineState& state, TileBuffers& buf);
-/// rasterize_tile for a pass with the stencil on or depth writes off (rasterize_plain.cpp).
-void rasterize_tile_plain(const FrameState& f, const Tile& tile, const SamplePattern& sp,
-                          const PipelineState& state, TileBuffers& buf);
+/// rasterize_tile for a pass with the stencil on or depth writes off (rasterize_stencil.cpp).
+void rasterize_tile_stencil(const FrameState& f, const Tile& tile, const SamplePattern& sp,
+                            const PipelineState& state, TileBuffers& buf);
 
 }  // namespace svetlo::raster

@@ -1,6 +1,6 @@
 // Stage 5: rasterization of the set-up triangles into a tile's buffers: Pineda's edge
 // functions with the top-left rule (edge_function.h) and the depth test; passes with the
-// stencil on or depth writes off go through rasterize_plain (rasterize_plain.cpp).
+// stencil on or depth writes off go through rasterize_stencil.cpp.
 //
 // Two kernels here have an SSE form (four pixels of a row at once) and a plain twin, chosen by
 // SVETLO_SIMD: rasterize_small and depth_test_four. The twins are the statement (read them
@@ -314,7 +314,7 @@ SamplePattern sample_pattern(int spp, uint64_t seed, int first, int count) {
 void rasterize_tile(const FrameState& f, const Tile& tile, const SamplePattern& sp,
                     const PipelineState& state, TileBuffers& buf) {
     if (state.stencil.enabled || !state.depth_write) {
-        rasterize_tile_plain(f, tile, sp, state, buf);
+        rasterize_tile_stencil(f, tile, sp, state, buf);
         return;
     }
     for_each_binned(f, tile, [&](uint32_t id, const SetupTriangle& t) {

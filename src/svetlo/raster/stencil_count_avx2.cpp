@@ -1,5 +1,5 @@
-// A shadow volume's stencil count with AVX2 (count_block_avx2 in pipeline.h): rasterize_plain's
-// count_block, 4 x 2 pixels at a time instead of 4 x 1, with the same coverage
+// A shadow volume's stencil count with AVX2 (count_block_avx2 in pipeline.h): stencil_count.cpp's
+// count_block (its twin), 4 x 2 pixels at a time instead of 4 x 1, with the same coverage
 // (the same exact edge functions), the same depths (the same double-precision operations in
 // the same order) and so the same counts. Used only where avx2_available(). The target is set
 // by pragma after the headers, as in simd_shading_avx2.cpp.
@@ -81,9 +81,9 @@ private:
 };
 
 template <bool kWide>
-void count(const SetupTriangle& t, const TriangleEdges& te, double dzdx, double dzdy, int x0,
-           int x1, int y0, int y1, const Tile& tile, const SamplePattern& sp, float depth_bias,
-           int delta_pass, int delta_fail, unsigned crossing, bool all_fail, TileBuffers& buf) {
+void count(const StencilCount& c, PixelSpan r, unsigned crossing, bool all_fail, TileBuffers& buf) {
+    const auto& [t, te, dzdx, dzdy, tile, sp, depth_bias, delta_pass, delta_fail] = c;
+    const auto [x0, x1, y0, y1] = r;
     const int tw = tile.x1 - tile.x0;
     const __m256d z0 = _mm256_set1_pd(static_cast<double>(t.z[0]));
     const __m256d gx = _mm256_set1_pd(dzdx), scale = _mm256_set1_pd(1.0 / kSubpixel);
@@ -147,16 +147,12 @@ void count(const SetupTriangle& t, const TriangleEdges& te, double dzdx, double 
 
 }  // namespace
 
-void count_block_avx2(const SetupTriangle& t, const TriangleEdges& te, double dzdx, double dzdy,
-                      int x0, int x1, int y0, int y1, const Tile& tile, const SamplePattern& sp,
-                      float depth_bias, int delta_pass, int delta_fail, unsigned crossing,
-                      bool all_fail, bool wide, TileBuffers& buf) {
+void count_block_avx2(const StencilCount& c, PixelSpan r, unsigned crossing, bool all_fail,
+                      bool wide, TileBuffers& buf) {
     if (wide) {
-        count<true>(t, te, dzdx, dzdy, x0, x1, y0, y1, tile, sp, depth_bias, delta_pass, delta_fail,
-                    crossing, all_fail, buf);
+        count<true>(c, r, crossing, all_fail, buf);
     } else {
-        count<false>(t, te, dzdx, dzdy, x0, x1, y0, y1, tile, sp, depth_bias, delta_pass,
-                     delta_fail, crossing, all_fail, buf);
+        count<false>(c, r, crossing, all_fail, buf);
     }
 }
 
