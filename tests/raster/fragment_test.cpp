@@ -1,0 +1,440 @@
+// The rasterizer's stage 6: flat, Gouraud and Phong shading against closed forms, the fast
+// path's kernels against the scalar shading, textures.
+#include "raster_testing.h"
+
+namespace svetlo {
+namespace {
+
+using namespace raster_testing;
+
+TEST(Raster, PhongShadedQuadUnderPointLightMatchesTheClosedForm) {
+    const int w = 96, h = 64;
+    json j = oblique(w, h);
+    j["materials"] = {
+        {"shiny", {{"type", "phong"}, {"kd", 0.5}, {"ks", 0.3}, {"shininess", 20}, {"ka", 0.5}}}};
+    j["lights"] = {{{"type", "point"}, {"position", {0.5, 1.2, 0.3}}, {"intensity", {6, 3, 1.5}}}};
+    j["render"]["ambient"] = 0.2;
+    j["objects"] = {floor_quad(1.5f, "shiny")};
+    Scene scene = scene_from_json(j, "test.json");
+    RenderResult r = render(j);
+    int checked = 0;
+    for (int jj = 0; jj < h; ++jj) {
+        for (int i = 0; i < w; ++i) {
+            vec3 p;
+            if (!floor_point(scene, i, jj, p) || std::abs(p.x) > 1.45f || std::abs(p.z) > 1.45f)
+                continue;
+            Color e = phong_closed_form(p, scene.camera.position, vec3(0.5f, 1.2f, 0.3f),
+                                        Color(6, 3, 1.5f), 0.5f, 0.3f, 20.0f, 0.5f, 0.2f);
+            ASSERT_NEAR(r.color.at(i, jj).r, e.r, kSnapTolerance * e.r) << i << "," << jj;
+            ASSERT_NEAR(r.color.at(i, jj).b, e.b, kSnapTolerance * e.b) << i << "," << jj;
+            ++checked;
+        }
+    }
+    EXPECT_GT(checked, 1200);
+}
+
+/// A single triangle on the floor with per-vertex normals, for the Gouraud and flat tests.
+json floor_triangle(const char* material) {
+    return {{"type", "mesh"},       {"positions", {{-1.2, 0, 1.0}, {1.3, 0, 0.8}, {0.1, 0, -1.4}}},
+            {"indices", {0, 1, 2}}, {"normals", {{0, 1, 0}, {0, 1, 0}, {0, 1, 0}}},
+            {"smooth", true},       {"material", material}};
+}
+
+TEST(Raster, GouraudInterpolatesTheVertexColours) {
+    const int w = 80, h = 60;
+    json j = oblique(w, h);
+    j["materials"] = {{"white", {{"type", "lambert"}, {"albedo", 0.7}}}};
+    vec3 light(0.2f, 0.6f, 0.1f);
+    j["lights"] = {
+        {{"type", "point"}, {"position", {light.x, light.y, light.z}}, {"intensity", 3}}};
+    j["render"]["shading"] = "gouraud";
+    j["objects"] = {floor_triangle("white")};
+    Scene scene = scene_from_json(j, "test.json");
+    RenderResult r = render(j);
+    vec3 v[3] = {vec3(-1.2f, 0, 1.0f), vec3(1.3f, 0, 0.8f), vec3(0.1f, 0, -1.4f)};
+    float c[3];
+    for (int k = 0; k < 3; ++k) {
+        vec3 d = light - v[k];
+        float d2 = glm::dot(d, d);
+        c[k] = 0.7f / kPi * 3.0f * (d.y / std::sqrt(d2)) / d2;
+    }
+    int checked = 0;
+    float max_phong_gap = 0.0f;
+    for (int jj = 0; jj < h; ++jj) {
+        for (int i = 0; i < w; ++i) {
+            vec3 p;
+            if (!floor_point(scene, i, jj, p)) continue;
+            // World barycentrics of p: perspective-correct interpolation reproduces them.
+            vec3 e0 = v[1] - v[0], e1 = v[2] - v[0], q = p - v[0];
+            float det = e0.x * e1.z - e0.z * e1.x;
+            float b1 = (q.x * e1.z - q.z * e1.x) / det, b2 = (e0.x * q.z - e0.z * q.x) / det,
+                  b0 = 1.0f - b1 - b2;
+            if (b0 < 0.02f || b1 < 0.02f || b2 < 0.02f) continue;  // away from the edges
+            float expected = b0 * c[0] + b1 * c[1] + b2 * c[2];
+            ASSERT_NEAR(r.color.at(i, jj).g, expected, kSnapTolerance * expected) << i << "," << jj;
+            vec3 d = light - p;
+            float phong = 0.7f / kPi * 3.0f * (d.y / glm::length(d)) / glm::dot(d, d);
+            max_phong_gap = std::max(max_phong_gap, std::abs(phong - expected) / phong);
+            ++checked;
+        }
+    }
+    EXPECT_GT(checked, 300);
+    EXPECT_GT(max_phong_gap, 0.2f);  // the lesson: the light's peak between vertices is lost
+}
+
+TEST(Raster, GouraudLightsASharedVertexOncePerMaterial) {
+    // One OBJ mesh, two squares sharing an edge, red on the left and blue on the right, under
+    // a light straight above: every vertex colour of a square is its own material's, so each
+    // square is uniform, right up to the shared edge (a vertex lit with one material for both
+    // squares would blend the two colours there).
+    namespace fs = std::filesystem;
+    fs::path dir = fs::temp_directory_path() / "svetlo_raster_gouraud_test";
+    fs::create_directories(dir);
+    {
+        std::ofstream obj(dir / "two.obj");
+        obj << "mtllib two.mtl\nv -1 0 1\nv 0 0 1\nv 1 0 1\nv -1 0 -1\nv 0 0 -1\nv 1 0 -1\n"
+               "usemtl red\nf 1 2 5\nf 1 5 4\nusemtl blue\nf 2 3 6\nf 2 6 5\n";
+        std::ofstream mtl(dir / "two.mtl");
+        mtl << "newmtl red\nKd 0.8 0.1 0.1\nKs 0 0 0\nnewmtl blue\nKd 0.1 0.2 0.9\nKs 0 0 0\n";
+    }
+    const int w = 80, h = 60;
+    json j = oblique(w, h);
+    j["render"]["shading"] = "gouraud";
+    j["lights"] = {{{"type", "directional"}, {"direction", {0, -1, 0}}, {"irradiance", 2}}};
+    j["objects"] = {{{"type", "mesh"}, {"file", (dir / "two.obj").string()}}};
+    Scene scene = scene_from_json(j, "test.json");
+    RenderResult r = render(j);
+    const Color red = Color(0.8f, 0.1f, 0.1f) * (2.0f / kPi),
+                blue = Color(0.1f, 0.2f, 0.9f) * (2.0f / kPi);
+    int checked[2] = {0, 0};
+    for (int jj = 0; jj < h; ++jj) {
+        for (int i = 0; i < w; ++i) {
+            vec3 p;
+            if (!floor_point(scene, i, jj, p)) continue;
+            if (std::abs(p.x) < 0.03f || std::abs(p.x) > 0.97f || std::abs(p.z) > 0.97f) continue;
+            Color expected = p.x < 0.0f ? red : blue;
+            for (int c = 0; c < 3; ++c)
+                ASSERT_NEAR(r.color.at(i, jj)[c], expected[c], 1e-4f) << i << "," << jj;
+            ++checked[p.x < 0.0f ? 0 : 1];
+        }
+    }
+    EXPECT_GT(checked[0], 100);
+    EXPECT_GT(checked[1], 100);
+    fs::remove_all(dir);
+}
+
+TEST(Raster, FlatShadingIsOneColourPerFace) {
+    const int w = 80, h = 60;
+    json j = oblique(w, h);
+    j["materials"] = {{"white", {{"type", "phong"}, {"kd", 0.6}, {"ks", 0.2}, {"shininess", 10}}}};
+    vec3 light(0.2f, 0.6f, 0.1f);
+    j["lights"] = {
+        {{"type", "point"}, {"position", {light.x, light.y, light.z}}, {"intensity", 3}}};
+    j["render"]["shading"] = "flat";
+    j["objects"] = {floor_triangle("white")};
+    Scene scene = scene_from_json(j, "test.json");
+    RenderResult r = render(j);
+    vec3 centroid = (vec3(-1.2f, 0, 1.0f) + vec3(1.3f, 0, 0.8f) + vec3(0.1f, 0, -1.4f)) / 3.0f;
+    Color expected = phong_closed_form(centroid, scene.camera.position, light, Color(3.0f), 0.6f,
+                                       0.2f, 10.0f, 0.0f, 0.0f);
+    int covered = 0;
+    for (const Color& c : r.color.pixels) {
+        if (c.r == 0.0f) continue;  // background
+        ASSERT_NEAR(c.r, expected.r, 1e-6f * expected.r);
+        ++covered;
+    }
+    EXPECT_GT(covered, 400);
+}
+
+#if SVETLO_SIMD  // the fast path's pow, in a build with SIMD
+TEST(Raster, SimdPowMatchesStdPow) {
+    float worst = 0.0f;
+    for (float n : {0.0f, 1.0f, 2.5f, 8.0f, 32.0f, 100.0f, 1000.0f}) {
+        for (float x = 0.0f; x <= 1.0f; x += 1.0f / 4096.0f) {
+            float xs[4] = {x, x * 0.5f, 1.0f - x, std::min(1.0f, x + 1e-3f)}, ns[4] = {n, n, n, n},
+                  out[4];
+            pow4(xs, ns, out);
+            for (int k = 0; k < 4; ++k) {
+                float e = std::pow(xs[k], n);
+                if (e < 1e-30f) {
+                    EXPECT_LT(out[k], 1e-29f);
+                    continue;
+                }
+                worst = std::max(worst, std::abs(out[k] - e) / e);
+            }
+        }
+    }
+    EXPECT_LT(worst, 2e-5f);  // n log2(x) carries the 1e-7 of log2, times n up to 1000
+}
+#endif
+
+TEST(Raster, SimdFastPathAgreesWithTheScalarShading) {
+    // The same frame shaded four samples at a time (no AOVs) and one by one (an AOV asked for
+    // sends every sample through the scalar path): Lambert, Phong and Blinn-Phong, a point, a
+    // directional and a spot light (its cone's edge across the scene), seen from both sides; a
+    // whole shininess (powers by repeated squaring) and a fractional one (exp2 and log2).
+    json j = oblique(64, 48);
+    j["materials"] = {
+        {"l", {{"type", "lambert"}, {"albedo", {0.7, 0.5, 0.3}}}},
+        {"p", {{"type", "phong"}, {"ka", 0.3}, {"kd", 0.5}, {"ks", 0.4}, {"shininess", 40}}},
+        {"b", {{"type", "blinn_phong"}, {"kd", 0.2}, {"ks", 0.6}, {"shininess", 12.5}}}};
+    j["lights"] = {{{"type", "point"}, {"position", {0.5, 1.5, 0.8}}, {"intensity", {5, 4, 3}}},
+                   {{"type", "directional"}, {"direction", {0.3, -1, -0.4}}, {"irradiance", 0.8}},
+                   {{"type", "spot"},
+                    {"position", {-0.5, 2, 1}},
+                    {"direction", {0.3, -1, -0.3}},
+                    {"intensity", {6, 6, 8}},
+                    {"inner_angle", 15},
+                    {"outer_angle", 30}}};
+    j["render"]["ambient"] = 0.1;
+    j["render"]["spp"] = 4;
+    j["objects"] = {
+        floor_quad(1.5f, "l"),
+        {{"type", "sphere"}, {"center", {-0.5, 0.5, 0}}, {"radius", 0.5}, {"material", "p"}},
+        {{"type", "box"}, {"min", {0.2, 0, -0.6}}, {"max", {0.9, 0.7, 0.1}}, {"material", "b"}},
+        {{"type", "quad"},
+         {"corner", {-1, 0, -1}},
+         {"edge_u", {0, 1, 0}},
+         {"edge_v", {1, 0, 0}},
+         {"material", "p"}}};
+    for (int spp : {1, 4}) {  // one sample: runs along rows; more: batches of samples
+        j["render"]["spp"] = spp;
+        RenderResult fast = render(j);
+        RenderResult scalar = render(j, "raster", {"albedo"});
+        float worst = 0.0f;
+        for (size_t k = 0; k < fast.color.pixels.size(); ++k) {
+            for (int c = 0; c < 3; ++c) {
+                float a = fast.color.pixels[k][c], b = scalar.color.pixels[k][c];
+                worst = std::max(worst, std::abs(a - b) / std::max(b, 1e-3f));
+            }
+        }
+        EXPECT_LT(worst, 1e-4f) << spp;
+    }
+}
+
+#if SVETLO_SIMD
+/// A run of one triangle for the kernel tests: the weights of its first sample, 1/w and
+/// world positions of its vertices.
+TriangleRun test_run() {
+    TriangleRun q;
+    q.l1 = 0.05f;
+    q.l2 = 0.1f;
+    q.invw[0] = 0.5f;
+    q.invw[1] = 0.25f;
+    q.invw[2] = 0.4f;
+    q.world[0] = vec3(-1, 0, 0);
+    q.world[1] = vec3(1, 0, -0.5f);
+    q.world[2] = vec3(0, 1, 0.3f);
+    return q;
+}
+
+TEST(Raster, FourAndEightLaneKernelsAgree) {
+    // A run of 64 samples of one triangle through the four-lane kernel and through the best
+    // one of this processor (eight lanes with AVX2): the same colours.
+    TriangleRun q = test_run();
+    q.normal[0] = glm::normalize(vec3(-0.2f, 0.1f, 1));
+    q.normal[1] = glm::normalize(vec3(0.3f, 0, 1));
+    q.normal[2] = glm::normalize(vec3(0, 0.4f, 1));
+    SimdLights lights;
+    lights.points.push_back({vec3(0.5f, 1.5f, 2), Color(6, 5, 4), 0});
+    lights.directionals.push_back({glm::normalize(vec3(0.2f, 0.5f, 1)), Color(0.7f), 1});
+    for (int variant = 0; variant < 4; ++variant) {
+        bool blinn = variant % 2 == 1;
+        float shininess = variant < 2 ? 24.0f : 24.5f;  // repeated squaring, or exp2 and log2
+        SimdMaterial m(Color(0.2f), Color(0.5f, 0.4f, 0.3f), Color(0.4f), shininess, blinn, true);
+        Color four[64], best[64];
+        vec3 ng = glm::normalize(glm::cross(q.world[1] - q.world[0], q.world[2] - q.world[0]));
+        shade_run(q, 0.01f, 0.008f, 16, m, ng, lights, vec3(0, 0.2f, 3), false, vec3(0, 0, -1),
+                  Color(0.1f), four, 4);
+        shade_run(q, 0.01f, 0.008f, 16, m, ng, lights, vec3(0, 0.2f, 3), false, vec3(0, 0, -1),
+                  Color(0.1f), best);
+        for (int k = 0; k < 64; ++k) {
+            for (int c = 0; c < 3; ++c) {
+                ASSERT_GT(four[k][c], 0.0f);
+                EXPECT_NEAR(best[k][c], four[k][c], 1e-6f * four[k][c])
+                    << k << " lanes " << simd_lanes();
+            }
+        }
+    }
+}
+
+TEST(Raster, TheKernelMultipliesEachLightByItsVisibility) {
+    // A shadow technique's masks through the fast path: V = 0.25 for the point light and a
+    // ramp for the directional one must give what lights of those strengths give unmasked,
+    // for runs and batches, on four lanes and on the processor's best.
+    TriangleRun q = test_run();
+    for (vec3& n : q.normal) n = vec3(0, 0, 1);
+    vec3 ng(0, 0, 1), eye(0, 0.2f, 3), forward(0, 0, -1);
+    SimdMaterial m(Color(0.0f), Color(0.5f, 0.4f, 0.3f), Color(0.4f), 16.0f, true, true);
+    SimdLights lights;
+    lights.points.push_back({vec3(0.5f, 1.5f, 2), Color(6, 5, 4), 0});
+    lights.directionals.push_back({glm::normalize(vec3(0.2f, 0.5f, 1)), Color(0.7f), 1});
+    constexpr int kSamples = 32;
+    std::vector<float> mask(2 * kSamples);
+    for (int k = 0; k < kSamples; ++k) {
+        mask[k] = 0.25f;
+        mask[kSamples + k] = static_cast<float>(k) / kSamples;
+    }
+    LightVisibility vis{mask.data(), kSamples};
+    for (int lanes : {4, 0}) {
+        Color masked[kSamples], point_only[kSamples], sun_only[kSamples];
+        shade_run(q, 0.01f, 0.008f, kSamples / 4, m, ng, lights, eye, false, forward, Color(0.0f),
+                  masked, lanes, vis);
+        SimdLights point = lights, sun = lights;
+        point.directionals.clear();
+        sun.points.clear();
+        shade_run(q, 0.01f, 0.008f, kSamples / 4, m, ng, point, eye, false, forward, Color(0.0f),
+                  point_only, lanes);
+        shade_run(q, 0.01f, 0.008f, kSamples / 4, m, ng, sun, eye, false, forward, Color(0.0f),
+                  sun_only, lanes);
+        for (int k = 0; k < kSamples; ++k) {
+            Color expected = 0.25f * point_only[k] + mask[kSamples + k] * sun_only[k];
+            for (int c = 0; c < 3; ++c)
+                EXPECT_NEAR(masked[k][c], expected[c], 1e-5f * expected[c] + 1e-7f) << k;
+        }
+        // The same samples gathered into a batch, in reverse order: each lane reads its own
+        // sample's visibility.
+        ShadeBatch batch;
+        Color lit[ShadeBatch::kCapacity];
+        for (int k = 7; k >= 0; --k) {
+            float l1 = q.l1 + 0.01f * k, l2 = q.l2 + 0.008f * k, l0 = 1.0f - l1 - l2;
+            float w0 = l0 * q.invw[0], w1 = l1 * q.invw[1], w2 = l2 * q.invw[2];
+            float inv = 1.0f / (w0 + w1 + w2);
+            vec3 p = (w0 * q.world[0] + w1 * q.world[1] + w2 * q.world[2]) * inv;
+            batch.add(p, vec3(0, 0, 1), ng, &m, static_cast<uint32_t>(k));
+        }
+        shade_batch(batch, lights, eye, false, forward, Color(0.0f), lit, vis);
+        for (int k = 0; k < 8; ++k) {
+            Color expected = 0.25f * point_only[7 - k] + mask[kSamples + 7 - k] * sun_only[7 - k];
+            for (int c = 0; c < 3; ++c)
+                EXPECT_NEAR(lit[k][c], expected[c], 1e-4f * expected[c] + 1e-6f) << k;
+        }
+    }
+}
+#endif  // the SIMD kernels' own tests
+
+TEST(Raster, TheScalarShadingMultipliesEachLightByItsVisibility) {
+    // shade_point with a mask per light: the direct light of each is scaled by its V, the
+    // emission and the ambient term are not.
+    json j = oblique(8, 8);
+    j["lights"] = {{{"type", "point"}, {"position", {0, 2, 0}}, {"intensity", 4}},
+                   {{"type", "directional"}, {"direction", {0, -1, 0}}, {"irradiance", 2}}};
+    j["render"]["ambient"] = 0.5;
+    Scene scene = scene_from_json(j, "test.json");
+    RasterLights lights(scene);
+    LambertMaterial m;
+    m.albedo = ColorSource::constant(Color(0.6f));
+    Bsdf bsdf = make_bsdf(Material{m}, vec2(0.0f), scene.textures);
+    ShadingFrame frame = make_shading_frame(vec3(0, 1, 0), vec3(0, 1, 0), vec3(0, 1, 0));
+    const float mask[4] = {0.0f, 0.25f,  // the point light at samples 0 and 1
+                           1.0f, 0.5f};  // the directional light
+    LightVisibility vis{mask, 2};
+    for (size_t sample : {0u, 1u}) {
+        Color L = shade_point(bsdf, vec3(0.0f), frame, vec3(0, 1, 0), lights, Color(0.5f),
+                              Color(0.0f), vis, sample);
+        // ka I_a + albedo/pi (V_point I / d^2 + V_sun E).
+        float expected =
+            0.6f * 0.5f + 0.6f / kPi * (mask[sample] * 4.0f / 4.0f + mask[2 + sample] * 2.0f);
+        EXPECT_NEAR(L.r, expected, 1e-6f) << sample;
+    }
+}
+
+TEST(Raster, FlatAndGouraudModulateTheirLightByTheTexturePerSample) {
+    // A checkered Lambert floor under a directional light (the same light at every vertex):
+    // flat and Gouraud shading, lighting a white floor and multiplying by the texture at each
+    // sample (OpenGL's GL_MODULATE), give Phong's image. They sampled the texture at the
+    // vertices or the centroid only, and lost the checkers.
+    json j = oblique(96, 64);
+    j["materials"] = {
+        {"c",
+         {{"type", "lambert"},
+          {"albedo", {{"checker", {{"a", 0.1}, {"b", {0.9, 0.6, 0.3}}, {"scale", 6}}}}}}}};
+    j["lights"] = {{{"type", "directional"}, {"direction", {0.3, -1, 0.2}}, {"irradiance", 2}}};
+    j["render"]["ambient"] = 0.1;
+    j["objects"] = {floor_quad(1.5f, "c")};
+    RenderResult phong = render(j);
+    for (const char* mode : {"gouraud", "flat"}) {
+        j["render"]["shading"] = mode;
+        RenderResult r = render(j);
+        int dark = 0, bright = 0;
+        for (size_t k = 0; k < phong.color.pixels.size(); ++k) {
+            for (int c = 0; c < 3; ++c) {
+                float e = phong.color.pixels[k][c];
+                ASSERT_NEAR(r.color.pixels[k][c], e, 1e-5f * (1.0f + e)) << mode << " " << k;
+            }
+            dark += phong.color.pixels[k].b > 0.0f && phong.color.pixels[k].r < 0.1f ? 1 : 0;
+            bright += phong.color.pixels[k].r > 0.3f ? 1 : 0;
+        }
+        EXPECT_GT(dark, 500);  // both checker colours are on screen
+        EXPECT_GT(bright, 500);
+    }
+}
+
+TEST(Raster, TrilinearFilteringAveragesWhenMinified) {
+    // A texel-sized black and white checker, 64 x 64.
+    Image checker(64, 64);
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x) checker.at(x, y) = Color(((x + y) & 1) ? 1.0f : 0.0f);
+    TextureImage texture(checker);
+    MipChain chain = build_mip_chain(texture);
+    ASSERT_EQ(chain.count(), 7);
+    EXPECT_EQ(chain.level(1).texel(3, 5), Color(0.5f));
+    EXPECT_EQ(chain.level(6).texel(0, 0), Color(0.5f));
+    // A footprint of 8 texels per pixel selects level 3.
+    EXPECT_NEAR(mip_level(chain, vec2(8.0f / 64.0f, 0.0f), vec2(0.0f, 1.0f / 64.0f)), 3.0f, 1e-5f);
+    EXPECT_EQ(sample_trilinear(chain, vec2(0.37f, 0.61f), 3.0f, TextureWrap::Repeat), Color(0.5f));
+    EXPECT_EQ(sample_trilinear(chain, vec2(0.37f, 0.61f), 2.5f, TextureWrap::Repeat), Color(0.5f));
+    // Rendered: a far, textured floor is grey with trilinear filtering, noise with bilinear.
+    Image fine(256, 256);
+    for (int y = 0; y < 256; ++y)
+        for (int x = 0; x < 256; ++x) fine.at(x, y) = Color(((x + y) & 1) ? 1.0f : 0.0f);
+    auto dir = std::filesystem::temp_directory_path() /
+               ("svetlo_raster_test_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    write_image(dir / "checker.pfm", fine, PixelMeaning::Radiance, 1.0f, "test");
+    json j = {{"camera", {{"position", {0, 1, 0}}, {"look_at", {0, 0.85, -1}}, {"fov", 40}}},
+              {"film", {{"width", 48}, {"height", 32}}},
+              {"render", {{"spp", 1}, {"max_depth", 0}, {"ambient", 1}}},
+              {"lights", json::array()},
+              {"objects", {floor_quad(1.0f, "tex")}}};
+    j["objects"][0]["corner"] = {-4, 0, -12};
+    j["objects"][0]["edge_u"] = {0, 0, 11};
+    j["objects"][0]["edge_v"] = {8, 0, 0};
+    j["materials"] = {{"tex", {{"type", "lambert"}, {"albedo", 0.5}}}};
+    Scene scene = scene_from_json(j, "test.json");  // for the camera rays
+    double spread[2];
+    for (int k = 0; k < 2; ++k) {
+        const char* filter = k == 0 ? "trilinear" : "bilinear";
+        j["materials"] = {
+            {"tex",
+             {{"type", "lambert"},
+              {"albedo", {{"texture", (dir / "checker.pfm").string()}, {"filter", filter}}}}}};
+        RenderResult r = render(j);
+        double lo = 1.0, hi = 0.0;
+        int n = 0;
+        for (int y = 0; y < 32; ++y) {
+            for (int x = 4; x < 44; ++x) {
+                vec3 p;
+                // On the quad, and at least 2 m away: 4 or more texels per pixel.
+                if (!floor_point(scene, x, y, p) || p.z > -2.0f || p.z < -11.5f ||
+                    std::abs(p.x) > 3.5f)
+                    continue;
+                double v = r.color.at(x, y).r;
+                lo = std::min(lo, v);
+                hi = std::max(hi, v);
+                ++n;
+            }
+        }
+        ASSERT_GT(n, 200);
+        spread[k] = hi - lo;
+        if (k == 0) {
+            EXPECT_NEAR(lo, 0.5, 0.03);
+            EXPECT_NEAR(hi, 0.5, 0.03);
+        }
+    }
+    EXPECT_GT(spread[1], 0.3);  // bilinear aliases
+    std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace svetlo
