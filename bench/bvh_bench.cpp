@@ -61,8 +61,7 @@ std::vector<Ray> make_rays(const Bvh& bvh, bool diffuse) {  // NOLINT: copies ar
         if (!bvh.intersect(r, hit)) continue;
         SurfaceHit s = g.surface(r, hit);
         vec3 n = glm::dot(s.ng, r.d) < 0.0f ? s.ng : -s.ng;
-        vec3 d = Frame::from_normal(n).to_world(
-            sample_cosine_hemisphere(vec2(rng.next_float(), rng.next_float())));
+        vec3 d = Frame::from_normal(n).to_world(sample_cosine_hemisphere(rng.next_2d()));
         rays.push_back(Ray{offset_ray_origin(s.p, n, d), d, kInfinity});
     }
     return rays;

@@ -45,7 +45,7 @@ std::vector<Ray> make_rays(const Scene& scene, const Geometry& g, const Accel& r
             SurfaceHit s = g.surface(ray, hit);
             vec3 n = glm::dot(s.ng, ray.d) < 0.0f ? s.ng : -s.ng;
             Rng rng = pixel_rng(scene.render.seed, k);
-            vec3 local = sample_cosine_hemisphere(vec2(rng.next_float(), rng.next_float()));
+            vec3 local = sample_cosine_hemisphere(rng.next_2d());
             vec3 dir = Frame::from_normal(n).to_world(local);
             rays[k] = Ray{offset_ray_origin(s.p, n, dir), dir, kInfinity};
         }

@@ -35,7 +35,7 @@ TEST(Sampling, CosineHemisphereHasMeanCosTwoThirds) {
     double sum = 0.0, sum2 = 0.0;
     const int n = 200000;
     for (int k = 0; k < n; ++k) {
-        vec3 d = sample_cosine_hemisphere(vec2(rng.next_float(), rng.next_float()));
+        vec3 d = sample_cosine_hemisphere(rng.next_2d());
         ASSERT_NEAR(glm::length(d), 1.0f, 1e-5f);
         sum += d.z;
         sum2 += d.z * d.z;
@@ -79,7 +79,7 @@ TEST(Sampling, TriangleSamplesAreUniform) {
     double b0 = 0.0, b1 = 0.0;
     const int n = 100000;
     for (int k = 0; k < n; ++k) {
-        vec2 b = sample_triangle(vec2(rng.next_float(), rng.next_float()));
+        vec2 b = sample_triangle(rng.next_2d());
         ASSERT_GE(b.x, 0.0f);
         ASSERT_GE(b.y, 0.0f);
         ASSERT_LE(b.x + b.y, 1.0f + 1e-6f);

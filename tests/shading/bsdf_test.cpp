@@ -14,7 +14,7 @@ Color albedo(const Bsdf& b, vec3 wo, int n = 200000) {
     Rng rng(11, 12);
     glm::dvec3 sum(0.0);
     for (int k = 0; k < n; ++k) {
-        vec3 wi = sample_cosine_hemisphere(vec2(rng.next_float(), rng.next_float()));
+        vec3 wi = sample_cosine_hemisphere(rng.next_2d());
         if (wi.z <= 0.0f) continue;
         // f cos / (cos / pi) = f pi
         sum += glm::dvec3(eval_bsdf(b, kN, wo, wi) * kPi);

@@ -39,7 +39,7 @@ double estimate(const LightSet& lights, size_t k, vec3 p, vec3 n, int count) {
     Rng rng(7, 3);
     double sum = 0.0;
     for (int i = 0; i < count; ++i) {
-        vec2 u(rng.next_float(), rng.next_float());
+        vec2 u = rng.next_2d();
         LightSample s = lights.sample(lights.sources()[k], p, u, rng.next_float());
         sum += s.irradiance.r * std::max(0.0f, glm::dot(n, s.wi));
     }
@@ -131,8 +131,7 @@ TEST(LightSet, SamplePdfMatchesPdfAndIntegratesToOne) {
     double solid_angle = 0.0;  // E[1 / pdf] over directions that reach the light's front
     const int n = 200000;
     for (int i = 0; i < n; ++i) {
-        LightSample s =
-            lights.sample(box, p, vec2(rng.next_float(), rng.next_float()), rng.next_float());
+        LightSample s = lights.sample(box, p, rng.next_2d(), rng.next_float());
         if (s.pdf <= 0.0f || is_black(s.irradiance)) continue;
         EXPECT_NEAR(lights.pdf(box, p, s.p, s.n), s.pdf, 1e-4f * s.pdf);
         solid_angle += 1.0 / s.pdf;

@@ -79,7 +79,16 @@ SdfShape::SdfShape(const SdfNode& root, const mat4& to_world) {
     flatten(root, to_world * root.transform);
     bounds_ = node_bounds(0);
     vec3 e = bounds_.extent();
-    scale_ = std::isfinite(e.x + e.y + e.z) && glm::length(e) > 0.0f ? glm::length(e) : 1.0f;
+    const bool finite = std::isfinite(e.x + e.y + e.z);
+    scale_ = finite && glm::length(e) > 0.0f ? glm::length(e) : 1.0f;
+    // A few of the march's smallest steps of room: a surface that touches its bounds (a
+    // sphere's poles) is crossed inside them, not at the point where the march stops. A ray
+    // leaving a sphere through a pole stepped past the box's exit and missed the crossing
+    // (the test Implicit.ARayStartingJustInsideFindsItsExit).
+    if (finite) {
+        bounds_.min -= vec3(4.0f * kMinStep * scale_);
+        bounds_.max += vec3(4.0f * kMinStep * scale_);
+    }
 }
 
 uint32_t SdfShape::flatten(const SdfNode& n, const mat4& to_parent) {

@@ -172,7 +172,7 @@ void CausticPhotons::trace_photon(uint64_t index, int pass, int count, std::vect
     }
     const LightSet::Source& source = lights.sources()[static_cast<size_t>(emitters_[e].source)];
     const float scale = 1.0f / (emitters_[e].probability * static_cast<float>(count));
-    vec2 u1(rng.next_float(), rng.next_float()), u2(rng.next_float(), rng.next_float());
+    vec2 u1 = rng.next_2d(), u2 = rng.next_2d();
     float u_pick = rng.next_float();
 
     Ray ray;
@@ -247,7 +247,7 @@ void CausticPhotons::trace_photon(uint64_t index, int pass, int count, std::vect
             }
             bsdf.ior = cauchy_ior(bsdf.ior, bsdf.abbe, lambda);
         }
-        vec2 u(rng.next_float(), rng.next_float());
+        vec2 u = rng.next_2d();
         BsdfSample bs = sample_bsdf(bsdf, frame.ns, wo, frame.front, u, rng.next_float());
         if (!bs.valid() || !bs.delta) return;  // only delta bounces make caustics
         power *= bs.weight;

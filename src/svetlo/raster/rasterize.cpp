@@ -301,7 +301,7 @@ SamplePattern sample_pattern(int spp, uint64_t seed, int first, int count) {
         vec2 o(0.5f);
         if (spp > 1) {
             Rng rng(seed * 0x9e3779b97f4a7c15ULL + static_cast<uint64_t>(k), 0x5ca1ab1eULL);
-            o = stratified_sample(k, spp, vec2(rng.next_float(), rng.next_float()));
+            o = stratified_sample(k, spp, rng.next_2d());
         }
         p.ox[s] = std::min(kSubpixel - 1, static_cast<int32_t>(o.x * kSubpixel));
         p.oy[s] = std::min(kSubpixel - 1, static_cast<int32_t>(o.y * kSubpixel));

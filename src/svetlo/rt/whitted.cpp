@@ -216,11 +216,8 @@ RenderResult WhittedRenderer::render(const Scene& scene, const RenderOptions& op
                             AovSum aov_sum;
                             Color cost(0.0f);
                             for (int s = 0; s < spp; ++s) {
-                                vec2 offset =
-                                    spp == 1
-                                        ? vec2(0.5f)
-                                        : stratified_sample(
-                                              s, spp, vec2(rng.next_float(), rng.next_float()));
+                                vec2 offset = spp == 1 ? vec2(0.5f)
+                                                       : stratified_sample(s, spp, rng.next_2d());
                                 const float x = (static_cast<float>(i) + offset.x) / width;
                                 const float y = (static_cast<float>(j) + offset.y) / height;
                                 Ray ray = camera.thin_lens() ? camera.generate(x, y, rng.next_2d())
