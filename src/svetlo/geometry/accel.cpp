@@ -1,5 +1,7 @@
 #include "svetlo/geometry/accel.h"
 
+#include <functional>
+
 #include "svetlo/geometry/bvh.h"
 #include "svetlo/geometry/embree_accel.h"
 #include "svetlo/geometry/grid.h"
@@ -8,35 +10,67 @@
 
 namespace svetlo {
 
+namespace {
+
+/// Every structure: its name (render.accel), what it is as this build and processor make it,
+/// and how it is built. The one list accel_names, accel_description and make_accel read.
+struct AccelEntry {
+    std::string_view name;
+    std::function<std::string()> description;
+    std::function<std::unique_ptr<Accel>(const Geometry&, int threads)> make;
+};
+
+const std::vector<AccelEntry>& accel_table() {
+    static const std::string lanes = SVETLO_SIMD ? "SSE" : "scalar";
+    static const std::vector<AccelEntry> table = {
+        {"none", [] { return std::string("every primitive, no structure"); },
+         [](const Geometry& g, int) { return std::make_unique<BruteForce>(g); }},
+        {"grid", [] { return std::string("uniform grid, 3D-DDA"); },
+         [](const Geometry& g, int) { return std::make_unique<Grid>(g); }},
+        {"octree", [] { return std::string("octree"); },
+         [](const Geometry& g, int) { return std::make_unique<Octree>(g); }},
+        {"bvh2",
+         [] { return std::string("binary binned-SAH BVH, one box at a time (the readable one)"); },
+         [](const Geometry& g, int threads) { return std::make_unique<Bvh>(g, threads); }},
+        {"bvh4", [] { return "four-wide BVH, " + lanes; },
+         [](const Geometry& g, int threads) { return std::make_unique<WideBvh>(g, threads, 4); }},
+        {"bvh",
+         [] {
+             return WideBvh::eight_wide_available()
+                        ? std::string("eight-wide BVH, AVX2 (the fastest)")
+                        : "four-wide BVH, " + lanes + " (the fastest here)";
+         },
+         [](const Geometry& g, int threads) { return std::make_unique<WideBvh>(g, threads); }},
+        {"embree", [] { return std::string("Embree"); },
+         [](const Geometry& g, int threads) { return make_embree_accel(g, threads); }},
+    };
+    return table;
+}
+
+const AccelEntry* find_accel(std::string_view name) {
+    if (name == "embree" && !embree_available()) return nullptr;
+    for (const AccelEntry& e : accel_table())
+        if (e.name == name) return &e;
+    return nullptr;
+}
+
+}  // namespace
+
 std::vector<std::string> accel_names() {
-    std::vector<std::string> names = {"none", "grid", "octree", "bvh2", "bvh4", "bvh"};
-    if (embree_available()) names.push_back("embree");
+    std::vector<std::string> names;
+    for (const AccelEntry& e : accel_table())
+        if (find_accel(e.name)) names.emplace_back(e.name);
     return names;
 }
 
 std::string accel_description(std::string_view name) {
-    const std::string lanes = SVETLO_SIMD ? "SSE" : "scalar";
-    if (name == "none") return "every primitive, no structure";
-    if (name == "grid") return "uniform grid, 3D-DDA";
-    if (name == "octree") return "octree";
-    if (name == "bvh2") return "binary binned-SAH BVH, one box at a time (the readable one)";
-    if (name == "bvh4") return "four-wide BVH, " + lanes;
-    if (name == "bvh")
-        return WideBvh::eight_wide_available() ? "eight-wide BVH, AVX2 (the fastest)"
-                                               : "four-wide BVH, " + lanes + " (the fastest here)";
-    if (name == "embree") return "Embree";
-    return "";
+    const AccelEntry* e = find_accel(name);
+    return e ? e->description() : std::string();
 }
 
 std::unique_ptr<Accel> make_accel(std::string_view name, const Geometry& geometry, int threads) {
-    if (name == "none") return std::make_unique<BruteForce>(geometry);
-    if (name == "grid") return std::make_unique<Grid>(geometry);
-    if (name == "octree") return std::make_unique<Octree>(geometry);
-    if (name == "bvh2") return std::make_unique<Bvh>(geometry, threads);
-    if (name == "bvh4") return std::make_unique<WideBvh>(geometry, threads, 4);
-    if (name == "bvh") return std::make_unique<WideBvh>(geometry, threads);
-    if (name == "embree" && embree_available()) return make_embree_accel(geometry, threads);
-    return nullptr;
+    const AccelEntry* e = find_accel(name);
+    return e ? e->make(geometry, threads) : nullptr;
 }
 
 bool BruteForce::intersect(const Ray& ray, Hit& hit) const {
