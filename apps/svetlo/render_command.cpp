@@ -207,9 +207,7 @@ void print_summary(const RenderJob& job, const RenderResult& result, const std::
     const Crop crop = film_window(scene, job.options);
     double per_second = result.stats.seconds > 0.0 ? 1e-6 / result.stats.seconds : 0.0;
     char rate[160];
-    if (!result.stats.detail.empty()) {  // the engine's own account
-        std::snprintf(rate, sizeof rate, "%s", result.stats.detail.c_str());
-    } else if (result.stats.triangles > 0) {
+    if (result.stats.triangles > 0) {
         std::snprintf(rate, sizeof rate, "%.2f Mtris/s",
                       static_cast<double>(result.stats.triangles) * per_second);
     } else if (result.stats.passes > 0) {  // a path per pixel and pass
@@ -220,6 +218,12 @@ void print_summary(const RenderJob& job, const RenderResult& result, const std::
     } else {
         std::snprintf(rate, sizeof rate, "%.2f Mrays/s",
                       static_cast<double>(result.stats.rays) * per_second);
+    }
+    // The engine's own account: in place of the rays, or after the paths.
+    std::string account = rate;
+    if (!result.stats.detail.empty()) {
+        account =
+            result.stats.passes > 0 ? account + ", " + result.stats.detail : result.stats.detail;
     }
     std::string dropped;  // samples that were not finite, left out of their pixels
     if (result.stats.nonfinite > 0)
@@ -234,7 +238,7 @@ void print_summary(const RenderJob& job, const RenderResult& result, const std::
                  "%s\n",
                  scene.render.engine.c_str(), scene.film.width, scene.film.height, window.c_str(),
                  reached_spp(job, result), resolve_threads(job.options.threads),
-                 result.stats.setup_seconds, result.stats.seconds, rate, dropped.c_str(),
+                 result.stats.setup_seconds, result.stats.seconds, account.c_str(), dropped.c_str(),
                  output.c_str());
 }
 

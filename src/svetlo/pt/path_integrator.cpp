@@ -17,6 +17,39 @@ namespace {
 constexpr int kRouletteDepth = 3;
 constexpr float kMaxSurvival = 0.95f;
 
+/// Whether a bounce off `bsdf` may be guided: it has lobes and nothing but lobes.
+bool guidable(const Bsdf& bsdf) {
+    return bsdf.has_lobes() && is_black(bsdf.reflect) && is_black(bsdf.transmit);
+}
+
+/// The pdf per steradian of a bounce to wi: the BSDF's, or with a guiding distribution,
+/// the mixture's (kGuidingBsdfFraction of the BSDF's).
+float scatter_pdf(const Bsdf& bsdf, vec3 n, vec3 wo, vec3 wi, const DirectionTree* tree) {
+    const float bsdf_pdf = pdf_bsdf(bsdf, n, wo, wi);
+    if (!tree) return bsdf_pdf;
+    constexpr float a = kGuidingBsdfFraction;
+    return a * bsdf_pdf + (1.0f - a) * tree->pdf(direction_to_square(wi)) / kSquareToSolidAngle;
+}
+
+/// One sample of the mixture of the BSDF and the guiding distribution `tree`: u_pick
+/// chooses the BSDF below kGuidingBsdfFraction, and its rescaled value picks the lobe.
+BsdfSample sample_guided(const Bsdf& bsdf, const ShadingFrame& frame, vec3 wo,
+                         const DirectionTree& tree, vec2 u, float u_pick) {
+    constexpr float a = kGuidingBsdfFraction;
+    BsdfSample s;
+    if (u_pick < a) {
+        s = sample_bsdf(bsdf, frame.ns, wo, frame.front, u, std::min(u_pick / a, 0x1.fffffep-1f));
+        if (!s.valid()) return s;
+    } else {
+        s.wi = square_to_direction(tree.sample(u));
+        s.f = eval_bsdf(bsdf, frame.ns, wo, s.wi);
+    }
+    s.pdf = scatter_pdf(bsdf, frame.ns, wo, s.wi, &tree);
+    s.weight = s.pdf > 0.0f ? s.f * (std::abs(glm::dot(frame.ns, s.wi)) / s.pdf) : Color(0.0f);
+    s.delta = false;
+    return s;
+}
+
 }  // namespace
 
 PathIntegrator::PathIntegrator(const RtScene& rt, const LightSelection& selection,
@@ -40,7 +73,8 @@ float PathIntegrator::emitter_weight(uint32_t prim, vec3 from, float pdf_bsdf, i
 }
 
 Color PathIntegrator::one_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame, vec3 wo, int n,
-                                vec2 choice, vec2 u_first, SobolSampler& sampler) {
+                                vec2 choice, vec2 u_first, SobolSampler& sampler,
+                                const DirectionTree* tree) {
     if (selection_.empty()) return Color(0.0f);
     const LightSet& lights = rt_.lights();
     float chosen;
@@ -64,7 +98,7 @@ Color PathIntegrator::one_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& fr
         float w = 1.0f;
         if (!s.delta) {
             w = light_weight(scene_.render.mis, static_cast<float>(n) * chosen * s.pdf,
-                             pdf_bsdf(bsdf, frame.ns, wo, s.wi));
+                             scatter_pdf(bsdf, frame.ns, wo, s.wi, tree));
         }
         const bool blocked = w == 0.0f || shadow_blocked(rt_, p, frame.ng, s, rays);
         if (log) {
@@ -80,7 +114,7 @@ Color PathIntegrator::one_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& fr
 }
 
 Color PathIntegrator::environment_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame,
-                                        vec3 wo, vec2 u) {
+                                        vec3 wo, vec2 u, const DirectionTree* tree) {
     if (scene_.render.mis == MisMode::BsdfOnly) return Color(0.0f);
     vec3 wi = Frame::from_normal(frame.ng).to_world(sample_cosine_hemisphere(u));
     float cos_theta = glm::dot(frame.ns, wi);
@@ -90,7 +124,7 @@ Color PathIntegrator::environment_light(const Bsdf& bsdf, vec3 p, const ShadingF
     if (is_black(f)) return Color(0.0f);
     ++rays;
     const bool blocked = rt_.occluded(Ray{offset_ray_origin(p, frame.ng, wi), wi, kInfinity});
-    float w = light_weight(scene_.render.mis, pdf, pdf_bsdf(bsdf, frame.ns, wo, wi));
+    float w = light_weight(scene_.render.mis, pdf, scatter_pdf(bsdf, frame.ns, wo, wi, tree));
     const Color c = blocked ? Color(0.0f) : f * scene_.render.background * (cos_theta * w / pdf);
     if (log)
         log_light(p, frame.ng, wi, kInfinity, pdf, w, blocked ? 0.0f : 1.0f, log_beta_ * c,
@@ -204,14 +238,16 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, R
         // (stratified together), the light sample's point, the BSDF's direction, and its lobe
         // with the roulette. Further light samples and the background's draw after them.
         const std::array<vec2, 4> u = sampler.next_8();
+        const bool guided = guide_ && guidable(bsdf);
+        const DirectionTree* tree = guided ? guide_->at(sh.p, frame.ng) : nullptr;
         if (bsdf.has_lobes()) {
             // render.light_samples at the first hit, where direct light shows most; one
             // sample deeper, where the path's own spread averages it out.
             const int n = depth == 0 ? settings.light_samples : 1;
             prev_light_samples = n;
-            L += beta * one_light(bsdf, sh.p, frame, wo, n, u[0], u[1], sampler);
+            L += beta * one_light(bsdf, sh.p, frame, wo, n, u[0], u[1], sampler, tree);
             if (environment_)
-                L += beta * environment_light(bsdf, sh.p, frame, wo, sampler.next_2d());
+                L += beta * environment_light(bsdf, sh.p, frame, wo, sampler.next_2d(), tree);
             if (photons_) {
                 const Color caustic = photons_->radiance(sh.p, frame, wo, bsdf);
                 L += beta * caustic;
@@ -227,13 +263,17 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, R
             }
             bsdf.ior = cauchy_ior(bsdf.ior, bsdf.abbe, lambda);
         }
-        BsdfSample bs = sample_bsdf(bsdf, frame.ns, wo, frame.front, u[2], u[3].x);
+        const BsdfSample bs = tree ? sample_guided(bsdf, frame, wo, *tree, u[2], u[3].x)
+                                   : sample_bsdf(bsdf, frame.ns, wo, frame.front, u[2], u[3].x);
         if (!bs.valid()) break;
         // A reflection that leaves below the geometric surface would leak light through it.
         bool transmission = glm::dot(frame.ns, bs.wi) < 0.0f;
         if (!transmission && glm::dot(frame.ng, bs.wi) <= 0.0f) break;
         beta *= bs.weight;
         if (is_black(beta)) break;
+        if (train_ && guided && guided_count_ < kMaxGuidedVertices)
+            guided_[static_cast<size_t>(guided_count_++)] = {sh.p, frame.ng, bs.wi,
+                                                             beta, L,        bs.pdf};
         prev_delta = bs.delta;
         prev_pdf = bs.pdf;
         prev_p = sh.p;
@@ -251,7 +291,27 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, R
         }
     }
     bounces = depth;  // every exit leaves depth at the BSDF-sampled rays traced
+    if (train_) record_path(L);
     return L;
+}
+
+void PathIntegrator::record_path(Color L) {
+    for (int k = 0; k < guided_count_; ++k) {
+        const GuidedVertex& v = guided_[static_cast<size_t>(k)];
+        // The incident radiance along the bounce, per channel (L - L_before) / beta: the mean
+        // of the channels the throughput carries.
+        const Color gained = L - v.L_before;
+        float sum = 0.0f;
+        int channels = 0;
+        for (int c = 0; c < 3; ++c) {
+            if (!(v.beta[c] > 0.0f)) continue;
+            sum += gained[c] / v.beta[c];
+            ++channels;
+        }
+        const float incident = channels ? std::max(0.0f, sum / static_cast<float>(channels)) : 0.0f;
+        guide_->record(v.p, v.n, v.wi, incident / v.pdf);
+    }
+    guided_count_ = 0;
 }
 
 }  // namespace svetlo

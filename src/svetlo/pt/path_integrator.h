@@ -5,13 +5,18 @@
 // and Guibas 1995), the background as a uniform environment light sampled like the others, and
 // Russian roulette from the fourth vertex on. render.max_depth bounds the bounces after the first
 // hit: 0 is direct light only. Caustics that paths cannot find come from a photon map
-// (caustic_photons.h); dispersive glass gives the path a wavelength (spectrum.h).
+// (caustic_photons.h); dispersive glass gives the path a wavelength (spectrum.h). With a
+// guiding field (guiding_field.h), a bounce off a surface without delta lobes is drawn from
+// the BSDF or the field, one sample of their mixture, and the mixture's pdf is the one MIS
+// weighs against the lights.
 #pragma once
 
+#include <array>
 #include <cstdint>
 
 #include "svetlo/core/rng.h"
 #include "svetlo/pt/caustic_photons.h"
+#include "svetlo/pt/guiding_field.h"
 #include "svetlo/pt/light_selection.h"
 #include "svetlo/pt/sobol_sampler.h"
 #include "svetlo/pt/spectrum.h"
@@ -29,6 +34,13 @@ public:
     /// The radiance along `ray`, linear RGB, W/(m^2 sr). With `aov`, also the first hit's
     /// AOVs; light 0's visibility draws from `aov_rng`, so AOVs never change the image.
     Color radiance(Ray ray, SobolSampler& sampler, AovSample* aov, Rng* aov_rng);
+
+    /// Draws guided bounces from `field` (null: none); with `train`, records what each of
+    /// them brings back into it.
+    void guide(GuidingField* field, bool train) {
+        guide_ = field;
+        train_ = field && train;
+    }
 
     uint64_t rays = 0;          // every ray traced, shadow rays included
     int bounces = 0;            // of the last path: the BSDF-sampled rays it traced (path_depth)
@@ -53,11 +65,16 @@ private:
     /// when it has area.
     /// `choice` picks the light (x) and its first sample's primitive (y), `u_first` the first
     /// sample's point; further samples draw from `sampler`.
+    /// `tree` is the vertex's guiding distribution, or null.
     Color one_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame, vec3 wo, int n,
-                    vec2 choice, vec2 u_first, SobolSampler& sampler);
+                    vec2 choice, vec2 u_first, SobolSampler& sampler, const DirectionTree* tree);
     /// Next-event estimation of the background at p: a cosine-weighted direction about ng,
     /// drawn from u.
-    Color environment_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame, vec3 wo, vec2 u);
+    Color environment_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame, vec3 wo, vec2 u,
+                            const DirectionTree* tree);
+    /// Records, for every guided vertex of the path just ended, the radiance its bounce
+    /// brought back (what the image gained after it, over its throughput) over its pdf.
+    void record_path(Color L);
 
     const RtScene& rt_;
     const LightSelection& selection_;
@@ -65,6 +82,19 @@ private:
     const WavelengthWeights& wavelengths_;
     const CausticPhotons* photons_;
     bool environment_;  // the background is not black: it is a light
+    GuidingField* guide_ = nullptr;
+    bool train_ = false;
+
+    /// A guided vertex of the path being followed, while training.
+    struct GuidedVertex {
+        vec3 p, n, wi;
+        Color beta;      // the throughput after its bounce
+        Color L_before;  // the radiance gathered before its bounce
+        float pdf;       // of the bounce's direction
+    };
+    static constexpr int kMaxGuidedVertices = 32;
+    std::array<GuidedVertex, kMaxGuidedVertices> guided_;
+    int guided_count_ = 0;
 };
 
 }  // namespace svetlo

@@ -10,6 +10,7 @@
 #include "svetlo/core/parallel.h"
 #include "svetlo/core/progress.h"
 #include "svetlo/geometry/avx2.h"
+#include "svetlo/pt/guiding_field.h"
 #include "svetlo/pt/path_integrator.h"
 #include "svetlo/rt/camera.h"
 #include "svetlo/scene/scene_loader.h"
@@ -63,20 +64,126 @@ struct FilmSums {
             k += 4;
         }
     }
+    /// The sums of `window`'s pixels, these being a `width`-wide film's from its corner.
+    FilmSums window_of(const Crop& window, int width) const {
+        FilmSums out;
+        for (int j = window.y0; j < window.y1; ++j) {
+            const auto row = static_cast<ptrdiff_t>(j) * width;
+            auto part = [&](const auto& from, auto& to) {
+                if (from.empty()) return;
+                to.insert(to.end(), from.begin() + row + window.x0, from.begin() + row + window.x1);
+            };
+            part(color, out.color);
+            part(aov, out.aov);
+            part(debug, out.debug);
+        }
+        return out;
+    }
 };
+
+/// What every pass of one render shares: the scene made ready, and what is asked of it.
+struct PassSetup {
+    const Scene& scene;
+    const RtScene& rt;
+    const LightSelection& selection;
+    const WavelengthWeights& wavelengths;
+    const CausticPhotons* photons;
+    const CameraRays& camera;
+    const RenderOptions& options;
+    bool want_cost, want_depth, want_visibility, want_aovs;
+    bool avx2;  // the sampler's eight lanes: the same numbers
+
+    /// Sums for `pixels` pixels, with what is asked for.
+    FilmSums sums(size_t pixels) const {
+        FilmSums s;
+        s.color.assign(pixels, glm::dvec3(0.0));
+        if (want_cost || want_depth) s.debug.assign(pixels, glm::dvec4(0.0));
+        if (want_aovs) s.aov.assign(pixels, AovSum{});
+        return s;
+    }
+};
+
+/// Pass `pass` (one sample per pixel) over `window`, in the film's pixel coordinates, added
+/// to `sums`, the window's. With a guiding field, its bounces are guided, and with `train`
+/// recorded into it.
+void trace_pass(const PassSetup& s, const Crop& window, int pass, GuidingField* guide, bool train,
+                FilmSums& sums, std::atomic<uint64_t>& rays, std::atomic<uint64_t>& nonfinite,
+                Progress& progress) {
+    const Scene& scene = s.scene;
+    const int width = scene.film.width, height = scene.film.height;
+    const int ww = window.width(), wh = window.height();
+    parallel_tiles(
+        ww, wh, s.options.threads,
+        [&](const Tile& tile) {
+            PathIntegrator integrator(s.rt, s.selection, s.wavelengths, s.photons);
+            integrator.guide(guide, train);
+            uint64_t dropped = 0;
+            for (int j = window.y0 + tile.y0; j < window.y0 + tile.y1; ++j) {
+                for (int i = window.x0 + tile.x0; i < window.x0 + tile.x1; ++i) {
+                    const size_t pixel = static_cast<size_t>(j) * width + i;
+                    const size_t slot = static_cast<size_t>(j - window.y0) * ww + (i - window.x0);
+                    SobolSampler sampler(scene.render.seed, pixel, static_cast<uint32_t>(pass),
+                                         s.avx2);
+                    // The visibility AOV's own stream, made only when it is asked for.
+                    std::optional<Rng> aov_rng;
+                    if (s.want_visibility)
+                        aov_rng = sample_rng(scene.render.seed ^ 0xa0a0a0a0ULL, pass, pixel);
+                    vec2 jitter = sampler.next_2d();
+                    float x = (static_cast<float>(i) + jitter.x) / width;
+                    float y = (static_cast<float>(j) + jitter.y) / height;
+                    AovSample aov;
+                    Ray ray = s.camera.thin_lens() ? s.camera.generate(x, y, sampler.next_2d())
+                                                   : s.camera.generate(x, y);
+                    if (s.want_cost)
+                        sums.debug[slot] += glm::dvec4(glm::dvec3(s.rt.camera_ray_cost(ray)), 0.0);
+                    PixelTrace* log = s.options.trace;
+                    integrator.log = log && log->at(i, j) && log->sample == pass ? log : nullptr;
+                    Color c = integrator.radiance(ray, sampler, s.want_aovs ? &aov : nullptr,
+                                                  aov_rng ? &*aov_rng : nullptr);
+                    if (integrator.log) record_total(*integrator.log, c, is_finite(c));
+                    integrator.log = nullptr;
+                    if (s.want_depth) sums.debug[slot].w += integrator.bounces;
+                    // A sample that is not finite never reaches the pixel: it counts as
+                    // black, and is reported.
+                    if (!is_finite(c)) {
+                        ++dropped;
+                        continue;
+                    }
+                    sums.color[slot] += glm::dvec3(c);
+                    if (s.want_aovs && is_finite(aov.normal) && is_finite(aov.albedo))
+                        sums.aov[slot].add(aov);
+                }
+            }
+            rays += integrator.rays;
+            nonfinite += dropped;
+        },
+        [&](int n) { progress.advance(n); });
+}
+
+/// The mean of `passes` passes' colour sums.
+Image mean_color(const FilmSums& sums, int width, int height, int passes) {
+    Image image(width, height);
+    for (size_t slot = 0; slot < sums.color.size(); ++slot)
+        image.pixels[slot] = Color(sums.color[slot] * (1.0 / passes));
+    return image;
+}
 
 }  // namespace
 
 RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& options) {
     using Clock = std::chrono::steady_clock;
     const int width = scene.film.width, height = scene.film.height;
+    const bool guiding = scene.render.guiding;
     // The images and the accumulators, checked before they are allocated (for the crop, or
-    // the whole film when windows are handed out): 12 bytes a pixel per image, 24 for the
-    // colour's sums and 64 for the AOVs'.
+    // the whole film when windows are handed out; with guiding, the whole film's sums of the
+    // training passes too): 12 bytes a pixel per image, 24 for the colour's sums and 64 for
+    // the AOVs'.
     const Crop largest = film_window(scene, options);
     const double images = 1.0 + static_cast<double>(options.aovs.size());
-    double bytes = static_cast<double>(largest.width()) * largest.height() *
-                   (12.0 * images + 24.0 + (options.aovs.empty() ? 0.0 : 64.0));
+    const double sum_bytes = 24.0 + (options.aovs.empty() ? 0.0 : 64.0);
+    double bytes =
+        static_cast<double>(largest.width()) * largest.height() * (12.0 * images + sum_bytes) +
+        (guiding ? static_cast<double>(width) * height * sum_bytes : 0.0);
     if (bytes > kMaxFilmBytes) {
         throw Error(scene.path.string(), "film",
                     "the path tracer's film of " + std::to_string(width) + " x " +
@@ -104,6 +211,56 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
     const bool want_depth = wants_debug_aov(options, "path_depth");
     if (want_cost) rt.check_counts_cost();
     const CameraRays camera(scene.camera, width, height);
+    bool want_visibility = false;
+    for (const std::string& a : options.aovs)
+        want_visibility = want_visibility || (a == "visibility" && !scene.lights.empty());
+    const PassSetup setup{
+        scene,   rt,        selection,  wavelengths,     photons.get(),         camera,
+        options, want_cost, want_depth, want_visibility, !options.aovs.empty(), avx2_available()};
+    std::atomic<uint64_t> training_rays{0}, training_nonfinite{0};
+
+    // Path guiding's training (docs/path.md, "Path guiding"): the first passes, over the whole
+    // film whatever the window, so that the field, and so every pixel, is the full render's.
+    // Their sums are the start of every window's.
+    std::unique_ptr<GuidingField> guide;
+    FilmSums trained;
+    int trained_passes = 0;
+    const auto training_start = Clock::now();
+    auto since = [](Clock::time_point t) {
+        return std::chrono::duration<double>(Clock::now() - t).count();
+    };
+    if (guiding) {
+        guide = std::make_unique<GuidingField>(bounds);
+        const int training =
+            std::min(guiding_training_passes(scene.render.spp, budget && !options.spp_caps_time),
+                     max_passes);
+        const Crop film = Crop::full(width, height);
+        const size_t pixels = static_cast<size_t>(width) * height;
+        if (training > 0) trained = setup.sums(pixels);
+        Progress progress("path: guiding",
+                          static_cast<int64_t>(training) * static_cast<int64_t>(pixels),
+                          options.progress);
+        if (budget) progress.set_budget(options.time_budget);
+        for (int pass = 0; pass < training; ++pass) {
+            if (pass > 0 && budget && since(training_start) >= options.time_budget) break;
+            if (pass > 0 && options.cancel && options.cancel->load()) break;
+            progress.set_status("training pass " + std::to_string(pass + 1) + "/" +
+                                std::to_string(training));
+            if (photons) photons->build(pass, options.threads);
+            trace_pass(setup, film, pass, guide.get(), true, trained, training_rays,
+                       training_nonfinite, progress);
+            ++trained_passes;
+            int iteration_passes = 0;
+            if (ends_guiding_iteration(pass, iteration_passes)) guide->refine(iteration_passes);
+            if (options.on_pass && !options.windows) {
+                options.on_pass(trained_passes, since(training_start),
+                                mean_color(trained.window_of(largest, width), largest.width(),
+                                           largest.height(), trained_passes));
+            }
+        }
+        progress.finish();
+    }
+    const double training_seconds = since(training_start);
 
     // The pixels rendered: a window's (the crop's, or each of options.windows), at their
     // places in the full film; a pixel's samples depend only on its place and the pass, so a
@@ -114,30 +271,30 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
         const size_t pixels = static_cast<size_t>(ww) * static_cast<size_t>(wh);
         RenderResult result;
         const AovTargets targets = prepare_result(result, options.aovs, ww, wh);
-        const bool want_visibility = targets.want(Aov::Visibility) && !scene.lights.empty();
-        FilmSums sums;
-        sums.color.assign(pixels, glm::dvec3(0.0));
-        if (want_cost || want_depth) sums.debug.assign(pixels, glm::dvec4(0.0));
-        if (targets.any) sums.aov.assign(pixels, AovSum{});
-        const bool avx2 = avx2_available();  // the sampler's eight lanes: the same numbers
+        FilmSums sums = trained_passes > 0 ? trained.window_of(window, width) : setup.sums(pixels);
         std::atomic<uint64_t> rays{0}, nonfinite{0};
-        Progress progress("path", static_cast<int64_t>(max_passes) * static_cast<int64_t>(pixels),
+
+        // --checkpoint: the passes already saved, and their sums (guiding's training is
+        // traced again: the field is not saved, and its passes come out the same).
+        int passes = trained_passes;
+        if (options.checkpoint) {
+            std::vector<double> state(sums.doubles());
+            const int saved = options.checkpoint->restore(state);
+            if (saved > passes) {
+                sums.load(state);
+                passes = saved;
+            }
+        }
+        // The photon map's radius as it was after those passes.
+        for (int pass = 0; photons && pass < passes; ++pass) photons->shrink_radius(pass);
+        const int first = passes;
+        Progress progress("path",
+                          static_cast<int64_t>(max_passes - first) * static_cast<int64_t>(pixels),
                           options.progress);
         progress.show_rate("samples");
         if (budget) progress.set_budget(options.time_budget);
-
-        // --checkpoint: the passes already saved, and their sums; the photon map's radius
-        // catches up with them.
-        int passes = 0;
-        if (options.checkpoint) {
-            std::vector<double> state(sums.doubles());
-            passes = options.checkpoint->restore(state);
-            if (passes > 0) sums.load(state);
-            for (int pass = 0; photons && pass < passes; ++pass) photons->shrink_radius(pass);
-        }
-        const int first = passes;
         for (int pass = first; pass < max_passes; ++pass) {
-            double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
+            const double elapsed = training_seconds + since(start);
             if (pass > first && budget && elapsed >= options.time_budget) break;
             if (pass > first && options.cancel && options.cancel->load()) break;
             char status[48];
@@ -148,64 +305,12 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
             }
             progress.set_status(status);
             if (photons) photons->build(pass, options.threads);
-            parallel_tiles(
-                ww, wh, options.threads,
-                [&](const Tile& tile) {
-                    PathIntegrator integrator(rt, selection, wavelengths, photons.get());
-                    uint64_t dropped = 0;
-                    for (int j = window.y0 + tile.y0; j < window.y0 + tile.y1; ++j) {
-                        for (int i = window.x0 + tile.x0; i < window.x0 + tile.x1; ++i) {
-                            const size_t pixel = static_cast<size_t>(j) * width + i;
-                            const size_t slot =
-                                static_cast<size_t>(j - window.y0) * ww + (i - window.x0);
-                            SobolSampler sampler(scene.render.seed, pixel,
-                                                 static_cast<uint32_t>(pass), avx2);
-                            // The visibility AOV's own stream, made only when it is asked for.
-                            std::optional<Rng> aov_rng;
-                            if (want_visibility)
-                                aov_rng =
-                                    sample_rng(scene.render.seed ^ 0xa0a0a0a0ULL, pass, pixel);
-                            vec2 jitter = sampler.next_2d();
-                            float x = (static_cast<float>(i) + jitter.x) / width;
-                            float y = (static_cast<float>(j) + jitter.y) / height;
-                            AovSample aov;
-                            Ray ray = camera.thin_lens() ? camera.generate(x, y, sampler.next_2d())
-                                                         : camera.generate(x, y);
-                            if (want_cost)
-                                sums.debug[slot] +=
-                                    glm::dvec4(glm::dvec3(rt.camera_ray_cost(ray)), 0.0);
-                            PixelTrace* log = options.trace;
-                            integrator.log =
-                                log && log->at(i, j) && log->sample == pass ? log : nullptr;
-                            Color c =
-                                integrator.radiance(ray, sampler, targets.any ? &aov : nullptr,
-                                                    aov_rng ? &*aov_rng : nullptr);
-                            if (integrator.log) record_total(*integrator.log, c, is_finite(c));
-                            integrator.log = nullptr;
-                            if (want_depth) sums.debug[slot].w += integrator.bounces;
-                            // A sample that is not finite never reaches the pixel: it counts as
-                            // black, and is reported.
-                            if (!is_finite(c)) {
-                                ++dropped;
-                                continue;
-                            }
-                            sums.color[slot] += glm::dvec3(c);
-                            if (targets.any && is_finite(aov.normal) && is_finite(aov.albedo))
-                                sums.aov[slot].add(aov);
-                        }
-                    }
-                    rays += integrator.rays;
-                    nonfinite += dropped;
-                },
-                [&](int n) { progress.advance(n); });
+            trace_pass(setup, window, pass, guide.get(), false, sums, rays, nonfinite, progress);
             ++passes;
             if (options.checkpoint) options.checkpoint->save(passes, sums.flat());
             if (options.on_pass) {
-                Image image(ww, wh);
-                for (size_t slot = 0; slot < pixels; ++slot)
-                    image.pixels[slot] = Color(sums.color[slot] * (1.0 / passes));  // as below
-                options.on_pass(passes, std::chrono::duration<double>(Clock::now() - start).count(),
-                                image);
+                options.on_pass(passes, training_seconds + since(start),
+                                mean_color(sums, ww, wh, passes));
             }
         }
         progress.finish();
@@ -226,13 +331,25 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
             result.color.at(i, j) = Color(sums.color[pixel] * inv);
             if (targets.any) targets.write(i, j, sums.aov[pixel].mean(passes));
         }
-        result.stats.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+        result.stats.seconds = since(start);
         result.stats.rays = rays.load() + (photons ? photons->rays() : 0);
         result.stats.nonfinite = nonfinite.load();
         result.stats.passes = passes;
         return result;
     });
     all.stats.setup_seconds = std::chrono::duration<double>(t1 - t0).count();
+    all.stats.seconds += training_seconds;
+    all.stats.rays += training_rays.load();
+    all.stats.nonfinite += training_nonfinite.load();
+    if (guide) {
+        char detail[160];
+        std::snprintf(
+            detail, sizeof detail,
+            "guiding: %d training passes, %d regions, %zu directional nodes (field %016llx)",
+            trained_passes, guide->regions(), guide->direction_nodes(),
+            static_cast<unsigned long long>(guide->fingerprint()));
+        all.stats.detail = detail;
+    }
     return all;
 }
 

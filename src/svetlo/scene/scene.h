@@ -398,6 +398,7 @@ struct RenderSettings {
     CausticMode caustics = CausticMode::Auto;
     PhotonSettings photons;
     MisMode mis = MisMode::Power;
+    bool guiding = false;  // path: path guiding (docs/path.md, "Path guiding")
     RadiositySettings radiosity;
 };
 

@@ -111,6 +111,7 @@ RenderSettings parse_render(const JsonNode& node) {
                         "caustics",
                         "photons",
                         "mis",
+                        "guiding",
                         "radiosity"});
     RenderSettings r;
     if (auto n = node.find("engine"))
@@ -162,6 +163,7 @@ RenderSettings parse_render(const JsonNode& node) {
     if (auto n = node.find("tessellation"))
         r.raster.tessellation = static_cast<int>(n->as_integer(3, 4096));
     if (auto n = node.find("mis")) r.mis = n->as_enum(kMisModes);
+    if (auto n = node.find("guiding")) r.guiding = n->as_bool();
     if (auto n = node.find("caustics")) r.caustics = n->as_enum(kCausticModes);
     if (auto ph = node.find("photons")) {
         ph->expect_object({"count", "radius", "alpha"});

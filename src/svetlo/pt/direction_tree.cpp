@@ -1,0 +1,148 @@
+#include "svetlo/pt/direction_tree.h"
+
+#include <atomic>
+#include <cmath>
+
+namespace svetlo {
+
+namespace {
+
+/// The largest float below 1: where a rescaled sample value must stay.
+constexpr float kBelowOne = 0x1.fffffep-1f;
+
+/// Picks side 1 with probability b / (a + b) by u, and rescales u to [0,1) within the side.
+int pick(float a, float b, float& u) {
+    const float sum = a + b;
+    const float p0 = sum > 0.0f ? a / sum : 0.5f;
+    if (u < p0) {
+        u = std::min(u / p0, kBelowOne);
+        return 0;
+    }
+    u = std::min((u - p0) / (1.0f - p0), kBelowOne);
+    return 1;
+}
+
+}  // namespace
+
+vec2 direction_to_square(vec3 d) {
+    const float cos_theta = glm::clamp(d.z, -1.0f, 1.0f);
+    float phi = std::atan2(d.y, d.x);
+    if (phi < 0.0f) phi += 2.0f * kPi;
+    return glm::clamp(vec2(0.5f * (cos_theta + 1.0f), phi / (2.0f * kPi)), vec2(0.0f),
+                      vec2(kBelowOne));
+}
+
+vec3 square_to_direction(vec2 x) {
+    const float cos_theta = 2.0f * x.x - 1.0f;
+    const float sin_theta = safe_sqrt(1.0f - cos_theta * cos_theta);
+    const float phi = 2.0f * kPi * x.y;
+    return vec3(sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta);
+}
+
+float DirectionTree::total() const {
+    const Node& root = nodes_[0];
+    return root.energy[0] + root.energy[1] + root.energy[2] + root.energy[3];
+}
+
+vec2 DirectionTree::sample(vec2 u) const {
+    vec2 origin(0.0f);
+    float size = 1.0f;
+    uint32_t index = 0;
+    for (;;) {
+        const Node& n = nodes_[index];
+        const int qx = pick(n.energy[0] + n.energy[2], n.energy[1] + n.energy[3], u.x);
+        const int qy = pick(n.energy[qx], n.energy[qx + 2], u.y);
+        const int q = qx | (qy << 1);
+        size *= 0.5f;
+        origin += size * vec2(qx, qy);
+        if (n.child[q] == 0) return glm::min(origin + size * u, vec2(kBelowOne));
+        index = n.child[q];
+    }
+}
+
+float DirectionTree::pdf(vec2 x) const {
+    float p = 1.0f;
+    uint32_t index = 0;
+    for (;;) {
+        const Node& n = nodes_[index];
+        const float sum = n.energy[0] + n.energy[1] + n.energy[2] + n.energy[3];
+        if (!(sum > 0.0f)) return 0.0f;
+        const int q = quadrant_of(x);
+        p *= 4.0f * n.energy[q] / sum;
+        if (n.child[q] == 0 || p == 0.0f) return p;
+        index = n.child[q];
+    }
+}
+
+int DirectionTree::depth() const {
+    std::vector<int> level(nodes_.size(), 1);  // children come after their parents
+    int deepest = 1;
+    for (size_t k = 0; k < nodes_.size(); ++k) {
+        deepest = std::max(deepest, level[k]);
+        for (uint32_t c : nodes_[k].child)
+            if (c) level[c] = level[k] + 1;
+    }
+    return deepest;
+}
+
+namespace {
+
+/// Gives node `at` of `out` children where `energy` (its quadrants', from `from`, a node of
+/// `tree`, or inherited when null) exceeds `threshold`.
+void split(const DirectionTree& tree, const DirectionTree::Node* from,
+           const std::array<float, 4>& energy, float threshold, int depth, int max_depth,
+           uint32_t at, std::vector<DirectionRecorder::Node>& out) {
+    for (int q = 0; q < 4; ++q) {
+        if (depth >= max_depth || !(energy[q] > threshold)) continue;
+        const DirectionTree::Node* sub =
+            from && from->child[q] ? &tree.nodes()[from->child[q]] : nullptr;
+        const std::array<float, 4> quarter{energy[q] / 4, energy[q] / 4, energy[q] / 4,
+                                           energy[q] / 4};
+        const auto index = static_cast<uint32_t>(out.size());
+        out.emplace_back();
+        out[at].child[static_cast<size_t>(q)] = index;
+        split(tree, sub, sub ? sub->energy : quarter, threshold, depth + 1, max_depth, index, out);
+    }
+}
+
+}  // namespace
+
+DirectionRecorder DirectionRecorder::refined(const DirectionTree& tree, float fraction,
+                                             int max_depth) {
+    DirectionRecorder r;
+    const float total = tree.total();
+    if (total > 0.0f) {
+        const DirectionTree::Node& root = tree.nodes()[0];
+        split(tree, &root, root.energy, fraction * total, 1, max_depth, 0, r.nodes_);
+    }
+    return r;
+}
+
+void DirectionRecorder::add(vec2 x, uint64_t value) {
+    uint32_t index = 0;
+    for (;;) {
+        Node& n = nodes_[index];
+        const int q = quadrant_of(x);
+        std::atomic_ref<uint64_t>(n.sum[static_cast<size_t>(q)])
+            .fetch_add(value, std::memory_order_relaxed);
+        if (n.child[static_cast<size_t>(q)] == 0) return;
+        index = n.child[static_cast<size_t>(q)];
+    }
+}
+
+DirectionTree DirectionRecorder::to_tree(double unit) const {
+    std::vector<DirectionTree::Node> nodes(nodes_.size());
+    for (size_t k = 0; k < nodes_.size(); ++k) {
+        for (size_t q = 0; q < 4; ++q)
+            nodes[k].energy[q] = static_cast<float>(static_cast<double>(nodes_[k].sum[q]) * unit);
+        nodes[k].child = nodes_[k].child;
+    }
+    return DirectionTree(std::move(nodes));
+}
+
+uint64_t DirectionRecorder::total() const {
+    const Node& root = nodes_[0];
+    return root.sum[0] + root.sum[1] + root.sum[2] + root.sum[3];
+}
+
+}  // namespace svetlo

@@ -1,0 +1,142 @@
+#include "svetlo/pt/guiding_field.h"
+
+#include <atomic>
+#include <bit>
+#include <cmath>
+
+#include "svetlo/core/rng.h"
+
+namespace svetlo {
+
+namespace {
+
+/// The regions' depth at most: a cube split 48 times has cells 2^-16 of its edge.
+constexpr int kMaxSpaceDepth = 48;
+/// Fixed point: a step is 2^-30 (W/(m^2 sr) per unit of pdf), one record at most 2^50 steps,
+/// so that 2^14 records at that cap still fit in 64 bits.
+constexpr double kStep = 0x1p-30;
+constexpr double kMaxStepsPerRecord = 0x1p50;
+/// The training passes of a render to a time budget: five iterations.
+constexpr int kBudgetTrainingPasses = 31;
+
+uint64_t combine(uint64_t hash, uint64_t value) {
+    return mix64(hash ^ (value + 0x9e3779b97f4a7c15ULL));
+}
+
+}  // namespace
+
+GuidingField::GuidingField(const Bounds3& bounds) : nodes_(1), regions_(1) {
+    const vec3 extent = bounds.empty() ? vec3(1.0f) : bounds.extent();
+    const float size = std::max(1.02f * std::max({extent.x, extent.y, extent.z}), 1e-6f);
+    origin_ = (bounds.empty() ? vec3(0.0f) : bounds.center()) - vec3(0.5f * size);
+    inv_size_ = 1.0f / size;
+}
+
+const GuidingField::Region& GuidingField::region_at(vec3 p) const {
+    vec3 x = glm::clamp((p - origin_) * inv_size_, vec3(0.0f), vec3(1.0f));
+    const SpaceNode* node = &nodes_[0];
+    while (node->child) {
+        const int axis = node->depth % 3;
+        const int side = x[axis] >= 0.5f;
+        x[axis] = 2.0f * x[axis] - static_cast<float>(side);
+        node = &nodes_[node->child + static_cast<uint32_t>(side)];
+    }
+    return regions_[node->region];
+}
+
+int facing_of(vec3 n) {
+    const vec3 a = glm::abs(n);
+    const int axis = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
+    return 2 * axis + (n[axis] < 0.0f);
+}
+
+const DirectionTree* GuidingField::at(vec3 p, vec3 n) const {
+    const Directions& d = region_at(p).facing[static_cast<size_t>(facing_of(n))];
+    return d.learned ? &d.sampling : nullptr;
+}
+
+void GuidingField::record(vec3 p, vec3 n, vec3 wi, float value) {
+    // The regions are only read here; their recorders and counts are added to atomically.
+    auto& r = const_cast<Region&>(region_at(p));
+    std::atomic_ref<uint64_t>(r.records).fetch_add(1, std::memory_order_relaxed);
+    if (!(value > 0.0f) || !std::isfinite(value)) return;
+    const double steps =
+        std::min(std::round(static_cast<double>(value) / kStep), kMaxStepsPerRecord);
+    const auto fixed = static_cast<uint64_t>(steps);
+    if (fixed)
+        r.facing[static_cast<size_t>(facing_of(n))].recording.add(direction_to_square(wi), fixed);
+}
+
+void GuidingField::refine(int passes) {
+    // What was recorded becomes what is drawn from (a region that received nothing keeps
+    // its distribution).
+    for (Region& r : regions_) {
+        for (Directions& d : r.facing) {
+            if (d.recording.total() == 0) continue;
+            d.sampling = d.recording.to_tree(kStep);
+            d.learned = true;
+        }
+    }
+    // Regions that saw many records split in two, and again, each half taking half the
+    // records (Müller et al., section 5.2); the loop reaches the children, appended, later.
+    const double threshold = kSplitRecords * std::sqrt(static_cast<double>(passes));
+    for (size_t k = 0; k < nodes_.size(); ++k) {
+        if (nodes_[k].child) continue;
+        const uint32_t region = nodes_[k].region;
+        if (static_cast<double>(regions_[region].records) <= threshold ||
+            nodes_[k].depth >= kMaxSpaceDepth)
+            continue;
+        regions_[region].records /= 2;
+        const auto second = static_cast<uint32_t>(regions_.size());
+        regions_.push_back(regions_[region]);
+        const auto child = static_cast<uint32_t>(nodes_.size());
+        const int depth = nodes_[k].depth + 1;
+        nodes_.push_back(SpaceNode{0, region, depth});
+        nodes_.push_back(SpaceNode{0, second, depth});
+        nodes_[k].child = child;
+    }
+    for (Region& r : regions_) {
+        for (Directions& d : r.facing)
+            d.recording = DirectionRecorder::refined(d.sampling, kSplitEnergy, kMaxDirectionDepth);
+        r.records = 0;
+    }
+}
+
+size_t GuidingField::direction_nodes() const {
+    size_t n = 0;
+    for (const Region& r : regions_)
+        for (const Directions& d : r.facing) n += d.sampling.nodes().size();
+    return n;
+}
+
+uint64_t GuidingField::fingerprint() const {
+    uint64_t h = 0;
+    for (const SpaceNode& n : nodes_) h = combine(combine(h, n.child), n.region);
+    for (const Region& r : regions_) {
+        for (const Directions& d : r.facing) {
+            h = combine(h, d.learned);
+            for (const DirectionTree::Node& n : d.sampling.nodes()) {
+                for (size_t q = 0; q < 4; ++q)
+                    h = combine(combine(h, std::bit_cast<uint32_t>(n.energy[q])), n.child[q]);
+            }
+        }
+    }
+    return h;
+}
+
+int guiding_training_passes(int spp, bool time_budget) {
+    if (time_budget) return kBudgetTrainingPasses;
+    int passes = 0;
+    while (2 * (2 * passes + 1) <= spp) passes = 2 * passes + 1;  // 1, 3, 7, 15 ...
+    return passes;
+}
+
+bool ends_guiding_iteration(int pass, int& passes) {
+    // Iteration k covers passes 2^k - 1 ... 2^(k+1) - 2.
+    const unsigned done = static_cast<unsigned>(pass) + 1;
+    if (!std::has_single_bit(done + 1)) return false;
+    passes = static_cast<int>((done + 1) / 2);
+    return true;
+}
+
+}  // namespace svetlo
