@@ -32,7 +32,7 @@ GuidingField::GuidingField(const Bounds3& bounds) : nodes_(1), regions_(1) {
     inv_size_ = 1.0f / size;
 }
 
-const GuidingField::Region& GuidingField::region_at(vec3 p) const {
+uint32_t GuidingField::region_at(vec3 p) const {
     vec3 x = glm::clamp((p - origin_) * inv_size_, vec3(0.0f), vec3(1.0f));
     const SpaceNode* node = &nodes_[0];
     while (node->child) {
@@ -41,7 +41,7 @@ const GuidingField::Region& GuidingField::region_at(vec3 p) const {
         x[axis] = 2.0f * x[axis] - static_cast<float>(side);
         node = &nodes_[node->child + static_cast<uint32_t>(side)];
     }
-    return regions_[node->region];
+    return node->region;
 }
 
 int facing_of(vec3 n) {
@@ -51,13 +51,13 @@ int facing_of(vec3 n) {
 }
 
 const DirectionTree* GuidingField::at(vec3 p, vec3 n) const {
-    const Directions& d = region_at(p).facing[static_cast<size_t>(facing_of(n))];
+    const Directions& d = regions_[region_at(p)].facing[static_cast<size_t>(facing_of(n))];
     return d.learned ? &d.sampling : nullptr;
 }
 
 void GuidingField::record(vec3 p, vec3 n, vec3 wi, float value) {
-    // The regions are only read here; their recorders and counts are added to atomically.
-    auto& r = const_cast<Region&>(region_at(p));
+    // Many threads record at once: the recorders and counts are added to atomically.
+    Region& r = regions_[region_at(p)];
     std::atomic_ref<uint64_t>(r.records).fetch_add(1, std::memory_order_relaxed);
     if (!(value > 0.0f) || !std::isfinite(value)) return;
     const double steps =

@@ -66,7 +66,8 @@ private:
         std::array<Directions, 6> facing;  // by facing_of the surface's normal
         uint64_t records = 0;
     };
-    const Region& region_at(vec3 p) const;
+    /// The index of the region that holds p.
+    uint32_t region_at(vec3 p) const;
 
     vec3 origin_;     // the cube's lowest corner
     float inv_size_;  // 1 / its edge

@@ -211,9 +211,7 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
     const bool want_depth = wants_debug_aov(options, "path_depth");
     if (want_cost) rt.check_counts_cost();
     const CameraRays camera(scene.camera, width, height);
-    bool want_visibility = false;
-    for (const std::string& a : options.aovs)
-        want_visibility = want_visibility || (a == "visibility" && !scene.lights.empty());
+    const bool want_visibility = wants_aov(options, Aov::Visibility) && !scene.lights.empty();
     const PassSetup setup{
         scene,   rt,        selection,  wavelengths,     photons.get(),         camera,
         options, want_cost, want_depth, want_visibility, !options.aovs.empty(), avx2_available()};

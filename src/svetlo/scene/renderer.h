@@ -211,6 +211,14 @@ inline AovTargets prepare_result(RenderResult& result, const std::vector<std::st
     return t;
 }
 
+/// Whether the render is asked for AOV `a`.
+inline bool wants_aov(const RenderOptions& options, Aov a) {
+    const std::string& name = aov_names()[static_cast<size_t>(a)];
+    for (const std::string& n : options.aovs)
+        if (n == name) return true;
+    return false;
+}
+
 /// Whether the render is asked for debug AOV `name`.
 inline bool wants_debug_aov(const RenderOptions& options, const std::string& name) {
     for (const std::string& n : options.debug_aovs)
