@@ -15,6 +15,7 @@
 #include "svetlo/core/image_io.h"
 #include "svetlo/core/progress.h"
 #include "svetlo/core/sha256.h"
+#include "svetlo/geometry/accel_cache.h"
 
 namespace svetlo {
 
@@ -53,16 +54,24 @@ std::vector<Override> spec_overrides(const std::string& spec, const std::string&
     return out;
 }
 
+/// What the jobs of one sheet share: the mesh files read, and one BVH for the techniques and
+/// the reference whose shapes are the same (docs/compare.md, "One scene, one BVH").
+struct SharedSetup {
+    MeshFileCache meshes;
+    AccelCache accels;
+};
+
 /// The job of one SPEC over the scene's JSON (already with the command's overrides). Errors
 /// name the SPEC.
 RenderJob spec_job(const nlohmann::json& base, const std::string& file, const std::string& spec,
-                   const std::string& sha256, int threads) {
+                   const std::string& sha256, int threads, SharedSetup& shared) {
     nlohmann::json json = base;
     try {
         std::vector<std::string> aovs;
         for (const Override& o : spec_overrides(spec, file, aovs)) apply_override(json, o, file);
-        RenderJob job = make_job(std::move(json), file, sha256);
+        RenderJob job = make_job(std::move(json), file, sha256, &shared.meshes);
         job.options.threads = threads;
+        job.options.accels = &shared.accels;
         for (const std::string& name : aovs) request_aov(job, name, file, "-T " + spec);
         return job;
     } catch (const Error& e) {
@@ -76,9 +85,10 @@ RenderJob spec_job(const nlohmann::json& base, const std::string& file, const st
 Sheet compare_techniques(const nlohmann::json& base, const std::string& file,
                          const std::string& sha256, const std::vector<std::string>& techniques,
                          const std::string& reference_spec, int threads, bool curves, bool quiet) {
+    SharedSetup shared;
     std::vector<RenderJob> jobs;
     for (const std::string& spec : techniques)
-        jobs.push_back(spec_job(base, file, spec, sha256, threads));
+        jobs.push_back(spec_job(base, file, spec, sha256, threads, shared));
 
     Sheet sheet;
     sheet.scene = file;
@@ -97,7 +107,7 @@ Sheet compare_techniques(const nlohmann::json& base, const std::string& file,
         sheet.reference_image = std::move(loaded.image);
         sheet.reference_exposure = ldr ? 1.0f : first.render.exposure;
     } else {
-        reference_job = spec_job(base, file, reference, sha256, threads);
+        reference_job = spec_job(base, file, reference, sha256, threads, shared);
         ref_width = reference_job->scene.film.width;
         ref_height = reference_job->scene.film.height;
     }
@@ -141,7 +151,9 @@ Sheet compare_techniques(const nlohmann::json& base, const std::string& file,
             e.buffers.emplace_back(name, aov_for_display(name, r.aovs.at(name)));
         e.metrics = compare_images(ldr ? as_8bit_srgb(e.image, e.exposure) : e.image,
                                    sheet.reference_image, ldr, threads);
-        if (curves && e.curve.empty()) {  // one pass: one point
+        // The last point of an engine that is not progressive (radiosity's snapshots came
+        // before it) or its only one.
+        if (curves && r.stats.passes == 0) {
             e.curve.push_back(
                 {reached_spp(job, r), e.seconds, e.metrics.pixels.rmse, e.metrics.pixels.relmse});
         }
@@ -152,7 +164,10 @@ Sheet compare_techniques(const nlohmann::json& base, const std::string& file,
         }
         sheet.entries.push_back(std::move(e));
     }
-
+    if (!quiet) {
+        std::fprintf(stderr, "svetlo compare: %d scene BVH%s built for the ray-traced renders\n",
+                     shared.accels.builds(), shared.accels.builds() == 1 ? "" : "s");
+    }
     return sheet;
 }
 

@@ -12,9 +12,10 @@
 
 namespace svetlo {
 
-RenderJob make_job(nlohmann::json json, const std::filesystem::path& path, std::string sha256) {
+RenderJob make_job(nlohmann::json json, const std::filesystem::path& path, std::string sha256,
+                   MeshFileCache* meshes) {
     RenderJob job;
-    job.scene = scene_from_json(json, path);
+    job.scene = scene_from_json(json, path, meshes);
     job.run.scene_file = path;
     job.run.scene_sha256 = std::move(sha256);
     job.run.scene = std::move(json);

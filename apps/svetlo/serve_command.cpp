@@ -28,6 +28,7 @@
 #include "svetlo/core/error.h"
 #include "svetlo/core/image_io.h"
 #include "svetlo/core/sha256.h"
+#include "svetlo/geometry/accel_cache.h"
 
 namespace svetlo {
 
@@ -46,6 +47,8 @@ struct Server {
     std::string default_scene;
     std::mutex mutex;                                                   // guards `current`
     std::map<std::string, std::shared_ptr<std::atomic<bool>>> current;  // per client: its render
+    MeshFileCache meshes;  // each mesh file read once (again when it changes)
+    AccelCache accels;     // a slider that moves no shape reuses the scene's BVH
 };
 
 /// The scene NAME of a request, a regular file directly in the folder (no path, no dot file,
@@ -65,7 +68,7 @@ fs::path scene_path(const Server& server, const std::string& name) {
 
 /// The request's job: the scene, then the engine, spp, film and --set overrides, checked as
 /// the command line checks them.
-RenderJob request_job(const Server& server, const httplib::Request& req) {
+RenderJob request_job(Server& server, const httplib::Request& req) {
     const fs::path path = scene_path(server, req.get_param_value("scene"));
     const std::string file = path.string();
     std::vector<std::string> sets;
@@ -81,8 +84,10 @@ RenderJob request_job(const Server& server, const httplib::Request& req) {
     integer("width", "film.width", 1, kMaxSide);
     integer("height", "film.height", 1, kMaxSide);
     integer("spp", "render.spp", 1, kMaxSamples);
-    RenderJob job = make_job(effective_scene_json(path, overrides), path, sha256_file(path));
+    RenderJob job =
+        make_job(effective_scene_json(path, overrides), path, sha256_file(path), &server.meshes);
     make_renderer(job.scene.render.engine, file);  // an unknown engine: one line
+    job.options.accels = &server.accels;
     return job;
 }
 

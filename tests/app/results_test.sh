@@ -128,17 +128,22 @@ expect_error "crop of three numbers" "--crop: expected X0,X1,Y0,Y1" 1 render "$c
 
 # compare: the sheet, the metrics, the errors.
 check "compare" "$svetlo" compare "$cornell" -T raster:render.shading=gouraud -T whitted -T path:render.spp=4 \
-    --reference path:render.spp=16 "${size[@]}" -o "$work/sheet.html" --png "$work/sheet.png" \
+    -T radiosity --reference path:render.spp=16 "${size[@]}" -o "$work/sheet.html" --png "$work/sheet.png" \
     --json "$work/m.json" --curves -q
 check "compare's JSON" python3 -c "
 import json
 m = json.load(open('$work/m.json'))
 assert list(m) == ['scene', 'reference', 'techniques'], list(m)
-assert [t['spec'] for t in m['techniques']] == ['raster:render.shading=gouraud', 'whitted', 'path:render.spp=4']
+assert [t['spec'] for t in m['techniques']] == ['raster:render.shading=gouraud', 'whitted', 'path:render.spp=4', 'radiosity']
 for t in m['techniques']:
     assert set(['spec', 'engine', 'seconds', 'mae', 'rmse', 'relmse', 'flip']) <= set(t), t
     assert 0 < t['flip'] < 1 and t['rmse'] > 0 and t['mae'] <= t['rmse'], t
 assert len(m['techniques'][2]['curve']) == 4, m['techniques'][2]
+# Radiosity: its solver's snapshots, then the final image, whose error is the sheet's.
+r = m['techniques'][3]['curve']
+assert len(r) >= 4, r
+assert all(a['seconds'] <= b['seconds'] for a, b in zip(r, r[1:])), r
+assert r[-1]['rmse'] == m['techniques'][3]['rmse'] and r[0]['relmse'] > 2 * r[-1]['relmse'], r
 "
 check "the HTML sheet is whole and self-contained" python3 -c "
 import html.parser
@@ -157,10 +162,10 @@ class P(html.parser.HTMLParser):
 p = P(); p.feed(text)
 assert not p.stack, p.stack
 assert p.srcs and all(s.startswith('data:image/png;base64,') for s in p.srcs), p.srcs[:3]
-for spec in ['raster:render.shading=gouraud', 'whitted', 'path:render.spp=4']: assert spec in text, spec
+for spec in ['raster:render.shading=gouraud', 'whitted', 'path:render.spp=4', 'radiosity']: assert spec in text, spec
 assert '<svg' in text
 # Every technique is seen on the plot: one marked last pass each, an engine of one pass too.
-assert text.count('<circle') == 3, text.count('<circle')
+assert text.count('<circle') == 4, text.count('<circle')
 "
 check "the PNG sheet" test "$(head -c 4 "$work/sheet.png" | tail -c 3)" = PNG
 expect_error "compare: unknown engine" "-T phong: engine 'phong' is not available" 1 compare "$cornell" -T phong --json "$work/x.json"

@@ -149,6 +149,40 @@ TEST(Radiosity, ColourBleedsInTheCornellBox) {
     EXPECT_GT(ratio(10, 14), 1.15 * ratio(50, 54));
 }
 
+TEST(Radiosity, SnapshotsConvergeAndLeaveTheImageAsItIs) {
+    // With on_pass, the progressive solver's solution is shown after 0, 1, 2, 4 ... shots
+    // (compare --curves): ever closer to the final image, which they do not change.
+    json j = cornell(32, "radiosity");
+    j["render"]["radiosity"] = {{"element_size", 0.25}, {"max_subdivision", 1}};
+    const Scene scene = scene_from_json(j, "cornell.json");
+    RenderOptions options;
+    options.threads = 2;
+    std::vector<Image> snapshots;
+    std::vector<double> seconds;
+    options.on_pass = [&](int spp, double s, const Image& image) {
+        EXPECT_EQ(spp, 1);  // the display's samples
+        snapshots.push_back(image);
+        seconds.push_back(s);
+    };
+    const RenderResult shown = RadiosityRenderer().render(scene, options);
+    const RenderResult plain = render(j);
+    ASSERT_EQ(shown.color.pixels, plain.color.pixels);
+    ASSERT_GE(snapshots.size(), 4u);
+    auto distance = [&](const Image& a) {
+        double sum = 0.0;
+        for (size_t k = 0; k < a.pixels.size(); ++k) {
+            const Color d = a.pixels[k] - plain.color.pixels[k];
+            sum += d.r * d.r + d.g * d.g + d.b * d.b;
+        }
+        return sum;
+    };
+    for (size_t k = 1; k < snapshots.size(); ++k) {
+        EXPECT_LE(seconds[k - 1], seconds[k]);
+        EXPECT_LT(distance(snapshots[k]), distance(snapshots[k - 1])) << "snapshot " << k;
+    }
+    EXPECT_LE(seconds.back(), shown.stats.seconds);
+}
+
 // Found by tests/fuzz/mutate_scenes.py: the display's jittered item buffer was shifted the
 // wrong way, so a sample's ray was cut with the plane of the triangle seen at the pixel's
 // mirrored point. On films of a few pixels the depth AOV came out negative or past the

@@ -1,7 +1,10 @@
 #include "svetlo/scene/mesh_file.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <chrono>
+#include <filesystem>
 #include <fstream>
 
 namespace svetlo {
@@ -66,6 +69,29 @@ TEST(MeshFiles, MalformedFilesAreErrors) {
                              "missing.obj", "not_a_mesh.txt"}) {
         EXPECT_THROW(read_mesh_file(data(name)), std::runtime_error) << name;
     }
+}
+
+TEST(MeshFiles, TheCacheReadsAFileOnceUntilItChanges) {
+    namespace fs = std::filesystem;
+    const fs::path dir =
+        fs::temp_directory_path() / ("svetlo_meshes_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const fs::path obj = dir / "tri.obj";
+    { std::ofstream(obj) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"; }
+    MeshFileCache cache;
+    const auto first = cache.read(obj);
+    EXPECT_EQ(cache.read(dir / "." / "tri.obj"), first);  // the same file, another spelling
+    EXPECT_EQ(first->mesh.positions.size(), 3u);
+    // Edited: two triangles now, and a later time.
+    { std::ofstream(obj) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\n"; }
+    fs::last_write_time(obj, fs::last_write_time(obj) + std::chrono::seconds(2));
+    const auto second = cache.read(obj);
+    EXPECT_NE(second, first);
+    EXPECT_EQ(second->mesh.indices.size(), 6u);
+    EXPECT_EQ(first->mesh.indices.size(), 3u);  // what a render holds stays as it was read
+    fs::remove(obj);
+    EXPECT_THROW(cache.read(obj), std::runtime_error);  // gone: not the old copy
+    fs::remove_all(dir);
 }
 
 TEST(MeshFiles, SmoothNormalsAreAreaWeighted) {

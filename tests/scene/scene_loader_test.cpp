@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <fstream>
 
 #include "svetlo/core/error.h"
@@ -156,6 +157,41 @@ TEST(SceneLoader, ReadsFilesAndReportsSyntaxErrorsWithLineAndColumn) {
         EXPECT_NE(e.message().find("malformed JSON"), std::string::npos);
     }
     EXPECT_THROW(load_scene(dir / "missing.json"), Error);
+}
+
+TEST(SceneLoader, GeometryKeyNamesTheShapesAndTheirMeshFiles) {
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::temp_directory_path() / ("svetlo_key_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const fs::path obj = dir / "tri.obj";
+    { std::ofstream(obj) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"; }
+    json j = minimal();
+    j["objects"].push_back({{"type", "mesh"}, {"file", "tri.obj"}, {"material", "white"}});
+    const Scene a = scene_from_json(j, dir / "s.json");
+    EXPECT_EQ(a.geometry_key.size(), 64u);
+    // A point light and a colour move no shape.
+    json lit = j;
+    lit["lights"][0]["position"] = {1, 4, 0};
+    lit["materials"]["white"]["albedo"] = 0.5;
+    EXPECT_EQ(scene_from_json(lit, dir / "s.json").geometry_key, a.geometry_key);
+    // A shape, an area light, a new material (the indices the primitives hold) do.
+    json moved = j;
+    moved["objects"][0]["radius"] = 2;
+    EXPECT_NE(scene_from_json(moved, dir / "s.json").geometry_key, a.geometry_key);
+    json area = j;
+    area["lights"].push_back({{"type", "area"},
+                              {"corner", {0, 3, 0}},
+                              {"edge_u", {1, 0, 0}},
+                              {"edge_v", {0, 0, 1}},
+                              {"radiance", 1}});
+    EXPECT_NE(scene_from_json(area, dir / "s.json").geometry_key, a.geometry_key);
+    json more = j;
+    more["materials"]["another"] = {{"type", "lambert"}, {"albedo", 0.2}};
+    EXPECT_NE(scene_from_json(more, dir / "s.json").geometry_key, a.geometry_key);
+    // The mesh file edited: same name, another time.
+    fs::last_write_time(obj, fs::last_write_time(obj) + std::chrono::seconds(2));
+    EXPECT_NE(scene_from_json(j, dir / "s.json").geometry_key, a.geometry_key);
+    fs::remove_all(dir);
 }
 
 TEST(SceneLoader, CsgAndImplicitTrees) {

@@ -192,7 +192,7 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
                         " MiB (at most 4096)");
     }
     auto t0 = Clock::now();
-    RtScene rt(scene, scene.render.accel, options.threads);
+    RtScene rt(scene, scene.render.accel, options.threads, options.accels);
     WavelengthWeights wavelengths;
     Bounds3 bounds;
     for (uint32_t id : rt.geometry().bounded_primitives())

@@ -193,6 +193,32 @@ Solution solve_progressive(SolverInput& in) {
         if (!is_black(emitted)) shoot(p, 0, emitted, true);
     }
 
+    // The solution as it stands: what each leaf has received, and the ambient term
+    // (Cohen et al. 1988): the unshot radiosity's area mean, times the interreflection factor
+    // 1 / (1 - rho_mean), as if it reached every surface evenly.
+    auto fill_solution = [&](Solution& out) {
+        out.E.assign(tree.nodes().size(), Sides{});
+        out.direct.assign(tree.nodes().size(), Sides{});
+        for (size_t k = 0; k < leaves.size(); ++k) {
+            out.E[leaves[k]] = received[k];
+            out.direct[leaves[k]] = direct[k];
+        }
+        glm::dvec3 sum_unshot(0.0), sum_rho(0.0);
+        double area = 0.0;
+        for (const Patch& p : patches) {
+            sum_unshot += glm::dvec3(p.unshot.v[0] + p.unshot.v[1]) * static_cast<double>(p.area);
+            area += p.area;
+        }
+        for (uint32_t leaf : leaves)
+            sum_rho +=
+                glm::dvec3(tree.node(leaf).reflectance) * static_cast<double>(tree.node(leaf).area);
+        out.ambient = Color(0.0f);
+        if (area > 0.0 && in.settings.ambient_term) {
+            glm::dvec3 rho = glm::min(sum_rho / area, glm::dvec3(0.999));
+            out.ambient = Color(sum_unshot / area / (glm::dvec3(1.0) - rho));
+        }
+    };
+
     const int max_shots =
         in.settings.max_iterations > 0
             ? in.settings.max_iterations
@@ -219,33 +245,17 @@ Solution solve_progressive(SolverInput& in) {
         sol.residual = unshot / power;
         report_progress(in.progress, "shot", sol.iterations, "unshot", sol.residual);
         if (sol.residual < in.settings.tolerance || sol.iterations >= max_shots) break;
+        // Snapshots after 0, 1, 2, 4, 8 ... shots (compare --curves, --mse-log).
+        if (in.on_snapshot && (sol.iterations & (sol.iterations - 1)) == 0) {
+            fill_solution(sol);
+            in.on_snapshot(sol);
+        }
         Color dB = patches[best_patch].unshot.v[best_side];
         patches[best_patch].unshot.v[best_side] = Color(0.0f);
         shoot(best_patch, best_side, dB, false);
         ++sol.iterations;
     }
-    sol.E.assign(tree.nodes().size(), Sides{});
-    sol.direct.assign(tree.nodes().size(), Sides{});
-    for (size_t k = 0; k < leaves.size(); ++k) {
-        sol.E[leaves[k]] = received[k];
-        sol.direct[leaves[k]] = direct[k];
-    }
-
-    // The ambient term (Cohen et al. 1988): the unshot radiosity's area mean, times the
-    // interreflection factor 1 / (1 - rho_mean), as if it reached every surface evenly.
-    glm::dvec3 sum_unshot(0.0), sum_rho(0.0);
-    double area = 0.0;
-    for (const Patch& p : patches) {
-        sum_unshot += glm::dvec3(p.unshot.v[0] + p.unshot.v[1]) * static_cast<double>(p.area);
-        area += p.area;
-    }
-    for (uint32_t leaf : leaves)
-        sum_rho +=
-            glm::dvec3(tree.node(leaf).reflectance) * static_cast<double>(tree.node(leaf).area);
-    if (area > 0.0 && in.settings.ambient_term) {
-        glm::dvec3 rho = glm::min(sum_rho / area, glm::dvec3(0.999));
-        sol.ambient = Color(sum_unshot / area / (glm::dvec3(1.0) - rho));
-    }
+    fill_solution(sol);
     sol.rays = shooter.rays();
     sol.cache_bytes = shooter.cache_bytes();
     sol.patches = patches.size();

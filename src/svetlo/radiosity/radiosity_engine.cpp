@@ -3,6 +3,8 @@
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <functional>
+#include <string>
 
 #include "svetlo/core/parallel.h"
 #include "svetlo/core/progress.h"
@@ -98,222 +100,258 @@ void log_background_sample(PixelTrace& log, const CameraRays& camera, int i, int
     record_total(log, scene.render.background, true);
 }
 
+/// Step 1: the elements. Uniform, then split where the direct light changes fast; the
+/// hierarchical solver links nodes at any level of this tree and may split the leaves
+/// further. Returns the rays traced.
+uint64_t make_elements(PatchMesh& mesh, const Scene& scene, int threads) {
+    mesh.subdivide_uniform();
+    return subdivide_adaptive(mesh, std::max(scene.render.light_samples, mesh.settings.samples),
+                              scene.render.seed, threads);
+}
+
+/// Step 2: the solution, by the chosen solver (solver.h). `on_snapshot`, when set, is shown
+/// the progressive solver's solution as it stands along the way.
+Solution solve(PatchMesh& mesh, const Scene& scene, int threads, Progress& progress,
+               std::function<void(const Solution&)> on_snapshot) {
+    const uint64_t seed = scene.render.seed;
+    SolverInput input{*mesh.tree,
+                      *mesh.accel,
+                      mesh.list,
+                      mesh.settings,
+                      FormFactorContext{*mesh.tree, *mesh.accel, mesh.settings.form_factors,
+                                        mesh.settings.samples},
+                      [&](uint32_t id) { return light_on_node(mesh, scene, id, seed); },
+                      seed,
+                      threads,
+                      &progress,
+                      scene.path.string(),
+                      std::move(on_snapshot)};
+    switch (mesh.settings.solver) {
+        case RadiositySolver::Jacobi:
+            return solve_matrix(input, false);
+        case RadiositySolver::GaussSeidel:
+            return solve_matrix(input, true);
+        case RadiositySolver::Hierarchical:
+            return solve_hierarchical(input, kMaxRadiosityNodes);
+        case RadiositySolver::Auto:  // resolved by PatchMesh
+        case RadiositySolver::Progressive:
+            break;
+    }
+    return solve_progressive(input);
+}
+
+/// What the display counts, over all its windows.
+struct DisplayCounters {
+    std::atomic<uint64_t> rays{0}, nonfinite{0};
+};
+
+/// Step 3: one window of the display. spp item-buffer passes of the scene's triangles, each
+/// jittered within the pixel, and per sample L = L_e + rho / pi E from the field (display.h).
+/// The item buffer is drawn whole; only the window's pixels are gathered.
+RenderResult display_window(const Scene& scene, const RenderOptions& options, const PatchMesh& mesh,
+                            const Solution& sol, const IrradianceField& field, const Crop& window,
+                            DisplayCounters& counters) {
+    const int width = scene.film.width, height = scene.film.height;
+    const int threads = options.threads;
+    const uint64_t seed = scene.render.seed;
+    const RadiositySettings& settings = mesh.settings;
+    const ElementTree& tree = *mesh.tree;
+    RenderResult result;
+    const AovTargets targets = prepare_result(result, options.aovs, width, height);
+    const bool gather = settings.display == RadiosityDisplay::Gather;
+    const bool patches_aov = wants_debug_aov(options, "patches");
+    Image patches_image;
+    if (patches_aov) patches_image = Image(width, height);
+    const int spp = scene.render.spp;
+    std::vector<glm::dvec3> sums(static_cast<size_t>(width) * height, glm::dvec3(0.0));
+    std::vector<AovSum> aov_sums(targets.any ? sums.size() : 0);
+    const CameraMatrices camera = frame_camera(scene, mesh.list);
+    const CameraRays camera_rays(scene.camera, width, height);
+    RenderTargets buffers;
+    PassMemory memory;
+    const float inv_pi = 1.0f / kPi;
+    // A pixel's size at unit distance (perspective) or its size (orthographic), scene
+    // units.
+    const float pixel_footprint =
+        scene.camera.type == Camera::Type::Perspective
+            ? 2.0f * std::tan(0.5f * radians(scene.camera.fov_deg)) / static_cast<float>(height)
+            : scene.camera.height / static_cast<float>(height);
+    for (int s = 0; s < spp; ++s) {
+        const vec2 jitter = pass_jitter(s, spp, seed);
+        buffers.clear(width, height, 1, false, true);
+        PipelineState state;
+        draw_pass(mesh.list, jittered_camera(camera, jitter), state, buffers, threads, 0, &memory);
+        parallel_tiles(width, height, threads, [&](const Tile& tile) {
+            uint64_t local_rays = 0, local_nonfinite = 0;
+            for (int j = tile.y0; j < tile.y1; ++j) {
+                for (int i = tile.x0; i < tile.x1; ++i) {
+                    if (i < window.x0 || i >= window.x1 || j < window.y0 || j >= window.y1)
+                        continue;
+                    const size_t pixel = static_cast<size_t>(j) * width + i;
+                    const uint32_t t = buffers.primitive[buffers.index(i, j)];
+                    if (t == RenderTargets::kNoPrimitive) {
+                        if (PixelTrace* log = options.trace;
+                            log && log->at(i, j) && log->sample == s) {
+                            log_background_sample(*log, camera_rays, i, j, jitter, scene);
+                        }
+                        sums[pixel] += glm::dvec3(scene.render.background);
+                        if (targets.any) aov_sums[pixel].visibility += 1.0;
+                        continue;
+                    }
+                    Ray ray = camera_rays.generate((static_cast<float>(i) + jitter.x) / width,
+                                                   (static_cast<float>(j) + jitter.y) / height);
+                    const DisplaySample at = sample_on_triangle(mesh.list, t, tree.normal(t), ray);
+                    const vec3 x = at.x, n = at.n;
+                    const vec2 b = at.b;
+                    const int side = at.side;
+                    Bsdf bsdf = make_bsdf(mesh.lights.materials()[mesh.list.material[t]], at.uv,
+                                          scene.textures);
+                    const bool emissive = bsdf.model == Bsdf::Model::Emissive;
+                    const Color rho = radiosity_reflectance(bsdf);
+                    const Color emitted = emissive && side == 0 ? bsdf.emission : Color(0.0f);
+                    IrradianceField::Value E = field.at(t, b, side);
+                    Rng rng = pixel_rng(mix64(seed + static_cast<uint64_t>(s)), pixel);
+                    Color irradiance = E.total;  // W/m^2, the ambient term's aside
+                    if (gather) {
+                        // Every light and emitter, and the background: what the solution
+                        // counted as direct.
+                        Color direct =
+                            light_irradiance(mesh.lights, *mesh.accel, x, n, LightSources::All,
+                                             scene.render.light_samples, rng, local_rays) +
+                            sky_irradiance(*mesh.accel, scene.render.background, x, n, kSkyRays,
+                                           rng);
+                        irradiance = E.indirect + direct;
+                    }
+                    Color L = emitted + rho * inv_pi * (irradiance + sol.ambient);
+                    AovSample aov{0.0f, vec3(0.0f), Color(0.0f), 0.0f};
+                    if (targets.any) {
+                        aov.visibility =
+                            targets.want(Aov::Visibility)
+                                ? light0_visibility(mesh.lights, *mesh.accel, x, n,
+                                                    scene.render.light_samples, rng, local_rays)
+                                : 1.0f;
+                        aov.depth = at.distance;
+                        aov.normal = n;
+                        aov.albedo = albedo_of(bsdf);
+                    }
+                    const bool finite = is_finite(L) && is_finite(aov.normal) &&
+                                        is_finite(aov.albedo) &&
+                                        std::isfinite(aov.depth + aov.visibility);
+                    if (PixelTrace* log = options.trace; log && log->at(i, j) && log->sample == s) {
+                        log_display_sample(*log, scene, tree, ray, at, t, mesh.list.material[t],
+                                           settings.patch_size, emitted, irradiance, sol.ambient,
+                                           rho, L);
+                        record_total(*log, L, finite);
+                    }
+                    // A sample that is not finite is dropped (black) and counted, as in
+                    // every engine.
+                    if (!finite) {
+                        ++local_nonfinite;
+                        continue;
+                    }
+                    sums[pixel] += glm::dvec3(L);
+                    if (targets.any) aov_sums[pixel].add(aov);
+                    if (patches_aov && s == 0) {
+                        // Lines about a pixel wide: the pixel's footprint at the point.
+                        const float footprint = scene.camera.type == Camera::Type::Perspective
+                                                    ? pixel_footprint * at.distance
+                                                    : pixel_footprint;
+                        patches_image.at(i, j) = patches_view(tree, t, b, side, sol.E, rho,
+                                                              settings.patch_size, footprint);
+                    }
+                }
+            }
+            counters.rays += local_rays;
+            counters.nonfinite += local_nonfinite;
+        });
+    }
+    const float inv = 1.0f / static_cast<float>(spp);
+    for (int j = 0; j < height; ++j) {
+        for (int i = 0; i < width; ++i) {
+            const size_t pixel = static_cast<size_t>(j) * width + i;
+            Color c(sums[pixel] * static_cast<double>(inv));
+            result.color.at(i, j) = c;
+            if (targets.any) targets.write(i, j, aov_sums[pixel].mean(spp));
+        }
+    }
+    if (patches_aov) result.aovs["patches"] = std::move(patches_image);
+    cut_to_window(result, window, width, height);
+    return result;
+}
+
+/// The irradiance field of a solution: whole, and its indirect part (display.h).
+IrradianceField field_of(const ElementTree& tree, const Solution& sol) {
+    std::vector<Sides> indirect(sol.E.size());
+    for (size_t id = 0; id < sol.E.size(); ++id)
+        for (int s = 0; s < 2; ++s)
+            indirect[id].v[s] = glm::max(sol.E[id].v[s] - sol.direct[id].v[s], Color(0.0f));
+    return IrradianceField(tree, sol.E, indirect);
+}
+
+/// The summary line's account of the mesh and the solver.
+std::string solver_detail(const ElementTree& tree, const RadiositySettings& settings,
+                          const Solution& sol, const RenderStats& stats) {
+    size_t leaves = 0;
+    for (const ElementNode& n : tree.nodes()) leaves += n.leaf() ? 1 : 0;
+    char solver[96];
+    if (settings.solver == RadiositySolver::Progressive) {
+        std::snprintf(solver, sizeof solver, "%zu patches, %d shots, %.1f MiB of rows", sol.patches,
+                      sol.iterations, static_cast<double>(sol.cache_bytes) / (1 << 20));
+    } else {
+        std::snprintf(solver, sizeof solver, "%d sweeps, %llu links", sol.iterations,
+                      static_cast<unsigned long long>(sol.links));
+    }
+    char detail[224];
+    std::snprintf(detail, sizeof detail, "%zu elements, %s, residual %.2g, %.2f Mrays/s", leaves,
+                  solver, sol.residual,
+                  static_cast<double>(stats.rays) * 1e-6 / std::max(stats.seconds, 1e-9));
+    return detail;
+}
+
 }  // namespace
 
 RenderResult RadiosityRenderer::render(const Scene& scene, const RenderOptions& options) {
     using Clock = std::chrono::steady_clock;
     const auto t0 = Clock::now();
-    const int threads = options.threads;
-    const uint64_t seed = scene.render.seed;
-    PatchMesh mesh(scene, threads);
-    const RadiositySettings& settings = mesh.settings;
-    Progress progress("radiosity", 1, options.progress);
-    uint64_t rays = 0;
-    // The elements: uniform, then split where the direct light changes fast. The hierarchical
-    // solver links nodes at any level of this tree and may split the leaves further.
-    mesh.subdivide_uniform();
-    rays += subdivide_adaptive(mesh, std::max(scene.render.light_samples, settings.samples), seed,
-                               threads);
+    PatchMesh mesh(scene, options.threads);
+    uint64_t rays = make_elements(mesh, scene, options.threads);
     const auto t1 = Clock::now();
 
-    SolverInput input{
-        *mesh.tree,
-        *mesh.accel,
-        mesh.list,
-        settings,
-        FormFactorContext{*mesh.tree, *mesh.accel, settings.form_factors, settings.samples},
-        [&](uint32_t id) { return light_on_node(mesh, scene, id, seed); },
-        seed,
-        threads,
-        &progress,
-        scene.path.string()};
-    Solution sol;
-    switch (settings.solver) {
-        case RadiositySolver::Auto:  // resolved by PatchMesh
-        case RadiositySolver::Progressive:
-            sol = solve_progressive(input);
-            break;
-        case RadiositySolver::Jacobi:
-            sol = solve_matrix(input, false);
-            break;
-        case RadiositySolver::GaussSeidel:
-            sol = solve_matrix(input, true);
-            break;
-        case RadiositySolver::Hierarchical:
-            sol = solve_hierarchical(input, kMaxRadiosityNodes);
-            break;
+    DisplayCounters display;
+    // With on_pass (compare --curves, --mse-log), each snapshot of the solver is displayed
+    // and shown at the solver's seconds: the displays of snapshots, which the render without
+    // them would not have made, are left out of every time.
+    std::function<void(const Solution&)> on_snapshot;
+    double shown = 0.0;  // seconds spent displaying snapshots
+    if (options.on_pass && !options.windows) {
+        on_snapshot = [&](const Solution& partial) {
+            const auto before = Clock::now();
+            DisplayCounters ignored;
+            const RenderResult image =
+                display_window(scene, options, mesh, partial, field_of(*mesh.tree, partial),
+                               film_window(scene, options), ignored);
+            options.on_pass(scene.render.spp,
+                            std::chrono::duration<double>(before - t1).count() - shown,
+                            image.color);
+            shown += std::chrono::duration<double>(Clock::now() - before).count();
+        };
     }
+    Progress progress("radiosity", 1, options.progress);
+    const Solution sol = solve(mesh, scene, options.threads, progress, std::move(on_snapshot));
     rays += sol.rays;
     progress.finish();
-    const ElementTree& tree = *mesh.tree;
-    std::vector<Sides> indirect(sol.E.size());
-    for (size_t id = 0; id < sol.E.size(); ++id)
-        for (int s = 0; s < 2; ++s)
-            indirect[id].v[s] = glm::max(sol.E[id].v[s] - sol.direct[id].v[s], Color(0.0f));
-    const IrradianceField field(tree, sol.E, indirect);
 
-    // The display: spp item-buffer passes of the scene's triangles, each jittered within the
-    // pixel, and per sample L = L_e + rho / pi E from the field.
-    const int width = scene.film.width, height = scene.film.height;
-    // A window (the crop, or each of options.windows): the item buffer is drawn whole, the
-    // display gathers only the window's pixels.
-    std::atomic<uint64_t> display_rays{0}, nonfinite{0};
-    RenderResult out =
+    const IrradianceField field = field_of(*mesh.tree, sol);
+    RenderResult result =
         render_windows(film_window(scene, options), options, [&](const Crop& window) {
-            RenderResult result;
-            const AovTargets targets = prepare_result(result, options.aovs, width, height);
-            const bool gather = settings.display == RadiosityDisplay::Gather;
-            const bool patches_aov = wants_debug_aov(options, "patches");
-            Image patches_image;
-            if (patches_aov) patches_image = Image(width, height);
-            const int spp = scene.render.spp;
-            std::vector<glm::dvec3> sums(static_cast<size_t>(width) * height, glm::dvec3(0.0));
-            std::vector<AovSum> aov_sums(targets.any ? sums.size() : 0);
-            const CameraMatrices camera = frame_camera(scene, mesh.list);
-            const CameraRays camera_rays(scene.camera, width, height);
-            RenderTargets buffers;
-            PassMemory memory;
-            const float inv_pi = 1.0f / kPi;
-            // A pixel's size at unit distance (perspective) or its size (orthographic), scene
-            // units.
-            const float pixel_footprint = scene.camera.type == Camera::Type::Perspective
-                                              ? 2.0f *
-                                                    std::tan(0.5f * radians(scene.camera.fov_deg)) /
-                                                    static_cast<float>(height)
-                                              : scene.camera.height / static_cast<float>(height);
-            for (int s = 0; s < spp; ++s) {
-                const vec2 jitter = pass_jitter(s, spp, seed);
-                buffers.clear(width, height, 1, false, true);
-                PipelineState state;
-                draw_pass(mesh.list, jittered_camera(camera, jitter), state, buffers, threads, 0,
-                          &memory);
-                parallel_tiles(width, height, threads, [&](const Tile& tile) {
-                    uint64_t local_rays = 0, local_nonfinite = 0;
-                    for (int j = tile.y0; j < tile.y1; ++j) {
-                        for (int i = tile.x0; i < tile.x1; ++i) {
-                            if (i < window.x0 || i >= window.x1 || j < window.y0 || j >= window.y1)
-                                continue;
-                            const size_t pixel = static_cast<size_t>(j) * width + i;
-                            const uint32_t t = buffers.primitive[buffers.index(i, j)];
-                            if (t == RenderTargets::kNoPrimitive) {
-                                if (PixelTrace* log = options.trace;
-                                    log && log->at(i, j) && log->sample == s) {
-                                    log_background_sample(*log, camera_rays, i, j, jitter, scene);
-                                }
-                                sums[pixel] += glm::dvec3(scene.render.background);
-                                if (targets.any) aov_sums[pixel].visibility += 1.0;
-                                continue;
-                            }
-                            Ray ray =
-                                camera_rays.generate((static_cast<float>(i) + jitter.x) / width,
-                                                     (static_cast<float>(j) + jitter.y) / height);
-                            const DisplaySample at =
-                                sample_on_triangle(mesh.list, t, tree.normal(t), ray);
-                            const vec3 x = at.x, n = at.n;
-                            const vec2 b = at.b;
-                            const int side = at.side;
-                            Bsdf bsdf = make_bsdf(mesh.lights.materials()[mesh.list.material[t]],
-                                                  at.uv, scene.textures);
-                            const bool emissive = bsdf.model == Bsdf::Model::Emissive;
-                            const Color rho = radiosity_reflectance(bsdf);
-                            const Color emitted =
-                                emissive && side == 0 ? bsdf.emission : Color(0.0f);
-                            IrradianceField::Value E = field.at(t, b, side);
-                            Rng rng = pixel_rng(mix64(seed + static_cast<uint64_t>(s)), pixel);
-                            Color irradiance = E.total;  // W/m^2, the ambient term's aside
-                            if (gather) {
-                                // Every light and emitter, and the background: what the solution
-                                // counted as direct.
-                                Color direct =
-                                    light_irradiance(mesh.lights, *mesh.accel, x, n,
-                                                     LightSources::All, scene.render.light_samples,
-                                                     rng, local_rays) +
-                                    sky_irradiance(*mesh.accel, scene.render.background, x, n,
-                                                   kSkyRays, rng);
-                                irradiance = E.indirect + direct;
-                            }
-                            Color L = emitted + rho * inv_pi * (irradiance + sol.ambient);
-                            AovSample aov{0.0f, vec3(0.0f), Color(0.0f), 0.0f};
-                            if (targets.any) {
-                                aov.visibility =
-                                    targets.want(Aov::Visibility)
-                                        ? light0_visibility(mesh.lights, *mesh.accel, x, n,
-                                                            scene.render.light_samples, rng,
-                                                            local_rays)
-                                        : 1.0f;
-                                aov.depth = at.distance;
-                                aov.normal = n;
-                                aov.albedo = albedo_of(bsdf);
-                            }
-                            const bool finite = is_finite(L) && is_finite(aov.normal) &&
-                                                is_finite(aov.albedo) &&
-                                                std::isfinite(aov.depth + aov.visibility);
-                            if (PixelTrace* log = options.trace;
-                                log && log->at(i, j) && log->sample == s) {
-                                log_display_sample(*log, scene, tree, ray, at, t,
-                                                   mesh.list.material[t], settings.patch_size,
-                                                   emitted, irradiance, sol.ambient, rho, L);
-                                record_total(*log, L, finite);
-                            }
-                            // A sample that is not finite is dropped (black) and counted, as in
-                            // every engine.
-                            if (!finite) {
-                                ++local_nonfinite;
-                                continue;
-                            }
-                            sums[pixel] += glm::dvec3(L);
-                            if (targets.any) aov_sums[pixel].add(aov);
-                            if (patches_aov && s == 0) {
-                                // Lines about a pixel wide: the pixel's footprint at the point.
-                                const float footprint =
-                                    scene.camera.type == Camera::Type::Perspective
-                                        ? pixel_footprint * at.distance
-                                        : pixel_footprint;
-                                patches_image.at(i, j) = patches_view(
-                                    tree, t, b, side, sol.E, rho, settings.patch_size, footprint);
-                            }
-                        }
-                    }
-                    display_rays += local_rays;
-                    nonfinite += local_nonfinite;
-                });
-            }
-            const float inv = 1.0f / static_cast<float>(spp);
-            for (int j = 0; j < height; ++j) {
-                for (int i = 0; i < width; ++i) {
-                    const size_t pixel = static_cast<size_t>(j) * width + i;
-                    Color c(sums[pixel] * static_cast<double>(inv));
-                    result.color.at(i, j) = c;
-                    if (targets.any) targets.write(i, j, aov_sums[pixel].mean(spp));
-                }
-            }
-            if (patches_aov) result.aovs["patches"] = std::move(patches_image);
-            cut_to_window(result, window, width, height);
-            return result;
+            return display_window(scene, options, mesh, sol, field, window, display);
         });
-    RenderResult& result = out;
     const auto t2 = Clock::now();
     result.stats.setup_seconds = std::chrono::duration<double>(t1 - t0).count();
-    result.stats.seconds = std::chrono::duration<double>(t2 - t1).count();
-    result.stats.rays = rays + display_rays.load();
-    result.stats.nonfinite = nonfinite.load();
-    size_t leaves = 0;
-    for (const ElementNode& n : tree.nodes()) leaves += n.leaf() ? 1 : 0;
-    char solver_detail[96];
-    if (settings.solver == RadiositySolver::Progressive) {
-        std::snprintf(solver_detail, sizeof solver_detail,
-                      "%zu patches, %d shots, %.1f MiB of rows", sol.patches, sol.iterations,
-                      static_cast<double>(sol.cache_bytes) / (1 << 20));
-    } else {
-        std::snprintf(solver_detail, sizeof solver_detail, "%d sweeps, %llu links", sol.iterations,
-                      static_cast<unsigned long long>(sol.links));
-    }
-    char detail[224];
-    std::snprintf(
-        detail, sizeof detail, "%zu elements, %s, residual %.2g, %.2f Mrays/s", leaves,
-        solver_detail, sol.residual,
-        static_cast<double>(result.stats.rays) * 1e-6 / std::max(result.stats.seconds, 1e-9));
-    result.stats.detail = detail;
+    result.stats.seconds = std::chrono::duration<double>(t2 - t1).count() - shown;
+    result.stats.rays = rays + display.rays.load();
+    result.stats.nonfinite = display.nonfinite.load();
+    result.stats.detail = solver_detail(*mesh.tree, mesh.settings, sol, result.stats);
     return result;
 }
 

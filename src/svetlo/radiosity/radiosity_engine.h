@@ -2,7 +2,8 @@
 // patch mesh (patch_mesh.h), point, spot and directional lights and the background shot onto
 // it, the equation solved by the chosen solver (solver.h), independently of the view, and
 // then drawn from the camera through the rasterizer's item buffer (display.h). Only the
-// diffuse part of each material takes part: a mirror or glass shows black.
+// diffuse part of each material takes part: a mirror or glass shows black. The render is three
+// steps, each a function of radiosity_engine.cpp: make_elements, solve, display_window.
 #pragma once
 
 #include "svetlo/scene/renderer.h"

@@ -26,6 +26,8 @@ struct Sides {
     Color v[2] = {Color(0.0f), Color(0.0f)};
 };
 
+struct Solution;
+
 struct SolverInput {
     ElementTree& tree;
     const Accel& accel;        // the scene's triangles, for visibility
@@ -38,6 +40,9 @@ struct SolverInput {
     int threads = 0;
     Progress* progress = nullptr;  // its status shows the iteration, residual and unshot light
     std::string file;              // the scene's, for the errors the solvers raise
+    /// When set, the progressive solver shows it the solution as it stands after 0, 1, 2, 4
+    /// ... shots (the ambient term included): the error against time of compare --curves.
+    std::function<void(const Solution& partial)> on_snapshot;
 };
 
 struct Solution {

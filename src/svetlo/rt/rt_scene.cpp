@@ -8,14 +8,24 @@
 
 namespace svetlo {
 
-RtScene::RtScene(const Scene& scene, const std::string& accel, int threads)
+RtScene::RtScene(const Scene& scene, const std::string& accel, int threads, AccelCache* cache)
     : scene_(scene), lights_(scene) {
-    geometry_ =
-        build_geometry(object_pointers(scene.objects, lights_.area_light_quads()), &ranges_);
+    // A scene made in code, not read, has no key: it builds its own.
+    if (scene.geometry_key.empty()) cache = nullptr;
+    built_ = built_geometry(cache, scene.geometry_key + " " + accel, [&](BuiltGeometry& b) {
+        b.geometry =
+            build_geometry(object_pointers(scene.objects, lights_.area_light_quads()), &b.ranges);
+        b.accel = make_accel(accel, b.geometry, threads);
+        if (!b.accel) {
+            throw Error(scene.path.string(), "render.accel",
+                        accel == "embree" ? std::string("this svetlo was built without Embree")
+                                          : "unknown accelerator '" + accel + "'");
+        }
+    });
     const auto& sources = lights_.sources();
     for (size_t k = 0; k < sources.size(); ++k) {
         if (sources[k].object < 0) continue;
-        const PrimitiveRange& r = ranges_[static_cast<size_t>(sources[k].object)];
+        const PrimitiveRange& r = built_->ranges[static_cast<size_t>(sources[k].object)];
         emitter_ranges_.push_back({r.first, r.end, static_cast<int>(k)});
     }
     std::sort(emitter_ranges_.begin(), emitter_ranges_.end(),
@@ -24,13 +34,7 @@ RtScene::RtScene(const Scene& scene, const std::string& accel, int threads)
         textured_.push_back(any_source(m, is_textured) ? 1 : 0);
         uniform_bsdfs_.push_back(make_bsdf(m, vec2(0.0f), scene.textures));
     }
-    unbounded_ = geometry_.unbounded_primitives();
-    accel_ = make_accel(accel, geometry_, threads);
-    if (!accel_) {
-        throw Error(scene.path.string(), "render.accel",
-                    accel == "embree" ? std::string("this svetlo was built without Embree")
-                                      : "unknown accelerator '" + accel + "'");
-    }
+    unbounded_ = geometry().unbounded_primitives();
 }
 
 int RtScene::light_source_of(uint32_t prim) const {
@@ -59,16 +63,17 @@ bool RtScene::intersect_cost(const Ray& ray, Hit& hit, TraversalCost& cost) cons
 
 bool RtScene::closest(const Ray& ray, Hit& hit, TraversalCost* cost) const {
     if (!traceable(ray)) return false;
-    bool found = cost ? accel_->intersect_cost(ray, hit, *cost) : accel_->intersect(ray, hit);
+    bool found =
+        cost ? built_->accel->intersect_cost(ray, hit, *cost) : built_->accel->intersect(ray, hit);
     if (unbounded_.empty()) return found;
     if (!found) hit.t = ray.tmax;
     if (cost) cost->primitives += static_cast<uint32_t>(unbounded_.size());
     RayPrecomputed pre(ray);
-    return geometry_.intersect(unbounded_.data(), unbounded_.size(), ray, pre, hit) || found;
+    return geometry().intersect(unbounded_.data(), unbounded_.size(), ray, pre, hit) || found;
 }
 
 void RtScene::check_counts_cost() const {
-    if (!accel_->counts_cost()) {
+    if (!built_->accel->counts_cost()) {
         throw Error(scene_.path.string(), "render.accel",
                     "the bvh_cost AOV needs render.accel bvh or none (" + scene_.render.accel +
                         " does not count its work)");
@@ -86,10 +91,10 @@ Color RtScene::camera_ray_cost(const Ray& ray) const {
 bool RtScene::occluded(const Ray& ray) const {
     if (!traceable(ray)) return false;
     if (!unbounded_.empty() &&
-        geometry_.occludes(unbounded_.data(), unbounded_.size(), ray, RayPrecomputed(ray))) {
+        geometry().occludes(unbounded_.data(), unbounded_.size(), ray, RayPrecomputed(ray))) {
         return true;
     }
-    return accel_->occluded(ray);
+    return built_->accel->occluded(ray);
 }
 
 }  // namespace svetlo

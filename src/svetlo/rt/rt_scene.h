@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "svetlo/geometry/accel.h"
+#include "svetlo/geometry/accel_cache.h"
 #include "svetlo/geometry/scene_geometry.h"
 #include "svetlo/scene/scene.h"
 #include "svetlo/shading/bsdf.h"
@@ -17,16 +18,17 @@ namespace svetlo {
 
 class RtScene {
 public:
-    /// Builds with the accelerator `accel` (see accel_names()) on `threads` threads. Throws Error
-    /// for what the light set cannot sample (light_set.h).
-    RtScene(const Scene& scene, const std::string& accel, int threads);
+    /// Builds with the accelerator `accel` (see accel_names()) on `threads` threads, or takes
+    /// the geometry and structure from `cache` when it holds the scene's. Throws Error for
+    /// what the light set cannot sample (light_set.h).
+    RtScene(const Scene& scene, const std::string& accel, int threads, AccelCache* cache = nullptr);
 
     const Scene& scene() const { return scene_; }
-    const Geometry& geometry() const { return geometry_; }
+    const Geometry& geometry() const { return built_->geometry; }
     const LightSet& lights() const { return lights_; }
     /// The scene's materials, then the area lights' (LightSet::materials).
     const std::vector<Material>& materials() const { return lights_.materials(); }
-    const Accel& accel() const { return *accel_; }
+    const Accel& accel() const { return *built_->accel; }
     /// The BSDF of material `material` at texture coordinates uv: made once for a material
     /// without textures, at each call for one with.
     Bsdf bsdf(uint32_t material, vec2 uv) const {
@@ -39,7 +41,7 @@ public:
     int light_source_of(uint32_t prim) const;
 
     /// The primitives of each object of the scene, then of each area light's quad.
-    const std::vector<PrimitiveRange>& object_ranges() const { return ranges_; }
+    const std::vector<PrimitiveRange>& object_ranges() const { return built_->ranges; }
 
     bool intersect(const Ray& ray, Hit& hit) const;
     bool occluded(const Ray& ray) const;
@@ -59,17 +61,15 @@ private:
 
     const Scene& scene_;
     LightSet lights_;
-    Geometry geometry_;
+    std::shared_ptr<const BuiltGeometry> built_;
     std::vector<Bsdf> uniform_bsdfs_;  // per material (meaningless where textured)
     std::vector<char> textured_;       // per material
     std::vector<uint32_t> unbounded_;
-    std::vector<PrimitiveRange> ranges_;
     struct EmitterRange {
         uint32_t first, end;  // primitive ids [first, end)
         int source;           // index in lights_.sources()
     };
     std::vector<EmitterRange> emitter_ranges_;  // ascending by first
-    std::unique_ptr<Accel> accel_;
 };
 
 }  // namespace svetlo

@@ -177,7 +177,7 @@ private:
 RenderResult WhittedRenderer::render(const Scene& scene, const RenderOptions& options) {
     using Clock = std::chrono::steady_clock;
     auto t0 = Clock::now();
-    RtScene rt(scene, scene.render.accel, options.threads);
+    RtScene rt(scene, scene.render.accel, options.threads, options.accels);
     auto t1 = Clock::now();
 
     const int width = scene.film.width, height = scene.film.height, spp = scene.render.spp;

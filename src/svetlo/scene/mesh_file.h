@@ -6,6 +6,9 @@
 #pragma once
 
 #include <filesystem>
+#include <map>
+#include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -27,6 +30,28 @@ Color file_color(double r, double g, double b, const std::string& what);
 
 /// Reads .obj, .ply, .gltf or .glb by extension.
 MeshFile read_mesh_file(const std::filesystem::path& path);
+
+/// A file's size and modification time, as text ("" where it cannot be read): what tells
+/// that a mesh file has changed since it was read.
+std::string file_stamp(const std::filesystem::path& path);
+
+/// Mesh files read once: a scene that names a file twice, and the renders of one command
+/// (svetlo compare, svetlo serve), share what it holds. A file whose size or time has
+/// changed since is read again.
+class MeshFileCache {
+public:
+    /// read_mesh_file(path), or what it returned before for the file as it is now. Safe to
+    /// call from several threads.
+    std::shared_ptr<const MeshFile> read(const std::filesystem::path& path);
+
+private:
+    struct Entry {
+        std::string stamp;  // size and time
+        std::shared_ptr<const MeshFile> file;
+    };
+    std::mutex mutex_;
+    std::map<std::string, Entry> files_;  // by path: one entry per file
+};
 
 MeshFile read_obj(const std::filesystem::path& path);
 MeshFile read_ply(const std::filesystem::path& path);

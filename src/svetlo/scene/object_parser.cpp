@@ -39,18 +39,20 @@ void check_non_degenerate_quad(const JsonNode& node, vec3 u, vec3 v) {
     if (glm::length(glm::cross(u, v)) <= 0.0f) node.fail("edge_u and edge_v are parallel or zero");
 }
 
-Mesh parse_mesh(const JsonNode& node, Scene& scene, int material, const Transform& transform) {
+Mesh parse_mesh(const JsonNode& node, Scene& scene, MeshFileCache& meshes, int material,
+                const Transform& transform) {
     Mesh mesh;
     if (auto file_node = node.find("file")) {
         if (node.has("positions")) node.fail("give either file or positions, not both");
         std::filesystem::path file = scene.path.parent_path() / file_node->as_string();
-        MeshFile loaded;
+        std::shared_ptr<const MeshFile> read;
         try {
-            loaded = read_mesh_file(file);
+            read = meshes.read(file);
         } catch (const std::exception& e) {
             file_node->fail("cannot read mesh '" + file_node->as_string() + "': " + e.what());
         }
-        mesh = std::move(loaded.mesh);
+        const MeshFile& loaded = *read;
+        mesh = loaded.mesh;
         auto offset = static_cast<int>(scene.materials.size());
         for (size_t k = 0; k < loaded.materials.size(); ++k) {
             scene.materials.push_back(loaded.materials[k]);
@@ -195,10 +197,11 @@ namespace {
 
 constexpr int kMaxTreeDepth = 64;  // CSG and SDF nesting: deeper trees are refused
 
-Object parse_object_node(const JsonNode& node, Scene& scene, int inherited_material, int depth);
+Object parse_object_node(const JsonNode& node, Scene& scene, MeshFileCache& meshes,
+                         int inherited_material, int depth);
 
 /// The children of a CSG node, which must be closed shapes.
-Csg parse_csg(const JsonNode& node, Scene& scene, int material, int depth) {
+Csg parse_csg(const JsonNode& node, Scene& scene, MeshFileCache& meshes, int material, int depth) {
     Csg csg;
     std::string op = node.at("op").as_choice({"union", "intersection", "difference"});
     csg.op = op == "union"          ? CsgOp::Union
@@ -217,7 +220,7 @@ Csg parse_csg(const JsonNode& node, Scene& scene, int material, int depth) {
                 "mesh or csg), not '" +
                 type + "'");
         }
-        csg.children.push_back(parse_object_node(child, scene, material, depth + 1));
+        csg.children.push_back(parse_object_node(child, scene, meshes, material, depth + 1));
     }
     return csg;
 }
@@ -285,7 +288,8 @@ SdfNode parse_sdf(const JsonNode& node, int depth) {
     return n;
 }
 
-Object parse_object_node(const JsonNode& node, Scene& scene, int inherited_material, int depth) {
+Object parse_object_node(const JsonNode& node, Scene& scene, MeshFileCache& meshes,
+                         int inherited_material, int depth) {
     if (!node.is_object()) node.fail("must be an object");
     if (depth > kMaxTreeDepth)
         node.fail("CSG tree nested deeper than " + std::to_string(kMaxTreeDepth));
@@ -331,10 +335,10 @@ Object parse_object_node(const JsonNode& node, Scene& scene, int inherited_mater
     } else if (type == "mesh") {
         node.expect_object({"type", "file", "positions", "indices", "normals", "uvs", "smooth",
                             "material", "transform"});
-        obj.shape = parse_mesh(node, scene, obj.material, obj.transform);
+        obj.shape = parse_mesh(node, scene, meshes, obj.material, obj.transform);
     } else if (type == "csg") {
         node.expect_object({"type", "op", "children", "material", "transform"});
-        obj.shape = parse_csg(node, scene, obj.material, depth);
+        obj.shape = parse_csg(node, scene, meshes, obj.material, depth);
     } else {
         node.expect_object({"type", "sdf", "material", "transform"});
         obj.shape = Implicit{parse_sdf(node.at("sdf"), 1)};
@@ -344,8 +348,8 @@ Object parse_object_node(const JsonNode& node, Scene& scene, int inherited_mater
 
 }  // namespace
 
-void parse_object(const JsonNode& node, Scene& scene) {
-    scene.objects.push_back(parse_object_node(node, scene, -1, 1));
+void parse_object(const JsonNode& node, Scene& scene, MeshFileCache& meshes) {
+    scene.objects.push_back(parse_object_node(node, scene, meshes, -1, 1));
 }
 
 }  // namespace svetlo

@@ -79,6 +79,7 @@ struct Crop {
 };
 
 struct RenderResult;
+class AccelCache;  // geometry/accel_cache.h
 
 /// Many windows with one setup (docs/distributed.md): the engine renders the windows that
 /// `next` hands out, one after the other, after one setup (the BVH, the radiosity solve), and
@@ -120,6 +121,9 @@ struct RenderOptions {
     WindowSource* windows = nullptr;
     /// When set, a progressive engine resumes from it and saves to it after every pass.
     const Checkpoint* checkpoint = nullptr;
+    /// When set, the ray tracers take the scene's geometry and BVH from it, or build them
+    /// into it: the renders of one command share one (svetlo compare, svetlo serve).
+    AccelCache* accels = nullptr;
 };
 
 struct RenderStats {

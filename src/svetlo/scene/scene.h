@@ -415,6 +415,10 @@ struct Scene {
     std::vector<std::string> texture_sources;
     std::vector<Light> lights;
     std::vector<Object> objects;
+    /// What the shapes are made of (the objects, the area lights, the materials' order, the
+    /// mesh files' sizes and times): scenes with equal keys make the same geometry, so that
+    /// the renders of one command can share one BVH (geometry/accel_cache.h).
+    std::string geometry_key;
 };
 
 }  // namespace svetlo

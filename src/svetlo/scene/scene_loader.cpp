@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "svetlo/core/input_file.h"
+#include "svetlo/core/sha256.h"
 #include "svetlo/scene/json_node.h"
 #include "svetlo/scene/scene_parts.h"
 
@@ -122,7 +123,33 @@ Scene load_scene(const fs::path& path, const std::vector<Override>& overrides) {
     return scene_from_json(effective_scene_json(path, overrides), path);
 }
 
-Scene scene_from_json(const nlohmann::json& root, const fs::path& path) {
+namespace {
+
+/// Scene::geometry_key of the scene read from `root` (objects, area lights and the order of
+/// its materials, whose indices the primitives hold), a SHA-256 in hex.
+std::string geometry_key(const nlohmann::json& root, const Scene& scene) {
+    std::string text = scene.path.parent_path().string() + "\n";
+    if (auto it = root.find("objects"); it != root.end()) {
+        text += it->dump() + "\n";
+        // A mesh file edited while `svetlo serve` runs makes another geometry.
+        for (const nlohmann::json& object : *it) {
+            auto file = object.find("file");
+            if (file == object.end() || !file->is_string()) continue;
+            text += file_stamp(scene.path.parent_path() / file->get<std::string>()) + "\n";
+        }
+    }
+    if (auto it = root.find("lights"); it != root.end()) {
+        for (const nlohmann::json& light : *it)
+            if (light.value("type", "") == "area") text += light.dump() + "\n";
+    }
+    for (const std::string& name : scene.material_names) text += name + "\n";
+    return sha256_hex(text);
+}
+
+}  // namespace
+
+Scene scene_from_json(const nlohmann::json& root, const fs::path& path, MeshFileCache* meshes) {
+    MeshFileCache own;
     Scene scene;
     scene.path = path;
     JsonNode top(root, path.string(), "");
@@ -136,8 +163,10 @@ Scene scene_from_json(const nlohmann::json& root, const fs::path& path) {
             scene.lights.push_back(parse_light(lights->at(k)));
     }
     if (auto objects = top.find("objects")) {
-        for (size_t k = 0; k < objects->size(); ++k) parse_object(objects->at(k), scene);
+        for (size_t k = 0; k < objects->size(); ++k)
+            parse_object(objects->at(k), scene, meshes ? *meshes : own);
     }
+    scene.geometry_key = geometry_key(root, scene);
     return scene;
 }
 

@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "svetlo/scene/mesh_file.h"
 #include "svetlo/scene/scene.h"
 
 namespace svetlo {
@@ -39,9 +40,11 @@ Scene load_scene(const std::filesystem::path& path, const std::vector<Override>&
 nlohmann::json effective_scene_json(const std::filesystem::path& path,
                                     const std::vector<Override>& overrides);
 
-/// Builds a Scene from JSON already in memory (tests); `path` names it in messages and
-/// anchors relative paths.
-Scene scene_from_json(const nlohmann::json& root, const std::filesystem::path& path);
+/// Builds a Scene from JSON already in memory; `path` names it in messages and anchors
+/// relative paths. Mesh files are read through `meshes` when given (the renders of one
+/// command share them), else each once for this scene.
+Scene scene_from_json(const nlohmann::json& root, const std::filesystem::path& path,
+                      MeshFileCache* meshes = nullptr);
 
 /// Parses a scene file, reporting syntax errors with line and column.
 nlohmann::json read_scene_json(const std::filesystem::path& path);

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "svetlo/scene/json_node.h"
+#include "svetlo/scene/mesh_file.h"
 #include "svetlo/scene/scene.h"
 
 namespace svetlo {
@@ -14,6 +15,6 @@ void parse_materials(const JsonNode& node, Scene& scene);
 ColorSource parse_color_source(const JsonNode& node, Scene& scene);
 Light parse_light(const JsonNode& node);
 Transform parse_transform(const JsonNode& node);
-void parse_object(const JsonNode& node, Scene& scene);
+void parse_object(const JsonNode& node, Scene& scene, MeshFileCache& meshes);
 
 }  // namespace svetlo
