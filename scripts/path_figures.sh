@@ -21,3 +21,8 @@ for mis in light bsdf power; do
     "$svetlo" render "$root/scenes/mis.json" --spp 16 -W 480 -H 300 --set render.mis=$mis \
         -o "$img/path_mis_$mis.png"
 done
+# The hard scenes (docs/path.md, "Path guiding" and "Hard scenes"), at their own film and spp.
+"$svetlo" render "$root/scenes/door_ajar.json" -o "$img/door_ajar.png"
+"$svetlo" render "$root/scenes/door_ajar.json" --set render.guiding=true -o "$img/door_ajar_guided.png"
+"$svetlo" render "$root/scenes/lamp_shade.json" -o "$img/lamp_shade.png"
+"$svetlo" render "$root/scenes/glass_caustic.json" -o "$img/glass_caustic.png"

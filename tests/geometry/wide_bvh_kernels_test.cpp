@@ -97,6 +97,11 @@ TEST(WideBvhKernels, Avx2BoxTestIsTheScalarOneBitForBit) {
     expect_same_boxes<8>(wide::boxes_avx2);
 }
 
+TEST(WideBvhKernels, Avx512BoxTestIsTheScalarOneBitForBit) {
+    if (!avx512_available()) GTEST_SKIP() << "no AVX-512 on this processor";
+    expect_same_boxes<16>(wide::boxes_avx512);
+}
+
 TEST(WideBvhKernels, SsePacketsHitWhatTheScalarTestHits) {
     Rng rng(11, 4);
     int hits = 0;

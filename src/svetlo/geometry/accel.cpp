@@ -41,6 +41,12 @@ const std::vector<AccelEntry>& accel_table() {
                         : "four-wide BVH, " + lanes + " (the fastest here)";
          },
          [](const Geometry& g, int threads) { return std::make_unique<WideBvh>(g, threads); }},
+        {"bvh16",
+         [] {
+             return WideBvh::sixteen_wide_available() ? std::string("sixteen-wide BVH, AVX-512")
+                                                      : "no AVX-512 here: as bvh";
+         },
+         [](const Geometry& g, int threads) { return std::make_unique<WideBvh>(g, threads, 16); }},
         {"embree", [] { return std::string("Embree"); },
          [](const Geometry& g, int threads) { return make_embree_accel(g, threads); }},
     };

@@ -11,4 +11,13 @@ bool avx2_available() {
 #endif
 }
 
+bool avx512_available() {
+#ifdef SVETLO_HAS_AVX512_BVH  // wide_bvh_avx512.cpp is compiled (CMakeLists.txt)
+    static const bool has = __builtin_cpu_supports("avx512f") != 0;
+    return has;
+#else
+    return false;
+#endif
+}
+
 }  // namespace svetlo

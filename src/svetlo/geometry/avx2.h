@@ -9,4 +9,8 @@ namespace svetlo {
 
 bool avx2_available();
 
+/// Whether the sixteen-wide BVH's AVX-512 traversal (wide_bvh_avx512.cpp) is compiled and the
+/// processor has AVX-512 F (checked once, at run time).
+bool avx512_available();
+
 }  // namespace svetlo

@@ -90,9 +90,14 @@ bool wide::packets_any_sse(const Ray& ray, const TrianglePacket* packets, uint32
 #endif
 
 bool WideBvh::eight_wide_available() { return avx2_available(); }
+bool WideBvh::sixteen_wide_available() { return avx512_available(); }
 
 WideBvh::WideBvh(const Geometry& geometry, int threads, int width) : geometry_(geometry) {
-    width_ = (width == 0 || width == 8) && eight_wide_available() ? 8 : 4;
+    if (width == 16 && sixteen_wide_available()) {
+        width_ = 16;
+    } else {
+        width_ = (width == 0 || width == 8 || width == 16) && eight_wide_available() ? 8 : 4;
+    }
     Bvh bin(geometry, threads);
     if (bin.nodes().empty()) return;
     empty_ = false;
@@ -103,7 +108,9 @@ WideBvh::WideBvh(const Geometry& geometry, int threads, int width) : geometry_(g
     if (leaves >= kLeaf) throw std::runtime_error("the wide BVH holds at most 2^31 leaves");
     leaves_ = LargeArray<Leaf>(leaves);
     leaf_prims_.reserve(leaves);
-    if (width_ == 8) {
+    if (width_ == 16) {
+        build<16>(bin, nodes16_, inner);
+    } else if (width_ == 8) {
         build<8>(bin, nodes8_, inner);
     } else {
         build<4>(bin, nodes4_, inner);
@@ -237,6 +244,7 @@ bool WideBvh::intersect(const Ray& ray, Hit& hit) const {
     hit = Hit{};
     hit.t = ray.tmax;
     if (empty_) return false;
+    if (width_ == 16) return intersect16(ray, hit);
     if (width_ == 8) return intersect8(ray, hit);
     const RayPrecomputed pre(ray);
     const Packets test(ray, pre);
@@ -249,6 +257,7 @@ bool WideBvh::intersect_cost(const Ray& ray, Hit& hit, TraversalCost& cost) cons
     hit = Hit{};
     hit.t = ray.tmax;
     if (empty_) return false;
+    if (width_ == 16) return intersect16(ray, hit, &cost);
     if (width_ == 8) return intersect8(ray, hit, &cost);
     const RayPrecomputed pre(ray);
     const Packets test(ray, pre);
@@ -264,6 +273,7 @@ bool WideBvh::intersect_cost(const Ray& ray, Hit& hit, TraversalCost& cost) cons
 
 bool WideBvh::occluded(const Ray& ray) const {
     if (empty_) return false;
+    if (width_ == 16) return occluded16(ray);
     if (width_ == 8) return occluded8(ray);
     const RayPrecomputed pre(ray);
     const Packets test(ray, pre);
@@ -276,6 +286,11 @@ bool WideBvh::occluded(const Ray& ray) const {
 // Never called: width_ is 8 only where eight_wide_available().
 bool WideBvh::intersect8(const Ray&, Hit&, TraversalCost*) const { return false; }
 bool WideBvh::occluded8(const Ray&) const { return false; }
+#endif
+#ifndef SVETLO_HAS_AVX512_BVH
+// Never called: width_ is 16 only where sixteen_wide_available().
+bool WideBvh::intersect16(const Ray&, Hit&, TraversalCost*) const { return false; }
+bool WideBvh::occluded16(const Ray&) const { return false; }
 #endif
 
 }  // namespace svetlo

@@ -2,7 +2,8 @@
 // W children side by side (structure of arrays), tested against a ray in one SIMD
 // instruction sequence (Wald, Benthin and Boulos, "Getting Rid of Packets", IEEE RT 2008;
 // Dammertz et al., "Shallow Bounding Volume Hierarchies", EGSR 2008). W is 8 with AVX2 where
-// the processor has it (chosen at run time: wide_bvh_avx2.cpp), else 4 with SSE. A leaf's
+// the processor has it (chosen at run time: wide_bvh_avx2.cpp), else 4 with SSE; 16 with
+// AVX-512 when asked for (`bvh16`, wide_bvh_avx512.cpp; docs/performance.md measures it). A leaf's
 // triangles are copied into packets of four (structure of arrays) and tested four at a time
 // with the same watertight test, operation for operation, so the hits are bit-identical to
 // the scalar test's (eight-wide packets under eight-wide nodes were no faster, leaves holding
@@ -34,7 +35,8 @@ struct alignas(16) TrianglePacket {
 
 class WideBvh final : public Accel {
 public:
-    /// `width` 4 or 8; 0 = the widest the processor runs (8 needs AVX2, else it is 4).
+    /// `width` 4, 8 or 16; 0 = 8 where the processor has AVX2, else 4. 16 needs AVX-512 (else
+    /// it is 0's width).
     explicit WideBvh(const Geometry& geometry, int threads = 0, int width = 0);
     bool intersect(const Ray& ray, Hit& hit) const override;
     bool occluded(const Ray& ray) const override;
@@ -42,13 +44,15 @@ public:
     bool counts_cost() const override { return true; }
     size_t memory_bytes() const override {
         return nodes4_.size() * sizeof(WideBvhNode<4>) + nodes8_.size() * sizeof(WideBvhNode<8>) +
-               leaves_.size() * sizeof(Leaf) + packets_.size() * sizeof(TrianglePacket) +
-               shapes_.size() * sizeof(uint32_t);
+               nodes16_.size() * sizeof(WideBvhNode<16>) + leaves_.size() * sizeof(Leaf) +
+               packets_.size() * sizeof(TrianglePacket) + shapes_.size() * sizeof(uint32_t);
     }
     int width() const { return width_; }
 
     /// True when this build of svetlo has the eight-wide traversal and the processor runs it.
     static bool eight_wide_available();
+    /// The same for the sixteen-wide one (AVX-512).
+    static bool sixteen_wide_available();
 
 private:
     struct Leaf {
@@ -71,6 +75,9 @@ private:
     // The eight-wide traversal (wide_bvh_avx2.cpp); with `cost`, counting its work.
     bool intersect8(const Ray& ray, Hit& hit, TraversalCost* cost = nullptr) const;
     bool occluded8(const Ray& ray) const;
+    // The sixteen-wide traversal (wide_bvh_avx512.cpp).
+    bool intersect16(const Ray& ray, Hit& hit, TraversalCost* cost = nullptr) const;
+    bool occluded16(const Ray& ray) const;
 
     const Geometry& geometry_;
     int width_ = 4;
@@ -78,6 +85,7 @@ private:
     // the two node arrays is used, by width_.
     LargeArray<WideBvhNode<4>> nodes4_;
     LargeArray<WideBvhNode<8>> nodes8_;
+    LargeArray<WideBvhNode<16>> nodes16_;
     LargeArray<Leaf> leaves_;
     LargeArray<TrianglePacket> packets_;
     LargeArray<uint32_t> shapes_;  // ids of the leaves' analytic shapes

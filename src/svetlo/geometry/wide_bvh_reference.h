@@ -111,6 +111,8 @@ struct ScalarPackets {
 int boxes_sse(const Ray& ray, const WideBvhNode<4>& node, float tmax, float* t_enter);
 /// Only where avx2_available() (avx2.h).
 int boxes_avx2(const Ray& ray, const WideBvhNode<8>& node, float tmax, float* t_enter);
+/// The sixteen-wide AVX-512 test (needs avx512_available()); t_enter holds 16 floats.
+int boxes_avx512(const Ray& ray, const WideBvhNode<16>& node, float tmax, float* t_enter);
 bool packets_closest_sse(const Ray& ray, const TrianglePacket* packets, uint32_t count, Hit& hit);
 bool packets_any_sse(const Ray& ray, const TrianglePacket* packets, uint32_t count);
 #endif

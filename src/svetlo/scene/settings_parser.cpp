@@ -140,7 +140,8 @@ RenderSettings parse_render(const JsonNode& node) {
     if (auto n = node.find("background")) r.background = n->as_color();
     if (auto n = node.find("exposure")) r.exposure = n->as_non_negative();
     if (auto n = node.find("accel"))
-        r.accel = n->as_choice({"none", "grid", "octree", "bvh2", "bvh4", "bvh", "embree"});
+        r.accel =
+            n->as_choice({"none", "grid", "octree", "bvh2", "bvh4", "bvh", "bvh16", "embree"});
     if (auto n = node.find("light_samples")) {
         r.light_samples = static_cast<int>(n->as_integer(1, 4096));
     }
