@@ -339,6 +339,53 @@ TEST(Raster, TheScalarShadingMultipliesEachLightByItsVisibility) {
     }
 }
 
+TEST(Raster, EachLightApartSumsToTheMaskedShading) {
+    // Flat and Gouraud shading under a shadow technique light a point once per light:
+    // unlit_point + sum of V_k times light k's term is shade_point under the same mask, for
+    // a delta light and a light with area (its VPLs), on a Phong and a mirror material.
+    json j = oblique(8, 8);
+    j["lights"] = {{{"type", "point"}, {"position", {0.5, 2, 0}}, {"intensity", 4}},
+                   {{"type", "area"},
+                    {"corner", {-0.5, 1.5, -0.5}},
+                    {"edge_u", {1, 0, 0}},
+                    {"edge_v", {0, 0, 1}},
+                    {"radiance", 3}}};
+    j["render"]["ambient"] = 0.25;
+    Scene scene = scene_from_json(j, "test.json");
+    RasterLights lights(scene);
+    ASSERT_EQ(lights.set.sources().size(), 2u);
+    PhongMaterial phong;
+    phong.kd = ColorSource::constant(Color(0.5f, 0.4f, 0.3f));
+    phong.ks = ColorSource::constant(Color(0.3f));
+    phong.shininess = 20.0f;
+    MirrorMaterial mirror;
+    mirror.reflectance = ColorSource::constant(Color(0.8f));
+    const vec3 wo = glm::normalize(vec3(0.3f, 1.0f, 0.2f));
+    const ShadingFrame frame = make_shading_frame(vec3(0, 1, 0), vec3(0, 1, 0), wo);
+    const Color background(0.1f, 0.2f, 0.3f);
+    for (const Material& m : {Material{phong}, Material{mirror}}) {
+        Bsdf bsdf = make_bsdf(m, vec2(0.0f), scene.textures);
+        Color terms[2];
+        const Color unlit = shade_point_per_light(bsdf, vec3(0.1f, 0.0f, -0.2f), frame, wo, lights,
+                                                  Color(0.25f), background, terms);
+        EXPECT_EQ(unlit, unlit_point(bsdf, frame, Color(0.25f), background));
+        const float mask[6] = {1.0f, 0.0f, 0.5f,    // the point light at samples 0, 1, 2
+                               0.0f, 1.0f, 0.25f};  // the area light
+        LightVisibility vis{mask, 3};
+        for (size_t sample = 0; sample < 3; ++sample) {
+            const Color masked = shade_point(bsdf, vec3(0.1f, 0.0f, -0.2f), frame, wo, lights,
+                                             Color(0.25f), background, vis, sample);
+            const Color apart = unlit + terms[0] * mask[sample] + terms[1] * mask[3 + sample];
+            for (int c = 0; c < 3; ++c)
+                EXPECT_NEAR(apart[c], masked[c], 1e-6f * (1.0f + masked[c])) << sample;
+        }
+        if (bsdf.has_lobes()) {
+            EXPECT_GT(terms[0].r, 0.0f);  // both lights reach the point
+            EXPECT_GT(terms[1].r, 0.0f);
+        }
+    }
+}
+
 TEST(Raster, FlatAndGouraudModulateTheirLightByTheTexturePerSample) {
     // A checkered Lambert floor under a directional light (the same light at every vertex):
     // flat and Gouraud shading, lighting a white floor and multiplying by the texture at each

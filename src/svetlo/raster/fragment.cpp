@@ -2,7 +2,6 @@
 
 #include <algorithm>
 
-#include "svetlo/core/small_vector.h"
 #include "svetlo/shading/shading_frame.h"
 #include "svetlo/shading/texture.h"
 
@@ -30,17 +29,8 @@ Color light_point(const FrameState& f, const Bsdf& bsdf, vec3 p, vec3 wo, vec3 n
 
 Color light_point_per_light(const FrameState& f, const Bsdf& bsdf, vec3 p, vec3 wo, vec3 ng,
                             vec3 ns, Color* per_light) {
-    // One light let through at a time (a mask of one row per light, one sample).
-    SmallVector<float, 16> mask;
-    for (size_t k = 0; k < f.sources; ++k) mask.push_back(0.0f);
-    const LightVisibility one{&mask[0], 1};
-    const Color base = light_point(f, bsdf, p, wo, ng, ns, one, 0);
-    for (size_t k = 0; k < f.sources; ++k) {
-        mask[k] = 1.0f;
-        per_light[k] = light_point(f, bsdf, p, wo, ng, ns, one, 0) - base;
-        mask[k] = 0.0f;
-    }
-    return base;
+    return shade_point_per_light(bsdf, p, make_shading_frame(ng, ns, wo), wo, *f.lights,
+                                 f.scene->render.ambient, f.scene->render.background, per_light);
 }
 
 Color flat_colour(const FrameState& f, const uint32_t idx[3], uint32_t material, Color* per_light) {

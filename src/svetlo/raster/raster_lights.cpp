@@ -39,18 +39,36 @@ RasterLights::RasterLights(const Scene& scene) : set(scene) {
     }
 }
 
-Color shade_point(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame, vec3 wo,
-                  const RasterLights& lights, Color ambient, Color background,
-                  const LightVisibility& vis, size_t sample) {
+Color unlit_point(const Bsdf& bsdf, const ShadingFrame& frame, Color ambient, Color background) {
     Color L = emitted_and_ambient(bsdf, frame, ambient);
     // Ideal mirrors and glass see the uniform environment (the background) only: a
     // rasterizer has no other surfaces to show in them. Glass without absorption passes all
     // of it, reflected or transmitted.
     if (bsdf.model == Bsdf::Model::Mirror) L += bsdf.reflect * background;
     if (bsdf.model == Bsdf::Model::Dielectric) L += background;
-    return L +
+    return L;
+}
+
+Color shade_point(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame, vec3 wo,
+                  const RasterLights& lights, Color ambient, Color background,
+                  const LightVisibility& vis, size_t sample) {
+    return unlit_point(bsdf, frame, ambient, background) +
            direct_light(lights.set, bsdf, p, frame, wo, VplSampling{lights},
                         [&](size_t source, const LightSample&) { return vis.at(source, sample); });
+}
+
+Color shade_point_per_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame, vec3 wo,
+                            const RasterLights& lights, Color ambient, Color background,
+                            Color* per_light) {
+    const auto& sources = lights.set.sources();
+    VplSampling sampling{lights};
+    auto unmasked = [](size_t, const LightSample&) { return 1.0f; };
+    for (size_t index = 0; index < sources.size(); ++index) {
+        per_light[index] = bsdf.has_lobes() ? source_light(sources[index], index, bsdf, p, frame,
+                                                           wo, sampling, unmasked)
+                                            : Color(0.0f);
+    }
+    return unlit_point(bsdf, frame, ambient, background);
 }
 
 }  // namespace svetlo

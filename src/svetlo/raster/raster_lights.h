@@ -35,4 +35,16 @@ Color shade_point(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame, vec3 wo,
                   const RasterLights& lights, Color ambient, Color background,
                   const LightVisibility& vis = {}, size_t sample = 0);
 
+/// What shade_point adds to the lights: emission, the ambient term, and what mirrors and glass
+/// show of the background.
+Color unlit_point(const Bsdf& bsdf, const ShadingFrame& frame, Color ambient, Color background);
+
+/// shade_point with each light apart: returns unlit_point, and each source's term, unmasked,
+/// into per_light[index] for every index of lights.set.sources() (flat and Gouraud shading
+/// under a shadow technique, which mask each light's term per sample). Each term is computed
+/// once, as shade_point computes it.
+Color shade_point_per_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame, vec3 wo,
+                            const RasterLights& lights, Color ambient, Color background,
+                            Color* per_light);
+
 }  // namespace svetlo

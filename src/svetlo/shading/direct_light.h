@@ -35,29 +35,35 @@ inline Color unoccluded_light(const Bsdf& bsdf, const ShadingFrame& frame, vec3 
     return eval_bsdf(bsdf, frame.ns, wo, s.wi) * s.irradiance * cos_theta;
 }
 
-/// The direct light at p. `sampling` says how each source is sampled: `int count(index,
-/// source)` samples, and `LightSample sample(index, source, k, p)` for the k-th, `index` being
-/// the source's in lights.sources(). `visible(index, sample)` returns V in [0, 1]; it is asked
-/// only for samples that bring light.
+/// The direct light at p from one source, the one at `index` in lights.sources(): the mean of
+/// f E cos(theta) V over its samples. `sampling` says how a source is sampled: `int
+/// count(index, source)` samples, and `LightSample sample(index, source, k, p)` for the k-th.
+/// `visible(index, sample)` returns V in [0, 1]; it is asked only for samples that bring light.
+/// The caller has checked that the BSDF has lobes.
+template <class Sampling, class Visibility>
+Color source_light(const LightSet::Source& source, size_t index, const Bsdf& bsdf, vec3 p,
+                   const ShadingFrame& frame, vec3 wo, Sampling& sampling, Visibility& visible) {
+    const int n = sampling.count(index, source);
+    Color sum(0.0f);
+    for (int k = 0; k < n; ++k) {
+        LightSample s = sampling.sample(index, source, k, p);
+        Color c = unoccluded_light(bsdf, frame, wo, s);
+        if (is_black(c)) continue;
+        float v = visible(index, s);
+        if (v > 0.0f) sum += v == 1.0f ? c : c * v;
+    }
+    return n == 1 ? sum : sum / static_cast<float>(n);
+}
+
+/// The direct light at p: source_light summed over every source.
 template <class Sampling, class Visibility>
 Color direct_light(const LightSet& lights, const Bsdf& bsdf, vec3 p, const ShadingFrame& frame,
                    vec3 wo, Sampling&& sampling, Visibility&& visible) {
     Color L(0.0f);
     if (!bsdf.has_lobes()) return L;
     const auto& sources = lights.sources();
-    for (size_t index = 0; index < sources.size(); ++index) {
-        const LightSet::Source& source = sources[index];
-        const int n = sampling.count(index, source);
-        Color sum(0.0f);
-        for (int k = 0; k < n; ++k) {
-            LightSample s = sampling.sample(index, source, k, p);
-            Color c = unoccluded_light(bsdf, frame, wo, s);
-            if (is_black(c)) continue;
-            float v = visible(index, s);
-            if (v > 0.0f) sum += v == 1.0f ? c : c * v;
-        }
-        L += n == 1 ? sum : sum / static_cast<float>(n);
-    }
+    for (size_t index = 0; index < sources.size(); ++index)
+        L += source_light(sources[index], index, bsdf, p, frame, wo, sampling, visible);
     return L;
 }
 
