@@ -95,7 +95,7 @@ __m128i words(int l0, int l1, int l2, int l3, int l4, int l5, int l6, int l7) {
 
 }  // namespace
 
-size_t setup_depth_avx2(const FrameState& f, const uint32_t* indices, size_t count,
+size_t setup_depth_avx2(const PassGeometry& f, const uint32_t* indices, size_t count,
                         DepthTriangle* out, uint32_t* others, size_t& other_count) {
     static_assert(sizeof(ScreenVertex) == 16);
     const auto& b = f.sample_bounds;
@@ -214,7 +214,7 @@ size_t setup_depth_avx2(const FrameState& f, const uint32_t* indices, size_t cou
     return n;
 }
 
-void rasterize_depth_avx2(const FrameState& f, const Tile& tile, TileBuffers& buf) {
+void rasterize_depth_avx2(const PassGeometry& f, const Tile& tile, TileBuffers& buf) {
     // The record's rx[0..2], ry[0..2] as 16-bit lanes 0-5 of a load from rx (lanes 6-7: the
     // plane's first float, unused). Edge k runs from vertex i = k + 1 to j = k + 2: in 32-bit
     // lane k, the pairs (rx_i, ry_i) and (rx_j, ry_j) (lane 3 repeats lane 2, unused).

@@ -33,7 +33,7 @@ void prepare_pass(const TriangleList& list, const CameraMatrices& camera,
 }
 
 /// The tight bounds of a pattern's sample offsets in their pixel (setup_triangle's bounds).
-void fit_sample_bounds(FrameState& f, const std::vector<SamplePattern>& passes) {
+void fit_sample_bounds(PassGeometry& f, const std::vector<SamplePattern>& passes) {
     auto& b = f.sample_bounds;
     b = {glm::ivec2(kSubpixel), glm::ivec2(-1), 0};
     for (const SamplePattern& sp : passes) {

@@ -7,7 +7,7 @@
 
 namespace svetlo::raster {
 
-const Bsdf& material_at(const FrameState& f, uint32_t m, vec2 uv, vec2 duv_dx, vec2 duv_dy,
+const Bsdf& material_at(const FrameShading& f, uint32_t m, vec2 uv, vec2 duv_dx, vec2 duv_dy,
                         Bsdf& scratch) {
     if (!f.textured[m]) return f.constant_bsdf[m];
     TextureLookup lookup{f.scene->textures, f.mips.empty() ? nullptr : &f.mips, duv_dx, duv_dy};
@@ -15,19 +15,19 @@ const Bsdf& material_at(const FrameState& f, uint32_t m, vec2 uv, vec2 duv_dx, v
     return scratch;
 }
 
-const Bsdf& material_for_vertices(const FrameState& f, uint32_t m, vec2 uv, Bsdf& scratch) {
+const Bsdf& material_for_vertices(const FrameShading& f, uint32_t m, vec2 uv, Bsdf& scratch) {
     if (!f.modulate[m]) return material_at(f, m, uv, vec2(0.0f), vec2(0.0f), scratch);
     scratch = make_bsdf(f.lit_white[m], uv, TextureLookup{f.scene->textures});
     return scratch;
 }
 
-Color light_point(const FrameState& f, const Bsdf& bsdf, vec3 p, vec3 wo, vec3 ng, vec3 ns,
+Color light_point(const FrameShading& f, const Bsdf& bsdf, vec3 p, vec3 wo, vec3 ng, vec3 ns,
                   const LightVisibility& vis, size_t sample) {
     return shade_point(bsdf, p, make_shading_frame(ng, ns, wo), wo, *f.lights,
                        f.scene->render.ambient, f.scene->render.background, vis, sample);
 }
 
-Color light_point_per_light(const FrameState& f, const Bsdf& bsdf, vec3 p, vec3 wo, vec3 ng,
+Color light_point_per_light(const FrameShading& f, const Bsdf& bsdf, vec3 p, vec3 wo, vec3 ng,
                             vec3 ns, Color* per_light) {
     return shade_point_per_light(bsdf, p, make_shading_frame(ng, ns, wo), wo, *f.lights,
                                  f.scene->render.ambient, f.scene->render.background, per_light);

@@ -13,17 +13,17 @@ namespace svetlo::raster {
 
 /// The material's BRDF at a point: the per-material constant one, or (in `scratch`) textures
 /// evaluated with the footprint when the rasterizer has one.
-const Bsdf& material_at(const FrameState& f, uint32_t m, vec2 uv, vec2 duv_dx, vec2 duv_dy,
+const Bsdf& material_at(const FrameShading& f, uint32_t m, vec2 uv, vec2 duv_dx, vec2 duv_dy,
                         Bsdf& scratch);
 
 /// The same for lighting a vertex or a face in flat and Gouraud shading: with the base colour's
-/// texture made white, when the fragments modulate by it (FrameState::modulate).
-const Bsdf& material_for_vertices(const FrameState& f, uint32_t m, vec2 uv, Bsdf& scratch);
+/// texture made white, when the fragments modulate by it (FrameShading::modulate).
+const Bsdf& material_for_vertices(const FrameShading& f, uint32_t m, vec2 uv, Bsdf& scratch);
 
 /// Lit colour at a point with unit geometric normal ng (the counter-clockwise side) and
 /// shading normal ns (unit or zero), seen from the camera along -wo (shading_frame.h).
 /// Each light's term is multiplied by its visibility at `sample` of the tile.
-Color light_point(const FrameState& f, const Bsdf& bsdf, vec3 p, vec3 wo, vec3 ng, vec3 ns,
+Color light_point(const FrameShading& f, const Bsdf& bsdf, vec3 p, vec3 wo, vec3 ng, vec3 ns,
                   const LightVisibility& vis = {}, size_t sample = 0);
 
 /// Flat shading: one normal and one colour per face, lit at the centroid of the triangle of
@@ -34,7 +34,7 @@ Color flat_colour(const FrameState& f, const uint32_t idx[3], uint32_t material,
 
 /// Emission and ambient at a point, and each light's term alone into per_light[0, f.sources)
 /// (flat and Gouraud shading under a shadow technique).
-Color light_point_per_light(const FrameState& f, const Bsdf& bsdf, vec3 p, vec3 wo, vec3 ng,
+Color light_point_per_light(const FrameShading& f, const Bsdf& bsdf, vec3 p, vec3 wo, vec3 ng,
                             vec3 ns, Color* per_light);
 
 /// Perspective-correct weights of a sample: the screen barycentrics over w (q), and

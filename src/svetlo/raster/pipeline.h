@@ -99,13 +99,11 @@ struct PassMemory::Buffers {
 
 namespace svetlo::raster {
 
-/// Everything the tiles of a pass read, made once per pass: the set-up triangles in their
-/// bins, and for the frame's colour pass the shading state.
-struct FrameState {
-    // The pass.
-    CameraMatrices cam;
-    CullMode cull = CullMode::None;
-    // The shading (a pass without colour leaves it empty, with mode Depth).
+/// What the shading stages read (the vertex stage's lighting, flat faces, the fragments),
+/// made once per frame by prepare_shading (raster_engine.cpp): the materials as BSDFs and
+/// textures, and the lights. A pass without colour (depth, stencil) leaves it empty, with
+/// mode Depth.
+struct FrameShading {
     const Scene* scene = nullptr;
     Mode mode = Mode::Depth;
     std::vector<Material> materials;    // the light set's: the scene's, then the area lights'
@@ -127,12 +125,19 @@ struct FrameState {
     // Flat and Gouraud shading under a shadow technique light each face or vertex once per
     // light, so that each light's term can be multiplied by its mask per sample (as OpenGL's
     // one additive pass per light): the vertex colours and face colours then hold emission and
-    // ambient only, and these each light's term, `sources` per vertex or triangle of the list.
+    // ambient only, and PassGeometry::vertex_light and face_light each light's term, `sources`
+    // per vertex or triangle of the list.
     bool per_light = false;
     size_t sources = 0;
     const TriangleList* list = nullptr;
-    std::vector<Color> vertex_light;  // Gouraud: per list vertex
-    LargeArray<Color> face_light;     // flat: per list triangle
+};
+
+/// What the geometry stages make of one pass (stages 2 to 4: draw_pass.cpp, vertex_stage.cpp,
+/// setup_binning.cpp) and the rasterizer reads (stage 5): the camera, the transformed and
+/// projected vertices, the set-up triangles and their bins.
+struct PassGeometry {
+    CameraMatrices cam;
+    CullMode cull = CullMode::None;
     // Stages 2 to 4.
     LargeArray<ClipVertex> vertices;       // the vertex stage's output, one per list vertex
     LargeArray<ScreenVertex> screen;       // the same vertices projected (when inside)
@@ -144,6 +149,9 @@ struct FrameState {
     std::vector<uint32_t> clipped_source;  // the input triangle each clipped one comes from
     std::vector<std::pair<uint32_t, uint32_t>> clipped_range;  // per chunk, into `clipped`
     size_t triangle_count = 0;                                 // set up and drawn
+    // Each light's term apart (FrameShading::per_light).
+    std::vector<Color> vertex_light;  // Gouraud: per list vertex
+    LargeArray<Color> face_light;     // flat: per list triangle
     // A depth-only pass (one sample per pixel at sample_bounds.lo, depth tested and written,
     // nothing else kept, as a shadow map's): with AVX2, its small, unclipped triangles are set
     // up eight at a time as DepthTriangles instead, chunk c's from depth_tris[c kChunk] on,
@@ -183,6 +191,11 @@ struct FrameState {
         return id < tris.size() ? flat[id] : clipped_flat[id - tris.size()];
     }
 };
+
+/// Everything the stages of a frame read: the shading, made once per frame, and the pass's
+/// geometry. Each stage is given the part it reads (FrameShading, PassGeometry) where it
+/// reads one only.
+struct FrameState : FrameShading, PassGeometry {};
 
 /// A face normal made unit, or +z for a face of no area.
 inline vec3 unit_or_z(vec3 n) {
@@ -349,7 +362,7 @@ inline int64_t sample_y(const Tile& tile, size_t pixel, const SamplePattern& sp,
 /// The edges of the last triangle asked for: neighbouring samples mostly share a triangle.
 class EdgeCache {
 public:
-    explicit EdgeCache(const FrameState& f) : f_(f) {}
+    explicit EdgeCache(const PassGeometry& f) : f_(f) {}
     const TriangleEdges& of(uint32_t id) {
         if (id != id_) {
             edges_ = TriangleEdges(f_.tri(id));
@@ -359,27 +372,27 @@ public:
     }
 
 private:
-    const FrameState& f_;
+    const PassGeometry& f_;
     uint32_t id_ = kNone;
     TriangleEdges edges_;
 };
 
 /// The unit direction from world point p toward the camera.
-inline vec3 view_direction(const FrameState& f, vec3 p) {
+inline vec3 view_direction(const PassGeometry& f, vec3 p) {
     return f.cam.orthographic ? -f.cam.forward : glm::normalize(f.cam.eye - p);
 }
 
 /// The guard band in clip space: |x| <= guard_x w, |y| <= guard_y w.
-inline float guard_x(const FrameState& f) {
+inline float guard_x(const PassGeometry& f) {
     return 1.0f + 2.0f * kGuardPixels / static_cast<float>(f.cam.width);
 }
-inline float guard_y(const FrameState& f) {
+inline float guard_y(const PassGeometry& f) {
     return 1.0f + 2.0f * kGuardPixels / static_cast<float>(f.cam.height);
 }
 
 /// Stage 2 for positions: perspective division, viewport and snapping of a vertex inside the
 /// near plane (w > 0).
-ScreenVertex project(const FrameState& f, const ClipVertex& cv);
+ScreenVertex project(const PassGeometry& f, const ClipVertex& cv);
 /// Stages 2 to 4 of a draw (draw_pass.cpp): the camera and the state into f, then the vertex
 /// stage, clipping, setup and binning.
 void prepare_pass(const TriangleList& list, const CameraMatrices& camera,
@@ -390,7 +403,7 @@ void draw_samples(const TriangleList& list, const CameraMatrices& camera,
                   const PipelineState& state, RenderTargets& targets, int threads,
                   const SamplePattern& sp, PassMemory* memory = nullptr);
 /// Bounds of triangles tight around the samples of `passes` (none but the wireframe's margin).
-void fit_sample_bounds(FrameState& f, const std::vector<SamplePattern>& passes);
+void fit_sample_bounds(PassGeometry& f, const std::vector<SamplePattern>& passes);
 
 /// Stage 2 (vertex_stage.cpp): the vertex stage over every vertex of the list.
 void vertex_stage(const TriangleList& list, FrameState& f, int threads);
@@ -402,23 +415,23 @@ void assemble(const TriangleList& list, FrameState& f, int threads);
 /// bounds, facing and culling of setup_triangle); those not inside, or not small, are listed
 /// in others[other_count...] (offsets from the first, in order) for the caller; the rest draw
 /// nothing. Only the first count - count % 8 are looked at.
-size_t setup_depth_avx2(const FrameState& f, const uint32_t* indices, size_t count,
+size_t setup_depth_avx2(const PassGeometry& f, const uint32_t* indices, size_t count,
                         DepthTriangle* out, uint32_t* others, size_t& other_count);
 /// A depth-only pass's records binned in the tile, with AVX2 (depth_pass_avx2.cpp; only where
 /// avx2_available()): 4 x 2 pixels at a time, the same depths as rasterize_small.
-void rasterize_depth_avx2(const FrameState& f, const Tile& tile, TileBuffers& buf);
+void rasterize_depth_avx2(const PassGeometry& f, const Tile& tile, TileBuffers& buf);
 /// count_stencil's count over the pixels r of a tile (its edge functions in 64-bit lanes where
 /// `wide`, else 32-bit ones) with AVX2, 4 x 2 pixels at a time (stencil_count_avx2.cpp; only
 /// where avx2_available()): the same counts.
 void count_block_avx2(const StencilCount& c, PixelSpan r, unsigned crossing, bool all_fail,
                       bool wide, TileBuffers& buf);
 /// Stage 4 for the painter's algorithm: binned again, back to front.
-void bin_back_to_front(FrameState& f, int threads);
+void bin_back_to_front(PassGeometry& f, int threads);
 /// Calls draw(id, record(id)) for every id of `bins` binned in tile `ti`, in drawing order.
 template <class Record, class Draw>
-void for_each_in_bins(const std::vector<FrameState::Bins>& bins, size_t ti, Record&& record,
+void for_each_in_bins(const std::vector<PassGeometry::Bins>& bins, size_t ti, Record&& record,
                       Draw&& draw) {
-    for (const FrameState::Bins& b : bins) {
+    for (const PassGeometry::Bins& b : bins) {
         const uint32_t end = b.start[ti + 1];
         for (uint32_t k = b.start[ti]; k < end; ++k) {
             // The triangles of a tile are scattered over the frame's: fetch ahead.
@@ -430,17 +443,17 @@ void for_each_in_bins(const std::vector<FrameState::Bins>& bins, size_t ti, Reco
 }
 /// Calls draw(id, triangle) for every triangle binned in the tile, in drawing order.
 template <class Draw>
-void for_each_binned(const FrameState& f, const Tile& tile, Draw&& draw) {
+void for_each_binned(const PassGeometry& f, const Tile& tile, Draw&& draw) {
     const size_t ti = static_cast<size_t>(tile.y0 / kTile) * f.tiles_x + tile.x0 / kTile;
     for_each_in_bins(
         f.bins, ti, [&](uint32_t id) -> const SetupTriangle& { return f.tri(id); }, draw);
 }
 /// Stage 5 (rasterize.cpp): every triangle binned in the tile, in order, into its buffers.
 /// Passes with the stencil on or depth writes off take rasterize_tile_stencil.
-void rasterize_tile(const FrameState& f, const Tile& tile, const SamplePattern& sp,
+void rasterize_tile(const PassGeometry& f, const Tile& tile, const SamplePattern& sp,
                     const PipelineState& state, TileBuffers& buf);
 /// rasterize_tile for a pass with the stencil on or depth writes off (rasterize_stencil.cpp).
-void rasterize_tile_stencil(const FrameState& f, const Tile& tile, const SamplePattern& sp,
+void rasterize_tile_stencil(const PassGeometry& f, const Tile& tile, const SamplePattern& sp,
                             const PipelineState& state, TileBuffers& buf);
 
 }  // namespace svetlo::raster

@@ -52,7 +52,7 @@ void split_vertices_by_material(TriangleList& list) {
 
 /// Stage 1: the scene-wide triangle list of every object, then the area lights as one-sided
 /// emissive quads (the ray tracer shows them too). Makes the light set and its VPLs.
-TriangleList tessellate_scene(const Scene& scene, FrameState& f, int threads) {
+TriangleList tessellate_scene(const Scene& scene, FrameShading& f, int threads) {
     const TessellationOptions options = tessellation_options(scene.render);
     // Refuse what would not fit in memory before making it (a fine tessellation of many shapes).
     uint64_t total = 0;
@@ -96,7 +96,7 @@ auto* base_color(M& material) {
 /// The shading state of the frame's colour pass: constant BRDFs made once, mip chains when a
 /// texture is filtered with them, and what the SIMD fast path takes (constant Lambert and
 /// Phong-family materials under point, spot and directional lights only).
-void prepare_shading(const Scene& scene, FrameState& f) {
+void prepare_shading(const Scene& scene, FrameShading& f) {
     // GL_MODULATE for flat and Gouraud shading: the base colour's texture, if any.
     for (const Material& m : f.materials) {
         const ColorSource* base = base_color(m);

@@ -311,7 +311,7 @@ SamplePattern sample_pattern(int spp, uint64_t seed, int first, int count) {
     return p;
 }
 
-void rasterize_tile(const FrameState& f, const Tile& tile, const SamplePattern& sp,
+void rasterize_tile(const PassGeometry& f, const Tile& tile, const SamplePattern& sp,
                     const PipelineState& state, TileBuffers& buf) {
     if (state.stencil.enabled || !state.depth_write) {
         rasterize_tile_stencil(f, tile, sp, state, buf);

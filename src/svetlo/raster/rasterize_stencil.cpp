@@ -275,7 +275,7 @@ void rasterize_stencil(uint32_t id, const SetupTriangle& t, const TriangleEdges&
 
 }  // namespace
 
-void rasterize_tile_stencil(const FrameState& f, const Tile& tile, const SamplePattern& sp,
+void rasterize_tile_stencil(const PassGeometry& f, const Tile& tile, const SamplePattern& sp,
                             const PipelineState& state, TileBuffers& buf) {
     for_each_binned(f, tile, [&](uint32_t id, const SetupTriangle& t) {
         const PixelSpan span = span_in(t, tile);

@@ -12,7 +12,7 @@ void draw_wireframe(const FrameState& f, const Tile& tile, TileBuffers& buf, int
     Color wire = f.scene->render.raster.wireframe_color;
     int tw = tile.x1 - tile.x0;
     size_t ti = static_cast<size_t>(tile.y0 / kTile) * f.tiles_x + tile.x0 / kTile;
-    for (const FrameState::Bins& bins : f.bins) {
+    for (const PassGeometry::Bins& bins : f.bins) {
         for (uint32_t n = bins.start[ti]; n < bins.start[ti + 1]; ++n) {
             const SetupTriangle& t = f.tri(bins.ids[n]);
             for (int e = 0; e < 3; ++e) {

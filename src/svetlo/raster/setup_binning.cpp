@@ -12,7 +12,7 @@ namespace svetlo::raster {
 namespace {
 
 /// Stage 3 for one triangle: screen area, culling and bounds. False when it draws nothing.
-bool setup_triangle(const FrameState& f, const ScreenVertex* sv[3], const uint32_t index[3],
+bool setup_triangle(const PassGeometry& f, const ScreenVertex* sv[3], const uint32_t index[3],
                     uint32_t material, SetupTriangle& t) {
     t.make_empty();  // until set up
     for (int i = 0; i < 3; ++i) {
@@ -72,7 +72,7 @@ Binned binned(uint32_t id, const Record& t) {
 /// corner of the tile's sample positions where it is largest (exact, in 64 bits). A long,
 /// thin triangle (a shadow volume's side) crosses its bounds' tiles on a diagonal; the others
 /// are left out.
-bool reaches(const FrameState& f, const TriangleEdges& te, size_t tx, size_t ty) {
+bool reaches(const PassGeometry& f, const TriangleEdges& te, size_t tx, size_t ty) {
     const auto& b = f.sample_bounds;
     const int64_t x0 = static_cast<int64_t>(tx) * kTile * kSubpixel + b.lo.x,
                   y0 = static_cast<int64_t>(ty) * kTile * kSubpixel + b.lo.y;
@@ -91,7 +91,7 @@ bool reaches(const FrameState& f, const TriangleEdges& te, size_t tx, size_t ty)
 /// beside the edges). A depth-only pass's records are small and not tested (`triangle`
 /// null).
 template <class Triangle = std::nullptr_t>
-void bin_chunk(const FrameState& f, const std::vector<Binned>& tris, FrameState::Bins& b,
+void bin_chunk(const PassGeometry& f, const std::vector<Binned>& tris, PassGeometry::Bins& b,
                Triangle&& triangle = nullptr) {
     size_t tiles = static_cast<size_t>(f.tiles_x) * f.tiles_y;
     b.start.assign(tiles + 1, 0);
@@ -270,7 +270,7 @@ void assemble(const TriangleList& list, FrameState& f, int threads) {
 /// Stage 4 for the painter's algorithm: every triangle sorted back to front by the
 /// centroid's depth (ties keep the submission order), then binned again chunk by chunk.
 /// (The z-buffer's bins are made by `assemble`, each chunk's right after its setup.)
-void bin_back_to_front(FrameState& f, int threads) {
+void bin_back_to_front(PassGeometry& f, int threads) {
     std::vector<uint32_t> order;
     order.reserve(f.triangle_count);
     auto main_count = static_cast<uint32_t>(f.tris.size());

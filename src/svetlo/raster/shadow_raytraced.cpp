@@ -13,7 +13,7 @@ namespace {
 
 class RaytracedShadows final : public ShadowTechniqueState {
 public:
-    RaytracedShadows(const Scene& scene, const TriangleList& list, const FrameState& f,
+    RaytracedShadows(const Scene& scene, const TriangleList& list, const FrameShading& f,
                      int threads) {
         casters_ = shadow_casters(scene, f.lights->set, f.lights->vpls);
         geometry_ = triangle_geometry(list);
@@ -50,7 +50,7 @@ private:
 
 std::unique_ptr<ShadowTechniqueState> make_raytraced_shadows(const Scene& scene,
                                                              const TriangleList& list,
-                                                             const FrameState& f, int threads,
+                                                             const FrameShading& f, int threads,
                                                              PassMemory*) {
     return std::make_unique<RaytracedShadows>(scene, list, f, threads);
 }

@@ -12,7 +12,7 @@ namespace svetlo::raster {
 /// Shadow rays from each sample to each caster (the VPLs of lights with area).
 std::unique_ptr<ShadowTechniqueState> make_raytraced_shadows(const Scene& scene,
                                                              const TriangleList& list,
-                                                             const FrameState& f, int threads,
+                                                             const FrameShading& f, int threads,
                                                              PassMemory* memory);
 /// Depth maps from each caster, made now (one depth pass per map).
 std::unique_ptr<ShadowTechniqueState> make_shadow_maps(const Scene& scene, const TriangleList& list,

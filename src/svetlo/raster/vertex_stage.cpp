@@ -6,7 +6,7 @@
 
 namespace svetlo::raster {
 
-ScreenVertex project(const FrameState& f, const ClipVertex& cv) {
+ScreenVertex project(const PassGeometry& f, const ClipVertex& cv) {
     vec3 ndc = vec3(cv.clip) * cv.invw;
     vec2 px = f.cam.to_pixels(vec2(ndc));
     ScreenVertex s;
