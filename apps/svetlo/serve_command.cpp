@@ -148,6 +148,9 @@ int run_serve(const ServeArgs& args) {
     http.Get("/api/render", [&](const httplib::Request& req, httplib::Response& res) {
         try {
             RenderJob job = request_job(server, req);
+            // aov=NAME: that buffer instead of the image, drawn as its PNG would be.
+            const std::string aov = req.get_param_value("aov");
+            if (!aov.empty()) request_aov(job, aov, job.run.scene_file.string(), "aov");
             // This client's newer request supersedes the one in progress: it is cancelled.
             auto cancel = std::make_shared<std::atomic<bool>>(false);
             const std::string client = req.get_param_value("client");
@@ -163,9 +166,14 @@ int run_serve(const ServeArgs& args) {
             // JPEG while the view moves (fast), PNG when it is still (lossless).
             const bool jpeg = req.get_param_value("format") == "jpeg";
             const auto t0 = std::chrono::steady_clock::now();
-            const std::vector<unsigned char> bytes =
-                jpeg ? encode_jpeg(result.color, job.scene.render.exposure, 90)
-                     : encode_png(result.color, PixelMeaning::Radiance, job.scene.render.exposure);
+            Image buffer;
+            if (!aov.empty()) buffer = aov_for_display(aov, result.aovs.at(aov));
+            const Image& shown = aov.empty() ? result.color : buffer;
+            const PixelMeaning meaning =
+                aov.empty() || aov == "albedo" ? PixelMeaning::Radiance : PixelMeaning::Data;
+            const float exposure = aov.empty() ? job.scene.render.exposure : 1.0f;
+            const std::vector<unsigned char> bytes = jpeg ? encode_jpeg(shown, meaning, exposure, 90)
+                                                          : encode_png(shown, meaning, exposure);
             const double encode =
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
             res.set_header("X-Svetlo-Seconds", std::to_string(result.stats.seconds));

@@ -199,10 +199,33 @@ def main():
                   v and v[:2])
             if v:
                 views.append(v)
+        # The shadow map's bias slider (peter-panning at its top), then its depth map one
+        # click away, then the image again.
+        set_control(tab, "shadows", "map", "change")
+        v = wait_view(tab, views[-1][2])
+        if v:
+            views.append(v)
+        tab.eval("(() => { const e = document.querySelector('[data-key=\"render.shadow_map.bias\"]');"
+                 " e.value = 100; e.dispatchEvent(new Event('input')); })()")
+        v = wait_view(tab, views[-1][2])
+        check("the shadow map's bias slider changes the pixels", v is not None and v[0] != views[-1][0],
+              v and v[:2])
+        if v:
+            views.append(v)
+        for value in ["shadow_map", ""]:
+            set_control(tab, "aov", value, "change")
+            v = wait_view(tab, views[-1][2])
+            check("buffer '%s' changes the pixels" % value, v is not None and v[0] != views[-1][0],
+                  v and v[:2])
+            if v:
+                views.append(v)
+            if value:
+                check("the buffer is in the query string", "aov=" + value in tab.eval("location.search"))
         final = settle(tab)
         search = tab.eval("location.search")
         check("the controls write the query string",
-              "engine=raster" in search and "render.shading" in search and "spp=1" in search, search)
+              "engine=raster" in search and "render.shading" in search and "spp=1" in search and
+              "render.shadow_map.bias" in search, search)
         command = tab.eval("document.getElementById('command').textContent")
         check("the command line of the view", command.startswith("svetlo render shadows.json"), command)
 

@@ -253,9 +253,9 @@ void append_bytes(void* context, void* data, int size) {
 
 }  // namespace
 
-std::vector<unsigned char> encode_jpeg(const Image& image, float exposure, int quality) {
-    const std::vector<unsigned char> bytes =
-        eight_bit_bytes(image, PixelMeaning::Radiance, exposure);
+std::vector<unsigned char> encode_jpeg(const Image& image, PixelMeaning meaning, float exposure,
+                                       int quality) {
+    const std::vector<unsigned char> bytes = eight_bit_bytes(image, meaning, exposure);
     std::vector<unsigned char> jpeg;
     if (!stbi_write_jpg_to_func(append_bytes, &jpeg, image.width, image.height, 3, bytes.data(),
                                 quality))

@@ -48,9 +48,11 @@ void write_image(const std::filesystem::path& path, const Image& image, PixelMea
 std::vector<unsigned char> encode_png(const Image& image, PixelMeaning meaning, float exposure,
                                       const std::string& metadata = {});
 
-/// The bytes of a radiance image as a JPEG of `quality` (1-100), encoded as a PNG's pixels
-/// are (exposure, clipping, sRGB): fast and lossy, for the viewer while the view moves.
-std::vector<unsigned char> encode_jpeg(const Image& image, float exposure, int quality);
+/// The bytes of an image as a JPEG of `quality` (1-100), its pixels made as a PNG's are
+/// (radiance: exposure, clipping, sRGB; data: clipping): fast and lossy, for the viewer while
+/// the view moves.
+std::vector<unsigned char> encode_jpeg(const Image& image, PixelMeaning meaning, float exposure,
+                                       int quality);
 
 /// The metadata that write_image stored with the image, empty when there is none.
 std::string read_image_metadata(const std::filesystem::path& path, const std::string& where);
