@@ -25,8 +25,10 @@
 #include "flags.h"
 #include "interrupt.h"
 #include "render_job.h"
+#include "sheet.h"
 #include "svetlo/core/error.h"
 #include "svetlo/core/image_io.h"
+#include "svetlo/core/image_metrics.h"
 #include "svetlo/core/sha256.h"
 #include "svetlo/geometry/accel_cache.h"
 
@@ -67,15 +69,22 @@ fs::path scene_path(const Server& server, const std::string& name) {
 }
 
 /// The request's job: the scene, then the engine, spp, film and --set overrides, checked as
-/// the command line checks them.
-RenderJob request_job(Server& server, const httplib::Request& req) {
+/// the command line checks them. `side` "b" makes the B side of an A/B comparison: the
+/// engine of `b_engine` and the sets of `b_set` after the request's own.
+RenderJob request_job(Server& server, const httplib::Request& req, const std::string& side = "") {
     const fs::path path = scene_path(server, req.get_param_value("scene"));
     const std::string file = path.string();
     std::vector<std::string> sets;
     for (size_t k = 0; k < req.get_param_value_count("set"); ++k)
         sets.push_back(req.get_param_value("set", k));
+    std::string engine = req.get_param_value("engine");
+    if (side == "b") {
+        for (size_t k = 0; k < req.get_param_value_count("b_set"); ++k)
+            sets.push_back(req.get_param_value("b_set", k));
+        if (req.has_param("b_engine")) engine = req.get_param_value("b_engine");
+    }
     std::vector<Override> overrides = parse_sets(sets, file);
-    add_flag_overrides(file, {}, {}, overrides, req.get_param_value("engine"));
+    add_flag_overrides(file, {}, {}, overrides, engine);
     auto integer = [&](const char* name, const char* key, long long lo, long long hi) {
         if (!req.has_param(name)) return;
         const long long v = flag_integer(file, name, req.get_param_value(name), lo, hi);
@@ -172,8 +181,9 @@ int run_serve(const ServeArgs& args) {
             const PixelMeaning meaning =
                 aov.empty() || aov == "albedo" ? PixelMeaning::Radiance : PixelMeaning::Data;
             const float exposure = aov.empty() ? job.scene.render.exposure : 1.0f;
-            const std::vector<unsigned char> bytes = jpeg ? encode_jpeg(shown, meaning, exposure, 90)
-                                                          : encode_png(shown, meaning, exposure);
+            const std::vector<unsigned char> bytes = jpeg
+                                                         ? encode_jpeg(shown, meaning, exposure, 90)
+                                                         : encode_png(shown, meaning, exposure);
             const double encode =
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
             res.set_header("X-Svetlo-Seconds", std::to_string(result.stats.seconds));
@@ -186,6 +196,33 @@ int run_serve(const ServeArgs& args) {
             fail(res, 400, e.what());
         } catch (const std::exception& e) {
             fail(res, 500, std::string("svetlo: internal: ") + e.what());
+        }
+    });
+    // A/B: both sides rendered (one after the other, sharing the caches), their metrics as
+    // svetlo diff gives them (B against A), and the images and ꟻLIP's error map inline.
+    http.Get("/api/diff", [&](const httplib::Request& req, httplib::Response& res) {
+        try {
+            RenderJob a = request_job(server, req), b = request_job(server, req, "b");
+            if (a.scene.film.width != b.scene.film.width ||
+                a.scene.film.height != b.scene.film.height)
+                throw Error(a.run.scene_file.string(), "b_set", "B's film differs from A's");
+            const RenderResult ra = run_job(a), rb = run_job(b);
+            const ImageComparison c = compare_images(rb.color, ra.color, false, a.options.threads);
+            nlohmann::ordered_json j = {
+                {"mae", c.pixels.mae},
+                {"rmse", c.pixels.rmse},
+                {"relmse", c.pixels.relmse},
+                {"flip", c.flip.mean},
+                {"seconds", {ra.stats.seconds, rb.stats.seconds}},
+                {"a", png_data_url(ra.color, PixelMeaning::Radiance, a.scene.render.exposure)},
+                {"b", png_data_url(rb.color, PixelMeaning::Radiance, b.scene.render.exposure)},
+                {"error",
+                 png_data_url(false_color(c.flip.error, ra.color.width, ra.color.height, 1.0f),
+                              PixelMeaning::Data, 1.0f)}};
+            res.set_header("Cache-Control", "no-store");
+            res.set_content(j.dump(), "application/json");
+        } catch (const Error& e) {
+            fail(res, 400, e.what());
         }
     });
     http.Get("/api/trace", [&](const httplib::Request& req, httplib::Response& res) {

@@ -31,10 +31,6 @@ std::string base64(const std::vector<unsigned char>& bytes) {
     return out;
 }
 
-std::string png_data_url(const Image& image, PixelMeaning meaning, float exposure) {
-    return "data:image/png;base64," + base64(encode_png(image, meaning, exposure));
-}
-
 std::string escape_html(const std::string& text) {
     std::string out;
     for (char c : text) {
@@ -74,6 +70,10 @@ std::array<std::string, 2> numbers(const SheetEntry& e) {
 const char* kCurveColors[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b"};
 
 }  // namespace
+
+std::string png_data_url(const Image& image, PixelMeaning meaning, float exposure) {
+    return "data:image/png;base64," + base64(encode_png(image, meaning, exposure));
+}
 
 std::string curves_svg(const Sheet& sheet) {
     double t0 = 1e300, t1 = 0.0, e0 = 1e300, e1 = 0.0;

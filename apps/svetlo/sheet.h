@@ -9,6 +9,7 @@
 
 #include "commands.h"
 #include "svetlo/core/image.h"
+#include "svetlo/core/image_io.h"
 
 namespace svetlo {
 
@@ -61,5 +62,9 @@ Image sheet_png(const Sheet& sheet);
 /// The error-against-time plot of the entries that have curves, as an SVG element (log-log
 /// axes, relMSE against seconds); empty when none has a curve.
 std::string curves_svg(const Sheet& sheet);
+
+/// An image as a PNG inside a data: URL, for pages that inline their images (the sheet, the
+/// viewer's A/B comparison).
+std::string png_data_url(const Image& image, PixelMeaning meaning, float exposure);
 
 }  // namespace svetlo

@@ -86,7 +86,7 @@ class Tab:
 # The pixels of #view once loaded: a hash, the count of non-black pixels, and its source.
 VIEW = """(() => {
   const img = document.getElementById('view');
-  if (!img || !img.src.startsWith('blob:') || !img.complete || !img.naturalWidth) return null;
+  if (!img || !/^(blob|data):/.test(img.src) || !img.complete || !img.naturalWidth) return null;
   const c = document.createElement('canvas');
   c.width = img.naturalWidth; c.height = img.naturalHeight;
   const g = c.getContext('2d'); g.drawImage(img, 0, 0);
@@ -221,6 +221,31 @@ def main():
                 views.append(v)
             if value:
                 check("the buffer is in the query string", "aov=" + value in tab.eval("location.search"))
+        # A/B: B in Phong shading against A; their ꟻLIP difference, then the split view.
+        set_control(tab, "bshading", "phong", "change")
+        v = wait_view(tab, views[-1][2])
+        if v:
+            views.append(v)
+        set_control(tab, "abview", "diff", "change")
+        v = wait_view(tab, views[-1][2])
+        check("the A/B difference shows ꟻLIP's error", v is not None and v[0] != views[-1][0] and
+              "ꟻLIP" in tab.eval("document.getElementById('status').textContent"), v and v[:2])
+        if v:
+            views.append(v)
+        set_control(tab, "abview", "split", "change")
+        v = wait_view(tab, views[-1][2])
+        shown_b = tab.eval("(() => { const b = document.getElementById('view-b');"
+                           " return !b.classList.contains('hidden') && b.src.startsWith('data:image/png')"
+                           " && b.complete && b.naturalWidth > 0; })()")
+        check("the split view shows B over A", v is not None and shown_b, (v and v[:2], shown_b))
+        if v:
+            views.append(v)
+        check("A/B is in the query string", "ab=split" in tab.eval("location.search") and
+              "b_set=" in tab.eval("location.search"))
+        set_control(tab, "abview", "", "change")
+        v = wait_view(tab, views[-1][2])
+        if v:
+            views.append(v)
         final = settle(tab)
         search = tab.eval("location.search")
         check("the controls write the query string",
