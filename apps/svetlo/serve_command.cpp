@@ -100,6 +100,58 @@ RenderJob request_job(Server& server, const httplib::Request& req, const std::st
     return job;
 }
 
+/// The cancel flag of a client's new request; its request in progress, if any, is cancelled
+/// (it ends after its pass). No client id: nothing to supersede.
+std::shared_ptr<std::atomic<bool>> supersede(Server& server, const std::string& client) {
+    auto cancel = std::make_shared<std::atomic<bool>>(false);
+    if (client.empty()) return cancel;
+    std::lock_guard lock(server.mutex);
+    auto& slot = server.current[client];
+    if (slot) slot->store(true);
+    slot = cancel;
+    return cancel;
+}
+
+/// A progressive render's frames as its passes come (docs/viewer.md, "Progressive display"):
+/// each a 4-byte big-endian length, a JSON header {"spp", "seconds", "final", "type"}, a
+/// 4-byte length and the image: a JPEG at most every 100 ms while it refines, a PNG at the
+/// end. A client gone, or a newer request of the same client, ends it after its pass.
+void stream_passes(RenderJob& job, std::atomic<bool>& cancel, httplib::DataSink& sink) {
+    using Clock = std::chrono::steady_clock;
+    auto last = Clock::now() - std::chrono::seconds(1);
+    auto write = [&](const std::string& bytes) {
+        const auto n = static_cast<uint32_t>(bytes.size());
+        const char length[4] = {static_cast<char>(n >> 24), static_cast<char>(n >> 16),
+                                static_cast<char>(n >> 8), static_cast<char>(n)};
+        if (!sink.is_writable() || !sink.write(length, 4) || !sink.write(bytes.data(), n))
+            cancel.store(true);
+    };
+    auto send = [&](int spp, double seconds, const Image& image, bool final) {
+        if (cancel.load()) return;
+        const float exposure = job.scene.render.exposure;
+        const std::vector<unsigned char> bytes =
+            final ? encode_png(image, PixelMeaning::Radiance, exposure)
+                  : encode_jpeg(image, PixelMeaning::Radiance, exposure, 90);
+        write(nlohmann::json{{"spp", spp},
+                             {"seconds", seconds},
+                             {"final", final},
+                             {"type", final ? "image/png" : "image/jpeg"}}
+                  .dump());
+        write(std::string(bytes.begin(), bytes.end()));
+    };
+    job.options.on_pass = [&](int passes, double seconds, const Image& image) {
+        if (Clock::now() - last < std::chrono::milliseconds(100)) return;
+        last = Clock::now();
+        send(passes, seconds, image, false);
+    };
+    try {
+        const RenderResult result = run_job(job);
+        send(reached_spp(job, result), result.stats.seconds, result.color, true);
+    } catch (const std::exception& e) {
+        write(nlohmann::json{{"error", e.what()}}.dump());
+    }
+}
+
 void fail(httplib::Response& res, int status, const std::string& message) {
     res.status = status;
     res.set_content(message + "\n", "text/plain; charset=utf-8");
@@ -161,14 +213,7 @@ int run_serve(const ServeArgs& args) {
             const std::string aov = req.get_param_value("aov");
             if (!aov.empty()) request_aov(job, aov, job.run.scene_file.string(), "aov");
             // This client's newer request supersedes the one in progress: it is cancelled.
-            auto cancel = std::make_shared<std::atomic<bool>>(false);
-            const std::string client = req.get_param_value("client");
-            if (!client.empty()) {
-                std::lock_guard lock(server.mutex);
-                auto& slot = server.current[client];
-                if (slot) slot->store(true);
-                slot = cancel;
-            }
+            auto cancel = supersede(server, req.get_param_value("client"));
             job.options.cancel = cancel.get();
             const RenderResult result = run_job(job);
             if (cancel->load()) return fail(res, 409, "superseded by a newer request");
@@ -196,6 +241,23 @@ int run_serve(const ServeArgs& args) {
             fail(res, 400, e.what());
         } catch (const std::exception& e) {
             fail(res, 500, std::string("svetlo: internal: ") + e.what());
+        }
+    });
+    // The same render, its passes streamed as they come (path; radiosity's solver).
+    http.Get("/api/progressive", [&](const httplib::Request& req, httplib::Response& res) {
+        try {
+            auto job = std::make_shared<RenderJob>(request_job(server, req));
+            auto cancel = supersede(server, req.get_param_value("client"));
+            job->options.cancel = cancel.get();
+            res.set_header("Cache-Control", "no-store");
+            res.set_chunked_content_provider("application/octet-stream",
+                                             [job, cancel](size_t, httplib::DataSink& sink) {
+                                                 stream_passes(*job, *cancel, sink);
+                                                 sink.done();
+                                                 return true;
+                                             });
+        } catch (const Error& e) {
+            fail(res, 400, e.what());
         }
     });
     // A/B: both sides rendered (one after the other, sharing the caches), their metrics as

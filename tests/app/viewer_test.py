@@ -246,6 +246,29 @@ def main():
         v = wait_view(tab, views[-1][2])
         if v:
             views.append(v)
+        # Progressive display: the path tracer at 64 spp shows its passes as they come.
+        set_control(tab, "spp", "6", "input")
+        set_control(tab, "engine", "path", "change")
+        seen, end = [], time.time() + 90
+        while time.time() < end:
+            text = tab.eval("document.getElementById('status').textContent")
+            m = re.match(r"path, (\d+) spp, .*(refining|done)", text or "")
+            if m and (not seen or seen[-1] != (int(m.group(1)), m.group(2))):
+                seen.append((int(m.group(1)), m.group(2)))
+            if m and m.group(2) == "done" and not tab.eval("window.svetloBusy()"):
+                break
+            time.sleep(0.02)
+        check("the path tracer's passes show as they come, to 64 spp",
+              len(seen) >= 3 and seen[-1] == (64, "done") and
+              all(a[0] <= b[0] for a, b in zip(seen, seen[1:])), seen)
+        v = wait_view(tab, views[-1][2])
+        if v:
+            views.append(v)
+        set_control(tab, "engine", "raster", "change")
+        set_control(tab, "spp", "0", "input")
+        v = wait_view(tab, views[-1][2])
+        if v:
+            views.append(v)
         final = settle(tab)
         search = tab.eval("location.search")
         check("the controls write the query string",
