@@ -49,8 +49,21 @@ struct Server {
     std::string default_scene;
     std::mutex mutex;                                                   // guards `current`
     std::map<std::string, std::shared_ptr<std::atomic<bool>>> current;  // per client: its render
-    MeshFileCache meshes;  // each mesh file read once (again when it changes)
-    AccelCache accels;     // a slider that moves no shape reuses the scene's BVH
+    MeshFileCache meshes;         // each mesh file read once (again when it changes)
+    AccelCache accels;            // a slider that moves no shape reuses the scene's BVH
+    std::atomic<int> renders{0};  // in progress (/api/status)
+};
+
+/// A render in progress, counted in Server::renders while it lives.
+class InProgress {
+public:
+    explicit InProgress(std::atomic<int>& count) : count_(count) { ++count_; }
+    ~InProgress() { --count_; }
+    InProgress(const InProgress&) = delete;
+    InProgress& operator=(const InProgress&) = delete;
+
+private:
+    std::atomic<int>& count_;
 };
 
 /// The scene NAME of a request, a regular file directly in the folder (no path, no dot file,
@@ -215,6 +228,7 @@ int run_serve(const ServeArgs& args) {
             // This client's newer request supersedes the one in progress: it is cancelled.
             auto cancel = supersede(server, req.get_param_value("client"));
             job.options.cancel = cancel.get();
+            InProgress busy(server.renders);
             const RenderResult result = run_job(job);
             if (cancel->load()) return fail(res, 409, "superseded by a newer request");
             // JPEG while the view moves (fast), PNG when it is still (lossless).
@@ -243,6 +257,10 @@ int run_serve(const ServeArgs& args) {
             fail(res, 500, std::string("svetlo: internal: ") + e.what());
         }
     });
+    http.Get("/api/status", [&](const httplib::Request&, httplib::Response& res) {
+        res.set_content(nlohmann::json{{"renders", server.renders.load()}}.dump(),
+                        "application/json");
+    });
     // The same render, its passes streamed as they come (path; radiosity's solver).
     http.Get("/api/progressive", [&](const httplib::Request& req, httplib::Response& res) {
         try {
@@ -250,12 +268,14 @@ int run_serve(const ServeArgs& args) {
             auto cancel = supersede(server, req.get_param_value("client"));
             job->options.cancel = cancel.get();
             res.set_header("Cache-Control", "no-store");
-            res.set_chunked_content_provider("application/octet-stream",
-                                             [job, cancel](size_t, httplib::DataSink& sink) {
-                                                 stream_passes(*job, *cancel, sink);
-                                                 sink.done();
-                                                 return true;
-                                             });
+            res.set_chunked_content_provider(
+                "application/octet-stream",
+                [job, cancel, &server](size_t, httplib::DataSink& sink) {
+                    InProgress busy(server.renders);
+                    stream_passes(*job, *cancel, sink);
+                    sink.done();
+                    return true;
+                });
         } catch (const Error& e) {
             fail(res, 400, e.what());
         }
@@ -268,6 +288,7 @@ int run_serve(const ServeArgs& args) {
             if (a.scene.film.width != b.scene.film.width ||
                 a.scene.film.height != b.scene.film.height)
                 throw Error(a.run.scene_file.string(), "b_set", "B's film differs from A's");
+            InProgress busy(server.renders);
             const RenderResult ra = run_job(a), rb = run_job(b);
             const ImageComparison c = compare_images(rb.color, ra.color, false, a.options.threads);
             nlohmann::ordered_json j = {
@@ -293,6 +314,7 @@ int run_serve(const ServeArgs& args) {
             const std::string file = job.run.scene_file.string();
             const auto x = flag_integer(file, "x", req.get_param_value("x"), 0, kMaxSide);
             const auto y = flag_integer(file, "y", req.get_param_value("y"), 0, kMaxSide);
+            InProgress busy(server.renders);
             const PixelTrace log = trace_job(job, static_cast<int>(x), static_cast<int>(y), 0, 1);
             res.set_content(trace_json(log, job.scene.render.engine).dump(), "application/json");
         } catch (const Error& e) {
