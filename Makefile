@@ -68,6 +68,7 @@ bench: build
 	/usr/bin/python3 bench/radiosity/scaling.py $(SVETLO) $(JOBS)
 	/usr/bin/python3 bench/radiosity/equal_error.py $(SVETLO) 512 2048 $(JOBS)
 	PYTHONPATH=$(BUILD)/python /usr/bin/python3 bench/python_overhead.py
+	/usr/bin/python3 bench/serve_latency.py $(SVETLO) scenes
 	@echo "The path tracer against Cycles needs Blender: bench/cycles/convergence.py (docs/performance.md)."
 
 # Every picture of docs/ again, from fixed seeds (scripts/figures.sh; docs/techniques.md).

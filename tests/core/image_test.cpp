@@ -1,7 +1,12 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include "svetlo/core/error.h"
 #include "svetlo/core/image_io.h"
@@ -78,6 +83,66 @@ TEST(ImageIo, PngIsSrgbWithExposure) {
     EXPECT_NEAR(back.texel(0, 0).r * 255.0f, linear_to_srgb8(0.5f), 1e-3f);
     EXPECT_NEAR(back.texel(0, 0).g * 255.0f, 255.0f, 1e-3f);
     EXPECT_NEAR(back.texel(0, 0).b * 255.0f, 255.0f, 1e-3f);
+}
+
+TEST(Image, TheSrgbEncoderGivesLinearToSrgb8sCodeForEveryFloat) {
+    // Its steps are where linear_to_srgb8's code changes; on either side of each, and
+    // everywhere else tried, the two agree.
+    const Srgb8Encoder encode;
+    std::vector<float> tries = {0.0f,
+                                -0.0f,
+                                1.0f,
+                                0.999999f,
+                                1e-30f,
+                                1.17549435e-38f,
+                                -1.0f,
+                                std::nanf(""),
+                                std::numeric_limits<float>::infinity(),
+                                -std::numeric_limits<float>::infinity(),
+                                2.0f,
+                                1e30f};
+    for (unsigned k = 0; k < 1u << 20; ++k)  // a million floats spread over [0, 1.25)
+        tries.push_back(static_cast<float>(k) * (1.25f / (1u << 20)));
+    uint32_t bits = std::bit_cast<uint32_t>(1e-7f);
+    for (int k = 0; k < 1 << 16; ++k, bits += 16127) {  // bit patterns up to past 1
+        const float v = std::bit_cast<float>(bits);
+        tries.push_back(v);
+        tries.push_back(std::nextafter(v, 0.0f));
+        tries.push_back(std::nextafter(v, 2.0f));
+    }
+    bool code_seen[256] = {};
+    for (float v : tries) {
+        ASSERT_EQ(encode(v), linear_to_srgb8(v)) << v;
+        code_seen[encode(v)] = true;
+    }
+    EXPECT_EQ(std::count(code_seen, code_seen + 256, true), 256);  // every code was tried
+}
+
+TEST(ImageIo, JpegHoldsThePngsCodesWithinItsLoss) {
+    // The viewer's JPEG (libjpeg-turbo, or stb's encoder without it): a smooth gradient comes
+    // back within a few codes of the sRGB codes a PNG would hold.
+    Image image(64, 48);
+    for (int y = 0; y < 48; ++y)
+        for (int x = 0; x < 64; ++x) image.at(x, y) = Color(x / 63.0f, y / 47.0f, 0.25f);
+    const std::vector<unsigned char> jpeg = encode_jpeg(image, PixelMeaning::Radiance, 1.0f, 90);
+    ASSERT_GT(jpeg.size(), 100u);
+    EXPECT_EQ(jpeg[0], 0xff);
+    EXPECT_EQ(jpeg[1], 0xd8);  // a JPEG's start-of-image marker
+    const fs::path path = temp_file("view.jpg");
+    std::ofstream(path, std::ios::binary)
+        .write(reinterpret_cast<const char*>(jpeg.data()),
+               static_cast<std::streamsize>(jpeg.size()));
+    TextureImage back = read_texture(path, false, kMaxTextureBytes, "test");
+    ASSERT_EQ(back.width(), 64);
+    ASSERT_EQ(back.height(), 48);
+    double error = 0.0;
+    for (int y = 0; y < 48; ++y) {
+        for (int x = 0; x < 64; ++x) {
+            error += std::abs(back.texel(x, y).r * 255.0f - linear_to_srgb8(x / 63.0f));
+            error += std::abs(back.texel(x, y).g * 255.0f - linear_to_srgb8(y / 47.0f));
+        }
+    }
+    EXPECT_LT(error / (2 * 64 * 48), 3.0);
 }
 
 // An 8-bit file stays 8-bit in memory: three bytes a texel (a float copy took twelve), each

@@ -1,5 +1,8 @@
 #include "svetlo/core/image.h"
 
+#include <bit>
+#include <cstdint>
+
 namespace svetlo {
 
 float srgb_to_linear(float v) {
@@ -14,6 +17,23 @@ unsigned char linear_to_srgb8(float v) {
     if (!(v > 0.0f)) return 0;  // also maps NaN to black
     if (v >= 1.0f) return 255;
     return static_cast<unsigned char>(std::lround(linear_to_srgb(v) * 255.0f));
+}
+
+Srgb8Encoder::Srgb8Encoder() {
+    for (unsigned k = 1; k <= 255; ++k) {
+        // The least positive float with code >= k: bisection on the bit patterns of the
+        // floats in (0, 1], which are ordered as the floats are.
+        uint32_t lo = 0, hi = std::bit_cast<uint32_t>(1.0f);  // code(lo) < k <= code(hi)
+        while (hi - lo > 1) {
+            const uint32_t mid = lo + (hi - lo) / 2;
+            if (linear_to_srgb8(std::bit_cast<float>(mid)) >= k) {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        steps_[k - 1] = std::bit_cast<float>(hi);
+    }
 }
 
 Image crop_image(const Image& image, int x0, int y0, int w, int h) {

@@ -28,6 +28,24 @@ float linear_to_srgb(float v);
 /// Linear value in [0, 1] (clipped) to an 8-bit sRGB code.
 unsigned char linear_to_srgb8(float v);
 
+/// linear_to_srgb8 by a search among the 255 values where its code steps up, found once from
+/// linear_to_srgb8 itself (bisection on the floats, which it maps in order): the same code for
+/// every float, without a power per call. Writing 8-bit images uses it.
+class Srgb8Encoder {
+public:
+    Srgb8Encoder();
+    unsigned char operator()(float v) const {
+        if (!(v > 0.0f)) return 0;  // also NaN
+        unsigned k = 0;             // the number of steps at or below v
+        for (unsigned half = 128; half > 0; half /= 2)
+            if (k + half <= 255 && steps_[k + half - 1] <= v) k += half;
+        return static_cast<unsigned char>(k);
+    }
+
+private:
+    float steps_[255];  // steps_[k - 1]: the least float whose code is k
+};
+
 /// The w x h pixels of `image` whose top-left corner is (x0, y0), all inside it.
 Image crop_image(const Image& image, int x0, int y0, int w, int h);
 

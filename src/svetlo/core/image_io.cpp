@@ -9,6 +9,12 @@
 #include <stb_image.h>
 #include <stb_image_write.h>
 #include <zlib.h>
+#ifdef SVETLO_HAS_LIBJPEG
+#include <jpeglib.h>
+
+#include <csetjmp>
+#include <cstdlib>
+#endif
 
 #include <algorithm>
 #include <cerrno>
@@ -229,12 +235,13 @@ namespace {
 /// clipped and sRGB-encoded; data clipped to [0, 1] and written linearly.
 std::vector<unsigned char> eight_bit_bytes(const Image& image, PixelMeaning meaning,
                                            float exposure) {
+    static const Srgb8Encoder srgb8;
     std::vector<unsigned char> bytes(image.pixels.size() * 3);
     for (size_t k = 0; k < image.pixels.size(); ++k) {
         for (int c = 0; c < 3; ++c) {
             float v = image.pixels[k][c];
             if (meaning == PixelMeaning::Radiance) {
-                bytes[3 * k + c] = linear_to_srgb8(v * exposure);
+                bytes[3 * k + c] = srgb8(v * exposure);
             } else {
                 float clipped = std::clamp(std::isfinite(v) ? v : 0.0f, 0.0f, 1.0f);
                 bytes[3 * k + c] = static_cast<unsigned char>(std::lround(clipped * 255.0f));
@@ -253,13 +260,70 @@ void append_bytes(void* context, void* data, int size) {
 
 }  // namespace
 
+#ifdef SVETLO_HAS_LIBJPEG
+namespace {
+
+/// libjpeg reports a failure by calling error_exit, which must not return: it jumps back
+/// (the library's own way, jpeglib.h's example.c).
+struct JpegError {
+    jpeg_error_mgr manager;
+    std::jmp_buf back;
+};
+[[noreturn]] void jpeg_fail(j_common_ptr info) {
+    std::longjmp(reinterpret_cast<JpegError*>(info->err)->back, 1);
+}
+
+/// 8-bit RGB rows into a JPEG of `quality` by libjpeg(-turbo), in memory that *out holds
+/// (malloc'ed, even on failure: the caller frees it). Plain C data only between setjmp and
+/// longjmp.
+bool libjpeg_encode(const unsigned char* rgb, int width, int height, int quality,
+                    unsigned char** out, unsigned long* size) {
+    jpeg_compress_struct c;
+    JpegError error;
+    c.err = jpeg_std_error(&error.manager);
+    error.manager.error_exit = jpeg_fail;
+    if (setjmp(error.back)) {
+        jpeg_destroy_compress(&c);
+        return false;
+    }
+    jpeg_create_compress(&c);
+    jpeg_mem_dest(&c, out, size);
+    c.image_width = static_cast<JDIMENSION>(width);
+    c.image_height = static_cast<JDIMENSION>(height);
+    c.input_components = 3;
+    c.in_color_space = JCS_RGB;
+    jpeg_set_defaults(&c);
+    jpeg_set_quality(&c, quality, TRUE);
+    c.dct_method = JDCT_IFAST;  // the fast integer DCT: a preview while the view moves
+    jpeg_start_compress(&c, TRUE);
+    while (c.next_scanline < c.image_height) {
+        JSAMPROW row = const_cast<unsigned char*>(rgb) + size_t{c.next_scanline} * 3 * width;
+        jpeg_write_scanlines(&c, &row, 1);
+    }
+    jpeg_finish_compress(&c);
+    jpeg_destroy_compress(&c);
+    return true;
+}
+
+}  // namespace
+#endif
+
 std::vector<unsigned char> encode_jpeg(const Image& image, PixelMeaning meaning, float exposure,
                                        int quality) {
     const std::vector<unsigned char> bytes = eight_bit_bytes(image, meaning, exposure);
     std::vector<unsigned char> jpeg;
+#ifdef SVETLO_HAS_LIBJPEG
+    unsigned char* out = nullptr;
+    unsigned long size = 0;
+    const bool ok = libjpeg_encode(bytes.data(), image.width, image.height, quality, &out, &size);
+    if (ok) jpeg.assign(out, out + size);
+    std::free(out);
+    if (!ok) throw std::runtime_error("cannot write JPEG");
+#else
     if (!stbi_write_jpg_to_func(append_bytes, &jpeg, image.width, image.height, 3, bytes.data(),
                                 quality))
         throw std::runtime_error("cannot write JPEG");
+#endif
     return jpeg;
 }
 

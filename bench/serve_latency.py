@@ -1,0 +1,67 @@
+"""svetlo serve's speed (docs/viewer.md, "Measured"): the round trip of the requests the page
+sends, from the client's clock, with the server's render and encoder seconds
+(X-Svetlo-Seconds, X-Svetlo-Encode-Seconds) and the bytes sent, median of 8 after one to
+warm up; and the first frame of a progressive path render.
+
+    /usr/bin/python3 bench/serve_latency.py SVETLO [SCENES_DIR]
+"""
+import re
+import statistics
+import struct
+import subprocess
+import sys
+import time
+import urllib.request
+
+svetlo = sys.argv[1]
+scenes = sys.argv[2] if len(sys.argv) > 2 else "scenes"
+MAP = "&set=render.shadows%3D%22map%22"
+REQUESTS = [
+    ("raster 960 x 540, shadows.json, shadow map, 1 spp", "png",
+     "render?scene=shadows.json&engine=raster&spp=1&width=960&height=540" + MAP),
+    ("the same", "jpeg",
+     "render?scene=shadows.json&engine=raster&spp=1&width=960&height=540&format=jpeg" + MAP),
+    ("path 480 x 270, cornell.json, first pass", "jpeg",
+     "render?scene=cornell.json&engine=path&spp=1&width=480&height=270&format=jpeg"),
+]
+
+server = subprocess.Popen([svetlo, "serve", scenes, "--port", "0"], stderr=subprocess.PIPE,
+                          text=True)
+try:
+    port = int(re.search(r":(\d+)/", server.stderr.readline()).group(1))
+    base = "http://127.0.0.1:%d/api/" % port
+    print("| request | format | round trip | render | encoder | bytes |")
+    print("|---|---|---|---|---|---|")
+    for name, fmt, path in REQUESTS:
+        trips, renders, encoders, size = [], [], [], 0
+        for k in range(9):
+            t0 = time.perf_counter()
+            with urllib.request.urlopen(base + path, timeout=60) as r:
+                body = r.read()
+                trip = time.perf_counter() - t0
+                if k == 0:
+                    continue
+                trips.append(trip)
+                renders.append(float(r.headers["X-Svetlo-Seconds"]))
+                encoders.append(float(r.headers["X-Svetlo-Encode-Seconds"]))
+                size = len(body)
+        print("| %s | %s | %.1f ms | %.1f ms | %.1f ms | %d KiB |" % (
+            name, fmt.upper(), 1000 * statistics.median(trips), 1000 * statistics.median(renders),
+            1000 * statistics.median(encoders), size // 1024))
+    firsts = []
+    for k in range(9):
+        t0 = time.perf_counter()
+        r = urllib.request.urlopen(base + "progressive?scene=cornell.json&engine=path&spp=64&"
+                                   "width=480&height=270&client=bench", timeout=60)
+        header = struct.unpack(">I", r.read(4))[0]
+        r.read(header)
+        r.read(struct.unpack(">I", r.read(4))[0])
+        if k > 0:
+            firsts.append(time.perf_counter() - t0)
+        r.close()
+        time.sleep(0.5)  # the next request supersedes this one (same client)
+    print("progressive path 480 x 270: first frame after %.1f ms (median of 8)" %
+          (1000 * statistics.median(firsts)))
+finally:
+    server.terminate()
+    server.wait(timeout=30)
