@@ -246,10 +246,10 @@ def main():
         v = wait_view(tab, views[-1][2])
         if v:
             views.append(v)
-        # Progressive display: the path tracer at 64 spp shows its passes as they come.
-        set_control(tab, "spp", "6", "input")
+        # Progressive display: the path tracer at 32 spp shows its passes as they come.
+        set_control(tab, "spp", "5", "input")
         set_control(tab, "engine", "path", "change")
-        seen, end = [], time.time() + 90
+        seen, end = [], time.time() + 120
         while time.time() < end:
             text = tab.eval("document.getElementById('status').textContent")
             m = re.match(r"path, (\d+) spp, .*(refining|done)", text or "")
@@ -258,8 +258,8 @@ def main():
             if m and m.group(2) == "done" and not tab.eval("window.svetloBusy()"):
                 break
             time.sleep(0.02)
-        check("the path tracer's passes show as they come, to 64 spp",
-              len(seen) >= 3 and seen[-1] == (64, "done") and
+        check("the path tracer's passes show as they come, to 32 spp",
+              len(seen) >= 3 and seen[-1] == (32, "done") and
               all(a[0] <= b[0] for a, b in zip(seen, seen[1:])), seen)
         v = wait_view(tab, views[-1][2])
         if v:
