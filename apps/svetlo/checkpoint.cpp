@@ -25,9 +25,10 @@ constexpr size_t kDigest = 64;
 
 /// What a checkpoint must match: the effective scene (every key, spp and seed among them), the
 /// window and the AOVs asked for.
-std::string run_key(const RenderJob& job) {
+std::string run_key(const RenderJob& job, CheckpointFile::Layout layout) {
     const Crop c = film_window(job.scene, job.options);
-    std::string text = "svetlo checkpoint 1\n" + job.run.scene.dump() + "\n" +
+    const std::string kind = layout == CheckpointFile::Layout::Tiles ? " tiles" : "";
+    std::string text = "svetlo checkpoint 1" + kind + "\n" + job.run.scene.dump() + "\n" +
                        std::to_string(c.x0) + "," + std::to_string(c.x1) + "," +
                        std::to_string(c.y0) + "," + std::to_string(c.y1) + "\n";
     for (const std::string& a : job.options.aovs) text += "aov " + a + "\n";
@@ -37,8 +38,8 @@ std::string run_key(const RenderJob& job) {
 
 }  // namespace
 
-CheckpointFile::CheckpointFile(std::string path, const RenderJob& job)
-    : path_(std::move(path)), key_(run_key(job)) {
+CheckpointFile::CheckpointFile(std::string path, const RenderJob& job, Layout layout, bool writer)
+    : path_(std::move(path)), key_(run_key(job, layout)) {
     const std::string where = "--checkpoint";
     if (std::filesystem::exists(path_)) {
         // A regular file, at most 8 GiB (an 8192² film's sums with every AOV).
@@ -72,7 +73,7 @@ CheckpointFile::CheckpointFile(std::string path, const RenderJob& job)
     check_creatable(path_, where);
     callbacks_.restore = [this](std::vector<double>& state) {
         if (passes_ == 0) return 0;
-        if (state.size() != state_.size()) {
+        if (!state.empty() && state.size() != state_.size()) {
             throw Error(path_, "--checkpoint",
                         "holds " + std::to_string(state_.size()) + " values; this render has " +
                             std::to_string(state.size()));
@@ -80,7 +81,8 @@ CheckpointFile::CheckpointFile(std::string path, const RenderJob& job)
         state = state_;
         return passes_;
     };
-    callbacks_.save = [this](int passes, const std::vector<double>& state) {
+    callbacks_.save = [this, writer](int passes, const std::vector<double>& state) {
+        if (!writer) return;
         std::string bytes(kMagic, sizeof kMagic);
         bytes += key_;
         const auto p = static_cast<int32_t>(passes);

@@ -15,14 +15,25 @@ namespace svetlo {
 
 class CheckpointFile {
 public:
+    /// Whose state the file holds: the engine's (its passes' sums, the radiosity solve), or,
+    /// under mpirun, the ray tracers' tiles done (distributed.h). Each has its own key, so one
+    /// is never read as the other.
+    enum class Layout { Engine, Tiles };
+
     /// Reads and checks `path` when it exists (throws Error naming --checkpoint), and checks
-    /// that it can be written.
-    CheckpointFile(std::string path, const RenderJob& job);
+    /// that it can be written. Only a `writer` saves (under mpirun, rank 0).
+    CheckpointFile(std::string path, const RenderJob& job, Layout layout = Layout::Engine,
+                   bool writer = true);
 
     /// The engine's side (RenderOptions::checkpoint); it must outlive the render.
     const Checkpoint& callbacks() const { return callbacks_; }
     /// The passes the file held when it was read (0: none).
     int resumed_passes() const { return passes_; }
+    /// What the file held when it was read (Layout::Tiles: its owner lays it out).
+    const std::vector<double>& saved() const { return state_; }
+    void save(int passes, const std::vector<double>& state) const {
+        callbacks_.save(passes, state);
+    }
 
 private:
     std::string path_, key_;

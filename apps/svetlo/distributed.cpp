@@ -3,11 +3,15 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
+#include <functional>
+#include <map>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "engines.h"
+#include "svetlo/core/error.h"
+#include "svetlo/core/process_group.h"
 
 #ifdef SVETLO_MPI
 #include <mpi.h>
@@ -71,6 +75,64 @@ namespace {
 
 enum Tag { kRequest = 1, kAssign = 2, kResult = 3, kDone = 4 };
 
+/// The job's ranks as the library's ProcessGroup: the radiosity solve splits over them.
+/// (MPI_THREAD_FUNNELED: the engines call it from the thread that runs them.)
+class MpiGroup final : public ProcessGroup {
+public:
+    MpiGroup(int rank, int size) : rank_(rank), size_(size) {}
+    int rank() const override { return rank_; }
+    int size() const override { return size_; }
+    void all_gather(const std::vector<std::byte>& mine, const std::vector<size_t>& counts,
+                    std::vector<std::byte>& all) override {
+        std::vector<int> sizes(counts.size()), displs(counts.size(), 0);
+        for (size_t r = 0; r < counts.size(); ++r) {
+            sizes[r] = static_cast<int>(counts[r]);
+            if (r > 0) displs[r] = displs[r - 1] + sizes[r - 1];
+        }
+        all.resize(static_cast<size_t>(displs.back() + sizes.back()));
+        MPI_Allgatherv(mine.data(), static_cast<int>(mine.size()), MPI_BYTE, all.data(),
+                       sizes.data(), displs.data(), MPI_BYTE, MPI_COMM_WORLD);
+        received_ += all.size() - mine.size();
+    }
+    /// Bytes this rank received from the others.
+    uint64_t received() const { return received_; }
+    uint64_t sum(uint64_t value) override {
+        uint64_t out = 0;
+        MPI_Allreduce(&value, &out, 1, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
+        return out;
+    }
+
+private:
+    int rank_, size_;
+    uint64_t received_ = 0;
+};
+
+/// --checkpoint under mpirun for the ray tracers (Layout::Tiles): the tiles done, each as its
+/// index, its message's length and its message (pack), as doubles. Every rank reads them, so
+/// that a file that does not fit this render stops them all alike.
+std::map<int, std::vector<float>> saved_tiles(const CheckpointFile* checkpoint, size_t tiles,
+                                              const std::string& file) {
+    std::map<int, std::vector<float>> out;
+    if (!checkpoint || checkpoint->resumed_passes() == 0) return out;
+    const std::vector<double>& state = checkpoint->saved();
+    for (size_t pos = 0; pos < state.size();) {
+        const double index = state[pos], length = pos + 1 < state.size() ? state[pos + 1] : -1.0;
+        if (!(index >= 0.0 && index < static_cast<double>(tiles)) || !(length >= 0.0) ||
+            length > static_cast<double>(state.size() - pos - 2)) {
+            throw Error(file, "--checkpoint", "holds tiles that do not fit this render");
+        }
+        pos += 2;
+        std::vector<float>& data = out[static_cast<int>(index)];
+        data.assign(state.begin() + static_cast<std::ptrdiff_t>(pos),
+                    state.begin() + static_cast<std::ptrdiff_t>(pos + static_cast<size_t>(length)));
+        pos += static_cast<size_t>(length);
+    }
+    return out;
+}
+
+/// How often rank 0 saves the tiles done, seconds (and once at the end).
+constexpr double kSaveSeconds = 1.0;
+
 /// Tiles a worker asks for ahead: it renders one while the answer for the next comes, so it
 /// never waits for rank 0 to finish a tile of its own.
 constexpr int kAhead = 4;
@@ -128,15 +190,23 @@ void MpiSession::abort(int status) const {
 }
 
 RenderResult run_job_distributed(const RenderJob& job, const MpiSession& mpi,
-                                 DistributedStats& stats) {
+                                 DistributedStats& stats, const CheckpointFile* checkpoint) {
     if (mpi.size() == 1) return run_job(job);
     const int ranks = mpi.size();
     const Crop window = film_window(job.scene, job.options);
     const std::vector<Crop> tiles = make_tiles(window, job.scene.render.engine, ranks);
+    const bool bands = capabilities_of(job.scene.render.engine, "").whole_frame;
     const double slow = slowdown(mpi.rank());
     RenderJob local = job;
     local.options.progress = false;
     local.options.crop.reset();
+    MpiGroup group(mpi.rank(), ranks);
+    local.options.group = &group;
+    // The tiles a checkpoint holds (Layout::Tiles; rank 0 pastes them and hands out the rest).
+    std::map<int, std::vector<float>> kept =
+        saved_tiles(checkpoint, tiles.size(), job.scene.path.string());
+    stats.resumed_tiles = static_cast<int>(kept.size());
+    if (mpi.rank() != 0) kept.clear();
     RenderResult full;  // rank 0: the window's images
     // The images a tile carries besides the colour: the AOVs the job asks for (the engines
     // name them so), in name order on every rank, as pack sends a result's std::map.
@@ -155,8 +225,11 @@ RenderResult run_job_distributed(const RenderJob& job, const MpiSession& mpi,
 
     // The state the window source's callbacks keep, alive as long as the render.
     // Rank 0:
-    size_t next = 0;   // the next tile to hand out
-    int finished = 0;  // workers that said they are done (after their last result)
+    size_t next = 0;                                   // the next tile to hand out
+    int own = -1;                                      // the tile it renders itself
+    auto saved_at = std::chrono::steady_clock::now();  // the checkpoint's last save
+    std::function<void()> finish;  // after the last tile: the checkpoint's last save
+    int finished = 0;              // workers that said they are done (after their last result)
     // A worker:
     std::vector<int> queue;  // tiles assigned and not yet begun, in order
     int asked = 0;           // requests not yet answered
@@ -167,11 +240,39 @@ RenderResult run_job_distributed(const RenderJob& job, const MpiSession& mpi,
     std::vector<std::vector<float>> sending;
     std::vector<MPI_Request> requests;
 
-    auto interrupted = [&] { return job.options.cancel && job.options.cancel->load(); };
+    // SIGINT or SIGTERM: the ray tracers' tiles stop; the whole-frame engines' few bands are
+    // drawn (the radiosity solve stops itself, and its image is displayed).
+    auto interrupted = [&] { return !bands && job.options.cancel && job.options.cancel->load(); };
     WindowSource source;
     if (mpi.rank() == 0) {
         full.color = Image(window.width(), window.height());
-        auto handle = [&](const MPI_Status& status) {
+        // The tiles done, kept as sent and saved (checkpoint, Layout::Tiles).
+        auto save = [&, checkpoint](bool now) {
+            if (!checkpoint || kept.empty()) return;
+            const auto at = std::chrono::steady_clock::now();
+            if (!now && std::chrono::duration<double>(at - saved_at).count() < kSaveSeconds) return;
+            std::vector<double> state;
+            for (const auto& [tile, data] : kept) {
+                state.push_back(tile);
+                state.push_back(static_cast<double>(data.size()));
+                state.insert(state.end(), data.begin(), data.end());
+            }
+            checkpoint->save(static_cast<int>(kept.size()), state);
+            saved_at = at;
+        };
+        auto keep = [&, checkpoint, save](int t, const Crop& tile, std::vector<float>&& data) {
+            RenderResult part = unpack(data, names);
+            if (checkpoint) kept[t] = std::move(data);
+            paste(full, window, tile, std::move(part));
+            save(false);
+        };
+        for (const auto& [t, data] : kept)
+            paste(full, window, tiles[static_cast<size_t>(t)], unpack(data, names));
+        auto take = [&] {  // the next tile not done, or tiles.size()
+            while (next < tiles.size() && kept.count(static_cast<int>(next))) ++next;
+            return next < tiles.size() ? next++ : tiles.size();
+        };
+        auto handle = [&, keep, take](const MPI_Status& status) {
             if (status.MPI_TAG == kRequest || status.MPI_TAG == kDone) {
                 MPI_Recv(nullptr, 0, MPI_INT, status.MPI_SOURCE, status.MPI_TAG, MPI_COMM_WORLD,
                          MPI_STATUS_IGNORE);
@@ -179,7 +280,8 @@ RenderResult run_job_distributed(const RenderJob& job, const MpiSession& mpi,
                     ++finished;
                     return;
                 }
-                int given = next < tiles.size() ? static_cast<int>(next++) : -1;
+                const size_t t = take();
+                int given = t < tiles.size() ? static_cast<int>(t) : -1;
                 MPI_Send(&given, 1, MPI_INT, status.MPI_SOURCE, kAssign, MPI_COMM_WORLD);
                 return;
             }
@@ -188,13 +290,13 @@ RenderResult run_job_distributed(const RenderJob& job, const MpiSession& mpi,
             std::vector<float> data(static_cast<size_t>(count));
             MPI_Recv(data.data(), count, MPI_FLOAT, status.MPI_SOURCE, kResult, MPI_COMM_WORLD,
                      MPI_STATUS_IGNORE);
-            const auto tile = static_cast<size_t>(data.back());
+            const auto tile = static_cast<int>(data.back());
             data.pop_back();
-            paste(full, window, tiles[tile], unpack(data, names));
+            keep(tile, tiles[static_cast<size_t>(tile)], std::move(data));
             bytes += static_cast<uint64_t>(count) * sizeof(float);
         };
         // (The helpers are copied in: they end with this block; what they use does not.)
-        source.next = [&, handle, interrupted](Crop& w) {
+        source.next = [&, handle, interrupted, take](Crop& w) {
             // SIGINT or SIGTERM (every rank gets it from mpirun): no tile is begun after it;
             // the tiles in progress end their pass and come in, the others stay black.
             if (interrupted()) next = tiles.size();
@@ -203,8 +305,9 @@ RenderResult run_job_distributed(const RenderJob& job, const MpiSession& mpi,
                 MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &status);
                 if (flag) handle(status);
             }
-            if (next < tiles.size()) {
-                w = tiles[next++];
+            if (const size_t t = take(); t < tiles.size()) {
+                own = static_cast<int>(t);
+                w = tiles[t];
                 clock = std::chrono::steady_clock::now();
                 return true;
             }
@@ -217,11 +320,15 @@ RenderResult run_job_distributed(const RenderJob& job, const MpiSession& mpi,
             }
             return false;
         };
-        source.done = [&](const Crop& w, RenderResult&& r) {
+        source.done = [&, keep](const Crop& w, RenderResult&& r) {
             pace();
             ++stats.rank0_tiles;
-            paste(full, window, w, std::move(r));
+            if (checkpoint)
+                keep(own, w, pack(r));
+            else
+                paste(full, window, w, std::move(r));
         };
+        finish = [save] { save(true); };
     } else {
         auto reap = [&](bool all) {
             for (size_t k = 0; k < requests.size();) {
@@ -281,6 +388,9 @@ RenderResult run_job_distributed(const RenderJob& job, const MpiSession& mpi,
     }
     local.options.windows = &source;
     RenderResult result = run_job(local);
+    if (finish) finish();
+    const uint64_t exchanged = group.received();
+    MPI_Reduce(&exchanged, &stats.exchanged, 1, MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
     uint64_t total_rays = 0, total_nonfinite = 0;
     MPI_Reduce(&result.stats.rays, &total_rays, 1, MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
     MPI_Reduce(&result.stats.nonfinite, &total_nonfinite, 1, MPI_UINT64_T, MPI_SUM, 0,
@@ -300,7 +410,8 @@ MpiSession::MpiSession(int&, char**&) {}
 MpiSession::~MpiSession() = default;
 void MpiSession::abort(int status) const { std::exit(status); }
 
-RenderResult run_job_distributed(const RenderJob& job, const MpiSession&, DistributedStats&) {
+RenderResult run_job_distributed(const RenderJob& job, const MpiSession&, DistributedStats&,
+                                 const CheckpointFile*) {
     return run_job(job);
 }
 

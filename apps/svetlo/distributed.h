@@ -9,6 +9,7 @@
 
 #include <cstdint>
 
+#include "checkpoint.h"
 #include "render_job.h"
 
 namespace svetlo {
@@ -35,13 +36,18 @@ private:
 /// What a distributed render moved and how its tiles were shared.
 struct DistributedStats {
     int tiles = 0;
-    uint64_t bytes = 0;   // sent to rank 0, every rank's tiles together
-    int rank0_tiles = 0;  // rendered by rank 0 itself
+    uint64_t bytes = 0;      // sent to rank 0, every rank's tiles together
+    int rank0_tiles = 0;     // rendered by rank 0 itself
+    int resumed_tiles = 0;   // held by the checkpoint it resumed from
+    uint64_t exchanged = 0;  // received by all ranks together in the setup's exchanges (the
+                             // radiosity solve's)
 };
 
 /// Renders the job on every rank of `mpi` (one rank: run_job). Rank 0 returns the full image
 /// and its AOVs; the other ranks return an empty result. `stats` is filled on rank 0.
+/// `checkpoint` (Layout::Tiles, the ray tracers): rank 0 resumes from the tiles it holds and
+/// saves the tiles done as they come in, at most once a second and at the end.
 RenderResult run_job_distributed(const RenderJob& job, const MpiSession& mpi,
-                                 DistributedStats& stats);
+                                 DistributedStats& stats, const CheckpointFile* checkpoint);
 
 }  // namespace svetlo

@@ -3,6 +3,7 @@
 //               [--quiet] [--crop X0,X1,Y0,Y1] [--mse-reference REF --mse-log LOG.csv]
 #include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <optional>
 
 #include "checkpoint.h"
@@ -150,16 +151,22 @@ int run_render(const RenderArgs& args) {
     }
     job.run.processes = processes;
     // --checkpoint: read and checked before the render (one line for a file of another run).
+    // Every rank reads it; rank 0 alone writes it. Under mpirun the ray tracers' tiles are
+    // saved as they come in (distributed.h), the radiosity solve by the engine.
     std::optional<CheckpointFile> checkpoint;
+    bool tiles = false;  // the checkpoint holds tiles, not the engine's state
     if (!args.checkpoint.empty()) {
-        if (!engine.progressive)
+        if (!engine.checkpoints) {
             throw Error(args.scene, "--checkpoint",
-                        progressive + engine.name + " renders in one pass");
-        if (processes > 1)
-            throw Error(args.scene, "--checkpoint",
-                        "renders on one process only (not under mpirun)");
-        checkpoint.emplace(args.checkpoint, job);
-        job.options.checkpoint = &checkpoint->callbacks();
+                        "needs an engine that keeps one (" +
+                            engines_with([](const Capabilities& c) { return c.checkpoints; }) +
+                            "); " + engine.name + " does not");
+        }
+        tiles = processes > 1 && !engine.whole_frame;
+        checkpoint.emplace(args.checkpoint, job,
+                           tiles ? CheckpointFile::Layout::Tiles : CheckpointFile::Layout::Engine,
+                           speaker);
+        if (!tiles) job.options.checkpoint = &checkpoint->callbacks();
     }
     RenderOptions& options = job.options;
     options.threads = threads;
@@ -175,15 +182,22 @@ int run_render(const RenderArgs& args) {
     InterruptGuard interrupt;
     options.cancel = &interrupt.flag();
     DistributedStats distributed;
-    RenderResult result =
-        processes > 1 ? run_job_distributed(job, *args.mpi, distributed) : run_job(job);
+    RenderResult result = processes > 1 ? run_job_distributed(job, *args.mpi, distributed,
+                                                              tiles ? &*checkpoint : nullptr)
+                                        : run_job(job);
     if (!speaker) return 0;
     if (processes > 1) {
-        char detail[160];
+        char detail[200];
         std::snprintf(detail, sizeof detail, "%d processes, %d tiles (%d on rank 0), %.1f MiB sent",
                       processes, distributed.tiles, distributed.rank0_tiles,
                       static_cast<double>(distributed.bytes) / (1 << 20));
-        result.stats.detail = detail;
+        if (distributed.exchanged > 0) {
+            const size_t used = std::strlen(detail);
+            std::snprintf(detail + used, sizeof detail - used, ", %.1f MiB exchanged in the setup",
+                          static_cast<double>(distributed.exchanged) / (1 << 20));
+        }
+        result.stats.detail =
+            result.stats.detail.empty() ? std::string(detail) : result.stats.detail + ", " + detail;
     }
     if (mse.active() && result.stats.passes == 0)
         mse.log(reached_spp(job, result), result.stats.seconds, result.color);
@@ -191,9 +205,13 @@ int run_render(const RenderArgs& args) {
     write_job_outputs(job, result, args.output);
     mse.write();
     if (!args.quiet) print_summary(job, result, args.output);
-    if (checkpoint && checkpoint->resumed_passes() > 0 && !args.quiet) {
-        std::fprintf(stderr, "svetlo: resumed from %s after pass %d\n", args.checkpoint.c_str(),
-                     checkpoint->resumed_passes());
+    if (checkpoint && distributed.resumed_tiles > 0 && !args.quiet) {
+        std::fprintf(stderr, "svetlo: resumed from %s with %d tiles done\n",
+                     args.checkpoint.c_str(), distributed.resumed_tiles);
+    } else if (checkpoint && checkpoint->resumed_passes() > 0 && !args.quiet) {
+        // The radiosity solve's passes are its shots.
+        std::fprintf(stderr, "svetlo: resumed from %s after %s %d\n", args.checkpoint.c_str(),
+                     engine.progressive ? "pass" : "shot", checkpoint->resumed_passes());
     }
     if (job.run.interrupted && !args.quiet) {
         std::fprintf(stderr, "svetlo: interrupted: wrote the %d passes done to %s\n",

@@ -6,13 +6,19 @@ bounded by four things, each computed here from measured inputs:
 
   compute   the work shared out: work / N, plus the last tile (the tail)
   setup     what every rank does alone before its first tile: read the scene, build the BVH;
-            for radiosity, the whole solve (it is replicated, not distributed)
+            for the hierarchical radiosity solve, the whole solve (it is replicated)
   gather    rank 0's link: every tile's bytes come in through it (one 10 Gb/s NIC)
   service   rank 0 answers requests and pastes tiles between tiles of its own: one tile's
             service costs t_serve, and all N - 1 workers must be served in each of its tiles
 
 The prediction is setup + max(compute, gather, service); the script names the bound that
 decides at each N, and what would move it.
+
+The progressive radiosity solve is split among the ranks by patches (each rank makes its
+patches' leaves' part of every row) and exchanges the patches' unshot light after every shot.
+Its time is the larger share of the work (a patch is not split, so past as many ranks as
+patches nothing divides), plus one all-gather per shot (log2 N message latencies and the
+patches' bytes through each rank's link), plus the leaves' light gathered once at the end.
 
     python3 bench/distributed/model.py            # the figures of docs/distributed.md
 """
@@ -28,8 +34,17 @@ CASES = {
     "path Cornell 512x512 64 spp": dict(work=24.98, tiles=256, tile_bytes=32 * 32 * 12, setup=0.003),
     "path 4K (3840x2160) 1024 spp": dict(work=24.98 * (3840 * 2160 / 512**2) * 16, tiles=8100,
                                          tile_bytes=32 * 32 * 12, setup=0.003),
-    "radiosity Cornell 256x256, 33,681 elements": dict(work=0.02, tiles=8,
-                                                         tile_bytes=256 * 32 * 12, setup=0.72),
+    "radiosity hierarchical, 33,681 elements": dict(work=0.02, tiles=8,
+                                                      tile_bytes=256 * 32 * 12, setup=0.72),
+}
+# The progressive solve of the Cornell box with 55,296 elements (docs/distributed.md): its
+# render seconds at -np 1 -t 1, shots, patches, and the leaves (whose light, 48 bytes each, is
+# gathered at the end).
+SOLVES = {
+    "radiosity progressive, 55,296 elements": dict(work=8.46, shots=1575, patches=216,
+                                                   leaves=55296),
+    "radiosity progressive, 1M elements (scaled)": dict(work=8.46 * 1e6 / 55296, shots=1575,
+                                                        patches=216, leaves=1000000),
 }
 LINK = 10e9 / 8       # bytes per second into rank 0 (10 Gb/s)
 LATENCY = 20e-6       # seconds a message takes, end to end
@@ -50,13 +65,24 @@ def predict(case, ranks):
     return case["setup"] + bounds[bound], bound
 
 
+def predict_solve(case, ranks):
+    import math
+    compute = case["work"] / min(ranks, case["patches"])
+    steps = math.ceil(math.log2(ranks)) if ranks > 1 else 0
+    exchange = case["shots"] * (steps * LATENCY + case["patches"] * 24 / LINK) if ranks > 1 else 0
+    final = case["leaves"] * 48 / LINK if ranks > 1 else 0
+    bound = ("patches" if ranks > case["patches"] else
+             "exchange" if exchange > compute else "compute")
+    return compute + exchange + final, bound
+
+
 def main():
     moves = {
         "compute": "more ranks (the work still divides)",
         "tiles": "smaller tiles (fewer than four a rank leaves ranks idle)",
         "gather": "a tree reduce, or ranks that write their own tiles",
         "service": "a rank 0 that only serves, or ranks that take tiles by a shared counter",
-        "setup": "distributing the setup itself (radiosity: the solve)",
+        "setup": "distributing the solve itself (the hierarchical one; the progressive one is split)",
     }
     for name, case in CASES.items():
         print(name)
@@ -67,6 +93,20 @@ def main():
                 bound = "setup"
             print("  %4d ranks: %9.3f s, %7.1f x, bound by %s" % (ranks, t, one / t, bound))
         print("  past that: %s" % moves[bound])
+    solve_moves = {
+        "compute": "more ranks, up to one a patch",
+        "exchange": "fewer exchanges: several shooters a round (shooting the k brightest "
+                    "patches at once), or a tree of ranks that only sends what changed",
+        "patches": "smaller patches, or splitting a patch's leaves among ranks (then its "
+                   "sums need a fixed order of their own)",
+    }
+    for name, case in SOLVES.items():
+        print(name)
+        one, _ = predict_solve(case, 1)
+        for ranks in (1, 2, 8, 64, 512):
+            t, bound = predict_solve(case, ranks)
+            print("  %4d ranks: %9.3f s, %7.1f x, bound by %s" % (ranks, t, one / t, bound))
+        print("  past that: %s" % solve_moves[bound])
 
 
 if __name__ == "__main__":

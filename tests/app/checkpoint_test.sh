@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # --checkpoint (docs/distributed.md), driven as a user would: a path render killed (SIGKILL)
 # after some passes and run again with the same file equals an uninterrupted one, byte for
-# byte, with and without the photon map; SIGINT writes the passes done and the run resumes;
-# a checkpoint of another scene or other settings, a corrupt, truncated or foreign file, and
-# an engine of one pass are refused with one line, and nothing is written.
+# byte, with and without the photon map; so does a radiosity solve; SIGINT writes the passes
+# done and the run resumes; a checkpoint of another scene or other settings, a corrupt,
+# truncated or foreign file, and an engine or solver that keeps none are refused with one line,
+# and nothing is written.
 # Usage: checkpoint_test.sh SVETLO SCENES_DIR
 set -u
 svetlo=$1
@@ -45,6 +46,22 @@ check "SIGINT writes the passes done" grep -q '"interrupted":true' "$work/int.pf
 "$svetlo" "${args[@]}" -q --checkpoint "$work/int.ck" -o "$work/int.pfm"
 check "after SIGINT, resumed equals uninterrupted" cmp "$work/cornell.pfm" "$work/int.pfm"
 
+# The radiosity solve (progressive): killed after a save, it resumes with its shots and rows and
+# ends in the uninterrupted image; a finished one gives the image again at once.
+radiosity=(render "$scenes/cornell_radiosity.json" -W 64 -H 64 -t 1
+           --set render.radiosity.solver=progressive --set render.radiosity.element_size=0.1
+           --set render.radiosity.adaptive=0)
+"$svetlo" "${radiosity[@]}" -q -o "$work/radiosity.pfm"
+kill_after_a_pass KILL "$work/radiosity.ck" "${radiosity[@]}" -o "$work/resumed.pfm"
+check "radiosity: killed with a checkpoint saved" test -s "$work/radiosity.ck"
+"$svetlo" "${radiosity[@]}" --checkpoint "$work/radiosity.ck" -o "$work/resumed.pfm" 2> "$work/err.txt"
+check "radiosity: the resumed run says so" grep -q "resumed from .* after shot" "$work/err.txt"
+check "radiosity: resumed equals uninterrupted" cmp "$work/radiosity.pfm" "$work/resumed.pfm"
+kill_after_a_pass INT "$work/radiosity_int.ck" "${radiosity[@]}" -o "$work/int.pfm"
+check "radiosity: SIGINT writes the solution as it stands" grep -q '"interrupted":true' "$work/int.pfm.json"
+"$svetlo" "${radiosity[@]}" -q --checkpoint "$work/radiosity_int.ck" -o "$work/int.pfm"
+check "radiosity: after SIGINT, resumed equals uninterrupted" cmp "$work/radiosity.pfm" "$work/int.pfm"
+
 # Refusals: one line naming --checkpoint, and no image.
 ck="$work/cornell.ck"
 expect_error "another scene" "--checkpoint: was saved by a render of another scene or other settings" 1 \
@@ -61,8 +78,12 @@ expect_error "a truncated checkpoint" "--checkpoint: is corrupt or truncated" 1 
 echo "not a checkpoint" > "$work/foreign.ck"
 expect_error "a foreign file" "--checkpoint: is not a svetlo checkpoint" 1 \
     "${args[@]}" --checkpoint "$work/foreign.ck" -o "$work/x.pfm"
-expect_error "an engine of one pass" "--checkpoint: needs a progressive engine" 1 \
+expect_error "an engine that keeps none" "--checkpoint: needs an engine that keeps one .path or radiosity.; whitted does not" 1 \
     render "$scenes/cornell.json" -e whitted --checkpoint "$work/w.ck" -o "$work/x.pfm"
+expect_error "a radiosity solver that keeps none" "--checkpoint: the radiosity solve is checkpointed by the progressive solver only" 1 \
+    render "$scenes/cornell_radiosity.json" --checkpoint "$work/h.ck" -o "$work/x.pfm"
+expect_error "a path checkpoint for a radiosity solve" "--checkpoint: was saved by a render of another scene" 1 \
+    "${radiosity[@]}" --checkpoint "$ck" -o "$work/x.pfm"
 expect_error "an unwritable checkpoint" "--checkpoint: cannot write" 1 \
     "${args[@]}" --checkpoint "$work/no/such/dir/ck" -o "$work/x.pfm"
 check "no image from a refused run" test ! -e "$work/x.pfm"

@@ -3,7 +3,8 @@
 # for every engine, -np 1, 2 and 3 with 1 and 2 threads write the bytes of the plain program;
 # the provenance says how many processes; a slowed rank still gets the image right; a rank
 # killed mid-render ends the job within 10 s, naming the rank; the flags that need one process
-# are refused with one line.
+# are refused with one line; checkpoints of tiles and of the radiosity solve resume on another
+# number of processes, bit for bit.
 # Usage: mpi_test.sh SVETLO SCENES_DIR MPIRUN
 set -u
 svetlo=$1
@@ -16,19 +17,27 @@ run=("$mpirun" --oversubscribe --allow-run-as-root)
 cornell="$scenes/cornell.json"
 size=(-W 72 -H 40 --spp 2)
 
-for engine in raster whitted path radiosity; do
+# The progressive radiosity solve is split among the ranks (the hierarchical one is repeated).
+progressive=(--set render.radiosity.solver=progressive --set render.radiosity.element_size=0.3
+             --set render.radiosity.adaptive=0)
+for engine in raster whitted path radiosity radiosity_progressive; do
     scene=$cornell
+    extra=(-e "$engine")
     [ "$engine" = radiosity ] && scene="$scenes/cornell_radiosity.json"
-    "$svetlo" render "$scene" -e "$engine" "${size[@]}" -q -o "$work/one.pfm"
+    [ "$engine" = radiosity_progressive ] && scene="$scenes/cornell_radiosity.json" && extra=("${progressive[@]}")
+    "$svetlo" render "$scene" "${extra[@]}" "${size[@]}" -q -o "$work/one.pfm"
     for np in 1 2 3; do
         for threads in 1 2; do
             rm -f "$work/many.pfm"
-            "${run[@]}" -np "$np" "$svetlo" render "$scene" -e "$engine" "${size[@]}" -t "$threads" \
-                -q -o "$work/many.pfm" > "$work/out.txt" 2>&1
+            "${run[@]}" -np "$np" "$svetlo" render "$scene" "${extra[@]}" "${size[@]}" -t "$threads" \
+                -o "$work/many.pfm" > "$work/out.txt" 2>&1
             check "$engine -np $np -t $threads: the plain program's bytes" cmp "$work/one.pfm" "$work/many.pfm"
         done
     done
     check "$engine: the provenance counts 3 processes" grep -q '"processes":3' "$work/many.pfm.json"
+    if [ "$engine" = radiosity_progressive ]; then
+        check "the solve's exchange is reported" grep -q "MiB exchanged in the setup" "$work/out.txt"
+    fi
 done
 check "one process: the provenance counts 1" grep -q '"processes":1' "$work/one.pfm.json"
 
@@ -95,6 +104,44 @@ check "SIGINT under mpirun writes the image, marked interrupted" \
 # What needs one process, refused on every rank with one line from rank 0.
 "${run[@]}" -np 2 "$svetlo" render "$cornell" -e path --time 1 -o "$work/x.pfm" > "$work/out.txt" 2>&1
 check "--time under mpirun: one line" test "$(grep -c '^svetlo: error: .*--time: renders on one process only' "$work/out.txt")" = 1
-"${run[@]}" -np 2 "$svetlo" render "$cornell" -e path --checkpoint "$work/ck" -o "$work/x.pfm" > "$work/out.txt" 2>&1
-check "--checkpoint under mpirun: one line" test "$(grep -c '^svetlo: error: .*--checkpoint: renders on one process only' "$work/out.txt")" = 1
+
+# --checkpoint under mpirun. The path tracer's tiles: killed (SIGKILL to mpirun) after a save on
+# 2 processes, resumed on 3, the plain program's bytes.
+tiles=(render "$cornell" -e path -W 160 -H 96 --spp 1024)
+"$svetlo" "${tiles[@]}" -t 2 -q -o "$work/plain.pfm"
+"${run[@]}" -np 2 "$svetlo" "${tiles[@]}" -t 1 -q --checkpoint "$work/tiles.ck" -o "$work/tiles.pfm" \
+    > "$work/out.txt" 2>&1 &
+job=$!
+for _ in $(seq 1 300); do [ -s "$work/tiles.ck" ] && break; sleep 0.05; done
+kill -9 $job 2> /dev/null
+pkill -9 -f "svetlo render $cornell -e path -W 160 -H 96 --spp 1024" 2> /dev/null
+wait $job 2> /dev/null
+check "tiles: a checkpoint saved before the kill" test -s "$work/tiles.ck"
+check "tiles: no image from the killed job" test ! -e "$work/tiles.pfm"
+"${run[@]}" -np 3 "$svetlo" "${tiles[@]}" -t 1 --checkpoint "$work/tiles.ck" -o "$work/tiles.pfm" > "$work/out.txt" 2>&1
+check "tiles: the resumed job says so" grep -q "resumed from .* with [0-9]* tiles done" "$work/out.txt"
+check "tiles: resumed on 3 equals the plain program" cmp "$work/plain.pfm" "$work/tiles.pfm"
+# The radiosity solve: SIGINT on 2 processes writes the solution as it stands; resumed on 3,
+# the plain program's bytes. A checkpoint of one process resumes on many, and back.
+solve=(render "$scenes/cornell_radiosity.json" -W 64 -H 64 -t 1 "${progressive[@]}"
+       --set render.radiosity.element_size=0.08)
+"$svetlo" "${solve[@]}" -q -o "$work/plain.pfm"
+"${run[@]}" -np 2 "$svetlo" "${solve[@]}" -q --checkpoint "$work/solve.ck" -o "$work/solve.pfm" \
+    > "$work/out.txt" 2>&1 &
+job=$!
+for _ in $(seq 1 300); do [ -s "$work/solve.ck" ] && break; sleep 0.05; done
+pkill -INT -f "^$mpirun.*cornell_radiosity.json -W 64 -H 64" || kill -INT $job
+wait $job
+check "solve: SIGINT writes the image, marked interrupted" grep -q '"interrupted":true' "$work/solve.pfm.json"
+"${run[@]}" -np 3 "$svetlo" "${solve[@]}" --checkpoint "$work/solve.ck" -o "$work/solve.pfm" > "$work/out.txt" 2>&1
+check "solve: the resumed job says so" grep -q "resumed from .* after shot" "$work/out.txt"
+check "solve: resumed on 3 equals the plain program" cmp "$work/plain.pfm" "$work/solve.pfm"
+"$svetlo" "${solve[@]}" -q --checkpoint "$work/solve.ck" -o "$work/again.pfm"
+check "solve: its checkpoint gives the image again on one process" cmp "$work/plain.pfm" "$work/again.pfm"
+# A checkpoint of one process's path render holds passes, not tiles: refused under mpirun.
+"$svetlo" render "$cornell" -e path -W 64 -H 40 --spp 2 -q --checkpoint "$work/one.ck" -o "$work/x.pfm"
+"${run[@]}" -np 2 "$svetlo" render "$cornell" -e path -W 64 -H 40 --spp 2 --checkpoint "$work/one.ck" \
+    -o "$work/y.pfm" > "$work/out.txt" 2>&1
+check "one process's checkpoint under mpirun: one line" \
+    test "$(grep -c '^svetlo: error: .*--checkpoint: was saved by a render of another' "$work/out.txt")" = 1
 summary

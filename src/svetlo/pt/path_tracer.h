@@ -12,7 +12,10 @@ namespace svetlo {
 class PathRenderer final : public Renderer {
 public:
     Capabilities capabilities() const override {
-        return {.name = "path", .progressive = true, .debug_aovs = {"bvh_cost", "path_depth"}};
+        return {.name = "path",
+                .progressive = true,
+                .checkpoints = true,
+                .debug_aovs = {"bvh_cost", "path_depth"}};
     }
     RenderResult render(const Scene& scene, const RenderOptions& options) override;
 };

@@ -6,6 +6,7 @@
 #include <functional>
 #include <string>
 
+#include "svetlo/core/error.h"
 #include "svetlo/core/parallel.h"
 #include "svetlo/core/progress.h"
 #include "svetlo/core/sampling.h"
@@ -111,8 +112,8 @@ uint64_t make_elements(PatchMesh& mesh, const Scene& scene, int threads) {
 
 /// Step 2: the solution, by the chosen solver (solver.h). `on_snapshot`, when set, is shown
 /// the progressive solver's solution as it stands along the way.
-Solution solve(PatchMesh& mesh, const Scene& scene, int threads, Progress& progress,
-               std::function<void(const Solution&)> on_snapshot) {
+Solution solve(PatchMesh& mesh, const Scene& scene, const RenderOptions& options,
+               Progress& progress, std::function<void(const Solution&)> on_snapshot) {
     const uint64_t seed = scene.render.seed;
     SolverInput input{*mesh.tree,
                       *mesh.accel,
@@ -122,10 +123,13 @@ Solution solve(PatchMesh& mesh, const Scene& scene, int threads, Progress& progr
                                         mesh.settings.samples},
                       [&](uint32_t id) { return light_on_node(mesh, scene, id, seed); },
                       seed,
-                      threads,
+                      options.threads,
                       &progress,
                       scene.path.string(),
-                      std::move(on_snapshot)};
+                      std::move(on_snapshot),
+                      options.group,
+                      options.checkpoint,
+                      options.cancel};
     switch (mesh.settings.solver) {
         case RadiositySolver::Jacobi:
             return solve_matrix(input, false);
@@ -314,6 +318,12 @@ RenderResult RadiosityRenderer::render(const Scene& scene, const RenderOptions& 
     using Clock = std::chrono::steady_clock;
     const auto t0 = Clock::now();
     PatchMesh mesh(scene, options.threads);
+    if (options.checkpoint && mesh.settings.solver != RadiositySolver::Progressive) {
+        throw Error(scene.path.string(), "--checkpoint",
+                    "the radiosity solve is checkpointed by the progressive solver only "
+                    "(render.radiosity.solver=progressive), not by " +
+                        std::string(name_of(kRadiositySolvers, mesh.settings.solver)));
+    }
     uint64_t rays = make_elements(mesh, scene, options.threads);
     const auto t1 = Clock::now();
 
@@ -337,7 +347,7 @@ RenderResult RadiosityRenderer::render(const Scene& scene, const RenderOptions& 
         };
     }
     Progress progress("radiosity", 1, options.progress);
-    const Solution sol = solve(mesh, scene, options.threads, progress, std::move(on_snapshot));
+    const Solution sol = solve(mesh, scene, options, progress, std::move(on_snapshot));
     rays += sol.rays;
     progress.finish();
 

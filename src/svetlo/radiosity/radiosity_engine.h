@@ -13,7 +13,10 @@ namespace svetlo {
 class RadiosityRenderer final : public Renderer {
 public:
     Capabilities capabilities() const override {
-        return {.name = "radiosity", .whole_frame = true, .debug_aovs = {"patches"}};
+        return {.name = "radiosity",
+                .checkpoints = true,  // the progressive solve's
+                .whole_frame = true,
+                .debug_aovs = {"patches"}};
     }
     RenderResult render(const Scene& scene, const RenderOptions& options) override;
 };

@@ -8,16 +8,19 @@
 // element's irradiance, whole and straight from the emitters, from which display.h draws.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <cstdio>
 #include <functional>
 #include <string>
 #include <vector>
 
+#include "svetlo/core/process_group.h"
 #include "svetlo/core/progress.h"
 #include "svetlo/geometry/accel.h"
 #include "svetlo/radiosity/element_tree.h"
 #include "svetlo/radiosity/form_factors.h"
+#include "svetlo/scene/renderer.h"
 
 namespace svetlo {
 
@@ -43,6 +46,12 @@ struct SolverInput {
     /// When set, the progressive solver shows it the solution as it stands after 0, 1, 2, 4
     /// ... shots (the ambient term included): the error against time of compare --curves.
     std::function<void(const Solution& partial)> on_snapshot;
+    /// The progressive solver only (docs/distributed.md): the ranks that split the solve among
+    /// them (null: this process alone), the --checkpoint it resumes from and saves to, and the
+    /// flag that stops it after the shot in progress (SIGINT, SIGTERM).
+    ProcessGroup* group = nullptr;
+    const Checkpoint* checkpoint = nullptr;
+    const std::atomic<bool>* cancel = nullptr;
 };
 
 struct Solution {

@@ -56,7 +56,8 @@ inline std::optional<ShadowTechnique> debug_aov_technique(const std::string& nam
 /// it (apps/svetlo/engines.h), not from engines' names.
 struct Capabilities {
     std::string name;                     // its render.engine
-    bool progressive = false;             // refines pass by pass: --time, --checkpoint
+    bool progressive = false;             // refines pass by pass: --time
+    bool checkpoints = false;             // resumes from --checkpoint (RenderOptions::checkpoint)
     bool whole_frame = false;             // draws the whole frame at once: under MPI its
                                           // windows are bands of rows, each cut from a frame
     std::vector<std::string> debug_aovs;  // the teaching buffers it makes
@@ -79,7 +80,8 @@ struct Crop {
 };
 
 struct RenderResult;
-class AccelCache;  // geometry/accel_cache.h
+class AccelCache;    // geometry/accel_cache.h
+class ProcessGroup;  // core/process_group.h
 
 /// Many windows with one setup (docs/distributed.md): the engine renders the windows that
 /// `next` hands out, one after the other, after one setup (the BVH, the radiosity solve), and
@@ -90,11 +92,14 @@ struct WindowSource {
     std::function<void(const Crop& window, RenderResult&& result)> done;
 };
 
-/// --checkpoint (docs/distributed.md): a progressive engine's accumulators, laid out as it
-/// chooses, restored before its first pass and saved after each.
+/// --checkpoint (docs/distributed.md): an engine's state, laid out as it chooses, restored
+/// before its work and saved along it: the path tracer's accumulators after each pass, the
+/// radiosity solve's light about once a second. `passes` counts what the state holds (passes,
+/// or shots).
 struct Checkpoint {
     /// Fills `state` (sized by the engine) from what was saved; returns the passes it holds (0:
-    /// nothing saved, `state` untouched). Throws Error for a state of another size.
+    /// nothing saved, `state` untouched). Throws Error for a state of another size. An empty
+    /// `state` takes what was saved whatever its size (the engine then checks it).
     std::function<int(std::vector<double>& state)> restore;
     std::function<void(int passes, const std::vector<double>& state)> save;
 };
@@ -124,6 +129,9 @@ struct RenderOptions {
     /// When set, the ray tracers take the scene's geometry and BVH from it, or build them
     /// into it: the renders of one command share one (svetlo compare, svetlo serve).
     AccelCache* accels = nullptr;
+    /// Under mpirun, the ranks that share this render (docs/distributed.md): an engine whose
+    /// setup is worth splitting (the progressive radiosity solve) splits it among them.
+    ProcessGroup* group = nullptr;
 };
 
 struct RenderStats {
