@@ -2,9 +2,10 @@
 // functions with the top-left rule (edge_function.h) and the depth test; passes with the
 // stencil on or depth writes off go through rasterize_stencil.cpp.
 //
-// Two kernels here have an SSE form (four pixels of a row at once) and a plain twin, chosen by
-// SVETLO_SIMD: rasterize_small and depth_test_four. The twins are the statement (read them
-// first); the SSE forms write the same depths, ids and barycentrics, bit for bit.
+// Three kernels here have an SSE form (four pixels of a row at once) and a plain twin
+// (rasterize_kernels.h): rasterize_small, depth_test_four and deepest_of. The twins are the
+// statement (read them first); the SSE forms, which an SVETLO_SIMD build uses, write the same
+// depths, ids and barycentrics, bit for bit (tests/raster/kernel_twins_test.cpp).
 #if SVETLO_SIMD
 #include <immintrin.h>
 #endif
@@ -14,10 +15,11 @@
 #include "svetlo/core/rng.h"
 #include "svetlo/core/sampling.h"
 #include "svetlo/raster/pipeline.h"
+#include "svetlo/raster/rasterize_kernels.h"
 
 namespace svetlo::raster {
 
-namespace {
+namespace twin {
 
 /// Stage 5 for small triangles at one sample per pixel (small_triangle.h), `e` at the span's
 /// first sample and `z_origin` the depth there (depth_at): four pixels of a row tested and
@@ -25,11 +27,10 @@ namespace {
 /// (edge over twice the area, `inv_area`) for the shading (`kItems`; a depth-only pass keeps
 /// the depth alone). The blocks' deepest depths are left as they were: larger than the truth,
 /// which is safe.
-#if !SVETLO_SIMD
 template <bool kItems>
 void rasterize_small(const SmallEdges& e, float z_origin, const DepthPlane& p, PixelSpan span,
-                     const Tile& tile, bool depth_test, TileBuffers& buf, uint32_t id = 0,
-                     float inv_area = 0.0f) {
+                     const Tile& tile, bool depth_test, TileBuffers& buf, uint32_t id,
+                     float inv_area) {
     const auto [xs, xe, ys, ye] = span;
     const int tw = tile.x1 - tile.x0;
     for (int py = ys; py < ye; ++py) {
@@ -80,12 +81,21 @@ float deepest_of(const float* row, size_t n, float deepest) {
     for (size_t i = 0; i < n; ++i) deepest = std::max(deepest, row[i]);
     return deepest;
 }
-#else
-// rasterize_small's SSE form: its twin is above (#if !SVETLO_SIMD).
+template void rasterize_small<true>(const SmallEdges&, float, const DepthPlane&, PixelSpan,
+                                    const Tile&, bool, TileBuffers&, uint32_t, float);
+template void rasterize_small<false>(const SmallEdges&, float, const DepthPlane&, PixelSpan,
+                                     const Tile&, bool, TileBuffers&, uint32_t, float);
+
+}  // namespace twin
+
+#if SVETLO_SIMD
+namespace sse {
+
+// rasterize_small's SSE form: its twin is above (twin::rasterize_small).
 template <bool kItems>
 void rasterize_small(const SmallEdges& e, float z_origin, const DepthPlane& p, PixelSpan span,
-                     const Tile& tile, bool depth_test, TileBuffers& buf, uint32_t id = 0,
-                     float inv_area = 0.0f) {
+                     const Tile& tile, bool depth_test, TileBuffers& buf, uint32_t id,
+                     float inv_area) {
     const auto [xs, xe, ys, ye] = span;
     __m128i w_row[3], step_x[3], step_y[3];
     for (int k = 0; k < 3; ++k) {
@@ -168,6 +178,21 @@ float deepest_of(const float* row, size_t n, float deepest) {
     _mm_store_ps(lanes, lanes4);
     return std::max({lanes[0], lanes[1], lanes[2], lanes[3], deepest});
 }
+template void rasterize_small<true>(const SmallEdges&, float, const DepthPlane&, PixelSpan,
+                                    const Tile&, bool, TileBuffers&, uint32_t, float);
+template void rasterize_small<false>(const SmallEdges&, float, const DepthPlane&, PixelSpan,
+                                     const Tile&, bool, TileBuffers&, uint32_t, float);
+
+}  // namespace sse
+#endif
+
+namespace {
+
+// The kernels this build uses: the SSE forms where it has them, else the twins.
+#if SVETLO_SIMD
+namespace kernel = sse;
+#else
+namespace kernel = twin;
 #endif
 
 /// Stage 5: rasterizes triangle `id` into the tile's visibility buffer, 8 x 8 blocks at a
@@ -219,7 +244,7 @@ void rasterize(uint32_t id, const SetupTriangle& t, const TriangleEdges& te, Pix
                     size_t i = static_cast<size_t>(py - tile.y0) * tw + (x0 - tile.x0);
                     int px = x0;
                     for (; px + 4 <= x1; px += 4, i += 4, z += 4.0f * dz)
-                        wrote |= depth_test_four(z, dz, i, id, depth_test, buf);
+                        wrote |= kernel::depth_test_four(z, dz, i, id, depth_test, buf);
                     for (; px < x1; ++px, ++i, z += dz) {
                         if (depth_test && !(z < buf.depth[i])) continue;
                         buf.depth[i] = z;
@@ -258,7 +283,7 @@ void rasterize(uint32_t id, const SetupTriangle& t, const TriangleEdges& te, Pix
                      ++py) {
                     const float* row =
                         buf.depth.data() + (static_cast<size_t>(py - tile.y0) * tw + px0) * S;
-                    deepest = deepest_of(row, static_cast<size_t>(px1 - px0) * S, deepest);
+                    deepest = kernel::deepest_of(row, static_cast<size_t>(px1 - px0) * S, deepest);
                 }
                 far = deepest;
             }
@@ -281,10 +306,10 @@ void draw_triangle(uint32_t id, const SetupTriangle& t, const Tile& tile, const 
         const DepthPlane p = depth_plane(rx, ry, t.z, t.inv_area);
         const float z_origin = depth_at(p, -rx[0], -ry[0]);
         if (state.write_items) {
-            rasterize_small<true>(e, z_origin, p, span, tile, state.depth_test, buf, id,
-                                  t.inv_area);
+            kernel::rasterize_small<true>(e, z_origin, p, span, tile, state.depth_test, buf, id,
+                                          t.inv_area);
         } else {
-            rasterize_small<false>(e, z_origin, p, span, tile, state.depth_test, buf);
+            kernel::rasterize_small<false>(e, z_origin, p, span, tile, state.depth_test, buf);
         }
     } else {
         rasterize(id, t, TriangleEdges(t), span, tile, sp, state.depth_test, buf);

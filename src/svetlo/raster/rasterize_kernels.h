@@ -1,0 +1,45 @@
+// The rasterizer's SIMD kernels and their scalar twins (docs/kernels.md), each in two forms of
+// one signature: `twin::` states the algorithm (read it), `sse::` computes the same bits four
+// samples at a time. An SVETLO_SIMD build draws with the SSE forms, a scalar build with the
+// twins, and tests/raster/kernel_twins_test.cpp runs both on the same inputs.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "svetlo/raster/pipeline.h"
+#include "svetlo/raster/small_triangle.h"
+
+namespace svetlo::raster {
+
+namespace twin {  // rasterize.cpp
+
+/// A small triangle at one sample per pixel over `span`: coverage by its edge functions `e`
+/// (at the span's first sample), the depth from `z_origin` stepped along the rows, the depth
+/// test, and with kItems the triangle's id and screen barycentrics.
+template <bool kItems>
+void rasterize_small(const SmallEdges& e, float z_origin, const DepthPlane& p, PixelSpan span,
+                     const Tile& tile, bool depth_test, TileBuffers& buf, uint32_t id = 0,
+                     float inv_area = 0.0f);
+/// Four samples from i on, wholly inside a triangle, at depths z + dz lane: depth-tested and
+/// written with `id`. Whether any was written.
+bool depth_test_four(float z, float dz, size_t i, uint32_t id, bool depth_test, TileBuffers& buf);
+/// The deepest of n depths from `row` on, and `deepest`.
+float deepest_of(const float* row, size_t n, float deepest);
+
+}  // namespace twin
+
+#if SVETLO_SIMD
+namespace sse {  // rasterize.cpp: the twins' SSE forms
+
+template <bool kItems>
+void rasterize_small(const SmallEdges& e, float z_origin, const DepthPlane& p, PixelSpan span,
+                     const Tile& tile, bool depth_test, TileBuffers& buf, uint32_t id = 0,
+                     float inv_area = 0.0f);
+bool depth_test_four(float z, float dz, size_t i, uint32_t id, bool depth_test, TileBuffers& buf);
+float deepest_of(const float* row, size_t n, float deepest);
+
+}  // namespace sse
+#endif
+
+}  // namespace svetlo::raster
