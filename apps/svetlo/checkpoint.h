@@ -1,5 +1,6 @@
-// --checkpoint FILE (docs/distributed.md): a progressive render's accumulators and
-// the passes they hold, saved after every pass, atomically (a temporary file, then a rename),
+// --checkpoint FILE (docs/distributed.md): a render's state and how far it holds (the path
+// tracer's sums after each pass, the radiosity solve's light and rows after some shots, or under
+// mpirun the path tracer's tiles done), saved atomically (a temporary file, then a rename),
 // with the key of the run they belong to: a hash of the effective scene and the settings that
 // change its pixels. The same command with the same FILE resumes where the last save left,
 // and its image is bit for bit an uninterrupted run's. A file of another run, or one that is
