@@ -18,7 +18,7 @@ kill_after_a_pass() {
     shift 2
     "$svetlo" "$@" -q --checkpoint "$file" &
     local pid=$!
-    for _ in $(seq 1 200); do [ -s "$file" ] && break; sleep 0.02; done
+    for _ in $(seq 1 1000); do [ -s "$file" ] && break; sleep 0.02; done  # 20 s at most
     sleep 0.3
     kill "-$signal" $pid 2> /dev/null
     wait $pid 2> /dev/null
@@ -49,7 +49,7 @@ check "after SIGINT, resumed equals uninterrupted" cmp "$work/cornell.pfm" "$wor
 # The radiosity solve (progressive): killed after a save, it resumes with its shots and rows and
 # ends in the uninterrupted image; a finished one gives the image again at once.
 radiosity=(render "$scenes/cornell_radiosity.json" -W 64 -H 64 -t 1
-           --set render.radiosity.solver=progressive --set render.radiosity.element_size=0.1
+           --set render.radiosity.solver=progressive --set render.radiosity.element_size=0.08
            --set render.radiosity.adaptive=0)
 "$svetlo" "${radiosity[@]}" -q -o "$work/radiosity.pfm"
 kill_after_a_pass KILL "$work/radiosity.ck" "${radiosity[@]}" -o "$work/resumed.pfm"
