@@ -12,6 +12,7 @@
 #include "svetlo/raster/camera_matrices.h"
 #include "svetlo/raster/rasterize_kernels.h"
 #include "svetlo/raster/shadow_lookup.h"
+#include "svetlo/raster/shadow_map_filters.h"
 
 namespace svetlo::raster {
 namespace {
@@ -128,6 +129,21 @@ TEST(RasterKernelTwins, DeepestOfIsTheTwinsMaximum) {
     }
 }
 
+TEST(RasterKernelTwins, DepthRangeIsTheTwinsRange) {
+    std::mt19937 rng(23);
+    std::uniform_real_distribution<float> u(0.0f, 100.0f);
+    for (int n = 0; n < 2000; ++n) {
+        std::vector<float> z(static_cast<size_t>(n % 37));
+        for (float& v : z) v = u(rng);
+        float near_a = n % 7 == 0 ? -1.0f : u(rng), far_a = near_a + u(rng);
+        float near_b = near_a, far_b = far_a;
+        twin::depth_range(z.data(), z.size(), near_a, far_a);
+        sse::depth_range(z.data(), z.size(), near_b, far_b);
+        EXPECT_EQ(near_a, near_b) << n;
+        EXPECT_EQ(far_a, far_b) << n;
+    }
+}
+
 TEST(RasterKernelTwins, ShadowLookup4IsTheTwinsLookup) {
     // Random receivers (points and normals) around a light's map, perspective and
     // orthographic, with the normal offset and slope bias on: the same pixel positions,
@@ -181,6 +197,27 @@ TEST(RasterKernelTwins, ShadowLookup4IsTheTwinsLookup) {
         EXPECT_GT(on_map, 200) << "too few samples fell on the map";
         EXPECT_LT(on_map, 2000) << "every sample fell on the map: the edges went untested";
     }
+}
+
+TEST(RasterKernelTwins, PcfBlockIsTheTwinsSumInAnotherOrder) {
+    // Random maps of distances, kernels of 2 and 3 texels (the SSE form's), random fractions
+    // and limits: the same lit weight within float rounding of a sum of at most 16 terms.
+    std::mt19937 rng(19);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    const int res = 8;
+    std::vector<float> map(static_cast<size_t>(res) * res);
+    double spread = 0.0;
+    for (int k = 0; k < 5000; ++k) {
+        for (float& v : map) v = u(rng);
+        const int n = 2 + k % 2;
+        const float fx = u(rng), fy = u(rng), limit = u(rng);
+        const float* d = map.data() + (k % 3) * res + k % 4;  // the block fits the map
+        const float one = twin::pcf_block(d, res, n, fx, fy, limit);
+        const float four = sse::pcf_block(d, res, n, fx, fy, limit);
+        EXPECT_NEAR(one, four, 1e-5f) << k;
+        spread += one;
+    }
+    EXPECT_GT(spread, 1000.0) << "the blocks were never lit: nothing was compared";
 }
 
 #else

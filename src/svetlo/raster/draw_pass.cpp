@@ -1,13 +1,11 @@
 #include "svetlo/raster/draw_pass.h"
 
-#if SVETLO_SIMD
-#include <immintrin.h>
-#endif
 #include <tbb/enumerable_thread_specific.h>
 
 #include <algorithm>
 
 #include "svetlo/raster/pipeline.h"
+#include "svetlo/raster/rasterize_kernels.h"
 
 namespace svetlo {
 
@@ -103,28 +101,7 @@ void draw_samples(const TriangleList& list, const CameraMatrices& camera,
                                          static_cast<size_t>(i / kB);
                         const float* z = d + static_cast<size_t>(i) * S;
                         const size_t n = std::min(run, row - static_cast<size_t>(i) * S);
-                        float near = buf.block_near[b], far = buf.block_far[b];
-                        size_t k = 0;
-#if SVETLO_SIMD
-                        // Four lanes at a time (the loop below is its twin; min and max are
-                        // exact in any order).
-                        __m128 lo = _mm_set1_ps(near), hi = _mm_set1_ps(far);
-                        for (; k + 4 <= n; k += 4) {
-                            lo = _mm_min_ps(lo, _mm_loadu_ps(z + k));
-                            hi = _mm_max_ps(hi, _mm_loadu_ps(z + k));
-                        }
-                        alignas(16) float l[4], h[4];
-                        _mm_store_ps(l, lo);
-                        _mm_store_ps(h, hi);
-                        near = std::min({l[0], l[1], l[2], l[3]});
-                        far = std::max({h[0], h[1], h[2], h[3]});
-#endif
-                        for (; k < n; ++k) {
-                            near = std::min(near, z[k]);
-                            far = std::max(far, z[k]);
-                        }
-                        buf.block_near[b] = near;
-                        buf.block_far[b] = far;
+                        raster::kernel::depth_range(z, n, buf.block_near[b], buf.block_far[b]);
                     }
                 }
                 buf.tile_near = *std::min_element(buf.block_near.begin(), buf.block_near.end());

@@ -26,6 +26,9 @@ void rasterize_small(const SmallEdges& e, float z_origin, const DepthPlane& p, P
 bool depth_test_four(float z, float dz, size_t i, uint32_t id, bool depth_test, TileBuffers& buf);
 /// The deepest of n depths from `row` on, and `deepest`.
 float deepest_of(const float* row, size_t n, float deepest);
+/// Widens [near, far] to hold the n depths from z on (draw_pass.cpp: a block's depth range
+/// for the hierarchical test of a pass that writes no depth).
+void depth_range(const float* z, size_t n, float& near, float& far);
 
 }  // namespace twin
 
@@ -38,8 +41,16 @@ void rasterize_small(const SmallEdges& e, float z_origin, const DepthPlane& p, P
                      float inv_area = 0.0f);
 bool depth_test_four(float z, float dz, size_t i, uint32_t id, bool depth_test, TileBuffers& buf);
 float deepest_of(const float* row, size_t n, float deepest);
+void depth_range(const float* z, size_t n, float& near, float& far);
 
 }  // namespace sse
+#endif
+
+/// The forms this build draws with: the SSE forms where it has them, else the twins.
+#if SVETLO_SIMD
+namespace kernel = sse;
+#else
+namespace kernel = twin;
 #endif
 
 }  // namespace svetlo::raster

@@ -31,6 +31,51 @@ float bilinear(const DepthMap& m, vec2 px, float receiver, float bias) {
 
 }  // namespace
 
+namespace twin {
+
+float pcf_block(const float* d, int res, int n, float fx, float fy, float limit) {
+    float sum = 0.0f;
+    for (int v = 0; v <= n; ++v, d += res) {
+        const float wy = v == 0 ? 1.0f - fy : v == n ? fy : 1.0f;
+        // Lit texels of the row: the inner ones count 1, the two ends by the fractions.
+        float row = 0.0f;
+        for (int u = 1; u < n; ++u) row += d[u] >= limit ? 1.0f : 0.0f;
+        row += (d[0] >= limit ? 1.0f - fx : 0.0f) + (d[n] >= limit ? fx : 0.0f);
+        sum += wy * row;
+    }
+    return sum;
+}
+
+}  // namespace twin
+
+#if SVETLO_SIMD
+namespace sse {
+
+float pcf_block(const float* d, int res, int n, float fx, float fy, float limit) {
+    // A row's n + 1 texels in one four-wide load, weighted (1 - fx, 1, ..., fx, 0): the sum of
+    // the twin, in another order.
+    const __m128 at = _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f);
+    const __m128 inner = _mm_and_ps(_mm_cmpgt_ps(at, _mm_setzero_ps()),
+                                    _mm_cmplt_ps(at, _mm_set1_ps(static_cast<float>(n))));
+    const __m128 wx = _mm_or_ps(
+        _mm_and_ps(inner, _mm_set1_ps(1.0f)),
+        _mm_or_ps(
+            _mm_and_ps(_mm_cmpeq_ps(at, _mm_setzero_ps()), _mm_set1_ps(1.0f - fx)),
+            _mm_and_ps(_mm_cmpeq_ps(at, _mm_set1_ps(static_cast<float>(n))), _mm_set1_ps(fx))));
+    const __m128 lim = _mm_set1_ps(limit);
+    __m128 total = _mm_setzero_ps();
+    for (int v = 0; v <= n; ++v, d += res) {
+        const float wy = v == 0 ? 1.0f - fy : v == n ? fy : 1.0f;
+        const __m128 lit = _mm_and_ps(_mm_cmpge_ps(_mm_loadu_ps(d), lim), wx);
+        total = _mm_add_ps(total, _mm_mul_ps(lit, _mm_set1_ps(wy)));
+    }
+    const __m128 pair = _mm_add_ps(total, _mm_movehl_ps(total, total));
+    return _mm_cvtss_f32(_mm_add_ss(pair, _mm_shuffle_ps(pair, pair, 1)));
+}
+
+}  // namespace sse
+#endif
+
 float shadow_pcf(const DepthMap& m, const ShadowMapSettings& settings, vec2 px, float receiver,
                  float radius, float slope) {
     const int n = settings.kernel;
@@ -46,49 +91,24 @@ float shadow_pcf(const DepthMap& m, const ShadowMapSettings& settings, vec2 px, 
         const float fx = base.x - static_cast<float>(x0), fy = base.y - static_cast<float>(y0);
         const float limit = receiver - bias;
         const bool inside = x0 >= 0 && y0 >= 0 && x0 + n < m.res && y0 + n < m.res;
-#if SVETLO_SIMD
-        if (inside && n <= 3 && x0 + 3 < m.res) {
-            // A row's n + 1 texels in one four-wide load, weighted (1 - fx, 1, ..., fx, 0): the
-            // sum of the loop below (its twin), in another order.
-            const __m128 at = _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f);
-            const __m128 inner = _mm_and_ps(_mm_cmpgt_ps(at, _mm_setzero_ps()),
-                                            _mm_cmplt_ps(at, _mm_set1_ps(static_cast<float>(n))));
-            const __m128 wx = _mm_or_ps(
-                _mm_and_ps(inner, _mm_set1_ps(1.0f)),
-                _mm_or_ps(_mm_and_ps(_mm_cmpeq_ps(at, _mm_setzero_ps()), _mm_set1_ps(1.0f - fx)),
-                          _mm_and_ps(_mm_cmpeq_ps(at, _mm_set1_ps(static_cast<float>(n))),
-                                     _mm_set1_ps(fx))));
-            const __m128 lim = _mm_set1_ps(limit);
-            __m128 total = _mm_setzero_ps();
+        if (inside) {
             const float* d = m.distance.data() +
                              static_cast<size_t>(y0) * static_cast<size_t>(m.res) +
                              static_cast<size_t>(x0);
-            for (int v = 0; v <= n; ++v, d += m.res) {
-                const float wy = v == 0 ? 1.0f - fy : v == n ? fy : 1.0f;
-                const __m128 lit = _mm_and_ps(_mm_cmpge_ps(_mm_loadu_ps(d), lim), wx);
-                total = _mm_add_ps(total, _mm_mul_ps(lit, _mm_set1_ps(wy)));
-            }
-            const __m128 pair = _mm_add_ps(total, _mm_movehl_ps(total, total));
-            return _mm_cvtss_f32(_mm_add_ss(pair, _mm_shuffle_ps(pair, pair, 1))) /
-                   static_cast<float>(n * n);
-        }
+#if SVETLO_SIMD
+            if (n <= 3 && x0 + 3 < m.res)
+                return sse::pcf_block(d, m.res, n, fx, fy, limit) / static_cast<float>(n * n);
 #endif
+            return twin::pcf_block(d, m.res, n, fx, fy, limit) / static_cast<float>(n * n);
+        }
+        // Near the map's edge: each texel through m.at, which repeats the edge.
         float sum = 0.0f;
         for (int v = 0; v <= n; ++v) {
             const float wy = v == 0 ? 1.0f - fy : v == n ? fy : 1.0f;
-            // Lit texels of the row: the inner ones count 1, the two ends by the fractions.
             float row = 0.0f;
-            if (inside) {
-                const float* d = m.distance.data() +
-                                 static_cast<size_t>(y0 + v) * static_cast<size_t>(m.res) +
-                                 static_cast<size_t>(x0);
-                for (int u = 1; u < n; ++u) row += d[u] >= limit ? 1.0f : 0.0f;
-                row += (d[0] >= limit ? 1.0f - fx : 0.0f) + (d[n] >= limit ? fx : 0.0f);
-            } else {
-                for (int u = 0; u <= n; ++u) {
-                    const float wx = u == 0 ? 1.0f - fx : u == n ? fx : 1.0f;
-                    row += wx * shadow_compare(m.at(x0 + u, y0 + v), receiver, bias);
-                }
+            for (int u = 0; u <= n; ++u) {
+                const float wx = u == 0 ? 1.0f - fx : u == n ? fx : 1.0f;
+                row += wx * shadow_compare(m.at(x0 + u, y0 + v), receiver, bias);
             }
             sum += wy * row;
         }

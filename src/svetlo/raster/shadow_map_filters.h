@@ -45,6 +45,20 @@ inline float shadow_compare(float stored, float receiver, float bias) {
     return stored >= receiver - bias ? 1.0f : 0.0f;
 }
 
+/// PCF's kernel when its taps lie one texel apart (docs/kernels.md): the (n + 1) x (n + 1)
+/// texels from `d` (rows `res` floats apart), each 1 where lit (stored >= limit), weighted 1
+/// inside and by the bilinear fractions (1 - fx, fx across, 1 - fy, fy down) on the border.
+/// The twin states it; the SSE form (n <= 3: a row in one load) adds the same terms in another
+/// order (tests/raster/kernel_twins_test.cpp: within 1e-5).
+namespace twin {
+float pcf_block(const float* d, int res, int n, float fx, float fy, float limit);
+}  // namespace twin
+#if SVETLO_SIMD
+namespace sse {
+float pcf_block(const float* d, int res, int n, float fx, float fy, float limit);
+}  // namespace sse
+#endif
+
 /// settings.kernel x kernel bilinear taps spread over [-radius, radius] texels around pixel
 /// position px of map m, for a receiver at distance `receiver` (m) and a slope-scaled bias
 /// of `slope` metres per texel.
