@@ -72,9 +72,10 @@ Scene cornell() {
                 {"spp", 1},
                 {"radiosity",
                  {{"element_size", 0.3},
+                  {"patch_size", 3.0},  // 36 patches, 137 shots: few exchanges, a quick test
                   {"adaptive", 0},
                   {"solver", "progressive"},
-                  {"tolerance", 1e-3}}}}}};
+                  {"tolerance", 1e-2}}}}}};
     j["objects"] = {
         {{"type", "mesh"}, {"file", std::string(SVETLO_TEST_DATA) + "/CornellBox-Original.obj"}}};
     return scene_from_json(j, "cornell.json");
@@ -190,9 +191,9 @@ TEST(DistributedSolve, AnInterruptedSolveResumesBitForBit) {
             EXPECT_GT(saved.passes, 5);
             const RenderResult again = render_on(1, scene, same_options(1, second[0]))[0];
             EXPECT_EQ(again.color.pixels, whole.color.pixels);
-            // The rows came with the save: only the emitters' (shot before the state is
-            // restored) were made again.
-            EXPECT_LT(again.stats.rays * 20, whole.stats.rays);
+            // The rows came with the save: only the emitter's (shot before the state is
+            // restored: one row of the 36 patches') was made again.
+            EXPECT_LT(again.stats.rays * 10, whole.stats.rays);
         }
     }
 }

@@ -287,12 +287,12 @@ private:
     template <class T>
     std::vector<T> gather(const std::vector<T>& mine, const std::vector<size_t>& counts) {
         std::vector<std::byte> in(mine.size() * sizeof(T)), all;
-        std::memcpy(in.data(), mine.data(), in.size());
+        if (!in.empty()) std::memcpy(in.data(), mine.data(), in.size());
         std::vector<size_t> bytes(counts.size());
         for (size_t r = 0; r < counts.size(); ++r) bytes[r] = counts[r] * sizeof(T);
         group_->all_gather(in, bytes, all);
         std::vector<T> out(all.size() / sizeof(T));
-        std::memcpy(out.data(), all.data(), out.size() * sizeof(T));
+        if (!out.empty()) std::memcpy(out.data(), all.data(), out.size() * sizeof(T));
         return out;
     }
 
@@ -408,11 +408,13 @@ Solution solve_progressive(SolverInput& in) {
                 const double n = pos < saved.size() ? saved[pos++] : -1.0;
                 if (!(n >= 0.0 && n <= static_cast<double>(saved.size() - pos))) refuse();
                 const auto count = static_cast<size_t>(n);
-                std::vector<uint64_t> words(count);
-                std::memcpy(words.data(), saved.data() + pos, count * sizeof(uint64_t));
-                for (uint64_t w : words)
-                    if ((w >> 33) >= leaves.size()) refuse();
-                if (count > 0) shooter.adopt(slot, words.data(), count);
+                if (count > 0) {
+                    std::vector<uint64_t> words(count);
+                    std::memcpy(words.data(), saved.data() + pos, count * sizeof(uint64_t));
+                    for (uint64_t w : words)
+                        if ((w >> 33) >= leaves.size()) refuse();
+                    shooter.adopt(slot, words.data(), count);
+                }
                 pos += count;
             }
             if (pos != saved.size()) refuse();
@@ -441,7 +443,8 @@ Solution solve_progressive(SolverInput& in) {
             out.push_back(static_cast<double>(row.size()));
             const size_t at = out.size();
             out.resize(at + row.size());
-            std::memcpy(out.data() + at, row.data(), row.size() * sizeof(uint64_t));
+            if (!row.empty())  // (memcpy wants pointers, even for nothing)
+                std::memcpy(out.data() + at, row.data(), row.size() * sizeof(uint64_t));
         }
         in.checkpoint->save(sol.iterations, out);
     };
