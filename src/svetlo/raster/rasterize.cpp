@@ -2,10 +2,10 @@
 // functions with the top-left rule (edge_function.h) and the depth test; passes with the
 // stencil on or depth writes off go through rasterize_stencil.cpp.
 //
-// Four kernels here have an SSE form (four pixels of a row at once) and a plain twin
-// (rasterize_kernels.h): rasterize_small, depth_test_four, deepest_of and depth_range. The twins
-// are the statement (read them first); the SSE forms, which an SVETLO_SIMD build uses, write the
-// same depths, ids and barycentrics, bit for bit (tests/raster/kernel_twins_test.cpp).
+// Three kernels here have an SSE form (four pixels of a row at once) and a plain twin
+// (rasterize_kernels.h): rasterize_small, depth_test_four and deepest_of. The twins are the
+// statement (read them first); the SSE forms, which an SVETLO_SIMD build uses, write the same
+// depths, ids and barycentrics, bit for bit (tests/raster/kernel_twins_test.cpp).
 #if SVETLO_SIMD
 #include <immintrin.h>
 #endif
@@ -81,13 +81,6 @@ float deepest_of(const float* row, size_t n, float deepest) {
     for (size_t i = 0; i < n; ++i) deepest = std::max(deepest, row[i]);
     return deepest;
 }
-void depth_range(const float* z, size_t n, float& near, float& far) {
-    for (size_t k = 0; k < n; ++k) {
-        near = std::min(near, z[k]);
-        far = std::max(far, z[k]);
-    }
-}
-
 template void rasterize_small<true>(const SmallEdges&, float, const DepthPlane&, PixelSpan,
                                     const Tile&, bool, TileBuffers&, uint32_t, float);
 template void rasterize_small<false>(const SmallEdges&, float, const DepthPlane&, PixelSpan,
@@ -184,26 +177,6 @@ float deepest_of(const float* row, size_t n, float deepest) {
     alignas(16) float lanes[4];
     _mm_store_ps(lanes, lanes4);
     return std::max({lanes[0], lanes[1], lanes[2], lanes[3], deepest});
-}
-
-// depth_range's SSE form: four lanes at a time, then the rest (min and max are exact in any
-// order).
-void depth_range(const float* z, size_t n, float& near, float& far) {
-    __m128 lo = _mm_set1_ps(near), hi = _mm_set1_ps(far);
-    size_t k = 0;
-    for (; k + 4 <= n; k += 4) {
-        lo = _mm_min_ps(lo, _mm_loadu_ps(z + k));
-        hi = _mm_max_ps(hi, _mm_loadu_ps(z + k));
-    }
-    alignas(16) float l[4], h[4];
-    _mm_store_ps(l, lo);
-    _mm_store_ps(h, hi);
-    near = std::min({l[0], l[1], l[2], l[3]});
-    far = std::max({h[0], h[1], h[2], h[3]});
-    for (; k < n; ++k) {
-        near = std::min(near, z[k]);
-        far = std::max(far, z[k]);
-    }
 }
 
 template void rasterize_small<true>(const SmallEdges&, float, const DepthPlane&, PixelSpan,

@@ -4,6 +4,11 @@
 // twins, and tests/raster/kernel_twins_test.cpp runs both on the same inputs.
 #pragma once
 
+#if SVETLO_SIMD
+#include <immintrin.h>
+#endif
+
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 
@@ -27,8 +32,13 @@ bool depth_test_four(float z, float dz, size_t i, uint32_t id, bool depth_test, 
 /// The deepest of n depths from `row` on, and `deepest`.
 float deepest_of(const float* row, size_t n, float deepest);
 /// Widens [near, far] to hold the n depths from z on (draw_pass.cpp: a block's depth range
-/// for the hierarchical test of a pass that writes no depth).
-void depth_range(const float* z, size_t n, float& near, float& far);
+/// for the hierarchical test of a pass that writes no depth). Here, to be inlined there.
+inline void depth_range(const float* z, size_t n, float& near, float& far) {
+    for (size_t k = 0; k < n; ++k) {
+        near = std::min(near, z[k]);
+        far = std::max(far, z[k]);
+    }
+}
 
 }  // namespace twin
 
@@ -41,7 +51,25 @@ void rasterize_small(const SmallEdges& e, float z_origin, const DepthPlane& p, P
                      float inv_area = 0.0f);
 bool depth_test_four(float z, float dz, size_t i, uint32_t id, bool depth_test, TileBuffers& buf);
 float deepest_of(const float* row, size_t n, float deepest);
-void depth_range(const float* z, size_t n, float& near, float& far);
+
+/// twin::depth_range four lanes at a time, then the rest (min and max are exact in any order).
+inline void depth_range(const float* z, size_t n, float& near, float& far) {
+    __m128 lo = _mm_set1_ps(near), hi = _mm_set1_ps(far);
+    size_t k = 0;
+    for (; k + 4 <= n; k += 4) {
+        lo = _mm_min_ps(lo, _mm_loadu_ps(z + k));
+        hi = _mm_max_ps(hi, _mm_loadu_ps(z + k));
+    }
+    alignas(16) float l[4], h[4];
+    _mm_store_ps(l, lo);
+    _mm_store_ps(h, hi);
+    near = std::min({l[0], l[1], l[2], l[3]});
+    far = std::max({h[0], h[1], h[2], h[3]});
+    for (; k < n; ++k) {
+        near = std::min(near, z[k]);
+        far = std::max(far, z[k]);
+    }
+}
 
 }  // namespace sse
 #endif
