@@ -18,7 +18,10 @@ kill_after_a_pass() {
     shift 2
     "$svetlo" "$@" -q --checkpoint "$file" &
     local pid=$!
-    for _ in $(seq 1 1000); do [ -s "$file" ] && break; sleep 0.02; done  # 20 s at most
+    # 20 s at most for the first save (200 s under an emulator, SVETLO_EMULATED).
+    local tries=1000
+    [ "${SVETLO_EMULATED:-0}" = 1 ] && tries=10000
+    for _ in $(seq 1 $tries); do [ -s "$file" ] && break; sleep 0.02; done
     sleep 0.3
     kill "-$signal" $pid 2> /dev/null
     wait $pid 2> /dev/null

@@ -20,6 +20,10 @@ import urllib.error
 import urllib.parse
 import urllib.request
 
+# Under an emulator (make test-arm64: SVETLO_EMULATED=1) the server runs tens of times slower:
+# every wait is that much longer there. The checks themselves are the same.
+SLOW = 10 if os.environ.get("SVETLO_EMULATED") == "1" else 1
+
 try:
     import websocket
 except ImportError:
@@ -42,7 +46,8 @@ def check(name, ok, detail=""):
 
 def http(port, path):
     try:
-        with urllib.request.urlopen("http://127.0.0.1:%d%s" % (port, path), timeout=30) as r:
+        url = "http://127.0.0.1:%d%s" % (port, path)
+        with urllib.request.urlopen(url, timeout=30 * SLOW) as r:
             return r.status, r.read()
     except urllib.error.HTTPError as e:
         return e.code, e.read()
@@ -52,7 +57,7 @@ class Tab:
     """One page of the browser, through the DevTools protocol."""
 
     def __init__(self, ws_url):
-        self.ws = websocket.create_connection(ws_url, timeout=60, suppress_origin=True)
+        self.ws = websocket.create_connection(ws_url, timeout=60 * SLOW, suppress_origin=True)
         self.next_id = 0
         self.errors = []
         self.call("Runtime.enable")
@@ -100,7 +105,7 @@ VIEW = """(() => {
 })()"""
 
 
-def wait_view(tab, previous_src=None, seconds=60):
+def wait_view(tab, previous_src=None, seconds=60 * SLOW):
     end = time.time() + seconds
     while time.time() < end:
         v = tab.eval(VIEW)
@@ -110,7 +115,7 @@ def wait_view(tab, previous_src=None, seconds=60):
     return None
 
 
-def settle(tab, seconds=60):
+def settle(tab, seconds=60 * SLOW):
     """#view once it has stopped changing: no render due, the same image half a second apart
     (the page sends a JPEG while the view moves, then one PNG)."""
     end = time.time() + seconds
@@ -158,7 +163,7 @@ def main():
         check("a bad key's value gets the scene's message", status == 400 and b"render.shading" in body, body)
         check("the server keeps serving", http(port, "/api/scenes")[0] == 200)
         taken = subprocess.run([svetlo, "serve", scenes, "--port", str(port)], capture_output=True,
-                               text=True, timeout=30)
+                               text=True, timeout=30 * SLOW)
         check("a port in use: one line naming --port", taken.returncode == 1 and
               taken.stderr.count("\n") == 1 and "--port" in taken.stderr, taken.stderr)
 
@@ -249,7 +254,7 @@ def main():
         # Progressive display: the path tracer at 32 spp shows its passes as they come.
         set_control(tab, "spp", "5", "input")
         set_control(tab, "engine", "path", "change")
-        seen, end = [], time.time() + 120
+        seen, end = [], time.time() + 120 * SLOW
         while time.time() < end:
             text = tab.eval("document.getElementById('status').textContent")
             m = re.match(r"path, (\d+) spp, .*(refining|done)", text or "")
@@ -281,7 +286,7 @@ def main():
         href = tab.eval("location.href")
         req = urllib.request.Request("http://127.0.0.1:%d/json/new?%s"
                                      % (devtools, urllib.parse.quote(href, safe="")), method="PUT")
-        target = json.loads(urllib.request.urlopen(req, timeout=30).read())
+        target = json.loads(urllib.request.urlopen(req, timeout=30 * SLOW).read())
         again = Tab(target["webSocketDebuggerUrl"])
         restored = settle(again)
         check("the query string restores the view",
