@@ -151,7 +151,7 @@ int run_render(const RenderArgs& args) {
     }
     job.run.processes = processes;
     // --checkpoint: read and checked before the render (one line for a file of another run).
-    // Every rank reads it; rank 0 alone writes it. Under mpirun the ray tracers' tiles are
+    // Every rank reads it; rank 0 alone writes it. Under mpirun the path tracer's tiles are
     // saved as they come in (distributed.h), the radiosity solve by the engine.
     std::optional<CheckpointFile> checkpoint;
     bool tiles = false;  // the checkpoint holds tiles, not the engine's state
