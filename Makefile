@@ -5,7 +5,7 @@ BUILD := build
 SVETLO := $(BUILD)/svetlo
 DEMO_SCENES := $(wildcard scenes/*.json)
 
-.PHONY: all build test test-scalar test-arm64 demo bench setup clean format fuzz fuzz-scenes figures
+.PHONY: all build test test-asan test-asan-input asan-configure test-scalar scalar-images scalar-configure test-arm64 demo bench setup clean format fuzz fuzz-scenes figures
 
 all: build
 
@@ -18,17 +18,41 @@ $(BUILD)/CMakeCache.txt: | setup
 build: setup $(BUILD)/CMakeCache.txt
 	cmake --build $(BUILD) -j $(JOBS)
 
+# Every test stops after CTEST_TIMEOUT seconds, so that a hang names its test rather than
+# running into CI's limit.
+CTEST_TIMEOUT ?= 900
 test: build
-	ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS)
+	ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS) --timeout $(CTEST_TIMEOUT)
+
+# The suite built with AddressSanitizer and UndefinedBehaviorSanitizer (the asan preset;
+# docs/robustness.md). test-asan runs all of it (by hand: about 50 minutes here);
+# test-asan-input, which .ci/run runs, the code that reads what a user gives: the core, scene
+# and fuzz-corpus units and the command line's checks of bad input.
+ASAN := build-asan
+asan-configure: setup
+	cmake --preset asan > /dev/null
+test-asan: asan-configure
+	cmake --build $(ASAN) -j $(JOBS)
+	ctest --test-dir $(ASAN) --output-on-failure -j $(JOBS) --timeout 3000
+test-asan-input: asan-configure
+	cmake --build $(ASAN) -j $(JOBS) --target svetlo core_test scene_test fuzz_replay_test
+	ctest --test-dir $(ASAN) --output-on-failure -j $(JOBS) --timeout $(CTEST_TIMEOUT) \
+	    -L '^(unit|fuzz)$$' --no-tests=error
+	ctest --test-dir $(ASAN) --output-on-failure --timeout $(CTEST_TIMEOUT) -R '^cli$$' --no-tests=error
 
 # The suite built from the scalar twins alone (SVETLO_SIMD=OFF: no SSE or AVX2 anywhere), then
 # every engine's images held against the SIMD build's (tests/app/twins_test.sh; docs/kernels.md).
+# scalar-images, which .ci/run runs, builds the program alone and compares the images.
 SCALAR := build-scalar
-test-scalar: build
+scalar-configure: build
 	cmake -S . -B $(SCALAR) -DCMAKE_BUILD_TYPE=Release -DSVETLO_SIMD=OFF -DSVETLO_BENCH=OFF \
-	    -DSVETLO_PYTHON=OFF
+	    -DSVETLO_PYTHON=OFF > /dev/null
+test-scalar: scalar-configure
 	cmake --build $(SCALAR) -j $(JOBS)
-	ctest --test-dir $(SCALAR) --output-on-failure -j $(JOBS)
+	ctest --test-dir $(SCALAR) --output-on-failure -j $(JOBS) --timeout $(CTEST_TIMEOUT)
+	bash tests/app/twins_test.sh $(SVETLO) $(SCALAR)/svetlo scenes
+scalar-images: scalar-configure
+	cmake --build $(SCALAR) -j $(JOBS) --target svetlo
 	bash tests/app/twins_test.sh $(SVETLO) $(SCALAR)/svetlo scenes
 
 # The suite on ARM64: cross-built with Debian's g++-aarch64-linux-gnu and arm64 libraries
@@ -39,7 +63,7 @@ test-arm64:
 	cmake -S . -B $(ARM64) --toolchain cmake/aarch64-linux-gnu.cmake -DCMAKE_BUILD_TYPE=Release \
 	    -DSVETLO_BENCH=OFF -DSVETLO_PYTHON=OFF
 	cmake --build $(ARM64) -j $(JOBS)
-	ctest --test-dir $(ARM64) --output-on-failure -j $(JOBS)
+	ctest --test-dir $(ARM64) --output-on-failure -j $(JOBS) --timeout 6000
 
 demo: build
 	@mkdir -p out
