@@ -26,8 +26,8 @@ test: build
 
 # The suite built with AddressSanitizer and UndefinedBehaviorSanitizer (the asan preset;
 # docs/robustness.md). test-asan runs all of it (by hand: about 50 minutes here);
-# test-asan-input, which .ci/run runs, the code that reads what a user gives: the core, scene
-# and fuzz-corpus units and the command line's checks of bad input.
+# test-asan-input, which .ci/run runs, the code that reads what a user gives: the core and
+# scene units (images, scene files, meshes) and every file of the fuzz corpus.
 ASAN := build-asan
 asan-configure: setup
 	cmake --preset asan > /dev/null
@@ -35,10 +35,9 @@ test-asan: asan-configure
 	cmake --build $(ASAN) -j $(JOBS)
 	ctest --test-dir $(ASAN) --output-on-failure -j $(JOBS) --timeout 3000
 test-asan-input: asan-configure
-	cmake --build $(ASAN) -j $(JOBS) --target svetlo core_test scene_test fuzz_replay_test
+	cmake --build $(ASAN) -j $(JOBS) --target core_test scene_test fuzz_replay_test
 	ctest --test-dir $(ASAN) --output-on-failure -j $(JOBS) --timeout $(CTEST_TIMEOUT) \
 	    -L '^(unit|fuzz)$$' --no-tests=error
-	ctest --test-dir $(ASAN) --output-on-failure --timeout $(CTEST_TIMEOUT) -R '^cli$$' --no-tests=error
 
 # The suite built from the scalar twins alone (SVETLO_SIMD=OFF: no SSE or AVX2 anywhere), then
 # every engine's images held against the SIMD build's (tests/app/twins_test.sh; docs/kernels.md).
