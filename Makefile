@@ -25,7 +25,8 @@ test: build
 	ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS) --timeout $(CTEST_TIMEOUT)
 
 # The suite built with AddressSanitizer and UndefinedBehaviorSanitizer (the asan preset;
-# docs/robustness.md). test-asan runs all of it (by hand: about 50 minutes here);
+# docs/robustness.md). test-asan runs all of it (by hand: longer than CI's time,
+# so each test may take 3000 s);
 # test-asan-input, which .ci/run runs, the code that reads what a user gives: the core and
 # scene units (images, scene files, meshes) and every file of the fuzz corpus.
 ASAN := build-asan
@@ -41,18 +42,18 @@ test-asan-input: asan-configure
 
 # The suite built from the scalar twins alone (SVETLO_SIMD=OFF: no SSE or AVX2 anywhere), then
 # every engine's images held against the SIMD build's (tests/app/twins_test.sh; docs/kernels.md).
-# scalar-images, which .ci/run runs, builds the program alone and compares the images.
+# scalar-images, which .ci/run runs, builds the program alone and compares the images;
+# test-scalar does that first.
 SCALAR := build-scalar
 scalar-configure: build
 	cmake -S . -B $(SCALAR) -DCMAKE_BUILD_TYPE=Release -DSVETLO_SIMD=OFF -DSVETLO_BENCH=OFF \
 	    -DSVETLO_PYTHON=OFF > /dev/null
-test-scalar: scalar-configure
-	cmake --build $(SCALAR) -j $(JOBS)
-	ctest --test-dir $(SCALAR) --output-on-failure -j $(JOBS) --timeout $(CTEST_TIMEOUT)
-	bash tests/app/twins_test.sh $(SVETLO) $(SCALAR)/svetlo scenes
 scalar-images: scalar-configure
 	cmake --build $(SCALAR) -j $(JOBS) --target svetlo
 	bash tests/app/twins_test.sh $(SVETLO) $(SCALAR)/svetlo scenes
+test-scalar: scalar-images
+	cmake --build $(SCALAR) -j $(JOBS)
+	ctest --test-dir $(SCALAR) --output-on-failure -j $(JOBS) --timeout $(CTEST_TIMEOUT)
 
 # The suite on ARM64: cross-built with Debian's g++-aarch64-linux-gnu and arm64 libraries
 # (multiarch; scripts/setup arm64 installs them), run under qemu-user (docs/kernels.md).
