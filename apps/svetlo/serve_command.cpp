@@ -4,6 +4,7 @@
 //   GET /api/scenes                  the scene files of the folder, and the one given
 //   GET /api/scene?scene=NAME        a scene's effective JSON (the page orbits its camera)
 //   GET /api/render?scene=NAME&engine=E&spp=N&width=W&height=H&set=KEY=VALUE...&client=ID
+//                   [&format=jpeg][&preview=1]
 //                                    a PNG; X-Svetlo-Seconds and X-Svetlo-Spp say how it went
 //   GET /api/trace?...&x=X&y=Y      svetlo trace's JSON of that pixel
 // A bad value gets HTTP 400 and the one-line message; a render superseded by a newer request
@@ -43,6 +44,12 @@ namespace fs = std::filesystem;
 /// What one request may ask: the viewer's film and samples are bounded, so that no client
 /// can hold the machine.
 constexpr long long kMaxSide = 1920, kMaxSamples = 4096;
+
+/// The frame drawn while the view moves (preview=1; docs/viewer.md, "While the view moves"):
+/// the rasterizer draws each light with area from at most this many points, in its shading
+/// (render.area_light_points) and its shadows (render.area_shadow_points), as a real-time
+/// viewport lowers its soft shadows' samples while navigating. The still frame is the scene's.
+constexpr int kPreviewAreaPoints = 4;
 
 struct Server {
     fs::path folder;  // canonical
@@ -106,8 +113,16 @@ RenderJob request_job(Server& server, const httplib::Request& req, const std::st
     integer("width", "film.width", 1, kMaxSide);
     integer("height", "film.height", 1, kMaxSide);
     integer("spp", "render.spp", 1, kMaxSamples);
+    const std::string preview = req.get_param_value("preview");
+    if (!preview.empty() && preview != "0" && preview != "1")
+        throw Error(file, "preview", "must be 0 or 1, not '" + preview + "'");
     RenderJob job =
         make_job(effective_scene_json(path, overrides), path, sha256_file(path), &server.meshes);
+    if (preview == "1") {
+        RenderSettings& r = job.scene.render;
+        r.area_light_points = std::min(r.area_light_points, kPreviewAreaPoints);
+        r.area_shadow_points = std::min(r.area_shadow_points, kPreviewAreaPoints);
+    }
     make_renderer(job.scene.render.engine, file);  // an unknown engine: one line
     job.options.accels = &server.accels;
     return job;

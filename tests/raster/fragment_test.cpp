@@ -339,6 +339,49 @@ TEST(Raster, TheScalarShadingMultipliesEachLightByItsVisibility) {
     }
 }
 
+TEST(Raster, AreaLightPointsSetTheVpls) {
+    // render.area_light_points: n VPLs on the light (a grid for a square n, else a lattice
+    // spread over both edges), each standing for area / n; far below the light, where every
+    // point sees it alike, the shading gives the closed form E = L A / d^2 for every n.
+    json j = oblique(8, 8);
+    j["lights"] = {{{"type", "area"},
+                    {"corner", {-0.5, 20, -0.5}},
+                    {"edge_u", {1, 0, 0}},
+                    {"edge_v", {0, 0, 1}},
+                    {"radiance", 3}}};  // edge_u x edge_v = -y: it faces the origin
+    LambertMaterial white;
+    white.albedo = ColorSource::constant(Color(1.0f));
+    const ShadingFrame frame = make_shading_frame(vec3(0, 1, 0), vec3(0, 1, 0), vec3(0, 1, 0));
+    for (int n : {1, 4, 5, 64, 1024}) {
+        j["render"]["area_light_points"] = n;
+        const Scene scene = scene_from_json(j, "test.json");
+        const RasterLights lights(scene);
+        ASSERT_EQ(lights.vpls.size(), 1u);
+        ASSERT_EQ(lights.vpls[0].size(), static_cast<size_t>(n));
+        EXPECT_FLOAT_EQ(lights.min_dist2[0], 1.0f / static_cast<float>(n));
+        float x_lo = 1.0f, x_hi = -1.0f, z_lo = 1.0f, z_hi = -1.0f;
+        for (const AreaPoint& a : lights.vpls[0]) {
+            EXPECT_NEAR(a.surface.p.y, 20.0f, 1e-5f);
+            x_lo = std::min(x_lo, a.surface.p.x), x_hi = std::max(x_hi, a.surface.p.x);
+            z_lo = std::min(z_lo, a.surface.p.z), z_hi = std::max(z_hi, a.surface.p.z);
+        }
+        EXPECT_GE(x_lo, -0.5f);
+        EXPECT_LE(x_hi, 0.5f);
+        EXPECT_GE(z_lo, -0.5f);
+        EXPECT_LE(z_hi, 0.5f);
+        if (n >= 4) {  // spread over both edges, not a line
+            EXPECT_GT(x_hi - x_lo, 0.4f) << n;
+            EXPECT_GT(z_hi - z_lo, 0.4f) << n;
+        }
+        const Bsdf bsdf = make_bsdf(Material{white}, vec2(0.0f), scene.textures);
+        const Color L =
+            shade_point(bsdf, vec3(0.0f), frame, vec3(0, 1, 0), lights, Color(0.0f), Color(0.0f));
+        // Lambert: L_o = E / pi, E = L A cos cos / d^2: over the light, cos cos / d^2 varies
+        // from 1 / 400 m^-2 by at most 2.5e-3 at 20 m, its mean by under 1e-3.
+        EXPECT_NEAR(L.r, 3.0f / 400.0f / kPi, 2e-3f * 3.0f / 400.0f / kPi) << n;
+    }
+}
+
 TEST(Raster, EachLightApartSumsToTheMaskedShading) {
     // Flat and Gouraud shading under a shadow technique light a point once per light:
     // unlit_point + sum of V_k times light k's term is shade_point under the same mask, for

@@ -1,5 +1,7 @@
 #include "svetlo/raster/raster_lights.h"
 
+#include <cmath>
+
 #include "svetlo/core/sampling.h"
 #include "svetlo/shading/direct_light.h"
 
@@ -22,20 +24,26 @@ struct VplSampling {
 }  // namespace
 
 RasterLights::RasterLights(const Scene& scene) : set(scene) {
+    const int n = scene.render.area_light_points;
+    const int side = static_cast<int>(std::lround(std::sqrt(static_cast<double>(n))));
     for (const LightSet::Source& s : set.sources()) {
         std::vector<AreaPoint> points;
         if (!s.delta) {
-            // The centres of an 8 x 8 grid over the primitive's parameters, and a primitive
-            // picked by area from a low-discrepancy sequence (so that the grid's rows do not
-            // all land on one primitive).
-            for (int k = 0; k < kVplsPerEmitter; ++k) {
-                points.push_back(set.sample_area(
-                    s, stratified_sample(k, kVplsPerEmitter, vec2(0.5f)), r2_sequence(k).x));
+            // Over the primitive's parameters, the centres of a side x side grid when n is a
+            // square (8 x 8 by default), else a rank-1 lattice (the k-th column, and the R2
+            // sequence's second coordinate); a primitive picked by area from the R2 sequence's
+            // first (so that the grid's rows do not all land on one primitive).
+            for (int k = 0; k < n; ++k) {
+                const vec2 u = side * side == n
+                                   ? stratified_sample(k, n, vec2(0.5f))
+                                   : vec2((static_cast<float>(k) + 0.5f) / static_cast<float>(n),
+                                          r2_sequence(k).y);
+                points.push_back(set.sample_area(s, u, r2_sequence(k).x));
             }
             any_vpl = true;
         }
         vpls.push_back(std::move(points));
-        min_dist2.push_back(s.area / static_cast<float>(kVplsPerEmitter));
+        min_dist2.push_back(s.area / static_cast<float>(n));
     }
 }
 

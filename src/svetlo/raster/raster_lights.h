@@ -1,9 +1,9 @@
 // Lighting for the rasterizer: the light set (shading/light_set.h) and the direct-light sum
 // (shading/direct_light.h) of every engine, with the visibility the rasterizer knows (each
 // light's mask from the shadow technique, shadow_masks.h). Lights with area are sampled at
-// kVplsPerEmitter fixed points, virtual point lights (VPLs): a low-discrepancy set over the
-// emitter by area, the same in every frame and pixel, so the image has no noise; near a VPL,
-// d^2 is clamped to the area it stands for.
+// render.area_light_points fixed points (64 by default), virtual point lights (VPLs): a
+// low-discrepancy set over the emitter by area, the same in every frame and pixel, so the
+// image has no noise; near a VPL, d^2 is clamped to the area it stands for.
 #pragma once
 
 #include <vector>
@@ -15,8 +15,6 @@
 #include "svetlo/shading/shading_frame.h"
 
 namespace svetlo {
-
-inline constexpr int kVplsPerEmitter = 64;
 
 struct RasterLights {
     explicit RasterLights(const Scene& scene);

@@ -62,25 +62,6 @@ void rasterize_small(const SmallEdges& e, float z_origin, const DepthPlane& p, P
     }
 }
 
-/// Four pixels of a block's row wholly inside the triangle, from sample i on, at depths
-/// z + dz lane: depth-tested (with `depth_test`) and written. Whether any was written.
-bool depth_test_four(float z, float dz, size_t i, uint32_t id, bool depth_test, TileBuffers& buf) {
-    bool wrote = false;
-    for (int lane = 0; lane < 4; ++lane) {
-        const float zl = z + dz * static_cast<float>(lane);
-        if (depth_test && !(zl < buf.depth[i + lane])) continue;
-        buf.depth[i + lane] = zl;
-        buf.tri[i + lane] = id;
-        wrote = true;
-    }
-    return wrote;
-}
-
-/// The deepest of n depths from `row` on, and `deepest`.
-float deepest_of(const float* row, size_t n, float deepest) {
-    for (size_t i = 0; i < n; ++i) deepest = std::max(deepest, row[i]);
-    return deepest;
-}
 template void rasterize_small<true>(const SmallEdges&, float, const DepthPlane&, PixelSpan,
                                     const Tile&, bool, TileBuffers&, uint32_t, float);
 template void rasterize_small<false>(const SmallEdges&, float, const DepthPlane&, PixelSpan,
@@ -150,33 +131,6 @@ void rasterize_small(const SmallEdges& e, float z_origin, const DepthPlane& p, P
         }
         for (int k = 0; k < 3; ++k) w_row[k] = _mm_add_epi32(w_row[k], step_y[k]);
     }
-}
-
-// depth_test_four's SSE form (its twin is above).
-bool depth_test_four(float z, float dz, size_t i, uint32_t id, bool depth_test, TileBuffers& buf) {
-    const __m128 steps = _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f);
-    __m128 z4 = _mm_add_ps(_mm_set1_ps(z), _mm_mul_ps(_mm_set1_ps(dz), steps));
-    __m128 d = _mm_loadu_ps(&buf.depth[i]);
-    __m128 m = depth_test ? _mm_cmplt_ps(z4, d) : _mm_castsi128_ps(_mm_set1_epi32(-1));
-    if (_mm_movemask_ps(m) == 0) return false;
-    _mm_storeu_ps(&buf.depth[i], _mm_or_ps(_mm_and_ps(m, z4), _mm_andnot_ps(m, d)));
-    auto* tp = reinterpret_cast<__m128i*>(&buf.tri[i]);
-    __m128i mi = _mm_castps_si128(m);
-    const __m128i ids = _mm_set1_epi32(static_cast<int>(id));
-    _mm_storeu_si128(
-        tp, _mm_or_si128(_mm_and_si128(mi, ids), _mm_andnot_si128(mi, _mm_loadu_si128(tp))));
-    return true;
-}
-
-// deepest_of's SSE form: the max four lanes at a time (its twin is above).
-float deepest_of(const float* row, size_t n, float deepest) {
-    __m128 lanes4 = _mm_set1_ps(deepest);
-    size_t i = 0;
-    for (; i + 4 <= n; i += 4) lanes4 = _mm_max_ps(lanes4, _mm_loadu_ps(row + i));
-    for (; i < n; ++i) deepest = std::max(deepest, row[i]);
-    alignas(16) float lanes[4];
-    _mm_store_ps(lanes, lanes4);
-    return std::max({lanes[0], lanes[1], lanes[2], lanes[3], deepest});
 }
 
 template void rasterize_small<true>(const SmallEdges&, float, const DepthPlane&, PixelSpan,

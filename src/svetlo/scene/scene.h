@@ -393,6 +393,7 @@ struct RenderSettings {
     std::string accel = "bvh";    // none, grid, octree, bvh2, bvh (wide), embree
     int light_samples = 1;        // shadow rays per area light and shading point
     int area_shadow_points = 16;  // raster map and volume: point casters per light with area
+    int area_light_points = 64;   // raster: VPLs per light with area (shading, raytraced shadows)
     ShadowTeachingSettings shadow_teaching;
     RasterSettings raster;
     CausticMode caustics = CausticMode::Auto;

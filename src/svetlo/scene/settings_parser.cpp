@@ -100,6 +100,7 @@ RenderSettings parse_render(const JsonNode& node) {
                         "accel",
                         "light_samples",
                         "area_shadow_points",
+                        "area_light_points",
                         "shadow_volume",
                         "planar_shadows",
                         "visibility",
@@ -155,6 +156,8 @@ RenderSettings parse_render(const JsonNode& node) {
     }
     if (auto n = node.find("area_shadow_points"))
         r.area_shadow_points = static_cast<int>(n->as_integer(1, 256));
+    if (auto n = node.find("area_light_points"))
+        r.area_light_points = static_cast<int>(n->as_integer(1, 1024));
     if (auto n = node.find("visibility")) r.raster.visibility = n->as_enum(kVisibilityMethods);
     if (auto n = node.find("cull"))
         r.raster.cull_back_faces = n->as_choice({"none", "back"}) == "back";
