@@ -16,6 +16,7 @@
 #include "svetlo/core/progress.h"
 #include "svetlo/core/sha256.h"
 #include "svetlo/geometry/accel_cache.h"
+#include "svetlo/geometry/triangle_list_cache.h"
 
 namespace svetlo {
 
@@ -59,6 +60,7 @@ std::vector<Override> spec_overrides(const std::string& spec, const std::string&
 struct SharedSetup {
     MeshFileCache meshes;
     AccelCache accels;
+    TriangleListCache triangle_lists;
 };
 
 /// The job of one SPEC over the scene's JSON (already with the command's overrides). Errors
@@ -72,6 +74,7 @@ RenderJob spec_job(const nlohmann::json& base, const std::string& file, const st
         RenderJob job = make_job(std::move(json), file, sha256, &shared.meshes);
         job.options.threads = threads;
         job.options.accels = &shared.accels;
+        job.options.triangle_lists = &shared.triangle_lists;
         for (const std::string& name : aovs) request_aov(job, name, file, "-T " + spec);
         return job;
     } catch (const Error& e) {

@@ -21,6 +21,7 @@
 
 #include <algorithm>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "svetlo/core/large_array.h"
@@ -130,6 +131,8 @@ struct FrameShading {
     bool per_light = false;
     size_t sources = 0;
     const TriangleList* list = nullptr;
+    std::string list_key;          // the list's key in the command's caches (empty: none)
+    AccelCache* accels = nullptr;  // RenderOptions::accels: the raytraced shadows' BVH
 };
 
 /// What the geometry stages make of one pass (stages 2 to 4: draw_pass.cpp, vertex_stage.cpp,

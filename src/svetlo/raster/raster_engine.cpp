@@ -4,11 +4,13 @@
 
 #include <algorithm>
 #include <chrono>
+#include <memory>
 #include <unordered_map>
 
 #include "svetlo/core/error.h"
 #include "svetlo/core/progress.h"
 #include "svetlo/geometry/tessellate.h"
+#include "svetlo/geometry/triangle_list_cache.h"
 #include "svetlo/raster/fragment.h"
 #include "svetlo/raster/pipeline.h"
 #include "svetlo/raster/raster_trace.h"
@@ -51,8 +53,11 @@ void split_vertices_by_material(TriangleList& list) {
 }
 
 /// Stage 1: the scene-wide triangle list of every object, then the area lights as one-sided
-/// emissive quads (the ray tracer shows them too). Makes the light set and its VPLs.
-TriangleList tessellate_scene(const Scene& scene, FrameShading& f, int threads) {
+/// emissive quads (the ray tracer shows them too), taken from `cache` when an earlier render of
+/// the command made it (f.list_key). Makes the light set and its VPLs.
+std::shared_ptr<const TriangleList> tessellate_scene(const Scene& scene, FrameShading& f,
+                                                     int threads,
+                                                     TriangleListCache* cache = nullptr) {
     const TessellationOptions options = tessellation_options(scene.render);
     // Refuse what would not fit in memory before making it (a fine tessellation of many shapes).
     uint64_t total = 0;
@@ -64,11 +69,22 @@ TriangleList tessellate_scene(const Scene& scene, FrameShading& f, int threads) 
     }
     f.lights.emplace(scene);
     f.materials = f.lights->set.materials();
-    TriangleList list = build_triangle_list(
-        object_pointers(scene.objects, f.lights->set.area_light_quads()), options, threads);
-    if (f.mode == Mode::Gouraud) split_vertices_by_material(list);
-    if (scene.render.shadows == ShadowTechnique::Volume) build_adjacency(list);  // silhouettes
-    return list;
+    const bool split = f.mode == Mode::Gouraud;
+    const bool adjacency = scene.render.shadows == ShadowTechnique::Volume;  // silhouettes
+    // The key names all the list is made of: the shapes, area lights and materials' order
+    // (Scene::geometry_key; a scene made in code has none), the tessellation, and the steps
+    // below.
+    f.list_key.clear();
+    if (!scene.geometry_key.empty()) {
+        f.list_key = scene.geometry_key + " raster " + std::to_string(options.segments) +
+                     (split ? " split" : "") + (adjacency ? " adjacency" : "");
+    }
+    return shared_entry<TriangleList>(cache, f.list_key, [&](TriangleList& list) {
+        list = build_triangle_list(object_pointers(scene.objects, f.lights->set.area_light_quads()),
+                                   options, threads);
+        if (split) split_vertices_by_material(list);
+        if (adjacency) build_adjacency(list);
+    });
 }
 
 /// The base colour that flat and Gouraud shading modulate their light by (null: none). Not
@@ -194,7 +210,7 @@ CameraMatrices frame_camera(const Scene& scene, const TriangleList& list) {
 CameraMatrices raster_camera(const Scene& scene) {
     FrameState f;
     f.scene = &scene;
-    return frame_camera(scene, tessellate_scene(scene, f, 0));
+    return frame_camera(scene, *tessellate_scene(scene, f, 0));
 }
 
 struct RasterRenderer::Buffers {
@@ -247,7 +263,10 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     f.flat = std::move(buffers_->flat);
     f.scene = &scene;
     f.mode = scene.render.shading;
-    TriangleList list = tessellate_scene(scene, f, threads);
+    const std::shared_ptr<const TriangleList> shared_list =
+        tessellate_scene(scene, f, threads, options.triangle_lists);
+    const TriangleList& list = *shared_list;
+    f.accels = options.accels;
     prepare_shading(scene, f);
     const CameraMatrices camera = frame_camera(scene, list);
     f.list = &list;

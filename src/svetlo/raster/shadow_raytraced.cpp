@@ -2,8 +2,10 @@
 // visible sample casts a shadow ray to each caster through a BVH of the same triangles the
 // rasterizer drew (so that a sample never hits the surface it lies on), as hybrid real-time
 // renderers do. Lights with area cast from the rasterizer's own VPLs, so that V is the
-// fraction of the very points the shading sums that reach the sample.
+// fraction of the very points the shading sums that reach the sample. The BVH is the
+// command's (f.accels) when an earlier frame of the same triangle list built it.
 #include "svetlo/geometry/accel.h"
+#include "svetlo/geometry/accel_cache.h"
 #include "svetlo/geometry/ray.h"
 #include "svetlo/raster/shadow_techniques.h"
 
@@ -16,8 +18,12 @@ public:
     RaytracedShadows(const Scene& scene, const TriangleList& list, const FrameShading& f,
                      int threads) {
         casters_ = shadow_casters(scene, f.lights->set, f.lights->vpls);
-        geometry_ = triangle_geometry(list);
-        accel_ = make_accel("bvh", geometry_, threads);
+        const std::string key = f.list_key.empty() ? "" : f.list_key + " shadow bvh";
+        built_ = shared_entry<BuiltGeometry>(f.accels, key, [&](BuiltGeometry& b) {
+            b.geometry = triangle_geometry(list);
+            b.accel = make_accel("bvh", b.geometry, threads);
+        });
+        accel_ = built_->accel.get();
     }
 
     float lit(size_t k, const ShadowSample& at) const override {
@@ -42,8 +48,8 @@ public:
     }
 
 private:
-    Geometry geometry_;
-    std::unique_ptr<Accel> accel_;
+    std::shared_ptr<const BuiltGeometry> built_;  // the triangles and their BVH
+    const Accel* accel_ = nullptr;
 };
 
 }  // namespace

@@ -80,8 +80,9 @@ struct Crop {
 };
 
 struct RenderResult;
-class AccelCache;    // geometry/accel_cache.h
-class ProcessGroup;  // core/process_group.h
+class AccelCache;         // geometry/accel_cache.h
+class TriangleListCache;  // geometry/triangle_list_cache.h
+class ProcessGroup;       // core/process_group.h
 
 /// Many windows with one setup (docs/distributed.md): the engine renders the windows that
 /// `next` hands out, one after the other, after one setup (the BVH, the radiosity solve), and
@@ -129,6 +130,9 @@ struct RenderOptions {
     /// When set, the ray tracers take the scene's geometry and BVH from it, or build them
     /// into it: the renders of one command share one (svetlo compare, svetlo serve).
     AccelCache* accels = nullptr;
+    /// When set, the rasterizer takes the scene's triangle list from it (and the BVH of its
+    /// raytraced shadows from `accels`), or builds them into it.
+    TriangleListCache* triangle_lists = nullptr;
     /// Under mpirun, the ranks that share this render (docs/distributed.md): an engine whose
     /// setup is worth splitting (the progressive radiosity solve) splits it among them.
     ProcessGroup* group = nullptr;
