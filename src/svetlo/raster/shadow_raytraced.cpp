@@ -18,6 +18,13 @@ public:
     RaytracedShadows(const Scene& scene, const TriangleList& list, const FrameShading& f,
                      int threads) {
         casters_ = shadow_casters(scene, f.lights->set, f.lights->vpls);
+        // Each caster's end of its rays: a point on an emitter moved off its own surface to
+        // the front, the side of every sample it lights (lit() is called only for those).
+        for (const ShadowCaster& c : casters_) {
+            targets_.push_back(glm::length(c.normal) > 0.0f
+                                   ? offset_ray_origin(c.position, c.normal, c.normal)
+                                   : c.position);
+        }
         const std::string key = f.list_key.empty() ? "" : f.list_key + " shadow bvh";
         built_ = shared_entry<BuiltGeometry>(f.accels, key, [&](BuiltGeometry& b) {
             b.geometry = triangle_geometry(list);
@@ -36,18 +43,21 @@ public:
         const float toward = std::max(std::max(a.x, a.y), std::max(a.z, 1.0f)) / 65536.0f;
         Ray ray{offset_ray_origin(at.p, at.n, wi) + toward * wi, wi, kInfinity};
         if (c.kind != ShadowCaster::Kind::Directional) {
-            // To the caster (a point on an emitter is moved off its own surface first).
-            vec3 target = glm::length(c.normal) > 0.0f
-                              ? offset_ray_origin(c.position, c.normal, -wi)
-                              : c.position;
-            ray.d = target - ray.o;
+            ray.d = targets_[k] - ray.o;  // to the caster
             ray.tmax = 1.0f;
         }
         if (!std::isfinite(ray.o.x + ray.o.y + ray.o.z + ray.d.x + ray.d.y + ray.d.z)) return 1.0f;
         return accel_->occluded(ray) ? 0.0f : 1.0f;
     }
 
+    // lit() for each sample, called directly (this class is final): no virtual call a ray.
+    void lit_many(size_t k, const ShadowSample* samples, const uint32_t* at, size_t count,
+                  float* out) const override {
+        for (size_t m = 0; m < count; ++m) out[m] = lit(k, samples[at[m]]);
+    }
+
 private:
+    std::vector<vec3> targets_;                   // per caster: where its rays end
     std::shared_ptr<const BuiltGeometry> built_;  // the triangles and their BVH
     const Accel* accel_ = nullptr;
 };
