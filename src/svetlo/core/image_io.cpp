@@ -8,6 +8,8 @@
 #include <OpenEXR/ImfStringAttribute.h>
 #include <stb_image.h>
 #include <stb_image_write.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <zlib.h>
 #ifdef SVETLO_HAS_LIBJPEG
 #include <jpeglib.h>
@@ -237,17 +239,24 @@ std::vector<unsigned char> eight_bit_bytes(const Image& image, PixelMeaning mean
                                            float exposure) {
     static const Srgb8Encoder srgb8;
     std::vector<unsigned char> bytes(image.pixels.size() * 3);
-    for (size_t k = 0; k < image.pixels.size(); ++k) {
-        for (int c = 0; c < 3; ++c) {
-            float v = image.pixels[k][c];
-            if (meaning == PixelMeaning::Radiance) {
-                bytes[3 * k + c] = srgb8(v * exposure);
-            } else {
-                float clipped = std::clamp(std::isfinite(v) ? v : 0.0f, 0.0f, 1.0f);
-                bytes[3 * k + c] = static_cast<unsigned char>(std::lround(clipped * 255.0f));
-            }
-        }
-    }
+    // Each byte depends on its own value only: the pixels in parallel (the viewer encodes a
+    // frame per request, and this was a third of the JPEG encoder's time at 960 x 540).
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, image.pixels.size(), 16384),
+                      [&](const tbb::blocked_range<size_t>& range) {
+                          for (size_t k = range.begin(); k < range.end(); ++k) {
+                              for (int c = 0; c < 3; ++c) {
+                                  float v = image.pixels[k][c];
+                                  if (meaning == PixelMeaning::Radiance) {
+                                      bytes[3 * k + c] = srgb8(v * exposure);
+                                  } else {
+                                      float clipped =
+                                          std::clamp(std::isfinite(v) ? v : 0.0f, 0.0f, 1.0f);
+                                      bytes[3 * k + c] =
+                                          static_cast<unsigned char>(std::lround(clipped * 255.0f));
+                                  }
+                              }
+                          }
+                      });
     return bytes;
 }
 
