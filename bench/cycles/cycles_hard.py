@@ -173,7 +173,6 @@ def add_part(sc, name, geo, material):
 
 harness_material = cycles_cornell.make_material
 cycles_cornell.make_material = make_material
-cycles_cornell.scene_geometry = scene_parts
 
 # The harness links each part's triangles as a flat mesh; a cylinder's part carries its own
 # mesh (shared, smooth side vertices), linked here after the harness has built the rest.

@@ -2,9 +2,7 @@
 // command that has the same shapes (core/shared_cache.h).
 #pragma once
 
-#include <functional>
 #include <memory>
-#include <string>
 #include <vector>
 
 #include "svetlo/core/shared_cache.h"
@@ -26,11 +24,5 @@ class AccelCache : public SharedCache<BuiltGeometry> {
 public:
     using SharedCache::SharedCache;
 };
-
-/// cache->get(key, build), or a new entry made by `build` where there is no cache.
-inline std::shared_ptr<const BuiltGeometry> built_geometry(
-    AccelCache* cache, const std::string& key, const std::function<void(BuiltGeometry&)>& build) {
-    return shared_entry<BuiltGeometry>(cache, key, build);
-}
 
 }  // namespace svetlo

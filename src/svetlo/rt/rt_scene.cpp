@@ -11,8 +11,8 @@ namespace svetlo {
 RtScene::RtScene(const Scene& scene, const std::string& accel, int threads, AccelCache* cache)
     : scene_(scene), lights_(scene) {
     // A scene made in code, not read, has no key: it builds its own.
-    if (scene.geometry_key.empty()) cache = nullptr;
-    built_ = built_geometry(cache, scene.geometry_key + " " + accel, [&](BuiltGeometry& b) {
+    const std::string key = scene.geometry_key.empty() ? "" : scene.geometry_key + " " + accel;
+    built_ = shared_entry<BuiltGeometry>(cache, key, [&](BuiltGeometry& b) {
         b.geometry =
             build_geometry(object_pointers(scene.objects, lights_.area_light_quads()), &b.ranges);
         b.accel = make_accel(accel, b.geometry, threads);
