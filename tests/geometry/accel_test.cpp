@@ -113,6 +113,109 @@ TEST_P(EveryAccel, SameHitsAsBruteForceOnRandomRays) {
     EXPECT_GT(hits, 2000);  // the test exercises real hits
 }
 
+/// Shadow rays toward one point (Accel::occluded_toward), as the rasterizer casts them: the
+/// same answers as occluded() ray by ray, for packets that sweep narrow shafts (a patch of
+/// nearby origins), wide ones (origins all over, on both sides of the end, which the wide
+/// BVH cuts into narrower packets), rays that graze the triangles (origins at their
+/// vertices and edges, the end at a vertex), and counts around the 64 rays of a packet.
+TEST_P(EveryAccel, RaysTowardOnePointAnswerAsOneByOne) {
+    Geometry g = random_geometry(3000, 200, 43);
+    std::unique_ptr<Accel> accel = make_accel(GetParam(), g, 2);
+    ASSERT_TRUE(accel);
+    Rng rng(11, 3);
+    auto rnd = [&] { return rng.next_float(); };
+    auto vertex = [&] {
+        return g.positions[std::min<size_t>(static_cast<size_t>(rnd() * g.positions.size()),
+                                            g.positions.size() - 1)];
+    };
+    int blocked = 0, open = 0;
+    for (int round = 0; round < 60; ++round) {
+        const int kind = round % 4;
+        const vec3 end = kind == 3 ? vertex()
+                                   : vec3(rnd() * 1.6f - 0.3f, rnd() * 1.6f - 0.3f,
+                                          rnd() * 1.6f - 0.3f);
+        const size_t count = std::vector<size_t>{1, 7, 63, 64, 65, 200}[round % 6];
+        const vec3 corner(rnd(), rnd(), rnd());
+        std::vector<Ray> rays;
+        for (size_t k = 0; k < count; ++k) {
+            vec3 o;
+            if (kind == 0) {  // an 8 x 8 patch, 2 mm apart
+                o = corner + 0.002f * vec3(static_cast<float>(k % 8), static_cast<float>(k / 8 % 8),
+                                           0.0f);
+            } else if (kind == 1) {  // anywhere
+                o = vec3(rnd() * 1.6f - 0.3f, rnd() * 1.6f - 0.3f, rnd() * 1.6f - 0.3f);
+            } else {  // on the triangles: their vertices and the middles of their edges
+                const size_t t = std::min<size_t>(static_cast<size_t>(rnd() * 3000.0f), 2999);
+                const vec3 a = g.positions[g.indices[3 * t]], b = g.positions[g.indices[3 * t + 1]];
+                o = k % 2 ? a : 0.5f * (a + b);
+            }
+            rays.push_back(Ray{o, end - o, 1.0f});
+        }
+        std::vector<char> together(count);
+        static_assert(sizeof(bool) == sizeof(char));
+        accel->occluded_toward(end, rays.data(), count, reinterpret_cast<bool*>(together.data()));
+        for (size_t k = 0; k < count; ++k) {
+            const bool alone = accel->occluded(rays[k]);
+            ASSERT_EQ(static_cast<bool>(together[k]), alone)
+                << "round " << round << " ray " << k << " from " << glm::to_string(rays[k].o)
+                << " to " << glm::to_string(end);
+            (alone ? blocked : open)++;
+        }
+    }
+    EXPECT_GT(blocked, 1000);  // both answers are exercised
+    EXPECT_GT(open, 1000);
+}
+
+/// A packet toward E = 0 whose one ray crosses a triangle 1e-6 inside its corner, at the edge
+/// of the packet's shaft (the other 63 pass by, close): the triangle's box touches
+/// the shaft only there and must not be culled. Every side and axis of the setup, mirrored
+/// and rotated, so that each of the shaft's planes is the one that touches.
+TEST_P(EveryAccel, RaysTowardOnePointKeepTheBoxAtTheShaftsEdge) {
+    for (int axes = 0; axes < 3; ++axes) {
+        for (int signs = 0; signs < 8; ++signs) {
+            auto place = [&](vec3 q) {  // the setup's frame to the world's
+                vec3 r;
+                for (int c = 0; c < 3; ++c)
+                    r[(c + axes) % 3] = (signs >> c & 1 ? -1.0f : 1.0f) * q[c];
+                return r;
+            };
+            Geometry g;
+            auto triangle = [&](vec3 a, vec3 b, vec3 c) {
+                for (vec3 v : {a, b, c}) {
+                    g.positions.push_back(place(v));
+                    g.indices.push_back(static_cast<uint32_t>(g.positions.size() - 1));
+                }
+                g.triangle_material.push_back(0);
+            };
+            triangle(vec3(0, 0, 1), vec3(1, 0, 1), vec3(0, 1, 1));
+            Rng rng(5, static_cast<uint64_t>(8 * axes + signs));
+            for (int k = 0; k < 300; ++k) {  // far away, so that the tree has inner nodes
+                vec3 c(rng.next_float() * 40.0f + 20.0f, rng.next_float() * 40.0f - 20.0f,
+                       rng.next_float() * 40.0f);
+                triangle(c, c + vec3(0.5f, 0, 0), c + vec3(0, 0.5f, 0));
+            }
+            std::unique_ptr<Accel> accel = make_accel(GetParam(), g, 1);
+            const vec3 end(0.0f);
+            std::vector<Ray> rays;
+            // Crossing z = 1 at x, y in [-0.08, -0.01]: a narrow packet, one shaft.
+            for (int k = 0; k < 63; ++k) {
+                const vec3 o(-0.02f - 0.14f * static_cast<float>(k % 8) / 7.0f,
+                             -0.02f - 0.14f * static_cast<float>(k / 8) / 7.0f, 2.0f);
+                rays.push_back(Ray{place(o), end - place(o), 1.0f});
+            }
+            const vec3 o(2e-6f, 2e-6f, 2.0f);  // crossing z = 1 at (1e-6, 1e-6)
+            rays.push_back(Ray{place(o), end - place(o), 1.0f});
+            bool together[64];
+            accel->occluded_toward(end, rays.data(), rays.size(), together);
+            for (size_t k = 0; k < rays.size(); ++k) {
+                ASSERT_EQ(together[k], k == 63) << "axes " << axes << " signs " << signs << " ray "
+                                                << k;
+                ASSERT_EQ(accel->occluded(rays[k]), k == 63);
+            }
+        }
+    }
+}
+
 TEST_P(EveryAccel, EmptyAndDegenerateInputs) {
     Geometry empty;
     std::unique_ptr<Accel> none = make_accel(GetParam(), empty, 1);

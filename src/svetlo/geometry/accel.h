@@ -31,6 +31,14 @@ public:
     virtual bool counts_cost() const { return false; }
     /// True when anything lies on the ray at 0 < t < ray.tmax.
     virtual bool occluded(const Ray& ray) const = 0;
+    /// occluded(rays[k]) into blocked[k] for `count` rays that end at one point: each ray's
+    /// segment, o + t d for t in [0, tmax], ends at `end` (to a few ulps), as shadow rays toward
+    /// a point light do. A structure may test them together (WideBvh does); the answers are
+    /// occluded()'s, bit for bit.
+    virtual void occluded_toward(vec3 end, const Ray* rays, size_t count, bool* blocked) const {
+        (void)end;
+        for (size_t k = 0; k < count; ++k) blocked[k] = occluded(rays[k]);
+    }
     /// Bytes of the structure itself (not the geometry).
     virtual size_t memory_bytes() const = 0;
 };

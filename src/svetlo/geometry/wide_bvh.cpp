@@ -10,6 +10,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <cstring>
 #include <stdexcept>
 
 #include "svetlo/core/parallel.h"
@@ -282,10 +283,40 @@ bool WideBvh::occluded(const Ray& ray) const {
     });
 }
 
+void WideBvh::occluded_toward(vec3 end, const Ray* rays, size_t count, bool* blocked) const {
+    if (empty_ || width_ == 16) {
+        Accel::occluded_toward(end, rays, count, blocked);
+        return;
+    }
+    constexpr size_t kPacket = 64;  // the bits of a mask
+    for (size_t first = 0; first < count; first += kPacket) {
+        const size_t n = std::min(kPacket, count - first);
+        const Ray* packet = rays + first;
+        uint64_t hit = 0;
+        if (width_ == 8) {
+            hit = occluded_toward8(end, packet, n);
+        } else {
+            const RayLanes lanes(packet, n);
+            const uint64_t all = n == kPacket ? ~uint64_t{0} : (uint64_t{1} << n) - 1;
+            hit = occluded_shafts<4>(
+                nodes4_.data(), end, packet, lanes, all,
+                [&](uint32_t leaf, int m) {
+                    const RayPrecomputed pre(packet[m]);
+                    const Packets test(packet[m], pre);
+                    return leaf_any(leaves_[leaf], packets_.data(), shapes_.data(), geometry_,
+                                    test);
+                },
+                [&](int m) { return occluded(packet[m]); });
+        }
+        for (size_t k = 0; k < n; ++k) blocked[first + k] = (hit >> k) & 1;
+    }
+}
+
 #ifndef SVETLO_HAS_AVX2_BVH
 // Never called: width_ is 8 only where eight_wide_available().
 bool WideBvh::intersect8(const Ray&, Hit&, TraversalCost*) const { return false; }
 bool WideBvh::occluded8(const Ray&) const { return false; }
+uint64_t WideBvh::occluded_toward8(vec3, const Ray*, size_t) const { return 0; }
 #endif
 #ifndef SVETLO_HAS_AVX512_BVH
 // Never called: width_ is 16 only where sixteen_wide_available().

@@ -40,6 +40,9 @@ public:
     explicit WideBvh(const Geometry& geometry, int threads = 0, int width = 0);
     bool intersect(const Ray& ray, Hit& hit) const override;
     bool occluded(const Ray& ray) const override;
+    /// Up to 64 rays at a time, cut into packets that sweep narrow shafts, each traversed once
+    /// (occluded_shafts, wide_bvh_traversal.inc); the leaves ray by ray. 16 lanes: ray by ray.
+    void occluded_toward(vec3 end, const Ray* rays, size_t count, bool* blocked) const override;
     bool intersect_cost(const Ray& ray, Hit& hit, TraversalCost& cost) const override;
     bool counts_cost() const override { return true; }
     size_t memory_bytes() const override {
@@ -75,6 +78,8 @@ private:
     // The eight-wide traversal (wide_bvh_avx2.cpp); with `cost`, counting its work.
     bool intersect8(const Ray& ray, Hit& hit, TraversalCost* cost = nullptr) const;
     bool occluded8(const Ray& ray) const;
+    /// The rays (bits) of a packet of at most 64 toward `end` that something blocks.
+    uint64_t occluded_toward8(vec3 end, const Ray* rays, size_t count) const;
     // The sixteen-wide traversal (wide_bvh_avx512.cpp).
     bool intersect16(const Ray& ray, Hit& hit, TraversalCost* cost = nullptr) const;
     bool occluded16(const Ray& ray) const;

@@ -5,6 +5,10 @@
 // No FMA: the box test rounds as the four-wide one does, lane for lane.
 #include <immintrin.h>
 
+#include <algorithm>
+#include <cstring>
+#include <cmath>
+
 #include "svetlo/geometry/ray_box.h"
 #include "svetlo/geometry/triangle.h"
 #include "svetlo/geometry/wide_bvh.h"
@@ -83,6 +87,19 @@ bool WideBvh::occluded8(const Ray& ray) const {
     return traverse_any<RayBoxes8>(nodes8_.data(), ray, [&](uint32_t leaf) {
         return leaf_any(leaves_[leaf], packets_.data(), shapes_.data(), geometry_, test);
     });
+}
+
+uint64_t WideBvh::occluded_toward8(vec3 end, const Ray* rays, size_t count) const {
+    const RayLanes lanes(rays, count);
+    const uint64_t all = count == 64 ? ~uint64_t{0} : (uint64_t{1} << count) - 1;
+    return occluded_shafts<8>(
+        nodes8_.data(), end, rays, lanes, all,
+        [&](uint32_t leaf, int m) {
+            const RayPrecomputed pre(rays[m]);
+            const SsePackets test(rays[m], pre);
+            return leaf_any(leaves_[leaf], packets_.data(), shapes_.data(), geometry_, test);
+        },
+        [&](int m) { return occluded8(rays[m]); });
 }
 
 }  // namespace svetlo

@@ -4,6 +4,9 @@
 // as the four- and eight-wide ones do, lane for lane.
 #include <immintrin.h>
 
+#include <algorithm>
+#include <cstring>
+
 #include "svetlo/geometry/ray_box.h"
 #include "svetlo/geometry/triangle.h"
 #include "svetlo/geometry/wide_bvh.h"
