@@ -34,6 +34,12 @@ Srgb8Encoder::Srgb8Encoder() {
         }
         steps_[k - 1] = std::bit_cast<float>(hi);
     }
+    for (unsigned c = 0; c < kCells; ++c) {
+        const float start = static_cast<float>(c) / kCells;
+        unsigned k = 0;  // the steps at or below the cell's start
+        while (k < 255 && steps_[k] <= start) ++k;
+        first_[c] = static_cast<unsigned char>(k);
+    }
 }
 
 Image crop_image(const Image& image, int x0, int y0, int w, int h) {

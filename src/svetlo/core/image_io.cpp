@@ -246,7 +246,7 @@ std::vector<unsigned char> eight_bit_bytes(const Image& image, PixelMeaning mean
     std::vector<unsigned char> bytes(image.pixels.size() * 3);
     // Each byte depends on its own value only: the pixels in parallel (the viewer encodes a
     // frame per request; at 960 x 540 this was most of the JPEG encoder's time, which fell
-    // from 19 to 10 ms on two cores).
+    // from 19 to 10 ms on two cores, and to 3.3 ms with Srgb8Encoder's table).
     tbb::parallel_for(tbb::blocked_range<size_t>(0, image.pixels.size(), 16384),
                       [&](const tbb::blocked_range<size_t>& range) {
                           for (size_t k = range.begin(); k < range.end(); ++k)
