@@ -171,8 +171,11 @@ TEST(Raster, SimdPowMatchesStdPow) {
 TEST(Raster, SimdFastPathAgreesWithTheScalarShading) {
     // The same frame shaded four samples at a time (no AOVs) and one by one (an AOV asked for
     // sends every sample through the scalar path): Lambert, Phong and Blinn-Phong, a point, a
-    // directional and a spot light (its cone's edge across the scene), seen from both sides; a
-    // whole shininess (powers by repeated squaring) and a fractional one (exp2 and log2).
+    // directional and a spot light (its cone's edge across the scene), and a light with area
+    // (its VPLs; facing down at y = 0.8, so that the sphere's top and the wall see its back,
+    // and the box's top lies closer to some VPLs than the area each stands for), seen from
+    // both sides; a whole shininess (powers by repeated squaring) and a fractional one (exp2
+    // and log2).
     json j = oblique(64, 48);
     j["materials"] = {
         {"l", {{"type", "lambert"}, {"albedo", {0.7, 0.5, 0.3}}}},
@@ -185,9 +188,15 @@ TEST(Raster, SimdFastPathAgreesWithTheScalarShading) {
                     {"direction", {0.3, -1, -0.3}},
                     {"intensity", {6, 6, 8}},
                     {"inner_angle", 15},
-                    {"outer_angle", 30}}};
+                    {"outer_angle", 30}},
+                   {{"type", "area"},
+                    {"corner", {0.3, 0.8, -0.5}},
+                    {"edge_u", {0.5, 0, 0}},
+                    {"edge_v", {0, 0, 0.4}},
+                    {"radiance", {2, 3, 4}}}};
     j["render"]["ambient"] = 0.1;
     j["render"]["spp"] = 4;
+    j["render"]["area_light_points"] = 5;
     j["objects"] = {
         floor_quad(1.5f, "l"),
         {{"type", "sphere"}, {"center", {-0.5, 0.5, 0}}, {"radius", 0.5}, {"material", "p"}},

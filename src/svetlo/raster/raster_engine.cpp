@@ -133,13 +133,23 @@ void prepare_shading(const Scene& scene, FrameShading& f) {
     if (any_mips) {
         for (const TextureImage& t : scene.textures) f.mips.push_back(build_mip_chain(t));
     }
-    // The fast path takes point, spot and directional lights only.
-    f.simd_lights_ok = !f.lights->any_vpl;
+    // The fast path takes point, spot and directional lights and the VPLs of lights with area.
+    f.simd_lights_ok = true;
     const auto& sources = f.lights->set.sources();
     if (const LightSet::Source* s = f.lights->set.source_of_light(0))
         f.light0_source = static_cast<int>(s - sources.data());
     for (uint32_t index = 0; index < sources.size(); ++index) {
-        if (!sources[index].delta) continue;
+        if (!sources[index].delta) {
+            // The source's term is the mean of its n VPLs' (shading/direct_light.h).
+            const auto& vpls = f.lights->vpls[index];
+            for (const AreaPoint& a : vpls) {
+                f.simd_lights.vpls.push_back(
+                    {a.surface.p, a.surface.n,
+                     a.radiance * (1.0f / (a.pdf_area * static_cast<float>(vpls.size()))),
+                     f.lights->min_dist2[index], index});
+            }
+            continue;
+        }
         const Light* light = &scene.lights[static_cast<size_t>(sources[index].light_index)];
         if (const auto* pl = std::get_if<PointLight>(light)) {
             f.simd_lights.points.push_back({pl->position, pl->intensity, index});

@@ -1,5 +1,6 @@
 // Four samples lit at once with SSE: the rasterizer's fast path for the commonest case, a
-// constant Lambert, Phong or Blinn-Phong material under point, spot and directional lights. It
+// constant Lambert, Phong or Blinn-Phong material under point, spot and directional lights and
+// the VPLs of lights with area. It
 // computes exactly the formulas of shading/bsdf.cpp and raster_lights.cpp (two-sided normals,
 // E = I cos / d^2, f = kd/pi + ks (n+2)/(2 pi) (r.v)^n or ks (n+8)/(8 pi) (n.h)^n, plus
 // ka * ambient), four lanes per instruction. pow is exp2(n log2 x) with polynomials accurate
@@ -37,9 +38,20 @@ struct SimdLights {
         float inv_width;  // 1 / (cos_inner - cos_outer), or a large number for a hard cone
         uint32_t source;
     };
+    /// One of the n virtual point lights of a light with area (raster_lights.h), which
+    /// together give the mean of E = L cos' / (max(d^2, min_dist2) pdf_area) on the emitter's
+    /// front side (LightSet::sample_at), nothing behind it.
+    struct Vpl {
+        vec3 position;
+        vec3 normal;            // unit, the emitting side
+        Color radiance_area;    // L / (pdf_area n), W/sr
+        float min_dist2;        // m^2: d^2 is clamped to the area the point stands for
+        uint32_t source;
+    };
     std::vector<Point> points;
     std::vector<Directional> directionals;
     std::vector<Spot> spots;
+    std::vector<Vpl> vpls;
 };
 
 /// The visibility V in [0, 1] of each light at each sample of a tile (a shadow technique's
