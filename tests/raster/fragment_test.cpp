@@ -175,11 +175,28 @@ TEST(Raster, SimdFastPathAgreesWithTheScalarShading) {
     // (its VPLs; facing down at y = 0.8, so that the sphere's top and the wall see its back,
     // and the box's top lies closer to some VPLs than the area each stands for), seen from
     // both sides; a whole shininess (powers by repeated squaring) and a fractional one (exp2
-    // and log2).
+    // and log2); textured colours.
     json j = oblique(64, 48);
+    // Textured colours, evaluated per sample: a checkered Lambert floor and a wall whose kd
+    // is an image under trilinear filtering (the pixel's footprint).
+    Image stripes(32, 32);
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 32; ++x) stripes.at(x, y) = Color(0.2f + 0.6f * ((x / 3) & 1), 0.5f, 0.3f);
+    auto dir = std::filesystem::temp_directory_path() /
+               ("svetlo_fast_test_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    write_image(dir / "stripes.pfm", stripes, PixelMeaning::Radiance, 1.0f, "test");
     j["materials"] = {
         {"l", {{"type", "lambert"}, {"albedo", {0.7, 0.5, 0.3}}}},
+        {"c",
+         {{"type", "lambert"},
+          {"albedo", {{"checker", {{"a", 0.1}, {"b", {0.9, 0.6, 0.3}}, {"scale", 6}}}}}}},
         {"p", {{"type", "phong"}, {"ka", 0.3}, {"kd", 0.5}, {"ks", 0.4}, {"shininess", 40}}},
+        {"t",
+         {{"type", "phong"},
+          {"kd", {{"texture", (dir / "stripes.pfm").string()}, {"filter", "trilinear"}}},
+          {"ks", 0.3},
+          {"shininess", 20}}},
         {"b", {{"type", "blinn_phong"}, {"kd", 0.2}, {"ks", 0.6}, {"shininess", 12.5}}}};
     j["lights"] = {{{"type", "point"}, {"position", {0.5, 1.5, 0.8}}, {"intensity", {5, 4, 3}}},
                    {{"type", "directional"}, {"direction", {0.3, -1, -0.4}}, {"irradiance", 0.8}},
@@ -198,14 +215,15 @@ TEST(Raster, SimdFastPathAgreesWithTheScalarShading) {
     j["render"]["spp"] = 4;
     j["render"]["area_light_points"] = 5;
     j["objects"] = {
-        floor_quad(1.5f, "l"),
+        floor_quad(1.5f, "c"),
         {{"type", "sphere"}, {"center", {-0.5, 0.5, 0}}, {"radius", 0.5}, {"material", "p"}},
         {{"type", "box"}, {"min", {0.2, 0, -0.6}}, {"max", {0.9, 0.7, 0.1}}, {"material", "b"}},
+        {{"type", "sphere"}, {"center", {0.9, 0.25, 0.6}}, {"radius", 0.25}, {"material", "l"}},
         {{"type", "quad"},
          {"corner", {-1, 0, -1}},
          {"edge_u", {0, 1, 0}},
          {"edge_v", {1, 0, 0}},
-         {"material", "p"}}};
+         {"material", "t"}}};
     for (int spp : {1, 4}) {  // one sample: runs along rows; more: batches of samples
         j["render"]["spp"] = spp;
         RenderResult fast = render(j);
@@ -219,6 +237,7 @@ TEST(Raster, SimdFastPathAgreesWithTheScalarShading) {
         }
         EXPECT_LT(worst, 1e-4f) << spp;
     }
+    std::filesystem::remove_all(dir);
 }
 
 #if SVETLO_SIMD

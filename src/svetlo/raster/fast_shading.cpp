@@ -1,6 +1,7 @@
-// Stage 6's fast path: constant Lambert and Phong-family materials under point and
-// directional lights, lit eight (AVX2) or four samples at a time by simd_kernel.inc. Samples
-// of other materials go through the scalar shading (fragment.cpp). With one sample per pixel,
+// Stage 6's fast path: Lambert and Phong-family materials (their textured colours evaluated
+// per sample) under point, spot and directional lights and VPLs, lit eight (AVX2) or four
+// samples at a time by simd_kernel.inc. Samples of other materials go through the scalar
+// shading (fragment.cpp). With one sample per pixel,
 // runs of one triangle along a row have their weights stepped exactly (edge functions are
 // affine); small triangles' samples keep the barycentrics rasterize_small left.
 #include <immintrin.h>
@@ -28,16 +29,27 @@ void shade_tile_fast(const FrameState& f, const Tile& tile, const SamplePattern&
         for (int k = 0; k < batch.count; ++k) buf.sample_color[lane_of[k]] = lit[k];
         batch.count = 0;
     };
-    // Gathers sample i of triangle t, at screen barycentrics l, into the batch.
+    // Gathers sample i of triangle t, at screen barycentrics l, into the batch; a textured
+    // material's colours are evaluated here, with the pixel's footprint.
     auto add_to_batch = [&](size_t i, vec2 l, const SetupTriangle& t) {
         const ClipVertex& A = f.vertex(t.v[0]);
         const ClipVertex& B = f.vertex(t.v[1]);
         const ClipVertex& C = f.vertex(t.v[2]);
         Weights w = perspective_weights(l, A, B, C);
+        Color colours[3];
+        if (f.textured[t.material]) {
+            const SurfaceUv at = surface_uv(f, t, A, B, C, w);
+            Bsdf scratch;
+            const Bsdf& bsdf = material_at(f, t.material, at.uv, at.duv_dx, at.duv_dy, scratch);
+            colours[0] = bsdf.ambient;
+            colours[1] = bsdf.diffuse;
+            colours[2] = bsdf.specular;
+        }
         lane_of[batch.count] = i;
         batch.add(w.b[0] * A.world + w.b[1] * B.world + w.b[2] * C.world,
                   w.b[0] * A.normal + w.b[1] * B.normal + w.b[2] * C.normal, face_cross(t, A, B, C),
-                  &f.simd_material[t.material], static_cast<uint32_t>(i));
+                  &f.simd_material[t.material], static_cast<uint32_t>(i),
+                  f.textured[t.material] ? colours : nullptr);
         if (batch.count == batch_size) flush();
     };
     // A sample the batches do not take: the background, or a material off the
@@ -76,6 +88,10 @@ void shade_tile_fast(const FrameState& f, const Tile& tile, const SamplePattern&
                 // Short runs: straight into a batch, with the barycentrics
                 // rasterize_small left.
                 add_to_batch(i, vec2(buf.l1[i], buf.l2[i]), t);
+                continue;
+            }
+            if (f.textured[t.material]) {  // colours per sample: the batch, sample by sample
+                add_to_batch(i, edges.of(tri).weights(sx, sy), t);
                 continue;
             }
             int end = px;

@@ -45,6 +45,33 @@ Color flat_colour(const FrameState& f, const uint32_t idx[3], uint32_t material,
     return light_point(f, bsdf, p, wo, ng, ng);
 }
 
+SurfaceUv surface_uv(const FrameState& f, const SetupTriangle& t, const ClipVertex& A,
+                     const ClipVertex& B, const ClipVertex& C, const Weights& w) {
+    SurfaceUv r;
+    r.uv = w.b[0] * A.uv + w.b[1] * B.uv + w.b[2] * C.uv;
+    if (!f.needs_footprint[t.material]) return r;
+    // The screen-space barycentric gradients (a / area per pixel) through the perspective
+    // division.
+    Edge e[3] = {Edge::make(t.x[1], t.y[1], t.x[2], t.y[2]), Edge::make(t.x[2], t.y[2], t.x[0], t.y[0]),
+                 Edge::make(t.x[0], t.y[0], t.x[1], t.y[1])};
+    auto area = static_cast<float>(signed_area2(t.x, t.y));
+    const vec2* uvs[3] = {&A.uv, &B.uv, &C.uv};
+    const float invw[3] = {A.invw, B.invw, C.invw};
+    const float sum = w.q[0] + w.q[1] + w.q[2];
+    for (int axis = 0; axis < 2; ++axis) {
+        float dq[3], dsum = 0.0f;
+        for (int i = 0; i < 3; ++i) {
+            float dl = static_cast<float>(axis == 0 ? e[i].a : e[i].b) * kSubpixel / area;
+            dq[i] = dl * invw[i];
+            dsum += dq[i];
+        }
+        vec2 d(0.0f);
+        for (int i = 0; i < 3; ++i) d += ((dq[i] * sum - w.q[i] * dsum) / (sum * sum)) * *uvs[i];
+        (axis == 0 ? r.duv_dx : r.duv_dy) = d;
+    }
+    return r;
+}
+
 namespace {
 
 struct ShadeResult {
@@ -71,7 +98,6 @@ ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& 
     const ClipVertex& C = f.vertex(t.v[2]);
     Weights w = perspective_weights(edges.weights(sx, sy), A, B, C);
     float b0 = w.b[0], b1 = w.b[1], b2 = w.b[2];
-    float q0 = w.q[0], q1 = w.q[1], q2 = w.q[2];
     ShadeResult r;
     vec3 p = b0 * A.world + b1 * B.world + b2 * C.world;
     vec3 ng = face_normal(t, A, B, C);
@@ -83,31 +109,8 @@ ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& 
                                         : glm::length(p - f.cam.eye);
         r.normal = make_shading_frame(ng, ns, wo).ns;
     }
-    vec2 uv = b0 * A.uv + b1 * B.uv + b2 * C.uv;
-    // d(uv)/dx and d(uv)/dy, for the filters that need the pixel's footprint: the screen-space
-    // barycentric gradients (a / area per pixel) through the perspective division.
-    vec2 dx(0.0f), dy(0.0f);
-    if (f.needs_footprint[t.material]) {
-        Edge e[3] = {Edge::make(t.x[1], t.y[1], t.x[2], t.y[2]),
-                     Edge::make(t.x[2], t.y[2], t.x[0], t.y[0]),
-                     Edge::make(t.x[0], t.y[0], t.x[1], t.y[1])};
-        auto area = static_cast<float>(signed_area2(t.x, t.y));
-        float q[3] = {q0, q1, q2};
-        const vec2* uvs[3] = {&A.uv, &B.uv, &C.uv};
-        const float invw[3] = {A.invw, B.invw, C.invw};
-        for (int axis = 0; axis < 2; ++axis) {
-            float dq[3], dsum = 0.0f;
-            for (int i = 0; i < 3; ++i) {
-                float dl = static_cast<float>(axis == 0 ? e[i].a : e[i].b) * kSubpixel / area;
-                dq[i] = dl * invw[i];
-                dsum += dq[i];
-            }
-            vec2 d(0.0f);
-            float sum = q0 + q1 + q2;
-            for (int i = 0; i < 3; ++i) d += ((dq[i] * sum - q[i] * dsum) / (sum * sum)) * *uvs[i];
-            (axis == 0 ? dx : dy) = d;
-        }
-    }
+    const SurfaceUv at = surface_uv(f, t, A, B, C, w);
+    const vec2 uv = at.uv, dx = at.duv_dx, dy = at.duv_dy;
     // GL_MODULATE: flat and Gouraud light times the base colour's texture at this sample.
     auto modulated = [&](Color lit) {
         const ColorSource* base = f.modulate[t.material];

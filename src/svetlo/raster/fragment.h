@@ -53,6 +53,15 @@ inline Weights perspective_weights(vec2 l, const ClipVertex& A, const ClipVertex
     return w;
 }
 
+/// A sample's texture coordinates and, for the materials whose filters need the pixel's
+/// footprint (FrameShading::needs_footprint), d(uv)/dx and d(uv)/dy (else zero), from its
+/// perspective weights w in triangle t of vertices A, B, C.
+struct SurfaceUv {
+    vec2 uv{0.0f}, duv_dx{0.0f}, duv_dy{0.0f};
+};
+SurfaceUv surface_uv(const FrameState& f, const SetupTriangle& t, const ClipVertex& A,
+                     const ClipVertex& B, const ClipVertex& C, const Weights& w);
+
 /// Stage 6 for the samples the fast path does not take, and for every mode but the fast
 /// Phong path: shades the tile's visible samples and adds them (per pixel) into buf.color
 /// and, when `aovs`, buf.aov; MSAA shades once per pixel and triangle.

@@ -170,7 +170,8 @@ void prepare_shading(const Scene& scene, FrameShading& f) {
     for (size_t m = 0; m < f.materials.size(); ++m) {
         const Bsdf& b = f.constant_bsdf[m];
         bool phong = b.model == Bsdf::Model::Phong || b.model == Bsdf::Model::BlinnPhong;
-        f.simd_ok.push_back(!f.textured[m] && (phong || b.model == Bsdf::Model::Lambert) ? 1 : 0);
+        // Textured colours too: the fast path evaluates them per sample (material_at).
+        f.simd_ok.push_back(phong || b.model == Bsdf::Model::Lambert ? 1 : 0);
         f.simd_material.emplace_back(b.ambient, b.diffuse, b.specular, b.shininess,
                                      b.model == Bsdf::Model::BlinnPhong, phong);
     }

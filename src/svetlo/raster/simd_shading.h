@@ -76,22 +76,33 @@ struct SimdMaterial {
 
 /// Up to eight samples, one lane each (x, y, z arrays, as the kernel loads them): position,
 /// interpolated normal (not necessarily unit), the geometric normal of the counter-clockwise
-/// side (any length; a zero one stands for (0, 0, 1)), and the material.
+/// side (any length; a zero one stands for (0, 0, 1)), and the material. A lane of a textured
+/// material brings its own colours, the material's textures evaluated at the sample
+/// (`colours`: ka, kd, ks), which replace the material's.
 struct ShadeBatch {
     static constexpr int kCapacity = 8;
     int count = 0;
     float p[3][kCapacity], ns[3][kCapacity], ng[3][kCapacity];
     const SimdMaterial* material[kCapacity] = {};
     uint32_t sample[kCapacity] = {};  // each lane's sample in the tile (for the visibility)
+    bool own[kCapacity] = {};         // whether the lane has its own colours
+    Color ka[kCapacity], kd[kCapacity], ks[kCapacity];
 
     /// Appends a sample; the caller flushes a full batch.
-    void add(vec3 position, vec3 normal, vec3 geometric, const SimdMaterial* m, uint32_t s = 0) {
+    void add(vec3 position, vec3 normal, vec3 geometric, const SimdMaterial* m, uint32_t s = 0,
+             const Color* colours = nullptr) {
         for (int c = 0; c < 3; ++c) {
             p[c][count] = position[c];
             ns[c][count] = normal[c];
             ng[c][count] = geometric[c];
         }
         sample[count] = s;
+        own[count] = colours != nullptr;
+        if (colours) {
+            ka[count] = colours[0];
+            kd[count] = colours[1];
+            ks[count] = colours[2];
+        }
         material[count++] = m;
     }
 };
