@@ -131,17 +131,17 @@ TEST_P(EveryAccel, RaysTowardOnePointAnswerAsOneByOne) {
     int blocked = 0, open = 0;
     for (int round = 0; round < 60; ++round) {
         const int kind = round % 4;
-        const vec3 end = kind == 3 ? vertex()
-                                   : vec3(rnd() * 1.6f - 0.3f, rnd() * 1.6f - 0.3f,
-                                          rnd() * 1.6f - 0.3f);
+        const vec3 end = kind == 3
+                             ? vertex()
+                             : vec3(rnd() * 1.6f - 0.3f, rnd() * 1.6f - 0.3f, rnd() * 1.6f - 0.3f);
         const size_t count = std::vector<size_t>{1, 7, 63, 64, 65, 200}[round % 6];
         const vec3 corner(rnd(), rnd(), rnd());
         std::vector<Ray> rays;
         for (size_t k = 0; k < count; ++k) {
             vec3 o;
             if (kind == 0) {  // an 8 x 8 patch, 2 mm apart
-                o = corner + 0.002f * vec3(static_cast<float>(k % 8), static_cast<float>(k / 8 % 8),
-                                           0.0f);
+                o = corner +
+                    0.002f * vec3(static_cast<float>(k % 8), static_cast<float>(k / 8 % 8), 0.0f);
             } else if (kind == 1) {  // anywhere
                 o = vec3(rnd() * 1.6f - 0.3f, rnd() * 1.6f - 0.3f, rnd() * 1.6f - 0.3f);
             } else {  // on the triangles: their vertices and the middles of their edges
@@ -208,8 +208,8 @@ TEST_P(EveryAccel, RaysTowardOnePointKeepTheBoxAtTheShaftsEdge) {
             bool together[64];
             accel->occluded_toward(end, rays.data(), rays.size(), together);
             for (size_t k = 0; k < rays.size(); ++k) {
-                ASSERT_EQ(together[k], k == 63) << "axes " << axes << " signs " << signs << " ray "
-                                                << k;
+                ASSERT_EQ(together[k], k == 63)
+                    << "axes " << axes << " signs " << signs << " ray " << k;
                 ASSERT_EQ(accel->occluded(rays[k]), k == 63);
             }
         }

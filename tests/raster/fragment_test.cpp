@@ -181,9 +181,10 @@ TEST(Raster, SimdFastPathAgreesWithTheScalarShading) {
     // is an image under trilinear filtering (the pixel's footprint).
     Image stripes(32, 32);
     for (int y = 0; y < 32; ++y)
-        for (int x = 0; x < 32; ++x) stripes.at(x, y) = Color(0.2f + 0.6f * ((x / 3) & 1), 0.5f, 0.3f);
-    auto dir = std::filesystem::temp_directory_path() /
-               ("svetlo_fast_test_" + std::to_string(::getpid()));
+        for (int x = 0; x < 32; ++x)
+            stripes.at(x, y) = Color(0.2f + 0.6f * ((x / 3) & 1), 0.5f, 0.3f);
+    auto dir =
+        std::filesystem::temp_directory_path() / ("svetlo_fast_test_" + std::to_string(::getpid()));
     std::filesystem::create_directories(dir);
     write_image(dir / "stripes.pfm", stripes, PixelMeaning::Radiance, 1.0f, "test");
     j["materials"] = {

@@ -46,7 +46,7 @@ public:
 
 private:
     static constexpr unsigned kCells = 4096;
-    float steps_[255];              // steps_[k - 1]: the least float whose code is k
+    float steps_[255];             // steps_[k - 1]: the least float whose code is k
     unsigned char first_[kCells];  // the code of c / kCells
 };
 

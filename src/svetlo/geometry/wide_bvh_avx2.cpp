@@ -6,8 +6,8 @@
 #include <immintrin.h>
 
 #include <algorithm>
-#include <cstring>
 #include <cmath>
+#include <cstring>
 
 #include "svetlo/geometry/ray_box.h"
 #include "svetlo/geometry/triangle.h"

@@ -52,7 +52,8 @@ SurfaceUv surface_uv(const FrameState& f, const SetupTriangle& t, const ClipVert
     if (!f.needs_footprint[t.material]) return r;
     // The screen-space barycentric gradients (a / area per pixel) through the perspective
     // division.
-    Edge e[3] = {Edge::make(t.x[1], t.y[1], t.x[2], t.y[2]), Edge::make(t.x[2], t.y[2], t.x[0], t.y[0]),
+    Edge e[3] = {Edge::make(t.x[1], t.y[1], t.x[2], t.y[2]),
+                 Edge::make(t.x[2], t.y[2], t.x[0], t.y[0]),
                  Edge::make(t.x[0], t.y[0], t.x[1], t.y[1])};
     auto area = static_cast<float>(signed_area2(t.x, t.y));
     const vec2* uvs[3] = {&A.uv, &B.uv, &C.uv};

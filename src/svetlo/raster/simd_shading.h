@@ -43,9 +43,9 @@ struct SimdLights {
     /// front side (LightSet::sample_at), nothing behind it.
     struct Vpl {
         vec3 position;
-        vec3 normal;            // unit, the emitting side
-        Color radiance_area;    // L / (pdf_area n), W/sr
-        float min_dist2;        // m^2: d^2 is clamped to the area the point stands for
+        vec3 normal;          // unit, the emitting side
+        Color radiance_area;  // L / (pdf_area n), W/sr
+        float min_dist2;      // m^2: d^2 is clamped to the area the point stands for
         uint32_t source;
     };
     std::vector<Point> points;
