@@ -50,6 +50,7 @@ struct RayPrecomputed {
     int kx, ky, kz;
     float sx, sy, sz;
 
+    RayPrecomputed() = default;  // (for arrays filled ray by ray)
     explicit RayPrecomputed(const Ray& ray) {
         kz = max_dimension(glm::abs(ray.d));
         kx = (kz + 1) % 3;
