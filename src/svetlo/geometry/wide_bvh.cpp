@@ -296,18 +296,9 @@ void WideBvh::occluded_toward(vec3 end, const Ray* rays, size_t count, bool* blo
         if (width_ == 8) {
             hit = occluded_toward8(end, packet, n);
         } else {
-            const RayLanes lanes(packet, n);
-            RayPrecomputed pre[kPacket];  // each ray's, made once: a ray meets many leaves
-            for (size_t k = 0; k < n; ++k) pre[k] = RayPrecomputed(packet[k]);
-            const uint64_t all = n == kPacket ? ~uint64_t{0} : (uint64_t{1} << n) - 1;
-            hit = occluded_shafts<4>(
-                nodes4_.data(), end, packet, lanes, all,
-                [&](uint32_t leaf, int m) {
-                    const Packets test(packet[m], pre[m]);
-                    return leaf_any(leaves_[leaf], packets_.data(), shapes_.data(), geometry_,
-                                    test);
-                },
-                [&](int m) { return occluded(packet[m]); });
+            hit = occluded_packet<4, Packets>(nodes4_.data(), leaves_.data(), packets_.data(),
+                                              shapes_.data(), geometry_, end, packet, n,
+                                              [&](int m) { return occluded(packet[m]); });
         }
         for (size_t k = 0; k < n; ++k) blocked[first + k] = (hit >> k) & 1;
     }

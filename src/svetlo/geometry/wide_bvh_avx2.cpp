@@ -90,17 +90,9 @@ bool WideBvh::occluded8(const Ray& ray) const {
 }
 
 uint64_t WideBvh::occluded_toward8(vec3 end, const Ray* rays, size_t count) const {
-    const RayLanes lanes(rays, count);
-    RayPrecomputed pre[64];  // each ray's, made once: a ray meets many leaves
-    for (size_t k = 0; k < count; ++k) pre[k] = RayPrecomputed(rays[k]);
-    const uint64_t all = count == 64 ? ~uint64_t{0} : (uint64_t{1} << count) - 1;
-    return occluded_shafts<8>(
-        nodes8_.data(), end, rays, lanes, all,
-        [&](uint32_t leaf, int m) {
-            const SsePackets test(rays[m], pre[m]);
-            return leaf_any(leaves_[leaf], packets_.data(), shapes_.data(), geometry_, test);
-        },
-        [&](int m) { return occluded8(rays[m]); });
+    return occluded_packet<8, SsePackets>(nodes8_.data(), leaves_.data(), packets_.data(),
+                                          shapes_.data(), geometry_, end, rays, count,
+                                          [&](int m) { return occluded8(rays[m]); });
 }
 
 }  // namespace svetlo

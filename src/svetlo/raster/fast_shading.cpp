@@ -1,9 +1,9 @@
 // Stage 6's fast path: Lambert and Phong-family materials (their textured colours evaluated
 // per sample) under point, spot and directional lights and VPLs, lit eight (AVX2) or four
 // samples at a time by simd_kernel.inc. Samples of other materials go through the scalar
-// shading (fragment.cpp). With one sample per pixel,
-// runs of one triangle along a row have their weights stepped exactly (edge functions are
-// affine); small triangles' samples keep the barycentrics rasterize_small left.
+// shading (fragment.cpp). With one sample per pixel, runs of one triangle along a row have
+// their weights stepped exactly (edge functions are affine); small triangles' samples keep
+// the barycentrics rasterize_small left.
 #include <immintrin.h>
 
 #include "svetlo/raster/fragment.h"
@@ -36,8 +36,9 @@ void shade_tile_fast(const FrameState& f, const Tile& tile, const SamplePattern&
         const ClipVertex& B = f.vertex(t.v[1]);
         const ClipVertex& C = f.vertex(t.v[2]);
         Weights w = perspective_weights(l, A, B, C);
+        const bool textured = f.textured[t.material];
         Color colours[3];
-        if (f.textured[t.material]) {
+        if (textured) {
             const SurfaceUv at = surface_uv(f, t, A, B, C, w);
             Bsdf scratch;
             const Bsdf& bsdf = material_at(f, t.material, at.uv, at.duv_dx, at.duv_dy, scratch);
@@ -49,7 +50,7 @@ void shade_tile_fast(const FrameState& f, const Tile& tile, const SamplePattern&
         batch.add(w.b[0] * A.world + w.b[1] * B.world + w.b[2] * C.world,
                   w.b[0] * A.normal + w.b[1] * B.normal + w.b[2] * C.normal, face_cross(t, A, B, C),
                   &f.simd_material[t.material], static_cast<uint32_t>(i),
-                  f.textured[t.material] ? colours : nullptr);
+                  textured ? colours : nullptr);
         if (batch.count == batch_size) flush();
     };
     // A sample the batches do not take: the background, or a material off the
