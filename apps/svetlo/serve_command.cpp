@@ -48,9 +48,10 @@ constexpr long long kMaxSide = 1920, kMaxSamples = 4096;
 
 /// The frame drawn while the view moves (preview=1; docs/viewer.md, "While the view moves"):
 /// the rasterizer draws each light with area from at most this many points, in its shading
-/// (render.area_light_points) and its shadows (render.area_shadow_points), as a real-time
-/// viewport lowers its soft shadows' samples while navigating. The still frame is the scene's.
-constexpr int kPreviewAreaPoints = 4;
+/// (render.area_light_points) and its shadows (render.area_shadow_points): one, the light's
+/// centre, a hard shadow while moving, as a real-time viewport's first sample of its soft
+/// shadows. The still frame is the scene's.
+constexpr int kPreviewAreaPoints = 1;
 
 struct Server {
     fs::path folder;  // canonical

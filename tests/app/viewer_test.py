@@ -164,14 +164,18 @@ def main():
         status, body = http(port, "/api/render?scene=cornell.json&preview=2")
         check("a bad preview gets 400 and one line", status == 400 and b"preview" in body and
               body.count(b"\n") == 1, body)
-        # preview=1 draws a light with area from 4 points (raster.json's area light), and
-        # changes nothing where there is none (shadows.json: a spot light).
+        # preview=1 draws a light with area from its centre alone (raster.json's area light):
+        # the same bytes as the still frame with one point set, and different from the still
+        # frame; it changes nothing where there is none (shadows.json: a spot light).
         small = "&engine=raster&width=64&height=36&spp=1"
+        one = "&set=render.area_light_points%3D1&set=render.area_shadow_points%3D1"
         for scene, differ in [("raster.json", True), ("shadows.json", False)]:
             still = http(port, "/api/render?scene=" + scene + small)
             moving = http(port, "/api/render?scene=" + scene + small + "&preview=1")
             check("preview=1 on " + scene + (" differs" if differ else " is the same"),
                   still[0] == 200 and moving[0] == 200 and (still[1] != moving[1]) == differ)
+            check("preview=1 on " + scene + " is the still frame from one point",
+                  http(port, "/api/render?scene=" + scene + small + one) == moving)
         check("the server keeps serving", http(port, "/api/scenes")[0] == 200)
         taken = subprocess.run([svetlo, "serve", scenes, "--port", str(port)], capture_output=True,
                                text=True, timeout=30 * SLOW)
