@@ -1,5 +1,9 @@
 #include "svetlo/shading/texture.h"
 
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
 namespace svetlo {
 
 namespace {
@@ -17,8 +21,19 @@ Color texel(const TextureImage& image, int i, int j, TextureWrap wrap) {
     return image.texel(x, image.height() - 1 - y);
 }
 
-/// Keeps huge texture coordinates from overflowing int when converted to texel indices.
-float tame(float x) { return std::isfinite(x) ? std::fmod(x, 1.0e6f) : 0.0f; }
+/// Keeps huge texture coordinates from overflowing int when converted to texel indices
+/// (fmod only where it changes x: it is a library call, and this runs per lookup).
+float tame(float x) {
+    if (std::abs(x) < 1.0e6f) return x;
+    return std::isfinite(x) ? std::fmod(x, 1.0e6f) : 0.0f;
+}
+
+/// Along an axis of n texels: texel i and the next, wrapped (one division for the two).
+std::pair<int, int> wrap_pair(int i, int n, TextureWrap wrap) {
+    if (wrap == TextureWrap::Clamp) return {std::clamp(i, 0, n - 1), std::clamp(i + 1, 0, n - 1)};
+    const int a = wrap_index(i, n, wrap);
+    return {a, a + 1 == n ? 0 : a + 1};
+}
 
 }  // namespace
 
@@ -33,11 +48,13 @@ Color sample_bilinear(const TextureImage& image, vec2 uv, TextureWrap wrap) {
     float y = tame(uv.y) * static_cast<float>(image.height()) - 0.5f;
     float x0 = std::floor(x), y0 = std::floor(y);
     float fx = x - x0, fy = y - y0;
-    int i = static_cast<int>(x0), j = static_cast<int>(y0);
-    return (1.0f - fx) * (1.0f - fy) * texel(image, i, j, wrap) +
-           fx * (1.0f - fy) * texel(image, i + 1, j, wrap) +
-           (1.0f - fx) * fy * texel(image, i, j + 1, wrap) +
-           fx * fy * texel(image, i + 1, j + 1, wrap);
+    // The four texels around (x, y), as texel() finds them, rows counted from the bottom.
+    const auto [i0, i1] = wrap_pair(static_cast<int>(x0), image.width(), wrap);
+    const auto [j0, j1] = wrap_pair(static_cast<int>(y0), image.height(), wrap);
+    const int top = image.height() - 1;
+    return (1.0f - fx) * (1.0f - fy) * image.texel(i0, top - j0) +
+           fx * (1.0f - fy) * image.texel(i1, top - j0) +
+           (1.0f - fx) * fy * image.texel(i0, top - j1) + fx * fy * image.texel(i1, top - j1);
 }
 
 Color eval_color(const ColorSource& source, vec2 uv, const std::vector<TextureImage>& textures) {
