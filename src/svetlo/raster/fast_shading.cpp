@@ -31,6 +31,8 @@ void shade_tile_fast(const FrameState& f, const Tile& tile, const SamplePattern&
     };
     // Gathers sample i of triangle t, at screen barycentrics l, into the batch; a textured
     // material's colours are evaluated here, with the pixel's footprint.
+    const SetupTriangle* gradients_of = nullptr;  // the triangle whose uv gradients these are
+    UvGradients gradients;
     auto add_to_batch = [&](size_t i, vec2 l, const SetupTriangle& t) {
         const ClipVertex& A = f.vertex(t.v[0]);
         const ClipVertex& B = f.vertex(t.v[1]);
@@ -39,7 +41,11 @@ void shade_tile_fast(const FrameState& f, const Tile& tile, const SamplePattern&
         const bool textured = f.textured[t.material];
         Color colours[3];
         if (textured) {
-            const SurfaceUv at = surface_uv(f, t, A, B, C, w);
+            if (gradients_of != &t) {
+                gradients_of = &t;
+                gradients = uv_gradients(f, t, A, B, C);
+            }
+            const SurfaceUv at = surface_uv(gradients, A, B, C, w);
             Bsdf scratch;
             const Bsdf& bsdf = material_at(f, t.material, at.uv, at.duv_dx, at.duv_dy, scratch);
             colours[0] = bsdf.ambient;

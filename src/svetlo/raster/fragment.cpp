@@ -45,32 +45,48 @@ Color flat_colour(const FrameState& f, const uint32_t idx[3], uint32_t material,
     return light_point(f, bsdf, p, wo, ng, ng);
 }
 
-SurfaceUv surface_uv(const FrameState& f, const SetupTriangle& t, const ClipVertex& A,
-                     const ClipVertex& B, const ClipVertex& C, const Weights& w) {
-    SurfaceUv r;
-    r.uv = w.b[0] * A.uv + w.b[1] * B.uv + w.b[2] * C.uv;
-    if (!f.needs_footprint[t.material]) return r;
+UvGradients uv_gradients(const FrameState& f, const SetupTriangle& t, const ClipVertex& A,
+                         const ClipVertex& B, const ClipVertex& C) {
+    UvGradients g;
+    g.footprint = f.needs_footprint[t.material];
+    if (!g.footprint) return g;
     // The screen-space barycentric gradients (a / area per pixel) through the perspective
     // division.
     Edge e[3] = {Edge::make(t.x[1], t.y[1], t.x[2], t.y[2]),
                  Edge::make(t.x[2], t.y[2], t.x[0], t.y[0]),
                  Edge::make(t.x[0], t.y[0], t.x[1], t.y[1])};
     auto area = static_cast<float>(signed_area2(t.x, t.y));
-    const vec2* uvs[3] = {&A.uv, &B.uv, &C.uv};
     const float invw[3] = {A.invw, B.invw, C.invw};
-    const float sum = w.q[0] + w.q[1] + w.q[2];
     for (int axis = 0; axis < 2; ++axis) {
-        float dq[3], dsum = 0.0f;
         for (int i = 0; i < 3; ++i) {
             float dl = static_cast<float>(axis == 0 ? e[i].a : e[i].b) * kSubpixel / area;
-            dq[i] = dl * invw[i];
-            dsum += dq[i];
+            g.dq[axis][i] = dl * invw[i];
+            g.dsum[axis] += g.dq[axis][i];
         }
+    }
+    return g;
+}
+
+SurfaceUv surface_uv(const UvGradients& g, const ClipVertex& A, const ClipVertex& B,
+                     const ClipVertex& C, const Weights& w) {
+    SurfaceUv r;
+    r.uv = w.b[0] * A.uv + w.b[1] * B.uv + w.b[2] * C.uv;
+    if (!g.footprint) return r;
+    // d(q_i / sum q) = (dq_i sum - q_i dsum) / sum^2, per screen axis.
+    const vec2* uvs[3] = {&A.uv, &B.uv, &C.uv};
+    const float sum = w.q[0] + w.q[1] + w.q[2];
+    for (int axis = 0; axis < 2; ++axis) {
         vec2 d(0.0f);
-        for (int i = 0; i < 3; ++i) d += ((dq[i] * sum - w.q[i] * dsum) / (sum * sum)) * *uvs[i];
+        for (int i = 0; i < 3; ++i)
+            d += ((g.dq[axis][i] * sum - w.q[i] * g.dsum[axis]) / (sum * sum)) * *uvs[i];
         (axis == 0 ? r.duv_dx : r.duv_dy) = d;
     }
     return r;
+}
+
+SurfaceUv surface_uv(const FrameState& f, const SetupTriangle& t, const ClipVertex& A,
+                     const ClipVertex& B, const ClipVertex& C, const Weights& w) {
+    return surface_uv(uv_gradients(f, t, A, B, C), A, B, C, w);
 }
 
 namespace {

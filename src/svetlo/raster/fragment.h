@@ -62,6 +62,19 @@ struct SurfaceUv {
 SurfaceUv surface_uv(const FrameState& f, const SetupTriangle& t, const ClipVertex& A,
                      const ClipVertex& B, const ClipVertex& C, const Weights& w);
 
+/// What surface_uv's footprint takes from the triangle alone, made once for the samples of
+/// one triangle: per screen axis, the derivatives dq_i of the perspective weights' numerators
+/// (the screen barycentrics' gradient a / area per pixel, times 1/w_i) and their sum.
+struct UvGradients {
+    bool footprint = false;  // FrameShading::needs_footprint of its material
+    float dq[2][3]{}, dsum[2]{};
+};
+UvGradients uv_gradients(const FrameState& f, const SetupTriangle& t, const ClipVertex& A,
+                         const ClipVertex& B, const ClipVertex& C);
+/// surface_uv from the triangle's gradients (the same numbers, bit for bit).
+SurfaceUv surface_uv(const UvGradients& g, const ClipVertex& A, const ClipVertex& B,
+                     const ClipVertex& C, const Weights& w);
+
 /// Stage 6 for the samples the fast path does not take, and for every mode but the fast
 /// Phong path: shades the tile's visible samples and adds them (per pixel) into buf.color
 /// and, when `aovs`, buf.aov; MSAA shades once per pixel and triangle.

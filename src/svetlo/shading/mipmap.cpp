@@ -35,7 +35,10 @@ MipChain build_mip_chain(const TextureImage& texture) {
 float mip_level(const MipChain& chain, vec2 duv_dx, vec2 duv_dy) {
     const TextureImage& base = chain.level(0);
     vec2 size(static_cast<float>(base.width()), static_cast<float>(base.height()));
-    float rho = std::max(glm::length(duv_dx * size), glm::length(duv_dy * size));
+    // The longer vector's length: one square root (sqrt is monotonic and correctly rounded,
+    // so this is the larger of the two lengths exactly).
+    const vec2 a = duv_dx * size, b = duv_dy * size;
+    float rho = std::sqrt(std::max(glm::dot(a, a), glm::dot(b, b)));
     if (!(rho > 1.0f)) return 0.0f;  // magnified (or no footprint): the finest level
     return std::log2(rho);
 }
