@@ -5,6 +5,7 @@
 // fraction of the very points the shading sums that reach the sample. The BVH is the
 // command's (f.accels) when an earlier frame of the same triangle list built it.
 #include <algorithm>
+#include <bit>
 #include <climits>
 #include <cmath>
 
@@ -16,6 +17,53 @@
 namespace svetlo::raster {
 
 namespace {
+
+/// The shadow rays of up to 64 samples toward one point caster, lane by lane: shadow_ray()'s
+/// numbers, bit for bit, in plain C++ the compiler vectorizes (glm's normalize is v times
+/// 1 / sqrt(dot(v, v)), its dot (x x + y y) + z z; offset_ray_origin as in ray.h).
+struct PointRays {
+    static constexpr size_t kPacket = 64;
+    alignas(32) float p[3][kPacket], n[3][kPacket];  // in: the samples' points and normals
+    alignas(32) float o[3][kPacket], d[3][kPacket];  // out: the rays (tmax 1)
+    alignas(32) bool ok[kPacket];                    // out: finite (else the sample is lit)
+
+    void make(vec3 light_point, vec3 target_point, size_t count) {
+        constexpr float kOrigin = 1.0f / 32.0f, kFloatScale = 1.0f / 65536.0f;
+        constexpr float kIntScale = 256.0f;
+        // (Plain floats: glm's operator[] is a switch, which keeps the loop from vectorizing.)
+        const float light[3] = {light_point.x, light_point.y, light_point.z};
+        const float target[3] = {target_point.x, target_point.y, target_point.z};
+        for (size_t r = 0; r < count; ++r) {
+            float w[3], m[3];
+            for (int c = 0; c < 3; ++c) w[c] = light[c] - p[c][r];
+            const float inv = 1.0f / std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+            for (int c = 0; c < 3; ++c) w[c] *= inv;
+            // offset_ray_origin(p, n, w): off the surface along the normal on w's side.
+            const bool flip = n[0][r] * w[0] + n[1][r] * w[1] + n[2][r] * w[2] < 0.0f;
+            for (int c = 0; c < 3; ++c) m[c] = flip ? -n[c][r] : n[c][r];
+            float off[3];
+            for (int c = 0; c < 3; ++c) {
+                const float q = p[c][r];
+                const auto of = static_cast<int32_t>(kIntScale * m[c]);
+                const float moved =
+                    std::bit_cast<float>(std::bit_cast<int32_t>(q) + (q < 0.0f ? -of : of));
+                const float nudged = q + kFloatScale * m[c];  // (both made: a select, no branch)
+                off[c] = std::abs(q) < kOrigin ? nudged : moved;
+            }
+            // A little toward the light (shadow_ray()).
+            const float toward = std::max(std::max(std::abs(p[0][r]), std::abs(p[1][r])),
+                                          std::max(std::abs(p[2][r]), 1.0f)) /
+                                 65536.0f;
+            for (int c = 0; c < 3; ++c) {
+                o[c][r] = off[c] + toward * w[c];
+                d[c][r] = target[c] - o[c][r];
+            }
+            // Finite (x - x is 0 for a finite x, NaN for an infinite or NaN one).
+            const float sum = o[0][r] + o[1][r] + o[2][r] + d[0][r] + d[1][r] + d[2][r];
+            ok[r] = sum - sum == 0.0f;
+        }
+    }
+};
 
 class RaytracedShadows final : public ShadowTechniqueState {
 public:
@@ -52,23 +100,38 @@ public:
             for (size_t m = 0; m < count; ++m) out[m] = lit(k, samples[at[m]]);
             return;
         }
-        constexpr size_t kPacket = 64;
-        Ray rays[kPacket];
-        uint32_t slot[kPacket];  // each ray's place in `out`
-        bool blocked[kPacket];
+        PointRays lanes;
+        Ray rays[PointRays::kPacket];
+        uint32_t slot[PointRays::kPacket];    // each sample's place in `out`
+        uint32_t traced[PointRays::kPacket];  // each ray's sample in the packet
+        bool blocked[PointRays::kPacket];
         size_t n = 0;
         auto flush = [&] {
-            accel_->occluded_toward(targets_[k], rays, n, blocked);
-            for (size_t r = 0; r < n; ++r) out[slot[r]] = blocked[r] ? 0.0f : 1.0f;
+            lanes.make(casters_[k].position, targets_[k], n);
+            size_t count_rays = 0;
+            for (size_t r = 0; r < n; ++r) {
+                if (!lanes.ok[r]) {  // not finite: lit
+                    out[slot[r]] = 1.0f;
+                    continue;
+                }
+                Ray& ray = rays[count_rays];
+                ray.o = vec3(lanes.o[0][r], lanes.o[1][r], lanes.o[2][r]);
+                ray.d = vec3(lanes.d[0][r], lanes.d[1][r], lanes.d[2][r]);
+                ray.tmax = 1.0f;
+                traced[count_rays++] = static_cast<uint32_t>(r);
+            }
+            accel_->occluded_toward(targets_[k], rays, count_rays, blocked);
+            for (size_t r = 0; r < count_rays; ++r) out[slot[traced[r]]] = blocked[r] ? 0.0f : 1.0f;
             n = 0;
         };
         auto add = [&](size_t m) {
-            if (!shadow_ray(k, samples[at[m]], rays[n])) {
-                out[m] = 1.0f;
-                return;
+            const ShadowSample& sample = samples[at[m]];
+            for (int c = 0; c < 3; ++c) {
+                lanes.p[c][n] = sample.p[c];
+                lanes.n[c][n] = sample.n[c];
             }
             slot[n++] = static_cast<uint32_t>(m);
-            if (n == kPacket) flush();
+            if (n == PointRays::kPacket) flush();
         };
         // The samples come row after row (shadow_masks.cpp): each band of 8 rows is cut into
         // blocks of 8 columns, taken from the band's rows with a cursor each. (In another
