@@ -18,49 +18,45 @@ namespace svetlo::raster {
 
 namespace {
 
-/// The shadow rays of up to 64 samples toward one point caster, lane by lane: shadow_ray()'s
-/// numbers, bit for bit, in plain C++ the compiler vectorizes (glm's normalize is v times
-/// 1 / sqrt(dot(v, v)), its dot (x x + y y) + z z; offset_ray_origin as in ray.h).
+/// The origin of a shadow ray from a sample at p (unit normal n, the side the camera sees)
+/// along unit wi: off the surface along the normal, and a little toward the light (a
+/// rasterized point is interpolated, and near a concave edge it can lie a rounding error
+/// behind the other face, which a ray leaving along the normal alone would then meet).
+inline vec3 shadow_origin(vec3 p, vec3 n, vec3 wi) {
+    const vec3 a = glm::abs(p);
+    const float toward = std::max(std::max(a.x, a.y), std::max(a.z, 1.0f)) / 65536.0f;
+    return offset_ray_origin(p, n, wi) + toward * wi;
+}
+
+/// Whether a ray is finite (x - x is 0 for a finite x, NaN for an infinite or NaN one; no
+/// branch, unlike isfinite).
+inline bool finite_ray(vec3 o, vec3 d) {
+    const float sum = o.x + o.y + o.z + d.x + d.y + d.z;
+    return sum - sum == 0.0f;
+}
+
+/// The shadow rays of up to 64 samples toward one point caster at `light`, ending at
+/// `target`, lane by lane (the same statement as lit()'s rays, which the compiler vectorizes
+/// here).
 struct PointRays {
     static constexpr size_t kPacket = 64;
     alignas(32) float p[3][kPacket], n[3][kPacket];  // in: the samples' points and normals
     alignas(32) float o[3][kPacket], d[3][kPacket];  // out: the rays (tmax 1)
     alignas(32) bool ok[kPacket];                    // out: finite (else the sample is lit)
 
-    void make(vec3 light_point, vec3 target_point, size_t count) {
-        constexpr float kOrigin = 1.0f / 32.0f, kFloatScale = 1.0f / 65536.0f;
-        constexpr float kIntScale = 256.0f;
-        // (Plain floats: glm's operator[] is a switch, which keeps the loop from vectorizing.)
-        const float light[3] = {light_point.x, light_point.y, light_point.z};
-        const float target[3] = {target_point.x, target_point.y, target_point.z};
+    void make(vec3 light, vec3 target, size_t count) {
         for (size_t r = 0; r < count; ++r) {
-            float w[3], m[3];
-            for (int c = 0; c < 3; ++c) w[c] = light[c] - p[c][r];
-            const float inv = 1.0f / std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
-            for (int c = 0; c < 3; ++c) w[c] *= inv;
-            // offset_ray_origin(p, n, w): off the surface along the normal on w's side.
-            const bool flip = n[0][r] * w[0] + n[1][r] * w[1] + n[2][r] * w[2] < 0.0f;
-            for (int c = 0; c < 3; ++c) m[c] = flip ? -n[c][r] : n[c][r];
-            float off[3];
-            for (int c = 0; c < 3; ++c) {
-                const float q = p[c][r];
-                const auto of = static_cast<int32_t>(kIntScale * m[c]);
-                const float moved =
-                    std::bit_cast<float>(std::bit_cast<int32_t>(q) + (q < 0.0f ? -of : of));
-                const float nudged = q + kFloatScale * m[c];  // (both made: a select, no branch)
-                off[c] = std::abs(q) < kOrigin ? nudged : moved;
-            }
-            // A little toward the light (shadow_ray()).
-            const float toward = std::max(std::max(std::abs(p[0][r]), std::abs(p[1][r])),
-                                          std::max(std::abs(p[2][r]), 1.0f)) /
-                                 65536.0f;
-            for (int c = 0; c < 3; ++c) {
-                o[c][r] = off[c] + toward * w[c];
-                d[c][r] = target[c] - o[c][r];
-            }
-            // Finite (x - x is 0 for a finite x, NaN for an infinite or NaN one).
-            const float sum = o[0][r] + o[1][r] + o[2][r] + d[0][r] + d[1][r] + d[2][r];
-            ok[r] = sum - sum == 0.0f;
+            const vec3 at(p[0][r], p[1][r], p[2][r]);
+            const vec3 origin =
+                shadow_origin(at, vec3(n[0][r], n[1][r], n[2][r]), glm::normalize(light - at));
+            const vec3 to = target - origin;
+            o[0][r] = origin.x;
+            o[1][r] = origin.y;
+            o[2][r] = origin.z;
+            d[0][r] = to.x;
+            d[1][r] = to.y;
+            d[2][r] = to.z;
+            ok[r] = finite_ray(origin, to);
         }
     }
 };
@@ -167,22 +163,18 @@ public:
     }
 
 private:
-    /// The shadow ray from sample `at` to caster k: off the surface along its normal, and a
-    /// little toward the light (a rasterized point is interpolated, and near a concave edge it
-    /// can lie a rounding error behind the other face, which a ray leaving along the normal
-    /// alone would then meet); to the caster's target, t in (0, 1), or toward a directional
-    /// light without end. False when it is not finite (then the sample counts as lit).
+    /// The shadow ray from sample `at` to caster k (shadow_origin): to the caster's target,
+    /// t in (0, 1), or toward a directional light without end. False when it is not finite
+    /// (then the sample counts as lit).
     bool shadow_ray(size_t k, const ShadowSample& at, Ray& ray) const {
         const ShadowCaster& c = casters_[k];
         const vec3 wi = c.to_light(at.p);
-        const vec3 a = glm::abs(at.p);
-        const float toward = std::max(std::max(a.x, a.y), std::max(a.z, 1.0f)) / 65536.0f;
-        ray = Ray{offset_ray_origin(at.p, at.n, wi) + toward * wi, wi, kInfinity};
+        ray = Ray{shadow_origin(at.p, at.n, wi), wi, kInfinity};
         if (c.kind != ShadowCaster::Kind::Directional) {
             ray.d = targets_[k] - ray.o;  // to the caster
             ray.tmax = 1.0f;
         }
-        return std::isfinite(ray.o.x + ray.o.y + ray.o.z + ray.d.x + ray.d.y + ray.d.z);
+        return finite_ray(ray.o, ray.d);
     }
 
     std::vector<vec3> targets_;                   // per caster: where its rays end
