@@ -9,7 +9,10 @@
 
 #include "contract_camera.h"
 #include "svetlo/core/error.h"
+#include "svetlo/core/rng.h"
+#include "svetlo/geometry/triangle_list.h"
 #include "svetlo/raster/raster_engine.h"
+#include "svetlo/raster/shadow_techniques.h"
 #include "svetlo/scene/scene_loader.h"
 #include "test_scenes.h"
 
@@ -468,6 +471,73 @@ TEST(ShadowTechniques, FlatAndGouraudShadingMultiplyEachLightByItsMask) {
         EXPECT_GT(in_shadow, 200) << shading;
         EXPECT_EQ(dark, in_shadow) << shading;
     }
+}
+
+// The raytraced technique answers many samples at once (lit_many: the rays made 64 at a time
+// lane by lane and traced as packets toward each caster) as it answers one (lit(): one ray,
+// one traversal), for every kind of caster: point, spot, directional and an area light's
+// VPLs; for samples on the floor and the sphere, on both sides, at their triangles' vertices
+// and edges and inside, in rows as a tile gives them.
+TEST(RaytracedShadows, ManySamplesAtOnceAnswerAsOneByOne) {
+    json j = sphere_on_floor(kPoint, "raytraced");
+    j["lights"] = {kPoint,
+                   kSpot,
+                   kDirectional,
+                   {{"type", "area"},
+                    {"corner", {0.5, 4, 0}},
+                    {"edge_u", {1, 0, 0}},
+                    {"edge_v", {0, 0, 1}},
+                    {"radiance", 20}}};
+    j["render"]["area_light_points"] = 4;
+    j["render"]["tessellation"] = 32;
+    const Scene scene = scene_from_json(j, "test.json");
+    raster::FrameShading f;
+    f.scene = &scene;
+    f.lights.emplace(scene);
+    std::vector<const Object*> objects;
+    for (const Object& o : scene.objects) objects.push_back(&o);
+    const TriangleList list = build_triangle_list(objects, tessellation_options(scene.render), 1);
+    const auto technique = raster::make_raytraced_shadows(scene, list, f, 2, nullptr);
+    ASSERT_EQ(technique->casters().size(), 3u + 4u);
+
+    std::vector<raster::ShadowSample> samples;
+    Rng rng(7, 1);
+    for (size_t t = 0; t < list.triangle_count(); ++t) {
+        const vec3 a = list.positions[list.indices[3 * t]],
+                   b = list.positions[list.indices[3 * t + 1]],
+                   c = list.positions[list.indices[3 * t + 2]];
+        const vec3 n = glm::normalize(glm::cross(b - a, c - a));
+        if (!std::isfinite(n.x)) continue;  // a pole's sliver
+        // A vertex, an edge's middle, and a point inside; the side of the normal at random.
+        const float u = rng.next_float(), v = rng.next_float() * (1.0f - u);
+        for (vec3 p : {a, 0.5f * (a + b), a + u * (b - a) + v * (c - a)}) {
+            raster::ShadowSample s;
+            s.p = p;
+            s.n = rng.next_float() < 0.8f ? n : -n;
+            const int index = static_cast<int>(samples.size());
+            s.i = index % 256;  // rows of 256 "pixels", in order
+            s.j = index / 256;
+            samples.push_back(s);
+        }
+    }
+    int shadowed = 0, lit = 0;
+    for (size_t k = 0; k < technique->casters().size(); ++k) {
+        const ShadowCaster& caster = technique->casters()[k];
+        std::vector<uint32_t> facing;
+        for (size_t m = 0; m < samples.size(); ++m)
+            if (caster.faces(samples[m].p, samples[m].n))
+                facing.push_back(static_cast<uint32_t>(m));
+        std::vector<float> many(facing.size(), -1.0f);
+        technique->lit_many(k, samples.data(), facing.data(), facing.size(), many.data());
+        for (size_t m = 0; m < facing.size(); ++m) {
+            const float one = technique->lit(k, samples[facing[m]]);
+            ASSERT_EQ(many[m], one) << "caster " << k << ", sample " << facing[m];
+            (one == 0.0f ? shadowed : lit) += 1;
+        }
+    }
+    // Both answers occur, many times.
+    EXPECT_GT(shadowed, 1000);
+    EXPECT_GT(lit, 1000);
 }
 
 TEST(ShadowTechniques, EveryTechniqueGivesTheSameImageOnOneAndTwoThreads) {

@@ -5,7 +5,6 @@
 // fraction of the very points the shading sums that reach the sample. The BVH is the
 // command's (f.accels) when an earlier frame of the same triangle list built it.
 #include <algorithm>
-#include <bit>
 #include <climits>
 #include <cmath>
 
