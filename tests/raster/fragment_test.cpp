@@ -340,6 +340,67 @@ TEST(Raster, TheKernelMultipliesEachLightByItsVisibility) {
         }
     }
 }
+TEST(Raster, ARunWithItsOwnColoursShadesAsABatchWithThem) {
+    // A textured material's run: each sample brings its colours (ka, kd, ks), as the batch's
+    // lanes do; the two kernels must agree lane by lane, on four lanes and on the processor's
+    // best, and a run whose colours are the material's must shade as the material.
+    TriangleRun q = test_run();
+    for (vec3& n : q.normal) n = vec3(0, 0, 1);
+    const vec3 ng(0, 0, 1), eye(0, 0.2f, 3), forward(0, 0, -1);
+    const Color ambient(0.1f);
+    SimdMaterial m(Color(0.2f), Color(0.5f, 0.4f, 0.3f), Color(0.4f), 16.0f, true, true);
+    SimdLights lights;
+    lights.points.push_back({vec3(0.5f, 1.5f, 2), Color(6, 5, 4), 0});
+    lights.directionals.push_back({glm::normalize(vec3(0.2f, 0.5f, 1)), Color(0.7f), 1});
+    constexpr int kSamples = 16;
+    Color own[kSamples][3], material[kSamples][3];
+    for (int k = 0; k < kSamples; ++k) {
+        const float t = static_cast<float>(k) / kSamples;
+        own[k][0] = Color(0.3f * t, 0.1f, 0.2f);
+        own[k][1] = Color(0.9f - 0.5f * t, 0.2f + 0.6f * t, 0.4f);
+        own[k][2] = Color(0.1f + 0.5f * t);
+        material[k][0] = m.ka;
+        material[k][1] = m.kd;
+        material[k][2] = m.ks;
+    }
+    for (int lanes : {4, 0}) {
+        Color run[kSamples], plain[kSamples], as_material[kSamples];
+        q.own = own;
+        shade_run(q, 0.01f, 0.008f, kSamples / 4, m, ng, lights, eye, false, forward, ambient, run,
+                  lanes);
+        q.own = material;
+        shade_run(q, 0.01f, 0.008f, kSamples / 4, m, ng, lights, eye, false, forward, ambient,
+                  as_material, lanes);
+        q.own = nullptr;
+        shade_run(q, 0.01f, 0.008f, kSamples / 4, m, ng, lights, eye, false, forward, ambient,
+                  plain, lanes);
+        for (int first = 0; first < kSamples; first += ShadeBatch::kCapacity) {
+            ShadeBatch batch;
+            Color lit[ShadeBatch::kCapacity];
+            for (int k = first; k < first + ShadeBatch::kCapacity; ++k) {
+                float l1 = q.l1 + 0.01f * k, l2 = q.l2 + 0.008f * k, l0 = 1.0f - l1 - l2;
+                float w0 = l0 * q.invw[0], w1 = l1 * q.invw[1], w2 = l2 * q.invw[2];
+                float inv = 1.0f / (w0 + w1 + w2);
+                vec3 p = (w0 * q.world[0] + w1 * q.world[1] + w2 * q.world[2]) * inv;
+                batch.add(p, vec3(0, 0, 1), ng, &m, static_cast<uint32_t>(k), own[k]);
+            }
+            shade_batch(batch, lights, eye, false, forward, ambient, lit);
+            for (int k = 0; k < ShadeBatch::kCapacity; ++k) {
+                for (int c = 0; c < 3; ++c) {
+                    const float expected = lit[k][c];
+                    ASSERT_GT(expected, 0.0f);
+                    EXPECT_NEAR(run[first + k][c], expected, 1e-4f * expected) << first + k;
+                }
+            }
+        }
+        for (int k = 0; k < kSamples; ++k) {
+            for (int c = 0; c < 3; ++c) {
+                EXPECT_EQ(as_material[k][c], plain[k][c]) << k;
+                EXPECT_GT(std::abs(run[k][c] - plain[k][c]), 1e-3f * plain[k][c]) << k;
+            }
+        }
+    }
+}
 #endif  // the SIMD kernels' own tests
 
 TEST(Raster, TheScalarShadingMultipliesEachLightByItsVisibility) {

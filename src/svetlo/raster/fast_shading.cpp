@@ -1,9 +1,9 @@
 // Stage 6's fast path: Lambert and Phong-family materials (their textured colours evaluated
-// per sample) under point, spot and directional lights and VPLs, lit eight (AVX2) or four
-// samples at a time by simd_kernel.inc. Samples of other materials go through the scalar
-// shading (fragment.cpp). With one sample per pixel, runs of one triangle along a row have
-// their weights stepped exactly (edge functions are affine); small triangles' samples keep
-// the barycentrics rasterize_small left.
+// per sample, the runs' as the batches') under point, spot and directional lights and VPLs,
+// lit eight (AVX2) or four samples at a time by simd_kernel.inc. Samples of other materials go
+// through the scalar shading (fragment.cpp). With one sample per pixel, runs of one triangle along
+// a row have their weights stepped exactly (edge functions are affine); small triangles' samples
+// keep the barycentrics rasterize_small left.
 #include <immintrin.h>
 
 #include "svetlo/raster/fragment.h"
@@ -29,10 +29,26 @@ void shade_tile_fast(const FrameState& f, const Tile& tile, const SamplePattern&
         for (int k = 0; k < batch.count; ++k) buf.sample_color[lane_of[k]] = lit[k];
         batch.count = 0;
     };
-    // Gathers sample i of triangle t, at screen barycentrics l, into the batch; a textured
-    // material's colours are evaluated here, with the pixel's footprint.
+    // A textured material's colours (ka, kd, ks) at a sample of triangle t with perspective
+    // weights w, with the pixel's footprint.
     const SetupTriangle* gradients_of = nullptr;  // the triangle whose uv gradients these are
     UvGradients gradients;
+    auto textured_colours = [&](const SetupTriangle& t, const Weights& w, Color colours[3]) {
+        const ClipVertex& A = f.vertex(t.v[0]);
+        const ClipVertex& B = f.vertex(t.v[1]);
+        const ClipVertex& C = f.vertex(t.v[2]);
+        if (gradients_of != &t) {
+            gradients_of = &t;
+            gradients = uv_gradients(f, t, A, B, C);
+        }
+        const SurfaceUv at = surface_uv(gradients, A, B, C, w);
+        Bsdf scratch;
+        const Bsdf& bsdf = material_at(f, t.material, at.uv, at.duv_dx, at.duv_dy, scratch);
+        colours[0] = bsdf.ambient;
+        colours[1] = bsdf.diffuse;
+        colours[2] = bsdf.specular;
+    };
+    // Gathers sample i of triangle t, at screen barycentrics l, into the batch.
     auto add_to_batch = [&](size_t i, vec2 l, const SetupTriangle& t) {
         const ClipVertex& A = f.vertex(t.v[0]);
         const ClipVertex& B = f.vertex(t.v[1]);
@@ -40,18 +56,7 @@ void shade_tile_fast(const FrameState& f, const Tile& tile, const SamplePattern&
         Weights w = perspective_weights(l, A, B, C);
         const bool textured = f.textured[t.material];
         Color colours[3];
-        if (textured) {
-            if (gradients_of != &t) {
-                gradients_of = &t;
-                gradients = uv_gradients(f, t, A, B, C);
-            }
-            const SurfaceUv at = surface_uv(gradients, A, B, C, w);
-            Bsdf scratch;
-            const Bsdf& bsdf = material_at(f, t.material, at.uv, at.duv_dx, at.duv_dy, scratch);
-            colours[0] = bsdf.ambient;
-            colours[1] = bsdf.diffuse;
-            colours[2] = bsdf.specular;
-        }
+        if (textured) textured_colours(t, w, colours);
         lane_of[batch.count] = i;
         batch.add(w.b[0] * A.world + w.b[1] * B.world + w.b[2] * C.world,
                   w.b[0] * A.normal + w.b[1] * B.normal + w.b[2] * C.normal, face_cross(t, A, B, C),
@@ -71,7 +76,9 @@ void shade_tile_fast(const FrameState& f, const Tile& tile, const SamplePattern&
         return true;
     };
     // One sample per pixel: runs of one triangle along each row, their weights
-    // stepped exactly (edge functions are affine), shaded four pixels at a time.
+    // stepped exactly (edge functions are affine), shaded four pixels at a time; a
+    // textured material's colours are evaluated at each sample of the run first.
+    Color run_colours[kTile][3];
     for (int row = 0; row < th && S == 1; ++row) {
         const size_t row_start = static_cast<size_t>(row) * tw;
         const int64_t sy = static_cast<int64_t>(tile.y0 + row) * kSubpixel + sp.oy[0];
@@ -97,10 +104,6 @@ void shade_tile_fast(const FrameState& f, const Tile& tile, const SamplePattern&
                 add_to_batch(i, vec2(buf.l1[i], buf.l2[i]), t);
                 continue;
             }
-            if (f.textured[t.material]) {  // colours per sample: the batch, sample by sample
-                add_to_batch(i, edges.of(tri).weights(sx, sy), t);
-                continue;
-            }
             int end = px;
             while (end < tw && buf.tri[row_start + static_cast<size_t>(end)] == tri) ++end;
             // Groups of four along the run are shaded as spans; what is left
@@ -115,6 +118,16 @@ void shade_tile_fast(const FrameState& f, const Tile& tile, const SamplePattern&
                     q.normal[v] = f.vertex(t.v[v]).normal;
                 }
                 q.first_sample = static_cast<uint32_t>(i);
+                if (f.textured[t.material]) {  // the colours at each sample of the spans
+                    const ClipVertex& A = f.vertex(t.v[0]);
+                    const ClipVertex& B = f.vertex(t.v[1]);
+                    const ClipVertex& C = f.vertex(t.v[2]);
+                    for (int x = px; x < spans_end; ++x) {
+                        const vec2 l = e.weights(sx + static_cast<int64_t>(x - px) * kSubpixel, sy);
+                        textured_colours(t, perspective_weights(l, A, B, C), run_colours[x - px]);
+                    }
+                    q.own = run_colours;
+                }
                 q.l1 = static_cast<float>(static_cast<double>(e.e[1].at(sx, sy)) * e.inv_area);
                 q.l2 = static_cast<float>(static_cast<double>(e.e[2].at(sx, sy)) * e.inv_area);
                 auto dl1 =

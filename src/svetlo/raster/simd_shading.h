@@ -86,7 +86,7 @@ struct ShadeBatch {
     const SimdMaterial* material[kCapacity] = {};
     uint32_t sample[kCapacity] = {};  // each lane's sample in the tile (for the visibility)
     bool own[kCapacity] = {};         // whether the lane has its own colours
-    Color ka[kCapacity], kd[kCapacity], ks[kCapacity];
+    Color own_colours[kCapacity][3];  // and those: ka, kd, ks
 
     /// Appends a sample; the caller flushes a full batch.
     void add(vec3 position, vec3 normal, vec3 geometric, const SimdMaterial* m, uint32_t s = 0,
@@ -99,9 +99,7 @@ struct ShadeBatch {
         sample[count] = s;
         own[count] = colours != nullptr;
         if (colours) {
-            ka[count] = colours[0];
-            kd[count] = colours[1];
-            ks[count] = colours[2];
+            for (int k = 0; k < 3; ++k) own_colours[count][k] = colours[k];
         }
         material[count++] = m;
     }
@@ -119,6 +117,9 @@ struct TriangleRun {
     float invw[3];
     vec3 world[3], normal[3];
     uint32_t first_sample = 0;  // the run's first sample in the tile (for the visibility)
+    /// A textured material's colours at each sample of the run, from its first: ka, kd, ks,
+    /// which replace the material's (as a batch lane's own colours); null: the material's.
+    const Color (*own)[3] = nullptr;
 };
 
 /// A run of 4 `groups` consecutive samples of one triangle along a row: the weights of the
