@@ -2,6 +2,7 @@
 
 #include <bit>
 #include <cstdint>
+#include <limits>
 
 namespace svetlo {
 
@@ -34,7 +35,8 @@ Srgb8Encoder::Srgb8Encoder() {
         }
         steps_[k - 1] = std::bit_cast<float>(hi);
     }
-    for (unsigned c = 0; c < kCells; ++c) {
+    steps_[255] = std::numeric_limits<float>::infinity();
+    for (unsigned c = 0; c <= kCells; ++c) {
         const float start = static_cast<float>(c) / kCells;
         unsigned k = 0;  // the steps at or below the cell's start
         while (k < 255 && steps_[k] <= start) ++k;

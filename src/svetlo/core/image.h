@@ -2,6 +2,7 @@
 // values and 8-bit sRGB.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <vector>
 
@@ -33,21 +34,21 @@ unsigned char linear_to_srgb8(float v);
 /// maps in order). A table gives the code at the start of each of 4096 equal cells of [0, 1];
 /// no cell holds two steps (the steepest slope of the curve, 12.92 x 255 codes per unit at 0,
 /// is 0.8 codes a cell), so one comparison with the next step finishes. Writing 8-bit images
-/// uses it.
+/// uses it. No branch: the value is clipped first (NaN to 0), the cell of 1 holds 255, and
+/// the step past the last is infinite.
 class Srgb8Encoder {
 public:
     Srgb8Encoder();
     unsigned char operator()(float v) const {
-        if (!(v > 0.0f)) return 0;  // also NaN
-        if (v >= 1.0f) return 255;
-        const unsigned k = first_[static_cast<unsigned>(v * kCells)];  // exact: kCells is 2^12
-        return static_cast<unsigned char>(k < 255 && steps_[k] <= v ? k + 1 : k);
+        const float c = v > 0.0f ? std::min(v, 1.0f) : 0.0f;           // also NaN
+        const unsigned k = first_[static_cast<unsigned>(c * kCells)];  // exact: kCells is 2^12
+        return static_cast<unsigned char>(k + (steps_[k] <= c ? 1u : 0u));
     }
 
 private:
     static constexpr unsigned kCells = 4096;
-    float steps_[255];             // steps_[k - 1]: the least float whose code is k
-    unsigned char first_[kCells];  // the code of c / kCells
+    float steps_[256];                 // steps_[k - 1]: the least float whose code is k; then inf
+    unsigned char first_[kCells + 1];  // the code of c / kCells
 };
 
 /// The w x h pixels of `image` whose top-left corner is (x0, y0), all inside it.
