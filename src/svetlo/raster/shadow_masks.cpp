@@ -1,5 +1,8 @@
 #include "svetlo/raster/shadow_masks.h"
 
+#include <algorithm>
+#include <cstdlib>
+
 #include "svetlo/core/error.h"
 #include "svetlo/raster/fragment.h"
 #include "svetlo/raster/shadow_techniques.h"
@@ -74,6 +77,73 @@ float scene_diameter(const Bounds3& bounds) {
     return bounds.empty() ? 1.0f : std::max(glm::length(bounds.extent()), 1e-6f);
 }
 
+namespace {
+
+/// The surfaces (ShadowSample) of a run of one sample per pixel: the samples index[0..r) of
+/// the tile, r >= 8, consecutive pixels of one row and one triangle, drawn by the general
+/// rasterizer (not a small triangle's kept weights). Returns r, or 0 where there is no such
+/// run (then the samples are made one by one). Lane by lane, with the numbers of the loop in
+/// fill_masks (the edge functions stepped in exact integers, as doubles: below 2^52 they are
+/// exact), which the compiler vectorizes.
+size_t surfaces_of_run(const FrameState& f, const Tile& tile, int pass, const TileBuffers& buf,
+                       const uint32_t* index, size_t left, bool left_weights,
+                       const SamplePattern& sp, ShadowSample* out) {
+    constexpr size_t kMinRun = 8;
+    const int tw = tile.x1 - tile.x0;
+    const uint32_t first = index[0], id = buf.tri[first];
+    const int px = static_cast<int>(first % static_cast<uint32_t>(tw));
+    const size_t most = std::min(left, static_cast<size_t>(tw - px));
+    size_t r = 1;
+    while (r < most && index[r] == first + r && buf.tri[first + r] == id) ++r;
+    if (r < kMinRun) return 0;
+    const SetupTriangle& t = f.tri(id);
+    if (left_weights && t.small) return 0;
+    const ClipVertex& A = f.vertex(t.v[0]);
+    const ClipVertex& B = f.vertex(t.v[1]);
+    const ClipVertex& C = f.vertex(t.v[2]);
+    const TriangleEdges e(t);
+    const int py = tile.y0 + static_cast<int>(first / static_cast<uint32_t>(tw));
+    const int64_t x0 = static_cast<int64_t>(tile.x0 + px) * kSubpixel + sp.ox[0];
+    const int64_t y = static_cast<int64_t>(py) * kSubpixel + sp.oy[0];
+    const int64_t at1 = e.e[1].at(x0, y), at2 = e.e[2].at(x0, y);
+    const int64_t step1 = e.e[1].a * kSubpixel, step2 = e.e[2].a * kSubpixel;
+    constexpr int64_t kExact = int64_t{1} << 52;
+    const auto count = static_cast<int64_t>(r);
+    if (std::abs(at1) >= kExact || std::abs(at2) >= kExact || std::abs(step1) >= kExact / count ||
+        std::abs(step2) >= kExact / count)
+        return 0;
+    const vec3 ng = face_normal(t, A, B, C);
+    const vec3 eye = f.cam.eye, forward = f.cam.forward;
+    const bool ortho = f.cam.orthographic;
+    alignas(32) float l1[kTile], l2[kTile], p[3][kTile], side[kTile];
+    for (int j = 0; j < static_cast<int>(r); ++j) {  // (an int converts to double in SIMD)
+        const auto k = static_cast<double>(j);
+        l1[j] = static_cast<float>((static_cast<double>(at1) + k * static_cast<double>(step1)) *
+                                   e.inv_area);
+        l2[j] = static_cast<float>((static_cast<double>(at2) + k * static_cast<double>(step2)) *
+                                   e.inv_area);
+    }
+    for (size_t j = 0; j < r; ++j) {
+        const Weights w = perspective_weights(vec2(l1[j], l2[j]), A, B, C);
+        const vec3 q = w.b[0] * A.world + w.b[1] * B.world + w.b[2] * C.world;
+        const vec3 toward_eye = ortho ? -forward : eye - q;
+        side[j] = glm::dot(ng, toward_eye) >= 0.0f ? 1.0f : -1.0f;
+        for (int c = 0; c < 3; ++c) p[c][j] = q[c];
+    }
+    for (size_t j = 0; j < r; ++j) {
+        ShadowSample& at = out[j];
+        at.pass = pass;
+        at.i = tile.x0 + px + static_cast<int>(j);
+        at.j = py;
+        at.s = 0;
+        at.p = vec3(p[0][j], p[1][j], p[2][j]);
+        at.n = side[j] > 0.0f ? ng : -ng;
+    }
+    return r;
+}
+
+}  // namespace
+
 void fill_masks(const ShadowTechniqueState& technique, const FrameState& f, const Tile& tile,
                 const SamplePattern& sp, int pass, bool small_left_weights, TileBuffers& buf,
                 MaskScratch& scratch) {
@@ -127,6 +197,15 @@ void fill_masks(const ShadowTechniqueState& technique, const FrameState& f, cons
     uint32_t normal_of = kNone;  // the triangle whose unit normal ng is
     vec3 ng(0.0f);               // and its unit normal
     for (size_t m = 0; m < n; ++m) {
+        // One sample per pixel: a run of one triangle's pixels along a row, lane by lane.
+        if (S == 1) {
+            const size_t run = surfaces_of_run(f, tile, pass, buf, scratch.index.data() + m, n - m,
+                                               left_weights, sp, found.data() + m);
+            if (run > 0) {
+                m += run - 1;
+                continue;
+            }
+        }
         // The samples' triangles and their vertices are scattered over the frame's (a
         // triangle covers a pixel or two): fetch ahead, the triangle first and its vertices
         // once it has arrived.
