@@ -29,24 +29,30 @@ void shade_tile_fast(const FrameState& f, const Tile& tile, const SamplePattern&
         for (int k = 0; k < batch.count; ++k) buf.sample_color[lane_of[k]] = lit[k];
         batch.count = 0;
     };
-    // A textured material's colours (ka, kd, ks) at a sample of triangle t with perspective
-    // weights w, with the pixel's footprint.
+    // A textured triangle's uv gradients, made once for its samples.
     const SetupTriangle* gradients_of = nullptr;  // the triangle whose uv gradients these are
     UvGradients gradients;
-    auto textured_colours = [&](const SetupTriangle& t, const Weights& w, Color colours[3]) {
-        const ClipVertex& A = f.vertex(t.v[0]);
-        const ClipVertex& B = f.vertex(t.v[1]);
-        const ClipVertex& C = f.vertex(t.v[2]);
+    auto gradients_for = [&](const SetupTriangle& t) -> const UvGradients& {
         if (gradients_of != &t) {
             gradients_of = &t;
-            gradients = uv_gradients(f, t, A, B, C);
+            gradients = uv_gradients(f, t, f.vertex(t.v[0]), f.vertex(t.v[1]), f.vertex(t.v[2]));
         }
-        const SurfaceUv at = surface_uv(gradients, A, B, C, w);
+        return gradients;
+    };
+    // A textured material's colours (ka, kd, ks) at a sample's uv and footprint.
+    auto colours_at = [&](uint32_t material, const SurfaceUv& at, Color colours[3]) {
         Bsdf scratch;
-        const Bsdf& bsdf = material_at(f, t.material, at.uv, at.duv_dx, at.duv_dy, scratch);
+        const Bsdf& bsdf = material_at(f, material, at.uv, at.duv_dx, at.duv_dy, scratch);
         colours[0] = bsdf.ambient;
         colours[1] = bsdf.diffuse;
         colours[2] = bsdf.specular;
+    };
+    // The same at a sample of triangle t with perspective weights w.
+    auto textured_colours = [&](const SetupTriangle& t, const Weights& w, Color colours[3]) {
+        colours_at(
+            t.material,
+            surface_uv(gradients_for(t), f.vertex(t.v[0]), f.vertex(t.v[1]), f.vertex(t.v[2]), w),
+            colours);
     };
     // Gathers sample i of triangle t, at screen barycentrics l, into the batch.
     auto add_to_batch = [&](size_t i, vec2 l, const SetupTriangle& t) {
@@ -119,13 +125,23 @@ void shade_tile_fast(const FrameState& f, const Tile& tile, const SamplePattern&
                 }
                 q.first_sample = static_cast<uint32_t>(i);
                 if (f.textured[t.material]) {  // the colours at each sample of the spans
+                    // Their uv and footprints lane by lane, then the lookups one by one.
+                    const int spans = spans_end - px;
+                    alignas(32) float l1[kTile], l2[kTile];
+                    SurfaceUv at[kTile];
                     const ClipVertex& A = f.vertex(t.v[0]);
                     const ClipVertex& B = f.vertex(t.v[1]);
                     const ClipVertex& C = f.vertex(t.v[2]);
-                    for (int x = px; x < spans_end; ++x) {
-                        const vec2 l = e.weights(sx + static_cast<int64_t>(x - px) * kSubpixel, sy);
-                        textured_colours(t, perspective_weights(l, A, B, C), run_colours[x - px]);
+                    if (e.run_weights(sx, sy, spans, l1, l2)) {
+                        surface_uvs(gradients_for(t), A, B, C, l1, l2, spans, at);
+                    } else {
+                        for (int k = 0; k < spans; ++k) {
+                            const vec2 l = e.weights(sx + static_cast<int64_t>(k) * kSubpixel, sy);
+                            at[k] = surface_uv(gradients_for(t), A, B, C,
+                                               perspective_weights(l, A, B, C));
+                        }
                     }
+                    for (int k = 0; k < spans; ++k) colours_at(t.material, at[k], run_colours[k]);
                     q.own = run_colours;
                 }
                 q.l1 = static_cast<float>(static_cast<double>(e.e[1].at(sx, sy)) * e.inv_area);

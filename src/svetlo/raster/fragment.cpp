@@ -67,21 +67,64 @@ UvGradients uv_gradients(const FrameState& f, const SetupTriangle& t, const Clip
     return g;
 }
 
-SurfaceUv surface_uv(const UvGradients& g, const ClipVertex& A, const ClipVertex& B,
-                     const ClipVertex& C, const Weights& w) {
-    SurfaceUv r;
-    r.uv = w.b[0] * A.uv + w.b[1] * B.uv + w.b[2] * C.uv;
-    if (!g.footprint) return r;
-    // d(q_i / sum q) = (dq_i sum - q_i dsum) / sum^2, per screen axis.
+namespace {
+
+/// surface_uv's footprint, inlined where surface_uvs calls it lane by lane:
+/// d(q_i / sum q) = (dq_i sum - q_i dsum) / sum^2 per screen axis, times the uvs.
+[[gnu::always_inline]] inline void footprint(const UvGradients& g, const ClipVertex& A,
+                                             const ClipVertex& B, const ClipVertex& C,
+                                             const Weights& w, vec2 (&d)[2]) {
     const vec2* uvs[3] = {&A.uv, &B.uv, &C.uv};
     const float sum = w.q[0] + w.q[1] + w.q[2];
     for (int axis = 0; axis < 2; ++axis) {
-        vec2 d(0.0f);
+        d[axis] = vec2(0.0f);
         for (int i = 0; i < 3; ++i)
-            d += ((g.dq[axis][i] * sum - w.q[i] * g.dsum[axis]) / (sum * sum)) * *uvs[i];
-        (axis == 0 ? r.duv_dx : r.duv_dy) = d;
+            d[axis] += ((g.dq[axis][i] * sum - w.q[i] * g.dsum[axis]) / (sum * sum)) * *uvs[i];
     }
+}
+
+[[gnu::always_inline]] inline vec2 uv_at(const ClipVertex& A, const ClipVertex& B,
+                                         const ClipVertex& C, const Weights& w) {
+    return w.b[0] * A.uv + w.b[1] * B.uv + w.b[2] * C.uv;
+}
+
+}  // namespace
+
+SurfaceUv surface_uv(const UvGradients& g, const ClipVertex& A, const ClipVertex& B,
+                     const ClipVertex& C, const Weights& w) {
+    SurfaceUv r;
+    r.uv = uv_at(A, B, C, w);
+    if (!g.footprint) return r;
+    vec2 d[2];
+    footprint(g, A, B, C, w, d);
+    r.duv_dx = d[0];
+    r.duv_dy = d[1];
     return r;
+}
+
+void surface_uvs(const UvGradients& g, const ClipVertex& A, const ClipVertex& B,
+                 const ClipVertex& C, const float* l1, const float* l2, int n, SurfaceUv* out) {
+    // Made into arrays of floats (which the compiler vectorizes), then copied out.
+    alignas(32) float v[6][kTile] = {};
+    for (int k = 0; k < n; ++k) {
+        const Weights w = perspective_weights(vec2(l1[k], l2[k]), A, B, C);
+        const vec2 uv = uv_at(A, B, C, w);
+        v[0][k] = uv.x;
+        v[1][k] = uv.y;
+    }
+    if (g.footprint) {
+        for (int k = 0; k < n; ++k) {
+            const Weights w = perspective_weights(vec2(l1[k], l2[k]), A, B, C);
+            vec2 d[2];
+            footprint(g, A, B, C, w, d);
+            v[2][k] = d[0].x;
+            v[3][k] = d[0].y;
+            v[4][k] = d[1].x;
+            v[5][k] = d[1].y;
+        }
+    }
+    for (int k = 0; k < n; ++k)
+        out[k] = SurfaceUv{vec2(v[0][k], v[1][k]), vec2(v[2][k], v[3][k]), vec2(v[4][k], v[5][k])};
 }
 
 SurfaceUv surface_uv(const FrameState& f, const SetupTriangle& t, const ClipVertex& A,

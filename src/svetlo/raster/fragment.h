@@ -74,6 +74,10 @@ UvGradients uv_gradients(const FrameState& f, const SetupTriangle& t, const Clip
 /// surface_uv from the triangle's gradients (the same numbers, bit for bit).
 SurfaceUv surface_uv(const UvGradients& g, const ClipVertex& A, const ClipVertex& B,
                      const ClipVertex& C, const Weights& w);
+/// surface_uv at n samples of one triangle (n <= kTile) with screen barycentrics (l1[k],
+/// l2[k]) of vertices 1 and 2, lane by lane (the same numbers), into out[k].
+void surface_uvs(const UvGradients& g, const ClipVertex& A, const ClipVertex& B,
+                 const ClipVertex& C, const float* l1, const float* l2, int n, SurfaceUv* out);
 
 /// Stage 6 for the samples the fast path does not take, and for every mode but the fast
 /// Phong path: shades the tile's visible samples and adds them (per pixel) into buf.color

@@ -20,6 +20,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cstdlib>
 #include <optional>
 #include <string>
 #include <vector>
@@ -280,6 +281,26 @@ struct TriangleEdges {
     vec2 weights(int64_t x, int64_t y) const {
         return vec2(static_cast<float>(static_cast<double>(e[1].at(x, y)) * inv_area),
                     static_cast<float>(static_cast<double>(e[2].at(x, y)) * inv_area));
+    }
+    /// weights() at the n samples (x + k kSubpixel, y), k < n, into l1[k] and l2[k], lane by
+    /// lane (the edge functions stepped in exact integers, computed as doubles: exact below
+    /// 2^52, and the same numbers as weights()). False, with nothing written, where a value
+    /// would pass 2^52.
+    bool run_weights(int64_t x, int64_t y, int n, float* l1, float* l2) const {
+        const int64_t at1 = e[1].at(x, y), at2 = e[2].at(x, y);
+        const int64_t step1 = e[1].a * kSubpixel, step2 = e[2].a * kSubpixel;
+        constexpr int64_t kExact = int64_t{1} << 52;
+        if (n <= 0 || std::abs(at1) >= kExact || std::abs(at2) >= kExact ||
+            std::abs(step1) >= kExact / n || std::abs(step2) >= kExact / n)
+            return false;
+        for (int k = 0; k < n; ++k) {  // (an int converts to double in SIMD; a size_t not)
+            const auto j = static_cast<double>(k);
+            l1[k] = static_cast<float>((static_cast<double>(at1) + j * static_cast<double>(step1)) *
+                                       inv_area);
+            l2[k] = static_cast<float>((static_cast<double>(at2) + j * static_cast<double>(step2)) *
+                                       inv_area);
+        }
+        return true;
     }
     /// The depth plane per pixel: z = z0 + dzdx (x - x0) + dzdy (y - y0), (x0, y0) vertex 0,
     /// from the gradients of the weights of vertices 1 and 2.

@@ -83,8 +83,7 @@ namespace {
 /// the tile, r >= 8, consecutive pixels of one row and one triangle, drawn by the general
 /// rasterizer (not a small triangle's kept weights). Returns r, or 0 where there is no such
 /// run (then the samples are made one by one). Lane by lane, with the numbers of the loop in
-/// fill_masks (the edge functions stepped in exact integers, as doubles: below 2^52 they are
-/// exact), which the compiler vectorizes.
+/// fill_masks (TriangleEdges::run_weights), which the compiler vectorizes.
 size_t surfaces_of_run(const FrameState& f, const Tile& tile, int pass, const TileBuffers& buf,
                        const uint32_t* index, size_t left, bool left_weights,
                        const SamplePattern& sp, ShadowSample* out) {
@@ -101,28 +100,15 @@ size_t surfaces_of_run(const FrameState& f, const Tile& tile, int pass, const Ti
     const ClipVertex& A = f.vertex(t.v[0]);
     const ClipVertex& B = f.vertex(t.v[1]);
     const ClipVertex& C = f.vertex(t.v[2]);
-    const TriangleEdges e(t);
     const int py = tile.y0 + static_cast<int>(first / static_cast<uint32_t>(tw));
-    const int64_t x0 = static_cast<int64_t>(tile.x0 + px) * kSubpixel + sp.ox[0];
-    const int64_t y = static_cast<int64_t>(py) * kSubpixel + sp.oy[0];
-    const int64_t at1 = e.e[1].at(x0, y), at2 = e.e[2].at(x0, y);
-    const int64_t step1 = e.e[1].a * kSubpixel, step2 = e.e[2].a * kSubpixel;
-    constexpr int64_t kExact = int64_t{1} << 52;
-    const auto count = static_cast<int64_t>(r);
-    if (std::abs(at1) >= kExact || std::abs(at2) >= kExact || std::abs(step1) >= kExact / count ||
-        std::abs(step2) >= kExact / count)
+    alignas(32) float l1[kTile], l2[kTile], p[3][kTile], side[kTile];
+    if (!TriangleEdges(t).run_weights(static_cast<int64_t>(tile.x0 + px) * kSubpixel + sp.ox[0],
+                                      static_cast<int64_t>(py) * kSubpixel + sp.oy[0],
+                                      static_cast<int>(r), l1, l2))
         return 0;
     const vec3 ng = face_normal(t, A, B, C);
     const vec3 eye = f.cam.eye, forward = f.cam.forward;
     const bool ortho = f.cam.orthographic;
-    alignas(32) float l1[kTile], l2[kTile], p[3][kTile], side[kTile];
-    for (int j = 0; j < static_cast<int>(r); ++j) {  // (an int converts to double in SIMD)
-        const auto k = static_cast<double>(j);
-        l1[j] = static_cast<float>((static_cast<double>(at1) + k * static_cast<double>(step1)) *
-                                   e.inv_area);
-        l2[j] = static_cast<float>((static_cast<double>(at2) + k * static_cast<double>(step2)) *
-                                   e.inv_area);
-    }
     for (size_t j = 0; j < r; ++j) {
         const Weights w = perspective_weights(vec2(l1[j], l2[j]), A, B, C);
         const vec3 q = w.b[0] * A.world + w.b[1] * B.world + w.b[2] * C.world;
