@@ -132,15 +132,8 @@ void shade_tile_fast(const FrameState& f, const Tile& tile, const SamplePattern&
                     const ClipVertex& A = f.vertex(t.v[0]);
                     const ClipVertex& B = f.vertex(t.v[1]);
                     const ClipVertex& C = f.vertex(t.v[2]);
-                    if (e.run_weights(sx, sy, spans, l1, l2)) {
-                        surface_uvs(gradients_for(t), A, B, C, l1, l2, spans, at);
-                    } else {
-                        for (int k = 0; k < spans; ++k) {
-                            const vec2 l = e.weights(sx + static_cast<int64_t>(k) * kSubpixel, sy);
-                            at[k] = surface_uv(gradients_for(t), A, B, C,
-                                               perspective_weights(l, A, B, C));
-                        }
-                    }
+                    e.run_weights(sx, sy, spans, l1, l2);
+                    surface_uvs(gradients_for(t), A, B, C, l1, l2, spans, at);
                     for (int k = 0; k < spans; ++k) colours_at(t.material, at[k], run_colours[k]);
                     q.own = run_colours;
                 }

@@ -282,17 +282,22 @@ struct TriangleEdges {
         return vec2(static_cast<float>(static_cast<double>(e[1].at(x, y)) * inv_area),
                     static_cast<float>(static_cast<double>(e[2].at(x, y)) * inv_area));
     }
-    /// weights() at the n samples (x + k kSubpixel, y), k < n, into l1[k] and l2[k], lane by
-    /// lane (the edge functions stepped in exact integers, computed as doubles: exact below
-    /// 2^52, and the same numbers as weights()). False, with nothing written, where a value
-    /// would pass 2^52.
-    bool run_weights(int64_t x, int64_t y, int n, float* l1, float* l2) const {
+    /// weights() at the n samples (x + k kSubpixel, y), k < n, into l1[k] and l2[k]: lane by
+    /// lane where it can (the edge functions stepped in exact integers, computed as doubles,
+    /// exact below 2^52), else one by one; the same numbers either way.
+    void run_weights(int64_t x, int64_t y, int n, float* l1, float* l2) const {
         const int64_t at1 = e[1].at(x, y), at2 = e[2].at(x, y);
         const int64_t step1 = e[1].a * kSubpixel, step2 = e[2].a * kSubpixel;
         constexpr int64_t kExact = int64_t{1} << 52;
-        if (n <= 0 || std::abs(at1) >= kExact || std::abs(at2) >= kExact ||
-            std::abs(step1) >= kExact / n || std::abs(step2) >= kExact / n)
-            return false;
+        if (n > 0 && (std::abs(at1) >= kExact || std::abs(at2) >= kExact ||
+                      std::abs(step1) >= kExact / n || std::abs(step2) >= kExact / n)) {
+            for (int k = 0; k < n; ++k) {
+                const vec2 l = weights(x + static_cast<int64_t>(k) * kSubpixel, y);
+                l1[k] = l.x;
+                l2[k] = l.y;
+            }
+            return;
+        }
         for (int k = 0; k < n; ++k) {  // (an int converts to double in SIMD; a size_t not)
             const auto j = static_cast<double>(k);
             l1[k] = static_cast<float>((static_cast<double>(at1) + j * static_cast<double>(step1)) *
@@ -300,7 +305,6 @@ struct TriangleEdges {
             l2[k] = static_cast<float>((static_cast<double>(at2) + j * static_cast<double>(step2)) *
                                        inv_area);
         }
-        return true;
     }
     /// The depth plane per pixel: z = z0 + dzdx (x - x0) + dzdy (y - y0), (x0, y0) vertex 0,
     /// from the gradients of the weights of vertices 1 and 2.

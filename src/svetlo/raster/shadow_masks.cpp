@@ -79,11 +79,32 @@ float scene_diameter(const Bounds3& bounds) {
 
 namespace {
 
+/// The world point of a sample with screen barycentrics l of vertices 1 and 2.
+inline vec3 sample_point(const ClipVertex& A, const ClipVertex& B, const ClipVertex& C, vec2 l) {
+    const Weights w = perspective_weights(l, A, B, C);
+    return w.b[0] * A.world + w.b[1] * B.world + w.b[2] * C.world;
+}
+
+/// Which side of a surface the camera sees (a copy of the frame's camera, which loops keep
+/// in registers).
+struct Viewer {
+    vec3 eye, forward;
+    bool orthographic;
+    explicit Viewer(const FrameState& f)
+        : eye(f.cam.eye), forward(f.cam.forward), orthographic(f.cam.orthographic) {}
+    /// Whether it sees the side of unit normal ng at p (the sign of ng . wo, wo not made unit).
+    bool sees_front(vec3 ng, vec3 p) const {
+        const vec3 toward_eye = orthographic ? -forward : eye - p;
+        return glm::dot(ng, toward_eye) >= 0.0f;
+    }
+};
+
 /// The surfaces (ShadowSample) of a run of one sample per pixel: the samples index[0..r) of
 /// the tile, r >= 8, consecutive pixels of one row and one triangle, drawn by the general
 /// rasterizer (not a small triangle's kept weights). Returns r, or 0 where there is no such
-/// run (then the samples are made one by one). Lane by lane, with the numbers of the loop in
-/// fill_masks (TriangleEdges::run_weights), which the compiler vectorizes.
+/// run (then the samples are made one by one). Lane by lane (TriangleEdges::run_weights,
+/// sample_point, Viewer: the numbers of the loop in fill_masks), which the compiler
+/// vectorizes.
 size_t surfaces_of_run(const FrameState& f, const Tile& tile, int pass, const TileBuffers& buf,
                        const uint32_t* index, size_t left, bool left_weights,
                        const SamplePattern& sp, ShadowSample* out) {
@@ -102,18 +123,14 @@ size_t surfaces_of_run(const FrameState& f, const Tile& tile, int pass, const Ti
     const ClipVertex& C = f.vertex(t.v[2]);
     const int py = tile.y0 + static_cast<int>(first / static_cast<uint32_t>(tw));
     alignas(32) float l1[kTile], l2[kTile], p[3][kTile], side[kTile];
-    if (!TriangleEdges(t).run_weights(static_cast<int64_t>(tile.x0 + px) * kSubpixel + sp.ox[0],
-                                      static_cast<int64_t>(py) * kSubpixel + sp.oy[0],
-                                      static_cast<int>(r), l1, l2))
-        return 0;
+    TriangleEdges(t).run_weights(static_cast<int64_t>(tile.x0 + px) * kSubpixel + sp.ox[0],
+                                 static_cast<int64_t>(py) * kSubpixel + sp.oy[0],
+                                 static_cast<int>(r), l1, l2);
     const vec3 ng = face_normal(t, A, B, C);
-    const vec3 eye = f.cam.eye, forward = f.cam.forward;
-    const bool ortho = f.cam.orthographic;
+    const Viewer viewer(f);
     for (size_t j = 0; j < r; ++j) {
-        const Weights w = perspective_weights(vec2(l1[j], l2[j]), A, B, C);
-        const vec3 q = w.b[0] * A.world + w.b[1] * B.world + w.b[2] * C.world;
-        const vec3 toward_eye = ortho ? -forward : eye - q;
-        side[j] = glm::dot(ng, toward_eye) >= 0.0f ? 1.0f : -1.0f;
+        const vec3 q = sample_point(A, B, C, vec2(l1[j], l2[j]));
+        side[j] = viewer.sees_front(ng, q) ? 1.0f : -1.0f;
         for (int c = 0; c < 3; ++c) p[c][j] = q[c];
     }
     for (size_t j = 0; j < r; ++j) {
@@ -180,6 +197,7 @@ void fill_masks(const ShadowTechniqueState& technique, const FrameState& f, cons
     }
     // Their surfaces.
     EdgeCache edges(f);
+    const Viewer viewer(f);
     uint32_t normal_of = kNone;  // the triangle whose unit normal ng is
     vec3 ng(0.0f);               // and its unit normal
     for (size_t m = 0; m < n; ++m) {
@@ -225,11 +243,8 @@ void fill_masks(const ShadowTechniqueState& technique, const FrameState& f, cons
                            ? vec2(buf.l1[i], buf.l2[i])
                            : edges.of(id).weights(static_cast<int64_t>(px) * kSubpixel + sp.ox[s],
                                                   static_cast<int64_t>(py) * kSubpixel + sp.oy[s]);
-        const Weights w = perspective_weights(l, A, B, C);
-        at.p = w.b[0] * A.world + w.b[1] * B.world + w.b[2] * C.world;
-        // The side the camera sees (the sign of ng . wo, wo not made unit).
-        const vec3 toward_eye = f.cam.orthographic ? -f.cam.forward : f.cam.eye - at.p;
-        at.n = glm::dot(ng, toward_eye) >= 0.0f ? ng : -ng;
+        at.p = sample_point(A, B, C, l);
+        at.n = viewer.sees_front(ng, at.p) ? ng : -ng;
     }
     // Source by source (shadow_casters groups a source's casters together), so that the sums
     // take memory for one source's samples, whatever the number of lights.

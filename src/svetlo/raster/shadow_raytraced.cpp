@@ -46,6 +46,8 @@ struct PointRays {
     void make(vec3 light, vec3 target, size_t count) {
         for (size_t r = 0; r < count; ++r) {
             const vec3 at(p[0][r], p[1][r], p[2][r]);
+            // (ShadowCaster::to_light of a point: with the caster itself in the loop, the
+            // drag measured slower.)
             const vec3 origin =
                 shadow_origin(at, vec3(n[0][r], n[1][r], n[2][r]), glm::normalize(light - at));
             const vec3 to = target - origin;
