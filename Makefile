@@ -78,6 +78,7 @@ demo: build
 
 bench: build
 	$(BUILD)/bench/svetlo_bench
+	$(BUILD)/bench/svetlo_image_bench
 	$(BUILD)/bench/svetlo_raster_bench 1
 	$(BUILD)/bench/svetlo_raster_bench $(JOBS)
 	$(SVETLO) bench scenes/bunny.json --accel none,bvh --rays primary --threads 1 -W 64 -H 40

@@ -3,10 +3,12 @@ sends, from the client's clock, with the server's render and encoder seconds
 (X-Svetlo-Seconds, X-Svetlo-Encode-Seconds) and the bytes sent, median of 8 after one to
 warm up; the first frame of a progressive path render; and a drag of the camera over
 scenes/raster.json, as the page sends it (one request at a time, each the next step of an
-orbit, JPEG, preview=1).
+orbit, JPEG, preview=1), over one kept-alive connection as the browser sends it and over
+a new connection each.
 
     /usr/bin/python3 bench/serve_latency.py SVETLO [SCENES_DIR]
 """
+import http.client
 import math
 import re
 import statistics
@@ -67,33 +69,43 @@ try:
     print("progressive path 480 x 270: first frame after %.1f ms (median of 8)" %
           (1000 * statistics.median(firsts)))
     # A drag: 61 frames of an orbit about raster.json's look_at (0, 0.6, 0), radius and height
-    # of its camera, one request after the other, the first to warm up.
-    for preview in ("1", "0"):
-        frames = 61 if preview == "1" else 7
+    # of its camera, one request after the other, the first to warm up; over one kept-alive
+    # connection, as the browser sends them, and over a new connection each.
+    def drag(preview, frames, kept_alive):
+        connection = http.client.HTTPConnection("127.0.0.1", port, timeout=60)
         renders, encoders, sizes = [], [], []
         t_start = None
         for k in range(frames):
             a = 0.02 * k
             position = "[%.4f,2.2,%.4f]" % (6.5 * math.sin(a), 6.5 * math.cos(a))
-            path = ("render?scene=raster.json&engine=raster&spp=1&width=960&height=540"
+            path = ("/api/render?scene=raster.json&engine=raster&spp=1&width=960&height=540"
                     "&format=jpeg&client=drag&preview=%s&set=camera.position%%3D%s" %
                     (preview, urllib.parse.quote(position)))
-            with urllib.request.urlopen(base + path, timeout=60) as r:
-                body = r.read()
-                if k == 0:
-                    t_start = time.perf_counter()
-                    continue
-                renders.append(float(r.headers["X-Svetlo-Seconds"]))
-                encoders.append(float(r.headers["X-Svetlo-Encode-Seconds"]))
-                sizes.append(len(body))
+            connection.request("GET", path)
+            r = connection.getresponse()
+            body = r.read()
+            if not kept_alive:
+                connection.close()
+            if k == 0:
+                t_start = time.perf_counter()
+                continue
+            renders.append(float(r.getheader("X-Svetlo-Seconds")))
+            encoders.append(float(r.getheader("X-Svetlo-Encode-Seconds")))
+            sizes.append(len(body))
+        connection.close()
         per_frame = (time.perf_counter() - t_start) / (frames - 1)
-        print("drag over raster.json 960 x 540, 1 spp, JPEG, preview=%s: %.1f frames/s "
+        print("drag over raster.json 960 x 540, 1 spp, JPEG, preview=%s, %s: %.1f frames/s "
               "(%.1f ms a frame: render %.1f ms, encoder %.1f ms, %.0f %% of the frame; %d KiB "
               "a frame; %d frames)" % (
-                  preview, 1 / per_frame, 1000 * per_frame, 1000 * statistics.median(renders),
+                  preview, "kept alive" if kept_alive else "a connection each",
+                  1 / per_frame, 1000 * per_frame, 1000 * statistics.median(renders),
                   1000 * statistics.median(encoders),
                   100 * statistics.median(encoders) / per_frame,
                   statistics.median(sizes) // 1024, frames - 1))
+
+    drag("1", 61, True)
+    drag("1", 61, False)
+    drag("0", 7, True)
 finally:
     server.terminate()
     server.wait(timeout=30)

@@ -40,7 +40,7 @@ class Srgb8Encoder {
 public:
     Srgb8Encoder();
     unsigned char operator()(float v) const {
-        const float c = v > 0.0f ? std::min(v, 1.0f) : 0.0f;           // also NaN
+        const float c = std::max(0.0f, std::min(v, 1.0f));  // NaN to 0 (min keeps it, max drops it)
         const unsigned k = first_[static_cast<unsigned>(c * kCells)];  // exact: kCells is 2^12
         return static_cast<unsigned char>(k + (steps_[k] <= c ? 1u : 0u));
     }
