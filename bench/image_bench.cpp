@@ -21,8 +21,8 @@ const Image& frame() {
                 const float shade = 1.5f * static_cast<float>(i + j) / (out.width + out.height);
                 const float checker = ((i / 40 + j / 40) % 2) != 0 ? 1.0f : 0.4f;
                 const float noise = 0.05f * rng.next_float();
-                out.at(i, j) = Color(shade * checker + noise, 0.8f * shade + noise,
-                                     0.3f * checker + noise);
+                out.at(i, j) =
+                    Color(shade * checker + noise, 0.8f * shade + noise, 0.3f * checker + noise);
             }
         return out;
     }();

@@ -102,6 +102,11 @@ RenderResult run_job(const RenderJob& job) {
     return renderer->render(job.scene, job.options);
 }
 
+RenderResult run_job(const RenderJob& job, RendererPool& pool) {
+    const RendererPool::Lease renderer = pool.take(job.scene.render.engine, job.run.scene_file);
+    return (*renderer).render(job.scene, job.options);
+}
+
 int reached_spp(const RenderJob& job, const RenderResult& result) {
     return result.stats.passes > 0 ? result.stats.passes : job.scene.render.spp;
 }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "provenance.h"
+#include "renderer_pool.h"
 #include "svetlo/scene/renderer.h"
 #include "svetlo/scene/scene_loader.h"
 
@@ -43,6 +44,9 @@ Image aov_for_display(const std::string& name, Image image);
 
 /// Renders the job with its renderer.
 RenderResult run_job(const RenderJob& job);
+/// The same with a renderer of its engine taken from `pool` (the viewer's, kept from one
+/// request to the next) and given back after.
+RenderResult run_job(const RenderJob& job, RendererPool& pool);
 
 /// Writes the colour image to `output` (none when empty) and each AOV to its file, every one
 /// with its provenance.

@@ -53,6 +53,10 @@ constexpr long long kMaxSide = 1920, kMaxSamples = 4096;
 /// shadows. The still frame is the scene's.
 constexpr int kPreviewAreaPoints = 1;
 
+/// The server's threads: each client's work is one render at a time, and renders share the
+/// cores.
+constexpr size_t kThreads = 4;
+
 struct Server {
     fs::path folder;  // canonical
     std::string default_scene;
@@ -61,6 +65,7 @@ struct Server {
     MeshFileCache meshes;              // each mesh file read once (again when it changes)
     AccelCache accels;                 // a slider that moves no shape reuses the scene's BVH
     TriangleListCache triangle_lists;  // and the rasterizer's triangles
+    RendererPool renderers{kThreads};  // a drag's frames draw into the last one's buffers
     std::atomic<int> renders{0};       // in progress (/api/status)
 };
 
@@ -148,7 +153,8 @@ std::shared_ptr<std::atomic<bool>> supersede(Server& server, const std::string& 
 /// each a 4-byte big-endian length, a JSON header {"spp", "seconds", "final", "type"}, a
 /// 4-byte length and the image: a JPEG at most every 100 ms while it refines, a PNG at the
 /// end. A client gone, or a newer request of the same client, ends it after its pass.
-void stream_passes(RenderJob& job, std::atomic<bool>& cancel, httplib::DataSink& sink) {
+void stream_passes(RenderJob& job, RendererPool& renderers, std::atomic<bool>& cancel,
+                   httplib::DataSink& sink) {
     using Clock = std::chrono::steady_clock;
     auto last = Clock::now() - std::chrono::seconds(1);
     auto write = [&](const std::string& bytes) {
@@ -177,7 +183,7 @@ void stream_passes(RenderJob& job, std::atomic<bool>& cancel, httplib::DataSink&
         send(passes, seconds, image, false);
     };
     try {
-        const RenderResult result = run_job(job);
+        const RenderResult result = run_job(job, renderers);
         send(reached_spp(job, result), result.stats.seconds, result.color, true);
     } catch (const std::exception& e) {
         write(nlohmann::json{{"error", e.what()}}.dump());
@@ -218,8 +224,7 @@ int run_serve(const ServeArgs& args) {
     // (the browser's) the body waited for the client's delayed acknowledgement of the headers,
     // a few milliseconds a frame (the drag: 23 -> 27 frames a second, bench/serve_latency.py).
     http.set_tcp_nodelay(true);
-    // A pool of four: each client's work is one render at a time, and renders share the cores.
-    http.new_task_queue = [] { return new httplib::ThreadPool(4); };
+    http.new_task_queue = [] { return new httplib::ThreadPool(kThreads); };
     http.Get("/", [](const httplib::Request&, httplib::Response& res) {
         res.set_content(viewer_page(), "text/html; charset=utf-8");
     });
@@ -252,7 +257,7 @@ int run_serve(const ServeArgs& args) {
             auto cancel = supersede(server, req.get_param_value("client"));
             job.options.cancel = cancel.get();
             InProgress busy(server.renders);
-            const RenderResult result = run_job(job);
+            const RenderResult result = run_job(job, server.renderers);
             if (cancel->load()) return fail(res, 409, "superseded by a newer request");
             // JPEG while the view moves (fast), PNG when it is still (lossless).
             const bool jpeg = req.get_param_value("format") == "jpeg";
@@ -295,7 +300,7 @@ int run_serve(const ServeArgs& args) {
                 "application/octet-stream",
                 [job, cancel, &server](size_t, httplib::DataSink& sink) {
                     InProgress busy(server.renders);
-                    stream_passes(*job, *cancel, sink);
+                    stream_passes(*job, server.renderers, *cancel, sink);
                     sink.done();
                     return true;
                 });
@@ -312,7 +317,7 @@ int run_serve(const ServeArgs& args) {
                 a.scene.film.height != b.scene.film.height)
                 throw Error(a.run.scene_file.string(), "b_set", "B's film differs from A's");
             InProgress busy(server.renders);
-            const RenderResult ra = run_job(a), rb = run_job(b);
+            const RenderResult ra = run_job(a, server.renderers), rb = run_job(b, server.renderers);
             const ImageComparison c = compare_images(rb.color, ra.color, false, a.options.threads);
             nlohmann::ordered_json j = {
                 {"mae", c.pixels.mae},

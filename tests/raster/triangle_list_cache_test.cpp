@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "svetlo/core/error.h"
 #include "svetlo/geometry/accel_cache.h"
 #include "svetlo/raster/raster_engine.h"
 #include "svetlo/scene/scene_loader.h"
@@ -76,6 +77,38 @@ TEST(TriangleListCache, WhatChangesTheListBuildsItsOwn) {
         expect_same_pixels(render(scene, &caches).color, render(scene, nullptr).color);
         EXPECT_EQ(caches.lists.builds(), ++lists) << o[0].key;
     }
+}
+
+// The viewer keeps its renderers from one request to the next (apps/svetlo/renderer_pool.h),
+// so that a frame draws into the last one's buffers: each frame of one renderer, whatever
+// came before it (another scene, size or shadow technique, a frame that threw), is the frame
+// of a new renderer, bit for bit.
+TEST(RasterRenderer, OneRendererDrawsEachFrameAsANewOneWould) {
+    RasterRenderer kept;
+    RenderOptions options;
+    options.threads = 2;
+    const Scene frames[] = {
+        raster_scene(),
+        load_scene(SVETLO_SCENES "/shadows.json",
+                   {{"film.width", "64"}, {"film.height", "40"}, {"render.spp", "4"}}),
+        raster_scene({{"render.shadows", "\"volume\""}, {"film.width", "20"}}),
+        raster_scene({{"render.shadows", "\"map\""}, {"camera.position", "[2, 2.2, 6]"}}),
+        raster_scene(),
+    };
+    for (const Scene& scene : frames)
+        expect_same_pixels(kept.render(scene, options).color,
+                           RasterRenderer().render(scene, options).color);
+    // A frame that throws after taking the buffers (the stencil masks would not fit), then
+    // the frames again.
+    const Scene too_large = raster_scene({{"render.shadows", "\"volume\""},
+                                          {"film.width", "1920"},
+                                          {"film.height", "1080"},
+                                          {"render.spp", "64"},
+                                          {"render.area_shadow_points", "64"}});
+    EXPECT_THROW(kept.render(too_large, options), Error);
+    for (const Scene& scene : frames)
+        expect_same_pixels(kept.render(scene, options).color,
+                           RasterRenderer().render(scene, options).color);
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <memory>
 #include <new>
 #include <type_traits>
+#include <utility>
 
 #if defined(__linux__)
 #include <sys/mman.h>
@@ -38,6 +39,18 @@ public:
         if (align == kHuge) madvise(p, bytes, MADV_HUGEPAGE);
 #endif
         data_.reset(static_cast<T*>(p));
+    }
+
+    /// Moved from, an array is empty and holds no memory (a later reuse() allocates).
+    LargeArray(LargeArray&& other) noexcept
+        : data_(std::move(other.data_)),
+          size_(std::exchange(other.size_, 0)),
+          capacity_(std::exchange(other.capacity_, 0)) {}
+    LargeArray& operator=(LargeArray&& other) noexcept {
+        data_ = std::move(other.data_);
+        size_ = std::exchange(other.size_, 0);
+        capacity_ = std::exchange(other.capacity_, 0);
+        return *this;
     }
 
     T* data() { return data_.get(); }
