@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
+
 #include "svetlo/shading/mipmap.h"
 
 namespace svetlo {
@@ -73,6 +76,28 @@ TEST(Texture, EightBitStorageRoundTripsEveryCode) {
         TextureImage t(1, 1, {0, 0, 0}, srgb);
         t.set_texel(0, 0, Color(-1.0f, 7.0f, std::nanf("")));
         EXPECT_EQ(t.texel(0, 0), Color(0.0f, 1.0f, 0.0f));
+        t.set_texel(0, 0, Color(std::numeric_limits<float>::infinity(), 0.0f, -0.0f));
+        EXPECT_EQ(t.texel(0, 0), Color(1.0f, 0.0f, 0.0f));
+    }
+}
+
+// A value is stored as its nearest code: from the halfway point between codes k and k + 1
+// (in the encoded space) up, k + 1; the float just below it, k. Every boundary, both
+// encodings.
+TEST(Texture, EightBitStorageRoundsAtTheHalfwayPoints) {
+    for (bool srgb : {true, false}) {
+        TextureImage codes(1, 1, {0, 0, 0}, srgb);
+        for (int k = 0; k < 255; ++k) {
+            const float half = (static_cast<float>(k) + 0.5f) / 255.0f;
+            const float at = srgb ? srgb_to_linear(half) : half;
+            const float below = std::nextafter(at, 0.0f);
+            codes.set_texel(0, 0, Color(at, below, at));
+            TextureImage expected(1, 1,
+                                  {static_cast<unsigned char>(k + 1), static_cast<unsigned char>(k),
+                                   static_cast<unsigned char>(k + 1)},
+                                  srgb);
+            EXPECT_EQ(codes.texel(0, 0), expected.texel(0, 0)) << k << (srgb ? " srgb" : "");
+        }
     }
 }
 

@@ -169,7 +169,7 @@ RenderResult display_window(const Scene& scene, const RenderOptions& options, co
     const int spp = scene.render.spp;
     std::vector<glm::dvec3> sums(static_cast<size_t>(width) * height, glm::dvec3(0.0));
     std::vector<AovSum> aov_sums(targets.any ? sums.size() : 0);
-    const CameraMatrices camera = frame_camera(scene, mesh.list);
+    const CameraMatrices camera = frame_camera(scene, mesh.list, threads);
     const CameraRays camera_rays(scene.camera, width, height);
     RenderTargets buffers;
     PassMemory memory;

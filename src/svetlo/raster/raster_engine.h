@@ -56,7 +56,8 @@ private:
 /// The camera matrices the rasterizer uses for `scene` (near and far around what it draws).
 CameraMatrices raster_camera(const Scene& scene);
 /// The same for the scene's triangle list `list`, already made: the near plane at half the
-/// distance from the eye to the nearest plane of a triangle not wholly behind it.
-CameraMatrices frame_camera(const Scene& scene, const TriangleList& list);
+/// distance from the eye to the nearest plane of a triangle not wholly behind it, found on
+/// `threads` threads (0: all cores).
+CameraMatrices frame_camera(const Scene& scene, const TriangleList& list, int threads = 0);
 
 }  // namespace svetlo
