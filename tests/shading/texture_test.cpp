@@ -40,6 +40,31 @@ TEST(Texture, BilinearMatchesTheFormula) {
     EXPECT_NEAR(sample_bilinear(image, vec2(1.0f, 0.25f), TextureWrap::Repeat).r, 1.5f, 1e-5f);
 }
 
+// Repeat wraps texel indices modulo the size, below 0 and past the end alike, for sizes that
+// are powers of two and sizes that are not: column i of a one-row texture holds i.
+TEST(Texture, RepeatWrapsEveryIndexModuloTheSize) {
+    for (int n = 1; n <= 9; ++n) {
+        Image row(n, 1);
+        for (int i = 0; i < n; ++i) row.at(i, 0) = Color(static_cast<float>(i));
+        const TextureImage image(std::move(row));
+        for (int i = -3 * n - 1; i <= 3 * n + 1; ++i) {
+            const float u = (static_cast<float>(i) + 0.5f) / static_cast<float>(n);
+            const int expected = ((i % n) + n) % n;
+            EXPECT_EQ(sample_nearest(image, vec2(u, 0.5f), TextureWrap::Repeat).r,
+                      static_cast<float>(expected))
+                << "n " << n << ", i " << i;
+            // Bilinear between texel i and i + 1 (both wrapped), halfway.
+            const float between =
+                sample_bilinear(image,
+                                vec2((static_cast<float>(i) + 1.0f) / static_cast<float>(n), 0.5f),
+                                TextureWrap::Repeat)
+                    .r;
+            EXPECT_FLOAT_EQ(between, 0.5f * static_cast<float>(expected + (expected + 1) % n))
+                << "n " << n << ", i " << i;
+        }
+    }
+}
+
 TEST(Texture, CheckerAlternates) {
     ColorSource s;
     s.kind = ColorSource::Kind::Checker;

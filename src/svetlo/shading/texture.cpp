@@ -10,6 +10,9 @@ namespace {
 
 int wrap_index(int i, int n, TextureWrap wrap) {
     if (wrap == TextureWrap::Clamp) return std::clamp(i, 0, n - 1);
+    // A power of two (most textures, every mip level of one): the low bits, which two's
+    // complement makes i mod n for negative i too; no division.
+    if ((n & (n - 1)) == 0) return i & (n - 1);
     int m = i % n;
     return m < 0 ? m + n : m;
 }
