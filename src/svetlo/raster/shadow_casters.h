@@ -28,9 +28,10 @@ struct ShadowCaster {
     }
     /// Whether light from the caster reaches a surface at p with unit normal n (the side the
     /// camera sees) from the front: n faces it, and a point of an emitter faces p.
+    /// (Both tests made, without a branch: a frame asks it of every sample it shadows.)
     bool faces(vec3 p, vec3 n) const {
         vec3 wi = kind == Kind::Directional ? -direction : position - p;  // (signs only)
-        return glm::dot(n, wi) > 0.0f && !(glm::dot(normal, wi) > 0.0f);
+        return (glm::dot(n, wi) > 0.0f) & !(glm::dot(normal, wi) > 0.0f);
     }
 };
 

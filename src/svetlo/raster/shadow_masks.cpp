@@ -256,15 +256,18 @@ void fill_masks(const ShadowTechniqueState& technique, const FrameState& f, cons
         std::fill(scratch.count.begin(), scratch.count.end(), 0.0f);
         for (; k < casters.size() && casters[k].source == source; ++k) {
             const ShadowCaster& c = casters[k];
-            scratch.facing.clear();
+            // The samples it lights from the front, listed without a branch (each index
+            // written, the count moved on where it faces).
+            scratch.facing.resize(n);
+            size_t facing = 0;
             for (size_t m = 0; m < n; ++m) {
-                if (c.faces(found[m].p, found[m].n))
-                    scratch.facing.push_back(static_cast<uint32_t>(m));
+                scratch.facing[facing] = static_cast<uint32_t>(m);
+                facing += c.faces(found[m].p, found[m].n) ? 1 : 0;
             }
-            scratch.lit.resize(scratch.facing.size());
-            technique.lit_many(k, found.data(), scratch.facing.data(), scratch.facing.size(),
-                               scratch.lit.data());
-            for (size_t m = 0; m < scratch.facing.size(); ++m) {
+            scratch.facing.resize(facing);
+            scratch.lit.resize(facing);
+            technique.lit_many(k, found.data(), scratch.facing.data(), facing, scratch.lit.data());
+            for (size_t m = 0; m < facing; ++m) {
                 scratch.sum[scratch.facing[m]] += scratch.lit[m];
                 scratch.count[scratch.facing[m]] += 1.0f;
             }
