@@ -1,6 +1,7 @@
 #include "svetlo/raster/fragment.h"
 
 #include <algorithm>
+#include <new>
 
 #include "svetlo/shading/shading_frame.h"
 #include "svetlo/shading/texture.h"
@@ -11,8 +12,10 @@ const Bsdf& material_at(const FrameShading& f, uint32_t m, vec2 uv, vec2 duv_dx,
                         Bsdf& scratch) {
     if (!f.textured[m]) return f.constant_bsdf[m];
     TextureLookup lookup{f.scene->textures, f.mips.empty() ? nullptr : &f.mips, duv_dx, duv_dy};
-    scratch = make_bsdf(f.materials[m], uv, lookup);
-    return scratch;
+    // Made where it stays (a placement new of the returned value, which C++17 builds in
+    // place): assigned, it was built in a temporary and copied, and the copy's wide loads of
+    // the temporary's just-written narrow stores stalled (most of this function's time).
+    return *::new (static_cast<void*>(&scratch)) Bsdf(make_bsdf(f.materials[m], uv, lookup));
 }
 
 const Bsdf& material_for_vertices(const FrameShading& f, uint32_t m, vec2 uv, Bsdf& scratch) {
