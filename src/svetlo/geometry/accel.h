@@ -34,9 +34,13 @@ public:
     /// occluded(rays[k]) into blocked[k] for `count` rays that end at one point: each ray's
     /// segment, o + t d for t in [0, tmax], ends at `end` (to a few ulps), as shadow rays toward
     /// a point light do. A structure may test them together (WideBvh does); the answers are
-    /// occluded()'s, bit for bit.
-    virtual void occluded_toward(vec3 end, const Ray* rays, size_t count, bool* blocked) const {
+    /// occluded()'s, bit for bit. `skip`, when given, holds per ray primitives [first, end) that
+    /// the caller knows it cannot meet (the convex object it leaves, the rasterizer's shadow
+    /// rays): a structure may leave them untested (WideBvh leaves a leaf of them untested).
+    virtual void occluded_toward(vec3 end, const Ray* rays, size_t count, bool* blocked,
+                                 const PrimitiveRange* skip = nullptr) const {
         (void)end;
+        (void)skip;
         for (size_t k = 0; k < count; ++k) blocked[k] = occluded(rays[k]);
     }
     /// Bytes of the structure itself (not the geometry).

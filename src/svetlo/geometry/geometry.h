@@ -20,6 +20,11 @@ struct SurfaceHit {
     uint32_t material = 0;
 };
 
+/// The primitive ids [first, end) that one object became (empty when end <= first).
+struct PrimitiveRange {
+    uint32_t first = 0, end = 0;
+};
+
 class Geometry {
 public:
     // Triangles: three indices each into the vertex arrays.

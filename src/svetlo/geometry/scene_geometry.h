@@ -10,11 +10,6 @@
 
 namespace svetlo {
 
-/// The primitive ids [first, end) that one object became.
-struct PrimitiveRange {
-    uint32_t first = 0, end = 0;
-};
-
 /// Builds the geometry of `objects`; `ranges`, when given, receives one range per object.
 Geometry build_geometry(const std::vector<const Object*>& objects,
                         std::vector<PrimitiveRange>* ranges = nullptr);

@@ -272,6 +272,12 @@ uint64_t tessellated_triangles(const Object& obj, const TessellationOptions& o) 
     return 6 * g * g * g;
 }
 
+bool tessellates_convex(const Object& obj) {
+    return std::holds_alternative<Sphere>(obj.shape) || std::holds_alternative<Box>(obj.shape) ||
+           std::holds_alternative<Cylinder>(obj.shape) || std::holds_alternative<Cone>(obj.shape) ||
+           std::holds_alternative<Quad>(obj.shape) || std::holds_alternative<Plane>(obj.shape);
+}
+
 Mesh tessellate(const Object& obj, const TessellationOptions& o) {
     Mesh m;
     m.smooth = true;

@@ -31,6 +31,14 @@ inline TessellationOptions tessellation_options(const RenderSettings& render) {
 /// mesh file's). Triangles wind counter-clockwise seen from outside.
 Mesh tessellate(const Object& obj, const TessellationOptions& options = {});
 
+/// Whether every triangle tessellate() makes of `obj` lies in a plane with all the others on
+/// one side of it (or in it): a sphere, box, cylinder or cone (the boundary of a convex solid:
+/// each cell of a sphere, a cylinder or a cone is a planar trapezoid or triangle), a quad or a
+/// plane (flat), under any transform (affine maps keep both). A ray that leaves one of its
+/// triangles toward the side away from the others never meets the object again (the
+/// rasterizer's shadow rays leave such an object's triangles untested).
+bool tessellates_convex(const Object& obj);
+
 /// An upper bound on the triangles tessellate() makes of `obj` (for memory limits before
 /// tessellating: a CSG or implicit surface counts its grid's worst case).
 uint64_t tessellated_triangles(const Object& obj, const TessellationOptions& options = {});

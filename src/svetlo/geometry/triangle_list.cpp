@@ -27,6 +27,8 @@ TriangleList build_triangle_list(const std::vector<const Object*>& objects,
     list.indices.resize(3 * triangles);
     list.material.resize(triangles);
     list.objects.resize(objects.size());
+    list.convex.resize(objects.size());
+    for (size_t k = 0; k < objects.size(); ++k) list.convex[k] = tessellates_convex(*objects[k]);
     std::vector<size_t> first_vertex(objects.size()), first_triangle(objects.size());
     for (size_t k = 0, v = 0, t = 0; k < objects.size(); ++k) {
         first_vertex[k] = v;

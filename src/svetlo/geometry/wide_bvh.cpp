@@ -153,8 +153,13 @@ uint32_t WideBvh::add_leaf(std::span<const uint32_t> prims) {
     auto triangles = static_cast<uint32_t>(std::count_if(
         prims.begin(), prims.end(), [&](uint32_t id) { return geometry_.is_triangle(id); }));
     auto count = static_cast<uint32_t>(prims.size());
-    leaves_[leaf_count_] = Leaf{static_cast<uint32_t>(packet_count_), (triangles + 3) / 4,
-                                static_cast<uint32_t>(shape_count_), count - triangles};
+    const auto [lowest, highest] = std::minmax_element(prims.begin(), prims.end());
+    leaves_[leaf_count_] = Leaf{static_cast<uint32_t>(packet_count_),
+                                (triangles + 3) / 4,
+                                static_cast<uint32_t>(shape_count_),
+                                count - triangles,
+                                *lowest,
+                                *highest};
     packet_count_ += (triangles + 3) / 4;
     shape_count_ += count - triangles;
     leaf_prims_.push_back(prims);
@@ -283,7 +288,8 @@ bool WideBvh::occluded(const Ray& ray) const {
     });
 }
 
-void WideBvh::occluded_toward(vec3 end, const Ray* rays, size_t count, bool* blocked) const {
+void WideBvh::occluded_toward(vec3 end, const Ray* rays, size_t count, bool* blocked,
+                              const PrimitiveRange* skip) const {
     if (empty_ || width_ == 16) {
         Accel::occluded_toward(end, rays, count, blocked);
         return;
@@ -292,13 +298,14 @@ void WideBvh::occluded_toward(vec3 end, const Ray* rays, size_t count, bool* blo
     for (size_t first = 0; first < count; first += kPacket) {
         const size_t n = std::min(kPacket, count - first);
         const Ray* packet = rays + first;
+        const PrimitiveRange* packet_skip = skip ? skip + first : nullptr;
         uint64_t hit = 0;
         if (width_ == 8) {
-            hit = occluded_toward8(end, packet, n);
+            hit = occluded_toward8(end, packet, n, packet_skip);
         } else {
-            hit = occluded_packet<4, Packets>(nodes4_.data(), leaves_.data(), packets_.data(),
-                                              shapes_.data(), geometry_, end, packet, n,
-                                              [&](int m) { return occluded(packet[m]); });
+            hit = occluded_packet<4, Packets>(
+                nodes4_.data(), leaves_.data(), packets_.data(), shapes_.data(), geometry_, end,
+                packet, n, packet_skip, [&](int m) { return occluded(packet[m]); });
         }
         for (size_t k = 0; k < n; ++k) blocked[first + k] = (hit >> k) & 1;
     }
@@ -308,7 +315,9 @@ void WideBvh::occluded_toward(vec3 end, const Ray* rays, size_t count, bool* blo
 // Never called: width_ is 8 only where eight_wide_available().
 bool WideBvh::intersect8(const Ray&, Hit&, TraversalCost*) const { return false; }
 bool WideBvh::occluded8(const Ray&) const { return false; }
-uint64_t WideBvh::occluded_toward8(vec3, const Ray*, size_t) const { return 0; }
+uint64_t WideBvh::occluded_toward8(vec3, const Ray*, size_t, const PrimitiveRange*) const {
+    return 0;
+}
 #endif
 #ifndef SVETLO_HAS_AVX512_BVH
 // Never called: width_ is 16 only where sixteen_wide_available().

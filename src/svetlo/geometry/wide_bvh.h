@@ -42,7 +42,8 @@ public:
     bool occluded(const Ray& ray) const override;
     /// Up to 64 rays at a time, cut into packets that sweep narrow shafts, each traversed once
     /// (occluded_shafts, wide_bvh_traversal.inc); the leaves ray by ray. 16 lanes: ray by ray.
-    void occluded_toward(vec3 end, const Ray* rays, size_t count, bool* blocked) const override;
+    void occluded_toward(vec3 end, const Ray* rays, size_t count, bool* blocked,
+                         const PrimitiveRange* skip = nullptr) const override;
     bool intersect_cost(const Ray& ray, Hit& hit, TraversalCost& cost) const override;
     bool counts_cost() const override { return true; }
     size_t memory_bytes() const override {
@@ -61,6 +62,7 @@ private:
     struct Leaf {
         uint32_t first_packet, packets;
         uint32_t first_shape, shapes;
+        uint32_t lowest, highest;  // the least and the greatest of its primitives' ids
     };
     /// Makes room for a leaf over `prims` (its packets and shapes, after the leaves before it)
     /// and returns its child reference; fill_leaf fills it.
@@ -79,7 +81,8 @@ private:
     bool intersect8(const Ray& ray, Hit& hit, TraversalCost* cost = nullptr) const;
     bool occluded8(const Ray& ray) const;
     /// The rays (bits) of a packet of at most 64 toward `end` that something blocks.
-    uint64_t occluded_toward8(vec3 end, const Ray* rays, size_t count) const;
+    uint64_t occluded_toward8(vec3 end, const Ray* rays, size_t count,
+                              const PrimitiveRange* skip) const;
     // The sixteen-wide traversal (wide_bvh_avx512.cpp).
     bool intersect16(const Ray& ray, Hit& hit, TraversalCost* cost = nullptr) const;
     bool occluded16(const Ray& ray) const;

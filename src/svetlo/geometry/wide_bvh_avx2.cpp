@@ -89,9 +89,10 @@ bool WideBvh::occluded8(const Ray& ray) const {
     });
 }
 
-uint64_t WideBvh::occluded_toward8(vec3 end, const Ray* rays, size_t count) const {
+uint64_t WideBvh::occluded_toward8(vec3 end, const Ray* rays, size_t count,
+                                   const PrimitiveRange* skip) const {
     return occluded_packet<8, SsePackets>(nodes8_.data(), leaves_.data(), packets_.data(),
-                                          shapes_.data(), geometry_, end, rays, count,
+                                          shapes_.data(), geometry_, end, rays, count, skip,
                                           [&](int m) { return occluded8(rays[m]); });
 }
 

@@ -121,6 +121,7 @@ size_t surfaces_of_run(const FrameState& f, const Tile& tile, int pass, const Ti
     const ClipVertex& A = f.vertex(t.v[0]);
     const ClipVertex& B = f.vertex(t.v[1]);
     const ClipVertex& C = f.vertex(t.v[2]);
+    const uint32_t triangle = f.source(id);
     const int py = tile.y0 + static_cast<int>(first / static_cast<uint32_t>(tw));
     alignas(32) float l1[kTile], l2[kTile], p[3][kTile], side[kTile];
     TriangleEdges(t).run_weights(static_cast<int64_t>(tile.x0 + px) * kSubpixel + sp.ox[0],
@@ -141,6 +142,7 @@ size_t surfaces_of_run(const FrameState& f, const Tile& tile, int pass, const Ti
         at.s = 0;
         at.p = vec3(p[0][j], p[1][j], p[2][j]);
         at.n = side[j] > 0.0f ? ng : -ng;
+        at.triangle = triangle;
     }
     return r;
 }
@@ -245,6 +247,7 @@ void fill_masks(const ShadowTechniqueState& technique, const FrameState& f, cons
                                                   static_cast<int64_t>(py) * kSubpixel + sp.oy[s]);
         at.p = sample_point(A, B, C, l);
         at.n = viewer.sees_front(ng, at.p) ? ng : -ng;
+        at.triangle = f.source(id);
     }
     // Source by source (shadow_casters groups a source's casters together), so that the sums
     // take memory for one source's samples, whatever the number of lights.

@@ -30,6 +30,9 @@ struct ShadowSample {
     int pass = 0;      // the frame's sample pass
     int i = 0, j = 0;  // the pixel
     int s = 0;         // the sample within the pass
+    // The triangle of the draw list it lies on (FrameState::source), or kUnknown.
+    static constexpr uint32_t kUnknown = ~0u;
+    uint32_t triangle = kUnknown;
 };
 
 /// Where sample s of pixel (i, j) lies in a mask of a frame `width` pixels wide, `samples`

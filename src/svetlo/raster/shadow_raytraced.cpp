@@ -80,6 +80,7 @@ public:
             b.accel = make_accel("bvh", b.geometry, threads);
         });
         accel_ = built_->accel.get();
+        find_convex_objects(list);
     }
 
     float lit(size_t k, const ShadowSample& at) const override {
@@ -99,8 +100,9 @@ public:
         }
         PointRays lanes;
         Ray rays[PointRays::kPacket];
-        uint32_t slot[PointRays::kPacket];    // each sample's place in `out`
-        uint32_t traced[PointRays::kPacket];  // each ray's sample in the packet
+        PrimitiveRange skip[PointRays::kPacket];  // each ray's (skip_for)
+        uint32_t slot[PointRays::kPacket];        // each sample's place in `out`
+        uint32_t traced[PointRays::kPacket];      // each ray's sample in the packet
         bool blocked[PointRays::kPacket];
         size_t n = 0;
         auto flush = [&] {
@@ -115,9 +117,10 @@ public:
                 ray.o = vec3(lanes.o[0][r], lanes.o[1][r], lanes.o[2][r]);
                 ray.d = vec3(lanes.d[0][r], lanes.d[1][r], lanes.d[2][r]);
                 ray.tmax = 1.0f;
+                skip[count_rays] = skip_for(samples[at[slot[r]]]);
                 traced[count_rays++] = static_cast<uint32_t>(r);
             }
-            accel_->occluded_toward(targets_[k], rays, count_rays, blocked);
+            accel_->occluded_toward(targets_[k], rays, count_rays, blocked, skip);
             for (size_t r = 0; r < count_rays; ++r) out[slot[traced[r]]] = blocked[r] ? 0.0f : 1.0f;
             n = 0;
         };
@@ -164,6 +167,46 @@ public:
     }
 
 private:
+    /// A convex object of the list (TriangleList::convex): its triangles, and a point inside
+    /// it (the mean of its triangles' corners: strictly inside a solid, in the plane of a flat
+    /// one).
+    struct ConvexObject {
+        PrimitiveRange triangles;
+        vec3 inside{0.0f};
+    };
+    static constexpr uint32_t kNotConvex = ~0u;
+
+    void find_convex_objects(const TriangleList& list) {
+        convex_of_.assign(list.triangle_count(), kNotConvex);
+        for (size_t k = 0; k < list.objects.size(); ++k) {
+            if (k >= list.convex.size() || !list.convex[k]) continue;
+            const PrimitiveRange range = list.objects[k];
+            if (range.end <= range.first) continue;
+            glm::dvec3 sum(0.0);
+            for (size_t v = 3 * size_t{range.first}; v < 3 * size_t{range.end}; ++v)
+                sum += glm::dvec3(list.positions[list.indices[v]]);
+            convex_.push_back(
+                {range, vec3(sum / (3.0 * static_cast<double>(range.end - range.first)))});
+            std::fill(convex_of_.begin() + range.first, convex_of_.begin() + range.end,
+                      static_cast<uint32_t>(convex_.size() - 1));
+        }
+    }
+
+    /// The triangles a shadow ray from sample `at` cannot meet (Accel::occluded_toward's
+    /// skip): those of the convex object it lies on when the side it leaves from (at.n, the
+    /// side facing the light: lit_many's samples face their caster) has the object behind
+    /// it. Then every triangle of the object lies behind or in the plane the ray leaves
+    /// (tessellates_convex), and the ray, which starts in front of that plane (shadow_origin)
+    /// and moves away from it, meets none of them. Else (the inside of a solid seen, or a
+    /// sample of no known triangle), none.
+    PrimitiveRange skip_for(const ShadowSample& at) const {
+        if (at.triangle >= convex_of_.size()) return {};
+        const uint32_t object = convex_of_[at.triangle];
+        if (object == kNotConvex) return {};
+        const ConvexObject& o = convex_[object];
+        return glm::dot(at.n, o.inside - at.p) <= 0.0f ? o.triangles : PrimitiveRange{};
+    }
+
     /// The shadow ray from sample `at` to caster k (shadow_origin): to the caster's target,
     /// t in (0, 1), or toward a directional light without end. False when it is not finite
     /// (then the sample counts as lit).
@@ -181,6 +224,8 @@ private:
     std::vector<vec3> targets_;                   // per caster: where its rays end
     std::shared_ptr<const BuiltGeometry> built_;  // the triangles and their BVH
     const Accel* accel_ = nullptr;
+    std::vector<ConvexObject> convex_;
+    std::vector<uint32_t> convex_of_;  // per triangle: its object in convex_, or kNotConvex
 };
 
 }  // namespace
