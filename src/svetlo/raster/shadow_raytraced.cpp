@@ -100,8 +100,9 @@ public:
         }
         PointRays lanes;
         Ray rays[PointRays::kPacket];
-        PrimitiveRange skip[PointRays::kPacket];  // each ray's (skip_for)
-        uint32_t slot[PointRays::kPacket];        // each sample's place in `out`
+        PrimitiveRange skip_of[PointRays::kPacket];  // each sample's (skip_for)
+        PrimitiveRange skip[PointRays::kPacket];     // each ray's
+        uint32_t slot[PointRays::kPacket];           // each sample's place in `out`
         uint32_t traced[PointRays::kPacket];      // each ray's sample in the packet
         bool blocked[PointRays::kPacket];
         size_t n = 0;
@@ -117,7 +118,7 @@ public:
                 ray.o = vec3(lanes.o[0][r], lanes.o[1][r], lanes.o[2][r]);
                 ray.d = vec3(lanes.d[0][r], lanes.d[1][r], lanes.d[2][r]);
                 ray.tmax = 1.0f;
-                skip[count_rays] = skip_for(samples[at[slot[r]]]);
+                skip[count_rays] = skip_of[r];
                 traced[count_rays++] = static_cast<uint32_t>(r);
             }
             accel_->occluded_toward(targets_[k], rays, count_rays, blocked, skip);
@@ -130,6 +131,7 @@ public:
                 lanes.p[c][n] = sample.p[c];
                 lanes.n[c][n] = sample.n[c];
             }
+            skip_of[n] = skip_for(sample);
             slot[n++] = static_cast<uint32_t>(m);
             if (n == PointRays::kPacket) flush();
         };
