@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <optional>
 
 #include "svetlo/geometry/ray_box.h"
 #include "svetlo/geometry/triangle.h"

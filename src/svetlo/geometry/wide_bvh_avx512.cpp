@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <optional>
 
 #include "svetlo/geometry/ray_box.h"
 #include "svetlo/geometry/triangle.h"

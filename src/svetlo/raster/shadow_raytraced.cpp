@@ -103,7 +103,7 @@ public:
         PrimitiveRange skip_of[PointRays::kPacket];  // each sample's (skip_for)
         PrimitiveRange skip[PointRays::kPacket];     // each ray's
         uint32_t slot[PointRays::kPacket];           // each sample's place in `out`
-        uint32_t traced[PointRays::kPacket];      // each ray's sample in the packet
+        uint32_t traced[PointRays::kPacket];         // each ray's sample in the packet
         bool blocked[PointRays::kPacket];
         size_t n = 0;
         auto flush = [&] {
