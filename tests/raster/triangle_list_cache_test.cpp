@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "svetlo/core/error.h"
+#include "svetlo/core/image_io.h"
 #include "svetlo/geometry/accel_cache.h"
 #include "svetlo/raster/raster_engine.h"
 #include "svetlo/scene/scene_loader.h"
@@ -81,18 +82,26 @@ TEST(TriangleListCache, WhatChangesTheListBuildsItsOwn) {
 
 // The viewer keeps its renderers from one request to the next (apps/svetlo/renderer_pool.h),
 // so that a frame draws into the last one's buffers: each frame of one renderer, whatever
-// came before it (another scene, size or shadow technique, a frame that threw), is the frame
-// of a new renderer, bit for bit.
+// came before it (another scene, size, shadow technique or texture, a frame that threw), is
+// the frame of a new renderer, bit for bit.
 TEST(RasterRenderer, OneRendererDrawsEachFrameAsANewOneWould) {
     RasterRenderer kept;
     RenderOptions options;
     options.threads = 2;
+    // Another texture for the floor (float texels, a checker), so that the kept mip chains
+    // must be made again.
+    Image checker(16, 16);
+    for (int j = 0; j < 16; ++j)
+        for (int i = 0; i < 16; ++i) checker.at(i, j) = Color((i / 4 + j / 4) % 2 ? 0.9f : 0.1f);
+    const std::string texture = testing::TempDir() + "/svetlo_kept_checker.pfm";
+    write_image(texture, checker, PixelMeaning::Data, 1.0f, "the test's texture");
     const Scene frames[] = {
         raster_scene(),
         load_scene(SVETLO_SCENES "/shadows.json",
                    {{"film.width", "64"}, {"film.height", "40"}, {"render.spp", "4"}}),
         raster_scene({{"render.shadows", "\"volume\""}, {"film.width", "20"}}),
         raster_scene({{"render.shadows", "\"map\""}, {"camera.position", "[2, 2.2, 6]"}}),
+        raster_scene({{"materials.floor.albedo.texture", "\"" + texture + "\""}}),
         raster_scene(),
     };
     for (const Scene& scene : frames)

@@ -26,6 +26,11 @@ public:
     int width() const { return width_; }
     int height() const { return height_; }
     bool is_8bit() const { return !codes_.empty(); }
+    /// Whether `other` holds the same texels, stored the same way.
+    bool same_texels(const TextureImage& other) const {
+        return width_ == other.width_ && height_ == other.height_ && srgb_ == other.srgb_ &&
+               codes_ == other.codes_ && floats_.pixels == other.floats_.pixels;
+    }
     /// Bytes its texels take in memory.
     size_t bytes() const { return codes_.size() + floats_.pixels.size() * sizeof(Color); }
 

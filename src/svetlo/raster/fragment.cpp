@@ -11,7 +11,7 @@ namespace svetlo::raster {
 const Bsdf& material_at(const FrameShading& f, uint32_t m, vec2 uv, vec2 duv_dx, vec2 duv_dy,
                         Bsdf& scratch) {
     if (!f.textured[m]) return f.constant_bsdf[m];
-    TextureLookup lookup{f.scene->textures, f.mips.empty() ? nullptr : &f.mips, duv_dx, duv_dy};
+    TextureLookup lookup{f.scene->textures, f.mips, duv_dx, duv_dy};
     // Made where it stays (a placement new of the returned value, which C++17 builds in
     // place): assigned, it was built in a temporary and copied, and the copy's wide loads of
     // the temporary's just-written narrow stores stalled (most of this function's time).
@@ -178,7 +178,7 @@ ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& 
     auto modulated = [&](Color lit) {
         const ColorSource* base = f.modulate[t.material];
         if (!base) return lit;
-        TextureLookup lookup{f.scene->textures, f.mips.empty() ? nullptr : &f.mips, dx, dy};
+        TextureLookup lookup{f.scene->textures, f.mips, dx, dy};
         return lit * eval_color(*base, uv, lookup);
     };
     switch (f.mode) {

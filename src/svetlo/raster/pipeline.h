@@ -112,7 +112,7 @@ struct FrameShading {
     std::vector<Bsdf> constant_bsdf;    // per material, when it has no texture
     std::vector<char> textured;         // per material: some colour depends on uv
     std::vector<char> needs_footprint;  // per material: some texture is trilinear
-    std::vector<MipChain> mips;
+    const std::vector<MipChain>* mips = nullptr;  // per texture, when some material needs them
     // Flat and Gouraud shading modulate their light by the base colour's texture per sample, as
     // OpenGL's GL_MODULATE: per material, that texture (null: none), and the material with it
     // made white, which the vertices and faces are lit with.

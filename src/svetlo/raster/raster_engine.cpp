@@ -111,10 +111,36 @@ auto* base_color(M& material) {
         material);
 }
 
+/// The mip chains of a frame's textures, kept from one frame to the next as a GL context keeps
+/// a texture's levels: made again only when the textures' texels change (each frame of the
+/// viewer loads the scene again, textures and all, and the chain of raster.json's floor took
+/// half a millisecond of the frame's serial setup). Level 0 of each chain is the copy kept
+/// here.
+class KeptMipChains {
+public:
+    const std::vector<MipChain>& of(const std::vector<TextureImage>& textures) {
+        const bool same = textures.size() == textures_.size() &&
+                          std::equal(textures.begin(), textures.end(), textures_.begin(),
+                                     [](const TextureImage& a, const TextureImage& b) {
+                                         return a.same_texels(b);
+                                     });
+        if (!same) {
+            chains_.clear();
+            textures_ = textures;
+            for (const TextureImage& t : textures_) chains_.push_back(build_mip_chain(t));
+        }
+        return chains_;
+    }
+
+private:
+    std::vector<TextureImage> textures_;
+    std::vector<MipChain> chains_;
+};
+
 /// The shading state of the frame's colour pass: constant BRDFs made once, mip chains when a
-/// texture is filtered with them, and what the SIMD fast path takes (constant Lambert and
-/// Phong-family materials under point, spot and directional lights only).
-void prepare_shading(const Scene& scene, FrameShading& f) {
+/// texture is filtered with them (`kept`'s), and what the SIMD fast path takes (constant
+/// Lambert and Phong-family materials under point, spot and directional lights only).
+void prepare_shading(const Scene& scene, FrameShading& f, KeptMipChains& kept) {
     // GL_MODULATE for flat and Gouraud shading: the base colour's texture, if any.
     for (const Material& m : f.materials) {
         const ColorSource* base = base_color(m);
@@ -132,9 +158,7 @@ void prepare_shading(const Scene& scene, FrameShading& f) {
         any_mips |= f.needs_footprint.back() != 0;
         f.constant_bsdf.push_back(make_bsdf(m, vec2(0.0f), scene.textures));
     }
-    if (any_mips) {
-        for (const TextureImage& t : scene.textures) f.mips.push_back(build_mip_chain(t));
-    }
+    if (any_mips) f.mips = &kept.of(scene.textures);
     // The fast path takes point, spot and directional lights and the VPLs of lights with area.
     f.simd_lights_ok = true;
     const auto& sources = f.lights->set.sources();
@@ -243,6 +267,7 @@ struct RasterRenderer::Buffers {
     LargeArray<SetupTriangle> tris;
     LargeArray<Color> flat;
     PassMemory passes;  // the shadow techniques' passes
+    KeptMipChains mips;
 };
 
 RasterRenderer::RasterRenderer() : buffers_(std::make_unique<Buffers>()) {}
@@ -291,7 +316,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
         tessellate_scene(scene, f, threads, options.triangle_lists);
     const TriangleList& list = *shared_list;
     f.accels = options.accels;
-    prepare_shading(scene, f);
+    prepare_shading(scene, f, buffers_->mips);
     const CameraMatrices camera = frame_camera(scene, list, threads);
     f.list = &list;
     f.sources = f.lights->set.sources().size();
