@@ -10,6 +10,7 @@
 #include <stb_image_write.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
 #include <zlib.h>
 #ifdef SVETLO_HAS_LIBJPEG
 #include <jpeglib.h>
@@ -19,12 +20,14 @@
 #endif
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <memory>
 #include <sstream>
+#include <thread>
 
 #include "svetlo/core/atomic_file.h"
 #include "svetlo/core/error.h"
@@ -234,40 +237,58 @@ TextureImage read_stb(const fs::path& path, bool srgb, size_t max_bytes) {
 namespace {
 
 /// The 8-bit RGB bytes of an image as PNG and JPEG hold them: radiance scaled by `exposure`,
-/// clipped and sRGB-encoded; data clipped to [0, 1] and written linearly.
-std::vector<unsigned char> eight_bit_bytes(const Image& image, PixelMeaning meaning,
-                                           float exposure) {
-    static const Srgb8Encoder srgb8;
-    // The pixels' floats and the bytes as plain arrays, read and written through locals: a
-    // write through unsigned char may alias anything, so bytes written through the vector
-    // made the compiler load the image, the exposure and the table's address again for each
-    // byte (the encoder's time halved without them, bench/image_bench.cpp).
-    static_assert(sizeof(Color) == 3 * sizeof(float));
-    const float* values = &image.pixels.data()->x;
-    std::vector<unsigned char> bytes(image.pixels.size() * 3);
-    unsigned char* out = bytes.data();
-    const bool radiance = meaning == PixelMeaning::Radiance;
-    // Each byte depends on its own value only: the pixels in parallel (the viewer encodes a
-    // frame per request; at 960 x 540 this was most of the JPEG encoder's time, which fell
-    // from 19 to 10 ms on two cores, and to 3.3 ms with Srgb8Encoder's table).
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, bytes.size(), 3 * 16384),
-                      [values, out, radiance, exposure](const tbb::blocked_range<size_t>& range) {
-                          const Srgb8Encoder& encode = srgb8;
-                          const float scale = exposure;
-                          if (radiance) {
-                              for (size_t k = range.begin(); k < range.end(); ++k)
-                                  out[k] = encode(values[k] * scale);
-                              return;
-                          }
-                          for (size_t k = range.begin(); k < range.end(); ++k) {
-                              const float v = values[k];
-                              const float clipped =
-                                  std::clamp(std::isfinite(v) ? v : 0.0f, 0.0f, 1.0f);
-                              out[k] = static_cast<unsigned char>(std::lround(clipped * 255.0f));
-                          }
-                      });
-    return bytes;
-}
+/// clipped and sRGB-encoded; data clipped to [0, 1] and written linearly. Made band by band
+/// of rows (convert), into `bytes`, 3 per pixel.
+class EightBitRows {
+public:
+    EightBitRows(const Image& image, PixelMeaning meaning, float exposure)
+        : bytes(image.pixels.size() * 3),
+          image_(image),
+          radiance_(meaning == PixelMeaning::Radiance),
+          exposure_(exposure) {}
+
+    std::vector<unsigned char> bytes;  // 3 per pixel, rows from the top
+
+    /// Rows [row0, row1).
+    void convert(int row0, int row1) {
+        // The pixels' floats and the bytes as plain arrays, read and written through locals:
+        // a write through unsigned char may alias anything, so bytes written through the
+        // vector made the compiler load the image, the exposure and the table's address again
+        // for each byte (the encoder's time halved without them, bench/image_bench.cpp).
+        static_assert(sizeof(Color) == 3 * sizeof(float));
+        static const Srgb8Encoder srgb8;
+        const Srgb8Encoder& encode = srgb8;
+        const size_t row_bytes = 3 * static_cast<size_t>(image_.width);
+        const float* values = &image_.pixels.data()->x;
+        unsigned char* out = bytes.data();
+        const size_t begin = static_cast<size_t>(row0) * row_bytes,
+                     end = static_cast<size_t>(row1) * row_bytes;
+        const float scale = exposure_;
+        if (radiance_) {
+            for (size_t k = begin; k < end; ++k) out[k] = encode(values[k] * scale);
+            return;
+        }
+        for (size_t k = begin; k < end; ++k) {
+            const float v = values[k];
+            const float clipped = std::clamp(std::isfinite(v) ? v : 0.0f, 0.0f, 1.0f);
+            out[k] = static_cast<unsigned char>(std::lround(clipped * 255.0f));
+        }
+    }
+
+    /// Every row, in parallel: each byte depends on its own value only (the viewer encodes a
+    /// frame per request; at 960 x 540 this was most of the JPEG encoder's time, which fell
+    /// from 19 to 10 ms on two cores, and to 3.3 ms with Srgb8Encoder's table).
+    void convert_all() {
+        tbb::parallel_for(
+            tbb::blocked_range<int>(0, image_.height, 16),
+            [&](const tbb::blocked_range<int>& rows) { convert(rows.begin(), rows.end()); });
+    }
+
+private:
+    const Image& image_;
+    bool radiance_;
+    float exposure_;
+};
 
 /// stb_image_write's callback: appends to a byte vector.
 void append_bytes(void* context, void* data, int size) {
@@ -292,10 +313,10 @@ struct JpegError {
 }
 
 /// 8-bit RGB rows into a JPEG of `quality` by libjpeg(-turbo), in memory that *out holds
-/// (malloc'ed, even on failure: the caller frees it). Plain C data only between setjmp and
-/// longjmp.
-bool libjpeg_encode(const unsigned char* rgb, int width, int height, int quality,
-                    unsigned char** out, unsigned long* size) {
+/// (malloc'ed, even on failure: the caller frees it); row(context, r) gives row r, asked for
+/// in order. Plain C data only between setjmp and longjmp.
+bool libjpeg_encode(const unsigned char* (*row)(void* context, int r), void* context, int width,
+                    int height, int quality, unsigned char** out, unsigned long* size) {
     jpeg_compress_struct c;
     JpegError error;
     c.err = jpeg_std_error(&error.manager);
@@ -315,31 +336,91 @@ bool libjpeg_encode(const unsigned char* rgb, int width, int height, int quality
     c.dct_method = JDCT_IFAST;  // the fast integer DCT: a preview while the view moves
     jpeg_start_compress(&c, TRUE);
     while (c.next_scanline < c.image_height) {
-        JSAMPROW row = const_cast<unsigned char*>(rgb) + size_t{c.next_scanline} * 3 * width;
-        jpeg_write_scanlines(&c, &row, 1);
+        JSAMPROW scanline =
+            const_cast<unsigned char*>(row(context, static_cast<int>(c.next_scanline)));
+        jpeg_write_scanlines(&c, &scanline, 1);
     }
     jpeg_finish_compress(&c);
     jpeg_destroy_compress(&c);
     return true;
 }
 
+/// An image's 8-bit rows for libjpeg, made beside the encoding instead of before it: bands of
+/// 16 rows (a 4:2:0 JPEG's row of blocks), each made by whichever of two threads takes it
+/// first, the encoding one (while the band it needs is not ready) or one helper, both taking
+/// the bands in order. The encoder's serial time (a viewer frame's last step) was the
+/// conversion on two cores and then the encoding on one.
+class RowsInOrder {
+public:
+    static constexpr int kBand = 16;
+
+    RowsInOrder(const Image& image, PixelMeaning meaning, float exposure)
+        : rows_(image, meaning, exposure),
+          width_(image.width),
+          height_(image.height),
+          bands_((image.height + kBand - 1) / kBand),
+          ready_(std::make_unique<std::atomic<bool>[]>(static_cast<size_t>(bands_))) {
+        helper_.run([this] {
+            while (convert_next()) {
+            }
+        });
+    }
+    ~RowsInOrder() { helper_.wait(); }
+    RowsInOrder(const RowsInOrder&) = delete;
+    RowsInOrder& operator=(const RowsInOrder&) = delete;
+
+    /// Row r, once its band is made.
+    const unsigned char* row(int r) {
+        const int band = r / kBand;
+        while (!ready_[static_cast<size_t>(band)].load(std::memory_order_acquire)) {
+            if (!convert_next()) std::this_thread::yield();  // the helper is making it
+        }
+        return rows_.bytes.data() + static_cast<size_t>(r) * 3 * static_cast<size_t>(width_);
+    }
+    static const unsigned char* row_of(void* self, int r) {
+        return static_cast<RowsInOrder*>(self)->row(r);
+    }
+
+private:
+    /// Makes the next band nobody has taken; false when none is left.
+    bool convert_next() {
+        const int band = next_.fetch_add(1);
+        if (band >= bands_) return false;
+        rows_.convert(band * kBand, std::min(height_, (band + 1) * kBand));
+        ready_[static_cast<size_t>(band)].store(true, std::memory_order_release);
+        return true;
+    }
+
+    EightBitRows rows_;
+    int width_, height_, bands_;
+    std::unique_ptr<std::atomic<bool>[]> ready_;  // per band
+    std::atomic<int> next_{0};                    // the next band to take
+    tbb::task_group helper_;                      // (last: it stops before the rest goes)
+};
+
 }  // namespace
 #endif
 
 std::vector<unsigned char> encode_jpeg(const Image& image, PixelMeaning meaning, float exposure,
                                        int quality) {
-    const std::vector<unsigned char> bytes = eight_bit_bytes(image, meaning, exposure);
     std::vector<unsigned char> jpeg;
 #ifdef SVETLO_HAS_LIBJPEG
     unsigned char* out = nullptr;
     unsigned long size = 0;
-    const bool ok = libjpeg_encode(bytes.data(), image.width, image.height, quality, &out, &size);
+    bool ok = false;
+    {
+        RowsInOrder rows(image, meaning, exposure);
+        ok = libjpeg_encode(&RowsInOrder::row_of, &rows, image.width, image.height, quality, &out,
+                            &size);
+    }
     if (ok) jpeg.assign(out, out + size);
     std::free(out);
     if (!ok) throw std::runtime_error("cannot write JPEG");
 #else
-    if (!stbi_write_jpg_to_func(append_bytes, &jpeg, image.width, image.height, 3, bytes.data(),
-                                quality))
+    EightBitRows rows(image, meaning, exposure);
+    rows.convert_all();
+    if (!stbi_write_jpg_to_func(append_bytes, &jpeg, image.width, image.height, 3,
+                                rows.bytes.data(), quality))
         throw std::runtime_error("cannot write JPEG");
 #endif
     return jpeg;
@@ -347,7 +428,9 @@ std::vector<unsigned char> encode_jpeg(const Image& image, PixelMeaning meaning,
 
 std::vector<unsigned char> encode_png(const Image& image, PixelMeaning meaning, float exposure,
                                       const std::string& metadata) {
-    const std::vector<unsigned char> bytes = eight_bit_bytes(image, meaning, exposure);
+    EightBitRows rows(image, meaning, exposure);
+    rows.convert_all();
+    const std::vector<unsigned char>& bytes = rows.bytes;
     std::vector<unsigned char> png;
     if (!stbi_write_png_to_func(append_bytes, &png, image.width, image.height, 3, bytes.data(),
                                 image.width * 3)) {
