@@ -104,7 +104,7 @@ RenderResult run_job(const RenderJob& job) {
 
 RenderResult run_job(const RenderJob& job, RendererPool& pool) {
     const RendererPool::Lease renderer = pool.take(job.scene.render.engine, job.run.scene_file);
-    return (*renderer).render(job.scene, job.options);
+    return renderer->render(job.scene, job.options);
 }
 
 int reached_spp(const RenderJob& job, const RenderResult& result) {

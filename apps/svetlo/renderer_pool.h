@@ -31,7 +31,7 @@ public:
         ~Lease() { pool_.give_back(engine_, std::move(renderer_)); }
         Lease(const Lease&) = delete;
         Lease& operator=(const Lease&) = delete;
-        Renderer& operator*() const { return *renderer_; }
+        Renderer* operator->() const { return renderer_.get(); }
 
     private:
         RendererPool& pool_;
