@@ -115,24 +115,31 @@ auto* base_color(M& material) {
 /// a texture's levels: made again only when the textures' texels change (each frame of the
 /// viewer loads the scene again, textures and all, and the chain of raster.json's floor took
 /// half a millisecond of the frame's serial setup). Level 0 of each chain is the copy kept
-/// here.
+/// here, for textures of at most kKeptBytes in all; larger ones (a copy would double their
+/// memory) have their chains made every frame, level 0 the frame's own.
 class KeptMipChains {
 public:
+    static constexpr size_t kKeptBytes = size_t{32} << 20;
+
     const std::vector<MipChain>& of(const std::vector<TextureImage>& textures) {
-        const bool same = textures.size() == textures_.size() &&
+        const bool same = kept_ && textures.size() == textures_.size() &&
                           std::equal(textures.begin(), textures.end(), textures_.begin(),
                                      [](const TextureImage& a, const TextureImage& b) {
                                          return a.same_texels(b);
                                      });
-        if (!same) {
-            chains_.clear();
-            textures_ = textures;
-            for (const TextureImage& t : textures_) chains_.push_back(build_mip_chain(t));
-        }
+        if (same) return chains_;
+        size_t bytes = 0;
+        for (const TextureImage& t : textures) bytes += t.bytes();
+        kept_ = bytes <= kKeptBytes;
+        textures_ = kept_ ? textures : std::vector<TextureImage>{};
+        chains_.clear();
+        for (const TextureImage& t : kept_ ? textures_ : textures)
+            chains_.push_back(build_mip_chain(t));
         return chains_;
     }
 
 private:
+    bool kept_ = false;  // textures_ holds the chains' level 0
     std::vector<TextureImage> textures_;
     std::vector<MipChain> chains_;
 };
