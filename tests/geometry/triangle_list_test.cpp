@@ -67,6 +67,11 @@ TEST(TriangleList, ObjectsArePlacedInTheWorldWithTheirRanges) {
     EXPECT_EQ(list.objects[0].end, 12u);
     EXPECT_EQ(list.objects[1].first, 12u);
     EXPECT_EQ(list.objects[1].end, list.triangle_count());
+    // A mesh is not known convex, a sphere is (under any transform); the sphere's centroid,
+    // the mean of its triangles' corners, is its centre (the tessellation is symmetric).
+    EXPECT_EQ(list.convex, (std::vector<char>{0, 1}));
+    ASSERT_EQ(list.centroid.size(), 2u);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(list.centroid[1][c], c == 0 ? 5.0f : 0.0f, 1e-5f);
     for (uint32_t t = list.objects[1].first; t < list.objects[1].end; ++t) {
         EXPECT_EQ(list.material[t], 1u);
         for (int c = 0; c < 3; ++c) {

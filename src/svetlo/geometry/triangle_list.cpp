@@ -28,6 +28,7 @@ TriangleList build_triangle_list(const std::vector<const Object*>& objects,
     list.material.resize(triangles);
     list.objects.resize(objects.size());
     list.convex.resize(objects.size());
+    list.centroid.resize(objects.size());
     for (size_t k = 0; k < objects.size(); ++k) list.convex[k] = tessellates_convex(*objects[k]);
     std::vector<size_t> first_vertex(objects.size()), first_triangle(objects.size());
     for (size_t k = 0, v = 0, t = 0; k < objects.size(); ++k) {
@@ -57,6 +58,12 @@ TriangleList build_triangle_list(const std::vector<const Object*>& objects,
             }
             list.material[first_triangle[k] + t] = static_cast<uint32_t>(m.face_material[t]);
         }
+        glm::dvec3 sum(0.0);
+        for (size_t v = 3 * first_triangle[k]; v < 3 * (first_triangle[k] + m.triangle_count());
+             ++v)
+            sum += glm::dvec3(list.positions[list.indices[v]]);
+        if (m.triangle_count() > 0)
+            list.centroid[k] = vec3(sum / (3.0 * static_cast<double>(m.triangle_count())));
     });
     return list;
 }

@@ -22,6 +22,7 @@ struct TriangleList {
     std::vector<uint32_t> material;       // per triangle, an index into the scene's materials
     std::vector<PrimitiveRange> objects;  // per object: its triangles [first, end)
     std::vector<char> convex;             // per object: 1 where tessellates_convex, else 0
+    std::vector<vec3> centroid;           // per object: the mean of its triangles' corners
     /// Edge adjacency (build_adjacency): for edge e of triangle t, from its vertex e to vertex
     /// e + 1, neighbour[3 t + e] is the triangle across it, or kOpen.
     std::vector<uint32_t> neighbour;

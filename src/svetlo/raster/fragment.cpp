@@ -108,16 +108,22 @@ SurfaceUv surface_uv(const UvGradients& g, const ClipVertex& A, const ClipVertex
 void surface_uvs(const UvGradients& g, const ClipVertex& A, const ClipVertex& B,
                  const ClipVertex& C, const float* l1, const float* l2, int n, SurfaceUv* out) {
     // Made into arrays of floats (which the compiler vectorizes), then copied out.
-    alignas(32) float v[6][kTile] = {};
+    // The weights once per lane; the footprint's loop apart (with the uvs' in one loop,
+    // the compiler vectorized neither).
+    alignas(32) float v[6][kTile] = {}, q[3][kTile], b[3][kTile];
     for (int k = 0; k < n; ++k) {
         const Weights w = perspective_weights(vec2(l1[k], l2[k]), A, B, C);
         const vec2 uv = uv_at(A, B, C, w);
         v[0][k] = uv.x;
         v[1][k] = uv.y;
+        for (int i = 0; i < 3; ++i) {
+            q[i][k] = w.q[i];
+            b[i][k] = w.b[i];
+        }
     }
     if (g.footprint) {
         for (int k = 0; k < n; ++k) {
-            const Weights w = perspective_weights(vec2(l1[k], l2[k]), A, B, C);
+            const Weights w{{q[0][k], q[1][k], q[2][k]}, {b[0][k], b[1][k], b[2][k]}};
             vec2 d[2];
             footprint(g, A, B, C, w, d);
             v[2][k] = d[0].x;

@@ -65,7 +65,8 @@ struct PointRays {
 class RaytracedShadows final : public ShadowTechniqueState {
 public:
     RaytracedShadows(const Scene& scene, const TriangleList& list, const FrameShading& f,
-                     int threads) {
+                     int threads)
+        : list_(list) {
         casters_ = shadow_casters(scene, f.lights->set, f.lights->vpls);
         // Each caster's end of its rays: a point on an emitter moved off its own surface to
         // the front, the side of every sample it lights (lit() is called only for those).
@@ -80,7 +81,6 @@ public:
             b.accel = make_accel("bvh", b.geometry, threads);
         });
         accel_ = built_->accel.get();
-        find_convex_objects(list);
     }
 
     float lit(size_t k, const ShadowSample& at) const override {
@@ -169,44 +169,25 @@ public:
     }
 
 private:
-    /// A convex object of the list (TriangleList::convex): its triangles, and a point inside
-    /// it (the mean of its triangles' corners: strictly inside a solid, in the plane of a flat
-    /// one).
-    struct ConvexObject {
-        PrimitiveRange triangles;
-        vec3 inside{0.0f};
-    };
-    static constexpr uint32_t kNotConvex = ~0u;
-
-    void find_convex_objects(const TriangleList& list) {
-        convex_of_.assign(list.triangle_count(), kNotConvex);
-        for (size_t k = 0; k < list.objects.size(); ++k) {
-            if (k >= list.convex.size() || !list.convex[k]) continue;
-            const PrimitiveRange range = list.objects[k];
-            if (range.end <= range.first) continue;
-            glm::dvec3 sum(0.0);
-            for (size_t v = 3 * size_t{range.first}; v < 3 * size_t{range.end}; ++v)
-                sum += glm::dvec3(list.positions[list.indices[v]]);
-            convex_.push_back(
-                {range, vec3(sum / (3.0 * static_cast<double>(range.end - range.first)))});
-            std::fill(convex_of_.begin() + range.first, convex_of_.begin() + range.end,
-                      static_cast<uint32_t>(convex_.size() - 1));
-        }
-    }
-
     /// The triangles a shadow ray from sample `at` cannot meet (Accel::occluded_toward's
-    /// skip): those of the convex object it lies on when the side it leaves from (at.n, the
-    /// side facing the light: lit_many's samples face their caster) has the object behind
-    /// it. Then every triangle of the object lies behind or in the plane the ray leaves
+    /// skip): those of the convex object it lies on (TriangleList::convex) when the side it
+    /// leaves from (at.n, the side facing the light: lit_many's samples face their caster) has
+    /// the object behind it, the object's centroid (strictly inside a solid, in the plane of a
+    /// flat one). Then every triangle of the object lies behind or in the plane the ray leaves
     /// (tessellates_convex), and the ray, which starts in front of that plane (shadow_origin)
     /// and moves away from it, meets none of them. Else (the inside of a solid seen, or a
     /// sample of no known triangle), none.
     PrimitiveRange skip_for(const ShadowSample& at) const {
-        if (at.triangle >= convex_of_.size()) return {};
-        const uint32_t object = convex_of_[at.triangle];
-        if (object == kNotConvex) return {};
-        const ConvexObject& o = convex_[object];
-        return glm::dot(at.n, o.inside - at.p) <= 0.0f ? o.triangles : PrimitiveRange{};
+        const std::vector<PrimitiveRange>& objects = list_.objects;
+        // The object holding the triangle: the last that starts at or before it.
+        const auto after = std::upper_bound(
+            objects.begin(), objects.end(), at.triangle,
+            [](uint32_t triangle, const PrimitiveRange& r) { return triangle < r.first; });
+        if (after == objects.begin()) return {};
+        const auto k = static_cast<size_t>(after - objects.begin()) - 1;
+        if (at.triangle >= objects[k].end || k >= list_.convex.size() || !list_.convex[k])
+            return {};
+        return glm::dot(at.n, list_.centroid[k] - at.p) <= 0.0f ? objects[k] : PrimitiveRange{};
     }
 
     /// The shadow ray from sample `at` to caster k (shadow_origin): to the caster's target,
@@ -226,8 +207,7 @@ private:
     std::vector<vec3> targets_;                   // per caster: where its rays end
     std::shared_ptr<const BuiltGeometry> built_;  // the triangles and their BVH
     const Accel* accel_ = nullptr;
-    std::vector<ConvexObject> convex_;
-    std::vector<uint32_t> convex_of_;  // per triangle: its object in convex_, or kNotConvex
+    const TriangleList& list_;  // the frame's, which outlives its shadows
 };
 
 }  // namespace
