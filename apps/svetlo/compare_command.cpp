@@ -16,6 +16,7 @@
 #include "svetlo/core/progress.h"
 #include "svetlo/core/sha256.h"
 #include "svetlo/geometry/accel_cache.h"
+#include "svetlo/geometry/occluder_cube.h"
 #include "svetlo/geometry/triangle_list_cache.h"
 
 namespace svetlo {
@@ -61,6 +62,7 @@ struct SharedSetup {
     MeshFileCache meshes;
     AccelCache accels;
     TriangleListCache triangle_lists;
+    OccluderCubeCache occluder_cubes{8};
 };
 
 /// The job of one SPEC over the scene's JSON (already with the command's overrides). Errors
@@ -75,6 +77,7 @@ RenderJob spec_job(const nlohmann::json& base, const std::string& file, const st
         job.options.threads = threads;
         job.options.accels = &shared.accels;
         job.options.triangle_lists = &shared.triangle_lists;
+        job.options.occluder_cubes = &shared.occluder_cubes;
         for (const std::string& name : aovs) request_aov(job, name, file, "-T " + spec);
         return job;
     } catch (const Error& e) {

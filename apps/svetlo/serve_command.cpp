@@ -32,6 +32,7 @@
 #include "svetlo/core/image_metrics.h"
 #include "svetlo/core/sha256.h"
 #include "svetlo/geometry/accel_cache.h"
+#include "svetlo/geometry/occluder_cube.h"
 #include "svetlo/geometry/triangle_list_cache.h"
 
 namespace svetlo {
@@ -62,11 +63,12 @@ struct Server {
     std::string default_scene;
     std::mutex mutex;                                                   // guards `current`
     std::map<std::string, std::shared_ptr<std::atomic<bool>>> current;  // per client: its render
-    MeshFileCache meshes;              // each mesh file read once (again when it changes)
-    AccelCache accels;                 // a slider that moves no shape reuses the scene's BVH
-    TriangleListCache triangle_lists;  // and the rasterizer's triangles
-    RendererPool renderers{kThreads};  // a drag's frames draw into the last one's buffers
-    std::atomic<int> renders{0};       // in progress (/api/status)
+    MeshFileCache meshes;                 // each mesh file read once (again when it changes)
+    AccelCache accels;                    // a slider that moves no shape reuses the scene's BVH
+    TriangleListCache triangle_lists;     // and the rasterizer's triangles
+    OccluderCubeCache occluder_cubes{8};  // and its shadow rays' occluders
+    RendererPool renderers{kThreads};     // a drag's frames draw into the last one's buffers
+    std::atomic<int> renders{0};          // in progress (/api/status)
 };
 
 /// A render in progress, counted in Server::renders while it lives.
@@ -134,6 +136,7 @@ RenderJob request_job(Server& server, const httplib::Request& req, const std::st
     make_renderer(job.scene.render.engine, file);  // an unknown engine: one line
     job.options.accels = &server.accels;
     job.options.triangle_lists = &server.triangle_lists;
+    job.options.occluder_cubes = &server.occluder_cubes;
     return job;
 }
 

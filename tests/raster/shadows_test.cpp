@@ -10,6 +10,7 @@
 #include "contract_camera.h"
 #include "svetlo/core/error.h"
 #include "svetlo/core/rng.h"
+#include "svetlo/geometry/occluder_cube.h"
 #include "svetlo/geometry/triangle_list.h"
 #include "svetlo/raster/raster_engine.h"
 #include "svetlo/raster/shadow_techniques.h"
@@ -498,8 +499,14 @@ TEST(RaytracedShadows, ManySamplesAtOnceAnswerAsOneByOne) {
     std::vector<const Object*> objects;
     for (const Object& o : scene.objects) objects.push_back(&o);
     const TriangleList list = build_triangle_list(objects, tessellation_options(scene.render), 1);
+    // Kept cubes, as svetlo serve keeps them: each point caster's rays culled by its cube.
+    OccluderCubeCache cubes{8};
+    f.occluder_cubes = &cubes;
+    f.list_key = "the test's list";
     const auto technique = raster::make_raytraced_shadows(scene, list, f, 2, nullptr);
     ASSERT_EQ(technique->casters().size(), 3u + 4u);
+    // One for the point and the spot (their rays end at one point), one a point of the area.
+    EXPECT_EQ(cubes.builds(), 1 + 4);
 
     std::vector<raster::ShadowSample> samples;
     Rng rng(7, 1);

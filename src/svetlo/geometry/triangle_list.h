@@ -39,6 +39,16 @@ struct TriangleList {
     }
 };
 
+/// Whether a ray that leaves point p of an object's surface from its side of normal n, away
+/// from that side, meets none of the object's triangles: the object tessellates convex
+/// (TriangleList::convex, tessellates_convex) and its centroid (strictly inside a solid, in
+/// the plane of a flat one) is not in front of that side. Then every triangle of the object
+/// lies behind or in the plane the ray leaves, and the ray moves away from it. (Else, the
+/// inside of a solid seen, it may meet them.)
+inline bool leaves_convex(bool convex, vec3 centroid, vec3 p, vec3 n) {
+    return convex && glm::dot(n, centroid - p) <= 0.0f;
+}
+
 /// The list's triangles as ray-traceable geometry (positions, indices and materials), for a
 /// BVH over exactly what was drawn: the rasterizer's ray-traced shadows, radiosity's
 /// visibility.

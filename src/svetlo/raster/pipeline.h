@@ -134,6 +134,7 @@ struct FrameShading {
     const TriangleList* list = nullptr;
     std::string list_key;          // the list's key in the command's caches (empty: none)
     AccelCache* accels = nullptr;  // RenderOptions::accels: the raytraced shadows' BVH
+    OccluderCubeCache* occluder_cubes = nullptr;  // RenderOptions::occluder_cubes
 };
 
 /// What the geometry stages make of one pass (stages 2 to 4: draw_pass.cpp, vertex_stage.cpp,

@@ -323,6 +323,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
         tessellate_scene(scene, f, threads, options.triangle_lists);
     const TriangleList& list = *shared_list;
     f.accels = options.accels;
+    f.occluder_cubes = options.occluder_cubes;
     prepare_shading(scene, f, buffers_->mips);
     const CameraMatrices camera = frame_camera(scene, list, threads);
     f.list = &list;

@@ -82,6 +82,7 @@ struct Crop {
 struct RenderResult;
 class AccelCache;         // geometry/accel_cache.h
 class TriangleListCache;  // geometry/triangle_list_cache.h
+class OccluderCubeCache;  // geometry/occluder_cube.h
 class ProcessGroup;       // core/process_group.h
 
 /// Many windows with one setup (docs/distributed.md): the engine renders the windows that
@@ -133,6 +134,10 @@ struct RenderOptions {
     /// When set, the rasterizer takes the scene's triangle list from it (and the BVH of its
     /// raytraced shadows from `accels`), or builds them into it.
     TriangleListCache* triangle_lists = nullptr;
+    /// When set, the rasterizer's raytraced shadows keep the occluder cubes of their point
+    /// casters in it (geometry/occluder_cube.h), for the next render with the same triangles
+    /// and lights.
+    OccluderCubeCache* occluder_cubes = nullptr;
     /// Under mpirun, the ranks that share this render (docs/distributed.md): an engine whose
     /// setup is worth splitting (the progressive radiosity solve) splits it among them.
     ProcessGroup* group = nullptr;
