@@ -5,6 +5,7 @@
 #include "bsdf_test_support.h"
 #include "svetlo/core/rng.h"
 #include "svetlo/core/sampling.h"
+#include "svetlo/shading/texture.h"
 
 namespace svetlo {
 namespace {
@@ -154,6 +155,36 @@ TEST(CookTorrance, DielectricDiffuseAtNormalIncidenceAndEnergyBound) {
     float spec = 0.04f * (1.0f / (kPi * alpha2)) * 0.25f;
     float diffuse = (1.0f - 0.04f) / kPi;
     EXPECT_NEAR(eval_bsdf(plastic, kN, kN, kN).r, spec + diffuse, 1e-5f);
+}
+
+// colour_sources names where make_bsdf takes a lambert or phong material's three colours
+// (the rasterizer's runs evaluate them at once), and declines the other materials.
+TEST(Bsdf, ColourSourcesAreWhereMakeBsdfTakesItsColours) {
+    ColorSource checker;
+    checker.kind = ColorSource::Kind::Checker;
+    checker.a = Color(0.1f, 0.2f, 0.3f);
+    checker.scale = 4.0f;
+    LambertMaterial lambert;
+    lambert.albedo = checker;
+    PhongMaterial phong;
+    phong.ka = ColorSource::constant(Color(0.05f));
+    phong.kd = checker;
+    phong.ks = ColorSource::constant(Color(0.3f, 0.2f, 0.1f));
+    const std::vector<TextureImage> none;
+    for (const Material& m : {Material(lambert), Material(phong)}) {
+        const ColorSource* of[3] = {};
+        ASSERT_TRUE(colour_sources(m, of));
+        for (vec2 uv : {vec2(0.1f, 0.2f), vec2(0.4f, 0.1f), vec2(0.9f, 0.7f)}) {
+            const Bsdf b = make_bsdf(m, uv, none);
+            const Color colours[3] = {b.ambient, b.diffuse, b.specular};
+            for (int slot = 0; slot < 3; ++slot)
+                EXPECT_EQ(colours[slot], of[slot] ? eval_color(*of[slot], uv, none) : Color(0.0f))
+                    << slot;
+        }
+    }
+    const ColorSource* of[3] = {};
+    EXPECT_FALSE(colour_sources(Material(CookTorranceMaterial{}), of));
+    EXPECT_FALSE(colour_sources(Material(OrenNayarMaterial{}), of));
 }
 
 }  // namespace

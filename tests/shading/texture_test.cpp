@@ -205,5 +205,55 @@ TEST(Texture, AnisotropicIsTrilinearOnARoundFootprintAndKeepsTheMean) {
     EXPECT_NEAR(sum / (n * n), 0.5, 0.01);
 }
 
+// Colours of many points at once (eval_colors, the rasterizer's runs) are the colours one by
+// one, bit for bit: every kind of source and filter, footprints from none to the whole texture.
+TEST(Texture, ColoursOfManyPointsAreTheColoursOneByOne) {
+    std::vector<unsigned char> codes(3 * 32 * 16);
+    for (size_t k = 0; k < codes.size(); ++k) codes[k] = static_cast<unsigned char>((k * 53) % 256);
+    const std::vector<TextureImage> textures = {stripes(), TextureImage(32, 16, codes, true)};
+    const std::vector<MipChain> mips = {build_mip_chain(textures[0]), build_mip_chain(textures[1])};
+    std::vector<ColorSource> sources = {ColorSource::constant(Color(0.2f, 0.3f, 0.4f))};
+    ColorSource checker;
+    checker.kind = ColorSource::Kind::Checker;
+    checker.scale = 3.0f;
+    sources.push_back(checker);
+    for (int texture : {0, 1}) {
+        for (TextureFilter filter : {TextureFilter::Nearest, TextureFilter::Bilinear,
+                                     TextureFilter::Trilinear, TextureFilter::Anisotropic}) {
+            for (TextureWrap wrap : {TextureWrap::Repeat, TextureWrap::Clamp}) {
+                ColorSource s;
+                s.kind = ColorSource::Kind::Image;
+                s.texture = texture;
+                s.filter = filter;
+                s.wrap = wrap;
+                sources.push_back(s);
+            }
+        }
+    }
+    // 150 points (more than one chunk of 64), their footprints 0 to 4 texture widths.
+    std::vector<vec2> uv, dx, dy;
+    for (int k = 0; k < 150; ++k) {
+        const auto t = static_cast<float>(k);
+        uv.emplace_back(std::sin(t) * 1.7f, std::cos(1.3f * t) * 2.1f);
+        const float size = k % 7 == 0 ? 0.0f : std::pow(2.0f, static_cast<float>(k % 13) - 10.0f);
+        dx.emplace_back(size, 0.3f * size);
+        dy.emplace_back(-0.2f * size, size * static_cast<float>(k % 3));
+    }
+    for (const ColorSource& s : sources) {
+        for (const std::vector<MipChain>* chains :
+             {&mips, static_cast<const std::vector<MipChain>*>(nullptr)}) {
+            const TextureLookup lookup{textures, chains};
+            std::vector<Color> many(uv.size());
+            eval_colors(s, uv.data(), dx.data(), dy.data(), uv.size(), lookup, many.data());
+            for (size_t k = 0; k < uv.size(); ++k) {
+                TextureLookup one = lookup;
+                one.duv_dx = dx[k];
+                one.duv_dy = dy[k];
+                ASSERT_EQ(many[k], eval_color(s, uv[k], one)) << "point " << k;
+            }
+        }
+    }
+}
+
 }  // namespace
 }  // namespace svetlo

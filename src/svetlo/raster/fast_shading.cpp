@@ -7,6 +7,7 @@
 #include <immintrin.h>
 
 #include "svetlo/raster/fragment.h"
+#include "svetlo/shading/texture.h"
 
 namespace svetlo::raster {
 
@@ -46,6 +47,31 @@ void shade_tile_fast(const FrameState& f, const Tile& tile, const SamplePattern&
         colours[0] = bsdf.ambient;
         colours[1] = bsdf.diffuse;
         colours[2] = bsdf.specular;
+    };
+    // The same at the `run` samples of a run, each colour's source evaluated for them all at
+    // once (eval_colors), where the material's sources are known.
+    auto colours_of_run = [&](uint32_t material, const SurfaceUv* at, int run, Color(*colours)[3]) {
+        const FrameShading::ColourSources& sources = f.colour_sources[material];
+        if (!sources.known) {
+            for (int k = 0; k < run; ++k) colours_at(material, at[k], colours[k]);
+            return;
+        }
+        vec2 uv[kTile], dx[kTile], dy[kTile];
+        Color c[kTile];
+        for (int k = 0; k < run; ++k) {
+            uv[k] = at[k].uv;
+            dx[k] = at[k].duv_dx;
+            dy[k] = at[k].duv_dy;
+        }
+        const TextureLookup lookup{f.scene->textures, f.mips};
+        for (int slot = 0; slot < 3; ++slot) {
+            const ColorSource* source = sources.of[slot];
+            const bool same = slot > 0 && source == sources.of[slot - 1];
+            if (source && !same)
+                eval_colors(*source, uv, dx, dy, static_cast<size_t>(run), lookup, c);
+            for (int k = 0; k < run; ++k)
+                colours[k][slot] = !source ? Color(0.0f) : (same ? colours[k][slot - 1] : c[k]);
+        }
     };
     // The same at a sample of triangle t with perspective weights w.
     auto textured_colours = [&](const SetupTriangle& t, const Weights& w, Color colours[3]) {
@@ -134,7 +160,7 @@ void shade_tile_fast(const FrameState& f, const Tile& tile, const SamplePattern&
                     const ClipVertex& C = f.vertex(t.v[2]);
                     e.run_weights(sx, sy, spans, l1, l2);
                     surface_uvs(gradients_for(t), A, B, C, l1, l2, spans, at);
-                    for (int k = 0; k < spans; ++k) colours_at(t.material, at[k], run_colours[k]);
+                    colours_of_run(t.material, at, spans, run_colours);
                     q.own = run_colours;
                 }
                 q.l1 = static_cast<float>(static_cast<double>(e.e[1].at(sx, sy)) * e.inv_area);

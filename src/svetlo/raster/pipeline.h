@@ -108,10 +108,17 @@ namespace svetlo::raster {
 struct FrameShading {
     const Scene* scene = nullptr;
     Mode mode = Mode::Depth;
-    std::vector<Material> materials;    // the light set's: the scene's, then the area lights'
-    std::vector<Bsdf> constant_bsdf;    // per material, when it has no texture
-    std::vector<char> textured;         // per material: some colour depends on uv
-    std::vector<char> needs_footprint;  // per material: some texture is trilinear
+    std::vector<Material> materials;  // the light set's: the scene's, then the area lights'
+    std::vector<Bsdf> constant_bsdf;  // per material, when it has no texture
+    std::vector<char> textured;       // per material: some colour depends on uv
+    // Per material, the sources of its ambient, diffuse and specular colours (colour_sources),
+    // or none where `colour_sources` is false: the fast path evaluates a run's at once.
+    struct ColourSources {
+        const ColorSource* of[3] = {};
+        bool known = false;
+    };
+    std::vector<ColourSources> colour_sources;
+    std::vector<char> needs_footprint;            // per material: some texture is trilinear
     const std::vector<MipChain>* mips = nullptr;  // per texture, when some material needs them
     // Flat and Gouraud shading modulate their light by the base colour's texture per sample, as
     // OpenGL's GL_MODULATE: per material, that texture (null: none), and the material with it

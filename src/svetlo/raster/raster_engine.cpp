@@ -164,6 +164,9 @@ void prepare_shading(const Scene& scene, FrameShading& f, KeptMipChains& kept) {
         f.needs_footprint.push_back(any_source(m, uses_mips) ? 1 : 0);
         any_mips |= f.needs_footprint.back() != 0;
         f.constant_bsdf.push_back(make_bsdf(m, vec2(0.0f), scene.textures));
+        FrameShading::ColourSources sources;
+        sources.known = colour_sources(m, sources.of);
+        f.colour_sources.push_back(sources);
     }
     if (any_mips) f.mips = &kept.of(scene.textures);
     // The fast path takes point, spot and directional lights and the VPLs of lights with area.

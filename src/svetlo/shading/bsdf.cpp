@@ -92,6 +92,23 @@ bool Bsdf::has_lobes() const {
     }
 }
 
+bool colour_sources(const Material& material, const ColorSource* out[3]) {
+    // BsdfMaker's: a lambert material's ambient and diffuse are its albedo, a phong material's
+    // are ka, kd and ks.
+    if (const auto* l = std::get_if<LambertMaterial>(&material)) {
+        out[0] = out[1] = &l->albedo;
+        out[2] = nullptr;
+        return true;
+    }
+    if (const auto* p = std::get_if<PhongMaterial>(&material)) {
+        out[0] = &p->ka;
+        out[1] = &p->kd;
+        out[2] = &p->ks;
+        return true;
+    }
+    return false;
+}
+
 Bsdf make_bsdf(const Material& material, vec2 uv, const std::vector<TextureImage>& textures) {
     return make_bsdf(material, uv, TextureLookup{textures});
 }

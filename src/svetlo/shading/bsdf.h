@@ -61,6 +61,11 @@ Bsdf make_bsdf(const Material& material, vec2 uv, const std::vector<TextureImage
 /// The same with a texture footprint (trilinear filtering in the rasterizer).
 Bsdf make_bsdf(const Material& material, vec2 uv, const TextureLookup& lookup);
 
+/// Where make_bsdf takes a lambert or phong material's ambient, diffuse and specular colours
+/// from (out[0..2]; null: black), so that a renderer may evaluate them for many points at
+/// once (eval_colors). False for another material.
+bool colour_sources(const Material& material, const ColorSource* out[3]);
+
 /// f(wo, wi) for a shading normal n; zero unless wo and wi are both above the surface.
 Color eval_bsdf(const Bsdf& bsdf, vec3 n, vec3 wo, vec3 wi);
 

@@ -95,4 +95,28 @@ Color eval_color(const ColorSource& source, vec2 uv, const TextureLookup& lookup
     return source.value;
 }
 
+void eval_colors(const ColorSource& source, const vec2* uv, const vec2* duv_dx, const vec2* duv_dy,
+                 size_t count, const TextureLookup& lookup, Color* out) {
+    if (source.kind == ColorSource::Kind::Image && source.filter == TextureFilter::Trilinear &&
+        lookup.mips) {
+        const MipChain& chain = (*lookup.mips)[static_cast<size_t>(source.texture)];
+        constexpr size_t kChunk = 64;
+        float lod[kChunk];
+        for (size_t first = 0; first < count; first += kChunk) {
+            const size_t n = std::min(kChunk, count - first);
+            for (size_t k = 0; k < n; ++k)
+                lod[k] = mip_level(chain, duv_dx[first + k], duv_dy[first + k]);
+            for (size_t k = 0; k < n; ++k)
+                out[first + k] = sample_trilinear(chain, uv[first + k], lod[k], source.wrap);
+        }
+        return;
+    }
+    for (size_t k = 0; k < count; ++k) {
+        TextureLookup at = lookup;
+        at.duv_dx = duv_dx[k];
+        at.duv_dy = duv_dy[k];
+        out[k] = eval_color(source, uv[k], at);
+    }
+}
+
 }  // namespace svetlo

@@ -22,4 +22,11 @@ Color eval_color(const ColorSource& source, vec2 uv, const std::vector<TextureIm
 /// then picks the mip level from the footprint.
 Color eval_color(const ColorSource& source, vec2 uv, const TextureLookup& lookup);
 
+/// eval_color at `count` points of one surface: uv[k] with the footprint duv_dx[k],
+/// duv_dy[k] (`lookup`'s are not read), into out[k]. The same colours as one by one; a
+/// trilinear image's levels of detail are made first for all the points, so that their
+/// square roots and logarithms overlap instead of each waiting on the last lookup.
+void eval_colors(const ColorSource& source, const vec2* uv, const vec2* duv_dx, const vec2* duv_dy,
+                 size_t count, const TextureLookup& lookup, Color* out);
+
 }  // namespace svetlo
