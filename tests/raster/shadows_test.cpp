@@ -529,13 +529,24 @@ TEST(RaytracedShadows, ManySamplesAtOnceAnswerAsOneByOne) {
             samples.push_back(s);
         }
     }
-    int shadowed = 0, lit = 0;
+    int shadowed = 0, lit = 0, clear = 0;
     for (size_t k = 0; k < technique->casters().size(); ++k) {
         const ShadowCaster& caster = technique->casters()[k];
+        // As fill_masks asks: a sample the caster's occluder cube calls clear is lit, the
+        // others go to lit_many.
+        const OccluderCube* cube = technique->occluders(k);
+        EXPECT_EQ(cube == nullptr, caster.kind == ShadowCaster::Kind::Directional) << k;
         std::vector<uint32_t> facing;
-        for (size_t m = 0; m < samples.size(); ++m)
-            if (caster.faces(samples[m].p, samples[m].n))
-                facing.push_back(static_cast<uint32_t>(m));
+        for (size_t m = 0; m < samples.size(); ++m) {
+            if (!caster.faces(samples[m].p, samples[m].n)) continue;
+            if (cube && cube->clear(samples[m].p, samples[m].n, samples[m].triangle)) {
+                ASSERT_EQ(technique->lit(k, samples[m]), 1.0f)
+                    << "caster " << k << ", sample " << m << " called clear";
+                ++clear;
+                continue;
+            }
+            facing.push_back(static_cast<uint32_t>(m));
+        }
         std::vector<float> many(facing.size(), -1.0f);
         technique->lit_many(k, samples.data(), facing.data(), facing.size(), many.data());
         for (size_t m = 0; m < facing.size(); ++m) {
@@ -544,9 +555,10 @@ TEST(RaytracedShadows, ManySamplesAtOnceAnswerAsOneByOne) {
             (one == 0.0f ? shadowed : lit) += 1;
         }
     }
-    // Both answers occur, many times.
+    // Both answers occur, many times, and the cubes answer for many.
     EXPECT_GT(shadowed, 1000);
     EXPECT_GT(lit, 1000);
+    EXPECT_GT(clear, 1000);
 }
 
 TEST(ShadowTechniques, EveryTechniqueGivesTheSameImageOnOneAndTwoThreads) {

@@ -260,12 +260,26 @@ void fill_masks(const ShadowTechniqueState& technique, const FrameState& f, cons
         for (; k < casters.size() && casters[k].source == source; ++k) {
             const ShadowCaster& c = casters[k];
             // The samples it lights from the front, listed without a branch (each index
-            // written, the count moved on where it faces).
+            // written, the count moved on where it faces); with an occluder cube, those it
+            // shows clear are lit at once.
             scratch.facing.resize(n);
             size_t facing = 0;
-            for (size_t m = 0; m < n; ++m) {
-                scratch.facing[facing] = static_cast<uint32_t>(m);
-                facing += c.faces(found[m].p, found[m].n) ? 1 : 0;
+            if (const OccluderCube* cube = technique.occluders(k)) {
+                for (size_t m = 0; m < n; ++m) {
+                    const ShadowSample& s = found[m];
+                    if (!c.faces(s.p, s.n)) continue;
+                    if (cube->clear(s.p, s.n, s.triangle)) {
+                        scratch.sum[m] += 1.0f;
+                        scratch.count[m] += 1.0f;
+                    } else {
+                        scratch.facing[facing++] = static_cast<uint32_t>(m);
+                    }
+                }
+            } else {
+                for (size_t m = 0; m < n; ++m) {
+                    scratch.facing[facing] = static_cast<uint32_t>(m);
+                    facing += c.faces(found[m].p, found[m].n) ? 1 : 0;
+                }
             }
             scratch.facing.resize(facing);
             scratch.lit.resize(facing);

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "svetlo/core/image.h"
+#include "svetlo/geometry/occluder_cube.h"
 #include "svetlo/raster/pipeline.h"
 #include "svetlo/raster/shadow_casters.h"
 
@@ -57,6 +58,9 @@ public:
                           float* out) const {
         for (size_t m = 0; m < count; ++m) out[m] = lit(k, samples[at[m]]);
     }
+    /// An occluder cube of caster k (geometry/occluder_cube.h), or null: a sample it calls
+    /// clear is lit (1) by caster k, and fill_masks asks lit_many only for the others.
+    virtual const OccluderCube* occluders(size_t /*k*/) const { return nullptr; }
     /// Whether lit() reads the sample's position and normal (false: only where it lies in the
     /// frame, as the stencil techniques' masks).
     virtual bool needs_surface() const { return true; }

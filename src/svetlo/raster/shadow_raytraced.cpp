@@ -107,16 +107,18 @@ public:
         }
     }
 
+    const OccluderCube* occluders(size_t k) const override { return cubes_[k].get(); }
+
     float lit(size_t k, const ShadowSample& at) const override {
         Ray ray;
         if (!shadow_ray(k, at, ray)) return 1.0f;
         return accel_->occluded(ray) ? 0.0f : 1.0f;
     }
 
-    // Toward a point (every caster but a directional light), a sample its occluder cube shows
-    // clear is lit without a ray, and the rays of the others, which end at one point, are
-    // tested together by the BVH (Accel::occluded_toward), 8 x 8 pixels at a time; the
-    // answers are lit()'s. No virtual call a ray.
+    // Toward a point (every caster but a directional light), the rays of nearby samples end
+    // at one point and the BVH tests them together (Accel::occluded_toward), 8 x 8 pixels at
+    // a time; the answers are lit()'s. No virtual call a ray. (fill_masks leaves out the
+    // samples the caster's occluder cube shows lit.)
     void lit_many(size_t k, const ShadowSample* samples, const uint32_t* at, size_t count,
                   float* out) const override {
         if (casters_[k].kind == ShadowCaster::Kind::Directional) {
@@ -150,13 +152,8 @@ public:
             for (size_t r = 0; r < count_rays; ++r) out[slot[traced[r]]] = blocked[r] ? 0.0f : 1.0f;
             n = 0;
         };
-        const OccluderCube* cube = cubes_[k].get();
         auto add = [&](size_t m) {
             const ShadowSample& sample = samples[at[m]];
-            if (cube && cube->clear(sample.p, sample.n, sample.triangle)) {
-                out[m] = 1.0f;  // nothing between the sample and the light: no ray
-                return;
-            }
             for (int c = 0; c < 3; ++c) {
                 lanes.p[c][n] = sample.p[c];
                 lanes.n[c][n] = sample.n[c];
