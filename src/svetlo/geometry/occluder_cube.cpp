@@ -78,8 +78,8 @@ OccluderCube::OccluderCube(const TriangleList& list, vec3 end, int threads)
     if (triangles > 0) scale = std::max({scale, largest(bounds.min), largest(bounds.max)});
     // A shadow ray's origin lies within 2^-13 of the scale of its sample (offset_ray_origin's
     // 256 ulps a coordinate, and a 2^-16 step toward the light): twice that is the slack.
-    // Beyond a sixteenth of the scale from E, that hair turns a direction by less than 2^-8,
-    // which moves it by at most 0.6 of a cell (each cell's bound holds a cell beyond it).
+    // Beyond a sixteenth of the scale from E, that hair turns a direction by less than 2^-9,
+    // which moves it by at most a third of a cell (each cell's bound holds a cell beyond it).
     slack_ = scale * 0x1p-12f;
     near2_ = scale * scale * 0x1p-8f;
     // The ray test's rounding: a few ulps of the scale.

@@ -85,7 +85,7 @@ public:
         accel_ = built_->accel.get();
         // The point casters' occluder cubes, where there are few casters (a frame's point
         // lights, or a preview's lights with area from one point each). A cube costs a pass
-        // over the triangles (about 10 ms for raster.json's 63,000 on one thread) and spares
+        // over the triangles (10-16 ms for raster.json's 63,000 on one thread) and spares
         // the rays of most lit samples: a command that keeps them (svetlo serve, svetlo
         // compare) builds each once for all its frames, another only for a frame of many
         // samples a triangle.
@@ -230,7 +230,7 @@ private:
     }
 
     /// Casters beyond which no occluder cubes are built (the still frame of a light with area
-    /// has 16 and more): each costs a pass over the triangles and 1.5 MiB.
+    /// has 16 and more): each costs a pass over the triangles and 1.1 MiB.
     static constexpr size_t kMostCubes = 8;
     /// Samples a triangle of the frame beyond which a cube that is not kept pays.
     static constexpr double kSamplesPerTriangle = 32.0;
