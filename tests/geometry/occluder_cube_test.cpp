@@ -209,6 +209,14 @@ TEST(OccluderCube, AnEmptyCubeOrAPointNotFiniteIsNeverClear) {
     const float nan = std::numeric_limits<float>::quiet_NaN(), inf = kInfinity;
     for (vec3 p : {vec3(nan, 5.0f, 0.0f), vec3(inf, 5.0f, 0.0f), vec3(0.0f, -inf, 0.0f), end})
         EXPECT_FALSE(cube.clear(p, vec3(0.0f, 1.0f, 0.0f), 0));
+    // A triangle with a corner not finite, or beyond float's range once squared, may lie
+    // anywhere: nothing is clear.
+    for (vec3 far : {vec3(nan, 0.0f, 0.0f), vec3(inf, 1.0f, 0.0f), vec3(3e38f, -3e38f, 1.0f)}) {
+        TriangleList wild = list;
+        add_triangle(wild, far, {0.0f, 1.0f, 0.5f}, {0.5f, 1.0f, 0.0f});
+        const OccluderCube wild_cube(wild, end, 1);
+        EXPECT_FALSE(wild_cube.clear(vec3(3.0f, 5.0f, 0.0f), vec3(0.0f, 1.0f, 0.0f), 0)) << far.x;
+    }
 }
 
 }  // namespace

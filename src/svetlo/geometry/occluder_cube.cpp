@@ -85,7 +85,7 @@ OccluderCube::OccluderCube(const TriangleList& list, vec3 end, int threads)
     // The ray test's rounding: a few ulps of the scale.
     const double pad = static_cast<double>(scale) * 0x1p-16;
 
-    // Per triangle: its object, and its distance to E.
+    // Per triangle: its object, and its distance to E (0 where it is not known).
     std::vector<uint32_t> object(triangles, kNoObject);
     for (size_t k = 0; k < list.objects.size(); ++k)
         for (uint32_t t = list.objects[k].first; t < list.objects[k].end && t < triangles; ++t)
@@ -99,7 +99,10 @@ OccluderCube::OccluderCube(const TriangleList& list, vec3 end, int threads)
         for (size_t t = begin; t < stop; ++t) {
             dvec3 p[3];
             corners(t, p);
-            distance[t] = distance_to_triangle(p[0], p[1], p[2]);
+            const double sum =
+                p[0].x + p[0].y + p[0].z + p[1].x + p[1].y + p[1].z + p[2].x + p[2].y + p[2].z;
+            // A corner not finite: no bound but 0, in every cell (below).
+            distance[t] = sum - sum == 0.0 ? distance_to_triangle(p[0], p[1], p[2]) : 0.0;
         }
     });
 
@@ -194,8 +197,10 @@ OccluderCube::OccluderCube(const TriangleList& list, vec3 end, int threads)
                             std::max(bound, h * least_length[static_cast<size_t>(j) * R + i] / m);
                     }
                     const double lower_bound = std::max(0.0, bound * (1.0 - 0x1p-16) - pad);
-                    const auto lower =
-                        static_cast<float>(lower_bound * lower_bound * (1.0 - 0x1p-16));
+                    // (Squared and lowered a hair, within float: a bound beyond its range is
+                    // the largest float, still a lower bound.)
+                    const auto lower = static_cast<float>(
+                        std::min(lower_bound * lower_bound * (1.0 - 0x1p-16), 3.0e38));
                     Cell& c = cells[j * R + i];
                     // nearest: the least of all; other: the least of the objects but nearest's.
                     if (o == c.object) {
