@@ -10,6 +10,7 @@
 #include "svetlo/core/error.h"
 #include "svetlo/core/image_io.h"
 #include "svetlo/geometry/accel_cache.h"
+#include "svetlo/geometry/occluder_cube.h"
 #include "svetlo/raster/raster_engine.h"
 #include "svetlo/scene/scene_loader.h"
 
@@ -27,6 +28,7 @@ Scene raster_scene(std::vector<Override> overrides = {}) {
 struct Caches {
     TriangleListCache lists;
     AccelCache accels;
+    OccluderCubeCache cubes{8};
 };
 
 RenderResult render(const Scene& scene, Caches* caches, int threads = 2) {
@@ -35,6 +37,7 @@ RenderResult render(const Scene& scene, Caches* caches, int threads = 2) {
     if (caches) {
         options.triangle_lists = &caches->lists;
         options.accels = &caches->accels;
+        options.occluder_cubes = &caches->cubes;
     }
     return RasterRenderer().render(scene, options);
 }
@@ -77,6 +80,32 @@ TEST(TriangleListCache, WhatChangesTheListBuildsItsOwn) {
         const Scene scene = raster_scene(o);
         expect_same_pixels(render(scene, &caches).color, render(scene, nullptr).color);
         EXPECT_EQ(caches.lists.builds(), ++lists) << o[0].key;
+    }
+}
+
+// The raytraced shadows' occluder cubes (geometry/occluder_cube.h) are kept by the light's
+// point as well as the list: a moved light gets its own, a moved camera reuses them, and every
+// frame is the frame rendered without them, bit for bit.
+TEST(TriangleListCache, TheOccluderCubesFollowTheLights) {
+    Caches caches;
+    // The viewer's preview: each light with area from its centre, two point casters.
+    const std::vector<Override> preview = {{"render.area_light_points", "1"},
+                                           {"render.area_shadow_points", "1"}};
+    auto with = [&](std::vector<Override> o) {
+        o.insert(o.end(), preview.begin(), preview.end());
+        return raster_scene(o);
+    };
+    const Scene frames[] = {
+        with({}),
+        with({{"camera.position", "[2, 2.2, 6]"}}),   // the camera moved: no new cube
+        with({{"lights.0.position", "[-1, 3, 2]"}}),  // the point light moved: one
+        with({{"lights.0.position", "[-1, 3, 2]"}, {"camera.position", "[-3, 3, 5]"}}),
+        with({}),  // back: both kept
+    };
+    const int builds[] = {2, 2, 3, 3, 3};
+    for (size_t k = 0; k < std::size(frames); ++k) {
+        expect_same_pixels(render(frames[k], &caches).color, render(frames[k], nullptr).color);
+        EXPECT_EQ(caches.cubes.builds(), builds[k]) << "frame " << k;
     }
 }
 
