@@ -62,7 +62,7 @@ struct SharedSetup {
     MeshFileCache meshes;
     AccelCache accels;
     TriangleListCache triangle_lists;
-    OccluderCubeCache occluder_cubes{8};
+    OccluderCubeCache occluder_cubes;
 };
 
 /// The job of one SPEC over the scene's JSON (already with the command's overrides). Errors

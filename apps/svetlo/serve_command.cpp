@@ -63,12 +63,12 @@ struct Server {
     std::string default_scene;
     std::mutex mutex;                                                   // guards `current`
     std::map<std::string, std::shared_ptr<std::atomic<bool>>> current;  // per client: its render
-    MeshFileCache meshes;                 // each mesh file read once (again when it changes)
-    AccelCache accels;                    // a slider that moves no shape reuses the scene's BVH
-    TriangleListCache triangle_lists;     // and the rasterizer's triangles
-    OccluderCubeCache occluder_cubes{8};  // and its shadow rays' occluders
-    RendererPool renderers{kThreads};     // a drag's frames draw into the last one's buffers
-    std::atomic<int> renders{0};          // in progress (/api/status)
+    MeshFileCache meshes;              // each mesh file read once (again when it changes)
+    AccelCache accels;                 // a slider that moves no shape reuses the scene's BVH
+    TriangleListCache triangle_lists;  // and the rasterizer's triangles
+    OccluderCubeCache occluder_cubes;  // and its shadow rays' occluders
+    RendererPool renderers{kThreads};  // a drag's frames draw into the last one's buffers
+    std::atomic<int> renders{0};       // in progress (/api/status)
 };
 
 /// A render in progress, counted in Server::renders while it lives.

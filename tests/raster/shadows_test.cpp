@@ -500,7 +500,7 @@ TEST(RaytracedShadows, ManySamplesAtOnceAnswerAsOneByOne) {
     for (const Object& o : scene.objects) objects.push_back(&o);
     const TriangleList list = build_triangle_list(objects, tessellation_options(scene.render), 1);
     // Kept cubes, as svetlo serve keeps them: each point caster's rays culled by its cube.
-    OccluderCubeCache cubes{8};
+    OccluderCubeCache cubes;
     f.occluder_cubes = &cubes;
     f.list_key = "the test's list";
     const auto technique = raster::make_raytraced_shadows(scene, list, f, 2, nullptr);

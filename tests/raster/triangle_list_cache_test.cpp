@@ -28,7 +28,7 @@ Scene raster_scene(std::vector<Override> overrides = {}) {
 struct Caches {
     TriangleListCache lists;
     AccelCache accels;
-    OccluderCubeCache cubes{8};
+    OccluderCubeCache cubes;
 };
 
 RenderResult render(const Scene& scene, Caches* caches, int threads = 2) {

@@ -92,7 +92,12 @@ private:
 /// lights.
 class OccluderCubeCache : public SharedCache<OccluderCube> {
 public:
-    using SharedCache::SharedCache;
+    /// The most casters of one frame that get cubes (the rasterizer builds none beyond them:
+    /// the still frame of a light with area has 16 and more, each a pass over the triangles
+    /// and 1.1 MiB), and so the cubes a cache keeps: a frame's all.
+    static constexpr size_t kMostPerFrame = 8;
+
+    OccluderCubeCache() : SharedCache(kMostPerFrame) {}
 };
 
 }  // namespace svetlo

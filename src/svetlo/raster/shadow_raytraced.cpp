@@ -93,7 +93,7 @@ public:
         const double samples = static_cast<double>(scene.film.width) * scene.film.height *
                                std::max(scene.render.spp, 1);
         const bool kept = f.occluder_cubes && !f.list_key.empty();
-        if (casters_.size() > kMostCubes ||
+        if (casters_.size() > OccluderCubeCache::kMostPerFrame ||
             (!kept && samples < kSamplesPerTriangle * static_cast<double>(list.triangle_count())))
             return;
         for (size_t k = 0; k < casters_.size(); ++k) {
@@ -229,9 +229,6 @@ private:
         return finite_ray(ray.o, ray.d);
     }
 
-    /// Casters beyond which no occluder cubes are built (the still frame of a light with area
-    /// has 16 and more): each costs a pass over the triangles and 1.1 MiB.
-    static constexpr size_t kMostCubes = 8;
     /// Samples a triangle of the frame beyond which a cube that is not kept pays.
     static constexpr double kSamplesPerTriangle = 32.0;
 
