@@ -51,7 +51,7 @@ check "after SIGINT, resumed equals uninterrupted" cmp "$work/cornell.pfm" "$wor
 
 # The radiosity solve (progressive): killed after a save, it resumes with its shots and rows and
 # ends in the uninterrupted image; a finished one gives the image again at once.
-radiosity=(render "$scenes/cornell_radiosity.json" -W 64 -H 64 -t 1
+radiosity=(render "$scenes/cornell_radiosity.json" -W 64 -H 64 -t 2
            --set render.radiosity.solver=progressive --set render.radiosity.element_size=0.08
            --set render.radiosity.adaptive=0)
 "$svetlo" "${radiosity[@]}" -q -o "$work/radiosity.pfm"

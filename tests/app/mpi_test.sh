@@ -107,14 +107,14 @@ check "--time under mpirun: one line" test "$(grep -c '^svetlo: error: .*--time:
 
 # --checkpoint under mpirun. The path tracer's tiles: killed (SIGKILL to mpirun) after a save on
 # 2 processes, resumed on 3, the plain program's bytes.
-tiles=(render "$cornell" -e path -W 160 -H 96 --spp 1024)
+tiles=(render "$cornell" -e path -W 160 -H 96 --spp 256)
 "$svetlo" "${tiles[@]}" -t 2 -q -o "$work/plain.pfm"
 "${run[@]}" -np 2 "$svetlo" "${tiles[@]}" -t 1 -q --checkpoint "$work/tiles.ck" -o "$work/tiles.pfm" \
     > "$work/out.txt" 2>&1 &
 job=$!
 for _ in $(seq 1 300); do [ -s "$work/tiles.ck" ] && break; sleep 0.05; done
 kill -9 $job 2> /dev/null
-pkill -9 -f "svetlo render $cornell -e path -W 160 -H 96 --spp 1024" 2> /dev/null
+pkill -9 -f "svetlo render $cornell -e path -W 160 -H 96 --spp 256" 2> /dev/null
 wait $job 2> /dev/null
 check "tiles: a checkpoint saved before the kill" test -s "$work/tiles.ck"
 check "tiles: no image from the killed job" test ! -e "$work/tiles.pfm"
