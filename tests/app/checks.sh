@@ -3,6 +3,9 @@
 #   check NAME COMMAND...           passes when the command succeeds;
 #   expect_error NAME WHERE CODE ARGS...   svetlo ARGS exits CODE with one stderr line, in the
 #                                          contract's format, naming WHERE;
+#   bunny_mesh SCENES WHAT          whether bunny.json's mesh, the workplace's public data
+#                                   (../shared/data beside the repository), is there; where
+#                                   it is not, says that WHAT is skipped;
 #   summary                         prints the counts and fails when any check did.
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -26,6 +29,11 @@ expect_error() {
         fail "$name: '$(cat "$work/stderr")' does not name '$where'"; return
     fi
     pass
+}
+bunny_mesh() {
+    [ -f "$1/../../shared/data/bunny/bun_zipper.ply" ] && return 0
+    echo "skipped: $2 (the bunny's mesh, ../shared/data/bunny, is absent)"
+    return 1
 }
 summary() {
     echo "$passed passed, $failed failed"

@@ -114,9 +114,7 @@ for engine in whitted path; do
     check "$engine bvh_cost primitives, none" test "$($tool values "$work/cost.pfm" 1)" = "2"
     check "$engine bvh_cost sum, none" $tool channel-sum "$work/cost.pfm"
 done
-# (The bunny's mesh is the workplace's public data, ../shared/data beside the repository:
-# where it is absent, these checks are skipped and say so.)
-if [ -f "$scenes/../../shared/data/bunny/bun_zipper.ply" ]; then
+if bunny_mesh "$scenes" "bvh_cost on the bunny"; then
     "$svetlo" render "$scenes/bunny.json" -e whitted -W 64 -H 40 --spp 1 -q -o "$work/x.pfm" \
         --aov bvh_cost="$work/cost.pfm" --aov bvh_cost="$work/cost.png"
     check "bvh_cost sum, bvh" $tool channel-sum "$work/cost.pfm"
@@ -126,8 +124,6 @@ if [ -f "$scenes/../../shared/data/bunny/bun_zipper.ply" ]; then
     check "bvh_cost from 1 node ($fewest)" test "$fewest" -ge 1 -a "$fewest" -le 2
     check "bvh_cost to many" test "$($tool values "$work/cost.pfm" 0 | wc -w)" -gt 10
     check "bvh_cost as a PNG" test -s "$work/cost.png"
-else
-    echo "skipped: bvh_cost on the bunny (its mesh, ../shared/data/bunny, is absent)"
 fi
 # path_depth: at max_depth 0 a path that meets a surface traces its one BSDF ray (for MIS),
 # one that meets nothing none; deeper, more.

@@ -42,14 +42,8 @@ close() {  # NAME TOLERANCE SCENE ARGS...
     fi
 }
 
-# bunny.json reads the workplace's public data (../shared/data beside the repository): where
-# that is absent, it is skipped and said so.
 with_meshes="cornell.json spheres.json solids.json"
-if [ -f "$scenes/../../shared/data/bunny/bun_zipper.ply" ]; then
-    with_meshes="$with_meshes bunny.json"
-else
-    echo "skipped: bunny.json (its mesh, ../shared/data/bunny, is absent)"
-fi
+bunny_mesh "$scenes" bunny.json && with_meshes="$with_meshes bunny.json"
 for scene in $with_meshes; do
     same "whitted ${scene%.json}" "$scene" -e whitted
     same "path ${scene%.json}" "$scene" -e path --spp 4
