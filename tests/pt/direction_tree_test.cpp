@@ -62,6 +62,37 @@ TEST(DirectionTree, AnEmptyRecorderGivesNoEnergyAndOneUniformNode) {
     EXPECT_EQ(DirectionRecorder::refined(t, 0.01f, 20).size(), 1u);
 }
 
+TEST(DirectionTree, TheDensityIsTheEnergyTimesTheCosine) {
+    // One node, energies 1, 2, 3, 4 in its quadrants (each integrated over its quadrant, a
+    // quarter of the square): the irradiance is (E_1 + E_3) times the cosine's mean on the
+    // upper half, 1/2; the density is 4 E_q (2 x - 1) over its integral, (E_1 + E_3) / 2,
+    // on the upper half, and zero below.
+    DirectionTree::Node root;
+    root.energy = {1.0f, 2.0f, 3.0f, 4.0f};
+    const DirectionTree tree({root});
+    EXPECT_FLOAT_EQ(tree.total(), 10.0f);
+    EXPECT_FLOAT_EQ(tree.irradiance(), 3.0f);
+    EXPECT_FLOAT_EQ(tree.pdf(vec2(0.75f, 0.25f)), 4.0f * 2.0f * 0.5f / 3.0f);
+    EXPECT_FLOAT_EQ(tree.pdf(vec2(0.9f, 0.6f)), 4.0f * 4.0f * 0.8f / 3.0f);
+    EXPECT_EQ(tree.pdf(vec2(0.25f, 0.75f)), 0.0f);
+    EXPECT_EQ(tree.pdf(vec2(0.5f, 0.75f)), 0.0f);  // the horizon itself
+    // Draws land on the upper half only, a third of them in quadrant 1 (2 of 2 + 4), and
+    // their x has the cosine's mean there, E[x] = 1/2 + (1/2) E[t], E[t] = 2/3.
+    Rng rng(5, 9);
+    const int n = 100000;
+    int lower = 0, first = 0;
+    double x_sum = 0.0;
+    for (int k = 0; k < n; ++k) {
+        const vec2 x = tree.sample(vec2(rng.next_float(), rng.next_float()));
+        lower += x.x < 0.5f;
+        first += x.y < 0.5f;
+        x_sum += x.x;
+    }
+    EXPECT_EQ(lower, 0);
+    EXPECT_NEAR(static_cast<double>(first) / n, 1.0 / 3.0, 0.006);  // 4 sigma
+    EXPECT_NEAR(x_sum / n, 0.5 + 0.5 * 2.0 / 3.0, 0.002);           // sigma 0.0004
+}
+
 TEST(DirectionTree, TheDensityIntegratesToOne) {
     const DirectionTree tree = lumpy_tree();
     ASSERT_GT(tree.depth(), 4);
@@ -123,7 +154,11 @@ TEST(DirectionTree, RefiningSplitsWhereTheEnergyIsAndAddsUpTheSameLayout) {
     fine.add(vec2(0.9f, 0.9f), 1);
     EXPECT_EQ(fine.total(), 10001u);
     const DirectionTree t = fine.to_tree(1.0);
-    EXPECT_NEAR(t.pdf(vec2(0.9f, 0.9f)), 4.0f / 10001.0f, 1e-9f);
+    // Nearly all the energy lies below the horizon (x < 1/2), where the cosine is zero: the
+    // density is the lone record's, 4 (its quadrant's share of the square, all of the
+    // irradiance) times the cosine 2 x - 1 = 0.8 over its mean there, 1/2.
+    EXPECT_EQ(t.pdf(vec2(0.1f, 0.1f)), 0.0f);
+    EXPECT_NEAR(t.pdf(vec2(0.9f, 0.9f)), 4.0f * 0.8f / 0.5f, 1e-5f);
     // The same energies whatever the order they were added in: integers.
     DirectionRecorder reverse = DirectionRecorder::refined(coarse, 0.01f, 20);
     reverse.add(vec2(0.9f, 0.9f), 1);

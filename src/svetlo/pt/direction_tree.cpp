@@ -39,9 +39,46 @@ vec3 square_to_direction(vec2 x) {
     return vec3(sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta);
 }
 
-float DirectionTree::total() const {
-    const Node& root = nodes_[0];
-    return root.energy[0] + root.energy[1] + root.energy[2] + root.energy[3];
+namespace {
+
+/// The mean of max(0, 2 x - 1) over [x0, x0 + size], a column of a quadrant. No quadrant
+/// below the root's straddles x = 1/2: the cosine is either zero on it or 2 x - 1 all over.
+float mean_cosine(float x0, float size) {
+    return x0 >= 0.5f ? 2.0f * (x0 + 0.5f * size) - 1.0f : 0.0f;
+}
+
+}  // namespace
+
+DirectionTree::DirectionTree(std::vector<Node> nodes)
+    : nodes_(std::move(nodes)), irradiance_(nodes_.size()) {
+    // Each node's column (its left edge in x) and width; children come after their parents.
+    std::vector<float> x0(nodes_.size(), 0.0f), width(nodes_.size(), 1.0f);
+    for (size_t k = 0; k < nodes_.size(); ++k) {
+        for (int q = 0; q < 4; ++q) {
+            const uint32_t c = nodes_[k].child[static_cast<size_t>(q)];
+            if (!c) continue;
+            width[c] = 0.5f * width[k];
+            x0[c] = x0[k] + width[c] * static_cast<float>(q & 1);
+        }
+    }
+    for (size_t k = nodes_.size(); k-- > 0;) {
+        for (size_t q = 0; q < 4; ++q) {
+            const uint32_t c = nodes_[k].child[q];
+            if (c) {
+                const std::array<float, 4>& i = irradiance_[c];
+                irradiance_[k][q] = i[0] + i[1] + i[2] + i[3];
+            } else {
+                const float half = 0.5f * width[k];
+                irradiance_[k][q] = nodes_[k].energy[q] *
+                                    mean_cosine(x0[k] + half * static_cast<float>(q & 1), half);
+            }
+        }
+    }
+}
+
+float DirectionTree::irradiance() const {
+    const std::array<float, 4>& e = irradiance_[0];
+    return e[0] + e[1] + e[2] + e[3];
 }
 
 vec2 DirectionTree::sample(vec2 u) const {
@@ -49,29 +86,49 @@ vec2 DirectionTree::sample(vec2 u) const {
     float size = 1.0f;
     uint32_t index = 0;
     for (;;) {
-        const Node& n = nodes_[index];
-        const int qx = pick(n.energy[0] + n.energy[2], n.energy[1] + n.energy[3], u.x);
-        const int qy = pick(n.energy[qx], n.energy[qx + 2], u.y);
+        const std::array<float, 4>& e = irradiance_[index];
+        const int qx = pick(e[0] + e[2], e[1] + e[3], u.x);
+        const int qy = pick(e[qx], e[qx + 2], u.y);
         const int q = qx | (qy << 1);
         size *= 0.5f;
         origin += size * vec2(qx, qy);
-        if (n.child[q] == 0) return glm::min(origin + size * u, vec2(kBelowOne));
-        index = n.child[q];
+        const uint32_t child = nodes_[index].child[static_cast<size_t>(q)];
+        if (child == 0) {
+            // In the leaf, x with density in proportion to t = 2 x - 1 on [t0, t1]: its
+            // inverse CDF, t = sqrt(t0^2 + u (t1^2 - t0^2)).
+            const float t0 = 2.0f * origin.x - 1.0f, t1 = t0 + 2.0f * size;
+            const float t = std::sqrt(std::max(0.0f, t0 * t0 + u.x * (t1 * t1 - t0 * t0)));
+            const vec2 x(glm::clamp(0.5f * (t + 1.0f), origin.x, origin.x + size),
+                         origin.y + size * u.y);
+            return glm::min(x, vec2(kBelowOne));
+        }
+        index = child;
     }
 }
 
 float DirectionTree::pdf(vec2 x) const {
-    float p = 1.0f;
+    const float t = 2.0f * x.x - 1.0f;
+    if (!(t > 0.0f)) return 0.0f;
+    float p = 1.0f, x0 = 0.0f, size = 1.0f;
     uint32_t index = 0;
     for (;;) {
-        const Node& n = nodes_[index];
-        const float sum = n.energy[0] + n.energy[1] + n.energy[2] + n.energy[3];
+        const std::array<float, 4>& e = irradiance_[index];
+        const float sum = e[0] + e[1] + e[2] + e[3];
         if (!(sum > 0.0f)) return 0.0f;
         const int q = quadrant_of(x);
-        p *= 4.0f * n.energy[q] / sum;
-        if (n.child[q] == 0 || p == 0.0f) return p;
-        index = n.child[q];
+        size *= 0.5f;
+        x0 += size * static_cast<float>(q & 1);
+        p *= 4.0f * e[static_cast<size_t>(q)] / sum;
+        const uint32_t child = nodes_[index].child[static_cast<size_t>(q)];
+        if (p == 0.0f) return 0.0f;
+        if (child == 0) return p * t / mean_cosine(x0, size);
+        index = child;
     }
+}
+
+float DirectionTree::total() const {
+    const Node& root = nodes_[0];
+    return root.energy[0] + root.energy[1] + root.energy[2] + root.energy[3];
 }
 
 int DirectionTree::depth() const {

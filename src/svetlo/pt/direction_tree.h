@@ -3,8 +3,12 @@
 // guiding"): a quadtree over the square [0,1)^2 that stands for the sphere of directions by
 // the cylindrical, area-preserving map x = (cos theta + 1) / 2, y = phi / (2 pi). Each node
 // holds, per quadrant, an estimate of the incident radiance integrated over the directions
-// of that quadrant; a direction is drawn with density proportional to them, down to the
-// leaves, where it is uniform. One steradian is 1 / (4 pi) of the square.
+// of that quadrant. A direction is drawn in proportion to the product of that radiance and
+// the cosine about the square's polar axis, max(0, cos theta) = max(0, 2 x - 1): the light a
+// diffuse surface facing that axis reflects (Herholz et al. 2016 sample such products with
+// mixtures; here the cosine depends on x alone, so each quadrant's share of the product is
+// exact, and a leaf draws x in proportion to the cosine and y uniformly). One steradian is
+// 1 / (4 pi) of the square.
 //
 // Two trees take turns (guiding_field.h): a DirectionTree draws directions during one
 // training iteration while a DirectionRecorder of a finer layout adds up the radiance the
@@ -41,15 +45,20 @@ public:
     };
 
     /// One node, no energy: nothing to draw from.
-    DirectionTree() : nodes_(1) {}
-    explicit DirectionTree(std::vector<Node> nodes) : nodes_(std::move(nodes)) {}
+    DirectionTree() : nodes_(1), irradiance_(1) {}
+    explicit DirectionTree(std::vector<Node> nodes);
 
-    /// The energy of the whole sphere; draws and densities need it above zero.
+    /// The energy of the whole sphere.
     float total() const;
+    /// The energy times the cosine over the upper hemisphere (the irradiance, in the
+    /// energy's units); draws and densities need it above zero.
+    float irradiance() const;
     /// A point of the square drawn with density pdf(x) from u in [0,1)^2: each level picks
-    /// its column by u.x and the quadrant in it by u.y, and rescales them for the next.
+    /// its column by u.x and the quadrant in it by u.y, in proportion to the quadrants'
+    /// irradiance, and rescales them for the next; the leaf draws x by the cosine.
     vec2 sample(vec2 u) const;
-    /// The density over the square: the product, level by level, of 4 e_q / sum(e).
+    /// The density over the square: the product, level by level, of 4 i_q / sum(i), times,
+    /// in the leaf, the cosine over its mean there. Zero on the lower half (x < 1/2).
     float pdf(vec2 x) const;
 
     const std::vector<Node>& nodes() const { return nodes_; }
@@ -58,6 +67,8 @@ public:
 
 private:
     std::vector<Node> nodes_;  // nodes_[0] is the root
+    /// Per node and quadrant, the energy times the cosine, integrated over the quadrant.
+    std::vector<std::array<float, 4>> irradiance_;
 };
 
 class DirectionRecorder {

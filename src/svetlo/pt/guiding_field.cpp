@@ -50,9 +50,34 @@ int facing_of(vec3 n) {
     return 2 * axis + (n[axis] < 0.0f);
 }
 
-const DirectionTree* GuidingField::at(vec3 p, vec3 n) const {
-    const Directions& d = regions_[region_at(p)].facing[static_cast<size_t>(facing_of(n))];
-    return d.learned ? &d.sampling : nullptr;
+vec3 to_facing(vec3 d, int f) {
+    const int a = f / 2;
+    const float s = f & 1 ? -1.0f : 1.0f;
+    return vec3(d[(a + 1) % 3], s * d[(a + 2) % 3], s * d[a]);
+}
+
+vec3 from_facing(vec3 d, int f) {
+    const int a = f / 2;
+    const float s = f & 1 ? -1.0f : 1.0f;
+    vec3 w;
+    w[a] = s * d.z;
+    w[(a + 1) % 3] = d.x;
+    w[(a + 2) % 3] = s * d.y;
+    return w;
+}
+
+vec3 Guide::sample(vec2 u) const {
+    return from_facing(square_to_direction(tree->sample(u)), facing);
+}
+
+float Guide::pdf(vec3 wi) const {
+    return tree->pdf(direction_to_square(to_facing(wi, facing))) / kSquareToSolidAngle;
+}
+
+Guide GuidingField::at(vec3 p, vec3 n) const {
+    const int f = facing_of(n);
+    const Directions& d = regions_[region_at(p)].facing[static_cast<size_t>(f)];
+    return d.learned && d.sampling.irradiance() > 0.0f ? Guide{&d.sampling, f} : Guide{};
 }
 
 void GuidingField::record(vec3 p, vec3 n, vec3 wi, float value) {
@@ -63,8 +88,10 @@ void GuidingField::record(vec3 p, vec3 n, vec3 wi, float value) {
     const double steps =
         std::min(std::round(static_cast<double>(value) / kStep), kMaxStepsPerRecord);
     const auto fixed = static_cast<uint64_t>(steps);
+    const int f = facing_of(n);
     if (fixed)
-        r.facing[static_cast<size_t>(facing_of(n))].recording.add(direction_to_square(wi), fixed);
+        r.facing[static_cast<size_t>(f)].recording.add(direction_to_square(to_facing(wi, f)),
+                                                       fixed);
 }
 
 void GuidingField::refine(int passes) {

@@ -31,6 +31,24 @@ inline constexpr int kMaxDirectionDepth = 20;
 /// The probability of drawing a guided bounce from the BSDF rather than from the field.
 inline constexpr float kGuidingBsdfFraction = 0.5f;
 
+/// A region's distribution for surfaces of one facing (facing_of). Its square maps the
+/// directions of the facing's own frame, whose polar axis is the facing's axis, so that
+/// the cosine of a surface of that facing is the square's x: the guide draws in proportion
+/// to the learned incident radiance times that cosine (DirectionTree::sample).
+struct Guide {
+    const DirectionTree* tree = nullptr;  // null: nothing learned here
+    int facing = 0;
+
+    explicit operator bool() const { return tree != nullptr; }
+    /// A world-space unit direction drawn from u in [0,1)^2, and its density per steradian.
+    vec3 sample(vec2 u) const;
+    float pdf(vec3 wi) const;
+};
+
+/// World direction d in the frame of facing f (its axis the frame's z), and back.
+vec3 to_facing(vec3 d, int f);
+vec3 from_facing(vec3 d, int f);
+
 class GuidingField {
 public:
     /// A field over `bounds` (points outside are clamped into it).
@@ -38,7 +56,7 @@ public:
 
     /// The distribution to draw from at p on a surface of normal n, or null where nothing
     /// has been learned yet.
-    const DirectionTree* at(vec3 p, vec3 n) const;
+    Guide at(vec3 p, vec3 n) const;
     /// A path's estimate of the radiance arriving at p (normal n) from unit direction wi,
     /// divided by the pdf with which wi was drawn. Safe from many threads at once.
     void record(vec3 p, vec3 n, vec3 wi, float value);

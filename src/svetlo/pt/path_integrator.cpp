@@ -24,27 +24,27 @@ bool guidable(const Bsdf& bsdf) {
 
 /// The pdf per steradian of a bounce to wi: the BSDF's, or with a guiding distribution,
 /// the mixture's (kGuidingBsdfFraction of the BSDF's).
-float scatter_pdf(const Bsdf& bsdf, vec3 n, vec3 wo, vec3 wi, const DirectionTree* tree) {
+float scatter_pdf(const Bsdf& bsdf, vec3 n, vec3 wo, vec3 wi, Guide guide) {
     const float bsdf_pdf = pdf_bsdf(bsdf, n, wo, wi);
-    if (!tree) return bsdf_pdf;
+    if (!guide) return bsdf_pdf;
     constexpr float a = kGuidingBsdfFraction;
-    return a * bsdf_pdf + (1.0f - a) * tree->pdf(direction_to_square(wi)) / kSquareToSolidAngle;
+    return a * bsdf_pdf + (1.0f - a) * guide.pdf(wi);
 }
 
 /// One sample of the mixture of the BSDF and the guiding distribution `tree`: u_pick
 /// chooses the BSDF below kGuidingBsdfFraction, and its rescaled value picks the lobe.
-BsdfSample sample_guided(const Bsdf& bsdf, const ShadingFrame& frame, vec3 wo,
-                         const DirectionTree& tree, vec2 u, float u_pick) {
+BsdfSample sample_guided(const Bsdf& bsdf, const ShadingFrame& frame, vec3 wo, Guide guide, vec2 u,
+                         float u_pick) {
     constexpr float a = kGuidingBsdfFraction;
     BsdfSample s;
     if (u_pick < a) {
         s = sample_bsdf(bsdf, frame.ns, wo, frame.front, u, std::min(u_pick / a, 0x1.fffffep-1f));
         if (!s.valid()) return s;
     } else {
-        s.wi = square_to_direction(tree.sample(u));
+        s.wi = guide.sample(u);
         s.f = eval_bsdf(bsdf, frame.ns, wo, s.wi);
     }
-    s.pdf = scatter_pdf(bsdf, frame.ns, wo, s.wi, &tree);
+    s.pdf = scatter_pdf(bsdf, frame.ns, wo, s.wi, guide);
     s.weight = s.pdf > 0.0f ? s.f * (std::abs(glm::dot(frame.ns, s.wi)) / s.pdf) : Color(0.0f);
     s.delta = false;
     return s;
@@ -73,8 +73,7 @@ float PathIntegrator::emitter_weight(uint32_t prim, vec3 from, float pdf_bsdf, i
 }
 
 Color PathIntegrator::one_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame, vec3 wo, int n,
-                                vec2 choice, vec2 u_first, SobolSampler& sampler,
-                                const DirectionTree* tree) {
+                                vec2 choice, vec2 u_first, SobolSampler& sampler, Guide tree) {
     if (selection_.empty()) return Color(0.0f);
     const LightSet& lights = rt_.lights();
     float chosen;
@@ -114,7 +113,7 @@ Color PathIntegrator::one_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& fr
 }
 
 Color PathIntegrator::environment_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame,
-                                        vec3 wo, vec2 u, const DirectionTree* tree) {
+                                        vec3 wo, vec2 u, Guide tree) {
     if (scene_.render.mis == MisMode::BsdfOnly) return Color(0.0f);
     vec3 wi = Frame::from_normal(frame.ng).to_world(sample_cosine_hemisphere(u));
     float cos_theta = glm::dot(frame.ns, wi);
@@ -239,7 +238,7 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, R
         // with the roulette. Further light samples and the background's draw after them.
         const std::array<vec2, 4> u = sampler.next_8();
         const bool guided = guide_ && guidable(bsdf);
-        const DirectionTree* tree = guided ? guide_->at(sh.p, frame.ng) : nullptr;
+        const Guide tree = guided ? guide_->at(sh.p, frame.ng) : Guide{};
         if (bsdf.has_lobes()) {
             // render.light_samples at the first hit, where direct light shows most; one
             // sample deeper, where the path's own spread averages it out.
@@ -263,7 +262,7 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, R
             }
             bsdf.ior = cauchy_ior(bsdf.ior, bsdf.abbe, lambda);
         }
-        const BsdfSample bs = tree ? sample_guided(bsdf, frame, wo, *tree, u[2], u[3].x)
+        const BsdfSample bs = tree ? sample_guided(bsdf, frame, wo, tree, u[2], u[3].x)
                                    : sample_bsdf(bsdf, frame.ns, wo, frame.front, u[2], u[3].x);
         if (!bs.valid()) break;
         // A reflection that leaves below the geometric surface would leak light through it.

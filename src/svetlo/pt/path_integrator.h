@@ -67,11 +67,11 @@ private:
     /// sample's point; further samples draw from `sampler`.
     /// `tree` is the vertex's guiding distribution, or null.
     Color one_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame, vec3 wo, int n,
-                    vec2 choice, vec2 u_first, SobolSampler& sampler, const DirectionTree* tree);
+                    vec2 choice, vec2 u_first, SobolSampler& sampler, Guide tree);
     /// Next-event estimation of the background at p: a cosine-weighted direction about ng,
     /// drawn from u.
     Color environment_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame, vec3 wo, vec2 u,
-                            const DirectionTree* tree);
+                            Guide tree);
     /// Records, for every guided vertex of the path just ended, the radiance its bounce
     /// brought back (what the image gained after it, over its throughput) over its pdf.
     void record_path(Color L);
