@@ -54,8 +54,8 @@ public:
     /// A field over `bounds` (points outside are clamped into it).
     explicit GuidingField(const Bounds3& bounds);
 
-    /// The distribution to draw from at p on a surface of normal n, or null where nothing
-    /// has been learned yet.
+    /// The distribution to draw from at p on a surface of normal n, or an empty Guide where
+    /// nothing has been learned yet (or nothing above the facing's horizon).
     Guide at(vec3 p, vec3 n) const;
     /// A path's estimate of the radiance arriving at p (normal n) from unit direction wi,
     /// divided by the pdf with which wi was drawn. Safe from many threads at once.

@@ -31,7 +31,7 @@ float scatter_pdf(const Bsdf& bsdf, vec3 n, vec3 wo, vec3 wi, Guide guide) {
     return a * bsdf_pdf + (1.0f - a) * guide.pdf(wi);
 }
 
-/// One sample of the mixture of the BSDF and the guiding distribution `tree`: u_pick
+/// One sample of the mixture of the BSDF and the guiding distribution `guide`: u_pick
 /// chooses the BSDF below kGuidingBsdfFraction, and its rescaled value picks the lobe.
 BsdfSample sample_guided(const Bsdf& bsdf, const ShadingFrame& frame, vec3 wo, Guide guide, vec2 u,
                          float u_pick) {
@@ -73,7 +73,7 @@ float PathIntegrator::emitter_weight(uint32_t prim, vec3 from, float pdf_bsdf, i
 }
 
 Color PathIntegrator::one_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame, vec3 wo, int n,
-                                vec2 choice, vec2 u_first, SobolSampler& sampler, Guide tree) {
+                                vec2 choice, vec2 u_first, SobolSampler& sampler, Guide guide) {
     if (selection_.empty()) return Color(0.0f);
     const LightSet& lights = rt_.lights();
     float chosen;
@@ -97,7 +97,7 @@ Color PathIntegrator::one_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& fr
         float w = 1.0f;
         if (!s.delta) {
             w = light_weight(scene_.render.mis, static_cast<float>(n) * chosen * s.pdf,
-                             scatter_pdf(bsdf, frame.ns, wo, s.wi, tree));
+                             scatter_pdf(bsdf, frame.ns, wo, s.wi, guide));
         }
         const bool blocked = w == 0.0f || shadow_blocked(rt_, p, frame.ng, s, rays);
         if (log) {
@@ -113,7 +113,7 @@ Color PathIntegrator::one_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& fr
 }
 
 Color PathIntegrator::environment_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame,
-                                        vec3 wo, vec2 u, Guide tree) {
+                                        vec3 wo, vec2 u, Guide guide) {
     if (scene_.render.mis == MisMode::BsdfOnly) return Color(0.0f);
     vec3 wi = Frame::from_normal(frame.ng).to_world(sample_cosine_hemisphere(u));
     float cos_theta = glm::dot(frame.ns, wi);
@@ -123,7 +123,7 @@ Color PathIntegrator::environment_light(const Bsdf& bsdf, vec3 p, const ShadingF
     if (is_black(f)) return Color(0.0f);
     ++rays;
     const bool blocked = rt_.occluded(Ray{offset_ray_origin(p, frame.ng, wi), wi, kInfinity});
-    float w = light_weight(scene_.render.mis, pdf, scatter_pdf(bsdf, frame.ns, wo, wi, tree));
+    float w = light_weight(scene_.render.mis, pdf, scatter_pdf(bsdf, frame.ns, wo, wi, guide));
     const Color c = blocked ? Color(0.0f) : f * scene_.render.background * (cos_theta * w / pdf);
     if (log)
         log_light(p, frame.ng, wi, kInfinity, pdf, w, blocked ? 0.0f : 1.0f, log_beta_ * c,
@@ -238,15 +238,15 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, R
         // with the roulette. Further light samples and the background's draw after them.
         const std::array<vec2, 4> u = sampler.next_8();
         const bool guided = guide_ && guidable(bsdf);
-        const Guide tree = guided ? guide_->at(sh.p, frame.ng) : Guide{};
+        const Guide guide = guided ? guide_->at(sh.p, frame.ng) : Guide{};
         if (bsdf.has_lobes()) {
             // render.light_samples at the first hit, where direct light shows most; one
             // sample deeper, where the path's own spread averages it out.
             const int n = depth == 0 ? settings.light_samples : 1;
             prev_light_samples = n;
-            L += beta * one_light(bsdf, sh.p, frame, wo, n, u[0], u[1], sampler, tree);
+            L += beta * one_light(bsdf, sh.p, frame, wo, n, u[0], u[1], sampler, guide);
             if (environment_)
-                L += beta * environment_light(bsdf, sh.p, frame, wo, sampler.next_2d(), tree);
+                L += beta * environment_light(bsdf, sh.p, frame, wo, sampler.next_2d(), guide);
             if (photons_) {
                 const Color caustic = photons_->radiance(sh.p, frame, wo, bsdf);
                 L += beta * caustic;
@@ -262,8 +262,8 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, R
             }
             bsdf.ior = cauchy_ior(bsdf.ior, bsdf.abbe, lambda);
         }
-        const BsdfSample bs = tree ? sample_guided(bsdf, frame, wo, tree, u[2], u[3].x)
-                                   : sample_bsdf(bsdf, frame.ns, wo, frame.front, u[2], u[3].x);
+        const BsdfSample bs = guide ? sample_guided(bsdf, frame, wo, guide, u[2], u[3].x)
+                                    : sample_bsdf(bsdf, frame.ns, wo, frame.front, u[2], u[3].x);
         if (!bs.valid()) break;
         // A reflection that leaves below the geometric surface would leak light through it.
         bool transmission = glm::dot(frame.ns, bs.wi) < 0.0f;

@@ -65,13 +65,13 @@ private:
     /// when it has area.
     /// `choice` picks the light (x) and its first sample's primitive (y), `u_first` the first
     /// sample's point; further samples draw from `sampler`.
-    /// `tree` is the vertex's guiding distribution, or null.
+    /// `guide` is the vertex's guiding distribution, or empty.
     Color one_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame, vec3 wo, int n,
-                    vec2 choice, vec2 u_first, SobolSampler& sampler, Guide tree);
+                    vec2 choice, vec2 u_first, SobolSampler& sampler, Guide guide);
     /// Next-event estimation of the background at p: a cosine-weighted direction about ng,
     /// drawn from u.
     Color environment_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame, vec3 wo, vec2 u,
-                            Guide tree);
+                            Guide guide);
     /// Records, for every guided vertex of the path just ended, the radiance its bounce
     /// brought back (what the image gained after it, over its throughput) over its pdf.
     void record_path(Color L);
