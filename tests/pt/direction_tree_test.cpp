@@ -83,7 +83,8 @@ TEST(DirectionTree, TheDensityIsTheEnergyTimesTheCosine) {
     int lower = 0, first = 0;
     double x_sum = 0.0;
     for (int k = 0; k < n; ++k) {
-        const vec2 x = tree.sample(vec2(rng.next_float(), rng.next_float()));
+        float pdf = 0.0f;
+        const vec2 x = tree.sample(vec2(rng.next_float(), rng.next_float()), pdf);
         lower += x.x < 0.5f;
         first += x.y < 0.5f;
         x_sum += x.x;
@@ -121,9 +122,11 @@ TEST(DirectionTree, DrawsFollowTheDensity) {
     }
     Rng rng(1, 2);
     for (int k = 0; k < draws; ++k) {
-        const vec2 x = tree.sample(vec2(rng.next_float(), rng.next_float()));
+        float pdf = 0.0f;
+        const vec2 x = tree.sample(vec2(rng.next_float(), rng.next_float()), pdf);
         ASSERT_TRUE(x.x >= 0.0f && x.x < 1.0f && x.y >= 0.0f && x.y < 1.0f);
-        ASSERT_GT(tree.pdf(x), 0.0f);  // never where the density is zero
+        ASSERT_GT(tree.pdf(x), 0.0f);                        // never where the density is zero
+        ASSERT_NEAR(pdf, tree.pdf(x), 1e-5f * tree.pdf(x));  // the draw's own density
         seen[static_cast<int>(x.y * cells) * cells + static_cast<int>(x.x * cells)] += 1.0;
     }
     double chi2 = 0.0;

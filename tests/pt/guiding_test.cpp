@@ -164,11 +164,13 @@ TEST(Guiding, EachFacingDrawsInItsOwnFrameAboutItsAxis) {
                 vec3(rng.next_float(), rng.next_float(), rng.next_float()) - vec3(0.5f));
             const vec3 back = from_facing(to_facing(d, f), f);
             EXPECT_NEAR(glm::length(back - d), 0.0f, 1e-6f);
-            const vec3 wi = guide.sample(vec2(rng.next_float(), rng.next_float()));
+            float drawn = 0.0f;
+            const vec3 wi = guide.sample(vec2(rng.next_float(), rng.next_float()), drawn);
             EXPECT_GT(glm::dot(wi, axis), 0.0f);
             const float expected =
                 tree.pdf(direction_to_square(to_facing(wi, f))) / kSquareToSolidAngle;
             EXPECT_FLOAT_EQ(guide.pdf(wi), expected);
+            EXPECT_NEAR(drawn, expected, 1e-4f * expected);
             EXPECT_GT(expected, 0.0f);
         }
     }

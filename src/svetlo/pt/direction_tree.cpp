@@ -50,10 +50,11 @@ float mean_cosine(float x0, float size) {
 }  // namespace
 
 DirectionTree::DirectionTree(std::vector<Node> nodes)
-    : nodes_(std::move(nodes)), irradiance_(nodes_.size()) {
+    : nodes_(std::move(nodes)), cells_(nodes_.size()) {
     // Each node's column (its left edge in x) and width; children come after their parents.
     std::vector<float> x0(nodes_.size(), 0.0f), width(nodes_.size(), 1.0f);
     for (size_t k = 0; k < nodes_.size(); ++k) {
+        cells_[k].child = nodes_[k].child;
         for (int q = 0; q < 4; ++q) {
             const uint32_t c = nodes_[k].child[static_cast<size_t>(q)];
             if (!c) continue;
@@ -65,42 +66,49 @@ DirectionTree::DirectionTree(std::vector<Node> nodes)
         for (size_t q = 0; q < 4; ++q) {
             const uint32_t c = nodes_[k].child[q];
             if (c) {
-                const std::array<float, 4>& i = irradiance_[c];
-                irradiance_[k][q] = i[0] + i[1] + i[2] + i[3];
+                const std::array<float, 4>& i = cells_[c].irradiance;
+                cells_[k].irradiance[q] = i[0] + i[1] + i[2] + i[3];
             } else {
                 const float half = 0.5f * width[k];
-                irradiance_[k][q] = nodes_[k].energy[q] *
-                                    mean_cosine(x0[k] + half * static_cast<float>(q & 1), half);
+                cells_[k].irradiance[q] =
+                    nodes_[k].energy[q] *
+                    mean_cosine(x0[k] + half * static_cast<float>(q & 1), half);
             }
         }
     }
 }
 
 float DirectionTree::irradiance() const {
-    const std::array<float, 4>& e = irradiance_[0];
+    const std::array<float, 4>& e = cells_[0].irradiance;
     return e[0] + e[1] + e[2] + e[3];
 }
 
-vec2 DirectionTree::sample(vec2 u) const {
+vec2 DirectionTree::sample(vec2 u, float& pdf) const {
     vec2 origin(0.0f);
-    float size = 1.0f;
+    float size = 1.0f, p = 1.0f;
     uint32_t index = 0;
     for (;;) {
-        const std::array<float, 4>& e = irradiance_[index];
+        const Cell& cell = cells_[index];
+        const std::array<float, 4>& e = cell.irradiance;
         const int qx = pick(e[0] + e[2], e[1] + e[3], u.x);
         const int qy = pick(e[qx], e[qx + 2], u.y);
         const int q = qx | (qy << 1);
         size *= 0.5f;
         origin += size * vec2(qx, qy);
-        const uint32_t child = nodes_[index].child[static_cast<size_t>(q)];
+        p *= 4.0f * e[static_cast<size_t>(q)] / (e[0] + e[1] + e[2] + e[3]);
+        const uint32_t child = cell.child[static_cast<size_t>(q)];
         if (child == 0) {
             // In the leaf, x with density in proportion to t = 2 x - 1 on [t0, t1]: its
             // inverse CDF, t = sqrt(t0^2 + u (t1^2 - t0^2)).
             const float t0 = 2.0f * origin.x - 1.0f, t1 = t0 + 2.0f * size;
             const float t = std::sqrt(std::max(0.0f, t0 * t0 + u.x * (t1 * t1 - t0 * t0)));
-            const vec2 x(glm::clamp(0.5f * (t + 1.0f), origin.x, origin.x + size),
-                         origin.y + size * u.y);
-            return glm::min(x, vec2(kBelowOne));
+            // Rounding must not carry x onto the next leaf's edge, where pdf() would find
+            // that leaf's density: x stays below the leaf's upper edges.
+            const vec2 top(std::nextafter(origin.x + size, 0.0f),
+                           std::nextafter(origin.y + size, 0.0f));
+            const vec2 x = glm::clamp(vec2(0.5f * (t + 1.0f), origin.y + size * u.y), origin, top);
+            pdf = p * (2.0f * x.x - 1.0f) / mean_cosine(origin.x, size);
+            return x;
         }
         index = child;
     }
@@ -112,14 +120,15 @@ float DirectionTree::pdf(vec2 x) const {
     float p = 1.0f, x0 = 0.0f, size = 1.0f;
     uint32_t index = 0;
     for (;;) {
-        const std::array<float, 4>& e = irradiance_[index];
+        const Cell& cell = cells_[index];
+        const std::array<float, 4>& e = cell.irradiance;
         const float sum = e[0] + e[1] + e[2] + e[3];
         if (!(sum > 0.0f)) return 0.0f;
         const int q = quadrant_of(x);
         size *= 0.5f;
         x0 += size * static_cast<float>(q & 1);
         p *= 4.0f * e[static_cast<size_t>(q)] / sum;
-        const uint32_t child = nodes_[index].child[static_cast<size_t>(q)];
+        const uint32_t child = cell.child[static_cast<size_t>(q)];
         if (p == 0.0f) return 0.0f;
         if (child == 0) return p * t / mean_cosine(x0, size);
         index = child;

@@ -45,7 +45,7 @@ public:
     };
 
     /// One node, no energy: nothing to draw from.
-    DirectionTree() : nodes_(1), irradiance_(1) {}
+    DirectionTree() : nodes_(1), cells_(1) {}
     explicit DirectionTree(std::vector<Node> nodes);
 
     /// The energy of the whole sphere.
@@ -53,10 +53,11 @@ public:
     /// The energy times the cosine over the upper hemisphere (the irradiance, in the
     /// energy's units); draws and densities need it above zero.
     float irradiance() const;
-    /// A point of the square drawn with density pdf(x) from u in [0,1)^2: each level picks
-    /// its column by u.x and the quadrant in it by u.y, in proportion to the quadrants'
-    /// irradiance, and rescales them for the next; the leaf draws x by the cosine.
-    vec2 sample(vec2 u) const;
+    /// A point of the square drawn with density pdf(x) from u in [0,1)^2, and that density:
+    /// each level picks its column by u.x and the quadrant in it by u.y, in proportion to
+    /// the quadrants' irradiance, and rescales them for the next; the leaf draws x by the
+    /// cosine.
+    vec2 sample(vec2 u, float& pdf) const;
     /// The density over the square: the product, level by level, of 4 i_q / sum(i), times,
     /// in the leaf, the cosine over its mean there. Zero on the lower half (x < 1/2).
     float pdf(vec2 x) const;
@@ -67,8 +68,13 @@ public:
 
 private:
     std::vector<Node> nodes_;  // nodes_[0] is the root
-    /// Per node and quadrant, the energy times the cosine, integrated over the quadrant.
-    std::vector<std::array<float, 4>> irradiance_;
+    /// What draws and densities read, a cache line's half per node: per quadrant, the
+    /// energy times the cosine integrated over it, and the child (nodes_'s).
+    struct alignas(32) Cell {
+        std::array<float, 4> irradiance{};
+        std::array<uint32_t, 4> child{};
+    };
+    std::vector<Cell> cells_;
 };
 
 class DirectionRecorder {

@@ -23,6 +23,16 @@ uint64_t combine(uint64_t hash, uint64_t value) {
     return mix64(hash ^ (value + 0x9e3779b97f4a7c15ULL));
 }
 
+/// The bits of v (16 of them) spread to every third place: bit i to bit 3 i.
+uint64_t spread3(uint64_t v) {
+    v &= 0xffff;
+    v = (v | (v << 16)) & 0x0000ff0000ffULL;
+    v = (v | (v << 8)) & 0x00f00f00f00fULL;
+    v = (v | (v << 4)) & 0x0c30c30c30c3ULL;
+    v = (v | (v << 2)) & 0x249249249249ULL;
+    return v;
+}
+
 }  // namespace
 
 GuidingField::GuidingField(const Bounds3& bounds) : nodes_(1), regions_(1) {
@@ -33,15 +43,18 @@ GuidingField::GuidingField(const Bounds3& bounds) : nodes_(1), regions_(1) {
 }
 
 uint32_t GuidingField::region_at(vec3 p) const {
-    vec3 x = glm::clamp((p - origin_) * inv_size_, vec3(0.0f), vec3(1.0f));
-    const SpaceNode* node = &nodes_[0];
-    while (node->child) {
-        const int axis = node->depth % 3;
-        const int side = x[axis] >= 0.5f;
-        x[axis] = 2.0f * x[axis] - static_cast<float>(side);
-        node = &nodes_[node->child + static_cast<uint32_t>(side)];
-    }
-    return node->region;
+    // The tree halves x, y and z in turn, so the side taken at depth d is bit 15 - d / 3 of
+    // coordinate d % 3 in 16-bit fixed point: bit 47 - d of their Morton code.
+    const vec3 x = glm::clamp((p - origin_) * inv_size_, vec3(0.0f), vec3(1.0f));
+    auto fixed = [](float c) {  // NaN to 0, as the comparisons of halving took it
+        return c > 0.0f ? std::min(static_cast<uint64_t>(c * 65536.0f), uint64_t{0xffff}) : 0;
+    };
+    const uint64_t code =
+        (spread3(fixed(x.x)) << 2) | (spread3(fixed(x.y)) << 1) | spread3(fixed(x.z));
+    uint32_t index = 0;
+    for (int depth = 0; nodes_[index].child; ++depth)
+        index = nodes_[index].child + static_cast<uint32_t>((code >> (47 - depth)) & 1);
+    return nodes_[index].region;
 }
 
 int facing_of(vec3 n) {
@@ -66,8 +79,10 @@ vec3 from_facing(vec3 d, int f) {
     return w;
 }
 
-vec3 Guide::sample(vec2 u) const {
-    return from_facing(square_to_direction(tree->sample(u)), facing);
+vec3 Guide::sample(vec2 u, float& pdf) const {
+    const vec2 x = tree->sample(u, pdf);
+    pdf /= kSquareToSolidAngle;
+    return from_facing(square_to_direction(x), facing);
 }
 
 float Guide::pdf(vec3 wi) const {
@@ -76,22 +91,23 @@ float Guide::pdf(vec3 wi) const {
 
 Guide GuidingField::at(vec3 p, vec3 n) const {
     const int f = facing_of(n);
-    const Directions& d = regions_[region_at(p)].facing[static_cast<size_t>(f)];
-    return d.learned && d.sampling.irradiance() > 0.0f ? Guide{&d.sampling, f} : Guide{};
+    const uint32_t region = region_at(p);
+    const Directions& d = regions_[region].facing[static_cast<size_t>(f)];
+    return Guide{d.drawable ? &d.sampling : nullptr, f, region};
 }
 
-void GuidingField::record(vec3 p, vec3 n, vec3 wi, float value) {
+void GuidingField::record(const Guide& where, vec3 wi, float value) {
     // Many threads record at once: the recorders and counts are added to atomically.
-    Region& r = regions_[region_at(p)];
+    Region& r = regions_[where.region];
     std::atomic_ref<uint64_t>(r.records).fetch_add(1, std::memory_order_relaxed);
     if (!(value > 0.0f) || !std::isfinite(value)) return;
     const double steps =
         std::min(std::round(static_cast<double>(value) / kStep), kMaxStepsPerRecord);
     const auto fixed = static_cast<uint64_t>(steps);
-    const int f = facing_of(n);
-    if (fixed)
-        r.facing[static_cast<size_t>(f)].recording.add(direction_to_square(to_facing(wi, f)),
-                                                       fixed);
+    if (fixed) {
+        r.facing[static_cast<size_t>(where.facing)].recording.add(
+            direction_to_square(to_facing(wi, where.facing)), fixed);
+    }
 }
 
 void GuidingField::refine(int passes) {
@@ -101,7 +117,7 @@ void GuidingField::refine(int passes) {
         for (Directions& d : r.facing) {
             if (d.recording.total() == 0) continue;
             d.sampling = d.recording.to_tree(kStep);
-            d.learned = true;
+            d.drawable = d.sampling.irradiance() > 0.0f;
         }
     }
     // Regions that saw many records split in two, and again, each half taking half the
@@ -141,7 +157,7 @@ uint64_t GuidingField::fingerprint() const {
     for (const SpaceNode& n : nodes_) h = combine(combine(h, n.child), n.region);
     for (const Region& r : regions_) {
         for (const Directions& d : r.facing) {
-            h = combine(h, d.learned);
+            h = combine(h, d.drawable);
             for (const DirectionTree::Node& n : d.sampling.nodes()) {
                 for (size_t q = 0; q < 4; ++q)
                     h = combine(combine(h, std::bit_cast<uint32_t>(n.energy[q])), n.child[q]);

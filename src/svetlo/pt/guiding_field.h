@@ -36,12 +36,14 @@ inline constexpr float kGuidingBsdfFraction = 0.5f;
 /// the cosine of a surface of that facing is the square's x: the guide draws in proportion
 /// to the learned incident radiance times that cosine (DirectionTree::sample).
 struct Guide {
-    const DirectionTree* tree = nullptr;  // null: nothing learned here
+    const DirectionTree* tree = nullptr;  // null: nothing to draw from here
     int facing = 0;
+    uint32_t region = 0;  // the field's region, where record() adds
 
     explicit operator bool() const { return tree != nullptr; }
-    /// A world-space unit direction drawn from u in [0,1)^2, and its density per steradian.
-    vec3 sample(vec2 u) const;
+    /// A world-space unit direction drawn from u in [0,1)^2, and its density per steradian
+    /// (the same as pdf's).
+    vec3 sample(vec2 u, float& pdf) const;
     float pdf(vec3 wi) const;
 };
 
@@ -54,12 +56,12 @@ public:
     /// A field over `bounds` (points outside are clamped into it).
     explicit GuidingField(const Bounds3& bounds);
 
-    /// The distribution to draw from at p on a surface of normal n, or an empty Guide where
+    /// The distribution to draw from at p on a surface of normal n, its tree null where
     /// nothing has been learned yet (or nothing above the facing's horizon).
     Guide at(vec3 p, vec3 n) const;
-    /// A path's estimate of the radiance arriving at p (normal n) from unit direction wi,
-    /// divided by the pdf with which wi was drawn. Safe from many threads at once.
-    void record(vec3 p, vec3 n, vec3 wi, float value);
+    /// A path's estimate of the radiance arriving from unit direction wi where `at` found
+    /// `where`, divided by the pdf with which wi was drawn. Safe from many threads at once.
+    void record(const Guide& where, vec3 wi, float value);
     /// Ends a training iteration of `passes` passes (above).
     void refine(int passes);
 
@@ -77,7 +79,7 @@ private:
     };
     struct Directions {
         DirectionTree sampling;
-        bool learned = false;  // sampling holds energy
+        bool drawable = false;  // sampling holds energy above the facing's horizon
         DirectionRecorder recording;
     };
     struct Region {

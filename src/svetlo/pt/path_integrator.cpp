@@ -22,13 +22,18 @@ bool guidable(const Bsdf& bsdf) {
     return bsdf.has_lobes() && is_black(bsdf.reflect) && is_black(bsdf.transmit);
 }
 
+/// The pdf per steradian of a guided bounce, from its BSDF's and its guide's: their
+/// mixture, kGuidingBsdfFraction of the BSDF's.
+float mixture_pdf(float bsdf_pdf, float guide_pdf) {
+    constexpr float a = kGuidingBsdfFraction;
+    return a * bsdf_pdf + (1.0f - a) * guide_pdf;
+}
+
 /// The pdf per steradian of a bounce to wi: the BSDF's, or with a guiding distribution,
-/// the mixture's (kGuidingBsdfFraction of the BSDF's).
+/// the mixture's.
 float scatter_pdf(const Bsdf& bsdf, vec3 n, vec3 wo, vec3 wi, Guide guide) {
     const float bsdf_pdf = pdf_bsdf(bsdf, n, wo, wi);
-    if (!guide) return bsdf_pdf;
-    constexpr float a = kGuidingBsdfFraction;
-    return a * bsdf_pdf + (1.0f - a) * guide.pdf(wi);
+    return guide ? mixture_pdf(bsdf_pdf, guide.pdf(wi)) : bsdf_pdf;
 }
 
 /// One sample of the mixture of the BSDF and the guiding distribution `guide`: u_pick
@@ -37,14 +42,16 @@ BsdfSample sample_guided(const Bsdf& bsdf, const ShadingFrame& frame, vec3 wo, G
                          float u_pick) {
     constexpr float a = kGuidingBsdfFraction;
     BsdfSample s;
+    float guide_pdf = 0.0f;
     if (u_pick < a) {
         s = sample_bsdf(bsdf, frame.ns, wo, frame.front, u, std::min(u_pick / a, 0x1.fffffep-1f));
         if (!s.valid()) return s;
+        guide_pdf = guide.pdf(s.wi);
     } else {
-        s.wi = guide.sample(u);
+        s.wi = guide.sample(u, guide_pdf);
         s.f = eval_bsdf(bsdf, frame.ns, wo, s.wi);
     }
-    s.pdf = scatter_pdf(bsdf, frame.ns, wo, s.wi, guide);
+    s.pdf = mixture_pdf(pdf_bsdf(bsdf, frame.ns, wo, s.wi), guide_pdf);
     s.weight = s.pdf > 0.0f ? s.f * (std::abs(glm::dot(frame.ns, s.wi)) / s.pdf) : Color(0.0f);
     s.delta = false;
     return s;
@@ -271,8 +278,7 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, R
         beta *= bs.weight;
         if (is_black(beta)) break;
         if (train_ && guided && guided_count_ < kMaxGuidedVertices)
-            guided_[static_cast<size_t>(guided_count_++)] = {sh.p, frame.ng, bs.wi,
-                                                             beta, L,        bs.pdf};
+            guided_[static_cast<size_t>(guided_count_++)] = {guide, bs.wi, beta, L, bs.pdf};
         prev_delta = bs.delta;
         prev_pdf = bs.pdf;
         prev_p = sh.p;
@@ -308,7 +314,7 @@ void PathIntegrator::record_path(Color L) {
             ++channels;
         }
         const float incident = channels ? std::max(0.0f, sum / static_cast<float>(channels)) : 0.0f;
-        guide_->record(v.p, v.n, v.wi, incident / v.pdf);
+        guide_->record(v.where, v.wi, incident / v.pdf);
     }
     guided_count_ = 0;
 }

@@ -87,7 +87,8 @@ private:
 
     /// A guided vertex of the path being followed, while training.
     struct GuidedVertex {
-        vec3 p, n, wi;
+        Guide where;  // its region and facing
+        vec3 wi;
         Color beta;      // the throughput after its bounce
         Color L_before;  // the radiance gathered before its bounce
         float pdf;       // of the bounce's direction
