@@ -185,30 +185,47 @@ DirectionRecorder DirectionRecorder::refined(const DirectionTree& tree, float fr
 }
 
 void DirectionRecorder::add(vec2 x, uint64_t value) {
+    // The layout is fixed while a recorder adds: only the leaf's sum is written.
     uint32_t index = 0;
     for (;;) {
         Node& n = nodes_[index];
-        const int q = quadrant_of(x);
-        std::atomic_ref<uint64_t>(n.sum[static_cast<size_t>(q)])
-            .fetch_add(value, std::memory_order_relaxed);
-        if (n.child[static_cast<size_t>(q)] == 0) return;
-        index = n.child[static_cast<size_t>(q)];
+        const auto q = static_cast<size_t>(quadrant_of(x));
+        if (n.child[q] == 0) {
+            std::atomic_ref<uint64_t>(n.sum[q]).fetch_add(value, std::memory_order_relaxed);
+            return;
+        }
+        index = n.child[q];
     }
 }
 
+std::vector<std::array<uint64_t, 4>> DirectionRecorder::sums() const {
+    std::vector<std::array<uint64_t, 4>> s(nodes_.size());
+    for (size_t k = nodes_.size(); k-- > 0;) {  // children come after their parents
+        for (size_t q = 0; q < 4; ++q) {
+            const uint32_t c = nodes_[k].child[q];
+            s[k][q] = c ? s[c][0] + s[c][1] + s[c][2] + s[c][3] : nodes_[k].sum[q];
+        }
+    }
+    return s;
+}
+
 DirectionTree DirectionRecorder::to_tree(double unit) const {
+    const std::vector<std::array<uint64_t, 4>> s = sums();
     std::vector<DirectionTree::Node> nodes(nodes_.size());
     for (size_t k = 0; k < nodes_.size(); ++k) {
         for (size_t q = 0; q < 4; ++q)
-            nodes[k].energy[q] = static_cast<float>(static_cast<double>(nodes_[k].sum[q]) * unit);
+            nodes[k].energy[q] = static_cast<float>(static_cast<double>(s[k][q]) * unit);
         nodes[k].child = nodes_[k].child;
     }
     return DirectionTree(std::move(nodes));
 }
 
 uint64_t DirectionRecorder::total() const {
-    const Node& root = nodes_[0];
-    return root.sum[0] + root.sum[1] + root.sum[2] + root.sum[3];
+    uint64_t t = 0;
+    for (const Node& n : nodes_)
+        for (size_t q = 0; q < 4; ++q)
+            if (n.child[q] == 0) t += n.sum[q];
+    return t;
 }
 
 }  // namespace svetlo

@@ -80,7 +80,9 @@ private:
 class DirectionRecorder {
 public:
     struct Node {
-        std::array<uint64_t, 4> sum{};  // per quadrant, in fixed point (guiding_field.h)
+        /// Per leaf quadrant, the sum of what was added there, in fixed point
+        /// (guiding_field.h); a quadrant with a child keeps 0, its sum is its children's.
+        std::array<uint64_t, 4> sum{};
         std::array<uint32_t, 4> child{};
     };
 
@@ -93,15 +95,21 @@ public:
     /// its energy to each child. Its sums start at zero.
     static DirectionRecorder refined(const DirectionTree& tree, float fraction, int max_depth);
 
-    /// Adds `value` (fixed point) to every quadrant that contains x, root to leaf. Safe to
-    /// call from many threads at once, and the sums do not depend on the order: integers.
+    /// Adds `value` (fixed point) to the leaf quadrant that contains x: one atomic add, so
+    /// that many threads may call it at once, and the sums do not depend on the order:
+    /// integers.
     void add(vec2 x, uint64_t value);
-    /// The tree of these sums, each multiplied by `unit`.
+    /// The tree of these sums, each quadrant's the sum of the leaves under it, multiplied
+    /// by `unit`.
     DirectionTree to_tree(double unit) const;
+    /// The sum of every leaf.
     uint64_t total() const;
     size_t size() const { return nodes_.size(); }
 
 private:
+    /// Every quadrant's sum, the leaves' added up to the root.
+    std::vector<std::array<uint64_t, 4>> sums() const;
+
     std::vector<Node> nodes_;
 };
 
