@@ -79,6 +79,7 @@ demo: build
 bench: build
 	$(BUILD)/bench/svetlo_bench
 	$(BUILD)/bench/svetlo_image_bench
+	$(BUILD)/bench/svetlo_guiding_bench
 	$(BUILD)/bench/svetlo_raster_bench 1
 	$(BUILD)/bench/svetlo_raster_bench $(JOBS)
 	$(SVETLO) bench scenes/bunny.json --accel none,bvh --rays primary --threads 1 -W 64 -H 40
@@ -90,6 +91,10 @@ bench: build
 	    --set render.light_samples=1 -W 512 -H 512 --spp 16 --threads 1 -o $(BUILD)/bench_path.pfm
 	$(SVETLO) render scenes/cornell.json --engine path --set render.max_depth=64 \
 	    --set render.light_samples=1 -W 512 -H 512 --spp 16 --threads $(JOBS) -o $(BUILD)/bench_path.pfm
+	$(SVETLO) render scenes/door_ajar.json -W 160 -H 120 --spp 128 --threads $(JOBS) \
+	    -o $(BUILD)/bench_door.pfm
+	$(SVETLO) render scenes/door_ajar.json --set render.guiding=true -W 160 -H 120 --spp 128 \
+	    --threads $(JOBS) -o $(BUILD)/bench_door_guided.pfm
 	/usr/bin/python3 bench/radiosity/scaling.py $(SVETLO) $(JOBS)
 	/usr/bin/python3 bench/radiosity/equal_error.py $(SVETLO) 512 2048 $(JOBS)
 	PYTHONPATH=$(BUILD)/python /usr/bin/python3 bench/python_overhead.py
