@@ -157,6 +157,12 @@ TEST(DirectionTree, RefiningSplitsWhereTheEnergyIsAndAddsUpTheSameLayout) {
     fine.add(vec2(0.9f, 0.9f), 1);
     EXPECT_EQ(fine.total(), 10001u);
     const DirectionTree t = fine.to_tree(1.0);
+    // Only leaves are added to; a quadrant with children holds its leaves' sum, the spot's
+    // 10000 down every level to it.
+    EXPECT_EQ(t.nodes()[0].energy, (std::array<float, 4>{10000.0f, 0.0f, 0.0f, 1.0f}));
+    const uint32_t spot = t.nodes()[0].child[0];
+    ASSERT_NE(spot, 0u);
+    EXPECT_EQ(t.nodes()[spot].energy, (std::array<float, 4>{10000.0f, 0.0f, 0.0f, 0.0f}));
     // Nearly all the energy lies below the horizon (x < 1/2), where the cosine is zero: the
     // density is the lone record's, 4 (its quadrant's share of the square, all of the
     // irradiance) times the cosine 2 x - 1 = 0.8 over its mean there, 1/2.
