@@ -71,6 +71,14 @@ const GuidingField& field() {
     return trained;
 }
 
+/// What `f` finds at each of the inputs' points and normals.
+std::vector<Guide> guides_at(const GuidingField& f) {
+    const Inputs& in = inputs();
+    std::vector<Guide> guides;
+    for (int k = 0; k < kLookups; ++k) guides.push_back(f.at(in.points[k], in.normals[k]));
+    return guides;
+}
+
 void at(benchmark::State& state) {
     const GuidingField& f = field();
     const Inputs& in = inputs();
@@ -83,10 +91,8 @@ void at(benchmark::State& state) {
 }
 
 void draw(benchmark::State& state) {
-    const GuidingField& f = field();
     const Inputs& in = inputs();
-    std::vector<Guide> guides;
-    for (int k = 0; k < kLookups; ++k) guides.push_back(f.at(in.points[k], in.normals[k]));
+    const std::vector<Guide> guides = guides_at(field());
     int k = 0;
     for (auto _ : state) {
         float pdf = 0.0f;
@@ -97,10 +103,8 @@ void draw(benchmark::State& state) {
 }
 
 void density(benchmark::State& state) {
-    const GuidingField& f = field();
     const Inputs& in = inputs();
-    std::vector<Guide> guides;
-    for (int k = 0; k < kLookups; ++k) guides.push_back(f.at(in.points[k], in.normals[k]));
+    const std::vector<Guide> guides = guides_at(field());
     int k = 0;
     for (auto _ : state) {
         if (guides[k]) benchmark::DoNotOptimize(guides[k].pdf(in.directions[k]));
@@ -112,8 +116,7 @@ void record(benchmark::State& state) {
     // Into a copy, so that the field the other benchmarks read stays as trained.
     GuidingField f = field();
     const Inputs& in = inputs();
-    std::vector<Guide> guides;
-    for (int k = 0; k < kLookups; ++k) guides.push_back(f.at(in.points[k], in.normals[k]));
+    const std::vector<Guide> guides = guides_at(f);
     int k = 0;
     for (auto _ : state) {
         f.record(guides[k], in.directions[k], 0.5f);
