@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "svetlo/core/error.h"
 #include "svetlo/core/rng.h"
 #include "svetlo/scene/scene_loader.h"
@@ -149,6 +151,93 @@ TEST(LightSet, SamplePdfMatchesPdfAndIntegratesToOne) {
         }
     }
     EXPECT_NEAR(solid_angle / n, omega, 0.01 * omega);
+}
+
+TEST(LightSet, BoxLightsAreSampledOverTheFacesAPointSeesFront) {
+    // A box lamp, upright and turned 30 degrees about y; seen from a point below and to the
+    // side, it shows its bottom and two sides. Every sample must land on a face whose
+    // front the point sees, each face taking its share A h / sum(A h) of them (area times the
+    // point's height over it), with the pdf pdf() gives, and the samples' mean must be the
+    // sum of those faces' polygon irradiances (Lambert's formula).
+    for (float degrees : {0.0f, 30.0f}) {
+        json j = base();
+        j["objects"] = {{{"type", "box"},
+                         {"min", {-0.2, -0.1, -0.15}},
+                         {"max", {0.2, 0.1, 0.15}},
+                         {"transform", {{"rotate", {degrees, 0, 1, 0}}, {"translate", {0, 2, 0}}}},
+                         {"material", "glow"}}};
+        Scene scene = scene_from_json(j, "t.json");
+        LightSet lights(scene);
+        const LightSet::Source& box = lights.sources().at(0);
+        ASSERT_EQ(box.faces.size(), 6u) << degrees;
+        // The box's corners in world space, and its six faces as polygons seen from outside.
+        const mat4 to_world = scene.objects[0].transform.matrix;
+        auto corner = [&](int i) {
+            vec3 c(i & 1 ? 0.2f : -0.2f, i & 2 ? 0.1f : -0.1f, i & 4 ? 0.15f : -0.15f);
+            return vec3(to_world * vec4(c, 1.0f));
+        };
+        const int faces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                                 {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+        const vec3 p(0.9f, 0.6f, 0.4f), n = glm::normalize(vec3(-0.9f, 1.4f, -0.4f));
+        double exact = 0.0, weight = 0.0;
+        std::vector<vec3> front;       // the outward normals of the faces p sees
+        std::vector<double> expected;  // and their share of samples, A h / sum(A h)
+        for (const auto& f : faces) {
+            std::vector<vec3> v = {corner(f[0]), corner(f[1]), corner(f[2]), corner(f[3])};
+            const vec3 edge_u = v[1] - v[0], edge_v = v[3] - v[0];
+            vec3 outward = glm::normalize(glm::cross(edge_u, edge_v));
+            const float height = glm::dot(outward, p - v[0]);
+            if (height <= 0.0f) continue;
+            front.push_back(outward);
+            expected.push_back(glm::length(glm::cross(edge_u, edge_v)) * height);
+            weight += expected.back();
+            exact += polygon_irradiance(p, n, v, 2.0f);
+        }
+        ASSERT_EQ(front.size(), 3u);
+        Rng rng(5, 9);
+        const int count = 20000;
+        std::vector<int> landed(front.size(), 0);
+        for (int i = 0; i < count; ++i) {
+            LightSample s = lights.sample(box, p, rng.next_2d(), rng.next_float());
+            ASSERT_FALSE(is_black(s.irradiance));
+            auto on = std::find_if(front.begin(), front.end(),
+                                   [&](vec3 f) { return glm::dot(f, s.n) > 0.9999f; });
+            ASSERT_NE(on, front.end()) << "a sample on a face p does not see";
+            ++landed[static_cast<size_t>(on - front.begin())];
+            EXPECT_NEAR(lights.pdf(box, p, s.p, s.n), s.pdf, 1e-4f * s.pdf);
+        }
+        for (size_t f = 0; f < front.size(); ++f) {  // each face's share, within 4 sigma
+            const double share = expected[f] / weight;
+            EXPECT_NEAR(landed[f], count * share, 4.0 * std::sqrt(count * share * (1 - share)))
+                << degrees << " " << f;
+        }
+        EXPECT_NEAR(estimate(lights, 0, p, n, 200000), exact, 0.01 * exact) << degrees;
+        // Right under it, only the bottom shows: its points have the density of the bottom's
+        // area alone, 0.4 x 0.3 m^2, per solid angle d^2 / (cos' A).
+        const vec3 below(0.0f, 1.0f, 0.0f), centre(0.0f, 1.9f, 0.0f);
+        EXPECT_NEAR(lights.pdf(box, below, centre, vec3(0, -1, 0)), 0.81f / 0.12f, 1e-4f)
+            << degrees;
+    }
+}
+
+TEST(LightSet, EmitterWithManyFacesIsSampledByAreaOverAll) {
+    // Past LightSet::kMaxFacingFaces triangles, a light keeps the one area CDF: no faces.
+    json j = base();
+    json positions = json::array(), indices = json::array();
+    for (int k = 0; k <= 9; ++k) {
+        positions.push_back({0.1 * k, 2, 0});
+        positions.push_back({0.1 * k, 2, 1});
+    }
+    for (int k = 0; k < 9; ++k) {
+        for (int v : {2 * k, 2 * k + 2, 2 * k + 1, 2 * k + 1, 2 * k + 2, 2 * k + 3})
+            indices.push_back(v);
+    }
+    j["objects"] = {
+        {{"type", "mesh"}, {"positions", positions}, {"indices", indices}, {"material", "glow"}}};
+    Scene scene = scene_from_json(j, "t.json");
+    LightSet lights(scene);
+    EXPECT_EQ(lights.sources().at(0).normals.size(), 18u);
+    EXPECT_TRUE(lights.sources().at(0).faces.empty());
 }
 
 TEST(LightSet, CsgAndImplicitEmittersGlowButAreNoLights) {

@@ -1,6 +1,8 @@
 #include "svetlo/shading/light_set.h"
 
 #include <algorithm>
+#include <array>
+#include <utility>
 
 #include "svetlo/core/error.h"
 #include "svetlo/geometry/scene_geometry.h"
@@ -29,6 +31,47 @@ bool is_similarity(const mat4& m) {
     return true;
 }
 
+/// Lists the flat faces of a source made of triangles, quads and boxes, when there are two
+/// to kMaxFacingFaces of them.
+void add_faces(LightSet::Source& s, const Geometry& g) {
+    std::vector<LightSet::Face> faces;
+    for (uint32_t k = 0; k < s.prims.size(); ++k) {
+        const uint32_t id = s.prims[k];
+        const float area = primitive_area(g, id);
+        // A face's share of its primitive's area, and the u_part at its middle.
+        std::vector<std::pair<float, float>> parts;
+        if (g.is_triangle(id) || g.shape(id).kind == ShapeKind::Quad) {
+            parts.emplace_back(1.0f, 0.5f);
+        } else if (g.shape(id).kind == ShapeKind::Box) {
+            // sample_primitive's order: the min and max side of x, y, z, by area.
+            const vec3 e = g.shape(id).p1 - g.shape(id).p0;
+            const float axis_area[3] = {e.y * e.z, e.z * e.x, e.x * e.y};
+            const float total = 2.0f * (axis_area[0] + axis_area[1] + axis_area[2]);
+            float before = 0.0f;
+            for (int f = 0; f < 6; ++f) {
+                const float a = axis_area[f / 2];
+                parts.emplace_back(a / total, (before + 0.5f * a) / total);
+                before += a;
+            }
+        } else {
+            return;  // curved: not flat faces
+        }
+        for (const auto& [share, u_part] : parts) {
+            if (faces.size() == LightSet::kMaxFacingFaces) return;
+            const SurfaceSample at = sample_primitive(g, id, vec2(0.5f), u_part);
+            LightSet::Face f;
+            f.n = at.n;
+            f.offset = glm::dot(at.n, at.p);
+            f.area = share * area;
+            f.prim = k;
+            f.u_part = u_part;
+            if (f.area > 0.0f) faces.push_back(f);
+        }
+    }
+    // One face changes nothing: p sees its front, and it is sampled by area, or it does not.
+    if (faces.size() > 1) s.faces = std::move(faces);
+}
+
 /// Fills a source's area CDF over its primitives; false when it has no area.
 bool finish_source(LightSet::Source& s, const Geometry& g) {
     double total = 0.0;
@@ -40,6 +83,7 @@ bool finish_source(LightSet::Source& s, const Geometry& g) {
     for (float& c : s.cdf) c = static_cast<float>(c / total);
     s.cdf.back() = 1.0f;
     s.area = static_cast<float>(total);
+    add_faces(s, g);
     // Triangles keep their normals (sample_area): no normalisation per sample.
     if (!std::all_of(s.prims.begin(), s.prims.end(),
                      [&](uint32_t id) { return g.is_triangle(id); }))
@@ -151,17 +195,52 @@ AreaPoint LightSet::sample_area(const Source& source, vec2 u, float u_pick) cons
                     ? sample_primitive(geometry_, prim, u, u_rest)
                     : sample_triangle_primitive(geometry_, prim, u, source.normals[k]);
     a.pdf_area = 1.0f / source.area;
-    const uint32_t m = geometry_.material(prim);
-    a.radiance = emission_textured_[m]
-                     ? make_bsdf(materials_[m], a.surface.uv, scene_.textures).emission
-                     : emission_[m];
+    a.radiance = emission_at(prim, a.surface.uv);
     return a;
+}
+
+Color LightSet::emission_at(uint32_t prim, vec2 uv) const {
+    const uint32_t m = geometry_.material(prim);
+    return emission_textured_[m] ? make_bsdf(materials_[m], uv, scene_.textures).emission
+                                 : emission_[m];
+}
+
+float LightSet::facing_weight(const Source& source, vec3 p, float pick, const Face** face) {
+    std::array<float, kMaxFacingFaces> cdf;
+    float total = 0.0f;
+    for (size_t f = 0; f < source.faces.size(); ++f) {
+        const Face& x = source.faces[f];
+        const float height = glm::dot(x.n, p) - x.offset;  // p's height over the face's plane
+        if (height > 0.0f) total += x.area * height;
+        cdf[f] = total;
+    }
+    if (!face || !(total > 0.0f)) return total;
+    // The first face whose cumulative weight passes pick's share (one behind p adds none).
+    const float target = pick * total;
+    size_t f = 0;
+    while (f + 1 < source.faces.size() && !(target < cdf[f])) ++f;
+    *face = &source.faces[f];
+    return total;
 }
 
 LightSample LightSet::sample(const Source& source, vec3 p, vec2 u, float u_pick) const {
     if (!source.delta) {
-        AreaPoint a = sample_area(source, u, u_pick);
+        const Face* face = nullptr;
+        const float weight = source.faces.empty() ? 0.0f : facing_weight(source, p, u_pick, &face);
+        AreaPoint a;
+        if (!face) {  // by area over all (p sees no face's front: a sample that brings nothing)
+            a = sample_area(source, u, u_pick);
+        } else {
+            const uint32_t prim = source.prims[face->prim];
+            a.surface =
+                source.normals.empty()
+                    ? sample_primitive(geometry_, prim, u, face->u_part)
+                    : sample_triangle_primitive(geometry_, prim, u, source.normals[face->prim]);
+            a.pdf_area = (glm::dot(face->n, p) - face->offset) / weight;
+            a.radiance = emission_at(prim, a.surface.uv);
+        }
         LightSample s = sample_at(a, p);
+        if (!face && !source.faces.empty()) s.irradiance = Color(0.0f);  // as pdf() says
         // pdf(): pdf_area d^2 / cos', from what sample_at found.
         if (!is_black(s.irradiance))
             s.pdf = a.pdf_area * s.distance * s.distance / -glm::dot(s.n, s.wi);
@@ -183,7 +262,11 @@ float LightSet::pdf(const Source& source, vec3 p, vec3 q, vec3 nq) const {
     float dist2 = glm::dot(d, d);
     float cos_light = -glm::dot(nq, d) / std::sqrt(dist2);
     if (!(dist2 > 0.0f) || cos_light <= 0.0f) return 0.0f;
-    return dist2 / (cos_light * source.area);
+    if (source.faces.empty()) return dist2 / (cos_light * source.area);
+    // The face's pdf_area, its height over the plane over the weight, p's height being
+    // cos' d: d^3 / weight per steradian.
+    const float weight = facing_weight(source, p);
+    return weight > 0.0f ? dist2 * std::sqrt(dist2) / weight : 0.0f;
 }
 
 }  // namespace svetlo

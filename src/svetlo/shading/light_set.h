@@ -7,6 +7,14 @@
 //                   its emitting primitives, picked in proportion to area, then sampled
 //                   uniformly by area (pdf_area = 1 / total area)
 //
+// Seen from a point p, a light made of a few flat faces (triangles, quads, a box's sides; 2
+// to kMaxFacingFaces) is sampled over the faces whose front side p lies on, each picked in
+// proportion to its area A times p's height h over its plane, then uniformly by area: the
+// face's pdf_area is h / sum(A h), and its pdf per steradian d^3 / sum(A h). A box lamp sends
+// no sample to its back faces, which emit nothing toward p, and few to the faces p sees
+// edge-on: A h / d^3 is the face's solid angle seen from afar (docs/path.md, "Light
+// sampling").
+//
 // A sample of a light with area estimates the irradiance by E = L cos' / (d^2 pdf_area), the
 // area form of the rendering equation; its pdf per steradian is pdf_area d^2 / cos'. CSG and
 // implicit surfaces with an emissive material are no lights: their area has no closed form to
@@ -43,6 +51,18 @@ struct AreaPoint {
 
 class LightSet {
 public:
+    /// A flat face of a light (light_set.cpp, sample()): its plane, n . x = offset with n
+    /// its unit front normal, its area (m^2), and where in its primitive's u_part it lies.
+    struct Face {
+        vec3 n{0.0f};
+        float offset = 0.0f;
+        float area = 0.0f;
+        uint32_t prim = 0;    // index into Source::prims
+        float u_part = 0.0f;  // picks this face in sample_primitive
+    };
+    /// The faces a light may have to be sampled by the side a point sees.
+    static constexpr size_t kMaxFacingFaces = 16;
+
     struct Source {
         bool delta = true;     // point, spot or directional (else a light with area)
         int light_index = -1;  // index into Scene::lights; -1 for an emissive object
@@ -51,6 +71,7 @@ public:
         std::vector<float> cdf;       // cumulative area over prims, ending at 1
         std::vector<vec3> normals;    // unit front normal per prim, when all are triangles
         float area = 0.0f;            // m^2
+        std::vector<Face> faces;      // when made of 2 to kMaxFacingFaces flat faces
     };
 
     /// Throws Error for an emitter it cannot sample (an emissive plane, or an emissive shape
@@ -69,7 +90,8 @@ public:
     /// A point uniformly distributed by area on a light with area: u in [0,1)^2, u_pick in
     /// [0,1) chooses the primitive (and the face of a box, cylinder or cone).
     AreaPoint sample_area(const Source& source, vec2 u, float u_pick) const;
-    /// The light as seen from p: for lights with area, through sample_area(u, u_pick).
+    /// The light as seen from p: for lights with area, a point drawn by sample_area(u,
+    /// u_pick), or, for one with faces, over the faces p lies in front of (above).
     LightSample sample(const Source& source, vec3 p, vec2 u, float u_pick) const;
     /// A point on a light with area as seen from p; d^2 is clamped below by min_dist2 (the
     /// rasterizer's virtual point lights stand for a patch of that area). Its pdf is not set.
@@ -79,6 +101,14 @@ public:
     float pdf(const Source& source, vec3 p, vec3 q, vec3 nq) const;
 
 private:
+    /// The sum over the faces of `source` that p lies in front of of their area times p's
+    /// height over their plane; with `face`, also the one of them that `pick` in [0,1) picks
+    /// in proportion to that product.
+    static float facing_weight(const Source& source, vec3 p, float pick = 0.0f,
+                               const Face** face = nullptr);
+    /// The emitted radiance of primitive `prim` at uv.
+    Color emission_at(uint32_t prim, vec2 uv) const;
+
     const Scene& scene_;
     std::vector<Material> materials_;
     std::vector<Object> area_quads_;
