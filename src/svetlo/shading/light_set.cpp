@@ -31,8 +31,8 @@ bool is_similarity(const mat4& m) {
     return true;
 }
 
-/// Lists the flat faces of a source made of triangles, quads and boxes, when there are two
-/// to kMaxFacingFaces of them.
+/// Lists the flat faces of a source made of triangles, quads and boxes, when there are at
+/// most kMaxFacingFaces of them, in more than one plane.
 void add_faces(LightSet::Source& s, const Geometry& g) {
     std::vector<LightSet::Face> faces;
     for (uint32_t k = 0; k < s.prims.size(); ++k) {
@@ -68,8 +68,15 @@ void add_faces(LightSet::Source& s, const Geometry& g) {
             if (f.area > 0.0f) faces.push_back(f);
         }
     }
-    // One face changes nothing: p sees its front, and it is sampled by area, or it does not.
-    if (faces.size() > 1) s.faces = std::move(faces);
+    if (faces.empty()) return;
+    // Faces in one plane change nothing: p sees the front of all of them or of none, and
+    // they are sampled by area as before (a quad light made of two triangles).
+    const LightSet::Face& first = faces.front();
+    const bool one_plane = std::all_of(faces.begin(), faces.end(), [&](const LightSet::Face& f) {
+        return glm::dot(f.n, first.n) > 1.0f - 1e-5f &&
+               std::abs(f.offset - first.offset) <= 1e-5f * (1.0f + std::abs(first.offset));
+    });
+    if (!one_plane) s.faces = std::move(faces);
 }
 
 /// Fills a source's area CDF over its primitives; false when it has no area.

@@ -7,11 +7,11 @@
 //                   its emitting primitives, picked in proportion to area, then sampled
 //                   uniformly by area (pdf_area = 1 / total area)
 //
-// Seen from a point p, a light made of a few flat faces (triangles, quads, a box's sides; 2
-// to kMaxFacingFaces) is sampled over the faces whose front side p lies on, each picked in
-// proportion to its area A times p's height h over its plane, then uniformly by area: the
-// face's pdf_area is h / sum(A h), and its pdf per steradian d^3 / sum(A h). A box lamp sends
-// no sample to its back faces, which emit nothing toward p, and few to the faces p sees
+// Seen from a point p, a light made of a few flat faces (triangles, quads, a box's sides; at
+// most kMaxFacingFaces, in more than one plane) is sampled over the faces whose front side p lies
+// on, each picked in proportion to its area A times p's height h over its plane, then uniformly by
+// area: the face's pdf_area is h / sum(A h), and its pdf per steradian d^3 / sum(A h). A box lamp
+// sends no sample to its back faces, which emit nothing toward p, and few to the faces p sees
 // edge-on: A h / d^3 is the face's solid angle seen from afar (docs/path.md, "Light
 // sampling").
 //
@@ -71,7 +71,7 @@ public:
         std::vector<float> cdf;       // cumulative area over prims, ending at 1
         std::vector<vec3> normals;    // unit front normal per prim, when all are triangles
         float area = 0.0f;            // m^2
-        std::vector<Face> faces;      // when made of 2 to kMaxFacingFaces flat faces
+        std::vector<Face> faces;      // a few flat faces, in more than one plane
     };
 
     /// Throws Error for an emitter it cannot sample (an emissive plane, or an emissive shape
