@@ -222,6 +222,55 @@ TEST(LightSet, BoxLightsAreSampledOverTheFacesAPointSeesFront) {
     }
 }
 
+TEST(LightSet, MeshLightsAreSampledOverTheTrianglesAPointSeesFromBothWindings) {
+    // A roof of two slopes, each two triangles, ridge along z at y = 2.2. Wound outward, a
+    // point off to the right and just above the eaves sees the right slope's front alone;
+    // wound inward, a point under the roof sees both slopes' fronts. The samples must land on
+    // those slopes only, and their mean be the slopes' polygon irradiance.
+    const std::vector<vec3> left = {vec3(-0.5f, 2, -0.5f), vec3(-0.5f, 2, 0.5f),
+                                    vec3(0, 2.2f, 0.5f), vec3(0, 2.2f, -0.5f)};
+    const std::vector<vec3> right = {vec3(0, 2.2f, -0.5f), vec3(0, 2.2f, 0.5f), vec3(0.5f, 2, 0.5f),
+                                     vec3(0.5f, 2, -0.5f)};
+    for (bool outward : {true, false}) {
+        json j = base();
+        // Vertices 0-3 the left slope, 4-7 the right one, in the order above.
+        json positions = json::array();
+        for (const auto* slope : {&left, &right}) {
+            for (vec3 v : *slope) positions.push_back({v.x, v.y, v.z});
+        }
+        json indices = json::array();
+        for (int base_vertex : {0, 4}) {
+            const int a = base_vertex, b = a + 1, c = a + 2, d = a + 3;
+            // Counter-clockwise seen from above the roof: a, b, c then a, c, d.
+            for (int v :
+                 outward ? std::vector<int>{a, b, c, a, c, d} : std::vector<int>{a, c, b, a, d, c})
+                indices.push_back(v);
+        }
+        j["objects"] = {{{"type", "mesh"},
+                         {"positions", positions},
+                         {"indices", indices},
+                         {"material", "glow"}}};
+        Scene scene = scene_from_json(j, "t.json");
+        LightSet lights(scene);
+        const LightSet::Source& roof = lights.sources().at(0);
+        ASSERT_EQ(roof.faces.size(), 4u) << outward;
+        const vec3 p = outward ? vec3(1.5f, 2.3f, 0.1f) : vec3(0.3f, 1.0f, 0.1f);
+        const vec3 n = glm::normalize((outward ? vec3(0.25f, 2.1f, 0) : vec3(0, 2.1f, 0)) - p);
+        const float exact =
+            outward ? polygon_irradiance(p, n, right, 2.0f)
+                    : polygon_irradiance(p, n, left, 2.0f) + polygon_irradiance(p, n, right, 2.0f);
+        Rng rng(3, 4);
+        for (int i = 0; i < 2000; ++i) {
+            LightSample s = lights.sample(roof, p, rng.next_2d(), rng.next_float());
+            ASSERT_FALSE(is_black(s.irradiance)) << outward;
+            ASSERT_GT(glm::dot(s.n, p - s.p), 0.0f) << "a sample on a face p does not see";
+            if (outward) EXPECT_GT(s.p.x, 0.0f) << "a sample on the left slope";
+            EXPECT_NEAR(lights.pdf(roof, p, s.p, s.n), s.pdf, 1e-4f * s.pdf);
+        }
+        EXPECT_NEAR(estimate(lights, 0, p, n, 200000), exact, 0.01 * exact) << outward;
+    }
+}
+
 TEST(LightSet, EmitterWithManyFacesIsSampledByAreaOverAll) {
     // Past LightSet::kMaxFacingFaces triangles, a light keeps the one area CDF: no faces.
     json j = base();
