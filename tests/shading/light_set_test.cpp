@@ -264,7 +264,9 @@ TEST(LightSet, MeshLightsAreSampledOverTheTrianglesAPointSeesFromBothWindings) {
             LightSample s = lights.sample(roof, p, rng.next_2d(), rng.next_float());
             ASSERT_FALSE(is_black(s.irradiance)) << outward;
             ASSERT_GT(glm::dot(s.n, p - s.p), 0.0f) << "a sample on a face p does not see";
-            if (outward) EXPECT_GT(s.p.x, 0.0f) << "a sample on the left slope";
+            if (outward) {
+                EXPECT_GT(s.p.x, 0.0f) << "a sample on the left slope";
+            }
             EXPECT_NEAR(lights.pdf(roof, p, s.p, s.n), s.pdf, 1e-4f * s.pdf);
         }
         EXPECT_NEAR(estimate(lights, 0, p, n, 200000), exact, 0.01 * exact) << outward;

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <utility>
 
 #include "svetlo/core/error.h"
 #include "svetlo/geometry/scene_geometry.h"
@@ -38,33 +37,40 @@ void add_faces(LightSet::Source& s, const Geometry& g) {
     for (uint32_t k = 0; k < s.prims.size(); ++k) {
         const uint32_t id = s.prims[k];
         const float area = primitive_area(g, id);
-        // A face's share of its primitive's area, and the u_part at its middle.
-        std::vector<std::pair<float, float>> parts;
+        // The primitive's faces: each one's share of its area and the u_part at its middle,
+        // and a box's side as a parallelogram in world space.
+        std::vector<LightSet::Face> parts;
         if (g.is_triangle(id) || g.shape(id).kind == ShapeKind::Quad) {
-            parts.emplace_back(1.0f, 0.5f);
+            parts.push_back({.area = area, .prim = k, .u_part = 0.5f});
         } else if (g.shape(id).kind == ShapeKind::Box) {
             // sample_primitive's order: the min and max side of x, y, z, by area.
-            const vec3 e = g.shape(id).p1 - g.shape(id).p0;
+            const AnalyticShape& box = g.shape(id);
+            const vec3 e = box.p1 - box.p0;
             const float axis_area[3] = {e.y * e.z, e.z * e.x, e.x * e.y};
             const float total = 2.0f * (axis_area[0] + axis_area[1] + axis_area[2]);
             float before = 0.0f;
             for (int f = 0; f < 6; ++f) {
-                const float a = axis_area[f / 2];
-                parts.emplace_back(a / total, (before + 0.5f * a) / total);
-                before += a;
+                const int axis = f / 2, a = (axis + 1) % 3, b = (axis + 2) % 3;
+                LightSet::Face side{.area = axis_area[axis] / total * area, .prim = k};
+                side.u_part = (before + 0.5f * axis_area[axis]) / total;
+                before += axis_area[axis];
+                vec3 corner = box.p0, edge_u(0.0f), edge_v(0.0f);
+                corner[axis] = f & 1 ? box.p1[axis] : box.p0[axis];
+                edge_u[a] = e[a];
+                edge_v[b] = e[b];
+                side.corner = box.transformed ? vec3(box.to_world * vec4(corner, 1.0f)) : corner;
+                side.edge_u = box.transformed ? mat3(box.to_world) * edge_u : edge_u;
+                side.edge_v = box.transformed ? mat3(box.to_world) * edge_v : edge_v;
+                parts.push_back(side);
             }
         } else {
             return;  // curved: not flat faces
         }
-        for (const auto& [share, u_part] : parts) {
+        for (LightSet::Face& f : parts) {
             if (faces.size() == LightSet::kMaxFacingFaces) return;
-            const SurfaceSample at = sample_primitive(g, id, vec2(0.5f), u_part);
-            LightSet::Face f;
+            const SurfaceSample at = sample_primitive(g, id, vec2(0.5f), f.u_part);
             f.n = at.n;
             f.offset = glm::dot(at.n, at.p);
-            f.area = share * area;
-            f.prim = k;
-            f.u_part = u_part;
             if (f.area > 0.0f) faces.push_back(f);
         }
     }
@@ -239,10 +245,16 @@ LightSample LightSet::sample(const Source& source, vec3 p, vec2 u, float u_pick)
             a = sample_area(source, u, u_pick);
         } else {
             const uint32_t prim = source.prims[face->prim];
-            a.surface =
-                source.normals.empty()
-                    ? sample_primitive(geometry_, prim, u, face->u_part)
-                    : sample_triangle_primitive(geometry_, prim, u, source.normals[face->prim]);
+            if (face->edge_u != vec3(0.0f) && !emission_textured_[geometry_.material(prim)]) {
+                // A box's side: the parallelogram sample_primitive would map u onto.
+                a.surface.p = face->corner + u.x * face->edge_u + u.y * face->edge_v;
+                a.surface.n = face->n;
+            } else {
+                a.surface =
+                    source.normals.empty()
+                        ? sample_primitive(geometry_, prim, u, face->u_part)
+                        : sample_triangle_primitive(geometry_, prim, u, source.normals[face->prim]);
+            }
             a.pdf_area = (glm::dot(face->n, p) - face->offset) / weight;
             a.radiance = emission_at(prim, a.surface.uv);
         }

@@ -59,6 +59,9 @@ public:
         float area = 0.0f;
         uint32_t prim = 0;    // index into Source::prims
         float u_part = 0.0f;  // picks this face in sample_primitive
+        /// A box's side in world space, corner + u edge_u + v edge_v, drawn without
+        /// sample_primitive where its emission has no texture (edge_u zero: not a box's).
+        vec3 corner{0.0f}, edge_u{0.0f}, edge_v{0.0f};
     };
     /// The faces a light may have to be sampled by the side a point sees.
     static constexpr size_t kMaxFacingFaces = 16;
