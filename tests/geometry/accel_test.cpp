@@ -467,6 +467,42 @@ TEST(Bvh, SmallNodesSplitAtTheCheapestPlaneOnTheirAxis) {
     }
 }
 
+// A closed room of six quads, seen from inside: every ray meets one wall, and each wall's
+// box is flat, so a tree with a leaf per wall tests one quad a ray. Weighed as triangles (a
+// leaf of up to four without a SAH test, a test as cheap as a node's) the six shared one leaf
+// and every ray tested all six.
+TEST(WideBvh, RaysInARoomOfQuadsTestOneWall) {
+    Geometry g;
+    const vec3 lo(-2.0f, 0.0f, -2.0f), size(4.0f, 2.6f, 4.0f);
+    const vec3 x(size.x, 0, 0), y(0, size.y, 0), z(0, 0, size.z);
+    const std::pair<vec3, vec3> walls[6] = {{z, x}, {x, z}, {x, y}, {y, x}, {y, z}, {z, y}};
+    for (int k = 0; k < 6; ++k) {
+        // Floor, ceiling, back, front, left, right: the second of each pair moved across.
+        const vec3 corner = lo + (k % 2 == 1 ? vec3(k < 2 ? y : k < 4 ? z : x) : vec3(0.0f));
+        g.shapes.push_back(
+            make_analytic_shape(Quad{corner, walls[k].first, walls[k].second}, Transform{}, 0));
+    }
+    for (int width : {4, 8}) {
+        WideBvh bvh(g, 1, width);
+        Rng rng(9, 2);
+        uint32_t tested = 0;
+        const int rays = 1000;
+        for (int k = 0; k < rays; ++k) {
+            const float cos_theta = 1.0f - 2.0f * rng.next_float();
+            const float phi = 6.2831853f * rng.next_float();
+            const float sin_theta = std::sqrt(std::max(0.0f, 1.0f - cos_theta * cos_theta));
+            const vec3 d(sin_theta * std::cos(phi), cos_theta, sin_theta * std::sin(phi));
+            const vec3 o = lo + vec3(0.2f + 3.6f * rng.next_float(), 0.2f + 2.2f * rng.next_float(),
+                                     0.2f + 3.6f * rng.next_float());
+            Hit hit;
+            TraversalCost cost;
+            ASSERT_TRUE(bvh.intersect_cost(Ray{o, d}, hit, cost)) << k;
+            tested += cost.primitives;
+        }
+        EXPECT_LT(static_cast<double>(tested) / rays, 1.5) << width << " wide";
+    }
+}
+
 TEST(Bvh, DegenerateInputsBuild) {
     Geometry g;
     for (int k = 0; k < 100; ++k) {  // 100 identical triangles: centroids coincide

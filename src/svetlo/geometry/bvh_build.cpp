@@ -33,8 +33,13 @@ namespace K = sah::reference;
 #endif
 
 constexpr uint32_t kMaxLeaf = 8;
-constexpr uint32_t kMinSplit = 4;           // nodes this small become leaves without a SAH test
-constexpr float kTraversalCost = 2.0f;      // relative to one primitive test
+constexpr uint32_t kMinSplit = 4;       // triangles this few become a leaf without a SAH test
+constexpr float kTraversalCost = 2.0f;  // relative to one triangle test
+// An analytic shape's test (a quad, a box taken to object space, a quadric) against one
+// triangle's in a packet of four: the lamp shade's thirteen shapes, all tested, trace 9.3
+// Mrays/s, the bunny's triangles ten times more per second through leaves of the same size
+// (docs/performance.md, "Leaves of analytic shapes").
+constexpr float kShapeCost = 4.0f;
 constexpr int kMedianDepth = 64;            // below this depth, split at the median
 constexpr uint32_t kParallelGrain = 4096;   // smaller subtrees are built serially
 constexpr uint32_t kParallelSplit = 65536;  // larger nodes bin and partition in parallel
@@ -51,8 +56,10 @@ struct Span {
 
 class Builder {
 public:
-    Builder(LargeArray<BuildRef>& refs, BvhNode* nodes, uint32_t* prims)
-        : scratch_(refs.size()),
+    /// Ids from `first_shape` on are analytic shapes (geometry.h), the rest triangles.
+    Builder(LargeArray<BuildRef>& refs, uint32_t first_shape, BvhNode* nodes, uint32_t* prims)
+        : first_shape_(first_shape),
+          scratch_(refs.size()),
           buffers_{refs.data(), scratch_.data()},
           nodes_(nodes),
           prims_(prims),
@@ -93,7 +100,8 @@ private:
     /// Builds the subtree of span `s` into `node`; returns its depth.
     int build(uint32_t node, const Span& s, int depth, Slots* slots) {
         const uint32_t n = s.size();
-        if (n <= kMinSplit) {
+        const float leaf = leaf_cost(s);
+        if (n <= kMinSplit && leaf <= static_cast<float>(n)) {
             make_leaf(node, s);
             return depth;
         }
@@ -113,7 +121,7 @@ private:
                                  return a.centroid()[axis] < b.centroid()[axis];
                              });
             split_at_index(s, s.begin + n / 2, left, right);
-        } else if (!sah_split(s, left, right)) {
+        } else if (!sah_split(s, leaf, left, right)) {
             make_leaf(node, s);
             return depth;
         }
@@ -171,13 +179,15 @@ private:
 
     /// Bins the centroids along the axis of largest centroid extent, chooses the cheapest of
     /// the kBins - 1 bin boundaries by SAH and moves the references into the other buffer,
-    /// in order, the left child's first. Returns false when a leaf is cheaper and allowed.
+    /// in order, the left child's first. Returns false when a leaf (costing `leaf`, in
+    /// triangle tests) is cheaper and allowed; the children's tests are weighed as the span's
+    /// mean primitive.
     /// Spans of at most kBins references are sorted instead, every reference its own bin.
     /// Binning one axis (Wald 2007) costs a third of binning three and loses little quality.
     /// Large spans are binned and partitioned in chunks in parallel: each chunk's bins give
     /// it its place in the other buffer, and min, max and sums are exact in any order, so the
     /// tree does not depend on the threads.
-    bool sah_split(const Span& s, Span& left, Span& right) {
+    bool sah_split(const Span& s, float leaf, Span& left, Span& right) {
         const uint32_t n = s.size();
         const BinPosition position(s.centroids);
         BuildRef* src = buffers_[s.buffer];
@@ -190,8 +200,9 @@ private:
         const int best_bin = sweep.cheapest(best_cost);
         const float node_area = s.bounds.surface_area();
         const float split_cost =
-            kTraversalCost + (node_area > 0.0f ? best_cost / node_area : kInfinity);
-        if (best_bin < 0 || (n <= kMaxLeaf && static_cast<float>(n) <= split_cost)) {
+            kTraversalCost +
+            (node_area > 0.0f ? best_cost / node_area * (leaf / static_cast<float>(n)) : kInfinity);
+        if (best_bin < 0 || (n <= kMaxLeaf && leaf <= split_cost)) {
             if (n <= kMaxLeaf) return false;
             // No useful split but too many for a leaf: split at the median index.
             split_at_index(s, s.begin + n / 2, left, right);
@@ -269,6 +280,17 @@ private:
                         [&](int b) { return K::cell_of(dst[s.begin + b]); });
     }
 
+    /// What testing every primitive of `s` costs, in triangle tests.
+    float leaf_cost(const Span& s) const {
+        float cost = static_cast<float>(s.size());
+        if (first_shape_ >= size_) return cost;  // triangles only: skip the count
+        const BuildRef* refs = buffers_[s.buffer];
+        for (uint32_t k = s.begin; k < s.end; ++k)
+            if (refs[k].id >= first_shape_) cost += kShapeCost - 1.0f;
+        return cost;
+    }
+
+    uint32_t first_shape_;          // ids from here on are analytic shapes
     LargeArray<BuildRef> scratch_;  // the second buffer, same indices as the first
     BuildRef* buffers_[2];          // a node's children lie in the other buffer than it
     BvhNode* nodes_;                // room for 2 n - 1 nodes
@@ -315,7 +337,7 @@ BvhBuild build_bvh(const Geometry& geometry, int threads) {
     const bool serial = workers == 1;
     LargeArray<BvhNode> room(2 * refs.size(), serial);
     out.prims = LargeArray<uint32_t>(refs.size());
-    Builder builder(refs, room.data(), out.prims.data());
+    Builder builder(refs, triangles, room.data(), out.prims.data());
     arena.execute([&] { builder.build_root(bounds, centroids, serial); });
     out.depth = builder.depth();
     if (builder.holes().empty()) {
