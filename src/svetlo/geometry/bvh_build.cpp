@@ -100,7 +100,8 @@ private:
     /// Builds the subtree of span `s` into `node`; returns its depth.
     int build(uint32_t node, const Span& s, int depth, Slots* slots) {
         const uint32_t n = s.size();
-        const float leaf = leaf_cost(s);
+        // Only a span that may become a leaf needs its cost (larger ones are always split).
+        const float leaf = n <= kMaxLeaf ? leaf_cost(s) : kInfinity;
         if (n <= kMinSplit && leaf <= static_cast<float>(n)) {
             make_leaf(node, s);
             return depth;
@@ -179,9 +180,9 @@ private:
 
     /// Bins the centroids along the axis of largest centroid extent, chooses the cheapest of
     /// the kBins - 1 bin boundaries by SAH and moves the references into the other buffer,
-    /// in order, the left child's first. Returns false when a leaf (costing `leaf`, in
-    /// triangle tests) is cheaper and allowed; the children's tests are weighed as the span's
-    /// mean primitive.
+    /// in order, the left child's first. Returns false when a leaf (costing `leaf` triangle
+    /// tests; a span of more than kMaxLeaf is never one) is cheaper and allowed; the
+    /// children's tests are weighed as the span's mean primitive.
     /// Spans of at most kBins references are sorted instead, every reference its own bin.
     /// Binning one axis (Wald 2007) costs a third of binning three and loses little quality.
     /// Large spans are binned and partitioned in chunks in parallel: each chunk's bins give
@@ -200,8 +201,9 @@ private:
         const int best_bin = sweep.cheapest(best_cost);
         const float node_area = s.bounds.surface_area();
         const float split_cost =
-            kTraversalCost +
-            (node_area > 0.0f ? best_cost / node_area * (leaf / static_cast<float>(n)) : kInfinity);
+            n <= kMaxLeaf && node_area > 0.0f
+                ? kTraversalCost + best_cost / node_area * (leaf / static_cast<float>(n))
+                : kInfinity;
         if (best_bin < 0 || (n <= kMaxLeaf && leaf <= split_cost)) {
             if (n <= kMaxLeaf) return false;
             // No useful split but too many for a leaf: split at the median index.
