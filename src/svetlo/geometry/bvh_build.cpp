@@ -35,10 +35,10 @@ namespace K = sah::reference;
 constexpr uint32_t kMaxLeaf = 8;
 constexpr uint32_t kMinSplit = 4;       // triangles this few become a leaf without a SAH test
 constexpr float kTraversalCost = 2.0f;  // relative to one triangle test
-// An analytic shape's test (a quad, a box taken to object space, a quadric) against one
-// triangle's in a packet of four: the lamp shade's thirteen shapes, all tested, trace 9.3
-// Mrays/s, the bunny's triangles ten times more per second through leaves of the same size
-// (docs/performance.md, "Leaves of analytic shapes").
+// An analytic shape's test (a quad, a box taken to object space, a quadric) in triangle
+// tests (one lane of a packet of four). Measured on the hard scenes' rooms of quads and
+// boxes: 4 and 8 trace as fast, 2 gives back most of the gain (docs/performance.md, "Leaves
+// of analytic shapes").
 constexpr float kShapeCost = 4.0f;
 constexpr int kMedianDepth = 64;            // below this depth, split at the median
 constexpr uint32_t kParallelGrain = 4096;   // smaller subtrees are built serially
