@@ -23,16 +23,10 @@ void sample_shape_local(const AnalyticShape& s, vec2 u, float u_part, vec3& p, v
             float x = u_part * 2.0f * (areas[0] + areas[1] + areas[2]);
             int face = 0;
             while (face < 5 && x >= areas[face / 2]) x -= areas[face++ / 2];
-            int axis = face / 2;
-            bool max_side = (face & 1) != 0;
-            int a = (axis + 1) % 3, b = (axis + 2) % 3;
-            p = s.p0;
-            p[axis] = max_side ? s.p1[axis] : s.p0[axis];
-            p[a] += u.x * e[a];
-            p[b] += u.y * e[b];
-            n = vec3(0.0f);
-            n[axis] = max_side ? 1.0f : -1.0f;
-            part = 2 * axis + (max_side ? 1 : 0);
+            const BoxSide side = box_side(s.p0, s.p1, face);
+            p = side.corner + u.x * side.edge_u + u.y * side.edge_v;
+            n = side.n;
+            part = face;
             return;
         }
         default: {  // cylinder and cone, in the axis frame
@@ -71,6 +65,18 @@ void sample_shape_local(const AnalyticShape& s, vec2 u, float u_part, vec3& p, v
 }
 
 }  // namespace
+
+BoxSide box_side(vec3 lo, vec3 hi, int side) {
+    const int axis = side / 2, a = (axis + 1) % 3, b = (axis + 2) % 3;
+    const bool high = (side & 1) != 0;
+    const vec3 e = hi - lo;
+    BoxSide out{lo, vec3(0.0f), vec3(0.0f), vec3(0.0f), e[a] * e[b]};
+    out.corner[axis] = high ? hi[axis] : lo[axis];
+    out.edge_u[a] = e[a];
+    out.edge_v[b] = e[b];
+    out.n[axis] = high ? 1.0f : -1.0f;
+    return out;
+}
 
 float primitive_area(const Geometry& g, uint32_t id) {
     if (g.is_triangle(id)) {

@@ -15,6 +15,16 @@ struct SurfaceSample {
     vec2 uv{0.0f};
 };
 
+/// Side `side` of the box from `lo` to `hi` in its own space: 0-5 are the low and the high
+/// side of x, then of y, then of z, the order sample_primitive picks them in. Its points are
+/// corner + u edge_u + v edge_v (u along the next axis, v the one after), n its unit outward
+/// normal, area = |edge_u| |edge_v|.
+struct BoxSide {
+    vec3 corner, edge_u, edge_v, n;
+    float area;
+};
+BoxSide box_side(vec3 lo, vec3 hi, int side);
+
 /// A point of primitive `id`, uniformly distributed by area: u in [0,1)^2, and u_part in
 /// [0,1) picks the face of a box, cylinder or cone in proportion to its area. Exact for
 /// untransformed shapes and under uniform scaling.

@@ -43,24 +43,20 @@ void add_faces(LightSet::Source& s, const Geometry& g) {
         if (g.is_triangle(id) || g.shape(id).kind == ShapeKind::Quad) {
             parts.push_back({.area = area, .prim = k, .u_part = 0.5f});
         } else if (g.shape(id).kind == ShapeKind::Box) {
-            // sample_primitive's order: the min and max side of x, y, z, by area.
+            // The sides in sample_primitive's order, each one's share of the area.
             const AnalyticShape& box = g.shape(id);
-            const vec3 e = box.p1 - box.p0;
-            const float axis_area[3] = {e.y * e.z, e.z * e.x, e.x * e.y};
-            const float total = 2.0f * (axis_area[0] + axis_area[1] + axis_area[2]);
+            BoxSide sides[6];
+            for (int f = 0; f < 6; ++f) sides[f] = box_side(box.p0, box.p1, f);
+            const float total = 2.0f * (sides[0].area + sides[2].area + sides[4].area);
             float before = 0.0f;
-            for (int f = 0; f < 6; ++f) {
-                const int axis = f / 2, a = (axis + 1) % 3, b = (axis + 2) % 3;
-                LightSet::Face side{.area = axis_area[axis] / total * area, .prim = k};
-                side.u_part = (before + 0.5f * axis_area[axis]) / total;
-                before += axis_area[axis];
-                vec3 corner = box.p0, edge_u(0.0f), edge_v(0.0f);
-                corner[axis] = f & 1 ? box.p1[axis] : box.p0[axis];
-                edge_u[a] = e[a];
-                edge_v[b] = e[b];
-                side.corner = box.transformed ? vec3(box.to_world * vec4(corner, 1.0f)) : corner;
-                side.edge_u = box.transformed ? mat3(box.to_world) * edge_u : edge_u;
-                side.edge_v = box.transformed ? mat3(box.to_world) * edge_v : edge_v;
+            for (const BoxSide& b : sides) {
+                LightSet::Face side{.area = b.area / total * area, .prim = k};
+                side.u_part = (before + 0.5f * b.area) / total;
+                before += b.area;
+                side.corner =
+                    box.transformed ? vec3(box.to_world * vec4(b.corner, 1.0f)) : b.corner;
+                side.edge_u = box.transformed ? mat3(box.to_world) * b.edge_u : b.edge_u;
+                side.edge_v = box.transformed ? mat3(box.to_world) * b.edge_v : b.edge_v;
                 parts.push_back(side);
             }
         } else {
