@@ -10,6 +10,7 @@
 #include <glm/gtx/string_cast.hpp>
 
 #include "svetlo/core/rng.h"
+#include "svetlo/core/sampling.h"
 #include "svetlo/geometry/bvh.h"
 #include "svetlo/geometry/grid.h"
 #include "svetlo/geometry/octree.h"
@@ -488,10 +489,7 @@ TEST(WideBvh, RaysInARoomOfQuadsTestOneWall) {
         uint32_t tested = 0;
         const int rays = 1000;
         for (int k = 0; k < rays; ++k) {
-            const float cos_theta = 1.0f - 2.0f * rng.next_float();
-            const float phi = 6.2831853f * rng.next_float();
-            const float sin_theta = std::sqrt(std::max(0.0f, 1.0f - cos_theta * cos_theta));
-            const vec3 d(sin_theta * std::cos(phi), cos_theta, sin_theta * std::sin(phi));
+            const vec3 d = sample_uniform_sphere(vec2(rng.next_float(), rng.next_float()));
             const vec3 o = lo + vec3(0.2f + 3.6f * rng.next_float(), 0.2f + 2.2f * rng.next_float(),
                                      0.2f + 3.6f * rng.next_float());
             Hit hit;
