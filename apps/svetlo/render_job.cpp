@@ -13,9 +13,9 @@
 namespace svetlo {
 
 RenderJob make_job(nlohmann::json json, const std::filesystem::path& path, std::string sha256,
-                   MeshFileCache* meshes) {
+                   MeshFileCache* meshes, const FileScope& files) {
     RenderJob job;
-    job.scene = scene_from_json(json, path, meshes);
+    job.scene = scene_from_json(json, path, meshes, files);
     job.run.scene_file = path;
     job.run.scene_sha256 = std::move(sha256);
     job.run.scene = std::move(json);

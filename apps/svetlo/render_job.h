@@ -23,8 +23,9 @@ struct RenderJob {
 /// The job of `json` (an effective scene, every override applied) read as the file `path`:
 /// the scene built and validated, the record filled but for the command and the threads.
 /// Mesh files come through `meshes` when given (the jobs of one command share them).
+/// Every file the scene names must lie in `files`.
 RenderJob make_job(nlohmann::json json, const std::filesystem::path& path, std::string sha256,
-                   MeshFileCache* meshes = nullptr);
+                   MeshFileCache* meshes = nullptr, const FileScope& files = {});
 
 /// Parses --crop X0,X1,Y0,Y1 for a film of width x height; throws Error naming --crop for a
 /// window outside the film or empty.

@@ -1,15 +1,20 @@
 // svetlo serve [SCENE.json|DIR] [--port P] [--host H]: a live browser viewer (docs/viewer.md).
 // It serves one page (viewer/index.html, inside the binary) and a small API that renders
 // through the command line's own code:
-//   GET /api/scenes                  the scene files of the folder, and the one given
+//   GET /api/scenes                  the scene and model files of the folder, and the one given
 //   GET /api/scene?scene=NAME        a scene's effective JSON (the page orbits its camera)
+//   GET /api/link?QUERY              a shared link read as the server reads a request: its
+//                                    scene, engine and each set= value as --set reads it, and
+//                                    the first problem found (the page starts from this)
 //   GET /api/render?scene=NAME&engine=E&spp=N&width=W&height=H&set=KEY=VALUE...&client=ID
 //                   [&format=jpeg][&preview=1]
 //                                    a PNG; X-Svetlo-Seconds and X-Svetlo-Spp say how it went
 //   GET /api/trace?...&x=X&y=Y      svetlo trace's JSON of that pixel
 // A bad value gets HTTP 400 and the one-line message; a render superseded by a newer request
 // of the same page is cancelled after its pass and answered 409. Only files directly in the
-// scene folder are read as scenes, and nothing else of the disk is served.
+// scene folder are read as scenes; every file a scene names (from the file or from a set=
+// override) must lie inside the folder (FileScope), and the messages a client sees name files
+// relative to it. Query strings are read by Query: set=KEY=VALUE keeps its value whole.
 #include <httplib.h>
 
 #include <algorithm>
@@ -25,6 +30,7 @@
 #include "engines.h"
 #include "flags.h"
 #include "interrupt.h"
+#include "query.h"
 #include "render_job.h"
 #include "sheet.h"
 #include "svetlo/core/error.h"
@@ -34,6 +40,7 @@
 #include "svetlo/geometry/accel_cache.h"
 #include "svetlo/geometry/occluder_cube.h"
 #include "svetlo/geometry/triangle_list_cache.h"
+#include "svetlo/scene/model_scene.h"
 
 namespace svetlo {
 
@@ -60,6 +67,7 @@ constexpr size_t kThreads = 4;
 
 struct Server {
     fs::path folder;  // canonical
+    FileScope scope;  // the folder: every file a scene names lies in it
     std::string default_scene;
     std::mutex mutex;                                                   // guards `current`
     std::map<std::string, std::shared_ptr<std::atomic<bool>>> current;  // per client: its render
@@ -93,41 +101,38 @@ fs::path scene_path(const Server& server, const std::string& name) {
     std::error_code ec;
     const fs::path path = fs::weakly_canonical(server.folder / name, ec);
     if (ec || path.parent_path() != server.folder || !fs::is_regular_file(path) ||
-        path.extension() != ".json")
-        throw Error(name, "scene", "is not a scene file of the scene folder");
+        !(path.extension() == ".json" || is_model_file(path)))
+        throw Error(name, "scene", "is not a scene or model file of the scene folder");
     return path;
 }
 
 /// The request's job: the scene, then the engine, spp, film and --set overrides, checked as
 /// the command line checks them. `side` "b" makes the B side of an A/B comparison: the
 /// engine of `b_engine` and the sets of `b_set` after the request's own.
-RenderJob request_job(Server& server, const httplib::Request& req, const std::string& side = "") {
-    const fs::path path = scene_path(server, req.get_param_value("scene"));
+RenderJob request_job(Server& server, const Query& req, const std::string& side = "") {
+    const fs::path path = scene_path(server, req.get("scene"));
     const std::string file = path.string();
-    std::vector<std::string> sets;
-    for (size_t k = 0; k < req.get_param_value_count("set"); ++k)
-        sets.push_back(req.get_param_value("set", k));
-    std::string engine = req.get_param_value("engine");
+    std::vector<std::string> sets = req.all("set");
+    std::string engine = req.get("engine");
     if (side == "b") {
-        for (size_t k = 0; k < req.get_param_value_count("b_set"); ++k)
-            sets.push_back(req.get_param_value("b_set", k));
-        if (req.has_param("b_engine")) engine = req.get_param_value("b_engine");
+        for (const std::string& s : req.all("b_set")) sets.push_back(s);
+        if (req.has("b_engine")) engine = req.get("b_engine");
     }
     std::vector<Override> overrides = parse_sets(sets, file);
     add_flag_overrides(file, {}, {}, overrides, engine);
     auto integer = [&](const char* name, const char* key, long long lo, long long hi) {
-        if (!req.has_param(name)) return;
-        const long long v = flag_integer(file, name, req.get_param_value(name), lo, hi);
+        if (!req.has(name)) return;
+        const long long v = flag_integer(file, name, req.get(name), lo, hi);
         overrides.push_back({key, std::to_string(v)});
     };
     integer("width", "film.width", 1, kMaxSide);
     integer("height", "film.height", 1, kMaxSide);
     integer("spp", "render.spp", 1, kMaxSamples);
-    const std::string preview = req.get_param_value("preview");
+    const std::string preview = req.get("preview");
     if (!preview.empty() && preview != "0" && preview != "1")
         throw Error(file, "preview", "must be 0 or 1, not '" + preview + "'");
-    RenderJob job =
-        make_job(effective_scene_json(path, overrides), path, sha256_file(path), &server.meshes);
+    RenderJob job = make_job(effective_scene_json(path, overrides, &server.meshes, server.scope),
+                             path, sha256_file(path), &server.meshes, server.scope);
     if (preview == "1") {
         RenderSettings& r = job.scene.render;
         r.area_light_points = std::min(r.area_light_points, kPreviewAreaPoints);
@@ -156,8 +161,8 @@ std::shared_ptr<std::atomic<bool>> supersede(Server& server, const std::string& 
 /// each a 4-byte big-endian length, a JSON header {"spp", "seconds", "final", "type"}, a
 /// 4-byte length and the image: a JPEG at most every 100 ms while it refines, a PNG at the
 /// end. A client gone, or a newer request of the same client, ends it after its pass.
-void stream_passes(RenderJob& job, RendererPool& renderers, std::atomic<bool>& cancel,
-                   httplib::DataSink& sink) {
+void stream_passes(RenderJob& job, RendererPool& renderers, const FileScope& scope,
+                   std::atomic<bool>& cancel, httplib::DataSink& sink) {
     using Clock = std::chrono::steady_clock;
     auto last = Clock::now() - std::chrono::seconds(1);
     auto write = [&](const std::string& bytes) {
@@ -189,13 +194,54 @@ void stream_passes(RenderJob& job, RendererPool& renderers, std::atomic<bool>& c
         const RenderResult result = run_job(job, renderers);
         send(reached_spp(job, result), result.stats.seconds, result.color, true);
     } catch (const std::exception& e) {
-        write(nlohmann::json{{"error", e.what()}}.dump());
+        write(nlohmann::json{{"error", scope.relative_text(e.what())}}.dump());
     }
 }
 
-void fail(httplib::Response& res, int status, const std::string& message) {
+/// A shared link as the page starts from it (docs/viewer.md, "Links"): its values read as a
+/// request's are, each set= and b_set= value as --set reads it (override_value: the page
+/// never reads one itself), and in "error" the first problem found, one line: a scene that is
+/// not in the folder, an unknown engine, a samples count out of range, a set= without
+/// KEY=VALUE. What could be read is returned all the same.
+nlohmann::json read_link(const Server& server, const Query& link) {
+    nlohmann::json out = nlohmann::json::object();
+    std::string error;
+    auto check = [&](const auto& read) {
+        try {
+            read();
+        } catch (const Error& e) {
+            if (error.empty()) error = server.scope.relative_text(e.what());
+        }
+    };
+    const std::string scene = link.has("scene") ? link.get("scene") : server.default_scene;
+    const std::string file = scene.empty() ? "link" : scene;
+    out["scene"] = scene;
+    if (link.has("scene")) check([&] { scene_path(server, scene); });
+    for (const char* name : {"engine", "b_engine"}) {
+        out[name] = link.get(name);
+        if (!link.get(name).empty()) check([&] { capabilities_of(link.get(name), file); });
+    }
+    if (link.has("spp"))
+        check([&] { out["spp"] = flag_integer(file, "spp", link.get("spp"), 1, kMaxSamples); });
+    for (const char* name : {"aov", "ab"}) out[name] = link.get(name);
+    for (const char* name : {"set", "b_set"}) {
+        nlohmann::json& list = out[std::string(name) + "s"] = nlohmann::json::array();
+        for (const std::string& text : link.all(name)) {
+            check([&] {
+                const Override o = parse_sets({text}, file).front();
+                list.push_back(
+                    {{"key", o.key}, {"value", override_value(o.value)}, {"text", text}});
+            });
+        }
+    }
+    if (!error.empty()) out["error"] = error;
+    return out;
+}
+
+/// An error answer: its one line, naming files relative to the served folder.
+void fail(const Server& server, httplib::Response& res, int status, const std::string& message) {
     res.status = status;
-    res.set_content(message + "\n", "text/plain; charset=utf-8");
+    res.set_content(server.scope.relative_text(message) + "\n", "text/plain; charset=utf-8");
 }
 
 }  // namespace
@@ -212,6 +258,7 @@ int run_serve(const ServeArgs& args) {
     }
     server.folder = fs::canonical(target, ec);
     if (ec) throw Error(args.target, "serve", "cannot be read: " + ec.message());
+    server.scope = FileScope(server.folder);
     const long long port =
         flag_integer(args.target, "--port", args.port.empty() ? "8080" : args.port, 0, 65535);
     const std::string host = args.host.empty() ? "127.0.0.1" : args.host;
@@ -235,35 +282,43 @@ int run_serve(const ServeArgs& args) {
         std::vector<std::string> names;
         for (const auto& entry : fs::directory_iterator(server.folder, ec)) {
             const std::string name = entry.path().filename().string();
-            if (entry.is_regular_file() && entry.path().extension() == ".json" && name[0] != '.')
+            if (entry.is_regular_file() && name[0] != '.' &&
+                (entry.path().extension() == ".json" || is_model_file(entry.path())))
                 names.push_back(name);
         }
         std::sort(names.begin(), names.end());
         res.set_content(nlohmann::json{{"scenes", names}, {"default", server.default_scene}}.dump(),
                         "application/json");
     });
-    http.Get("/api/scene", [&](const httplib::Request& req, httplib::Response& res) {
+    http.Get("/api/scene", [&](const httplib::Request& request, httplib::Response& res) {
+        const Query req(request.target);
         try {
-            const fs::path path = scene_path(server, req.get_param_value("scene"));
-            res.set_content(effective_scene_json(path, {}).dump(), "application/json");
+            const fs::path path = scene_path(server, req.get("scene"));
+            res.set_content(effective_scene_json(path, {}, &server.meshes, server.scope).dump(),
+                            "application/json");
         } catch (const Error& e) {
-            fail(res, 400, e.what());
+            fail(server, res, 400, e.what());
         }
     });
-    http.Get("/api/render", [&](const httplib::Request& req, httplib::Response& res) {
+    http.Get("/api/link", [&](const httplib::Request& request, httplib::Response& res) {
+        res.set_header("Cache-Control", "no-store");
+        res.set_content(read_link(server, Query(request.target)).dump(), "application/json");
+    });
+    http.Get("/api/render", [&](const httplib::Request& request, httplib::Response& res) {
+        const Query req(request.target);
         try {
             RenderJob job = request_job(server, req);
             // aov=NAME: that buffer instead of the image, drawn as its PNG would be.
-            const std::string aov = req.get_param_value("aov");
+            const std::string aov = req.get("aov");
             if (!aov.empty()) request_aov(job, aov, job.run.scene_file.string(), "aov");
             // This client's newer request supersedes the one in progress: it is cancelled.
-            auto cancel = supersede(server, req.get_param_value("client"));
+            auto cancel = supersede(server, req.get("client"));
             job.options.cancel = cancel.get();
             InProgress busy(server.renders);
             const RenderResult result = run_job(job, server.renderers);
-            if (cancel->load()) return fail(res, 409, "superseded by a newer request");
+            if (cancel->load()) return fail(server, res, 409, "superseded by a newer request");
             // JPEG while the view moves (fast), PNG when it is still (lossless).
-            const bool jpeg = req.get_param_value("format") == "jpeg";
+            const bool jpeg = req.get("format") == "jpeg";
             const auto t0 = std::chrono::steady_clock::now();
             Image buffer;
             if (!aov.empty()) buffer = aov_for_display(aov, result.aovs.at(aov));
@@ -283,9 +338,9 @@ int run_serve(const ServeArgs& args) {
             res.set_content(std::string(bytes.begin(), bytes.end()),
                             jpeg ? "image/jpeg" : "image/png");
         } catch (const Error& e) {
-            fail(res, 400, e.what());
+            fail(server, res, 400, e.what());
         } catch (const std::exception& e) {
-            fail(res, 500, std::string("svetlo: internal: ") + e.what());
+            fail(server, res, 500, std::string("svetlo: internal: ") + e.what());
         }
     });
     http.Get("/api/status", [&](const httplib::Request&, httplib::Response& res) {
@@ -293,27 +348,29 @@ int run_serve(const ServeArgs& args) {
                         "application/json");
     });
     // The same render, its passes streamed as they come (path; radiosity's solver).
-    http.Get("/api/progressive", [&](const httplib::Request& req, httplib::Response& res) {
+    http.Get("/api/progressive", [&](const httplib::Request& request, httplib::Response& res) {
+        const Query req(request.target);
         try {
             auto job = std::make_shared<RenderJob>(request_job(server, req));
-            auto cancel = supersede(server, req.get_param_value("client"));
+            auto cancel = supersede(server, req.get("client"));
             job->options.cancel = cancel.get();
             res.set_header("Cache-Control", "no-store");
             res.set_chunked_content_provider(
                 "application/octet-stream",
                 [job, cancel, &server](size_t, httplib::DataSink& sink) {
                     InProgress busy(server.renders);
-                    stream_passes(*job, server.renderers, *cancel, sink);
+                    stream_passes(*job, server.renderers, server.scope, *cancel, sink);
                     sink.done();
                     return true;
                 });
         } catch (const Error& e) {
-            fail(res, 400, e.what());
+            fail(server, res, 400, e.what());
         }
     });
     // A/B: both sides rendered (one after the other, sharing the caches), their metrics as
     // svetlo diff gives them (B against A), and the images and ꟻLIP's error map inline.
-    http.Get("/api/diff", [&](const httplib::Request& req, httplib::Response& res) {
+    http.Get("/api/diff", [&](const httplib::Request& request, httplib::Response& res) {
+        const Query req(request.target);
         try {
             RenderJob a = request_job(server, req), b = request_job(server, req, "b");
             if (a.scene.film.width != b.scene.film.width ||
@@ -336,20 +393,21 @@ int run_serve(const ServeArgs& args) {
             res.set_header("Cache-Control", "no-store");
             res.set_content(j.dump(), "application/json");
         } catch (const Error& e) {
-            fail(res, 400, e.what());
+            fail(server, res, 400, e.what());
         }
     });
-    http.Get("/api/trace", [&](const httplib::Request& req, httplib::Response& res) {
+    http.Get("/api/trace", [&](const httplib::Request& request, httplib::Response& res) {
+        const Query req(request.target);
         try {
             RenderJob job = request_job(server, req);
             const std::string file = job.run.scene_file.string();
-            const auto x = flag_integer(file, "x", req.get_param_value("x"), 0, kMaxSide);
-            const auto y = flag_integer(file, "y", req.get_param_value("y"), 0, kMaxSide);
+            const auto x = flag_integer(file, "x", req.get("x"), 0, kMaxSide);
+            const auto y = flag_integer(file, "y", req.get("y"), 0, kMaxSide);
             InProgress busy(server.renders);
             const PixelTrace log = trace_job(job, static_cast<int>(x), static_cast<int>(y), 0, 1);
             res.set_content(trace_json(log, job.scene.render.engine).dump(), "application/json");
         } catch (const Error& e) {
-            fail(res, 400, e.what());
+            fail(server, res, 400, e.what());
         }
     });
 

@@ -236,7 +236,8 @@ for f in broken.ply lying_header.ply bad_index.obj broken.gltf not_a_mesh.txt; d
         "scene['objects'][0] = {'type': 'mesh', 'file': '$f', 'material': 'white'}"
 done
 # Every accelerator gives the same image of the Cornell box, whose OBJ holds two faces twice.
-cp "$data/CornellBox-Original.obj" "$data/CornellBox-Original.mtl" "$work/"
+models="$(dirname "$0")/../../scenes/models"
+cp "$models/CornellBox-Original.obj" "$models/CornellBox-Original.mtl" "$work/"
 scene_with 'scene["objects"] = [{"type": "mesh", "file": "CornellBox-Original.obj"}]; scene["lights"] = []; scene["camera"] = {"position": [0, 1, 3.5], "look_at": [0, 1, 0], "fov": 40}'
 for accel in bvh bvh4 bvh2 grid octree embree; do
     "$svetlo" render "$work/bad.json" -o "$work/cornell_$accel.pfm" -q --set render.accel=$accel || fail "cornell $accel"
@@ -401,6 +402,21 @@ for shading in flat gouraud; do
     check "$shading, shadow map, no light: the ambient term alone" cmp "$work/dark_none.pfm" "$work/dark_map.pfm"
     check "$shading, shadow map, no light: nothing on stderr" test ! -s "$work/dark.err"
 done
+
+# A model file alone is a scene (docs/scene-format.md, "A model alone"): framed, lit, in every
+# engine; its provenance holds the scene made of it, and reproduces it bit for bit; info reads it.
+for engine in raster whitted path radiosity; do
+    "$svetlo" render "$data/tetra_part.obj" -e $engine -W 48 -H 36 --spp 2 -q -o "$work/model_$engine.pfm" ||
+        fail "a model alone, $engine"
+    check "a model alone, $engine: lit" python3 -c "
+import sys; sys.path.insert(0, '$(dirname "$0")'); import pfm_tool
+assert max(max(r) for r in pfm_tool.read('$work/model_$engine.pfm')[2]) > 0.05"
+done
+check "a model alone: its provenance's scene frames it" grep -q '"fov":40' "$work/model_path.pfm.json"
+"$svetlo" reproduce "$work/model_path.pfm" -o "$work/model_again.pfm" -q
+check "a model alone reproduces bit for bit" cmp "$work/model_path.pfm" "$work/model_again.pfm"
+check "info of a model" sh -c "'$svetlo' info '$data/triangle.gltf' | grep -q '^lights *1'"
+expect_error "a model that cannot be read" "file: cannot read model" render "$data/broken.gltf" -o "$work/keep.png"
 
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

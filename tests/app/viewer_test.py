@@ -177,6 +177,55 @@ def main():
             check("preview=1 on " + scene + " is the still frame from one point",
                   http(port, "/api/render?scene=" + scene + small + one) == moving)
         check("the server keeps serving", http(port, "/api/scenes")[0] == 200)
+
+        # A link's set= in the bare form of the contract (set=KEY=VALUE, '=' unescaped) is
+        # read as --set reads it: the same image as the quoted, escaped form.
+        small = "/api/render?scene=cornell.json&engine=raster&width=64&height=36"
+        bare = http(port, small + "&set=render.shading=flat")
+        quoted = http(port, small + "&set=render.shading%3D%22flat%22")
+        check("a bare set= value renders", bare[0] == 200, bare)
+        check("a bare set= value is read as --set reads it", bare == quoted)
+        check("the bare and the scene's shading differ", bare[1] != http(port, small)[1])
+        # Every file a scene names lies in the served folder, from an override too: a mesh, a
+        # texture, an absolute path, a way up and out. Each a 400 naming the key, in one line
+        # that names no path of the server's own.
+        outside = tempfile.mkdtemp(prefix="svetlo_outside_")
+        with open(os.path.join(outside, "tri.obj"), "w") as f:
+            f.write("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+        shutil.copy(os.path.join(scenes, "textures", "grid.png"), os.path.join(outside, "photo.png"))
+        folder = os.path.realpath(scenes)
+        for key, value in [("objects.0.file", os.path.join(outside, "tri.obj")),
+                           ("objects.0.file", "../tests/data/bad_index.obj"),
+                           ("objects.0.file", "textures/../../README.md"),
+                           ("materials.m.albedo", json.dumps({"texture": os.path.join(outside, "photo.png")})),
+                           ("materials.m.albedo", json.dumps({"texture": "../../../etc/passwd"}))]:
+            sets = "&set=" + urllib.parse.quote(key + "=" + value, safe="")
+            if key.startswith("materials"):
+                sets += "&set=" + urllib.parse.quote('materials.m.type="lambert"', safe="") + \
+                        "&set=" + urllib.parse.quote("objects.0.material=m", safe="")
+            status, body = http(port, small + sets)
+            text = body.decode("utf-8", "replace")
+            check("refused outside the folder: %s=%s" % (key, value),
+                  status == 400 and body.count(b"\n") == 1 and "outside the served folder" in text
+                  and ("objects[0].file" in text or "albedo.texture" in text), (status, text))
+            check("the message names no path of the server's: %s" % value,
+                  folder not in text, text)
+        shutil.rmtree(outside, ignore_errors=True)
+        status, body = http(port, "/api/render?scene=cornell.json&set=render.shading%3D%22glow%22")
+        check("a scene's message names the scene relative to the folder",
+              body.startswith(b"cornell.json: render.shading:"), body)
+        # /api/link: the page's start, read by the server.
+        status, body = http(port, "/api/link?scene=cornell.json&engine=raster&set=render.shading=phong"
+                                  "&set=lights.0.intensity=[1,2,3]&set=camera.fov=30")
+        link = json.loads(body)
+        check("a link's values read as --set reads them",
+              [s["value"] for s in link["sets"]] == ["phong", [1, 2, 3], 30] and "error" not in link, link)
+        for query, named in [("scene=nothing.json&engine=raster", "nothing.json"),
+                             ("scene=cornell.json&engine=warp", "warp"),
+                             ("scene=cornell.json&set=oops", "oops"),
+                             ("scene=cornell.json&spp=zero", "spp")]:
+            link = json.loads(http(port, "/api/link?" + query)[1])
+            check("a link's problem is named: " + query, named in link.get("error", ""), link)
         taken = subprocess.run([svetlo, "serve", scenes, "--port", str(port)], capture_output=True,
                                text=True, timeout=30 * SLOW)
         check("a port in use: one line naming --port", taken.returncode == 1 and
@@ -307,6 +356,32 @@ def main():
         check("the query string restores the view",
               restored is not None and final is not None and restored[0] == final[0],
               (restored and restored[:2], final and final[:2], href, again.eval("location.href")))
+        # The contract's links in the bare form, each in a new tab: the view it names, or the
+        # page with its one-line error (never a blank page, never an exception).
+        def open_tab(query):
+            req = urllib.request.Request("http://127.0.0.1:%d/json/new?%s" % (
+                devtools, urllib.parse.quote("http://127.0.0.1:%d/?%s" % (port, query), safe="")),
+                method="PUT")
+            return Tab(json.loads(urllib.request.urlopen(req, timeout=30 * SLOW).read())["webSocketDebuggerUrl"])
+        shared = open_tab("scene=cornell.json&engine=raster&set=render.shading=phong&set=camera.fov=30")
+        shown = settle(shared)
+        check("a bare-value link shows its view", shown is not None and shown[1] > 100, shown and shown[:2])
+        check("a bare-value link sets its controls",
+              shared.eval("document.getElementById('shading').value") == "phong" and
+              "camera.fov=30" in shared.eval("document.getElementById('sets').value"),
+              shared.eval("location.search"))
+        check("a bare-value link: no error", not shared.errors and
+              not shared.eval("document.getElementById('error').textContent"), shared.errors)
+        for query, named in [("scene=nothing.json&engine=raster", "nothing.json"),
+                             ("scene=cornell.json&engine=warp", "warp")]:
+            broken = open_tab(query)
+            end, text = time.time() + 30 * SLOW, ""
+            while time.time() < end and not text:
+                text = broken.eval("document.getElementById('error').textContent") or ""
+                time.sleep(0.1)
+            check("a link naming %s shows the page and its error" % named,
+                  named in text and broken.eval("document.getElementById('scene').options.length") > 0
+                  and not broken.errors, (text, broken.errors))
         if screenshot:
             shot = tab.call("Page.captureScreenshot", format="png")
             with open(screenshot, "wb") as f:

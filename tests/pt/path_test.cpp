@@ -274,11 +274,11 @@ TEST(Path, TheSameImageOnOneThreadAndTwo) {
 TEST(Path, ColourBleedsInTheCornellBox) {
     // The white back wall beside the red wall turns red, beside the green wall green: light
     // that the Whitted engine, direct light only, does not carry.
-    json j = {
-        {"camera", {{"position", {0, 1, 3.9}}, {"look_at", {0, 1, 0}}, {"fov", 38}}},
-        {"film", {{"width", 32}, {"height", 32}}},
-        {"render", {{"engine", "path"}, {"spp", 128}, {"max_depth", 8}}},
-        {"objects", {{{"type", "mesh"}, {"file", SVETLO_TEST_DATA "/CornellBox-Original.obj"}}}}};
+    json j = {{"camera", {{"position", {0, 1, 3.9}}, {"look_at", {0, 1, 0}}, {"fov", 38}}},
+              {"film", {{"width", 32}, {"height", 32}}},
+              {"render", {{"engine", "path"}, {"spp", 128}, {"max_depth", 8}}},
+              {"objects",
+               {{{"type", "mesh"}, {"file", SVETLO_SCENE_MODELS "/CornellBox-Original.obj"}}}}};
     RenderResult path = render(j);
     j["render"]["engine"] = "whitted";
     j["render"]["spp"] = 16;

@@ -76,8 +76,8 @@ Scene cornell() {
                   {"adaptive", 0},
                   {"solver", "progressive"},
                   {"tolerance", 1e-2}}}}}};
-    j["objects"] = {
-        {{"type", "mesh"}, {"file", std::string(SVETLO_TEST_DATA) + "/CornellBox-Original.obj"}}};
+    j["objects"] = {{{"type", "mesh"},
+                     {"file", std::string(SVETLO_SCENE_MODELS) + "/CornellBox-Original.obj"}}};
     return scene_from_json(j, "cornell.json");
 }
 

@@ -132,8 +132,8 @@ json cornell(int size, const char* engine) {
                {{"position", {0, 1, 3.9}}, {"look_at", {0, 1, 0}}, {"up", {0, 1, 0}}, {"fov", 38}}},
               {"film", {{"width", size}, {"height", size}}},
               {"render", {{"engine", engine}, {"spp", 1}, {"max_depth", 64}}}};
-    j["objects"] = {
-        {{"type", "mesh"}, {"file", std::string(SVETLO_TEST_DATA) + "/CornellBox-Original.obj"}}};
+    j["objects"] = {{{"type", "mesh"},
+                     {"file", std::string(SVETLO_SCENE_MODELS) + "/CornellBox-Original.obj"}}};
     return j;
 }
 

@@ -15,7 +15,7 @@ namespace fs = std::filesystem;
 fs::path data(const std::string& name) { return fs::path(SVETLO_TEST_DATA) / name; }
 
 TEST(Obj, CornellBoxMapsMtlOntoMaterials) {
-    MeshFile f = read_mesh_file(data("CornellBox-Original.obj"));
+    MeshFile f = read_mesh_file(fs::path(SVETLO_SCENE_MODELS) / "CornellBox-Original.obj");
     EXPECT_GT(f.mesh.triangle_count(), 30u);
     ASSERT_EQ(f.mesh.face_material.size(), f.mesh.triangle_count());
     int emissive = 0, phong = 0;

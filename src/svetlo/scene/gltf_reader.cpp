@@ -151,8 +151,35 @@ struct Flattener {
         mat4 world = parent * node_matrix(node);
         if (node.mesh >= 0) add_mesh(node.mesh, world);
         add_light(node, world);
+        if (node.camera >= 0 && !file.camera) add_camera(node.camera, world);
         for (int child : node.children) visit(child, world);
         --depth_guard;
+    }
+
+    /// glTF's camera looks down its node's -z with +y up (glTF 2.0, 3.10); yfov is the full
+    /// vertical angle in radians, ymag half the orthographic film's height.
+    void add_camera(int index, const mat4& world) {
+        if (static_cast<size_t>(index) >= model.cameras.size())
+            throw std::runtime_error("camera " + std::to_string(index) + " missing");
+        const tinygltf::Camera& c = model.cameras[static_cast<size_t>(index)];
+        Camera camera;
+        camera.position = vec3(world * vec4(0.0f, 0.0f, 0.0f, 1.0f));
+        const vec3 forward = vec3(world * vec4(0.0f, 0.0f, -1.0f, 0.0f));
+        camera.up = vec3(world * vec4(0.0f, 1.0f, 0.0f, 0.0f));
+        if (!(glm::length(forward) > 0.0f) || !(glm::length(camera.up) > 0.0f))
+            throw std::runtime_error("camera " + std::to_string(index) + ": a degenerate node");
+        camera.look_at = camera.position + glm::normalize(forward);
+        if (c.type == "orthographic") {
+            camera.type = Camera::Type::Orthographic;
+            camera.height = static_cast<float>(2.0 * c.orthographic.ymag);
+            if (!(camera.height > 0.0f))
+                throw std::runtime_error("camera " + std::to_string(index) + ": ymag must be > 0");
+        } else {
+            camera.fov_deg = static_cast<float>(c.perspective.yfov * 180.0 / M_PI);
+            if (!(camera.fov_deg > 0.0f && camera.fov_deg < 180.0f))
+                throw std::runtime_error("camera " + std::to_string(index) + ": yfov out of range");
+        }
+        file.camera = camera;
     }
 
     void add_light(const tinygltf::Node& node, const mat4& world) {
@@ -255,23 +282,30 @@ struct Flattener {
 };
 
 /// tinygltf's file reading with every file checked first (buffers and images a glTF names),
-/// as svetlo checks every input file.
+/// as svetlo checks every input file, and inside the FileScope that `user_data` points to.
 bool read_checked_file(std::vector<unsigned char>* out, std::string* err, const std::string& path,
                        void* user_data) {
+    try {
+        static_cast<const FileScope*>(user_data)->resolve({}, path);
+    } catch (const std::runtime_error& e) {
+        if (err) *err += std::string(e.what()) + "\n";
+        return false;
+    }
     std::string problem = input_file_problem(path);
     if (!problem.empty()) {
         if (err) *err += "'" + path + "' " + problem + "\n";
         return false;
     }
-    return tinygltf::ReadWholeFile(out, err, path, user_data);
+    return tinygltf::ReadWholeFile(out, err, path, nullptr);
 }
 
 }  // namespace
 
-MeshFile read_gltf(const std::filesystem::path& path) {
+MeshFile read_gltf(const std::filesystem::path& path, const FileScope& files) {
     tinygltf::TinyGLTF loader;
     loader.SetFsCallbacks({&tinygltf::FileExists, &tinygltf::ExpandFilePath, &read_checked_file,
-                           &tinygltf::WriteWholeFile, nullptr});
+                           &tinygltf::WriteWholeFile,
+                           const_cast<void*>(static_cast<const void*>(&files))});
     tinygltf::Model model;
     std::string err, warn;
     bool binary = path.extension() == ".glb" || path.extension() == ".GLB";

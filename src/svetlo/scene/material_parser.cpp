@@ -125,7 +125,12 @@ ColorSource parse_color_source(const JsonNode& node, Scene& scene) {
     node.expect_object({"texture", "filter", "wrap", "srgb", "max_anisotropy"});
     s.kind = ColorSource::Kind::Image;
     JsonNode tex = node.at("texture");
-    std::filesystem::path file = scene.path.parent_path() / tex.as_string();
+    std::filesystem::path file;
+    try {
+        file = scene.files.resolve(scene.path.parent_path(), tex.as_string());
+    } catch (const std::runtime_error& e) {
+        tex.fail(e.what());
+    }
     bool srgb = true;
     if (auto n = node.find("srgb")) srgb = n->as_bool();
     if (auto n = node.find("filter")) s.filter = n->as_enum(kTextureFilters);

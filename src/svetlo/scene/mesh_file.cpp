@@ -11,18 +11,18 @@
 namespace svetlo {
 namespace fs = std::filesystem;
 
-MeshFile read_mesh_file(const fs::path& path) {
+MeshFile read_mesh_file(const fs::path& path, const FileScope& files) {
     require_input_file(path);
     std::string ext = path.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(),
                    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     MeshFile file;
     if (ext == ".obj") {
-        file = read_obj(path);
+        file = read_obj(path, files);
     } else if (ext == ".ply") {
         file = read_ply(path);
     } else if (ext == ".gltf" || ext == ".glb") {
-        file = read_gltf(path);
+        file = read_gltf(path, files);
     } else {
         throw std::runtime_error("unknown mesh format '" + ext + "' (use .obj, .ply, .gltf, .glb)");
     }
@@ -38,12 +38,12 @@ std::string file_stamp(const fs::path& path) {
     return std::to_string(size) + " " + std::to_string(time.time_since_epoch().count());
 }
 
-std::shared_ptr<const MeshFile> MeshFileCache::read(const fs::path& path) {
+std::shared_ptr<const MeshFile> MeshFileCache::read(const fs::path& path, const FileScope& files) {
     const std::string stamp = file_stamp(path);
     std::lock_guard<std::mutex> lock(mutex_);
     Entry& entry = files_[path.lexically_normal().string()];
     if (!entry.file || entry.stamp != stamp || stamp.empty()) {
-        entry.file = std::make_shared<const MeshFile>(read_mesh_file(path));
+        entry.file = std::make_shared<const MeshFile>(read_mesh_file(path, files));
         entry.stamp = stamp;
     }
     return entry.file;

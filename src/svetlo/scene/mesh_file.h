@@ -9,6 +9,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,7 +21,8 @@ struct MeshFile {
     Mesh mesh;  // face_material indexes `materials` below, or is empty
     std::vector<Material> materials;
     std::vector<std::string> material_names;
-    std::vector<Light> lights;  // glTF punctual lights, in the file's space
+    std::vector<Light> lights;     // glTF punctual lights, in the file's space
+    std::optional<Camera> camera;  // glTF: the first camera of the default scene
 };
 
 /// A colour read from a mesh file (MTL Kd, glTF baseColorFactor, a light's intensity...):
@@ -28,8 +30,9 @@ struct MeshFile {
 /// Throws std::runtime_error naming `what` and the value otherwise.
 Color file_color(double r, double g, double b, const std::string& what);
 
-/// Reads .obj, .ply, .gltf or .glb by extension.
-MeshFile read_mesh_file(const std::filesystem::path& path);
+/// Reads .obj, .ply, .gltf or .glb by extension. The files it names in turn (an OBJ's MTL, a
+/// glTF's buffers and images) must lie in `files`.
+MeshFile read_mesh_file(const std::filesystem::path& path, const FileScope& files = {});
 
 /// A file's size and modification time, as text ("" where it cannot be read): what tells
 /// that a mesh file has changed since it was read.
@@ -42,7 +45,8 @@ class MeshFileCache {
 public:
     /// read_mesh_file(path), or what it returned before for the file as it is now. Safe to
     /// call from several threads.
-    std::shared_ptr<const MeshFile> read(const std::filesystem::path& path);
+    std::shared_ptr<const MeshFile> read(const std::filesystem::path& path,
+                                         const FileScope& files = {});
 
 private:
     struct Entry {
@@ -53,9 +57,9 @@ private:
     std::map<std::string, Entry> files_;  // by path: one entry per file
 };
 
-MeshFile read_obj(const std::filesystem::path& path);
+MeshFile read_obj(const std::filesystem::path& path, const FileScope& files = {});
 MeshFile read_ply(const std::filesystem::path& path);
-MeshFile read_gltf(const std::filesystem::path& path);
+MeshFile read_gltf(const std::filesystem::path& path, const FileScope& files = {});
 
 /// Checks a mesh for finite positions and in-range indices; throws std::runtime_error.
 void validate_mesh(const Mesh& mesh);

@@ -55,11 +55,12 @@ Material material_from_mtl(const tinyobj::material_t& m) {
 /// device or a pipe named there would otherwise be read until memory runs out.
 class CheckedMtlReader : public tinyobj::MaterialReader {
 public:
-    explicit CheckedMtlReader(std::filesystem::path dir) : dir_(std::move(dir)) {}
+    CheckedMtlReader(std::filesystem::path dir, const FileScope& files)
+        : dir_(std::move(dir)), files_(files) {}
     bool operator()(const std::string& name, std::vector<tinyobj::material_t>* materials,
                     std::map<std::string, int>* names, std::string* warn,
                     std::string* err) override {
-        std::filesystem::path path = dir_ / name;
+        const std::filesystem::path path = files_.resolve(dir_, name);
         std::error_code ec;
         if (!std::filesystem::exists(path, ec)) {  // as OBJ readers do: the mesh, no materials
             if (warn) *warn += "material file '" + name + "' not found\n";
@@ -74,14 +75,15 @@ public:
 
 private:
     std::filesystem::path dir_;
+    const FileScope& files_;
 };
 
 }  // namespace
 
-MeshFile read_obj(const std::filesystem::path& path) {
+MeshFile read_obj(const std::filesystem::path& path, const FileScope& files) {
     std::ifstream in(path);
     if (!in) throw std::runtime_error("cannot open");
-    CheckedMtlReader mtl(path.parent_path());
+    CheckedMtlReader mtl(path.parent_path(), files);
     tinyobj::attrib_t attrib;
     std::vector<tinyobj::shape_t> shapes;
     std::vector<tinyobj::material_t> materials;

@@ -44,10 +44,15 @@ Mesh parse_mesh(const JsonNode& node, Scene& scene, MeshFileCache& meshes, int m
     Mesh mesh;
     if (auto file_node = node.find("file")) {
         if (node.has("positions")) node.fail("give either file or positions, not both");
-        std::filesystem::path file = scene.path.parent_path() / file_node->as_string();
+        std::filesystem::path file;
+        try {
+            file = scene.files.resolve(scene.path.parent_path(), file_node->as_string());
+        } catch (const std::runtime_error& e) {
+            file_node->fail(e.what());
+        }
         std::shared_ptr<const MeshFile> read;
         try {
-            read = meshes.read(file);
+            read = meshes.read(file, scene.files);
         } catch (const std::exception& e) {
             file_node->fail("cannot read mesh '" + file_node->as_string() + "': " + e.what());
         }

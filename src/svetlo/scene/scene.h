@@ -12,6 +12,7 @@
 #include <variant>
 #include <vector>
 
+#include "svetlo/core/file_scope.h"
 #include "svetlo/core/image.h"
 #include "svetlo/core/math.h"
 #include "svetlo/core/texture_image.h"
@@ -405,6 +406,7 @@ struct RenderSettings {
 
 struct Scene {
     std::filesystem::path path;  // the scene file, for messages and relative paths
+    FileScope files;             // where the files it names may lie
     Camera camera;
     Film film;
     RenderSettings render;

@@ -8,6 +8,7 @@
 #include "svetlo/core/input_file.h"
 #include "svetlo/core/sha256.h"
 #include "svetlo/scene/json_node.h"
+#include "svetlo/scene/model_scene.h"
 #include "svetlo/scene/scene_parts.h"
 
 namespace svetlo {
@@ -77,15 +78,18 @@ nlohmann::json read_scene_json(const fs::path& path) {
     }
 }
 
+nlohmann::json override_value(const std::string& text) {
+    try {
+        return nlohmann::json::parse(text);
+    } catch (const nlohmann::json::exception&) {
+        return text;  // not JSON (or a number out of range): a plain string
+    }
+}
+
 void apply_override(nlohmann::json& root, const Override& o, const std::string& file) {
     std::string where = "--set " + o.key;
     if (o.key.empty()) throw Error(file, where, "empty key");
-    nlohmann::json value;
-    try {
-        value = nlohmann::json::parse(o.value);
-    } catch (const nlohmann::json::exception&) {
-        value = o.value;  // not JSON (or a number out of range): a plain string
-    }
+    const nlohmann::json value = override_value(o.value);
     nlohmann::json* node = &root;
     std::stringstream parts(o.key);
     std::string part;
@@ -113,8 +117,12 @@ void apply_override(nlohmann::json& root, const Override& o, const std::string& 
     *node = value;
 }
 
-nlohmann::json effective_scene_json(const fs::path& path, const std::vector<Override>& overrides) {
-    nlohmann::json root = read_scene_json(path);
+nlohmann::json effective_scene_json(const fs::path& path, const std::vector<Override>& overrides,
+                                    MeshFileCache* meshes, const FileScope& files) {
+    MeshFileCache own;
+    nlohmann::json root = is_model_file(path)
+                              ? model_scene_json(path, meshes ? *meshes : own, files)
+                              : read_scene_json(path);
     for (const Override& o : overrides) apply_override(root, o, path.string());
     return root;
 }
@@ -148,10 +156,12 @@ std::string geometry_key(const nlohmann::json& root, const Scene& scene) {
 
 }  // namespace
 
-Scene scene_from_json(const nlohmann::json& root, const fs::path& path, MeshFileCache* meshes) {
+Scene scene_from_json(const nlohmann::json& root, const fs::path& path, MeshFileCache* meshes,
+                      const FileScope& files) {
     MeshFileCache own;
     Scene scene;
     scene.path = path;
+    scene.files = files;
     JsonNode top(root, path.string(), "");
     top.expect_object({"camera", "film", "render", "materials", "lights", "objects"});
     scene.camera = parse_camera(top.at("camera"));

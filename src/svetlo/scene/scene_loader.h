@@ -36,18 +36,27 @@ inline constexpr long long kMaxSeed = 1LL << 53;  // seeds are exact as JSON num
 Scene load_scene(const std::filesystem::path& path, const std::vector<Override>& overrides = {});
 
 /// The effective scene: the file's JSON with every override applied, in order (what
-/// load_scene builds the Scene from, and what an image's provenance records).
+/// load_scene builds the Scene from, and what an image's provenance records). A model file
+/// (.gltf, .glb, .obj, .ply) is a scene of its own (model_scene.h), read through `meshes`
+/// when given, within `files`.
 nlohmann::json effective_scene_json(const std::filesystem::path& path,
-                                    const std::vector<Override>& overrides);
+                                    const std::vector<Override>& overrides,
+                                    MeshFileCache* meshes = nullptr, const FileScope& files = {});
 
 /// Builds a Scene from JSON already in memory; `path` names it in messages and anchors
 /// relative paths. Mesh files are read through `meshes` when given (the renders of one
-/// command share them), else each once for this scene.
+/// command share them), else each once for this scene. Every file the scene names must lie
+/// in `files` (svetlo serve: the served folder).
 Scene scene_from_json(const nlohmann::json& root, const std::filesystem::path& path,
-                      MeshFileCache* meshes = nullptr);
+                      MeshFileCache* meshes = nullptr, const FileScope& files = {});
 
 /// Parses a scene file, reporting syntax errors with line and column.
 nlohmann::json read_scene_json(const std::filesystem::path& path);
+
+/// The value of an override as --set reads it: JSON when `text` parses as JSON, else the
+/// string itself (`phong`, `"phong"` and `[1,2,3]` are read alike by the command line, a
+/// viewer link and Python).
+nlohmann::json override_value(const std::string& text);
 
 /// Applies one override to a scene's JSON; throws Error for a path that cannot exist.
 void apply_override(nlohmann::json& root, const Override& o, const std::string& file);
