@@ -26,8 +26,8 @@ const char* light_name(const Light& l) {
 const char* material_name(const Material& m) {
     static const char* names[] = {"lambert", "phong",      "oren_nayar", "cook_torrance",
                                   "mirror",  "dielectric", "emissive"};
-    if (const auto* p = std::get_if<PhongMaterial>(&m); p && p->blinn) return "blinn_phong";
-    return names[m.index()];
+    if (const auto* p = std::get_if<PhongMaterial>(&m.model); p && p->blinn) return "blinn_phong";
+    return names[m.model.index()];
 }
 
 }  // namespace

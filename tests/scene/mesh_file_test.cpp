@@ -20,12 +20,12 @@ TEST(Obj, CornellBoxMapsMtlOntoMaterials) {
     ASSERT_EQ(f.mesh.face_material.size(), f.mesh.triangle_count());
     int emissive = 0, phong = 0;
     for (size_t k = 0; k < f.materials.size(); ++k) {
-        if (const auto* e = std::get_if<EmissiveMaterial>(&f.materials[k])) {
+        if (const auto* e = std::get_if<EmissiveMaterial>(&f.materials[k].model)) {
             EXPECT_EQ(f.material_names[k], "light");
             EXPECT_EQ(e->radiance.value, Color(17, 12, 4));  // Ke
             EXPECT_NEAR(e->albedo.value.r, 0.78f, 1e-6f);    // Kd
             ++emissive;
-        } else if (const auto* p = std::get_if<PhongMaterial>(&f.materials[k])) {
+        } else if (const auto* p = std::get_if<PhongMaterial>(&f.materials[k].model)) {
             if (f.material_names[k] == "leftWall") {
                 EXPECT_EQ(p->kd.value, Color(0.63f, 0.065f, 0.05f));
             }
@@ -57,7 +57,7 @@ TEST(Gltf, TriangleWithMaterialAndLight) {
     // The node translates by (0, 0, -1).
     EXPECT_EQ(f.mesh.positions[1], vec3(1, 0, -1));
     ASSERT_EQ(f.materials.size(), 1u);
-    const auto& ct = std::get<CookTorranceMaterial>(f.materials[0]);
+    const auto& ct = std::get<CookTorranceMaterial>(f.materials[0].model);
     EXPECT_FLOAT_EQ(ct.roughness, 0.25f);
     EXPECT_FLOAT_EQ(ct.metallic, 1.0f);
     ASSERT_EQ(f.lights.size(), 1u);

@@ -18,11 +18,15 @@ namespace fs = std::filesystem;
 
 fs::path data(const std::string& name) { return fs::path(SVETLO_TEST_DATA) / name; }
 
-vec3 v3(const nlohmann::json& j) { return vec3(j[0].get<float>(), j[1].get<float>(), j[2].get<float>()); }
+vec3 v3(const nlohmann::json& j) {
+    return vec3(j[0].get<float>(), j[1].get<float>(), j[2].get<float>());
+}
 
 TEST(ModelScene, ModelExtensionsInAnyCase) {
-    for (const char* name : {"a.gltf", "a.GLB", "b.obj", "c.Ply"}) EXPECT_TRUE(is_model_file(name)) << name;
-    for (const char* name : {"a.json", "a.png", "gltf", "a.gltf.txt"}) EXPECT_FALSE(is_model_file(name)) << name;
+    for (const char* name : {"a.gltf", "a.GLB", "b.obj", "c.Ply"})
+        EXPECT_TRUE(is_model_file(name)) << name;
+    for (const char* name : {"a.json", "a.png", "gltf", "a.gltf.txt"})
+        EXPECT_FALSE(is_model_file(name)) << name;
 }
 
 TEST(ModelScene, AModelWithoutCameraIsFramedFromTheFrontWithTheDefaultLight) {
@@ -49,7 +53,9 @@ TEST(ModelScene, AModelWithoutCameraIsFramedFromTheFrontWithTheDefaultLight) {
     EXPECT_EQ(j["lights"][0]["type"], "directional");
     EXPECT_FLOAT_EQ(j["lights"][0]["irradiance"].get<float>(), kPi);
     const vec3 d = v3(j["lights"][0]["direction"]);
-    EXPECT_GT(d.x, 0.0f);  // travels right, down and away: it comes from the upper left, behind the viewer
+    EXPECT_GT(
+        d.x,
+        0.0f);  // travels right, down and away: it comes from the upper left, behind the viewer
     EXPECT_LT(d.y, 0.0f);
     EXPECT_LT(d.z, 0.0f);
     EXPECT_EQ(j["objects"][0]["file"], "tetra_part.obj");

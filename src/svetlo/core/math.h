@@ -10,6 +10,7 @@
 
 namespace svetlo {
 
+using glm::mat2;
 using glm::mat3;
 using glm::mat4;
 using glm::vec2;

@@ -222,7 +222,7 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, R
             }
         }
 
-        if (bsdf.model == Bsdf::Model::Emissive && frame.front && !is_black(bsdf.emission)) {
+        if (frame.front && !is_black(bsdf.emission)) {
             // With every light sending photons, the paths that reach an emitter through delta
             // vertices after a non-delta one are the photon map's (no double counting).
             bool photon_path = prev_delta && after_lobes && photons_ &&

@@ -49,7 +49,7 @@ void ElementTree::set_material(ElementNode& n) const {
         (1.0f - b.x - b.y) * list_.uvs[tri[0]] + b.x * list_.uvs[tri[1]] + b.y * list_.uvs[tri[2]];
     Bsdf bsdf = make_bsdf(materials_[list_.material[n.root]], uv, textures_);
     n.reflectance = radiosity_reflectance(bsdf);
-    n.emission = bsdf.model == Bsdf::Model::Emissive ? kPi * bsdf.emission : Color(0.0f);
+    n.emission = kPi * bsdf.emission;  // black unless the material emits
 }
 
 uint32_t ElementTree::split(uint32_t id) {

@@ -210,9 +210,8 @@ RenderResult display_window(const Scene& scene, const RenderOptions& options, co
                     const int side = at.side;
                     Bsdf bsdf = make_bsdf(mesh.lights.materials()[mesh.list.material[t]], at.uv,
                                           scene.textures);
-                    const bool emissive = bsdf.model == Bsdf::Model::Emissive;
                     const Color rho = radiosity_reflectance(bsdf);
-                    const Color emitted = emissive && side == 0 ? bsdf.emission : Color(0.0f);
+                    const Color emitted = side == 0 ? bsdf.emission : Color(0.0f);
                     IrradianceField::Value E = field.at(t, b, side);
                     Rng rng = pixel_rng(mix64(seed + static_cast<uint64_t>(s)), pixel);
                     Color irradiance = E.total;  // W/m^2, the ambient term's aside

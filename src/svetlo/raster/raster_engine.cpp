@@ -108,7 +108,7 @@ auto* base_color(M& material) {
                 return nullptr;
             }
         },
-        material);
+        material.model);
 }
 
 /// The mip chains of a frame's textures, kept from one frame to the next as a GL context keeps
@@ -206,8 +206,10 @@ void prepare_shading(const Scene& scene, FrameShading& f, KeptMipChains& kept) {
     for (size_t m = 0; m < f.materials.size(); ++m) {
         const Bsdf& b = f.constant_bsdf[m];
         bool phong = b.model == Bsdf::Model::Phong || b.model == Bsdf::Model::BlinnPhong;
-        // Textured colours too: the fast path evaluates them per sample (material_at).
-        f.simd_ok.push_back(phong || b.model == Bsdf::Model::Lambert ? 1 : 0);
+        // Textured colours too: the fast path evaluates them per sample (material_at). Not an
+        // emitting one: the fast path has no emission term.
+        const bool emits = !f.materials[m].emission.is_black();
+        f.simd_ok.push_back((phong || b.model == Bsdf::Model::Lambert) && !emits ? 1 : 0);
         f.simd_material.emplace_back(b.ambient, b.diffuse, b.specular, b.shininess,
                                      b.model == Bsdf::Model::BlinnPhong, phong);
     }

@@ -2,12 +2,17 @@
 // default scene, with node transforms baked in; metallic-roughness materials mapped to
 // cook_torrance, emission to emissive; KHR_lights_punctual lights (glTF's candela and lux
 // are taken as W/sr and W/m^2, since svetlo is radiometric).
+#include <stb_image.h>
 #include <tiny_gltf.h>
 
+#include <cmath>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
+#include <map>
+#include <memory>
 #include <stdexcept>
 
+#include "svetlo/core/image_io.h"
 #include "svetlo/core/input_file.h"
 #include "svetlo/scene/mesh_file.h"
 
@@ -105,7 +110,110 @@ mat4 node_matrix(const tinygltf::Node& node) {
     return t * r * s;
 }
 
-Material material_from_gltf(const tinygltf::Material& m) {
+/// glTF's textures as svetlo's: each image decoded once per colour space (sRGB for base
+/// colour and emission, linear for data), each texture reference a ColorSource with the
+/// texture's sampler and KHR_texture_transform.
+class GltfTextures {
+public:
+    GltfTextures(const tinygltf::Model& model, MeshFile& file) : model_(model), file_(file) {}
+
+    /// The ColorSource of a material's texture reference, times `factor`; throws for a
+    /// texture or image that is missing or does not decode.
+    ColorSource source(int texture, int tex_coord, const tinygltf::ExtensionMap& extensions,
+                       Color factor, bool srgb, const std::string& what) {
+        if (texture < 0 || static_cast<size_t>(texture) >= model_.textures.size())
+            throw std::runtime_error(what + ": texture " + std::to_string(texture) + " missing");
+        if (tex_coord != 0)
+            throw std::runtime_error(what + ": TEXCOORD_" + std::to_string(tex_coord) +
+                                     " is not read yet (only TEXCOORD_0)");
+        const tinygltf::Texture& t = model_.textures[static_cast<size_t>(texture)];
+        ColorSource s;
+        s.kind = ColorSource::Kind::Image;
+        s.texture = image(t.source, srgb, what);
+        s.factor = factor;
+        if (t.sampler >= 0 && static_cast<size_t>(t.sampler) < model_.samplers.size()) {
+            const tinygltf::Sampler& sampler = model_.samplers[static_cast<size_t>(t.sampler)];
+            if (sampler.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST)
+                s.filter = TextureFilter::Nearest;
+            // One wrap mode for both axes: clamp when either clamps; mirrored repeat repeats.
+            if (sampler.wrapS == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE ||
+                sampler.wrapT == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE)
+                s.wrap = TextureWrap::Clamp;
+        }
+        if (auto ext = extensions.find("KHR_texture_transform"); ext != extensions.end())
+            transform(ext->second, s);
+        return s;
+    }
+
+private:
+    /// KHR_texture_transform: uv' = T R S uv in glTF's texture space (its v runs down), mapped
+    /// into svetlo's (v up) by F = (u, 1 - v) on both sides: M = F T R S F.
+    static void transform(const tinygltf::Value& ext, ColorSource& s) {
+        auto number = [&](const char* key, int index, double fallback) {
+            if (!ext.Has(key)) return fallback;
+            const tinygltf::Value& v = ext.Get(key);
+            if (index < 0) return v.GetNumberAsDouble();
+            return v.IsArray() && v.ArrayLen() > static_cast<size_t>(index)
+                       ? v.Get(index).GetNumberAsDouble()
+                       : fallback;
+        };
+        if (ext.Has("texCoord") && ext.Get("texCoord").GetNumberAsInt() != 0)
+            throw std::runtime_error("KHR_texture_transform: only TEXCOORD_0 is read yet");
+        const float ox = static_cast<float>(number("offset", 0, 0.0));
+        const float oy = static_cast<float>(number("offset", 1, 0.0));
+        const float r = static_cast<float>(number("rotation", -1, 0.0));
+        const float sx = static_cast<float>(number("scale", 0, 1.0));
+        const float sy = static_cast<float>(number("scale", 1, 1.0));
+        for (float v : {ox, oy, r, sx, sy})
+            if (!std::isfinite(v)) throw std::runtime_error("KHR_texture_transform: not finite");
+        const mat3 t(1, 0, 0, 0, 1, 0, ox, oy, 1);  // column-major, as the extension writes it
+        const mat3 rot(std::cos(r), std::sin(r), 0, -std::sin(r), std::cos(r), 0, 0, 0, 1);
+        const mat3 scale(sx, 0, 0, 0, sy, 0, 0, 0, 1);
+        const mat3 flip(1, 0, 0, 0, -1, 0, 0, 1, 1);
+        s.uv_transform = flip * t * rot * scale * flip;
+        s.transformed = true;
+    }
+
+    /// The index in file_.textures of image `index` decoded in the colour space asked.
+    int image(int index, bool srgb, const std::string& what) {
+        if (index < 0 || static_cast<size_t>(index) >= model_.images.size())
+            throw std::runtime_error(what + ": image " + std::to_string(index) + " missing");
+        const auto key = std::make_pair(index, srgb);
+        if (auto known = made_.find(key); known != made_.end()) return known->second;
+        const tinygltf::Image& im = model_.images[static_cast<size_t>(index)];
+        const std::string name =
+            "image " + std::to_string(index) +
+            (im.uri.empty() || im.uri.rfind("data:", 0) == 0 ? "" : " '" + im.uri + "'");
+        // The encoded bytes (keep_encoded), decoded here by stb to 8-bit RGB: a 16-bit PNG
+        // keeps its high bytes, grey is repeated, alpha is not kept yet. The size is checked
+        // from the header before anything is decoded.
+        const auto size = static_cast<int>(std::min<size_t>(im.image.size(), INT32_MAX));
+        int w = 0, h = 0, n = 0;
+        if (im.image.empty() || !stbi_info_from_memory(im.image.data(), size, &w, &h, &n))
+            throw std::runtime_error(what + ": " + name + " does not decode: " +
+                                     (im.image.empty() ? "no data" : stbi_failure_reason()));
+        if (3.0 * w * h > static_cast<double>(kMaxTextureBytes))
+            throw std::runtime_error(what + ": " + name + " is " + std::to_string(w) + " x " +
+                                     std::to_string(h) + ", more than a texture's " +
+                                     std::to_string(kMaxTextureBytes >> 20) + " MiB");
+        std::unique_ptr<unsigned char, void (*)(void*)> data(
+            stbi_load_from_memory(im.image.data(), size, &w, &h, &n, 3), stbi_image_free);
+        if (!data)
+            throw std::runtime_error(what + ": " + name +
+                                     " does not decode: " + stbi_failure_reason());
+        std::vector<unsigned char> codes(data.get(), data.get() + 3 * static_cast<size_t>(w) * h);
+        file_.textures.emplace_back(w, h, std::move(codes), srgb);
+        const int made = static_cast<int>(file_.textures.size()) - 1;
+        made_[key] = made;
+        return made;
+    }
+
+    const tinygltf::Model& model_;
+    MeshFile& file_;
+    std::map<std::pair<int, bool>, int> made_;
+};
+
+Material material_from_gltf(const tinygltf::Material& m, GltfTextures& textures) {
     const auto& pbr = m.pbrMetallicRoughness;
     // Every factor checked (file_color): [-1, 2, 1e39] or an emission of 1e39 is refused.
     const std::string name = "material '" + m.name + "'";
@@ -124,17 +232,30 @@ Material material_from_gltf(const tinygltf::Material& m) {
                               strength * m.emissiveFactor[2],
                               name + " emissiveFactor times emissiveStrength");
     }
-    if (max_component(emission) > 0.0f) {
-        EmissiveMaterial e;
-        e.radiance = ColorSource::constant(emission);
-        e.albedo = ColorSource::constant(base);
-        return e;
-    }
     CookTorranceMaterial ct;
     ct.base_color = ColorSource::constant(base);
+    if (pbr.baseColorTexture.index >= 0)
+        ct.base_color = textures.source(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
+                                        pbr.baseColorTexture.extensions, base, true,
+                                        name + " baseColorTexture");
     ct.roughness = static_cast<float>(std::clamp(pbr.roughnessFactor, 0.0, 1.0));
     ct.metallic = static_cast<float>(std::clamp(pbr.metallicFactor, 0.0, 1.0));
-    return ct;
+    if (pbr.metallicRoughnessTexture.index >= 0)
+        ct.metallic_roughness = textures.source(
+            pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
+            pbr.metallicRoughnessTexture.extensions, Color(1.0f), false,
+            name + " metallicRoughnessTexture");
+    // Emission on the metallic-roughness surface (the material's `emission`): the factor
+    // times the texture (sRGB) when there is one.
+    Material out = ct;
+    if (max_component(emission) > 0.0f) {
+        out.emission = ColorSource::constant(emission);
+        if (m.emissiveTexture.index >= 0)
+            out.emission = textures.source(m.emissiveTexture.index, m.emissiveTexture.texCoord,
+                                           m.emissiveTexture.extensions, emission, true,
+                                           name + " emissiveTexture");
+    }
+    return out;
 }
 
 struct Flattener {
@@ -281,6 +402,15 @@ struct Flattener {
     }
 };
 
+/// tinygltf's image callback: the encoded bytes kept as they are, for GltfTextures to decode
+/// the images a material uses, once per colour space.
+bool keep_encoded(tinygltf::Image* image, int, std::string*, std::string*, int, int,
+                  const unsigned char* bytes, int size, void*) {
+    image->image.assign(bytes, bytes + size);
+    image->width = image->height = image->component = image->bits = 0;
+    return true;
+}
+
 /// tinygltf's file reading with every file checked first (buffers and images a glTF names),
 /// as svetlo checks every input file, and inside the FileScope that `user_data` points to.
 bool read_checked_file(std::vector<unsigned char>* out, std::string* err, const std::string& path,
@@ -306,6 +436,7 @@ MeshFile read_gltf(const std::filesystem::path& path, const FileScope& files) {
     loader.SetFsCallbacks({&tinygltf::FileExists, &tinygltf::ExpandFilePath, &read_checked_file,
                            &tinygltf::WriteWholeFile,
                            const_cast<void*>(static_cast<const void*>(&files))});
+    loader.SetImageLoader(&keep_encoded, nullptr);
     tinygltf::Model model;
     std::string err, warn;
     bool binary = path.extension() == ".glb" || path.extension() == ".GLB";
@@ -319,8 +450,9 @@ MeshFile read_gltf(const std::filesystem::path& path, const FileScope& files) {
         throw std::runtime_error(err.empty() ? "cannot parse glTF" : err);
     }
     MeshFile file;
+    GltfTextures textures(model, file);
     for (const tinygltf::Material& m : model.materials) {
-        file.materials.push_back(material_from_gltf(m));
+        file.materials.push_back(material_from_gltf(m, textures));
         file.material_names.push_back(m.name);
     }
     Flattener flattener{model, file};

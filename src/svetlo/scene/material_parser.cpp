@@ -62,8 +62,7 @@ void parse_dispersion(const JsonNode& node, bool has_ior, DielectricMaterial& m)
     if (m.abbe < 1.0f) c.fail("disperses more than an Abbe number of 1 allows");
 }
 
-Material parse_material(const JsonNode& node, Scene& scene) {
-    if (!node.is_object()) node.fail("must be an object");
+MaterialModel parse_model(const JsonNode& node, Scene& scene) {
     std::string type =
         node.at("type").as_choice({"lambert", "phong", "blinn_phong", "oren_nayar", "cook_torrance",
                                    "mirror", "dielectric", "emissive"});
@@ -81,11 +80,13 @@ Material parse_material(const JsonNode& node, Scene& scene) {
         return m;
     }
     if (type == "cook_torrance") {
-        node.expect_object({"type", "base_color", "roughness", "metallic"});
+        node.expect_object({"type", "base_color", "roughness", "metallic", "metallic_roughness"});
         CookTorranceMaterial m;
         m.base_color = optional_color(node, "base_color", Color(0.8f), scene);
         m.roughness = roughness_like(node, "roughness", 0.5f);
         m.metallic = roughness_like(node, "metallic", 0.0f);
+        if (auto n = node.find("metallic_roughness"))  // data, not colour: linear unless told
+            m.metallic_roughness = parse_color_source(*n, scene, /*srgb=*/false);
         return m;
     }
     if (type == "mirror") {
@@ -109,7 +110,18 @@ Material parse_material(const JsonNode& node, Scene& scene) {
 
 }  // namespace
 
-ColorSource parse_color_source(const JsonNode& node, Scene& scene) {
+Material parse_material(const JsonNode& node, Scene& scene) {
+    if (!node.is_object()) node.fail("must be an object");
+    // The keys every model takes (docs/scene-format.md, "Keys of every material"), read here
+    // once; the rest by the model's own reader.
+    nlohmann::json model = node.raw();
+    model.erase("emission");
+    Material m = parse_model(JsonNode(model, node.file(), node.path()), scene);
+    if (auto e = node.find("emission")) m.emission = parse_color_source(*e, scene);
+    return m;
+}
+
+ColorSource parse_color_source(const JsonNode& node, Scene& scene, bool srgb_default) {
     if (!node.is_object()) return ColorSource::constant(node.as_color());
     ColorSource s;
     if (node.has("checker")) {
@@ -131,7 +143,7 @@ ColorSource parse_color_source(const JsonNode& node, Scene& scene) {
     } catch (const std::runtime_error& e) {
         tex.fail(e.what());
     }
-    bool srgb = true;
+    bool srgb = srgb_default;
     if (auto n = node.find("srgb")) srgb = n->as_bool();
     if (auto n = node.find("filter")) s.filter = n->as_enum(kTextureFilters);
     if (auto n = node.find("max_anisotropy"))

@@ -10,11 +10,13 @@
 
 namespace svetlo {
 
-/// True when f(colour source) holds for any colour source of m.
-template <class F>
-bool any_source(const Material& m, F&& f) {
+/// True when f(colour source) holds for any colour source of m (Material or const Material;
+/// an f that returns false visits them all).
+template <class M, class F>
+bool any_source(M& m, F&& f) {
+    if (f(m.emission)) return true;
     return std::visit(
-        [&](const auto& mat) {
+        [&](auto& mat) {
             using T = std::decay_t<decltype(mat)>;
             if constexpr (std::is_same_v<T, LambertMaterial> ||
                           std::is_same_v<T, OrenNayarMaterial>) {
@@ -22,7 +24,7 @@ bool any_source(const Material& m, F&& f) {
             } else if constexpr (std::is_same_v<T, PhongMaterial>) {
                 return f(mat.ka) || f(mat.kd) || f(mat.ks) || f(mat.reflect) || f(mat.transmit);
             } else if constexpr (std::is_same_v<T, CookTorranceMaterial>) {
-                return f(mat.base_color);
+                return f(mat.base_color) || f(mat.metallic_roughness);
             } else if constexpr (std::is_same_v<T, MirrorMaterial>) {
                 return f(mat.reflectance);
             } else if constexpr (std::is_same_v<T, EmissiveMaterial>) {
@@ -31,7 +33,7 @@ bool any_source(const Material& m, F&& f) {
                 return false;
             }
         },
-        m);
+        m.model);
 }
 
 /// A colour that varies over the surface (an image or a checker).

@@ -23,6 +23,8 @@ struct MeshFile {
     std::vector<std::string> material_names;
     std::vector<Light> lights;     // glTF punctual lights, in the file's space
     std::optional<Camera> camera;  // glTF: the first camera of the default scene
+    // The textures the materials' ColorSources index (the loader moves them into the scene).
+    std::vector<TextureImage> textures;
 };
 
 /// A colour read from a mesh file (MTL Kd, glTF baseColorFactor, a light's intensity...):

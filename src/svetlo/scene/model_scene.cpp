@@ -54,10 +54,11 @@ nlohmann::json default_model_light(const Camera& camera) {
     const vec3 right = glm::normalize(glm::cross(camera.up, back));
     const vec3 up = glm::cross(back, right);
     const vec3 d = glm::normalize(1.0f * right - 1.5f * up - 1.0f * back);
-    return {{"type", "directional"},
-            {"direction", {d.x, d.y, d.z}},
-            {"irradiance", kPi},
-            {"_comment", "svetlo's default light of a model without lights (docs/scene-format.md)"}};
+    return {
+        {"type", "directional"},
+        {"direction", {d.x, d.y, d.z}},
+        {"irradiance", kPi},
+        {"_comment", "svetlo's default light of a model without lights (docs/scene-format.md)"}};
 }
 
 nlohmann::json model_scene_json(const fs::path& path, MeshFileCache& meshes,

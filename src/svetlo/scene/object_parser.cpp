@@ -1,6 +1,9 @@
 // lights and objects sections, transforms, and mesh files.
+#include <algorithm>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "svetlo/core/image_io.h"
+#include "svetlo/scene/material_sources.h"
 #include "svetlo/scene/mesh_file.h"
 #include "svetlo/scene/scene_parts.h"
 
@@ -39,6 +42,32 @@ void check_non_degenerate_quad(const JsonNode& node, vec3 u, vec3 v) {
     if (glm::length(glm::cross(u, v)) <= 0.0f) node.fail("edge_u and edge_v are parallel or zero");
 }
 
+/// The scene's indices of a mesh file's textures, added once per file however many objects
+/// name it, within the scene's texture memory (kMaxSceneTextureBytes).
+std::vector<int> add_file_textures(const JsonNode& node, const std::filesystem::path& file,
+                                   const MeshFile& loaded, Scene& scene) {
+    std::vector<int> out;
+    size_t used = 0;
+    for (const TextureImage& t : scene.textures) used += t.bytes();
+    for (size_t k = 0; k < loaded.textures.size(); ++k) {
+        const std::string source =
+            file.lexically_normal().string() + "#texture" + std::to_string(k);
+        auto known = std::find(scene.texture_sources.begin(), scene.texture_sources.end(), source);
+        if (known != scene.texture_sources.end()) {
+            out.push_back(static_cast<int>(known - scene.texture_sources.begin()));
+            continue;
+        }
+        used += loaded.textures[k].bytes();
+        if (used > kMaxSceneTextureBytes)
+            node.fail("the scene's textures would take more than " +
+                      std::to_string(kMaxSceneTextureBytes >> 20) + " MiB");
+        scene.textures.push_back(loaded.textures[k]);
+        scene.texture_sources.push_back(source);
+        out.push_back(static_cast<int>(scene.textures.size()) - 1);
+    }
+    return out;
+}
+
 Mesh parse_mesh(const JsonNode& node, Scene& scene, MeshFileCache& meshes, int material,
                 const Transform& transform) {
     Mesh mesh;
@@ -59,8 +88,15 @@ Mesh parse_mesh(const JsonNode& node, Scene& scene, MeshFileCache& meshes, int m
         const MeshFile& loaded = *read;
         mesh = loaded.mesh;
         auto offset = static_cast<int>(scene.materials.size());
+        const std::vector<int> textures = add_file_textures(*file_node, file, loaded, scene);
         for (size_t k = 0; k < loaded.materials.size(); ++k) {
-            scene.materials.push_back(loaded.materials[k]);
+            Material m = loaded.materials[k];
+            any_source(m, [&](ColorSource& s) {
+                if (s.kind == ColorSource::Kind::Image)
+                    s.texture = textures[static_cast<size_t>(s.texture)];
+                return false;
+            });
+            scene.materials.push_back(std::move(m));
             scene.material_names.push_back(node.path() + ":" + loaded.material_names[k]);
         }
         for (int& m : mesh.face_material) m = m >= 0 ? m + offset : -1;

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <utility>
 #include <variant>
 #include <vector>
@@ -29,8 +30,13 @@ enum class TextureWrap { Repeat, Clamp };
 struct ColorSource {
     enum class Kind { Constant, Image, Checker };
     Kind kind = Kind::Constant;
-    Color value{0.0f};  // Constant
-    int texture = -1;   // Image
+    Color value{0.0f};   // Constant
+    int texture = -1;    // Image
+    Color factor{1.0f};  // Image: multiplies the texel (glTF's baseColorFactor, emissiveFactor)
+    // Image: the texture coordinates' affine map before the lookup (KHR_texture_transform),
+    // columns of a 3x3 matrix acting on (u, v, 1); identity unless `transformed`.
+    mat3 uv_transform{1.0f};
+    bool transformed = false;
     TextureFilter filter = TextureFilter::Bilinear;
     int max_anisotropy = 16;  // Anisotropic: trilinear probes along the footprint, at most
     TextureWrap wrap = TextureWrap::Repeat;
@@ -67,6 +73,9 @@ struct CookTorranceMaterial {
     ColorSource base_color = ColorSource::constant(Color(0.8f));
     float roughness = 0.5f;  // perceptual; GGX alpha = roughness^2
     float metallic = 0.0f;
+    // glTF's metallicRoughness texture, linear: green scales `roughness`, blue `metallic`
+    // (constant white: the factors alone).
+    ColorSource metallic_roughness = ColorSource::constant(Color(1.0f));
 };
 struct MirrorMaterial {
     ColorSource reflectance = ColorSource::constant(Color(1.0f));
@@ -80,9 +89,23 @@ struct EmissiveMaterial {
     ColorSource albedo;  // it also reflects diffusely (Lambert) when non-zero
 };
 
-using Material =
+/// How a surface reflects: one of the lecture's models.
+using MaterialModel =
     std::variant<LambertMaterial, PhongMaterial, OrenNayarMaterial, CookTorranceMaterial,
                  MirrorMaterial, DielectricMaterial, EmissiveMaterial>;
+
+/// A material: its reflection model, and what any model may add: `emission`, the radiance it
+/// emits from its front side (W/(m^2 sr); the object is then a light, as an `emissive` one).
+struct Material {
+    MaterialModel model;
+    ColorSource emission;
+
+    Material() = default;
+    template <class M>
+    requires std::is_constructible_v<MaterialModel, M&&> &&
+        (!std::is_same_v<std::decay_t<M>, Material>)Material(M&& m)
+        : model(std::forward<M>(m)) {}  // NOLINT: a model is a material
+};
 
 // ---- lights -------------------------------------------------------------------------------
 

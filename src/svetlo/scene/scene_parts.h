@@ -12,7 +12,11 @@ Film parse_film(const JsonNode& node);
 RenderSettings parse_render(const JsonNode& node);
 void parse_materials(const JsonNode& node, Scene& scene);
 /// A material colour (constant, texture or checker); textures are loaded into the scene.
-ColorSource parse_color_source(const JsonNode& node, Scene& scene);
+/// A material colour (constant, texture or checker); an image is sRGB unless `srgb_default` is
+/// false or the texture says otherwise ("srgb": false).
+ColorSource parse_color_source(const JsonNode& node, Scene& scene, bool srgb_default = true);
+/// One material: its model's keys, and the keys of every material (emission).
+Material parse_material(const JsonNode& node, Scene& scene);
 Light parse_light(const JsonNode& node);
 Transform parse_transform(const JsonNode& node);
 void parse_object(const JsonNode& node, Scene& scene, MeshFileCache& meshes);

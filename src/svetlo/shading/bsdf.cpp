@@ -47,10 +47,13 @@ struct BsdfMaker {
         Bsdf b;
         b.model = Bsdf::Model::CookTorrance;
         Color base = c(m.base_color);
-        b.diffuse = b.ambient = base * (1.0f - m.metallic);
-        b.specular = glm::mix(Color(0.04f), base, m.metallic);
+        const Color mr = c(m.metallic_roughness);  // glTF: G roughness, B metallic
+        const float metallic = std::clamp(m.metallic * mr.b, 0.0f, 1.0f);
+        const float roughness = std::clamp(m.roughness * mr.g, 0.0f, 1.0f);
+        b.diffuse = b.ambient = base * (1.0f - metallic);
+        b.specular = glm::mix(Color(0.04f), base, metallic);
         // Below alpha ~ 1e-3 the GGX peak exceeds float range for point lights.
-        b.alpha = std::max(square(m.roughness), 1e-3f);
+        b.alpha = std::max(square(roughness), 1e-3f);
         return b;
     }
     Bsdf operator()(const MirrorMaterial& m) const {
@@ -95,12 +98,13 @@ bool Bsdf::has_lobes() const {
 bool colour_sources(const Material& material, const ColorSource* out[3]) {
     // BsdfMaker's: a lambert material's ambient and diffuse are its albedo, a phong material's
     // are ka, kd and ks.
-    if (const auto* l = std::get_if<LambertMaterial>(&material)) {
+    if (!material.emission.is_black()) return false;  // make_bsdf adds the emission
+    if (const auto* l = std::get_if<LambertMaterial>(&material.model)) {
         out[0] = out[1] = &l->albedo;
         out[2] = nullptr;
         return true;
     }
-    if (const auto* p = std::get_if<PhongMaterial>(&material)) {
+    if (const auto* p = std::get_if<PhongMaterial>(&material.model)) {
         out[0] = &p->ka;
         out[1] = &p->kd;
         out[2] = &p->ks;
@@ -114,7 +118,9 @@ Bsdf make_bsdf(const Material& material, vec2 uv, const std::vector<TextureImage
 }
 
 Bsdf make_bsdf(const Material& material, vec2 uv, const TextureLookup& lookup) {
-    return std::visit(BsdfMaker{uv, lookup}, material);
+    Bsdf b = std::visit(BsdfMaker{uv, lookup}, material.model);
+    if (!material.emission.is_black()) b.emission += eval_color(material.emission, uv, lookup);
+    return b;
 }
 
 Color eval_bsdf(const Bsdf& b, vec3 n, vec3 wo, vec3 wi) {

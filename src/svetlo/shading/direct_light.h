@@ -21,7 +21,7 @@ namespace svetlo {
 /// L_e (from the front side only) + k_a I_a, the empirical ambient term.
 inline Color emitted_and_ambient(const Bsdf& bsdf, const ShadingFrame& frame, Color ambient) {
     Color L(0.0f);
-    if (bsdf.model == Bsdf::Model::Emissive && frame.front) L += bsdf.emission;
+    if (frame.front) L += bsdf.emission;  // black unless the material emits
     return L + bsdf.ambient * ambient;
 }
 

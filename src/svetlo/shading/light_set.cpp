@@ -13,8 +13,8 @@ namespace svetlo {
 namespace {
 
 bool emits(const Material& m) {
-    const auto* e = std::get_if<EmissiveMaterial>(&m);
-    return e && !e->radiance.is_black();
+    const auto* e = std::get_if<EmissiveMaterial>(&m.model);
+    return (e && !e->radiance.is_black()) || !m.emission.is_black();
 }
 
 /// True when the linear part is a rotation times a uniform scale (areas scale uniformly).
@@ -151,9 +151,13 @@ LightSet::LightSet(const Scene& scene) : scene_(scene), materials_(scene.materia
         emitter_object.push_back(static_cast<int>(&obj - scene.objects.data()));
     }
     for (const Material& m : materials_) {
-        const auto* e = std::get_if<EmissiveMaterial>(&m);
-        emission_textured_.push_back(e && e->radiance.kind != ColorSource::Kind::Constant);
-        emission_.push_back(e && !emission_textured_.back() ? e->radiance.value : Color(0.0f));
+        // What make_bsdf emits: an emissive material's radiance plus any material's emission.
+        const auto* e = std::get_if<EmissiveMaterial>(&m.model);
+        const bool textured = (e && e->radiance.kind != ColorSource::Kind::Constant) ||
+                              m.emission.kind != ColorSource::Kind::Constant;
+        emission_textured_.push_back(textured);
+        emission_.push_back(textured ? Color(0.0f)
+                                     : (e ? e->radiance.value : Color(0.0f)) + m.emission.value);
     }
     const size_t object_emitters = emitters.size();
     for (const Object& quad : area_quads_) emitters.push_back(&quad);

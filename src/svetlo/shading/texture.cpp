@@ -76,20 +76,31 @@ Color eval_color(const ColorSource& source, vec2 uv, const TextureLookup& lookup
             return (parity & 1) == 0 ? source.a : source.b;
         }
         case ColorSource::Kind::Image: {
+            if (source.transformed) {  // KHR_texture_transform: the lookup in mapped coordinates
+                TextureLookup mapped = lookup;
+                const mat2 linear(source.uv_transform);
+                mapped.duv_dx = linear * lookup.duv_dx;
+                mapped.duv_dy = linear * lookup.duv_dy;
+                ColorSource plain = source;
+                plain.transformed = false;
+                return eval_color(plain, vec2(source.uv_transform * vec3(uv, 1.0f)), mapped);
+            }
             const TextureImage& image = textures[static_cast<size_t>(source.texture)];
             if (source.filter == TextureFilter::Nearest)
-                return sample_nearest(image, uv, source.wrap);
+                return sample_nearest(image, uv, source.wrap) * source.factor;
             if (source.filter == TextureFilter::Trilinear && lookup.mips) {
                 const MipChain& chain = (*lookup.mips)[static_cast<size_t>(source.texture)];
                 return sample_trilinear(chain, uv, mip_level(chain, lookup.duv_dx, lookup.duv_dy),
-                                        source.wrap);
+                                        source.wrap) *
+                       source.factor;
             }
             if (source.filter == TextureFilter::Anisotropic && lookup.mips) {
                 const MipChain& chain = (*lookup.mips)[static_cast<size_t>(source.texture)];
                 return sample_anisotropic(chain, uv, lookup.duv_dx, lookup.duv_dy,
-                                          source.max_anisotropy, source.wrap);
+                                          source.max_anisotropy, source.wrap) *
+                       source.factor;
             }
-            return sample_bilinear(image, uv, source.wrap);
+            return sample_bilinear(image, uv, source.wrap) * source.factor;
         }
     }
     return source.value;
@@ -98,7 +109,7 @@ Color eval_color(const ColorSource& source, vec2 uv, const TextureLookup& lookup
 void eval_colors(const ColorSource& source, const vec2* uv, const vec2* duv_dx, const vec2* duv_dy,
                  size_t count, const TextureLookup& lookup, Color* out) {
     if (source.kind == ColorSource::Kind::Image && source.filter == TextureFilter::Trilinear &&
-        lookup.mips) {
+        lookup.mips && !source.transformed) {
         const MipChain& chain = (*lookup.mips)[static_cast<size_t>(source.texture)];
         constexpr size_t kChunk = 64;
         float lod[kChunk];
@@ -107,7 +118,8 @@ void eval_colors(const ColorSource& source, const vec2* uv, const vec2* duv_dx, 
             for (size_t k = 0; k < n; ++k)
                 lod[k] = mip_level(chain, duv_dx[first + k], duv_dy[first + k]);
             for (size_t k = 0; k < n; ++k)
-                out[first + k] = sample_trilinear(chain, uv[first + k], lod[k], source.wrap);
+                out[first + k] =
+                    sample_trilinear(chain, uv[first + k], lod[k], source.wrap) * source.factor;
         }
         return;
     }

@@ -1,0 +1,146 @@
+// glTF materials with their textures (docs/scene-format.md, "Mesh files"): base colour and
+// emission in sRGB times their factors, metallicRoughness linear (G roughness, B metallic), a
+// sampler's filter and wrap, KHR_texture_transform; and what a bad texture gets.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "svetlo/core/image_io.h"
+#include "svetlo/scene/mesh_file.h"
+#include "svetlo/shading/bsdf.h"
+#include "svetlo/shading/texture.h"
+
+namespace svetlo {
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+/// A folder with a 2 x 1 PNG (left texel sRGB code 255/0/0, right 0/128/255 as linear
+/// values after decoding) and a glTF of one triangle whose material `material` is given.
+class GltfTextures : public ::testing::Test {
+protected:
+    void SetUp() override {
+        dir = fs::temp_directory_path() /
+              ("svetlo_gltf_textures_" +
+               std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+        fs::create_directories(dir);
+        Image im(2, 1);
+        im.at(0, 0) = Color(1.0f, 0.0f, 0.0f);
+        im.at(1, 0) = Color(0.0f, 0.5f, 1.0f);
+        // Data: the PNG holds the codes of these values (linear meaning: code = value * 255).
+        write_image(dir / "tex.png", im, PixelMeaning::Data, 1.0f, "test");
+    }
+    void TearDown() override { fs::remove_all(dir); }
+
+    MeshFile read(const json& material, const json& extra = json::object()) {
+        std::ifstream in(fs::path(SVETLO_TEST_DATA) / "triangle.gltf");
+        json g = json::parse(in);
+        g["materials"] = {material};
+        g["meshes"][0]["primitives"][0]["material"] = 0;
+        g["images"] = {{{"uri", "tex.png"}}};
+        g["textures"] = {{{"source", 0}, {"sampler", 0}}};
+        g["samplers"] = {{{"magFilter", 9728}, {"wrapS", 33071}, {"wrapT", 33071}}};  // nearest, clamp
+        g.merge_patch(extra);
+        std::ofstream(dir / "m.gltf") << g.dump();
+        return read_mesh_file(dir / "m.gltf");
+    }
+
+    fs::path dir;
+};
+
+/// The colour of `s` at uv, with the file's textures.
+Color at(const ColorSource& s, vec2 uv, const MeshFile& f) { return eval_color(s, uv, f.textures); }
+
+TEST_F(GltfTextures, BaseColourIsSrgbTimesItsFactor) {
+    const MeshFile f = read({{"pbrMetallicRoughness",
+                              {{"baseColorTexture", {{"index", 0}}}, {"baseColorFactor", {0.5, 1, 1, 1}}}}});
+    const auto& ct = std::get<CookTorranceMaterial>(f.materials[0].model);
+    ASSERT_EQ(ct.base_color.kind, ColorSource::Kind::Image);
+    EXPECT_EQ(ct.base_color.filter, TextureFilter::Nearest);
+    EXPECT_EQ(ct.base_color.wrap, TextureWrap::Clamp);
+    const Color left = at(ct.base_color, vec2(0.25f, 0.5f), f);
+    EXPECT_NEAR(left.r, 0.5f, 1e-6f);  // code 255 is 1 in sRGB, times 0.5
+    const Color right = at(ct.base_color, vec2(0.75f, 0.5f), f);
+    EXPECT_NEAR(right.g, 0.2158605f, 1e-4f);  // code 128 decoded as sRGB: ((128/255 + 0.055) / 1.055)^2.4
+    EXPECT_NEAR(right.b, 1.0f, 1e-6f);
+}
+
+TEST_F(GltfTextures, MetallicRoughnessIsLinearDataScalingTheFactors) {
+    const MeshFile f = read({{"pbrMetallicRoughness",
+                              {{"metallicRoughnessTexture", {{"index", 0}}},
+                               {"roughnessFactor", 0.8},
+                               {"metallicFactor", 1.0}}}});
+    // The right texel: G = 128/255 (linear), B = 1: roughness 0.8 * 0.502, metallic 1.
+    const Bsdf b = make_bsdf(f.materials[0], vec2(0.75f, 0.5f), f.textures);
+    EXPECT_NEAR(b.alpha, square(0.8f * 128.0f / 255.0f), 1e-5f);
+    EXPECT_EQ(b.diffuse, Color(0.0f));  // metallic: no diffuse part
+    const Bsdf left = make_bsdf(f.materials[0], vec2(0.25f, 0.5f), f.textures);
+    EXPECT_NEAR(left.alpha, 1e-3f, 1e-7f);  // G = 0: the smoothest GGX svetlo draws
+    EXPECT_NEAR(left.diffuse.r, 1.0f, 1e-6f);  // B = 0: a dielectric of glTF's base colour, 1
+}
+
+TEST_F(GltfTextures, EmissionIsTheTextureTimesFactorAndStrengthOnAnyMaterial) {
+    const MeshFile f = read({{"emissiveTexture", {{"index", 0}}},
+                             {"emissiveFactor", {1, 1, 0.5}},
+                             {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 4}}}}}});
+    ASSERT_TRUE(std::holds_alternative<CookTorranceMaterial>(f.materials[0].model));
+    const Bsdf b = make_bsdf(f.materials[0], vec2(0.25f, 0.5f), f.textures);
+    EXPECT_NEAR(b.emission.r, 4.0f, 1e-5f);
+    EXPECT_EQ(b.emission.g, 0.0f);
+    const Bsdf dark = make_bsdf(f.materials[0], vec2(0.75f, 0.5f), f.textures);
+    EXPECT_NEAR(dark.emission.b, 2.0f, 1e-5f);  // 1 * 4 * 0.5
+    // No emissive factor: no emission, whatever the texture (glTF's default factor is 0).
+    const MeshFile off = read({{"emissiveTexture", {{"index", 0}}}});
+    EXPECT_TRUE(off.materials[0].emission.is_black());
+}
+
+TEST_F(GltfTextures, TextureTransformOffsetsRotatesAndScales) {
+    // offset (0.5, 0): u = 0.25 reads u = 0.75, the right texel.
+    json offset = {{"pbrMetallicRoughness",
+                    {{"baseColorTexture",
+                      {{"index", 0}, {"extensions", {{"KHR_texture_transform", {{"offset", {0.5, 0}}}}}}}}}}};
+    MeshFile f = read(offset);
+    auto base = [&](const MeshFile& m) { return std::get<CookTorranceMaterial>(m.materials[0].model).base_color; };
+    EXPECT_NEAR(at(base(f), vec2(0.25f, 0.5f), f).b, 1.0f, 1e-6f);
+    // rotation 90 degrees about glTF's origin (the image's top-left): glTF's (u, v) = (0.3, 0.2)
+    // reads (-0.2, 0.3) there, clamped to u = 0: the left texel. svetlo's v is 1 - glTF's.
+    json rotate = offset;
+    rotate["pbrMetallicRoughness"]["baseColorTexture"]["extensions"]["KHR_texture_transform"] =
+        {{"rotation", 1.5707963}, {"offset", {1, 0}}};
+    f = read(rotate);
+    // glTF (0.3, 0.2): rotated by R = [[c, -s], [s, c]]... the extension's matrix columns are
+    // (cos, sin) and (-sin, cos): (0.3, 0.2) -> (-0.2, 0.3), plus the offset: (0.8, 0.3).
+    EXPECT_NEAR(at(base(f), vec2(0.3f, 0.8f), f).b, 1.0f, 1e-6f);
+    json scale = offset;
+    scale["pbrMetallicRoughness"]["baseColorTexture"]["extensions"]["KHR_texture_transform"] =
+        {{"scale", {0.25, 1}}};
+    f = read(scale);
+    EXPECT_NEAR(at(base(f), vec2(0.9f, 0.5f), f).r, 1.0f, 1e-6f);  // 0.9 reads 0.225: left
+}
+
+TEST_F(GltfTextures, AMissingOrUndecodableImageNamesTheMaterial) {
+    const json material = {{"name", "visor"}, {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}};
+    std::ofstream(dir / "broken.png") << "not a png";
+    for (const char* uri : {"missing.png", "broken.png"}) {
+        try {
+            read(material, {{"images", {{{"uri", uri}}}}});
+            ADD_FAILURE() << uri << " was read";
+        } catch (const std::runtime_error& e) {
+            EXPECT_NE(std::string(e.what()).find(uri), std::string::npos) << e.what();
+        }
+    }
+    try {
+        read({{"name", "visor"}, {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 3}}}}}});
+        ADD_FAILURE() << "texture 3 was read";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("material 'visor' baseColorTexture: texture 3 missing"),
+                  std::string::npos)
+            << e.what();
+    }
+}
+
+}  // namespace
+}  // namespace svetlo
