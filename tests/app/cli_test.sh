@@ -403,6 +403,26 @@ for shading in flat gouraud; do
     check "$shading, shadow map, no light: nothing on stderr" test ! -s "$work/dark.err"
 done
 
+# Bad environments: one line naming environment.file, no output.
+printf 'PF\n2 1\n-1\n' > "$work/nan.pfm"
+python3 -c "import struct,sys; sys.stdout.buffer.write(struct.pack('<6f', 1, 1, 1, float('nan'), 1, 1))" >> "$work/nan.pfm"
+printf 'PF\n2 1\n-1\n' > "$work/negative.pfm"
+python3 -c "import struct,sys; sys.stdout.buffer.write(struct.pack('<6f', 1, -1e-5, 1, 2, 2, 2))" >> "$work/negative.pfm"
+scene_with "scene['environment'] = {'file': 'negative.pfm'}"
+"$svetlo" render "$work/bad.json" -W 8 -H 8 -q -o "$work/negative_env.pfm" &&
+    python3 -c "
+import sys; sys.path.insert(0, '$(dirname "$0")'); import pfm_tool
+assert min(min(r) for r in pfm_tool.read('$work/negative_env.pfm')[2]) >= 0" &&
+    pass || fail "an environment's small negative texels (lossy EXR) are made 0"
+render_bad "an environment that is not there" "environment.file: cannot read environment" \
+    "scene['environment'] = {'file': 'nowhere.hdr'}"
+render_bad "an environment with a NaN texel" "environment.file: cannot read environment" \
+    "scene['environment'] = {'file': 'nan.pfm'}"
+render_bad "an environment in 8 bits" "environment.file: an environment is a linear image" \
+    "scene['environment'] = {'file': 'out.png'}"
+render_bad "an environment's unknown key" "environment.turn: unknown key" \
+    "scene['environment'] = {'file': 'nan.pfm', 'turn': 3}"
+
 # A model file alone is a scene (docs/scene-format.md, "A model alone"): framed, lit, in every
 # engine; its provenance holds the scene made of it, and reproduces it bit for bit; info reads it.
 for engine in raster whitted path radiosity; do

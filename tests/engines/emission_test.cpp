@@ -28,7 +28,10 @@ json glowing_square(bool front, const char* engine) {
              {{"glow", {{"type", "lambert"}, {"albedo", 0.5}, {"emission", {2.0, 1.0, 0.5}}}}}},
             {"lights", json::array()},
             {"objects",
-             {{{"type", "quad"}, {"corner", corner}, {"edge_u", {2, 0, 0}}, {"edge_v", edge_v},
+             {{{"type", "quad"},
+               {"corner", corner},
+               {"edge_u", {2, 0, 0}},
+               {"edge_v", edge_v},
                {"material", "glow"}}}}};
 }
 
@@ -60,17 +63,23 @@ TEST(Emission, AnEmittingLambertianLightsTheFloorAsAnEmissiveQuadDoes) {
                     {"materials", {{"glow", material}, {"floor", {{"type", "lambert"}}}}},
                     {"lights", json::array()},
                     {"objects",
-                     {{{"type", "quad"}, {"corner", {-0.5, 1, -0.5}}, {"edge_u", {1, 0, 0}},
-                       {"edge_v", {0, 0, 1}}, {"material", "glow"}},
-                      {{"type", "quad"}, {"corner", {-3, 0, -3}}, {"edge_u", {0, 0, 6}},
-                       {"edge_v", {6, 0, 0}}, {"material", "floor"}}}}};
+                     {{{"type", "quad"},
+                       {"corner", {-0.5, 1, -0.5}},
+                       {"edge_u", {1, 0, 0}},
+                       {"edge_v", {0, 0, 1}},
+                       {"material", "glow"}},
+                      {{"type", "quad"},
+                       {"corner", {-3, 0, -3}},
+                       {"edge_u", {0, 0, 6}},
+                       {"edge_v", {6, 0, 0}},
+                       {"material", "floor"}}}}};
     };
-    const RenderResult a = render_json<PathRenderer>(
-        scene({{"type", "lambert"}, {"albedo", 0.0}, {"emission", 4.0}}));
+    const RenderResult a =
+        render_json<PathRenderer>(scene({{"type", "lambert"}, {"albedo", 0.0}, {"emission", 4.0}}));
     const RenderResult b =
         render_json<PathRenderer>(scene({{"type", "emissive"}, {"radiance", 4.0}}));
     EXPECT_GT(mean(b.color, 0, 16, 24, 24), 0.05);  // the floor is lit
-    EXPECT_EQ(a.color.pixels, b.color.pixels);       // the same light, the same samples
+    EXPECT_EQ(a.color.pixels, b.color.pixels);      // the same light, the same samples
 }
 
 }  // namespace

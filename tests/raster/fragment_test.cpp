@@ -501,7 +501,8 @@ TEST(Raster, EachLightApartSumsToTheMaskedShading) {
         Color terms[2];
         const Color unlit = shade_point_per_light(bsdf, vec3(0.1f, 0.0f, -0.2f), frame, wo, lights,
                                                   Color(0.25f), background, terms);
-        EXPECT_EQ(unlit, unlit_point(bsdf, frame, Color(0.25f), background));
+        EXPECT_EQ(unlit,
+                  unlit_point(bsdf, frame, wo, Color(0.25f), background, lights.environment));
         const float mask[6] = {1.0f, 0.0f, 0.5f,    // the point light at samples 0, 1, 2
                                0.0f, 1.0f, 0.25f};  // the area light
         LightVisibility vis{mask, 3};

@@ -42,7 +42,8 @@ protected:
         g["meshes"][0]["primitives"][0]["material"] = 0;
         g["images"] = {{{"uri", "tex.png"}}};
         g["textures"] = {{{"source", 0}, {"sampler", 0}}};
-        g["samplers"] = {{{"magFilter", 9728}, {"wrapS", 33071}, {"wrapT", 33071}}};  // nearest, clamp
+        g["samplers"] = {
+            {{"magFilter", 9728}, {"wrapS", 33071}, {"wrapT", 33071}}};  // nearest, clamp
         g.merge_patch(extra);
         std::ofstream(dir / "m.gltf") << g.dump();
         return read_mesh_file(dir / "m.gltf");
@@ -55,8 +56,9 @@ protected:
 Color at(const ColorSource& s, vec2 uv, const MeshFile& f) { return eval_color(s, uv, f.textures); }
 
 TEST_F(GltfTextures, BaseColourIsSrgbTimesItsFactor) {
-    const MeshFile f = read({{"pbrMetallicRoughness",
-                              {{"baseColorTexture", {{"index", 0}}}, {"baseColorFactor", {0.5, 1, 1, 1}}}}});
+    const MeshFile f =
+        read({{"pbrMetallicRoughness",
+               {{"baseColorTexture", {{"index", 0}}}, {"baseColorFactor", {0.5, 1, 1, 1}}}}});
     const auto& ct = std::get<CookTorranceMaterial>(f.materials[0].model);
     ASSERT_EQ(ct.base_color.kind, ColorSource::Kind::Image);
     EXPECT_EQ(ct.base_color.filter, TextureFilter::Nearest);
@@ -64,7 +66,8 @@ TEST_F(GltfTextures, BaseColourIsSrgbTimesItsFactor) {
     const Color left = at(ct.base_color, vec2(0.25f, 0.5f), f);
     EXPECT_NEAR(left.r, 0.5f, 1e-6f);  // code 255 is 1 in sRGB, times 0.5
     const Color right = at(ct.base_color, vec2(0.75f, 0.5f), f);
-    EXPECT_NEAR(right.g, 0.2158605f, 1e-4f);  // code 128 decoded as sRGB: ((128/255 + 0.055) / 1.055)^2.4
+    EXPECT_NEAR(right.g, 0.2158605f,
+                1e-4f);  // code 128 decoded as sRGB: ((128/255 + 0.055) / 1.055)^2.4
     EXPECT_NEAR(right.b, 1.0f, 1e-6f);
 }
 
@@ -78,14 +81,15 @@ TEST_F(GltfTextures, MetallicRoughnessIsLinearDataScalingTheFactors) {
     EXPECT_NEAR(b.alpha, square(0.8f * 128.0f / 255.0f), 1e-5f);
     EXPECT_EQ(b.diffuse, Color(0.0f));  // metallic: no diffuse part
     const Bsdf left = make_bsdf(f.materials[0], vec2(0.25f, 0.5f), f.textures);
-    EXPECT_NEAR(left.alpha, 1e-3f, 1e-7f);  // G = 0: the smoothest GGX svetlo draws
+    EXPECT_NEAR(left.alpha, 1e-3f, 1e-7f);     // G = 0: the smoothest GGX svetlo draws
     EXPECT_NEAR(left.diffuse.r, 1.0f, 1e-6f);  // B = 0: a dielectric of glTF's base colour, 1
 }
 
 TEST_F(GltfTextures, EmissionIsTheTextureTimesFactorAndStrengthOnAnyMaterial) {
-    const MeshFile f = read({{"emissiveTexture", {{"index", 0}}},
-                             {"emissiveFactor", {1, 1, 0.5}},
-                             {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 4}}}}}});
+    const MeshFile f =
+        read({{"emissiveTexture", {{"index", 0}}},
+              {"emissiveFactor", {1, 1, 0.5}},
+              {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 4}}}}}});
     ASSERT_TRUE(std::holds_alternative<CookTorranceMaterial>(f.materials[0].model));
     const Bsdf b = make_bsdf(f.materials[0], vec2(0.25f, 0.5f), f.textures);
     EXPECT_NEAR(b.emission.r, 4.0f, 1e-5f);
@@ -99,30 +103,34 @@ TEST_F(GltfTextures, EmissionIsTheTextureTimesFactorAndStrengthOnAnyMaterial) {
 
 TEST_F(GltfTextures, TextureTransformOffsetsRotatesAndScales) {
     // offset (0.5, 0): u = 0.25 reads u = 0.75, the right texel.
-    json offset = {{"pbrMetallicRoughness",
-                    {{"baseColorTexture",
-                      {{"index", 0}, {"extensions", {{"KHR_texture_transform", {{"offset", {0.5, 0}}}}}}}}}}};
+    json offset = {
+        {"pbrMetallicRoughness",
+         {{"baseColorTexture",
+           {{"index", 0}, {"extensions", {{"KHR_texture_transform", {{"offset", {0.5, 0}}}}}}}}}}};
     MeshFile f = read(offset);
-    auto base = [&](const MeshFile& m) { return std::get<CookTorranceMaterial>(m.materials[0].model).base_color; };
+    auto base = [&](const MeshFile& m) {
+        return std::get<CookTorranceMaterial>(m.materials[0].model).base_color;
+    };
     EXPECT_NEAR(at(base(f), vec2(0.25f, 0.5f), f).b, 1.0f, 1e-6f);
     // rotation 90 degrees about glTF's origin (the image's top-left): glTF's (u, v) = (0.3, 0.2)
     // reads (-0.2, 0.3) there, clamped to u = 0: the left texel. svetlo's v is 1 - glTF's.
     json rotate = offset;
-    rotate["pbrMetallicRoughness"]["baseColorTexture"]["extensions"]["KHR_texture_transform"] =
-        {{"rotation", 1.5707963}, {"offset", {1, 0}}};
+    rotate["pbrMetallicRoughness"]["baseColorTexture"]["extensions"]["KHR_texture_transform"] = {
+        {"rotation", 1.5707963}, {"offset", {1, 0}}};
     f = read(rotate);
     // glTF (0.3, 0.2): rotated by R = [[c, -s], [s, c]]... the extension's matrix columns are
     // (cos, sin) and (-sin, cos): (0.3, 0.2) -> (-0.2, 0.3), plus the offset: (0.8, 0.3).
     EXPECT_NEAR(at(base(f), vec2(0.3f, 0.8f), f).b, 1.0f, 1e-6f);
     json scale = offset;
-    scale["pbrMetallicRoughness"]["baseColorTexture"]["extensions"]["KHR_texture_transform"] =
-        {{"scale", {0.25, 1}}};
+    scale["pbrMetallicRoughness"]["baseColorTexture"]["extensions"]["KHR_texture_transform"] = {
+        {"scale", {0.25, 1}}};
     f = read(scale);
     EXPECT_NEAR(at(base(f), vec2(0.9f, 0.5f), f).r, 1.0f, 1e-6f);  // 0.9 reads 0.225: left
 }
 
 TEST_F(GltfTextures, AMissingOrUndecodableImageNamesTheMaterial) {
-    const json material = {{"name", "visor"}, {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}};
+    const json material = {{"name", "visor"},
+                           {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}};
     std::ofstream(dir / "broken.png") << "not a png";
     for (const char* uri : {"missing.png", "broken.png"}) {
         try {
@@ -136,8 +144,9 @@ TEST_F(GltfTextures, AMissingOrUndecodableImageNamesTheMaterial) {
         read({{"name", "visor"}, {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 3}}}}}});
         ADD_FAILURE() << "texture 3 was read";
     } catch (const std::runtime_error& e) {
-        EXPECT_NE(std::string(e.what()).find("material 'visor' baseColorTexture: texture 3 missing"),
-                  std::string::npos)
+        EXPECT_NE(
+            std::string(e.what()).find("material 'visor' baseColorTexture: texture 3 missing"),
+            std::string::npos)
             << e.what();
     }
 }

@@ -563,7 +563,7 @@ LoadedImage read_image(const fs::path& path, const std::string& where) {
 }
 
 TextureImage read_texture(const fs::path& path, bool srgb, size_t max_bytes,
-                          const std::string& where) {
+                          const std::string& where, NegativeTexels negative) {
     std::string problem = input_file_problem(path);
     if (!problem.empty()) throw Error(path.string(), where, problem);
     TextureImage texture;
@@ -582,6 +582,10 @@ TextureImage read_texture(const fs::path& path, bool srgb, size_t max_bytes,
         for (int i = 0; i < texture.width(); ++i) {
             Color c = texture.texel(i, j);
             if (is_finite(c) && c.r >= 0.0f && c.g >= 0.0f && c.b >= 0.0f) continue;
+            if (is_finite(c) && negative == NegativeTexels::ClampToZero) {
+                texture.set_texel(i, j, glm::max(c, Color(0.0f)));
+                continue;
+            }
             char text[160];
             std::snprintf(text, sizeof text,
                           "texel (%d, %d) is (%g, %g, %g): an image must be finite and >= 0", i, j,

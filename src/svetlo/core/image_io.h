@@ -74,8 +74,12 @@ inline constexpr size_t kMaxFilmImageBytes = size_t{8192} * 8192 * 12;
 /// the file's header, before anything is decoded; so is one past 65536 texels a side. Texels
 /// that are not finite, non-negative colours are refused, naming the texel. Throws
 /// Error(path, where, ...).
+/// What read_texture makes of a finite texel below zero: refuse it, or (environment maps,
+/// whose lossy EXR compressions, DWAA, DWAB and B44, leave small negative values) make it 0.
+enum class NegativeTexels { Refuse, ClampToZero };
 TextureImage read_texture(const std::filesystem::path& path, bool srgb, size_t max_bytes,
-                          const std::string& where);
+                          const std::string& where,
+                          NegativeTexels negative = NegativeTexels::Refuse);
 
 /// The most memory one texture's texels may take: a 16384² 8-bit texture (3 bytes a texel)
 /// or an 8192² float one (12 bytes a texel). The rasterizer's mipmaps add a third.

@@ -66,7 +66,7 @@ PathIntegrator::PathIntegrator(const RtScene& rt, const LightSelection& selectio
       scene_(rt.scene()),
       wavelengths_(wavelengths),
       photons_(photons),
-      environment_(!is_black(rt.scene().render.background)) {}
+      environment_(!rt.environment().is_black()) {}
 
 float PathIntegrator::emitter_weight(uint32_t prim, vec3 from, float pdf_bsdf, int light_samples,
                                      vec3 p, vec3 ng) const {
@@ -122,16 +122,29 @@ Color PathIntegrator::one_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& fr
 Color PathIntegrator::environment_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame,
                                         vec3 wo, vec2 u, Guide guide) {
     if (scene_.render.mis == MisMode::BsdfOnly) return Color(0.0f);
-    vec3 wi = Frame::from_normal(frame.ng).to_world(sample_cosine_hemisphere(u));
+    const Environment& env = rt_.environment();
+    // A map: a direction by the map's importance; the uniform background: by the cosine
+    // about the geometric normal.
+    vec3 wi;
+    float pdf;
+    Color Le = scene_.render.background;
+    if (env.is_map()) {
+        const EnvironmentSample s = env.sample(u);
+        wi = s.wi;
+        pdf = glm::dot(frame.ng, wi) > 0.0f ? s.pdf : 0.0f;
+        Le = s.radiance;
+    } else {
+        wi = Frame::from_normal(frame.ng).to_world(sample_cosine_hemisphere(u));
+        pdf = glm::dot(frame.ng, wi) * kInvPi;
+    }
     float cos_theta = glm::dot(frame.ns, wi);
-    float pdf = glm::dot(frame.ng, wi) * kInvPi;
     if (cos_theta <= 0.0f || !(pdf > 0.0f)) return Color(0.0f);
     Color f = eval_bsdf(bsdf, frame.ns, wo, wi);
     if (is_black(f)) return Color(0.0f);
     ++rays;
     const bool blocked = rt_.occluded(Ray{offset_ray_origin(p, frame.ng, wi), wi, kInfinity});
     float w = light_weight(scene_.render.mis, pdf, scatter_pdf(bsdf, frame.ns, wo, wi, guide));
-    const Color c = blocked ? Color(0.0f) : f * scene_.render.background * (cos_theta * w / pdf);
+    const Color c = blocked ? Color(0.0f) : f * Le * (cos_theta * w / pdf);
     if (log)
         log_light(p, frame.ng, wi, kInfinity, pdf, w, blocked ? 0.0f : 1.0f, log_beta_ * c,
                   "the background");
@@ -191,11 +204,14 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, R
             self = log_ray(ray, depth, self, met ? hit.t : kInfinity, beta, prev_pdf, prev_delta);
         if (!met) {
             if (environment_) {
-                float pdf_env = std::max(0.0f, glm::dot(prev_ng, ray.d)) * kInvPi;
+                const Environment& env = rt_.environment();
+                const Color Le = env.radiance(ray.d);
+                float pdf_env = env.is_map() ? env.pdf(ray.d)
+                                             : std::max(0.0f, glm::dot(prev_ng, ray.d)) * kInvPi;
                 float w = prev_delta ? 1.0f : bsdf_weight(settings.mis, prev_pdf, pdf_env);
-                L += beta * settings.background * w;
+                L += beta * Le * w;
                 if (log) {
-                    log->rays[self].contribution = beta * settings.background * w;
+                    log->rays[self].contribution = beta * Le * w;
                     log->rays[self].set("mis_weight", {w}).note = "the background";
                 }
             }

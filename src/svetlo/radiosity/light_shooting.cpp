@@ -51,8 +51,25 @@ Color light_irradiance(const LightSet& lights, const Accel& accel, vec3 x, vec3 
     return E;
 }
 
-Color sky_irradiance(const Accel& accel, Color background, vec3 x, vec3 n, int rays, Rng& rng) {
-    if (is_black(background)) return Color(0.0f);
+Color sky_irradiance(const Accel& accel, const Environment& environment, vec3 x, vec3 n, int rays,
+                     Rng& rng) {
+    if (environment.is_black()) return Color(0.0f);
+    if (environment.is_map()) {
+        // E = integral of L cos over the hemisphere: 4 x `rays` directions by the map's
+        // importance, L cos / pdf for those that reach it.
+        const int count = 4 * rays;
+        Color sum(0.0f);
+        for (int r = 0; r < count; ++r) {
+            const EnvironmentSample s =
+                environment.sample(stratified_sample(r, count, rng.next_2d()));
+            const float cos_theta = glm::dot(n, s.wi);
+            if (cos_theta <= 0.0f || !(s.pdf > 0.0f)) continue;
+            if (!accel.occluded(Ray{offset_ray_origin(x, n, s.wi), s.wi, kInfinity}))
+                sum += s.radiance * (cos_theta / s.pdf);
+        }
+        return sum / static_cast<float>(count);
+    }
+    const Color background = environment.uniform();
     const Frame frame = Frame::from_normal(n);
     int open = 0;
     for (int r = 0; r < rays; ++r) {

@@ -8,6 +8,7 @@
 
 #include "svetlo/core/rng.h"
 #include "svetlo/geometry/accel.h"
+#include "svetlo/shading/environment.h"
 #include "svetlo/shading/light_set.h"
 
 namespace svetlo {
@@ -20,10 +21,12 @@ enum class LightSources { Delta, All };
 Color light_irradiance(const LightSet& lights, const Accel& accel, vec3 x, vec3 n,
                        LightSources which, int samples, Rng& rng, uint64_t& rays);
 
-/// The irradiance (W/m^2) at x on the side of unit normal n from the background, a uniform
-/// environment of radiance `background`: pi L_bg times the cosine-weighted fraction of the
-/// hemisphere that is open, by `rays` stratified rays.
-Color sky_irradiance(const Accel& accel, Color background, vec3 x, vec3 n, int rays, Rng& rng);
+/// The irradiance (W/m^2) at x on the side of unit normal n from far away. The uniform
+/// background: pi L_bg times the cosine-weighted fraction of the hemisphere that is open, by
+/// `rays` stratified rays; a map: 4 x `rays` directions by its importance, L cos / pdf for
+/// those that reach it.
+Color sky_irradiance(const Accel& accel, const Environment& environment, vec3 x, vec3 n, int rays,
+                     Rng& rng);
 
 /// The fraction of light 0 that reaches x (n facing the viewer): 0 or 1 for a delta light,
 /// the free fraction of max(samples, 16) stratified points for a light with area, 1 where x

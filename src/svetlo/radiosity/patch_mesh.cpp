@@ -29,7 +29,7 @@ uint64_t uniform_count(const TriangleList& list, float size) {
 }  // namespace
 
 PatchMesh::PatchMesh(const Scene& scene, int threads)
-    : lights(scene), settings(scene.render.radiosity) {
+    : lights(scene), environment(scene), settings(scene.render.radiosity) {
     const std::string file = scene.path.string();
     TessellationOptions options = tessellation_options(scene.render);
     uint64_t triangles = 0;

@@ -9,6 +9,7 @@
 #include "svetlo/geometry/accel.h"
 #include "svetlo/geometry/geometry.h"
 #include "svetlo/radiosity/element_tree.h"
+#include "svetlo/shading/environment.h"
 #include "svetlo/shading/light_set.h"
 
 namespace svetlo {
@@ -37,6 +38,7 @@ struct PatchMesh {
     void subdivide_uniform();
 
     LightSet lights;
+    Environment environment;  // the map or the uniform background, gathered before the solve
     TriangleList list;
     Geometry geometry;
     std::unique_ptr<Accel> accel;

@@ -46,7 +46,7 @@ Sides light_on_node(const PatchMesh& mesh, const Scene& scene, uint32_t id, uint
             Color E =
                 light_irradiance(mesh.lights, *mesh.accel, x, n, LightSources::Delta, 1, rng, rays);
             // The background as a uniform environment.
-            E += sky_irradiance(*mesh.accel, scene.render.background, x, n, kSkyRays, rng);
+            E += sky_irradiance(*mesh.accel, mesh.environment, x, n, kSkyRays, rng);
             out.v[side] += E / static_cast<float>(points);
         }
     }
@@ -198,7 +198,12 @@ RenderResult display_window(const Scene& scene, const RenderOptions& options, co
                             log && log->at(i, j) && log->sample == s) {
                             log_background_sample(*log, camera_rays, i, j, jitter, scene);
                         }
-                        sums[pixel] += glm::dvec3(scene.render.background);
+                        // What comes from far away along the pixel's ray.
+                        const Ray away =
+                            camera_rays.generate((static_cast<float>(i) + jitter.x) / width,
+                                                 (static_cast<float>(j) + jitter.y) / height);
+                        sums[pixel] +=
+                            glm::dvec3(mesh.environment.radiance(glm::normalize(away.d)));
                         if (targets.any) aov_sums[pixel].visibility += 1.0;
                         continue;
                     }
@@ -221,8 +226,7 @@ RenderResult display_window(const Scene& scene, const RenderOptions& options, co
                         Color direct =
                             light_irradiance(mesh.lights, *mesh.accel, x, n, LightSources::All,
                                              scene.render.light_samples, rng, local_rays) +
-                            sky_irradiance(*mesh.accel, scene.render.background, x, n, kSkyRays,
-                                           rng);
+                            sky_irradiance(*mesh.accel, mesh.environment, x, n, kSkyRays, rng);
                         irradiance = E.indirect + direct;
                     }
                     Color L = emitted + rho * inv_pi * (irradiance + sol.ambient);

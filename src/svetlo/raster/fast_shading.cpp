@@ -98,9 +98,11 @@ void shade_tile_fast(const FrameState& f, const Tile& tile, const SamplePattern&
     };
     // A sample the batches do not take: the background, or a material off the
     // fast path (shaded alone). True when it is done.
+    const ImageBasedLighting& ibl = f.lights->environment;
+    const mat4 inverse = ibl.active() ? glm::inverse(f.cam.view_projection()) : mat4(1.0f);
     auto shade_apart = [&](size_t i, uint32_t tri, int64_t sx, int64_t sy) {
-        if (tri == kNone) {
-            buf.sample_color[i] = background;
+        if (tri == kNone) {  // the background, or the map along the sample's ray
+            buf.sample_color[i] = ibl.active() ? ibl.seen(f.cam, inverse, sx, sy) : background;
             return true;
         }
         if (f.simd_ok[f.tri(tri).material]) return false;

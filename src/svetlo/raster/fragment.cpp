@@ -258,6 +258,8 @@ void shade_tile(const FrameState& f, const Tile& tile, const SamplePattern& sp, 
     const int S = sp.count;
     const size_t pixels = static_cast<size_t>(tile.x1 - tile.x0) * (tile.y1 - tile.y0);
     const Color background = f.scene->render.background;
+    const ImageBasedLighting& ibl = f.lights->environment;
+    const mat4 inverse = ibl.active() ? glm::inverse(f.cam.view_projection()) : mat4(1.0f);
     EdgeCache edges(f);
     const LightVisibility vis = light_visibility(buf, pixels * static_cast<size_t>(S));
     auto shade = [&](uint32_t tri, size_t pixel, int s, bool want_aovs) {
@@ -281,8 +283,10 @@ void shade_tile(const FrameState& f, const Tile& tile, const SamplePattern& sp, 
                 aov_sum.add(shade(tri, pixel, s, true).aov());
                 continue;
             }
-            if (tri == kNone) {
-                sum += background;
+            if (tri == kNone) {  // the background, or the map along the sample's ray
+                sum += ibl.active() ? ibl.seen(f.cam, inverse, sample_x(tile, pixel, sp, s),
+                                               sample_y(tile, pixel, sp, s))
+                                    : background;
                 continue;
             }
             float w = 1.0f;

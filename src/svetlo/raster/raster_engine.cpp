@@ -208,8 +208,10 @@ void prepare_shading(const Scene& scene, FrameShading& f, KeptMipChains& kept) {
         bool phong = b.model == Bsdf::Model::Phong || b.model == Bsdf::Model::BlinnPhong;
         // Textured colours too: the fast path evaluates them per sample (material_at). Not an
         // emitting one: the fast path has no emission term.
+        // Nor under an environment map: image-based lighting is shade_point's alone.
         const bool emits = !f.materials[m].emission.is_black();
-        f.simd_ok.push_back((phong || b.model == Bsdf::Model::Lambert) && !emits ? 1 : 0);
+        const bool ibl = f.lights->environment.active();
+        f.simd_ok.push_back((phong || b.model == Bsdf::Model::Lambert) && !emits && !ibl ? 1 : 0);
         f.simd_material.emplace_back(b.ambient, b.diffuse, b.specular, b.shininess,
                                      b.model == Bsdf::Model::BlinnPhong, phong);
     }

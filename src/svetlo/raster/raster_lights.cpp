@@ -23,7 +23,7 @@ struct VplSampling {
 
 }  // namespace
 
-RasterLights::RasterLights(const Scene& scene) : set(scene) {
+RasterLights::RasterLights(const Scene& scene) : set(scene), environment(scene) {
     const int n = scene.render.area_light_points;
     const int side = static_cast<int>(std::lround(std::sqrt(static_cast<double>(n))));
     for (const LightSet::Source& s : set.sources()) {
@@ -47,8 +47,16 @@ RasterLights::RasterLights(const Scene& scene) : set(scene) {
     }
 }
 
-Color unlit_point(const Bsdf& bsdf, const ShadingFrame& frame, Color ambient, Color background) {
+Color unlit_point(const Bsdf& bsdf, const ShadingFrame& frame, vec3 wo, Color ambient,
+                  Color background, const ImageBasedLighting& environment) {
     Color L = emitted_and_ambient(bsdf, frame, ambient);
+    if (environment.active()) {  // image-based lighting (image_based_lighting.h)
+        if (bsdf.has_lobes()) L += bsdf.diffuse * kInvPi * environment.irradiance(frame.ns);
+        if (bsdf.model == Bsdf::Model::Mirror)
+            L += bsdf.reflect * environment.environment().radiance(reflect(wo, frame.ns));
+        if (bsdf.model == Bsdf::Model::Dielectric) L += environment.environment().radiance(-wo);
+        return L;
+    }
     // Ideal mirrors and glass see the uniform environment (the background) only: a
     // rasterizer has no other surfaces to show in them. Glass without absorption passes all
     // of it, reflected or transmitted.
@@ -60,7 +68,7 @@ Color unlit_point(const Bsdf& bsdf, const ShadingFrame& frame, Color ambient, Co
 Color shade_point(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame, vec3 wo,
                   const RasterLights& lights, Color ambient, Color background,
                   const LightVisibility& vis, size_t sample) {
-    return unlit_point(bsdf, frame, ambient, background) +
+    return unlit_point(bsdf, frame, wo, ambient, background, lights.environment) +
            direct_light(lights.set, bsdf, p, frame, wo, VplSampling{lights},
                         [&](size_t source, const LightSample&) { return vis.at(source, sample); });
 }
@@ -76,7 +84,7 @@ Color shade_point_per_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame,
                                                            wo, sampling, unmasked)
                                             : Color(0.0f);
     }
-    return unlit_point(bsdf, frame, ambient, background);
+    return unlit_point(bsdf, frame, wo, ambient, background, lights.environment);
 }
 
 }  // namespace svetlo

@@ -8,6 +8,7 @@
 
 #include <vector>
 
+#include "svetlo/raster/image_based_lighting.h"
 #include "svetlo/raster/simd_shading.h"
 #include "svetlo/scene/scene.h"
 #include "svetlo/shading/bsdf.h"
@@ -20,6 +21,7 @@ struct RasterLights {
     explicit RasterLights(const Scene& scene);
 
     LightSet set;
+    ImageBasedLighting environment;  // the map, when the scene has one
     /// Per source of the set: its VPLs (none for the delta lights).
     std::vector<std::vector<AreaPoint>> vpls;
     std::vector<float> min_dist2;  // per source: its area per VPL, m^2
@@ -27,7 +29,8 @@ struct RasterLights {
 };
 
 /// Outgoing radiance toward wo at p: emission (front side), the ambient term, direct light
-/// from every light, and for mirrors and glass the uniform environment `background`.
+/// from every light, and what comes from far away: for mirrors and glass the uniform
+/// environment `background`, or with a map its image-based lighting (lights.environment).
 /// Each light's term is multiplied by its visibility at `sample`.
 Color shade_point(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame, vec3 wo,
                   const RasterLights& lights, Color ambient, Color background,
@@ -35,7 +38,8 @@ Color shade_point(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame, vec3 wo,
 
 /// What shade_point adds to the lights: emission, the ambient term, and what mirrors and glass
 /// show of the background.
-Color unlit_point(const Bsdf& bsdf, const ShadingFrame& frame, Color ambient, Color background);
+Color unlit_point(const Bsdf& bsdf, const ShadingFrame& frame, vec3 wo, Color ambient,
+                  Color background, const ImageBasedLighting& environment);
 
 /// shade_point with each light apart: returns unlit_point, and each source's term, unmasked,
 /// into per_light[index] for every index of lights.set.sources() (flat and Gouraud shading

@@ -9,7 +9,7 @@
 namespace svetlo {
 
 RtScene::RtScene(const Scene& scene, const std::string& accel, int threads, AccelCache* cache)
-    : scene_(scene), lights_(scene) {
+    : scene_(scene), lights_(scene), environment_(scene) {
     // A scene made in code, not read, has no key: it builds its own.
     const std::string key = scene.geometry_key.empty() ? "" : scene.geometry_key + " " + accel;
     built_ = shared_entry<BuiltGeometry>(cache, key, [&](BuiltGeometry& b) {

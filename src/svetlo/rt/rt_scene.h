@@ -12,6 +12,7 @@
 #include "svetlo/geometry/scene_geometry.h"
 #include "svetlo/scene/scene.h"
 #include "svetlo/shading/bsdf.h"
+#include "svetlo/shading/environment.h"
 #include "svetlo/shading/light_set.h"
 
 namespace svetlo {
@@ -26,6 +27,8 @@ public:
     const Scene& scene() const { return scene_; }
     const Geometry& geometry() const { return built_->geometry; }
     const LightSet& lights() const { return lights_; }
+    /// What comes from far away: the environment map or the uniform background.
+    const Environment& environment() const { return environment_; }
     /// The scene's materials, then the area lights' (LightSet::materials).
     const std::vector<Material>& materials() const { return lights_.materials(); }
     const Accel& accel() const { return *built_->accel; }
@@ -61,6 +64,7 @@ private:
 
     const Scene& scene_;
     LightSet lights_;
+    Environment environment_;
     std::shared_ptr<const BuiltGeometry> built_;
     std::vector<Bsdf> uniform_bsdfs_;  // per material (meaningless where textured)
     std::vector<char> textured_;       // per material

@@ -47,9 +47,10 @@ public:
         Hit hit;
         const bool met = rt_.intersect(ray, hit);
         const int self = log ? log_ray(ray, depth, branch, met ? hit.t : kInfinity) : -1;
-        if (!met) {
-            if (log) log->rays[self].contribution = branch.to_pixel * scene_.render.background;
-            return scene_.render.background;
+        if (!met) {  // what comes from far away: the environment map or the background
+            const Color Le = rt_.environment().radiance(glm::normalize(ray.d));
+            if (log) log->rays[self].contribution = branch.to_pixel * Le;
+            return Le;
         }
         const Geometry& g = rt_.geometry();
         SurfaceHit sh = g.surface(ray, hit);
@@ -81,6 +82,8 @@ public:
                                                  depth, branch.to_pixel);
                               return v;
                           });
+        if (rt_.environment().is_map() && bsdf.has_lobes())
+            L += environment_light(bsdf, sh.p, frame, wo, rng);
         if (depth >= scene_.render.max_depth) return L;
 
         auto follow = [&](Color scale, vec3 dir, const char* kind, float fresnel) {
@@ -128,6 +131,26 @@ public:
     }
 
 private:
+    /// The environment map as a light (docs/whitted.md): render.light_samples directions drawn
+    /// by the map's importance, stratified, each with its shadow ray; f L cos / pdf averaged.
+    Color environment_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame, vec3 wo,
+                            Rng& rng) {
+        const Environment& env = rt_.environment();
+        const int n = std::max(1, scene_.render.light_samples);
+        Color sum(0.0f);
+        for (int k = 0; k < n; ++k) {
+            const EnvironmentSample s = env.sample(stratified_sample(k, n, rng.next_2d()));
+            const float cos_theta = glm::dot(frame.ns, s.wi);
+            if (!(s.pdf > 0.0f) || cos_theta <= 0.0f || glm::dot(frame.ng, s.wi) <= 0.0f) continue;
+            const Color f = eval_bsdf(bsdf, frame.ns, wo, s.wi);
+            if (is_black(f)) continue;
+            ++rays;
+            if (rt_.occluded(Ray{offset_ray_origin(p, frame.ng, s.wi), s.wi, kInfinity})) continue;
+            sum += f * s.radiance * (cos_theta / s.pdf);
+        }
+        return sum / static_cast<float>(n);
+    }
+
     /// The log's entry for a ray that met something at distance t (or nothing).
     int log_ray(const Ray& ray, int depth, const Branch& branch, float t) {
         TraceRay r;

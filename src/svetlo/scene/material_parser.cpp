@@ -174,6 +174,39 @@ ColorSource parse_color_source(const JsonNode& node, Scene& scene, bool srgb_def
     return s;
 }
 
+void parse_environment(const JsonNode& node, Scene& scene) {
+    node.expect_object({"file", "scale", "rotate"});
+    const JsonNode file = node.at("file");
+    std::filesystem::path path;
+    try {
+        path = scene.files.resolve(scene.path.parent_path(), file.as_string());
+    } catch (const std::runtime_error& e) {
+        file.fail(e.what());
+    }
+    std::string ext = path.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (ext != ".hdr" && ext != ".exr" && ext != ".pfm")
+        file.fail("an environment is a linear image: .hdr, .exr or .pfm (is '" + ext + "')");
+    EnvironmentSettings e;
+    if (auto n = node.find("scale")) e.scale = n->as_color();
+    if (auto n = node.find("rotate")) e.rotate_deg = n->as_float();
+    size_t used = 0;
+    for (const TextureImage& t : scene.textures) used += t.bytes();
+    const size_t left = kMaxSceneTextureBytes - std::min(used, kMaxSceneTextureBytes);
+    try {
+        // A texel that is not finite is refused by read_texture, naming it; one below zero
+        // (lossy EXR compression's) is made 0.
+        scene.textures.push_back(read_texture(path, false, std::min(kMaxTextureBytes, left),
+                                              file.path(), NegativeTexels::ClampToZero));
+    } catch (const Error& err) {
+        file.fail("cannot read environment '" + file.as_string() + "': " + err.message());
+    }
+    scene.texture_sources.push_back(path.string() + " (environment)");
+    e.texture = static_cast<int>(scene.textures.size()) - 1;
+    scene.environment = e;
+}
+
 void parse_materials(const JsonNode& node, Scene& scene) {
     if (!node.is_object()) node.fail("must be an object mapping names to materials");
     for (const auto& [name, value] : node.raw().items()) {

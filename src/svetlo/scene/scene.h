@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -427,6 +428,14 @@ struct RenderSettings {
     RadiositySettings radiosity;
 };
 
+/// The top-level `environment` (docs/scene-format.md, "environment"): an equirectangular map
+/// of linear radiance, the radiance of every ray that leaves the scene and a light.
+struct EnvironmentSettings {
+    int texture = -1;         // index into Scene::textures (float texels)
+    Color scale{1.0f};        // multiplies every texel
+    float rotate_deg = 0.0f;  // the map turned about +y
+};
+
 struct Scene {
     std::filesystem::path path;  // the scene file, for messages and relative paths
     FileScope files;             // where the files it names may lie
@@ -441,6 +450,7 @@ struct Scene {
     std::vector<std::string> texture_sources;
     std::vector<Light> lights;
     std::vector<Object> objects;
+    std::optional<EnvironmentSettings> environment;  // in place of render.background
     /// What the shapes are made of (the objects, the area lights, the materials' order, the
     /// mesh files' sizes and times): scenes with equal keys make the same geometry, so that
     /// the renders of one command can share one BVH (geometry/accel_cache.h).

@@ -163,7 +163,8 @@ Scene scene_from_json(const nlohmann::json& root, const fs::path& path, MeshFile
     scene.path = path;
     scene.files = files;
     JsonNode top(root, path.string(), "");
-    top.expect_object({"camera", "film", "render", "materials", "lights", "objects"});
+    top.expect_object(
+        {"camera", "film", "render", "materials", "lights", "objects", "environment"});
     scene.camera = parse_camera(top.at("camera"));
     if (auto film = top.find("film")) scene.film = parse_film(*film);
     if (auto render = top.find("render")) scene.render = parse_render(*render);
@@ -172,6 +173,7 @@ Scene scene_from_json(const nlohmann::json& root, const fs::path& path, MeshFile
         for (size_t k = 0; k < lights->size(); ++k)
             scene.lights.push_back(parse_light(lights->at(k)));
     }
+    if (auto environment = top.find("environment")) parse_environment(*environment, scene);
     if (auto objects = top.find("objects")) {
         for (size_t k = 0; k < objects->size(); ++k)
             parse_object(objects->at(k), scene, meshes ? *meshes : own);

@@ -18,6 +18,8 @@ ColorSource parse_color_source(const JsonNode& node, Scene& scene, bool srgb_def
 /// One material: its model's keys, and the keys of every material (emission).
 Material parse_material(const JsonNode& node, Scene& scene);
 Light parse_light(const JsonNode& node);
+/// The top-level `environment`: the map read into the scene's textures.
+void parse_environment(const JsonNode& node, Scene& scene);
 Transform parse_transform(const JsonNode& node);
 void parse_object(const JsonNode& node, Scene& scene, MeshFileCache& meshes);
 

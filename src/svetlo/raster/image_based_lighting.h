@@ -1,0 +1,43 @@
+// The environment in the rasterizer, as real-time renderers light with it (docs/raster.md,
+// "Image-based lighting"): no rays, no shadows from it.
+//   - diffuse: the irradiance E(n) from the map's projection on the nine spherical harmonics
+//     of orders 0 to 2, E(n) = sum over l, m of A_l L_lm Y_lm(n), with A_0 = pi, A_1 = 2pi/3,
+//     A_2 = pi/4 (Ramamoorthi and Hanrahan 2001, "An efficient representation for irradiance
+//     environment maps"); exact for a uniform map and for a sky bright above the horizon;
+//   - mirrors: the map along the mirrored direction; glass: the map straight through;
+//   - the background: the map along each sample's camera ray.
+// Glossy reflection (a prefiltered map and the split-sum table) is not built yet.
+#pragma once
+
+#include <array>
+
+#include "svetlo/raster/camera_matrices.h"
+#include "svetlo/scene/scene.h"
+#include "svetlo/shading/environment.h"
+
+namespace svetlo {
+
+class ImageBasedLighting {
+public:
+    explicit ImageBasedLighting(const Scene& scene);
+
+    /// Whether a map is given (else the uniform background, as before).
+    bool active() const { return environment_.is_map(); }
+    const Environment& environment() const { return environment_; }
+    /// The irradiance (W/m^2) on a surface of unit normal n, from the SH coefficients.
+    Color irradiance(vec3 n) const;
+
+    /// The map seen along the camera ray through the sample at (sx, sy) (pixels times
+    /// kSubpixel), for the camera `cam` whose inverse view-projection is `inverse`.
+    Color seen(const CameraMatrices& cam, const mat4& inverse, int64_t sx, int64_t sy) const;
+
+private:
+    Environment environment_;
+    std::array<Color, 9> coefficients_{};  // A_l L_lm, in the order of sh_basis
+};
+
+/// The nine real spherical harmonics of orders 0 to 2 at the unit direction d (y up is
+/// svetlo's; the basis is rotation-invariant as a whole, any axis order serves).
+std::array<float, 9> sh_basis(vec3 d);
+
+}  // namespace svetlo

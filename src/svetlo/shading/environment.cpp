@@ -1,0 +1,143 @@
+#include "svetlo/shading/environment.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace svetlo {
+
+namespace {
+
+/// Index k with cdf[k] <= u < cdf[k + 1] among n cells (cdf has n + 1 entries, 0 to 1).
+int find_cell(const float* cdf, int n, float u) {
+    const float* at = std::upper_bound(cdf, cdf + n + 1, u);
+    return std::clamp(static_cast<int>(at - cdf) - 1, 0, n - 1);
+}
+
+}  // namespace
+
+Environment::Environment(const Scene& scene, bool importance) {
+    if (!scene.environment) {
+        uniform_ = scene.render.background;
+        black_ = svetlo::is_black(uniform_);
+        return;
+    }
+    const EnvironmentSettings& e = *scene.environment;
+    map_ = &scene.textures[static_cast<size_t>(e.texture)];
+    scale_ = e.scale;
+    cos_rot_ = std::cos(radians(e.rotate_deg));
+    sin_rot_ = std::sin(radians(e.rotate_deg));
+    width_ = map_->width();
+    height_ = map_->height();
+    black_ = false;
+    if (!importance) return;
+    // Texel weights: the 3 x 3 neighbourhood's largest luminance times sin(theta).
+    std::vector<float> lum(static_cast<size_t>(width_) * height_);
+    for (int j = 0; j < height_; ++j)
+        for (int i = 0; i < width_; ++i)
+            lum[static_cast<size_t>(j) * width_ + i] = luminance(map_->texel(i, j) * scale_);
+    std::vector<double> weight(lum.size());
+    double total = 0.0;
+    for (int j = 0; j < height_; ++j) {
+        const double sin_theta = std::sin(kPi * (j + 0.5) / height_);
+        for (int i = 0; i < width_; ++i) {
+            float m = 0.0f;
+            for (int dj = -1; dj <= 1; ++dj) {
+                const int jj = std::clamp(j + dj, 0, height_ - 1);
+                for (int di = -1; di <= 1; ++di) {
+                    const int ii = (i + di + width_) % width_;
+                    m = std::max(m, lum[static_cast<size_t>(jj) * width_ + ii]);
+                }
+            }
+            weight[static_cast<size_t>(j) * width_ + i] = m * sin_theta;
+            total += m * sin_theta;
+        }
+    }
+    black_ = !(total > 0.0);
+    const double floor = total > 0.0 ? 1e-3 * total / static_cast<double>(weight.size()) : 1.0;
+    total = 0.0;
+    for (double& w : weight) total += (w += floor);
+    // p over [0,1]^2: a texel's probability times the texel count; the CDFs.
+    density_.resize(weight.size());
+    row_cdf_.assign(static_cast<size_t>(height_) + 1, 0.0f);
+    texel_cdf_.assign(static_cast<size_t>(height_) * (width_ + 1), 0.0f);
+    double rows = 0.0;
+    for (int j = 0; j < height_; ++j) {
+        double row = 0.0;
+        float* cdf = &texel_cdf_[static_cast<size_t>(j) * (width_ + 1)];
+        for (int i = 0; i < width_; ++i) {
+            const double w = weight[static_cast<size_t>(j) * width_ + i];
+            density_[static_cast<size_t>(j) * width_ + i] =
+                static_cast<float>(w / total * static_cast<double>(weight.size()));
+            row += w;
+            cdf[i + 1] = static_cast<float>(row);
+        }
+        for (int i = 1; i <= width_; ++i) cdf[i] = static_cast<float>(cdf[i] / row);
+        cdf[width_] = 1.0f;
+        rows += row;
+        row_cdf_[static_cast<size_t>(j) + 1] = static_cast<float>(rows / total);
+    }
+    row_cdf_[static_cast<size_t>(height_)] = 1.0f;
+}
+
+vec2 Environment::uv_of(vec3 d) const {
+    // Into the map's frame: turned by -rotate about +y.
+    const float x = cos_rot_ * d.x - sin_rot_ * d.z;
+    const float z = sin_rot_ * d.x + cos_rot_ * d.z;
+    const float u = 0.5f + std::atan2(x, -z) * (0.5f * kInvPi);
+    const float v = 0.5f + std::asin(std::clamp(d.y, -1.0f, 1.0f)) * kInvPi;
+    return vec2(u - std::floor(u), v);
+}
+
+vec3 Environment::direction_of(vec2 uv) const {
+    const float phi = 2.0f * kPi * (uv.x - 0.5f), lat = kPi * (uv.y - 0.5f);
+    const float x = std::sin(phi) * std::cos(lat), z = -std::cos(phi) * std::cos(lat);
+    // Back to the world: turned by +rotate.
+    return vec3(cos_rot_ * x + sin_rot_ * z, std::sin(lat), -sin_rot_ * x + cos_rot_ * z);
+}
+
+Color Environment::radiance(vec3 d) const {
+    if (!map_) return uniform_;
+    const vec2 uv = uv_of(d);
+    // Bilinear between texel centres; rows from the top (v = 0 the bottom row).
+    const float fx = uv.x * width_ - 0.5f, fy = (1.0f - uv.y) * height_ - 0.5f;
+    const int i0 = static_cast<int>(std::floor(fx)), j0 = static_cast<int>(std::floor(fy));
+    const float ax = fx - i0, ay = fy - j0;
+    auto texel = [&](int i, int j) {
+        return map_->texel((i % width_ + width_) % width_, std::clamp(j, 0, height_ - 1));
+    };
+    const Color c = (1.0f - ay) * ((1.0f - ax) * texel(i0, j0) + ax * texel(i0 + 1, j0)) +
+                    ay * ((1.0f - ax) * texel(i0, j0 + 1) + ax * texel(i0 + 1, j0 + 1));
+    return c * scale_;
+}
+
+EnvironmentSample Environment::sample(vec2 u) const {
+    EnvironmentSample s;
+    if (!map_) return s;
+    const int j = find_cell(row_cdf_.data(), height_, u.y);
+    const float r0 = row_cdf_[static_cast<size_t>(j)], r1 = row_cdf_[static_cast<size_t>(j) + 1];
+    const float fy = r1 > r0 ? std::clamp((u.y - r0) / (r1 - r0), 0.0f, 0.99999994f) : 0.5f;
+    const float* cdf = &texel_cdf_[static_cast<size_t>(j) * (width_ + 1)];
+    const int i = find_cell(cdf, width_, u.x);
+    const float fx = cdf[i + 1] > cdf[i]
+                         ? std::clamp((u.x - cdf[i]) / (cdf[i + 1] - cdf[i]), 0.0f, 0.99999994f)
+                         : 0.5f;
+    const vec2 uv((i + fx) / width_, 1.0f - (j + fy) / height_);
+    const float cos_lat = std::cos(kPi * (uv.y - 0.5f));
+    if (!(cos_lat > 0.0f)) return s;
+    s.wi = direction_of(uv);
+    s.pdf = density_[static_cast<size_t>(j) * width_ + i] / (2.0f * kPi * kPi * cos_lat);
+    s.radiance = radiance(s.wi);
+    return s;
+}
+
+float Environment::pdf(vec3 d) const {
+    if (!map_) return 0.0f;
+    const vec2 uv = uv_of(d);
+    const float cos_lat = std::cos(kPi * (uv.y - 0.5f));
+    if (!(cos_lat > 0.0f)) return 0.0f;
+    const int i = std::clamp(static_cast<int>(uv.x * width_), 0, width_ - 1);
+    const int j = std::clamp(static_cast<int>((1.0f - uv.y) * height_), 0, height_ - 1);
+    return density_[static_cast<size_t>(j) * width_ + i] / (2.0f * kPi * kPi * cos_lat);
+}
+
+}  // namespace svetlo

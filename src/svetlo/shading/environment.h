@@ -1,0 +1,68 @@
+// The light that comes from far away: the scene's `environment` map, or the uniform
+// `render.background` (docs/scene-format.md, "environment"). Every engine asks it for the
+// radiance of a ray that leaves the scene; the path tracer and Whitted also draw directions
+// from it by importance, with their densities for multiple importance sampling.
+//
+// A unit direction d = (x, y, z), y up, turned by -rotate about +y into the map's frame, reads
+// the map at u = 0.5 + atan2(x, -z) / 2pi, v = 0.5 + asin(y) / pi (v = 0 the bottom row),
+// bilinear between texel centres, wrapping in u.
+//
+// Importance sampling (pbrt-v4's ImageInfiniteLight, Pharr et al. 2023, 12.5.2): a piecewise-
+// constant density over the texels, each texel's weight its luminance times sin(theta) (the
+// solid angle a texel row spans), the luminance taken as the largest of the texel and its
+// eight neighbours, which bounds what the bilinear lookup can return anywhere in the texel
+// (so that no direction with radiance has density zero), plus 1e-3 of the mean (no texel
+// has density zero). Drawn as a marginal over rows, then a conditional over the row's
+// texels; the density per steradian is p(u, v) / (2 pi^2 cos(latitude)).
+#pragma once
+
+#include <vector>
+
+#include "svetlo/core/math.h"
+#include "svetlo/scene/scene.h"
+
+namespace svetlo {
+
+/// A direction drawn from the environment: its radiance and density per steradian.
+struct EnvironmentSample {
+    vec3 wi{0.0f};
+    Color radiance{0.0f};
+    float pdf = 0.0f;
+};
+
+class Environment {
+public:
+    /// The scene's map, or its uniform background; `importance` false skips the sampling
+    /// tables (sample() and pdf() are then not to be called).
+    explicit Environment(const Scene& scene, bool importance = true);
+
+    /// Whether a map is given (false: the uniform background).
+    bool is_map() const { return map_ != nullptr; }
+    /// Whether nothing comes from far away.
+    bool is_black() const { return black_; }
+    /// The uniform background's radiance (is_map false).
+    Color uniform() const { return uniform_; }
+
+    /// The radiance arriving along -d from far away (d a unit direction leaving the scene).
+    Color radiance(vec3 d) const;
+
+    /// A direction by importance (map only), u in [0,1)^2.
+    EnvironmentSample sample(vec2 u) const;
+    /// The density per steradian with which sample() draws the unit direction d.
+    float pdf(vec3 d) const;
+
+private:
+    vec2 uv_of(vec3 d) const;
+    vec3 direction_of(vec2 uv) const;
+
+    const TextureImage* map_ = nullptr;
+    Color scale_{1.0f}, uniform_{0.0f};
+    float cos_rot_ = 1.0f, sin_rot_ = 0.0f;
+    bool black_ = true;
+    int width_ = 0, height_ = 0;
+    std::vector<float> row_cdf_;    // height_ + 1 entries, rows from the top
+    std::vector<float> texel_cdf_;  // height_ x (width_ + 1)
+    std::vector<float> density_;    // per texel: its probability x texel count (p over [0,1]^2)
+};
+
+}  // namespace svetlo

@@ -1,0 +1,172 @@
+// The environment (docs/scene-format.md, "environment") against closed forms in every engine
+// (the rasterizer's image-based lighting is exact for these maps: a constant and a step at
+// the horizon lie in the span of its nine spherical harmonics' irradiance): a diffuse sphere under
+// a uniform map (radiance albedo x L), a sky bright above the horizon only (an upward face albedo x
+// L, a vertical one half of it), and the map's orientation (a bright spot at -z straight ahead;
+// turned by `rotate`).
+#include "svetlo/shading/environment.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "image_means.h"
+#include "render_json.h"
+#include "svetlo/core/image_io.h"
+#include "svetlo/core/rng.h"
+#include "svetlo/pt/path_tracer.h"
+#include "svetlo/radiosity/radiosity_engine.h"
+#include "svetlo/raster/raster_engine.h"
+#include "svetlo/rt/whitted.h"
+
+namespace svetlo {
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+/// Writes an equirectangular PFM of w x h whose texel (i, j) (row j from the top) is
+/// `texel(i, j)`, and returns its path.
+template <class F>
+std::string write_map(const std::string& name, int w, int h, F texel) {
+    Image im(w, h);
+    for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i) im.at(i, j) = texel(i, j);
+    const fs::path path = fs::temp_directory_path() / ("svetlo_env_" + name + ".pfm");
+    write_image(path, im, PixelMeaning::Radiance, 1.0f, "test");
+    return path.string();
+}
+
+json scene_with(const std::string& map, const char* engine, json objects, json camera) {
+    return {{"camera", camera},
+            {"film", {{"width", 24}, {"height", 24}}},
+            {"render",
+             {{"engine", engine},
+              {"spp", 64},
+              {"max_depth", 1},
+              {"light_samples", 16},
+              {"radiosity", {{"patch_size", 0.2}, {"element_size", 0.1}}}}},
+            {"environment", {{"file", map}}},
+            {"materials", {{"m", {{"type", "lambert"}, {"albedo", 0.5}}}}},
+            {"lights", json::array()},
+            {"objects", objects}};
+}
+
+template <class Engine>
+Image render(const json& j) {
+    return render_json<Engine>(j).color;
+}
+
+/// Each engine's image of `j` with its engine name set.
+template <class Check>
+void in_every_engine(json j, Check check) {
+    j["render"]["engine"] = "raster";
+    check("raster", render<RasterRenderer>(j));
+    j["render"]["engine"] = "path";
+    check("path", render<PathRenderer>(j));
+    j["render"]["engine"] = "whitted";
+    check("whitted", render<WhittedRenderer>(j));
+    j["render"]["engine"] = "radiosity";
+    check("radiosity", render<RadiosityRenderer>(j));
+}
+
+TEST(Environment, ADiffuseSphereUnderAUniformMapShowsAlbedoTimesL) {
+    const std::string map = write_map("uniform", 16, 8, [](int, int) { return Color(2.0f); });
+    const json j =
+        scene_with(map, "path",
+                   {{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1}, {"material", "m"}}},
+                   {{"position", {0, 0, 5}}, {"look_at", {0, 0, 0}}, {"fov", 20}});
+    in_every_engine(j, [](const char* engine, const Image& im) {
+        // The sphere's middle: radiance 0.5 x 2 = 1; the map seen past it: 2.
+        EXPECT_NEAR(mean(im, 8, 8, 16, 16), 1.0, 0.02) << engine;
+        EXPECT_NEAR(mean(im, 0, 0, 2, 2), 2.0, 1e-5) << engine;
+    });
+}
+
+TEST(Environment, ASkyBrightAboveTheHorizonLightsAnUpwardFaceFullyAndAVerticalOneByHalf) {
+    const int h = 128;
+    const std::string map =
+        write_map("sky", 2 * h, h, [&](int, int j) { return Color(j < h / 2 ? 1.0f : 0.0f); });
+    const json up = {{"type", "quad"},
+                     {"corner", {-1, 0, 1}},
+                     {"edge_u", {2, 0, 0}},
+                     {"edge_v", {0, 0, -2}},
+                     {"material", "m"}};
+    const json vertical = {{"type", "quad"},
+                           {"corner", {-1, -1, 0}},
+                           {"edge_u", {2, 0, 0}},
+                           {"edge_v", {0, 2, 0}},
+                           {"material", "m"}};
+    in_every_engine(scene_with(map, "path", {up},
+                               {{"position", {0, 5, 0.001}}, {"look_at", {0, 0, 0}}, {"fov", 10}}),
+                    [](const char* engine, const Image& im) {
+                        EXPECT_NEAR(mean(im, 6, 6, 18, 18), 0.5, 0.01) << engine << ", upward";
+                    });
+    in_every_engine(scene_with(map, "path", {vertical},
+                               {{"position", {0, 0, 5}}, {"look_at", {0, 0, 0}}, {"fov", 10}}),
+                    [](const char* engine, const Image& im) {
+                        EXPECT_NEAR(mean(im, 6, 6, 18, 18), 0.25, 0.01) << engine << ", vertical";
+                    });
+}
+
+TEST(Environment, ABrightSpotAtMinusZIsSeenStraightAheadAndRotateTurnsIt) {
+    // Bright texels around u = 0.5, v = 0.5, the direction (0, 0, -1): four of 64 across (fully
+    // bright within 8.4 degrees of it, dark past 14), seen with a 40 degree field.
+    const int w = 64, h = 32;
+    const std::string map = write_map("spot", w, h, [&](int i, int j) {
+        return Color(std::abs(i - w / 2 + 0.5f) < 2 && std::abs(j - h / 2 + 0.5f) < 2 ? 10.0f
+                                                                                      : 0.0f);
+    });
+    json j = scene_with(map, "path", json::array(),
+                        {{"position", {0, 0, 0}}, {"look_at", {0, 0, -1}}, {"fov", 40}});
+    in_every_engine(j, [](const char* engine, const Image& im) {
+        EXPECT_GT(mean(im, 10, 10, 14, 14), 9.0) << engine;
+        EXPECT_EQ(mean(im, 0, 0, 3, 3), 0.0) << engine;
+    });
+    // Turned 90 degrees about +y: the spot moves from -z to -x (the map's -z, turned).
+    j["environment"]["rotate"] = 90;
+    in_every_engine(j, [](const char* engine, const Image& im) {
+        EXPECT_EQ(mean(im, 10, 10, 14, 14), 0.0) << engine;
+    });
+    j["camera"]["look_at"] = {-1, 0, 0};
+    in_every_engine(j, [](const char* engine, const Image& im) {
+        EXPECT_GT(mean(im, 10, 10, 14, 14), 9.0) << engine;
+    });
+}
+
+TEST(Environment, TheSamplersDensityIntegratesToOneAndMatchesItsDraws) {
+    // A map with a sun: the density over the sphere integrates to 1, and each draw's density
+    // is the one pdf() gives for its direction.
+    const int w = 64, h = 32;
+    const std::string map = write_map("sun", w, h, [&](int i, int j) {
+        return Color(i == 40 && j == 10 ? 5000.0f : 0.5f + 0.01f * static_cast<float>(j));
+    });
+    Scene scene;
+    scene.textures.push_back(read_texture(map, false, kMaxTextureBytes, "map"));
+    scene.environment = EnvironmentSettings{0, Color(1.0f), 30.0f};
+    const Environment env(scene);
+    double integral = 0.0;
+    const int n = 400;
+    for (int a = 0; a < n; ++a) {
+        for (int b = 0; b < 2 * n; ++b) {
+            const float lat = kPi * ((a + 0.5f) / n - 0.5f), phi = 2 * kPi * (b + 0.5f) / (2 * n);
+            const vec3 d(std::cos(lat) * std::sin(phi), std::sin(lat),
+                         std::cos(lat) * std::cos(phi));
+            integral += env.pdf(d) * std::cos(lat) * (kPi / n) * (kPi / n);
+        }
+    }
+    EXPECT_NEAR(integral, 1.0, 0.01);
+    Rng rng(7, 0);
+    int sun = 0;
+    for (int k = 0; k < 2000; ++k) {
+        const EnvironmentSample s = env.sample(rng.next_2d());
+        ASSERT_GT(s.pdf, 0.0f);
+        EXPECT_NEAR(s.pdf, env.pdf(s.wi), 1e-3f * s.pdf);
+        EXPECT_EQ(s.radiance, env.radiance(s.wi));
+        sun += max_component(s.radiance) > 100.0f;
+    }
+    EXPECT_GT(sun, 400);  // the sun's share of the power, drawn as often
+}
+
+}  // namespace
+}  // namespace svetlo
