@@ -112,15 +112,16 @@ TEST_F(GltfTextures, TextureTransformOffsetsRotatesAndScales) {
         return std::get<CookTorranceMaterial>(m.materials[0].model).base_color;
     };
     EXPECT_NEAR(at(base(f), vec2(0.25f, 0.5f), f).b, 1.0f, 1e-6f);
-    // rotation 90 degrees about glTF's origin (the image's top-left): glTF's (u, v) = (0.3, 0.2)
-    // reads (-0.2, 0.3) there, clamped to u = 0: the left texel. svetlo's v is 1 - glTF's.
+    // rotation 90 degrees about glTF's origin (the image's top-left), then offset (0.5, 0):
+    // glTF's (u, v) = (0.3, 0.2) (svetlo's (0.3, 0.8)) turns to (0.2, -0.3), offset to
+    // (0.7, -0.3): the right texel. The opposite turn, (-0.2, 0.3), would read u = 0.3: the
+    // left one (TextureTransformTest's red marker).
     json rotate = offset;
     rotate["pbrMetallicRoughness"]["baseColorTexture"]["extensions"]["KHR_texture_transform"] = {
-        {"rotation", 1.5707963}, {"offset", {1, 0}}};
+        {"rotation", 1.5707963}, {"offset", {0.5, 0}}};
     f = read(rotate);
-    // glTF (0.3, 0.2): rotated by R = [[c, -s], [s, c]]... the extension's matrix columns are
-    // (cos, sin) and (-sin, cos): (0.3, 0.2) -> (-0.2, 0.3), plus the offset: (0.8, 0.3).
     EXPECT_NEAR(at(base(f), vec2(0.3f, 0.8f), f).b, 1.0f, 1e-6f);
+    EXPECT_EQ(at(base(f), vec2(0.3f, 0.8f), f).r, 0.0f);
     json scale = offset;
     scale["pbrMetallicRoughness"]["baseColorTexture"]["extensions"]["KHR_texture_transform"] = {
         {"scale", {0.25, 1}}};

@@ -135,8 +135,10 @@ public:
             const tinygltf::Sampler& sampler = model_.samplers[static_cast<size_t>(t.sampler)];
             if (sampler.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST)
                 s.filter = TextureFilter::Nearest;
-            // One wrap mode for both axes: clamp when either clamps; mirrored repeat repeats.
-            if (sampler.wrapS == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE ||
+            // One wrap mode for both axes (svetlo's textures have one): clamp when both clamp,
+            // else repeat (mirrored repeat repeats). BoxTextured's u runs to 6 under mirrored
+            // repeat, with v clamped in [0, 1].
+            if (sampler.wrapS == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE &&
                 sampler.wrapT == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE)
                 s.wrap = TextureWrap::Clamp;
         }
@@ -147,7 +149,9 @@ public:
 
 private:
     /// KHR_texture_transform: uv' = T R S uv in glTF's texture space (its v runs down), mapped
-    /// into svetlo's (v up) by F = (u, 1 - v) on both sides: M = F T R S F.
+    /// into svetlo's (v up) by F = (u, 1 - v) on both sides: M = F T R S F. R maps (u, v) to
+    /// (u cos r + v sin r, -u sin r + v cos r): the sample model TextureTransformTest's arrow
+    /// then points at its green marker (the opposite sign points at the red one).
     static void transform(const tinygltf::Value& ext, ColorSource& s) {
         auto number = [&](const char* key, int index, double fallback) {
             if (!ext.Has(key)) return fallback;
@@ -167,7 +171,7 @@ private:
         for (float v : {ox, oy, r, sx, sy})
             if (!std::isfinite(v)) throw std::runtime_error("KHR_texture_transform: not finite");
         const mat3 t(1, 0, 0, 0, 1, 0, ox, oy, 1);  // column-major, as the extension writes it
-        const mat3 rot(std::cos(r), std::sin(r), 0, -std::sin(r), std::cos(r), 0, 0, 0, 1);
+        const mat3 rot(std::cos(r), -std::sin(r), 0, std::sin(r), std::cos(r), 0, 0, 0, 1);
         const mat3 scale(sx, 0, 0, 0, sy, 0, 0, 0, 1);
         const mat3 flip(1, 0, 0, 0, -1, 0, 0, 1, 1);
         s.uv_transform = flip * t * rot * scale * flip;
