@@ -5,8 +5,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
 
 #include "svetlo/core/error.h"
+#include "svetlo/core/image_io.h"
 #include "svetlo/core/rng.h"
 #include "svetlo/scene/scene_loader.h"
 
@@ -328,6 +330,71 @@ TEST(LightSet, EmittersItCannotSampleAreRefusedWithTheirPlace) {
                      {"material", "glow"},
                      {"transform", {{"scale", {1, 2, 3}}}}}};
     EXPECT_EQ(LightSet(scene_from_json(j, "t.json")).sources().size(), 1u);
+}
+
+}  // namespace
+}  // namespace svetlo
+
+namespace svetlo {
+namespace {
+
+// A textured emitter is sampled by the power each triangle emits (LightSet::weigh_by_power):
+// a square of two triangles whose emission texture is bright under one and dark under the
+// other, seen from below. Each triangle's share of the samples is its power's, each sample's
+// pdf is pdf()'s for its triangle, and the mean estimates Lambert's polygon formula.
+TEST(LightSet, ATexturedEmitterIsSampledByThePowerEachTriangleEmits) {
+    const std::filesystem::path texture =
+        std::filesystem::temp_directory_path() / "svetlo_light_set_emission.png";
+    Image im(2, 1);
+    im.at(0, 0) = Color(1.0f);
+    im.at(1, 0) = Color(0.02f);  // code 5: 0.0196
+    write_image(texture, im, PixelMeaning::Data, 1.0f, "test");
+    json j = base();
+    j["materials"]["tex"] = {{"type", "lambert"},
+                             {"albedo", 0},
+                             {"emission",
+                              {{"texture", texture.string()},
+                               {"filter", "nearest"},
+                               {"wrap", "clamp"},
+                               {"srgb", false}}}};
+    // Triangle A (x + z < 0) reads the left texel, B the right; both face down (-y).
+    j["objects"] = {{{"type", "mesh"},
+                     {"positions",
+                      {-0.5, 2, -0.5, 0.5, 2, -0.5, -0.5, 2, 0.5,  // A
+                       0.5, 2, -0.5, 0.5, 2, 0.5, -0.5, 2, 0.5}},  // B
+                     {"uvs", {0.1, 0.1, 0.4, 0.1, 0.1, 0.4, 0.9, 0.9, 0.6, 0.9, 0.9, 0.6}},
+                     {"indices", {0, 1, 2, 3, 4, 5}},
+                     {"material", "tex"}}};
+    Scene scene = scene_from_json(j, "t.json");
+    LightSet lights(scene);
+    ASSERT_EQ(lights.sources().size(), 1u);
+    const LightSet::Source& src = lights.sources()[0];
+    ASSERT_EQ(src.pdf_area.size(), 2u);
+    const float bright = 1.0f, dark = 5.0f / 255.0f;
+    // Equal areas: the shares are the luminances' (plus the floor of 1e-3 of the mean).
+    const double floor = 1e-3 * (bright + dark) / 2,
+                 share_a = (bright + floor) / (bright + dark + 2 * floor);
+    const vec3 p(0.3f, 0.0f, 0.2f), n(0.0f, 1.0f, 0.0f);
+    Rng rng(11, 0);
+    const int count = 40000;
+    int on_a = 0;
+    double sum = 0.0;
+    for (int k = 0; k < count; ++k) {
+        const LightSample s = lights.sample(src, p, rng.next_2d(), rng.next_float());
+        const bool a = s.p.x + s.p.z < 0.0f;
+        on_a += a;
+        EXPECT_NEAR(lights.pdf(src, p, s.p, s.n, src.prims[a ? 0 : 1]), s.pdf, 1e-4f * s.pdf);
+        sum += s.irradiance.r * std::max(0.0f, glm::dot(n, s.wi));
+    }
+    const double sigma = std::sqrt(share_a * (1 - share_a) / count);
+    EXPECT_NEAR(on_a / static_cast<double>(count), share_a, 4 * sigma);
+    const float exact =
+        polygon_irradiance(p, n, {{-0.5f, 2, -0.5f}, {0.5f, 2, -0.5f}, {-0.5f, 2, 0.5f}}, bright) +
+        polygon_irradiance(p, n, {{0.5f, 2, -0.5f}, {0.5f, 2, 0.5f}, {-0.5f, 2, 0.5f}}, dark);
+    EXPECT_NEAR(sum / count, exact, 0.01 * exact);
+    // By area, half the samples would fall on the dark triangle.
+    EXPECT_GT(on_a, 0.95 * count);
+    std::filesystem::remove(texture);
 }
 
 }  // namespace

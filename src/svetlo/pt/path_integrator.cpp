@@ -75,7 +75,8 @@ float PathIntegrator::emitter_weight(uint32_t prim, vec3 from, float pdf_bsdf, i
     const LightSet::Source& s = rt_.lights().sources()[static_cast<size_t>(source)];
     // As one_light draws it: the light's choice, then its samples.
     float pdf_light = selection_.probability(static_cast<size_t>(source)) *
-                      rt_.lights().pdf(s, from, p, ng) * static_cast<float>(light_samples);
+                      rt_.lights().pdf(s, from, p, ng, rt_.light_prim_of(prim)) *
+                      static_cast<float>(light_samples);
     return bsdf_weight(scene_.render.mis, pdf_bsdf, pdf_light);
 }
 

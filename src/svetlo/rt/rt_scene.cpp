@@ -45,6 +45,16 @@ int RtScene::light_source_of(uint32_t prim) const {
     return prim < it->end ? it->source : -1;
 }
 
+uint32_t RtScene::light_prim_of(uint32_t prim) const {
+    auto it = std::upper_bound(emitter_ranges_.begin(), emitter_ranges_.end(), prim,
+                               [](uint32_t id, const EmitterRange& r) { return id < r.first; });
+    if (it == emitter_ranges_.begin()) return ~0u;
+    --it;
+    if (prim >= it->end) return ~0u;
+    // An object's primitives lie in the same order in both geometries.
+    return prim - it->first + lights_.sources()[static_cast<size_t>(it->source)].range_first;
+}
+
 namespace {
 
 /// A ray whose origin or direction is not finite meets nothing (and never reaches the

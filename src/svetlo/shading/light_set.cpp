@@ -180,10 +180,17 @@ LightSet::LightSet(const Scene& scene) : scene_(scene), materials_(scene.materia
         Source s;
         s.delta = false;
         s.object = emitter_object[k];
+        bool textured = false;
+        s.range_first = ranges[k].first;
         for (uint32_t id = ranges[k].first; id < ranges[k].end; ++id) {
-            if (emits(materials_[geometry_.material(id)])) s.prims.push_back(id);
+            if (emits(materials_[geometry_.material(id)])) {
+                s.prims.push_back(id);
+                textured = textured || emission_textured_[geometry_.material(id)];
+            }
         }
-        if (finish_source(s, geometry_)) sources_.push_back(std::move(s));
+        if (!finish_source(s, geometry_)) continue;
+        if (textured && s.faces.empty() && s.prims.size() > 1) weigh_by_power(s);
+        sources_.push_back(std::move(s));
     }
 }
 
@@ -207,9 +214,49 @@ AreaPoint LightSet::sample_area(const Source& source, vec2 u, float u_pick) cons
     a.surface = source.normals.empty()
                     ? sample_primitive(geometry_, prim, u, u_rest)
                     : sample_triangle_primitive(geometry_, prim, u, source.normals[k]);
-    a.pdf_area = 1.0f / source.area;
+    a.pdf_area = source.pdf_area.empty() ? 1.0f / source.area : source.pdf_area[k];
     a.radiance = emission_at(prim, a.surface.uv);
     return a;
+}
+
+void LightSet::weigh_by_power(Source& s) const {
+    constexpr int kSide = 4;  // 16 stratified points a prim
+    std::vector<double> weight(s.prims.size());
+    double total = 0.0, area = 0.0;
+    for (size_t k = 0; k < s.prims.size(); ++k) {
+        const uint32_t prim = s.prims[k];
+        double lum = 0.0;
+        for (int a = 0; a < kSide; ++a) {
+            for (int b = 0; b < kSide; ++b) {
+                const vec2 u((a + 0.5f) / kSide, (b + 0.5f) / kSide);
+                const vec2 uv =
+                    s.normals.empty()
+                        ? sample_primitive(geometry_, prim, u, 0.5f).uv
+                        : sample_triangle_primitive(geometry_, prim, u, s.normals[k]).uv;
+                lum += luminance(emission_at(prim, uv));
+            }
+        }
+        const double prim_area = primitive_area(geometry_, prim);
+        weight[k] = prim_area * lum / (kSide * kSide);
+        total += weight[k];
+        area += prim_area;
+    }
+    // No prim may have density zero (16 points can miss a texel that glows): a floor of
+    // 1e-3 of the mean power per m^2.
+    const double floor = total > 0.0 ? 1e-3 * total / area : 1.0;
+    double sum = 0.0;
+    for (size_t k = 0; k < s.prims.size(); ++k) {
+        weight[k] += floor * primitive_area(geometry_, s.prims[k]);
+        sum += weight[k];
+    }
+    double running = 0.0;
+    s.pdf_area.resize(s.prims.size());
+    for (size_t k = 0; k < s.prims.size(); ++k) {
+        running += weight[k];
+        s.cdf[k] = static_cast<float>(running / sum);
+        s.pdf_area[k] = static_cast<float>(weight[k] / sum / primitive_area(geometry_, s.prims[k]));
+    }
+    s.cdf.back() = 1.0f;
 }
 
 Color LightSet::emission_at(uint32_t prim, vec2 uv) const {
@@ -275,12 +322,17 @@ LightSample LightSet::sample(const Source& source, vec3 p, vec2 u, float u_pick)
     return s;
 }
 
-float LightSet::pdf(const Source& source, vec3 p, vec3 q, vec3 nq) const {
+float LightSet::pdf(const Source& source, vec3 p, vec3 q, vec3 nq, uint32_t prim) const {
     if (source.delta) return 0.0f;
     vec3 d = q - p;
     float dist2 = glm::dot(d, d);
     float cos_light = -glm::dot(nq, d) / std::sqrt(dist2);
     if (!(dist2 > 0.0f) || cos_light <= 0.0f) return 0.0f;
+    if (!source.pdf_area.empty()) {  // by power: the prim's own density
+        const auto at = std::lower_bound(source.prims.begin(), source.prims.end(), prim);
+        if (at == source.prims.end() || *at != prim) return 0.0f;
+        return dist2 * source.pdf_area[static_cast<size_t>(at - source.prims.begin())] / cos_light;
+    }
     if (source.faces.empty()) return dist2 / (cos_light * source.area);
     // The face's pdf_area, its height over the plane over the weight, p's height being
     // cos' d: d^3 / weight per steradian.

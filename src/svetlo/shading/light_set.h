@@ -71,10 +71,16 @@ public:
         int light_index = -1;  // index into Scene::lights; -1 for an emissive object
         int object = -1;  // lights with area: index into Scene::objects, then area_light_quads()
         std::vector<uint32_t> prims;  // lights with area: primitives of the set's geometry
-        std::vector<float> cdf;       // cumulative area over prims, ending at 1
-        std::vector<vec3> normals;    // unit front normal per prim, when all are triangles
-        float area = 0.0f;            // m^2
-        std::vector<Face> faces;      // a few flat faces, in more than one plane
+        uint32_t range_first = 0;     // the first primitive of its object in the set's geometry
+        std::vector<float> cdf;       // cumulative weight over prims, ending at 1: area, or power
+        // A textured emitter of many faces: each prim picked by the power it emits, its area
+        // times the mean luminance of its emission (16 stratified points), so that the dark
+        // parts of a glowing texture are seldom drawn; per prim, its density per m^2 (empty:
+        // by area, 1 / area).
+        std::vector<float> pdf_area;
+        std::vector<vec3> normals;  // unit front normal per prim, when all are triangles
+        float area = 0.0f;          // m^2
+        std::vector<Face> faces;    // a few flat faces, in more than one plane
     };
 
     /// Throws Error for an emitter it cannot sample (an emissive plane, or an emissive shape
@@ -101,12 +107,15 @@ public:
     LightSample sample_at(const AreaPoint& a, vec3 p, float min_dist2 = 0.0f) const;
     /// The pdf per steradian with which sample() picks the direction from p to the point q
     /// (normal nq) of a light with area: pdf_area d^2 / cos', 0 behind it.
-    float pdf(const Source& source, vec3 p, vec3 q, vec3 nq) const;
+    /// `prim`, the geometry's primitive that q lies on, matters for a source picked by power.
+    float pdf(const Source& source, vec3 p, vec3 q, vec3 nq, uint32_t prim = ~0u) const;
 
 private:
     /// The sum over the faces of `source` that p lies in front of of their area times p's
     /// height over their plane; with `face`, also the one of them that `pick` in [0,1) picks
     /// in proportion to that product.
+    /// Picks a textured emitter's prims by the power they emit (Source::pdf_area).
+    void weigh_by_power(Source& source) const;
     static float facing_weight(const Source& source, vec3 p, float pick = 0.0f,
                                const Face** face = nullptr);
     /// The emitted radiance of primitive `prim` at uv.
