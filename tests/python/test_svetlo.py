@@ -252,3 +252,16 @@ def test_compare_is_cli_compare(svetlo_bin, scenes, tmp_path):
     assert (tmp_path / "s.html").read_text().startswith("<!DOCTYPE html>")
     with pytest.raises(svetlo.SceneError, match="-T phong"):
         svetlo.compare(path, ["phong"], **SMALL)
+
+
+def test_a_model_alone_loads_and_renders_as_the_cli_renders_it(svetlo_bin, tmp_path):
+    # docs/scene-format.md, "A model alone": the same scene, framed and lit, bit for bit.
+    model = os.path.join(ROOT, "tests", "data", "tetra_part.obj")
+    scene = svetlo.load(model)
+    assert scene["camera"]["fov"] == 40 and scene["lights"][0]["type"] == "directional"
+    r = svetlo.render(scene, engine="raster", width=32, height=24, seed=0, threads=2)
+    out = tmp_path / "model.pfm"
+    subprocess.run([svetlo_bin, "render", model, "-e", "raster", "-W", "32", "-H", "24",
+                    "--seed", "0", "-t", "2", "-q", "-o", str(out)], check=True)
+    assert r.image.max() > 0.05
+    assert np.array_equal(r.image, read_pfm(out))
