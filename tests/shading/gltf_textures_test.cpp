@@ -154,3 +154,51 @@ TEST_F(GltfTextures, AMissingOrUndecodableImageNamesTheMaterial) {
 
 }  // namespace
 }  // namespace svetlo
+
+namespace svetlo {
+namespace {
+
+// OBJ/MTL texture maps (docs/scene-format.md, "Mesh files"): map_Kd replaces Kd (sRGB),
+// map_Ke is scaled by Ke, Pr and Pm make a cook_torrance material; a map that is not there
+// names the material and the map.
+TEST(ObjTextures, MapsReplaceTheirColoursAndPbrKeysMakeCookTorrance) {
+    const fs::path dir = fs::temp_directory_path() / "svetlo_obj_textures";
+    fs::create_directories(dir);
+    Image im(2, 1);
+    im.at(0, 0) = Color(1.0f, 0.0f, 0.0f);
+    im.at(1, 0) = Color(0.0f, 0.0f, 1.0f);
+    write_image(dir / "tex.png", im, PixelMeaning::Data, 1.0f, "test");
+    std::ofstream(dir / "m.mtl") << "newmtl painted\nKd 0.2 0.2 0.2\nmap_Kd tex.png\n"
+                                    "newmtl lamp\nKe 2 2 2\nmap_Ke tex.png\n"
+                                    "newmtl metal\nKd 0.9 0.8 0.7\nPr 0.25\nPm 1\n";
+    const std::string faces = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0.25 0.5\nvt 0.25 0.5\nvt 0.25 0.5\n";
+    std::ofstream(dir / "m.obj") << "mtllib m.mtl\n"
+                                 << faces << "usemtl painted\nf 1/1 2/2 3/3\n"
+                                 << "usemtl lamp\nf 1/1 2/2 3/3\nusemtl metal\nf 1/1 2/2 3/3\n";
+    const MeshFile f = read_mesh_file(dir / "m.obj");
+    ASSERT_EQ(f.materials.size(), 3u);
+    const Bsdf painted = make_bsdf(f.materials[0], vec2(0.25f, 0.5f), f.textures);
+    EXPECT_NEAR(painted.diffuse.r, 1.0f, 1e-6f);  // the map's red, not Kd's grey
+    EXPECT_EQ(painted.diffuse.b, 0.0f);
+    const Bsdf lamp = make_bsdf(f.materials[1], vec2(0.75f, 0.5f), f.textures);
+    EXPECT_NEAR(lamp.emission.b, 2.0f, 1e-6f);  // the map's blue times Ke
+    EXPECT_EQ(lamp.emission.r, 0.0f);
+    const auto* metal = std::get_if<CookTorranceMaterial>(&f.materials[2].model);
+    ASSERT_NE(metal, nullptr);
+    EXPECT_FLOAT_EQ(metal->roughness, 0.25f);
+    EXPECT_FLOAT_EQ(metal->metallic, 1.0f);
+    EXPECT_EQ(f.textures.size(), 1u);  // one file, one colour space: read once
+    std::ofstream(dir / "m.mtl") << "newmtl painted\nmap_Kd nowhere.png\n";
+    try {
+        read_mesh_file(dir / "m.obj");
+        ADD_FAILURE() << "a missing map was read";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("material 'painted' map_Kd 'nowhere.png'"),
+                  std::string::npos)
+            << e.what();
+    }
+    fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace svetlo

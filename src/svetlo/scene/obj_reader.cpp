@@ -1,15 +1,19 @@
 // OBJ and MTL through tinyobjloader. Every (position, normal, uv) triple becomes one vertex,
 // so seams keep their own normals and texture coordinates. MTL mapping (docs/scene-format.md,
-// "OBJ/MTL"): Ke > 0 -> emissive (Kd as albedo); illum 3 or 5 -> mirror (Ks); illum 4, 6, 7 or d <
-// 1 -> dielectric (Ni); otherwise phong with Ka, Kd, Ks, Ns.
+// "OBJ/MTL"): Ke > 0 or map_Ke -> emissive (Kd or map_Kd as albedo); illum 3 or 5 -> mirror
+// (Ks); illum 4, 6, 7 or d < 1 -> dielectric (Ni); Pr or Pm > 0 -> cook_torrance; otherwise
+// phong with Ka, Kd or map_Kd, Ks or map_Ks, Ns.
 #include <tiny_obj_loader.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <map>
 #include <stdexcept>
 #include <tuple>
 
+#include "svetlo/core/error.h"
+#include "svetlo/core/image_io.h"
 #include "svetlo/core/input_file.h"
 #include "svetlo/scene/mesh_file.h"
 
@@ -17,7 +21,43 @@ namespace svetlo {
 
 namespace {
 
-Material material_from_mtl(const tinyobj::material_t& m) {
+/// The texture maps an MTL names (map_Kd, map_Ks, map_Ke), each read once per colour space
+/// into the file's textures, inside the file scope, relative to the OBJ's folder.
+class MtlTextures {
+public:
+    MtlTextures(std::filesystem::path dir, const FileScope& files, MeshFile& file)
+        : dir_(std::move(dir)), files_(files), file_(file) {}
+
+    /// `constant` when `name` is empty, else the texture times `factor`.
+    ColorSource source(const std::string& name, Color constant, Color factor, bool srgb,
+                       const std::string& what) {
+        if (name.empty()) return ColorSource::constant(constant);
+        const std::filesystem::path path = files_.resolve(dir_, name);
+        const std::string key = path.lexically_normal().string() + (srgb ? " (sRGB)" : " (linear)");
+        ColorSource s;
+        s.kind = ColorSource::Kind::Image;
+        s.factor = factor;
+        if (auto known = made_.find(key); known != made_.end()) {
+            s.texture = known->second;
+            return s;
+        }
+        try {
+            file_.textures.push_back(read_texture(path, srgb, kMaxTextureBytes, what));
+        } catch (const Error& e) {
+            throw std::runtime_error(what + " '" + name + "': " + e.message());
+        }
+        s.texture = made_[key] = static_cast<int>(file_.textures.size()) - 1;
+        return s;
+    }
+
+private:
+    std::filesystem::path dir_;
+    const FileScope& files_;
+    MeshFile& file_;
+    std::map<std::string, int> made_;
+};
+
+Material material_from_mtl(const tinyobj::material_t& m, MtlTextures& textures) {
     // Every colour of the MTL checked (file_color): 'Kd 1e39' or 'Kd -1 0.5 0.5' is refused.
     auto color = [&](const tinyobj::real_t c[3], const char* key) {
         return file_color(c[0], c[1], c[2], "material '" + m.name + "' " + key);
@@ -27,10 +67,19 @@ Material material_from_mtl(const tinyobj::material_t& m) {
     if (!std::isfinite(m.shininess) || !std::isfinite(m.ior) || !std::isfinite(m.dissolve)) {
         throw std::runtime_error("material '" + m.name + "': Ns, Ni and d must be finite");
     }
-    if (max_component(ke) > 0.0f) {
+    // A map replaces its colour (as Blender's importer reads it); map_Ke is scaled by Ke
+    // (by 1 where Ke is black).
+    const std::string name = "material '" + m.name + "' ";
+    const ColorSource diffuse =
+        textures.source(m.diffuse_texname, kd, Color(1.0f), true, name + "map_Kd");
+    const ColorSource specular =
+        textures.source(m.specular_texname, ks, Color(1.0f), true, name + "map_Ks");
+    if (max_component(ke) > 0.0f || !m.emissive_texname.empty()) {
         EmissiveMaterial e;
-        e.radiance = ColorSource::constant(ke);
-        e.albedo = ColorSource::constant(kd);
+        e.radiance =
+            textures.source(m.emissive_texname, ke, max_component(ke) > 0.0f ? ke : Color(1.0f),
+                            true, name + "map_Ke");
+        e.albedo = diffuse;
         return e;
     }
     if (m.illum == 3 || m.illum == 5) {
@@ -43,10 +92,17 @@ Material material_from_mtl(const tinyobj::material_t& m) {
         d.ior = m.ior > 1.0f ? m.ior : 1.5f;
         return d;
     }
+    if (m.roughness > 0.0f || m.metallic > 0.0f) {  // the PBR extension: Pr, Pm
+        CookTorranceMaterial ct;
+        ct.base_color = diffuse;
+        ct.roughness = std::clamp(static_cast<float>(m.roughness), 0.0f, 1.0f);
+        ct.metallic = std::clamp(static_cast<float>(m.metallic), 0.0f, 1.0f);
+        return ct;
+    }
     PhongMaterial p;
     p.ka = ColorSource::constant(ka);
-    p.kd = ColorSource::constant(kd);
-    p.ks = ColorSource::constant(ks);
+    p.kd = diffuse;
+    p.ks = specular;
     p.shininess = m.shininess > 0.0f ? m.shininess : 1.0f;
     return p;
 }
@@ -95,8 +151,9 @@ MeshFile read_obj(const std::filesystem::path& path, const FileScope& files) {
         throw std::runtime_error(err.empty() ? "cannot parse OBJ" : err);
     }
     MeshFile file;
+    MtlTextures textures(path.parent_path(), files, file);
     for (const tinyobj::material_t& m : materials) {
-        file.materials.push_back(material_from_mtl(m));
+        file.materials.push_back(material_from_mtl(m, textures));
         file.material_names.push_back(m.name);
     }
     bool has_normals = !attrib.normals.empty();
