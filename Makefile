@@ -112,7 +112,7 @@ format:
 # build-fuzz/found/TARGET; copy the ones that broke svetlo into tests/fuzz/corpus/TARGET with
 # the fix, and the test suite replays them.
 FUZZ_SECONDS ?= 60
-FUZZ_TARGETS := scene obj ply gltf image
+FUZZ_TARGETS := scene obj ply gltf image environment
 fuzz:
 	@scripts/setup fuzz
 	cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \

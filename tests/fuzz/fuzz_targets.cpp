@@ -12,6 +12,7 @@
 #include "svetlo/core/image_io.h"
 #include "svetlo/scene/mesh_file.h"
 #include "svetlo/scene/scene_loader.h"
+#include "svetlo/shading/environment.h"
 
 namespace svetlo::fuzz {
 
@@ -79,12 +80,36 @@ void mesh(const uint8_t* data, size_t size, const std::string& extension) {
     check_mesh(m.mesh);
 }
 
+/// The file extension that the bytes' magic number says, `fallback` for none.
+const char* image_extension(const uint8_t* data, size_t size, const char* fallback) {
+    return size >= 2 && data[0] == 'P' && (data[1] == 'F' || data[1] == 'f') ? ".pfm"
+           : size >= 4 && data[0] == 0x76 && data[1] == 0x2f                 ? ".exr"
+                                                                             : fallback;
+}
+
+void environment(const uint8_t* data, size_t size) {
+    TempFile file(data, size, image_extension(data, size, ".hdr"));
+    Scene scene;
+    try {
+        scene.textures.push_back(read_texture(file.path(), false, kMaxTextureBytes, "fuzz",
+                                              NegativeTexels::ClampToZero));
+    } catch (const Error&) {
+        return;
+    }
+    scene.environment = EnvironmentSettings{0, Color(1.0f), 30.0f};
+    const Environment env(scene);
+    for (int k = 0; k < 64; ++k) {
+        const vec2 u((k % 8 + 0.5f) / 8.0f, (k / 8 + 0.5f) / 8.0f);
+        const EnvironmentSample s = env.sample(u);
+        if (env.is_black()) break;
+        require(is_finite(s.radiance) && s.radiance.r >= 0.0f && std::isfinite(s.pdf),
+                "an environment sample that is not finite");
+        require(s.pdf > 0.0f || s.wi == vec3(0.0f), "an environment draw of density 0");
+    }
+}
+
 void image(const uint8_t* data, size_t size) {
-    const char* extension = size >= 2 && data[0] == 'P' && (data[1] == 'F' || data[1] == 'f')
-                                ? ".pfm"
-                            : size >= 4 && data[0] == 0x76 && data[1] == 0x2f ? ".exr"
-                                                                              : ".png";
-    TempFile file(data, size, extension);
+    TempFile file(data, size, image_extension(data, size, ".png"));
     TextureImage img;
     try {
         img = read_texture(file.path(), true, kMaxTextureBytes, "fuzz");
@@ -105,6 +130,8 @@ void run(const std::string& name, const uint8_t* data, size_t size) {
         scene(data, size);
     } else if (name == "image") {
         image(data, size);
+    } else if (name == "environment") {
+        environment(data, size);
     } else {
         mesh(data, size, name);
     }

@@ -17,8 +17,12 @@ void scene(const uint8_t* data, size_t size);
 void mesh(const uint8_t* data, size_t size, const std::string& extension);
 /// An image file: PNG, JPEG, HDR, PFM or EXR, told apart by their first bytes.
 void image(const uint8_t* data, size_t size);
+/// An environment map (PFM, EXR or HDR): read as `environment` reads it (negative texels made
+/// 0, others refused), then its importance sampling built and drawn from: every texel,
+/// radiance and density finite, every density > 0.
+void environment(const uint8_t* data, size_t size);
 
-/// Runs target `name` ("scene", "obj", "ply", "gltf", "image") on the bytes.
+/// Runs target `name` ("scene", "obj", "ply", "gltf", "image", "environment") on the bytes.
 void run(const std::string& name, const uint8_t* data, size_t size);
 
 }  // namespace svetlo::fuzz

@@ -15,7 +15,7 @@ namespace {
 TEST(FuzzCorpus, EveryInputIsRefusedOrReadAsFiniteValues) {
     const std::filesystem::path corpus = SVETLO_FUZZ_CORPUS;
     int files = 0;
-    for (const char* target : {"scene", "obj", "ply", "gltf", "image"}) {
+    for (const char* target : {"scene", "obj", "ply", "gltf", "image", "environment"}) {
         int in_target = 0;
         for (const auto& entry : std::filesystem::directory_iterator(corpus / target)) {
             std::ifstream in(entry.path(), std::ios::binary);
