@@ -36,14 +36,14 @@
 namespace svetlo {
 namespace fs = std::filesystem;
 
-namespace {
-
 std::string lower_extension(const fs::path& path) {
     std::string ext = path.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(),
                    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     return ext;
 }
+
+namespace {
 
 /// A PNG chunk: length, type, data and the CRC-32 of type and data (PNG spec, 5.3).
 void append_png_chunk(std::vector<unsigned char>& png, const char type[4],

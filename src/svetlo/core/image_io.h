@@ -74,6 +74,9 @@ inline constexpr size_t kMaxFilmImageBytes = size_t{8192} * 8192 * 12;
 /// the file's header, before anything is decoded; so is one past 65536 texels a side. Texels
 /// that are not finite, non-negative colours are refused, naming the texel. Throws
 /// Error(path, where, ...).
+/// A file's extension in lower case, with its dot (".exr"), which says its format.
+std::string lower_extension(const std::filesystem::path& path);
+
 /// What read_texture makes of a finite texel below zero: refuse it, or (environment maps,
 /// whose lossy EXR compressions, DWAA, DWAB and B44, leave small negative values) make it 0.
 enum class NegativeTexels { Refuse, ClampToZero };

@@ -29,7 +29,7 @@ constexpr int kSkyRays = 8;
 
 /// The irradiance the lights and the background give node id straight, per side: the mean
 /// over `samples` stratified points of the node.
-Sides light_on_node(const PatchMesh& mesh, const Scene& scene, uint32_t id, uint64_t seed) {
+Sides light_on_node(const PatchMesh& mesh, uint32_t id, uint64_t seed) {
     const ElementTree& tree = *mesh.tree;
     const ElementNode& e = tree.node(id);
     Sides out;
@@ -121,7 +121,7 @@ Solution solve(PatchMesh& mesh, const Scene& scene, const RenderOptions& options
                       mesh.settings,
                       FormFactorContext{*mesh.tree, *mesh.accel, mesh.settings.form_factors,
                                         mesh.settings.samples},
-                      [&](uint32_t id) { return light_on_node(mesh, scene, id, seed); },
+                      [&](uint32_t id) { return light_on_node(mesh, id, seed); },
                       seed,
                       options.threads,
                       &progress,

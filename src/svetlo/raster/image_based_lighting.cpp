@@ -29,14 +29,7 @@ ImageBasedLighting::ImageBasedLighting(const Scene& scene) : environment_(scene,
         const float v = 1.0f - (j + 0.5f) / h, lat = kPi * (v - 0.5f);
         const double solid_angle = (2.0 * kPi / w) * (kPi / h) * std::cos(lat);
         for (int i = 0; i < w; ++i) {
-            const float phi = 2.0f * kPi * ((i + 0.5f) / w - 0.5f);
-            // The texel's direction in the map's frame, turned into the world's by `rotate`
-            // (environment.h); the lookup itself is the map's own.
-            const vec3 m(std::sin(phi) * std::cos(lat), std::sin(lat),
-                         -std::cos(phi) * std::cos(lat));
-            const float c = std::cos(radians(scene.environment->rotate_deg)),
-                        s = std::sin(radians(scene.environment->rotate_deg));
-            const vec3 d(c * m.x + s * m.z, m.y, -s * m.x + c * m.z);
+            const vec3 d = environment_.direction_of(vec2((i + 0.5f) / w, v));
             const glm::dvec3 L(map.texel(i, j) * scene.environment->scale);
             const std::array<float, 9> y = sh_basis(d);
             for (int k = 0; k < 9; ++k) sum[static_cast<size_t>(k)] += L * (y[k] * solid_angle);

@@ -110,6 +110,20 @@ MaterialModel parse_model(const JsonNode& node, Scene& scene) {
 
 }  // namespace
 
+std::filesystem::path named_file(const JsonNode& node, const Scene& scene) {
+    try {
+        return scene.files.resolve(scene.path.parent_path(), node.as_string());
+    } catch (const std::runtime_error& e) {
+        node.fail(e.what());
+    }
+}
+
+size_t texture_bytes_left(const Scene& scene) {
+    size_t used = 0;
+    for (const TextureImage& t : scene.textures) used += t.bytes();
+    return kMaxSceneTextureBytes - std::min(used, kMaxSceneTextureBytes);
+}
+
 Material parse_material(const JsonNode& node, Scene& scene) {
     if (!node.is_object()) node.fail("must be an object");
     // The keys every model takes (docs/scene-format.md, "Keys of every material"), read here
@@ -137,12 +151,7 @@ ColorSource parse_color_source(const JsonNode& node, Scene& scene, bool srgb_def
     node.expect_object({"texture", "filter", "wrap", "srgb", "max_anisotropy"});
     s.kind = ColorSource::Kind::Image;
     JsonNode tex = node.at("texture");
-    std::filesystem::path file;
-    try {
-        file = scene.files.resolve(scene.path.parent_path(), tex.as_string());
-    } catch (const std::runtime_error& e) {
-        tex.fail(e.what());
-    }
+    const std::filesystem::path file = named_file(tex, scene);
     bool srgb = srgb_default;
     if (auto n = node.find("srgb")) srgb = n->as_bool();
     if (auto n = node.find("filter")) s.filter = n->as_enum(kTextureFilters);
@@ -160,9 +169,7 @@ ColorSource parse_color_source(const JsonNode& node, Scene& scene, bool srgb_def
     }
     // Memory: each texture within kMaxTextureBytes, all of them within kMaxSceneTextureBytes,
     // checked from each file's header before it is decoded.
-    size_t used = 0;
-    for (const TextureImage& t : scene.textures) used += t.bytes();
-    size_t left = kMaxSceneTextureBytes - std::min(used, kMaxSceneTextureBytes);
+    const size_t left = texture_bytes_left(scene);
     try {
         scene.textures.push_back(
             read_texture(file, srgb, std::min(kMaxTextureBytes, left), tex.path()));
@@ -177,23 +184,14 @@ ColorSource parse_color_source(const JsonNode& node, Scene& scene, bool srgb_def
 void parse_environment(const JsonNode& node, Scene& scene) {
     node.expect_object({"file", "scale", "rotate"});
     const JsonNode file = node.at("file");
-    std::filesystem::path path;
-    try {
-        path = scene.files.resolve(scene.path.parent_path(), file.as_string());
-    } catch (const std::runtime_error& e) {
-        file.fail(e.what());
-    }
-    std::string ext = path.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    const std::filesystem::path path = named_file(file, scene);
+    const std::string ext = lower_extension(path);
     if (ext != ".hdr" && ext != ".exr" && ext != ".pfm")
         file.fail("an environment is a linear image: .hdr, .exr or .pfm (is '" + ext + "')");
     EnvironmentSettings e;
     if (auto n = node.find("scale")) e.scale = n->as_color();
     if (auto n = node.find("rotate")) e.rotate_deg = n->as_float();
-    size_t used = 0;
-    for (const TextureImage& t : scene.textures) used += t.bytes();
-    const size_t left = kMaxSceneTextureBytes - std::min(used, kMaxSceneTextureBytes);
+    const size_t left = texture_bytes_left(scene);
     try {
         // A texel that is not finite is refused by read_texture, naming it; one below zero
         // (lossy EXR compression's) is made 0.

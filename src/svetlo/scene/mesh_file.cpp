@@ -6,6 +6,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "svetlo/core/image_io.h"
 #include "svetlo/core/input_file.h"
 
 namespace svetlo {
@@ -13,9 +14,7 @@ namespace fs = std::filesystem;
 
 MeshFile read_mesh_file(const fs::path& path, const FileScope& files) {
     require_input_file(path);
-    std::string ext = path.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    const std::string ext = lower_extension(path);
     MeshFile file;
     if (ext == ".obj") {
         file = read_obj(path, files);

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "svetlo/core/error.h"
+#include "svetlo/core/image_io.h"
 
 namespace svetlo {
 
@@ -42,9 +43,7 @@ nlohmann::json camera_json(const Camera& c) {
 }  // namespace
 
 bool is_model_file(const fs::path& path) {
-    std::string ext = path.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    const std::string ext = lower_extension(path);
     return ext == ".gltf" || ext == ".glb" || ext == ".obj" || ext == ".ply";
 }
 

@@ -47,8 +47,7 @@ void check_non_degenerate_quad(const JsonNode& node, vec3 u, vec3 v) {
 std::vector<int> add_file_textures(const JsonNode& node, const std::filesystem::path& file,
                                    const MeshFile& loaded, Scene& scene) {
     std::vector<int> out;
-    size_t used = 0;
-    for (const TextureImage& t : scene.textures) used += t.bytes();
+    size_t left = texture_bytes_left(scene);
     for (size_t k = 0; k < loaded.textures.size(); ++k) {
         const std::string source =
             file.lexically_normal().string() + "#texture" + std::to_string(k);
@@ -57,10 +56,10 @@ std::vector<int> add_file_textures(const JsonNode& node, const std::filesystem::
             out.push_back(static_cast<int>(known - scene.texture_sources.begin()));
             continue;
         }
-        used += loaded.textures[k].bytes();
-        if (used > kMaxSceneTextureBytes)
+        if (loaded.textures[k].bytes() > left)
             node.fail("the scene's textures would take more than " +
                       std::to_string(kMaxSceneTextureBytes >> 20) + " MiB");
+        left -= loaded.textures[k].bytes();
         scene.textures.push_back(loaded.textures[k]);
         scene.texture_sources.push_back(source);
         out.push_back(static_cast<int>(scene.textures.size()) - 1);
@@ -73,12 +72,7 @@ Mesh parse_mesh(const JsonNode& node, Scene& scene, MeshFileCache& meshes, int m
     Mesh mesh;
     if (auto file_node = node.find("file")) {
         if (node.has("positions")) node.fail("give either file or positions, not both");
-        std::filesystem::path file;
-        try {
-            file = scene.files.resolve(scene.path.parent_path(), file_node->as_string());
-        } catch (const std::runtime_error& e) {
-            file_node->fail(e.what());
-        }
+        const std::filesystem::path file = named_file(*file_node, scene);
         std::shared_ptr<const MeshFile> read;
         try {
             read = meshes.read(file, scene.files);

@@ -11,6 +11,12 @@ Camera parse_camera(const JsonNode& node);
 Film parse_film(const JsonNode& node);
 RenderSettings parse_render(const JsonNode& node);
 void parse_materials(const JsonNode& node, Scene& scene);
+/// The file that `node` (a string) names, from the scene file's folder and inside the scene's
+/// FileScope; fails naming the node otherwise.
+std::filesystem::path named_file(const JsonNode& node, const Scene& scene);
+/// What the scene's textures may still take (kMaxSceneTextureBytes less what they take).
+size_t texture_bytes_left(const Scene& scene);
+
 /// A material colour (constant, texture or checker); textures are loaded into the scene.
 /// A material colour (constant, texture or checker); an image is sRGB unless `srgb_default` is
 /// false or the texture says otherwise ("srgb": false).

@@ -51,9 +51,11 @@ public:
     /// The density per steradian with which sample() draws the unit direction d.
     float pdf(vec3 d) const;
 
+    /// The world direction that reads the map at (u, v) (rotate applied), unit.
+    vec3 direction_of(vec2 uv) const;
+
 private:
     vec2 uv_of(vec3 d) const;
-    vec3 direction_of(vec2 uv) const;
 
     const TextureImage* map_ = nullptr;
     Color scale_{1.0f}, uniform_{0.0f};
