@@ -34,6 +34,8 @@ const char* material_name(const Material& m) {
 
 int run_info(const InfoArgs& args) {
     Scene scene = load_scene(args.scene, parse_sets(args.sets, args.scene));
+    for (const std::string& w : scene.warnings)
+        std::fprintf(stderr, "svetlo: warning: %s: %s\n", args.scene.c_str(), w.c_str());
     LightSet lights(scene);
     Geometry g = build_geometry(object_pointers(scene.objects, lights.area_light_quads()));
     Bounds3 bounds;

@@ -16,6 +16,8 @@ RenderJob make_job(nlohmann::json json, const std::filesystem::path& path, std::
                    MeshFileCache* meshes, const FileScope& files) {
     RenderJob job;
     job.scene = scene_from_json(json, path, meshes, files);
+    for (const std::string& w : job.scene.warnings)
+        std::fprintf(stderr, "svetlo: warning: %s: %s\n", path.string().c_str(), w.c_str());
     job.run.scene_file = path;
     job.run.scene_sha256 = std::move(sha256);
     job.run.scene = std::move(json);

@@ -1,8 +1,10 @@
 #include "svetlo/scene/scene_loader.h"
 
 #include <gtest/gtest.h>
+#include <stb_image_write.h>
 
 #include <chrono>
+#include <filesystem>
 #include <fstream>
 
 #include "svetlo/core/error.h"
@@ -30,6 +32,43 @@ std::string error_of(const json& j) {
         return e.where() + ": " + e.message();
     }
     return "no error";
+}
+
+TEST(SceneLoader, AlphaIsANumberOrACoverageTextureWithItsModeAndCutoff) {
+    // A 2 x 1 RGBA PNG: alpha 0 on the left, 200 on the right.
+    const std::filesystem::path png =
+        std::filesystem::temp_directory_path() / "svetlo_alpha_rgba.png";
+    const unsigned char texels[8] = {255, 0, 0, 0, 0, 0, 255, 200};
+    ASSERT_NE(stbi_write_png(png.c_str(), 2, 1, 4, texels, 8), 0);
+    json j = minimal();
+    j["materials"]["leaf"] = {{"type", "lambert"}, {"alpha", {{"texture", png.string()}}}};
+    j["materials"]["veil"] = {
+        {"type", "lambert"}, {"alpha", 0.3}, {"alpha_mode", "blend"}, {"alpha_cutoff", 0.25}};
+    const Scene s = scene_from_json(j, "s.json");
+    const auto material = [&](const std::string& name) {
+        for (size_t k = 0; k < s.material_names.size(); ++k)
+            if (s.material_names[k] == name) return s.materials[k];
+        ADD_FAILURE() << name;
+        return Material{};
+    };
+    EXPECT_EQ(material("white").alpha.mode, AlphaMode::Opaque);
+    const Alpha leaf = material("leaf").alpha;
+    EXPECT_EQ(leaf.mode, AlphaMode::Mask);  // alpha given: a mask unless told
+    EXPECT_EQ(leaf.cutoff, 0.5f);
+    ASSERT_EQ(leaf.coverage.kind, ColorSource::Kind::Image);
+    const TextureImage& t = s.textures[static_cast<size_t>(leaf.coverage.texture)];
+    EXPECT_EQ(t.texel(0, 0), Color(0.0f));                 // the alpha channel, not red
+    EXPECT_NEAR(t.texel(1, 0).g, 200.0f / 255.0f, 1e-6f);  // linear, in every channel
+    const Alpha veil = material("veil").alpha;
+    EXPECT_EQ(veil.mode, AlphaMode::Blend);
+    EXPECT_EQ(veil.coverage.value, Color(0.3f));
+    EXPECT_EQ(veil.cutoff, 0.25f);
+    j["materials"]["veil"]["alpha"] = 1.5;
+    EXPECT_NE(error_of(j).find("materials.veil.alpha"), std::string::npos) << error_of(j);
+    j["materials"]["veil"]["alpha"] = 0.3;
+    j["materials"]["veil"]["alpha_mode"] = "dither";
+    EXPECT_NE(error_of(j).find("materials.veil.alpha_mode"), std::string::npos) << error_of(j);
+    std::filesystem::remove(png);
 }
 
 TEST(SceneLoader, MinimalSceneHasTheContractDefaults) {

@@ -2,6 +2,7 @@
 // emission in sRGB times their factors, metallicRoughness linear (G roughness, B metallic), a
 // sampler's filter and wrap, KHR_texture_transform; and what a bad texture gets.
 #include <gtest/gtest.h>
+#include <stb_image_write.h>
 
 #include <filesystem>
 #include <fstream>
@@ -101,6 +102,58 @@ TEST_F(GltfTextures, EmissionIsTheTextureTimesFactorAndStrengthOnAnyMaterial) {
     EXPECT_TRUE(off.materials[0].emission.is_black());
 }
 
+TEST_F(GltfTextures, NormalTextureIsLinearWithItsScale) {
+    const MeshFile f = read({{"normalTexture", {{"index", 0}, {"scale", 0.5}}}});
+    const NormalMap& map = f.materials[0].normal_map;
+    ASSERT_TRUE(map.present());
+    EXPECT_EQ(map.scale, 0.5f);
+    EXPECT_NEAR(at(map.texture, vec2(0.75f, 0.5f), f).g, 128.0f / 255.0f, 1e-6f);  // linear
+    EXPECT_FALSE(read(json::object()).materials[0].normal_map.present());
+}
+
+TEST_F(GltfTextures, AlphaModeMaskAndBlendReadTheBaseColoursAlphaTimesItsFactor) {
+    // An RGBA image in place of the RGB one: alpha 0 on the left, 200 on the right.
+    const unsigned char texels[8] = {255, 0, 0, 0, 0, 0, 255, 200};
+    ASSERT_NE(stbi_write_png((dir / "tex.png").c_str(), 2, 1, 4, texels, 8), 0);
+    const MeshFile mask =
+        read({{"alphaMode", "MASK"},
+              {"alphaCutoff", 0.3},
+              {"pbrMetallicRoughness",
+               {{"baseColorTexture", {{"index", 0}}}, {"baseColorFactor", {1, 1, 1, 0.5}}}}});
+    const Alpha& a = mask.materials[0].alpha;
+    EXPECT_EQ(a.mode, AlphaMode::Mask);
+    EXPECT_FLOAT_EQ(a.cutoff, 0.3f);
+    EXPECT_EQ(at(a.coverage, vec2(0.25f, 0.5f), mask).r, 0.0f);
+    EXPECT_NEAR(at(a.coverage, vec2(0.75f, 0.5f), mask).r, 0.5f * 200.0f / 255.0f, 1e-6f);
+    // The colour is still the image's (sRGB), not its alpha.
+    const auto& ct = std::get<CookTorranceMaterial>(mask.materials[0].model);
+    EXPECT_NEAR(at(ct.base_color, vec2(0.75f, 0.5f), mask).b, 1.0f, 1e-6f);
+    const MeshFile blend = read(
+        {{"alphaMode", "BLEND"}, {"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 0.25}}}}});
+    EXPECT_EQ(blend.materials[0].alpha.mode, AlphaMode::Blend);
+    EXPECT_EQ(blend.materials[0].alpha.coverage.value, Color(0.25f));
+    EXPECT_EQ(read(json::object()).materials[0].alpha.mode, AlphaMode::Opaque);
+}
+
+TEST_F(GltfTextures, ARequiredExtensionNotReadRefusesTheFileAnOptionalOneWarns) {
+    try {
+        read(json::object(), {{"extensionsUsed", {"KHR_draco_mesh_compression"}},
+                              {"extensionsRequired", {"KHR_draco_mesh_compression"}}});
+        ADD_FAILURE() << "a required extension svetlo does not read was ignored";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(
+            std::string(e.what()).find("extensionsRequired names 'KHR_draco_mesh_compression'"),
+            std::string::npos)
+            << e.what();
+    }
+    const MeshFile f =
+        read(json::object(), {{"extensionsUsed", {"EXT_lights_ies", "KHR_texture_transform"}}});
+    ASSERT_EQ(f.warnings.size(), 1u);
+    EXPECT_EQ(f.warnings[0], "extension 'EXT_lights_ies' is not read: ignored");
+    EXPECT_NO_THROW(read(json::object(), {{"extensionsUsed", {"KHR_texture_transform"}},
+                                          {"extensionsRequired", {"KHR_texture_transform"}}}));
+}
+
 TEST_F(GltfTextures, TextureTransformOffsetsRotatesAndScales) {
     // offset (0.5, 0): u = 0.25 reads u = 0.75, the right texel.
     json offset = {
@@ -197,6 +250,43 @@ TEST(ObjTextures, MapsReplaceTheirColoursAndPbrKeysMakeCookTorrance) {
                   std::string::npos)
             << e.what();
     }
+    fs::remove_all(dir);
+}
+
+TEST(ObjTextures, NormIsANormalMapMapBumpAHeightMapMadeIntoOneAndMapDAMask) {
+    const fs::path dir = fs::temp_directory_path() / "svetlo_obj_normal_maps";
+    fs::create_directories(dir);
+    // Heights rising 0.1 a texel to the right (i), flat up the image: a slope of 0.1 times
+    // -bm 2, so the normal (-0.2, 0, 1), normalised, wherever the ramp does not wrap.
+    Image heights(8, 4);
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 8; ++i) heights.at(i, j) = Color(0.1f * static_cast<float>(i));
+    write_image(dir / "h.pfm", heights, PixelMeaning::Radiance, 1.0f, "test");
+    write_image(dir / "n.pfm", Image(2, 2, Color(0.5f, 0.75f, 1.0f)), PixelMeaning::Radiance, 1.0f,
+                "test");
+    std::ofstream(dir / "m.mtl") << "newmtl bumpy\nKd 0.5 0.5 0.5\nmap_Bump -bm 2 h.pfm\n"
+                                    "newmtl mapped\nKd 0.5 0.5 0.5\nnorm n.pfm\n"
+                                    "newmtl plain\nKd 0.5 0.5 0.5\n"
+                                    "newmtl cut\nKd 0.5 0.5 0.5\nmap_d h.pfm\n";
+    std::ofstream(dir / "m.obj") << "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\n"
+                                    "usemtl bumpy\nf 1 2 3\nusemtl mapped\nf 1 2 3\n"
+                                    "usemtl plain\nf 1 2 3\nusemtl cut\nf 1 2 3\n";
+    const MeshFile f = read_mesh_file(dir / "m.obj");
+    ASSERT_EQ(f.materials.size(), 4u);
+    // map_d: a mask of the map's coverage (a float map's red channel), the heights here.
+    const Alpha& cut = f.materials[3].alpha;
+    EXPECT_EQ(cut.mode, AlphaMode::Mask);
+    EXPECT_NEAR(eval_color(cut.coverage, vec2(2.5f / 8.0f, 0.5f), f.textures).r, 0.2f, 1e-6f);
+    EXPECT_FALSE(f.materials[2].alpha.active());
+    const NormalMap& bumpy = f.materials[0].normal_map;
+    ASSERT_TRUE(bumpy.present());
+    const vec3 n = glm::normalize(vec3(-0.2f, 0.0f, 1.0f));
+    const Color texel = eval_color(bumpy.texture, vec2(4.5f / 8.0f, 0.5f), f.textures);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(texel[c], 0.5f * (n[c] + 1.0f), 1e-5f) << c;
+    ASSERT_TRUE(f.materials[1].normal_map.present());
+    EXPECT_NEAR(eval_color(f.materials[1].normal_map.texture, vec2(0.5f), f.textures).g, 0.75f,
+                1e-6f);
+    EXPECT_FALSE(f.materials[2].normal_map.present());
     fs::remove_all(dir);
 }
 

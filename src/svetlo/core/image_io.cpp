@@ -199,7 +199,20 @@ TextureImage read_exr(const fs::path& path, size_t max_bytes) {
     return TextureImage(std::move(image));
 }
 
-TextureImage read_stb(const fs::path& path, bool srgb, size_t max_bytes) {
+}  // namespace
+
+std::vector<unsigned char> coverage_codes(const unsigned char* data, int n, size_t texels) {
+    const int channel = n == 2 || n == 4 ? n - 1 : 0;
+    std::vector<unsigned char> codes(3 * texels);
+    for (size_t k = 0; k < texels; ++k)
+        codes[3 * k] = codes[3 * k + 1] = codes[3 * k + 2] =
+            data[k * static_cast<size_t>(n) + channel];
+    return codes;
+}
+
+namespace {
+
+TextureImage read_stb(const fs::path& path, bool srgb, size_t max_bytes, bool coverage) {
     int w = 0, h = 0, n = 0;
     if (!stbi_info(path.c_str(), &w, &h, &n)) throw std::runtime_error(stbi_failure_reason());
     bool hdr = stbi_is_hdr(path.c_str()) != 0;
@@ -224,9 +237,12 @@ TextureImage read_stb(const fs::path& path, bool srgb, size_t max_bytes) {
         std::memcpy(image.pixels.data(), data.get(), image.pixels.size() * sizeof(Color));
         return TextureImage(std::move(image));
     }
-    std::unique_ptr<unsigned char, void (*)(void*)> data(stbi_load(path.c_str(), &w, &h, &n, 3),
-                                                         stbi_image_free);
+    std::unique_ptr<unsigned char, void (*)(void*)> data(
+        stbi_load(path.c_str(), &w, &h, &n, coverage ? 0 : 3), stbi_image_free);
     if (!data) throw std::runtime_error(stbi_failure_reason());
+    if (coverage)
+        return TextureImage(w, h, coverage_codes(data.get(), n, static_cast<size_t>(texels)),
+                            false);
     size_t bytes = 3 * static_cast<size_t>(w) * static_cast<size_t>(h);
     std::vector<unsigned char> codes(data.get(), data.get() + bytes);
     return TextureImage(w, h, std::move(codes), srgb);
@@ -564,6 +580,13 @@ LoadedImage read_image(const fs::path& path, const std::string& where) {
 
 TextureImage read_texture(const fs::path& path, bool srgb, size_t max_bytes,
                           const std::string& where, NegativeTexels negative) {
+    return read_texture(path, srgb ? TexelMeaning::Srgb : TexelMeaning::Linear, max_bytes, where,
+                        negative);
+}
+
+TextureImage read_texture(const fs::path& path, TexelMeaning meaning, size_t max_bytes,
+                          const std::string& where, NegativeTexels negative) {
+    const bool srgb = meaning == TexelMeaning::Srgb, coverage = meaning == TexelMeaning::Coverage;
     std::string problem = input_file_problem(path);
     if (!problem.empty()) throw Error(path.string(), where, problem);
     TextureImage texture;
@@ -571,7 +594,7 @@ TextureImage read_texture(const fs::path& path, bool srgb, size_t max_bytes,
         std::string ext = lower_extension(path);
         texture = ext == ".pfm"   ? read_pfm(path, max_bytes)
                   : ext == ".exr" ? read_exr(path, max_bytes)
-                                  : read_stb(path, srgb, max_bytes);
+                                  : read_stb(path, srgb, max_bytes, coverage);
     } catch (const std::exception& e) {
         throw Error(path.string(), where, std::string("cannot read image: ") + e.what());
     }

@@ -83,6 +83,15 @@ enum class NegativeTexels { Refuse, ClampToZero };
 TextureImage read_texture(const std::filesystem::path& path, bool srgb, size_t max_bytes,
                           const std::string& where,
                           NegativeTexels negative = NegativeTexels::Refuse);
+/// What an image's texels mean: a colour (sRGB or linear), or coverage (alpha), read from its
+/// alpha channel where it has one (grey-alpha, RGBA) and from its first channel otherwise,
+/// into all three channels. Float files (PFM, EXR, HDR) give their red channel as coverage.
+enum class TexelMeaning { Srgb, Linear, Coverage };
+TextureImage read_texture(const std::filesystem::path& path, TexelMeaning meaning, size_t max_bytes,
+                          const std::string& where,
+                          NegativeTexels negative = NegativeTexels::Refuse);
+/// stb's decoded 8-bit texels (`n` channels each) as coverage texels (TexelMeaning::Coverage).
+std::vector<unsigned char> coverage_codes(const unsigned char* data, int n, size_t texels);
 
 /// The most memory one texture's texels may take: a 16384² 8-bit texture (3 bytes a texel)
 /// or an 8192² float one (12 bytes a texel). The rasterizer's mipmaps add a third.

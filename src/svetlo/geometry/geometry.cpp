@@ -1,5 +1,7 @@
 #include "svetlo/geometry/geometry.h"
 
+#include "svetlo/scene/tangents.h"
+
 namespace svetlo {
 
 namespace {
@@ -54,6 +56,7 @@ SurfaceHit Geometry::surface(const Ray& ray, const Hit& hit) const {
         s.ns = ss.ns;
         s.uv = ss.uv;
         s.material = ss.material;
+        s.tangent = orthogonal_tangent(ss.tangent, s.ns);
         return s;
     }
     const uint32_t* tri = &indices[3 * static_cast<size_t>(hit.prim)];
@@ -73,13 +76,19 @@ SurfaceHit Geometry::surface(const Ray& ray, const Hit& hit) const {
     } else {
         s.uv = vec2(hit.u, hit.v);
     }
+    if (!tangents.empty()) {
+        const vec4 t = b0 * tangents[tri[0]] + hit.u * tangents[tri[1]] + hit.v * tangents[tri[2]];
+        // The sign is a vertex's; a triangle whose corners disagree takes its first corner's.
+        s.tangent = orthogonal_tangent(vec4(vec3(t), tangents[tri[0]].w), s.ns);
+    }
     return s;
 }
 
 size_t Geometry::memory_bytes() const {
     return positions.size() * sizeof(vec3) + normals.size() * sizeof(vec3) +
-           uvs.size() * sizeof(vec2) + indices.size() * sizeof(uint32_t) +
-           triangle_material.size() * sizeof(uint32_t) + shapes.size() * sizeof(AnalyticShape);
+           uvs.size() * sizeof(vec2) + tangents.size() * sizeof(vec4) +
+           indices.size() * sizeof(uint32_t) + triangle_material.size() * sizeof(uint32_t) +
+           shapes.size() * sizeof(AnalyticShape);
 }
 
 }  // namespace svetlo

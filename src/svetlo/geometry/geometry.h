@@ -17,6 +17,9 @@ struct SurfaceHit {
     vec3 ng{0.0f};  // unit geometric normal: a triangle's CCW side, a shape's outside
     vec3 ns{0.0f};  // unit shading normal (interpolated on smooth meshes), same side as ng
     vec2 uv{0.0f};
+    // The front side's unit tangent along increasing u, orthogonal to ns, and the bitangent's
+    // side in w (Mesh::tangents); zero where the surface has none (no uvs, CSG, implicit).
+    vec4 tangent{0.0f};
     uint32_t material = 0;
 };
 
@@ -29,8 +32,9 @@ class Geometry {
 public:
     // Triangles: three indices each into the vertex arrays.
     std::vector<vec3> positions;
-    std::vector<vec3> normals;  // empty, or per vertex (zero where the mesh has none)
-    std::vector<vec2> uvs;      // empty, or per vertex
+    std::vector<vec3> normals;   // empty, or per vertex (zero where the mesh has none)
+    std::vector<vec2> uvs;       // empty, or per vertex
+    std::vector<vec4> tangents;  // empty, or per vertex (zero where the mesh has none)
     std::vector<uint32_t> indices;
     std::vector<uint32_t> triangle_material;
     std::vector<AnalyticShape> shapes;

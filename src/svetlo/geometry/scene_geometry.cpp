@@ -20,6 +20,12 @@ void add_mesh(const Mesh& mesh, const Object& obj, Geometry& g) {
         g.uvs.insert(g.uvs.end(), mesh.uvs.begin(), mesh.uvs.end());
         g.uvs.resize(g.positions.size(), vec2(0.0f));
     }
+    if (!mesh.tangents.empty() || !g.tangents.empty()) {
+        g.tangents.resize(base, vec4(0.0f));
+        for (const vec4& t : mesh.tangents)
+            g.tangents.push_back(transform_tangent(obj.transform, t));
+        g.tangents.resize(g.positions.size(), vec4(0.0f));
+    }
     for (size_t t = 0; t < mesh.triangle_count(); ++t) {
         for (int k = 0; k < 3; ++k) g.indices.push_back(base + mesh.indices[3 * t + k]);
         int m = obj.material >= 0 ? obj.material : mesh.face_material[t];

@@ -370,6 +370,16 @@ bool shape_contains(const AnalyticShape& s, vec3 pw) {
 
 namespace {
 
+/// The tangent of a surface with unit normal n and texture gradients dp/du, dp/dv (any
+/// lengths): dp/du's unit direction and the side dp/dv lies on (Mesh::tangents); zero where
+/// dp/du vanishes (a pole).
+vec4 surface_tangent(vec3 n, vec3 dpdu, vec3 dpdv) {
+    const float len = glm::length(dpdu);
+    if (!(len > 0.0f)) return vec4(0.0f);
+    const vec3 t = dpdu / len;
+    return vec4(t, glm::dot(glm::cross(n, t), dpdv) < 0.0f ? -1.0f : 1.0f);
+}
+
 ShapeSurface analytic_surface(const AnalyticShape& s, const Ray& ray, float t, int part) {
     ShapeSurface out;
     vec3 pw = ray.o + t * ray.d;
@@ -379,6 +389,7 @@ ShapeSurface analytic_surface(const AnalyticShape& s, const Ray& ray, float t, i
         out.uv = vec2(glm::dot(w, glm::cross(q, s.p2)), glm::dot(w, glm::cross(s.p1, q)));
         out.p = s.p0 + out.uv.x * s.p1 + out.uv.y * s.p2;
         out.n = s.frame.n;
+        out.tangent = surface_tangent(out.n, s.p1, s.p2);
         return out;
     }
     if (s.kind == ShapeKind::Plane) {
@@ -386,10 +397,12 @@ ShapeSurface analytic_surface(const AnalyticShape& s, const Ray& ray, float t, i
         out.p = pw - glm::dot(q, s.p1) * s.p1;  // back onto the plane
         out.uv = vec2(glm::dot(q, s.frame.t), glm::dot(q, s.frame.b));
         out.n = s.p1;
+        out.tangent = surface_tangent(out.n, s.frame.t, s.frame.b);
         return out;
     }
     vec3 p = s.transformed ? vec3(s.to_local * vec4(pw, 1.0f)) : pw;
     vec3 n(0.0f);
+    vec3 dpdu(0.0f), dpdv(0.0f);  // object space, directions only
     switch (s.kind) {
         case ShapeKind::Sphere: {
             vec3 q = glm::normalize(p - s.p0);
@@ -398,6 +411,8 @@ ShapeSurface analytic_surface(const AnalyticShape& s, const Ray& ray, float t, i
             // u: longitude about +y from +z toward +x; v: latitude from the south pole.
             out.uv = vec2(0.5f + std::atan2(q.x, q.z) / (2.0f * kPi),
                           0.5f + std::asin(std::clamp(q.y, -1.0f, 1.0f)) / kPi);
+            dpdu = vec3(q.z, 0.0f, -q.x);  // along the parallel, toward +x from +z
+            dpdv = glm::cross(q, dpdu);    // up the meridian
             break;
         }
         case ShapeKind::Box: {
@@ -407,6 +422,8 @@ ShapeSurface analytic_surface(const AnalyticShape& s, const Ray& ray, float t, i
             int a = (axis + 1) % 3, b = (axis + 2) % 3;
             vec3 e = s.p1 - s.p0;
             out.uv = vec2((p[a] - s.p0[a]) / e[a], (p[b] - s.p0[b]) / e[b]);
+            dpdu[a] = 1.0f;
+            dpdv[b] = 1.0f;
             break;
         }
         default: {  // cylinder, cone
@@ -423,10 +440,14 @@ ShapeSurface analytic_surface(const AnalyticShape& s, const Ray& ray, float t, i
                 }
                 n = s.frame.to_world(glm::normalize(ln));
                 out.uv = vec2(0.5f + phi / (2.0f * kPi), z / s.height);
+                dpdu = s.frame.to_world(vec3(-q.y, q.x, 0.0f));
+                dpdv = s.frame.n;
             } else {
                 n = part == 1 ? -s.frame.n : s.frame.n;
                 p = p - glm::dot(p - (part == 1 ? s.p0 : s.p0 + s.p1), s.frame.n) * s.frame.n;
                 out.uv = vec2(0.5f + 0.5f * q.x / s.radius, 0.5f + 0.5f * q.y / s.radius);
+                dpdu = s.frame.t;
+                dpdv = s.frame.b;
             }
             break;
         }
@@ -434,10 +455,13 @@ ShapeSurface analytic_surface(const AnalyticShape& s, const Ray& ray, float t, i
     if (s.transformed) {
         out.p = vec3(s.to_world * vec4(p, 1.0f));
         out.n = glm::normalize(s.normal_to_world * n);
+        dpdu = mat3(s.to_world) * dpdu;
+        dpdv = mat3(s.to_world) * dpdv;
     } else {
         out.p = p;
         out.n = n;
     }
+    out.tangent = surface_tangent(out.n, dpdu, dpdv);
     return out;
 }
 

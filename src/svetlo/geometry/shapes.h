@@ -66,10 +66,13 @@ bool shape_interval(const AnalyticShape& s, const Ray& ray, float& t0, int& part
 bool shape_contains(const AnalyticShape& s, vec3 p);
 
 struct ShapeSurface {
-    vec3 p;             // world-space point, projected back onto the surface where that is exact
-    vec3 n;             // unit outward geometric normal, world space
-    vec3 ns;            // unit shading normal (a smooth CSG mesh leaf interpolates), same side as n
-    vec2 uv;            // texture coordinates (docs/scene-format.md)
+    vec3 p;   // world-space point, projected back onto the surface where that is exact
+    vec3 n;   // unit outward geometric normal, world space
+    vec3 ns;  // unit shading normal (a smooth CSG mesh leaf interpolates), same side as n
+    vec2 uv;  // texture coordinates (docs/scene-format.md)
+    // Unit tangent along increasing u (xyz) and the bitangent's side (w), as Mesh::tangents;
+    // zero where the shape has none (CSG, implicit, a sphere's poles).
+    vec4 tangent{0.0f};
     uint32_t material;  // the shape's, or the CSG leaf's
 };
 

@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "svetlo/core/parallel.h"
+#include "svetlo/scene/tangents.h"
 
 namespace svetlo {
 
@@ -14,6 +15,10 @@ TriangleList build_triangle_list(const std::vector<const Object*>& objects,
         Object local = *objects[k];
         local.transform = Transform{};
         meshes[k] = tessellate(local, options);
+        // A shape's tessellation has uvs and no tangents: made from them, as the ray tracers'
+        // shapes give theirs (meshes bring their own, or the scene made them).
+        if (!std::holds_alternative<Mesh>(local.shape) && meshes[k].tangents.empty())
+            meshes[k].tangents = mesh_tangents(meshes[k]);
     });
     TriangleList list;
     size_t vertices = 0, triangles = 0;
@@ -24,6 +29,7 @@ TriangleList build_triangle_list(const std::vector<const Object*>& objects,
     list.positions.resize(vertices);
     list.normals.resize(vertices);
     list.uvs.resize(vertices);
+    list.tangents.resize(vertices);
     list.indices.resize(3 * triangles);
     list.material.resize(triangles);
     list.objects.resize(objects.size());
@@ -50,6 +56,9 @@ TriangleList build_triangle_list(const std::vector<const Object*>& objects,
             float len2 = glm::dot(n, n);
             list.normals[base + v] = len2 > 0.0f ? n * (1.0f / std::sqrt(len2)) : vec3(0.0f);
             list.uvs[base + v] = v < m.uvs.size() ? m.uvs[v] : vec2(0.0f);
+            list.tangents[base + v] = v < m.tangents.size()
+                                          ? transform_tangent(objects[k]->transform, m.tangents[v])
+                                          : vec4(0.0f);
         }
         for (size_t t = 0; t < m.triangle_count(); ++t) {
             for (int c = 0; c < 3; ++c) {

@@ -18,6 +18,7 @@ struct TriangleList {
     std::vector<vec3> positions;          // world space
     std::vector<vec3> normals;            // per vertex: unit, or zero where there is none
     std::vector<vec2> uvs;                // per vertex
+    std::vector<vec4> tangents;           // per vertex (Mesh::tangents), zero where none
     std::vector<uint32_t> indices;        // 3 per triangle, counter-clockwise seen from its front
     std::vector<uint32_t> material;       // per triangle, an index into the scene's materials
     std::vector<PrimitiveRange> objects;  // per object: its triangles [first, end)
@@ -55,6 +56,7 @@ inline bool leaves_convex(bool convex, vec3 centroid, vec3 p, vec3 n) {
 inline Geometry triangle_geometry(const TriangleList& list) {
     Geometry g;
     g.positions = list.positions;
+    g.uvs = list.uvs;  // what alpha's holes read (cutouts.h)
     g.indices = list.indices;
     g.triangle_material = list.material;
     return g;

@@ -227,14 +227,13 @@ void CausticPhotons::trace_photon(uint64_t index, int pass, int count, std::vect
     power *= scale;
     if (!is_finite(power) || is_black(power)) return;
 
-    const Geometry& g = rt_.geometry();
     float lambda = 0.0f;
     int delta_bounces = 0;
     for (int bounce = 0; bounce <= scene.render.max_depth; ++bounce) {
         ++rays;
         Hit hit;
         if (!rt_.intersect(ray, hit)) return;
-        SurfaceHit sh = g.surface(ray, hit);
+        SurfaceHit sh = rt_.surface(ray, hit);
         Bsdf bsdf = rt_.bsdf(sh.material, sh.uv);
         const vec3 wo = -glm::normalize(ray.d);
         const ShadingFrame frame = make_shading_frame(sh.ng, sh.ns, wo);

@@ -184,7 +184,6 @@ void PathIntegrator::log_light(vec3 p, vec3 ng, vec3 wi, float distance, float p
 
 Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, Rng* aov_rng) {
     const RenderSettings& settings = scene_.render;
-    const Geometry& g = rt_.geometry();
     ray.d = glm::normalize(ray.d);  // hit.t is then the distance (the depth AOV)
     Color L(0.0f), beta(1.0f);
     // The previous vertex: its BSDF sample's pdf (non-delta lobes), point and normal. The
@@ -218,7 +217,7 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, R
             }
             break;
         }
-        SurfaceHit sh = g.surface(ray, hit);
+        SurfaceHit sh = rt_.surface(ray, hit);
         Bsdf bsdf = rt_.bsdf(sh.material, sh.uv);
         const vec3 wo = -ray.d;
         const ShadingFrame frame = make_shading_frame(sh.ng, sh.ns, wo);

@@ -61,7 +61,9 @@ PatchMesh::PatchMesh(const Scene& scene, int threads)
                                    options, threads);
     }
     geometry = triangle_geometry(list);
-    accel = make_accel("bvh", geometry, threads);
+    bvh = make_accel("bvh", geometry, threads);
+    cutouts = std::make_unique<Cutouts>(geometry, lights.materials(), scene.textures);
+    accel = std::make_unique<CutoutAccel>(*bvh, *cutouts);
 
     // Sizes from the scene's extent without infinite planes.
     if (bounds.empty()) bounds = list.bounds();

@@ -9,6 +9,7 @@
 #include "svetlo/geometry/accel.h"
 #include "svetlo/geometry/geometry.h"
 #include "svetlo/radiosity/element_tree.h"
+#include "svetlo/shading/cutouts.h"
 #include "svetlo/shading/environment.h"
 #include "svetlo/shading/light_set.h"
 
@@ -41,6 +42,9 @@ struct PatchMesh {
     Environment environment;  // the map or the uniform background, gathered before the solve
     TriangleList list;
     Geometry geometry;
+    std::unique_ptr<Accel> bvh;        // the triangles' structure
+    std::unique_ptr<Cutouts> cutouts;  // alpha's holes
+    // Visibility: the structure, seeing through alpha's holes where a material has them.
     std::unique_ptr<Accel> accel;
     std::unique_ptr<ElementTree> tree;
     RadiositySettings settings;

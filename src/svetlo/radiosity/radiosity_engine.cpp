@@ -180,10 +180,13 @@ RenderResult display_window(const Scene& scene, const RenderOptions& options, co
         scene.camera.type == Camera::Type::Perspective
             ? 2.0f * std::tan(0.5f * radians(scene.camera.fov_deg)) / static_cast<float>(height)
             : scene.camera.height / static_cast<float>(height);
+    // Alpha's holes (raster/alpha_test.h): the camera sees through them.
+    const raster::AlphaTest alpha(mesh.lights.materials(), scene.textures);
     for (int s = 0; s < spp; ++s) {
         const vec2 jitter = pass_jitter(s, spp, seed);
         buffers.clear(width, height, 1, false, true);
         PipelineState state;
+        if (alpha.any()) state.alpha = &alpha;
         draw_pass(mesh.list, jittered_camera(camera, jitter), state, buffers, threads, 0, &memory);
         parallel_tiles(width, height, threads, [&](const Tile& tile) {
             uint64_t local_rays = 0, local_nonfinite = 0;

@@ -22,9 +22,10 @@ struct ClipVertex {
     vec3 world{0.0f};
     vec3 normal{0.0f};
     vec2 uv{0.0f};
-    Color color{0.0f};  // Gouraud: the lit vertex colour
-    float invw = 0.0f;  // 1 / clip.w (set for the vertex stage's and the clipper's outputs)
-    float wh = 1.0f;    // the world point's homogeneous weight (0: a point at infinity)
+    vec4 tangent{0.0f};  // TriangleList::tangents
+    Color color{0.0f};   // Gouraud: the lit vertex colour
+    float invw = 0.0f;   // 1 / clip.w (set for the vertex stage's and the clipper's outputs)
+    float wh = 1.0f;     // the world point's homogeneous weight (0: a point at infinity)
 };
 
 /// A convex polygon of at most 3 + 6 vertices (each plane adds at most one).

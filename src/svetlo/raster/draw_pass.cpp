@@ -65,7 +65,9 @@ void draw_samples(const TriangleList& list, const CameraMatrices& camera,
     fit_sample_bounds(f, {sp});
     const bool stencil = state.stencil.enabled && !targets.stencil.empty();
     const bool items = !targets.primitive.empty() && state.write_items;
-    f.depth_only = S == 1 && state.depth_test && state.depth_write && !stencil && !items;
+    // (Not with alpha: the depth-only road draws whole triangles.)
+    f.depth_only = S == 1 && state.depth_test && state.depth_write && !stencil && !items &&
+                   !(state.alpha && state.alpha->any());
     prepare_pass(list, camera, state, f, threads);
     tbb::enumerable_thread_specific<TileBuffers> buffers;
     parallel_tiles(

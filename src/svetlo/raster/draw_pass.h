@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "svetlo/geometry/triangle_list.h"
+#include "svetlo/raster/alpha_test.h"
 #include "svetlo/raster/camera_matrices.h"
 #include "svetlo/raster/stencil.h"
 #include "svetlo/scene/scene.h"
@@ -34,6 +35,9 @@ struct PipelineState {
     // for the visibility buffer; a pass that writes neither it nor depth may skip samples that
     // would only pass.
     bool write_items = true;
+    // Alpha's holes (alpha_test.h): a masked or blended triangle's samples are tested; null:
+    // every covered sample is drawn.
+    const raster::AlphaTest* alpha = nullptr;
 };
 
 /// Per-sample buffers that persist from pass to pass, samples x width x height, sample s of

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <new>
 
+#include "svetlo/scene/tangents.h"
+#include "svetlo/shading/normal_map.h"
 #include "svetlo/shading/shading_frame.h"
 #include "svetlo/shading/texture.h"
 
@@ -173,13 +175,21 @@ ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& 
     vec3 ns = b0 * A.normal + b1 * B.normal + b2 * C.normal;
     ns = glm::length(ns) > 0.0f ? glm::normalize(ns) : ng;
     vec3 wo = view_direction(f, p);
+    const SurfaceUv at = surface_uv(f, t, A, B, C, w);
+    const vec2 uv = at.uv, dx = at.duv_dx, dy = at.duv_dy;
+    if (const NormalMap& map = f.materials[t.material].normal_map; map.present()) {
+        if (glm::dot(ns, ng) < 0.0f) ns = -ns;  // onto the front side, as the ray tracers'
+        const vec4 tangent = orthogonal_tangent(
+            vec4(b0 * vec3(A.tangent) + b1 * vec3(B.tangent) + b2 * vec3(C.tangent), A.tangent.w),
+            ns);
+        const TextureLookup lookup{f.scene->textures, f.mips, dx, dy};
+        ns = mapped_normal(map, eval_color(map.texture, uv, lookup), ns, ng, tangent);
+    }
     if (want_aovs || f.mode == Mode::Normal || f.mode == Mode::Depth) {
         r.distance = f.cam.orthographic ? glm::dot(p - f.cam.eye, f.cam.forward)
                                         : glm::length(p - f.cam.eye);
         r.normal = make_shading_frame(ng, ns, wo).ns;
     }
-    const SurfaceUv at = surface_uv(f, t, A, B, C, w);
-    const vec2 uv = at.uv, dx = at.duv_dx, dy = at.duv_dy;
     // GL_MODULATE: flat and Gouraud light times the base colour's texture at this sample.
     auto modulated = [&](Color lit) {
         const ColorSource* base = f.modulate[t.material];

@@ -117,8 +117,13 @@ public:
             for (uint32_t t : receivers_[r].triangles)
                 receiver_of_[t] = static_cast<uint32_t>(r + 1);
         }
+        // Alpha's holes (alpha_test.h): the receivers seen through them, and no shadow from
+        // them (the projected triangles keep their casters' texture coordinates).
+        alpha_test_ = std::make_unique<AlphaTest>(f.materials, scene.textures);
+        const AlphaTest* alpha = alpha_test_->any() ? alpha_test_.get() : nullptr;
         PipelineState item_state;
         item_state.cull = f.cull;
+        item_state.alpha = alpha;
         for (const SamplePattern& sp : passes) {
             RenderTargets targets;
             targets.clear(width_, height_, sp.count, true, true);
@@ -153,6 +158,7 @@ public:
                         state.stencil.front = {StencilFunc::Equal, StencilOp::Keep, StencilOp::Keep,
                                                StencilOp::Replace};
                         state.stencil.back = state.stencil.front;
+                        state.alpha = alpha;
                         draw_samples(shadow, f.cam, state, targets, threads, sp, memory);
                     }
                     for (size_t i = 0; i < lit.size(); ++i) {
@@ -215,20 +221,34 @@ private:
             }
             if (count < 3) continue;
             auto first = static_cast<uint32_t>(out.positions.size());
+            const uint32_t* v = &list.indices[3 * t];
             for (int k = 0; k < count; ++k) {
-                vec4 h = project * vec4(a[static_cast<size_t>(k)], 1.0f);
+                const vec3 x = a[static_cast<size_t>(k)];
+                vec4 h = project * vec4(x, 1.0f);
                 out.positions.push_back(vec3(h) / h.w);
+                // The caster's texture coordinates at x (a point of its triangle, clipped or
+                // not), for the alpha test: interpolated over the shadow, they are exact for a
+                // direction and close for a point (whose projection is not affine).
+                const vec3 p0 = list.positions[v[0]], p1 = list.positions[v[1]],
+                           p2 = list.positions[v[2]];
+                const vec3 n2 = glm::cross(p1 - p0, p2 - p0);
+                const float inv = 1.0f / std::max(glm::dot(n2, n2), 1e-30f);
+                const float b1 = glm::dot(glm::cross(x - p0, p2 - p0), n2) * inv;
+                const float b2 = glm::dot(glm::cross(p1 - p0, x - p0), n2) * inv;
+                out.uvs.push_back((1.0f - b1 - b2) * list.uvs[v[0]] + b1 * list.uvs[v[1]] +
+                                  b2 * list.uvs[v[2]]);
             }
-            for (int k = 1; k + 1 < count; ++k)
+            for (int k = 1; k + 1 < count; ++k) {
                 out.indices.insert(out.indices.end(), {first, first + static_cast<uint32_t>(k),
                                                        first + static_cast<uint32_t>(k) + 1});
+                out.material.push_back(list.material[t]);
+            }
         }
-        out.material.assign(out.indices.size() / 3, 0);
         out.normals.assign(out.positions.size(), vec3(0.0f));
-        out.uvs.assign(out.positions.size(), vec2(0.0f));
         return out;
     }
 
+    std::unique_ptr<AlphaTest> alpha_test_;
     std::vector<Receiver> receivers_;
     std::vector<uint32_t> receiver_of_;  // per triangle: 0, or the receiver it is in, plus 1
 };

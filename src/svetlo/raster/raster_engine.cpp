@@ -209,9 +209,12 @@ void prepare_shading(const Scene& scene, FrameShading& f, KeptMipChains& kept) {
         // Textured colours too: the fast path evaluates them per sample (material_at). Not an
         // emitting one: the fast path has no emission term.
         // Nor under an environment map: image-based lighting is shade_point's alone.
+        // Nor a normal-mapped one: its normal is bent per sample in fragment.cpp.
         const bool emits = !f.materials[m].emission.is_black();
         const bool ibl = f.lights->environment.active();
-        f.simd_ok.push_back((phong || b.model == Bsdf::Model::Lambert) && !emits && !ibl ? 1 : 0);
+        const bool mapped = f.materials[m].normal_map.present();
+        f.simd_ok.push_back(
+            (phong || b.model == Bsdf::Model::Lambert) && !emits && !ibl && !mapped ? 1 : 0);
         f.simd_material.emplace_back(b.ambient, b.diffuse, b.specular, b.shininess,
                                      b.model == Bsdf::Model::BlinnPhong, phong);
     }
@@ -355,7 +358,9 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     // colour pass: stages 2 to 4 for the whole frame, then per tile the rasterization of each
     // sample pass, the shading of its visible samples, and the resolve.
     auto t1 = Clock::now();
-    const PipelineState state = colour_pass_state(scene);
+    const AlphaTest alpha(f.materials, scene.textures);
+    PipelineState state = colour_pass_state(scene);
+    if (alpha.any()) state.alpha = &alpha;
     prepare_pass(list, camera, state, f, threads);
     if (!state.depth_test) bin_back_to_front(f, threads);  // the painter's algorithm
     // The shadow technique's maps, volumes or stencil masks, before the colour pass reads them

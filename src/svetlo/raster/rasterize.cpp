@@ -14,6 +14,8 @@
 
 #include "svetlo/core/rng.h"
 #include "svetlo/core/sampling.h"
+#include "svetlo/raster/draw_pass.h"
+#include "svetlo/raster/fragment.h"
 #include "svetlo/raster/pipeline.h"
 #include "svetlo/raster/rasterize_kernels.h"
 
@@ -243,12 +245,55 @@ void rasterize(uint32_t id, const SetupTriangle& t, const TriangleEdges& te, Pix
     }
 }
 
+/// Stage 5 for a triangle with alpha (alpha_test.h), sample by sample: covered, nearer, and
+/// not a hole at its perspective-correct texture coordinates. The blocks' deepest depths are
+/// left as they were (larger than the truth: safe).
+void rasterize_alpha(uint32_t id, const SetupTriangle& t, const PassGeometry& f, PixelSpan span,
+                     const Tile& tile, const SamplePattern& sp, const PipelineState& state,
+                     TileBuffers& buf) {
+    const TriangleEdges te(t);
+    double dzdx, dzdy;
+    te.depth_gradient(t, dzdx, dzdy);
+    const ClipVertex& A = f.vertex(t.v[0]);
+    const ClipVertex& B = f.vertex(t.v[1]);
+    const ClipVertex& C = f.vertex(t.v[2]);
+    const int tw = tile.x1 - tile.x0, S = sp.count;
+    for (int py = span.ys; py < span.ye; ++py) {
+        for (int px = span.xs; px < span.xe; ++px) {
+            for (int s = 0; s < S; ++s) {
+                const int64_t sx = static_cast<int64_t>(px) * kSubpixel + sp.ox[s];
+                const int64_t sy = static_cast<int64_t>(py) * kSubpixel + sp.oy[s];
+                const int64_t w0 = te.e[0].at(sx, sy) + te.e[0].bias,
+                              w1 = te.e[1].at(sx, sy) + te.e[1].bias,
+                              w2 = te.e[2].at(sx, sy) + te.e[2].bias;
+                if ((w0 | w1 | w2) < 0) continue;
+                const auto z = static_cast<float>(
+                    t.z[0] + dzdx * static_cast<double>(sx - t.x[0]) / kSubpixel +
+                    dzdy * static_cast<double>(sy - t.y[0]) / kSubpixel);
+                const size_t i = (static_cast<size_t>(py - tile.y0) * tw + (px - tile.x0)) * S + s;
+                if (state.depth_test && !(z < buf.depth[i])) continue;
+                const Weights w = perspective_weights(te.weights(sx, sy), A, B, C);
+                const vec2 uv = w.b[0] * A.uv + w.b[1] * B.uv + w.b[2] * C.uv;
+                const uint64_t key = (static_cast<uint64_t>(sy) << 40) ^
+                                     (static_cast<uint64_t>(sx) << 20) ^ f.source(id);
+                if (state.alpha->hole(t.material, uv, key)) continue;
+                buf.depth[i] = z;
+                buf.tri[i] = id;
+            }
+        }
+    }
+}
+
 /// Stage 5 for one triangle in one tile, depth written: the small-triangle path or the
-/// general one.
-void draw_triangle(uint32_t id, const SetupTriangle& t, const Tile& tile, const SamplePattern& sp,
-                   const PipelineState& state, TileBuffers& buf) {
+/// general one (or, for a triangle with alpha, rasterize_alpha).
+void draw_triangle(uint32_t id, const SetupTriangle& t, const PassGeometry& f, const Tile& tile,
+                   const SamplePattern& sp, const PipelineState& state, TileBuffers& buf) {
     const PixelSpan span = span_in(t, tile);
     if (span.empty()) return;
+    if (state.alpha && state.alpha->active(t.material)) {
+        rasterize_alpha(id, t, f, span, tile, sp, state, buf);
+        return;
+    }
     if (t.small && sp.count == 1) {
         // Relative to the span's first sample.
         const int32_t sx = span.xs * kSubpixel + sp.ox[0], sy = span.ys * kSubpixel + sp.oy[0];
@@ -295,7 +340,7 @@ void rasterize_tile(const PassGeometry& f, const Tile& tile, const SamplePattern
         return;
     }
     for_each_binned(f, tile, [&](uint32_t id, const SetupTriangle& t) {
-        draw_triangle(id, t, tile, sp, state, buf);
+        draw_triangle(id, t, f, tile, sp, state, buf);
     });
 #if SVETLO_SIMD
     if (f.depth_records()) rasterize_depth_avx2(f, tile, buf);

@@ -6,19 +6,36 @@
 #include <algorithm>
 #include <cmath>
 
+#include "svetlo/raster/fragment.h"
 #include "svetlo/raster/pipeline.h"
 
 namespace svetlo::raster {
 
 namespace {
 
+/// Whether the sample at fixed-point (sx, sy) of triangle `id` falls in its alpha's hole.
+bool in_hole(const PassGeometry& f, uint32_t id, const SetupTriangle& t, const TriangleEdges& te,
+             int64_t sx, int64_t sy, const PipelineState& state) {
+    const ClipVertex& A = f.vertex(t.v[0]);
+    const ClipVertex& B = f.vertex(t.v[1]);
+    const ClipVertex& C = f.vertex(t.v[2]);
+    const Weights w = perspective_weights(te.weights(sx, sy), A, B, C);
+    const vec2 uv = w.b[0] * A.uv + w.b[1] * B.uv + w.b[2] * C.uv;
+    const uint64_t key =
+        (static_cast<uint64_t>(sy) << 40) ^ (static_cast<uint64_t>(sx) << 20) ^ f.source(id);
+    return state.alpha->hole(t.material, uv, key);
+}
+
 /// The textbook per-sample loop over the pixels r of the tile: coverage by the edge functions,
 /// the stencil test and its fail operation, the depth test and its depth-fail operation, then
 /// the pass operation, the depth (where the state writes it) and the triangle's id.
 /// `all_fail`: the caller knows that every sample fails the depth test (none computed).
+/// `alpha`, when given, is the pass's geometry for the alpha test (alpha_test.h): a sample
+/// in a hole is not drawn, as if not covered.
 void test_samples(uint32_t id, const SetupTriangle& t, const TriangleEdges& te, double dzdx,
                   double dzdy, PixelSpan r, const Tile& tile, const SamplePattern& sp,
-                  const PipelineState& state, bool all_fail, TileBuffers& buf) {
+                  const PipelineState& state, bool all_fail, TileBuffers& buf,
+                  const PassGeometry* alpha = nullptr) {
     const StencilState& st = state.stencil;
     const StencilFace& face = t.front ? st.front : st.back;
     const int tw = tile.x1 - tile.x0, S = sp.count;
@@ -33,6 +50,9 @@ void test_samples(uint32_t id, const SetupTriangle& t, const TriangleEdges& te, 
             size_t i = (static_cast<size_t>(py - tile.y0) * tw + (r.xs - tile.x0)) * S + s;
             for (int px = r.xs; px < r.xe; ++px, w0 += d0, w1 += d1, w2 += d2, i += S) {
                 if ((w0 | w1 | w2) < 0) continue;
+                if (alpha && in_hole(*alpha, id, t, te,
+                                     static_cast<int64_t>(px) * kSubpixel + sp.ox[s], sy, state))
+                    continue;
                 uint8_t unused = 0;
                 uint8_t& stencil = st.enabled ? buf.stencil[i] : unused;
                 if (st.enabled && !stencil_test(face.func, st.ref, stencil, st.read_mask)) {
@@ -279,8 +299,15 @@ void rasterize_tile_stencil(const PassGeometry& f, const Tile& tile, const Sampl
                             const PipelineState& state, TileBuffers& buf) {
     for_each_binned(f, tile, [&](uint32_t id, const SetupTriangle& t) {
         const PixelSpan span = span_in(t, tile);
-        if (!span.empty())
-            rasterize_stencil(id, t, TriangleEdges(t), span, tile, sp, state, f.avx2, buf);
+        if (span.empty()) return;
+        if (state.alpha && state.alpha->active(t.material)) {  // sample by sample
+            const TriangleEdges te(t);
+            double dzdx, dzdy;
+            te.depth_gradient(t, dzdx, dzdy);
+            test_samples(id, t, te, dzdx, dzdy, span, tile, sp, state, false, buf, &f);
+            return;
+        }
+        rasterize_stencil(id, t, TriangleEdges(t), span, tile, sp, state, f.avx2, buf);
     });
 }
 

@@ -45,14 +45,15 @@ constexpr uint64_t kMaxShadowMapBytes = uint64_t{2} << 30;  // all maps of a fra
 
 /// Renders `list`'s depth through `cam` (res x res) into a map.
 DepthMap render_map(const TriangleList& list, const CameraMatrices& cam, float tan_half,
-                    int threads, PassMemory* memory) {
+                    int threads, PassMemory* memory, const AlphaTest* alpha) {
     DepthMap m;
     m.cam = cam;
     m.view_projection = cam.view_projection();
     m.res = cam.width;
     RenderTargets targets;
     targets.clear(m.res, m.res);
-    PipelineState state;  // depth test and write, both sides
+    PipelineState state;  // depth test and write, both sides; alpha's holes let light through
+    state.alpha = alpha;
     draw_pass(list, cam, state, targets, threads, 0, memory);
     m.distance = std::move(targets.depth);  // converted in place, bands of rows in parallel
     const float inv = 1.0f / static_cast<float>(m.res);
@@ -138,6 +139,8 @@ public:
     ShadowMaps(const Scene& scene, const TriangleList& list, const FrameState& f, int threads,
                PassMemory* memory)
         : settings_(scene.render.shadow_map), camera_(f.cam), memory_(memory) {
+        alpha_test_ = std::make_unique<AlphaTest>(f.materials, scene.textures);
+        if (alpha_test_->any()) alpha_ = alpha_test_.get();
         const Bounds3 bounds = list.bounds();
         const float diameter = scene_diameter(bounds);
         const bool pcss = settings_.filter == ShadowFilter::Pcss;
@@ -302,7 +305,7 @@ private:
                 perspective_view(c.position, c.direction,
                                  std::abs(c.direction.y) < 0.9f ? vec3(0, 1, 0) : vec3(1, 0, 0),
                                  tan_half, res, near),
-                tan_half, threads, memory_));
+                tan_half, threads, memory_, alpha_));
             return cm;
         }
         cm.layout = CasterMaps::Layout::Cube;
@@ -313,7 +316,7 @@ private:
         for (int face = 0; face < 6; ++face) {
             cm.maps.push_back(render_map(
                 list, perspective_view(c.position, axes[face], ups[face], spread, res, near),
-                spread, threads, memory_));
+                spread, threads, memory_, alpha_));
         }
         return cm;
     }
@@ -374,7 +377,7 @@ private:
             cam.eye = eye;
             cam.forward = c.direction;
             cam.orthographic = true;
-            DepthMap m = render_map(list, cam, 0.0f, threads, memory_);
+            DepthMap m = render_map(list, cam, 0.0f, threads, memory_, alpha_);
             m.texel = side / static_cast<float>(res);
             cm.maps.push_back(std::move(m));
             cm.splits.push_back(b);
@@ -384,8 +387,10 @@ private:
     ShadowMapSettings settings_;
     int area_points_ = 1;  // casters per light with area
     CameraMatrices camera_;
-    PassMemory* memory_;            // while the maps are made
-    std::vector<CasterMaps> maps_;  // per caster
+    PassMemory* memory_;  // while the maps are made
+    std::unique_ptr<AlphaTest> alpha_test_;
+    const AlphaTest* alpha_ = nullptr;  // when some material has alpha
+    std::vector<CasterMaps> maps_;      // per caster
 };
 
 }  // namespace

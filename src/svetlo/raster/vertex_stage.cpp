@@ -40,6 +40,7 @@ void vertex_stage(const TriangleList& list, FrameState& f, int threads) {
             out.clip = vp * vec4(out.world, out.wh);
             out.normal = list.normals[v];
             out.uv = list.uvs[v];
+            out.tangent = list.tangents.empty() ? vec4(0.0f) : list.tangents[v];
             out.color = Color(0.0f);
             // Projected here once when inside the clip volume; otherwise the triangles that
             // use it are clipped, and their pieces projected then.

@@ -35,6 +35,7 @@ RtScene::RtScene(const Scene& scene, const std::string& accel, int threads, Acce
         uniform_bsdfs_.push_back(make_bsdf(m, vec2(0.0f), scene.textures));
     }
     unbounded_ = geometry().unbounded_primitives();
+    cutouts_ = std::make_unique<Cutouts>(geometry(), materials(), scene.textures);
 }
 
 int RtScene::light_source_of(uint32_t prim) const {
@@ -65,7 +66,10 @@ bool traceable(const Ray& ray) {
 
 }  // namespace
 
-bool RtScene::intersect(const Ray& ray, Hit& hit) const { return closest(ray, hit, nullptr); }
+bool RtScene::intersect(const Ray& ray, Hit& hit) const {
+    return cutouts_->closest_solid(ray, hit,
+                                   [&](const Ray& r, Hit& h) { return closest(r, h, nullptr); });
+}
 
 bool RtScene::intersect_cost(const Ray& ray, Hit& hit, TraversalCost& cost) const {
     return closest(ray, hit, &cost);
@@ -100,6 +104,10 @@ Color RtScene::camera_ray_cost(const Ray& ray) const {
 
 bool RtScene::occluded(const Ray& ray) const {
     if (!traceable(ray)) return false;
+    if (cutouts_->any()) {
+        Hit hit;
+        return intersect(ray, hit);
+    }
     if (!unbounded_.empty() &&
         geometry().occludes(unbounded_.data(), unbounded_.size(), ray, RayPrecomputed(ray))) {
         return true;

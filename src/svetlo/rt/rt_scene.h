@@ -12,8 +12,10 @@
 #include "svetlo/geometry/scene_geometry.h"
 #include "svetlo/scene/scene.h"
 #include "svetlo/shading/bsdf.h"
+#include "svetlo/shading/cutouts.h"
 #include "svetlo/shading/environment.h"
 #include "svetlo/shading/light_set.h"
+#include "svetlo/shading/normal_map.h"
 
 namespace svetlo {
 
@@ -23,6 +25,8 @@ public:
     /// the geometry and structure from `cache` when it holds the scene's. Throws Error for
     /// what the light set cannot sample (light_set.h).
     RtScene(const Scene& scene, const std::string& accel, int threads, AccelCache* cache = nullptr);
+    RtScene(const RtScene&) = delete;  // cutouts_ refers to its members
+    RtScene& operator=(const RtScene&) = delete;
 
     const Scene& scene() const { return scene_; }
     const Geometry& geometry() const { return built_->geometry; }
@@ -32,6 +36,13 @@ public:
     /// The scene's materials, then the area lights' (LightSet::materials).
     const std::vector<Material>& materials() const { return lights_.materials(); }
     const Accel& accel() const { return *built_->accel; }
+    /// The surface at a hit, its shading normal bent by its material's normal map.
+    SurfaceHit surface(const Ray& ray, const Hit& hit) const {
+        SurfaceHit s = geometry().surface(ray, hit);
+        const NormalMap& map = materials()[s.material].normal_map;
+        if (map.present()) s.ns = mapped_normal(map, s.uv, s.ns, s.ng, s.tangent, scene_.textures);
+        return s;
+    }
     /// The BSDF of material `material` at texture coordinates uv: made once for a material
     /// without textures, at each call for one with.
     Bsdf bsdf(uint32_t material, vec2 uv) const {
@@ -48,6 +59,8 @@ public:
     /// The primitives of each object of the scene, then of each area light's quad.
     const std::vector<PrimitiveRange>& object_ranges() const { return built_->ranges; }
 
+    /// The closest hit and whether anything blocks the ray, seeing through alpha's holes
+    /// (cutouts.h).
     bool intersect(const Ray& ray, Hit& hit) const;
     bool occluded(const Ray& ray) const;
     /// intersect(), adding its work to `cost` (the unbounded primitives count as tested);
@@ -71,6 +84,7 @@ private:
     std::vector<Bsdf> uniform_bsdfs_;  // per material (meaningless where textured)
     std::vector<char> textured_;       // per material
     std::vector<uint32_t> unbounded_;
+    std::unique_ptr<Cutouts> cutouts_;
     struct EmitterRange {
         uint32_t first, end;  // primitive ids [first, end)
         int source;           // index in lights_.sources()

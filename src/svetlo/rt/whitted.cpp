@@ -52,8 +52,7 @@ public:
             if (log) log->rays[self].contribution = branch.to_pixel * Le;
             return Le;
         }
-        const Geometry& g = rt_.geometry();
-        SurfaceHit sh = g.surface(ray, hit);
+        SurfaceHit sh = rt_.surface(ray, hit);
         Bsdf bsdf = rt_.bsdf(sh.material, sh.uv);
         vec3 wo = -glm::normalize(ray.d);
         const ShadingFrame frame = make_shading_frame(sh.ng, sh.ns, wo);

@@ -5,12 +5,14 @@
 #include <stb_image.h>
 #include <tiny_gltf.h>
 
+#include <algorithm>
 #include <cmath>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include <map>
 #include <memory>
 #include <stdexcept>
+#include <string_view>
 
 #include "svetlo/core/image_io.h"
 #include "svetlo/core/input_file.h"
@@ -66,10 +68,11 @@ public:
                 return normalized_ ? load<uint16_t>(p) / 65535.0 : load<uint16_t>(p);
             case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
                 return load<uint32_t>(p);
+            // Signed normalised: max(c / (2^(b-1) - 1), -1) (glTF 2.0, 3.11).
             case TINYGLTF_COMPONENT_TYPE_BYTE:
-                return load<int8_t>(p);
+                return normalized_ ? std::max(load<int8_t>(p) / 127.0, -1.0) : load<int8_t>(p);
             case TINYGLTF_COMPONENT_TYPE_SHORT:
-                return load<int16_t>(p);
+                return normalized_ ? std::max(load<int16_t>(p) / 32767.0, -1.0) : load<int16_t>(p);
             default:
                 throw std::runtime_error("unsupported component type");
         }
@@ -120,7 +123,7 @@ public:
     /// The ColorSource of a material's texture reference, times `factor`; throws for a
     /// texture or image that is missing or does not decode.
     ColorSource source(int texture, int tex_coord, const tinygltf::ExtensionMap& extensions,
-                       Color factor, bool srgb, const std::string& what) {
+                       Color factor, TexelMeaning meaning, const std::string& what) {
         if (texture < 0 || static_cast<size_t>(texture) >= model_.textures.size())
             throw std::runtime_error(what + ": texture " + std::to_string(texture) + " missing");
         if (tex_coord != 0)
@@ -129,7 +132,7 @@ public:
         const tinygltf::Texture& t = model_.textures[static_cast<size_t>(texture)];
         ColorSource s;
         s.kind = ColorSource::Kind::Image;
-        s.texture = image(t.source, srgb, what);
+        s.texture = image(t.source, meaning, what);
         s.factor = factor;
         if (t.sampler >= 0 && static_cast<size_t>(t.sampler) < model_.samplers.size()) {
             const tinygltf::Sampler& sampler = model_.samplers[static_cast<size_t>(t.sampler)];
@@ -178,19 +181,19 @@ private:
         s.transformed = true;
     }
 
-    /// The index in file_.textures of image `index` decoded in the colour space asked.
-    int image(int index, bool srgb, const std::string& what) {
+    /// The index in file_.textures of image `index` decoded as `meaning` says.
+    int image(int index, TexelMeaning meaning, const std::string& what) {
         if (index < 0 || static_cast<size_t>(index) >= model_.images.size())
             throw std::runtime_error(what + ": image " + std::to_string(index) + " missing");
-        const auto key = std::make_pair(index, srgb);
+        const auto key = std::make_pair(index, meaning);
         if (auto known = made_.find(key); known != made_.end()) return known->second;
         const tinygltf::Image& im = model_.images[static_cast<size_t>(index)];
         const std::string name =
             "image " + std::to_string(index) +
             (im.uri.empty() || im.uri.rfind("data:", 0) == 0 ? "" : " '" + im.uri + "'");
         // The encoded bytes (keep_encoded), decoded here by stb to 8-bit RGB: a 16-bit PNG
-        // keeps its high bytes, grey is repeated, alpha is not kept yet. The size is checked
-        // from the header before anything is decoded.
+        // keeps its high bytes, grey is repeated; or to coverage, its alpha channel. The size
+        // is checked from the header before anything is decoded.
         const auto size = static_cast<int>(std::min<size_t>(im.image.size(), INT32_MAX));
         int w = 0, h = 0, n = 0;
         if (im.image.empty() || !stbi_info_from_memory(im.image.data(), size, &w, &h, &n))
@@ -200,13 +203,18 @@ private:
             throw std::runtime_error(what + ": " + name + " is " + std::to_string(w) + " x " +
                                      std::to_string(h) + ", more than a texture's " +
                                      std::to_string(kMaxTextureBytes >> 20) + " MiB");
+        const bool coverage = meaning == TexelMeaning::Coverage;
         std::unique_ptr<unsigned char, void (*)(void*)> data(
-            stbi_load_from_memory(im.image.data(), size, &w, &h, &n, 3), stbi_image_free);
+            stbi_load_from_memory(im.image.data(), size, &w, &h, &n, coverage ? 0 : 3),
+            stbi_image_free);
         if (!data)
             throw std::runtime_error(what + ": " + name +
                                      " does not decode: " + stbi_failure_reason());
-        std::vector<unsigned char> codes(data.get(), data.get() + 3 * static_cast<size_t>(w) * h);
-        file_.textures.emplace_back(w, h, std::move(codes), srgb);
+        const size_t texels = static_cast<size_t>(w) * static_cast<size_t>(h);
+        std::vector<unsigned char> codes =
+            coverage ? coverage_codes(data.get(), n, texels)
+                     : std::vector<unsigned char>(data.get(), data.get() + 3 * texels);
+        file_.textures.emplace_back(w, h, std::move(codes), meaning == TexelMeaning::Srgb);
         const int made = static_cast<int>(file_.textures.size()) - 1;
         made_[key] = made;
         return made;
@@ -214,7 +222,7 @@ private:
 
     const tinygltf::Model& model_;
     MeshFile& file_;
-    std::map<std::pair<int, bool>, int> made_;
+    std::map<std::pair<int, TexelMeaning>, int> made_;
 };
 
 Material material_from_gltf(const tinygltf::Material& m, GltfTextures& textures) {
@@ -240,14 +248,14 @@ Material material_from_gltf(const tinygltf::Material& m, GltfTextures& textures)
     ct.base_color = ColorSource::constant(base);
     if (pbr.baseColorTexture.index >= 0)
         ct.base_color = textures.source(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
-                                        pbr.baseColorTexture.extensions, base, true,
+                                        pbr.baseColorTexture.extensions, base, TexelMeaning::Srgb,
                                         name + " baseColorTexture");
     ct.roughness = static_cast<float>(std::clamp(pbr.roughnessFactor, 0.0, 1.0));
     ct.metallic = static_cast<float>(std::clamp(pbr.metallicFactor, 0.0, 1.0));
     if (pbr.metallicRoughnessTexture.index >= 0)
         ct.metallic_roughness = textures.source(
             pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
-            pbr.metallicRoughnessTexture.extensions, Color(1.0f), false,
+            pbr.metallicRoughnessTexture.extensions, Color(1.0f), TexelMeaning::Linear,
             name + " metallicRoughnessTexture");
     // Emission on the metallic-roughness surface (the material's `emission`): the factor
     // times the texture (sRGB) when there is one.
@@ -256,8 +264,31 @@ Material material_from_gltf(const tinygltf::Material& m, GltfTextures& textures)
         out.emission = ColorSource::constant(emission);
         if (m.emissiveTexture.index >= 0)
             out.emission = textures.source(m.emissiveTexture.index, m.emissiveTexture.texCoord,
-                                           m.emissiveTexture.extensions, emission, true,
-                                           name + " emissiveTexture");
+                                           m.emissiveTexture.extensions, emission,
+                                           TexelMeaning::Srgb, name + " emissiveTexture");
+    }
+    if (m.normalTexture.index >= 0) {
+        out.normal_map.texture = textures.source(m.normalTexture.index, m.normalTexture.texCoord,
+                                                 m.normalTexture.extensions, Color(1.0f),
+                                                 TexelMeaning::Linear, name + " normalTexture");
+        out.normal_map.scale = static_cast<float>(m.normalTexture.scale);
+    }
+    // alphaMode: MASK with alphaCutoff, BLEND; coverage the base colour's alpha (its
+    // texture's alpha channel, linear) times the factor's.
+    if (m.alphaMode == "MASK" || m.alphaMode == "BLEND") {
+        out.alpha.mode = m.alphaMode == "MASK" ? AlphaMode::Mask : AlphaMode::Blend;
+        const double a = pbr.baseColorFactor.size() == 4 ? pbr.baseColorFactor[3] : 1.0;
+        if (!(a >= 0.0 && a <= 1.0))
+            throw std::runtime_error(name + " baseColorFactor: alpha must lie in [0, 1]");
+        out.alpha.coverage = ColorSource::constant(Color(static_cast<float>(a)));
+        if (pbr.baseColorTexture.index >= 0)
+            out.alpha.coverage =
+                textures.source(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
+                                pbr.baseColorTexture.extensions, Color(static_cast<float>(a)),
+                                TexelMeaning::Coverage, name + " baseColorTexture");
+        if (!(m.alphaCutoff >= 0.0 && m.alphaCutoff <= 1.0))
+            throw std::runtime_error(name + " alphaCutoff must lie in [0, 1]");
+        out.alpha.cutoff = static_cast<float>(m.alphaCutoff);
     }
     return out;
 }
@@ -371,6 +402,21 @@ struct Flattener {
                     mesh.normals.push_back(glm::normalize(nm * n));
                 }
             }
+            auto tan = prim.attributes.find("TANGENT");
+            if (tan != prim.attributes.end()) {
+                AccessorView tangents(model, tan->second, 4);
+                if (tangents.count() != positions.count())
+                    throw std::runtime_error("TANGENT count");
+                mesh.tangents.resize(base);
+                const Transform to_world{world, false};
+                for (size_t k = 0; k < tangents.count(); ++k) {
+                    // glTF's v runs down the image and svetlo's up, but glTF's bitangent
+                    // (w cross(n, t)) is the map's +y, up the image: the sign stays.
+                    const vec4 t(tangents.component(k, 0), tangents.component(k, 1),
+                                 tangents.component(k, 2), tangents.component(k, 3));
+                    mesh.tangents.push_back(transform_tangent(to_world, t));
+                }
+            }
             auto tex = prim.attributes.find("TEXCOORD_0");
             if (tex != prim.attributes.end()) {
                 AccessorView uvs(model, tex->second, 2);
@@ -433,6 +479,25 @@ bool read_checked_file(std::vector<unsigned char>* out, std::string* err, const 
     return tinygltf::ReadWholeFile(out, err, path, nullptr);
 }
 
+/// The extensions svetlo reads (docs/scene-format.md, "Mesh files").
+constexpr std::string_view kReadExtensions[] = {"KHR_lights_punctual",
+                                                "KHR_materials_emissive_strength",
+                                                "KHR_mesh_quantization", "KHR_texture_transform"};
+
+/// A required extension svetlo does not read refuses the file; an optional one is a warning.
+void check_extensions(const tinygltf::Model& model, MeshFile& file) {
+    const auto read = [](const std::string& name) {
+        return std::find(std::begin(kReadExtensions), std::end(kReadExtensions), name) !=
+               std::end(kReadExtensions);
+    };
+    for (const std::string& name : model.extensionsRequired)
+        if (!read(name))
+            throw std::runtime_error("extensionsRequired names '" + name +
+                                     "', which svetlo does not read");
+    for (const std::string& name : model.extensionsUsed)
+        if (!read(name)) file.warnings.push_back("extension '" + name + "' is not read: ignored");
+}
+
 }  // namespace
 
 MeshFile read_gltf(const std::filesystem::path& path, const FileScope& files) {
@@ -454,6 +519,7 @@ MeshFile read_gltf(const std::filesystem::path& path, const FileScope& files) {
         throw std::runtime_error(err.empty() ? "cannot parse glTF" : err);
     }
     MeshFile file;
+    check_extensions(model, file);
     GltfTextures textures(model, file);
     for (const tinygltf::Material& m : model.materials) {
         file.materials.push_back(material_from_gltf(m, textures));
@@ -471,6 +537,7 @@ MeshFile read_gltf(const std::filesystem::path& path, const FileScope& files) {
     if (mesh.indices.empty()) throw std::runtime_error("glTF file has no triangles");
     if (!mesh.normals.empty()) mesh.normals.resize(mesh.positions.size(), vec3(0.0f));
     if (!mesh.uvs.empty()) mesh.uvs.resize(mesh.positions.size(), vec2(0.0f));
+    if (!mesh.tangents.empty()) mesh.tangents.resize(mesh.positions.size(), vec4(0.0f));
     bool any_material = false;
     for (int m : mesh.face_material) any_material = any_material || m >= 0;
     if (!any_material) mesh.face_material.clear();

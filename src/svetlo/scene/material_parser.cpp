@@ -108,6 +108,36 @@ MaterialModel parse_model(const JsonNode& node, Scene& scene) {
     return m;
 }
 
+/// "normal_map": {"texture": IMAGE, "scale": s, and a texture's filter and wrap}; the image is
+/// data, linear unless told.
+NormalMap parse_normal_map(const JsonNode& node, Scene& scene) {
+    if (!node.is_object() || !node.has("texture")) node.fail("expected {\"texture\": IMAGE}");
+    node.expect_object({"texture", "scale", "filter", "wrap", "srgb", "max_anisotropy"});
+    NormalMap map;
+    if (auto n = node.find("scale")) map.scale = n->as_float();
+    nlohmann::json texture = node.raw();
+    texture.erase("scale");
+    map.texture =
+        parse_color_source(JsonNode(texture, node.file(), node.path()), scene, /*srgb=*/false);
+    return map;
+}
+
+/// A material's `alpha` (a number in [0, 1], or a texture read as coverage), `alpha_mode`
+/// ("mask" when alpha is given, else "opaque") and `alpha_cutoff`.
+Alpha parse_alpha(const JsonNode& material, Scene& scene) {
+    Alpha a;
+    if (auto n = material.find("alpha")) {
+        a.mode = AlphaMode::Mask;
+        a.coverage = n->is_object() ? parse_image_source(*n, scene, TexelMeaning::Coverage)
+                                    : ColorSource::constant(Color(n->as_in_range(0.0, 1.0)));
+    }
+    if (auto n = material.find("alpha_mode")) {
+        a.mode = n->as_enum(kAlphaModes);
+    }
+    if (auto n = material.find("alpha_cutoff")) a.cutoff = n->as_in_range(0.0, 1.0);
+    return a;
+}
+
 }  // namespace
 
 std::filesystem::path named_file(const JsonNode& node, const Scene& scene) {
@@ -129,9 +159,12 @@ Material parse_material(const JsonNode& node, Scene& scene) {
     // The keys every model takes (docs/scene-format.md, "Keys of every material"), read here
     // once; the rest by the model's own reader.
     nlohmann::json model = node.raw();
-    model.erase("emission");
+    for (const char* key : {"emission", "normal_map", "alpha", "alpha_mode", "alpha_cutoff"})
+        model.erase(key);
     Material m = parse_model(JsonNode(model, node.file(), node.path()), scene);
     if (auto e = node.find("emission")) m.emission = parse_color_source(*e, scene);
+    if (auto n = node.find("normal_map")) m.normal_map = parse_normal_map(*n, scene);
+    m.alpha = parse_alpha(node, scene);
     return m;
 }
 
@@ -148,20 +181,30 @@ ColorSource parse_color_source(const JsonNode& node, Scene& scene, bool srgb_def
         if (auto n = c.find("scale")) s.scale = n->as_positive();
         return s;
     }
-    node.expect_object({"texture", "filter", "wrap", "srgb", "max_anisotropy"});
+    bool srgb = srgb_default;
+    if (auto n = node.find("srgb")) srgb = n->as_bool();
+    return parse_image_source(node, scene, srgb ? TexelMeaning::Srgb : TexelMeaning::Linear);
+}
+
+ColorSource parse_image_source(const JsonNode& node, Scene& scene, TexelMeaning meaning) {
+    if (meaning == TexelMeaning::Coverage)
+        node.expect_object({"texture", "filter", "wrap", "max_anisotropy"});
+    else
+        node.expect_object({"texture", "filter", "wrap", "srgb", "max_anisotropy"});
+    ColorSource s;
     s.kind = ColorSource::Kind::Image;
     JsonNode tex = node.at("texture");
     const std::filesystem::path file = named_file(tex, scene);
-    bool srgb = srgb_default;
-    if (auto n = node.find("srgb")) srgb = n->as_bool();
     if (auto n = node.find("filter")) s.filter = n->as_enum(kTextureFilters);
     if (auto n = node.find("max_anisotropy"))
         s.max_anisotropy = static_cast<int>(n->as_integer(1, 64));
     if (auto n = node.find("wrap")) s.wrap = n->as_enum(kTextureWraps);
     // One read per file and colour space, however many materials use it.
     std::error_code ec;
-    std::string source =
-        std::filesystem::weakly_canonical(file, ec).string() + (srgb ? " (sRGB)" : " (linear)");
+    std::string source = std::filesystem::weakly_canonical(file, ec).string() +
+                         (meaning == TexelMeaning::Srgb     ? " (sRGB)"
+                          : meaning == TexelMeaning::Linear ? " (linear)"
+                                                            : " (coverage)");
     auto known = std::find(scene.texture_sources.begin(), scene.texture_sources.end(), source);
     if (known != scene.texture_sources.end()) {
         s.texture = static_cast<int>(known - scene.texture_sources.begin());
@@ -172,7 +215,7 @@ ColorSource parse_color_source(const JsonNode& node, Scene& scene, bool srgb_def
     const size_t left = texture_bytes_left(scene);
     try {
         scene.textures.push_back(
-            read_texture(file, srgb, std::min(kMaxTextureBytes, left), tex.path()));
+            read_texture(file, meaning, std::min(kMaxTextureBytes, left), tex.path()));
     } catch (const Error& e) {
         tex.fail("cannot read texture '" + tex.as_string() + "': " + e.message());
     }

@@ -14,7 +14,7 @@ namespace svetlo {
 /// an f that returns false visits them all).
 template <class M, class F>
 bool any_source(M& m, F&& f) {
-    if (f(m.emission)) return true;
+    if (f(m.emission) || f(m.normal_map.texture) || f(m.alpha.coverage)) return true;
     return std::visit(
         [&](auto& mat) {
             using T = std::decay_t<decltype(mat)>;

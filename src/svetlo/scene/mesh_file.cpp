@@ -83,6 +83,9 @@ void validate_mesh(const Mesh& mesh) {
     if (!mesh.uvs.empty() && mesh.uvs.size() != mesh.positions.size()) {
         throw std::runtime_error("uv count differs from position count");
     }
+    if (!mesh.tangents.empty() && mesh.tangents.size() != mesh.positions.size()) {
+        throw std::runtime_error("tangent count differs from position count");
+    }
 }
 
 void compute_vertex_normals(Mesh& mesh) {

@@ -25,6 +25,9 @@ struct MeshFile {
     std::optional<Camera> camera;  // glTF: the first camera of the default scene
     // The textures the materials' ColorSources index (the loader moves them into the scene).
     std::vector<TextureImage> textures;
+    // What was read but left out, one line each (a glTF's optional extension svetlo does not
+    // read): the scene keeps them and the command line prints them as warnings.
+    std::vector<std::string> warnings;
 };
 
 /// A colour read from a mesh file (MTL Kd, glTF baseColorFactor, a light's intensity...):

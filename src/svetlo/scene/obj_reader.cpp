@@ -2,7 +2,8 @@
 // so seams keep their own normals and texture coordinates. MTL mapping (docs/scene-format.md,
 // "OBJ/MTL"): Ke > 0 or map_Ke -> emissive (Kd or map_Kd as albedo); illum 3 or 5 -> mirror
 // (Ks); illum 4, 6, 7 or d < 1 -> dielectric (Ni); Pr or Pm > 0 -> cook_torrance; otherwise
-// phong with Ka, Kd or map_Kd, Ks or map_Ks, Ns.
+// phong with Ka, Kd or map_Kd, Ks or map_Ks, Ns. `norm` is a tangent-space normal map,
+// `map_Bump` (or `bump`) a height map made into one.
 #include <tiny_obj_loader.h>
 
 #include <algorithm>
@@ -29,11 +30,12 @@ public:
         : dir_(std::move(dir)), files_(files), file_(file) {}
 
     /// `constant` when `name` is empty, else the texture times `factor`.
-    ColorSource source(const std::string& name, Color constant, Color factor, bool srgb,
+    ColorSource source(const std::string& name, Color constant, Color factor, TexelMeaning meaning,
                        const std::string& what) {
         if (name.empty()) return ColorSource::constant(constant);
         const std::filesystem::path path = files_.resolve(dir_, name);
-        const std::string key = path.lexically_normal().string() + (srgb ? " (sRGB)" : " (linear)");
+        const std::string key =
+            path.lexically_normal().string() + " " + std::to_string(static_cast<int>(meaning));
         ColorSource s;
         s.kind = ColorSource::Kind::Image;
         s.factor = factor;
@@ -42,12 +44,36 @@ public:
             return s;
         }
         try {
-            file_.textures.push_back(read_texture(path, srgb, kMaxTextureBytes, what));
+            file_.textures.push_back(read_texture(path, meaning, kMaxTextureBytes, what));
         } catch (const Error& e) {
             throw std::runtime_error(what + " '" + name + "': " + e.message());
         }
         s.texture = made_[key] = static_cast<int>(file_.textures.size()) - 1;
         return s;
+    }
+
+    /// The tangent-space normal map of height map `name` (map_Bump, bump): at each texel the
+    /// normal (-bm dh/di, -bm dh/dj, 1), normalised, the heights' central differences across
+    /// one texel (i to the right, j up the image), h read linear in [0, 1] (its first channel)
+    /// times the MTL's -bm. Kept as float texels in the map's encoding, (n + 1) / 2.
+    ColorSource height_map(const std::string& name, float bm, const std::string& what) {
+        ColorSource heights = source(name, Color(0.0f), Color(1.0f), TexelMeaning::Linear, what);
+        const TextureImage& h = file_.textures[static_cast<size_t>(heights.texture)];
+        const int w = h.width(), ht = h.height();
+        Image normals(w, ht);
+        for (int j = 0; j < ht; ++j)
+            for (int i = 0; i < w; ++i) {
+                // Rows from the top: up the image is j - 1. Repeated across the edges.
+                const float dh_di =
+                    0.5f * (h.texel((i + 1) % w, j).r - h.texel((i + w - 1) % w, j).r);
+                const float dh_dj =
+                    0.5f * (h.texel(i, (j + ht - 1) % ht).r - h.texel(i, (j + 1) % ht).r);
+                const vec3 n = glm::normalize(vec3(-bm * dh_di, -bm * dh_dj, 1.0f));
+                normals.at(i, j) = 0.5f * (n + vec3(1.0f));
+            }
+        file_.textures.emplace_back(std::move(normals));
+        heights.texture = static_cast<int>(file_.textures.size()) - 1;
+        return heights;
     }
 
 private:
@@ -57,7 +83,7 @@ private:
     std::map<std::string, int> made_;
 };
 
-Material material_from_mtl(const tinyobj::material_t& m, MtlTextures& textures) {
+MaterialModel model_from_mtl(const tinyobj::material_t& m, MtlTextures& textures) {
     // Every colour of the MTL checked (file_color): 'Kd 1e39' or 'Kd -1 0.5 0.5' is refused.
     auto color = [&](const tinyobj::real_t c[3], const char* key) {
         return file_color(c[0], c[1], c[2], "material '" + m.name + "' " + key);
@@ -71,14 +97,14 @@ Material material_from_mtl(const tinyobj::material_t& m, MtlTextures& textures) 
     // (by 1 where Ke is black).
     const std::string name = "material '" + m.name + "' ";
     const ColorSource diffuse =
-        textures.source(m.diffuse_texname, kd, Color(1.0f), true, name + "map_Kd");
+        textures.source(m.diffuse_texname, kd, Color(1.0f), TexelMeaning::Srgb, name + "map_Kd");
     const ColorSource specular =
-        textures.source(m.specular_texname, ks, Color(1.0f), true, name + "map_Ks");
+        textures.source(m.specular_texname, ks, Color(1.0f), TexelMeaning::Srgb, name + "map_Ks");
     if (max_component(ke) > 0.0f || !m.emissive_texname.empty()) {
         EmissiveMaterial e;
         e.radiance =
             textures.source(m.emissive_texname, ke, max_component(ke) > 0.0f ? ke : Color(1.0f),
-                            true, name + "map_Ke");
+                            TexelMeaning::Srgb, name + "map_Ke");
         e.albedo = diffuse;
         return e;
     }
@@ -87,7 +113,8 @@ Material material_from_mtl(const tinyobj::material_t& m, MtlTextures& textures) 
         mirror.reflectance = ColorSource::constant(ks);
         return mirror;
     }
-    if (m.illum == 4 || m.illum == 6 || m.illum == 7 || m.dissolve < 1.0f) {
+    if (m.illum == 4 || m.illum == 6 || m.illum == 7 ||
+        (m.dissolve < 1.0f && m.alpha_texname.empty())) {
         DielectricMaterial d;
         d.ior = m.ior > 1.0f ? m.ior : 1.5f;
         return d;
@@ -105,6 +132,27 @@ Material material_from_mtl(const tinyobj::material_t& m, MtlTextures& textures) 
     p.ks = specular;
     p.shininess = m.shininess > 0.0f ? m.shininess : 1.0f;
     return p;
+}
+
+/// The material an MTL entry describes: its model and its normal map (norm, else map_Bump or
+/// bump as a height map).
+Material material_from_mtl(const tinyobj::material_t& m, MtlTextures& textures) {
+    Material out = model_from_mtl(m, textures);
+    const std::string name = "material '" + m.name + "' ";
+    if (!m.normal_texname.empty()) {
+        out.normal_map.texture = textures.source(m.normal_texname, Color(0.0f), Color(1.0f),
+                                                 TexelMeaning::Linear, name + "norm");
+    } else if (!m.bump_texname.empty()) {
+        const float bm = m.bump_texopt.bump_multiplier;
+        if (!std::isfinite(bm)) throw std::runtime_error(name + "map_Bump: -bm must be finite");
+        out.normal_map.texture = textures.height_map(m.bump_texname, bm, name + "map_Bump");
+    }
+    if (!m.alpha_texname.empty()) {  // map_d: a mask of the map's coverage
+        out.alpha.mode = AlphaMode::Mask;
+        out.alpha.coverage = textures.source(m.alpha_texname, Color(1.0f), Color(1.0f),
+                                             TexelMeaning::Coverage, name + "map_d");
+    }
+    return out;
 }
 
 /// Reads the MTL files an OBJ names (mtllib), each checked first as every input file is: a

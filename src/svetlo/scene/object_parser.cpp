@@ -81,6 +81,9 @@ Mesh parse_mesh(const JsonNode& node, Scene& scene, MeshFileCache& meshes, int m
         }
         const MeshFile& loaded = *read;
         mesh = loaded.mesh;
+        for (const std::string& w : loaded.warnings)
+            scene.warnings.push_back(file_node->path() + ": '" + file_node->as_string() +
+                                     "': " + w);
         auto offset = static_cast<int>(scene.materials.size());
         const std::vector<int> textures = add_file_textures(*file_node, file, loaded, scene);
         for (size_t k = 0; k < loaded.materials.size(); ++k) {
@@ -328,8 +331,9 @@ Object parse_object_node(const JsonNode& node, Scene& scene, MeshFileCache& mesh
     if (!node.is_object()) node.fail("must be an object");
     if (depth > kMaxTreeDepth)
         node.fail("CSG tree nested deeper than " + std::to_string(kMaxTreeDepth));
-    std::string type = node.at("type").as_choice(
-        {"sphere", "quad", "plane", "box", "cylinder", "cone", "mesh", "csg", "implicit"});
+    std::string type = node.at("type").as_choice({"sphere", "quad", "plane", "box", "cylinder",
+                                                  "cone", "mesh", "csg", "implicit", "instance"});
+    if (type == "instance") node.fail("an instance belongs in objects or a prototype's objects");
     Object obj;
     obj.name = node.path();
     if (auto t = node.find("transform")) obj.transform = parse_transform(*t);
@@ -383,8 +387,108 @@ Object parse_object_node(const JsonNode& node, Scene& scene, MeshFileCache& mesh
 
 }  // namespace
 
-void parse_object(const JsonNode& node, Scene& scene, MeshFileCache& meshes) {
-    scene.objects.push_back(parse_object_node(node, scene, meshes, -1, 1));
+namespace {
+
+constexpr size_t kMaxInstancedObjects = size_t{1} << 20;
+constexpr uint64_t kMaxInstancedTriangles = uint64_t{64} << 20;
+
+uint64_t triangles_of(const Object& obj) {
+    const auto* mesh = std::get_if<Mesh>(&obj.shape);
+    return mesh ? mesh->triangle_count() : 1;
+}
+
+/// `light` carried by `t` (a glTF light of a prototype, placed by its instance).
+Light transformed(Light light, const Transform& t) {
+    std::visit(
+        [&](auto& l) {
+            if constexpr (requires { l.position; }) l.position = t.point(l.position);
+            if constexpr (requires { l.direction; })
+                l.direction = glm::normalize(t.vector(l.direction));
+            if constexpr (requires { l.corner; }) {
+                l.corner = t.point(l.corner);
+                l.edge_u = t.vector(l.edge_u);
+                l.edge_v = t.vector(l.edge_v);
+            }
+        },
+        light);
+    return light;
+}
+
+}  // namespace
+
+Prototypes::Prototypes(std::optional<JsonNode> section) : section_(std::move(section)) {
+    if (!section_) return;
+    if (!section_->is_object()) section_->fail("must be an object of prototypes by name");
+    for (const auto& [name, value] : section_->raw().items()) {
+        const JsonNode p = section_->at(name);
+        if (!p.is_object()) p.fail("expected {\"objects\": [...]}");
+        p.expect_object({"objects"});
+        if (!p.at("objects").is_array()) p.at("objects").fail("must be an array of objects");
+        (void)value;
+    }
+}
+
+const Prototypes::Parts& Prototypes::get(const JsonNode& name_node, Scene& scene,
+                                         MeshFileCache& meshes) {
+    const std::string name = name_node.as_string();
+    if (auto it = parsed_.find(name); it != parsed_.end()) return it->second;
+    if (!section_ || !section_->has(name)) {
+        std::string known;
+        if (section_)
+            for (const auto& [key, value] : section_->raw().items())
+                known += (known.empty() ? "" : ", ") + key;
+        name_node.fail(
+            "unknown prototype '" + name + "'" +
+            (known.empty() ? " (the scene has no prototypes)" : " (the scene has: " + known + ")"));
+    }
+    if (std::find(expanding_.begin(), expanding_.end(), name) != expanding_.end()) {
+        std::string chain;
+        for (const std::string& p : expanding_) chain += p + " -> ";
+        name_node.fail("prototype '" + name + "' holds an instance of itself (" + chain + name +
+                       ")");
+    }
+    expanding_.push_back(name);
+    Parts parts;
+    const size_t lights_before = scene.lights.size();
+    const JsonNode objects = section_->at(name).at("objects");
+    for (size_t k = 0; k < objects.size(); ++k)
+        parse_object(objects.at(k), scene, meshes, *this, parts.objects);
+    parts.lights.assign(scene.lights.begin() + static_cast<std::ptrdiff_t>(lights_before),
+                        scene.lights.end());
+    scene.lights.resize(lights_before);
+    expanding_.pop_back();
+    return parsed_.emplace(name, std::move(parts)).first->second;
+}
+
+void parse_object(const JsonNode& node, Scene& scene, MeshFileCache& meshes, Prototypes& prototypes,
+                  std::vector<Object>& out) {
+    if (!node.is_object() || !node.has("type") || !node.at("type").is_string() ||
+        node.at("type").as_string() != "instance") {
+        out.push_back(parse_object_node(node, scene, meshes, -1, 1));
+        return;
+    }
+    node.expect_object({"type", "prototype", "transform", "material"});
+    Transform place;
+    if (auto t = node.find("transform")) place = parse_transform(*t);
+    int material = -1;
+    if (auto m = node.find("material")) material = find_material(scene, *m);
+    const Prototypes::Parts& parts = prototypes.get(node.at("prototype"), scene, meshes);
+    for (const Object& o : parts.objects) {
+        prototypes.instanced_objects += 1;
+        prototypes.instanced_triangles += triangles_of(o);
+        if (prototypes.instanced_objects > kMaxInstancedObjects ||
+            prototypes.instanced_triangles > kMaxInstancedTriangles)
+            node.fail("the instances would make more than " + std::to_string(kMaxInstancedObjects) +
+                      " objects or " + std::to_string(kMaxInstancedTriangles) +
+                      " triangles (an instance is a copy of its prototype's objects)");
+        Object copy = o;
+        copy.name = node.path() + "/" + o.name;
+        copy.transform.matrix = place.matrix * o.transform.matrix;
+        copy.transform.is_identity = place.is_identity && o.transform.is_identity;
+        if (material >= 0) copy.material = material;
+        out.push_back(std::move(copy));
+    }
+    for (const Light& l : parts.lights) scene.lights.push_back(transformed(l, place));
 }
 
 }  // namespace svetlo

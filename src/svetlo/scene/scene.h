@@ -95,11 +95,34 @@ using MaterialModel =
     std::variant<LambertMaterial, PhongMaterial, OrenNayarMaterial, CookTorranceMaterial,
                  MirrorMaterial, DielectricMaterial, EmissiveMaterial>;
 
+/// A tangent-space normal map (docs/scene-format.md, "Keys of every material"): a linear
+/// texture whose texel c gives the normal (2c - 1) * (scale, scale, 1), normalised, in the
+/// frame of the surface's tangent, bitangent and shading normal (glTF's and OpenGL's +y).
+struct NormalMap {
+    ColorSource texture;  // an image, or a constant (no map)
+    float scale = 1.0f;
+    bool present() const { return texture.kind == ColorSource::Kind::Image; }
+};
+
+/// How much of a surface is there (docs/scene-format.md, "Keys of every material"): opaque;
+/// a mask, a hole wherever the coverage is below the cutoff, for every ray and every shadow
+/// technique but shadow volumes; or a blend, covering that fraction of the light.
+enum class AlphaMode { Opaque, Mask, Blend };
+struct Alpha {
+    ColorSource coverage = ColorSource::constant(Color(1.0f));  // its red channel is read
+    AlphaMode mode = AlphaMode::Opaque;
+    float cutoff = 0.5f;  // Mask
+    bool active() const { return mode != AlphaMode::Opaque; }
+};
+
 /// A material: its reflection model, and what any model may add: `emission`, the radiance it
-/// emits from its front side (W/(m^2 sr); the object is then a light, as an `emissive` one).
+/// emits from its front side (W/(m^2 sr); the object is then a light, as an `emissive` one),
+/// a normal map and its alpha.
 struct Material {
     MaterialModel model;
     ColorSource emission;
+    NormalMap normal_map;
+    Alpha alpha;
 
     Material() = default;
     template <class M>
@@ -164,6 +187,9 @@ struct Mesh {
     std::vector<vec3> positions;
     std::vector<vec3> normals;  // empty, or one per position
     std::vector<vec2> uvs;      // empty, or one per position
+    // Empty, or one per position: a unit tangent along increasing u in xyz, and w = +1 or -1,
+    // the bitangent's side: bitangent = w * cross(normal, tangent) (glTF's TANGENT).
+    std::vector<vec4> tangents;
     std::vector<uint32_t> indices;
     std::vector<int> face_material;
     bool smooth = false;
@@ -223,6 +249,18 @@ struct Transform {
     vec3 vector(vec3 v) const { return is_identity ? v : vec3(matrix * vec4(v, 0.0f)); }
 };
 
+/// A tangent (Mesh::tangents) carried by `transform`: its direction as a vector of the
+/// surface, unit again, and its sign turned where the transform mirrors (the normal, carried
+/// by the inverse transpose, keeps its side; the bitangent's cross product changes hand).
+inline vec4 transform_tangent(const Transform& transform, vec4 t) {
+    if (transform.is_identity || t.w == 0.0f) return t;
+    const vec3 d = transform.vector(vec3(t));
+    const float len = glm::length(d);
+    if (!(len > 0.0f)) return vec4(0.0f);
+    const float det = glm::determinant(mat3(transform.matrix));
+    return vec4(d / len, det < 0.0f ? -t.w : t.w);
+}
+
 struct Object {
     std::string name;  // the JSON path, objects[k], for messages
     Shape shape;
@@ -268,6 +306,8 @@ inline constexpr EnumName<TextureFilter> kTextureFilters[] = {
     {"bilinear", TextureFilter::Bilinear},
     {"trilinear", TextureFilter::Trilinear},
     {"anisotropic", TextureFilter::Anisotropic}};
+inline constexpr EnumName<AlphaMode> kAlphaModes[] = {
+    {"opaque", AlphaMode::Opaque}, {"mask", AlphaMode::Mask}, {"blend", AlphaMode::Blend}};
 inline constexpr EnumName<TextureWrap> kTextureWraps[] = {{"repeat", TextureWrap::Repeat},
                                                           {"clamp", TextureWrap::Clamp}};
 
@@ -455,6 +495,9 @@ struct Scene {
     /// mesh files' sizes and times): scenes with equal keys make the same geometry, so that
     /// the renders of one command can share one BVH (geometry/accel_cache.h).
     std::string geometry_key;
+    /// What a mesh file had that svetlo left out (an optional glTF extension), a line each,
+    /// naming the key and the file: the command line prints them as warnings.
+    std::vector<std::string> warnings;
 };
 
 }  // namespace svetlo

@@ -10,6 +10,7 @@
 #include "svetlo/scene/json_node.h"
 #include "svetlo/scene/model_scene.h"
 #include "svetlo/scene/scene_parts.h"
+#include "svetlo/scene/tangents.h"
 
 namespace svetlo {
 namespace fs = std::filesystem;
@@ -137,13 +138,22 @@ namespace {
 /// its materials, whose indices the primitives hold), a SHA-256 in hex.
 std::string geometry_key(const nlohmann::json& root, const Scene& scene) {
     std::string text = scene.path.parent_path().string() + "\n";
-    if (auto it = root.find("objects"); it != root.end()) {
-        text += it->dump() + "\n";
-        // A mesh file edited while `svetlo serve` runs makes another geometry.
-        for (const nlohmann::json& object : *it) {
+    // A mesh file edited while `svetlo serve` runs makes another geometry.
+    auto add_objects = [&](const nlohmann::json& objects) {
+        if (!objects.is_array()) return;
+        text += objects.dump() + "\n";
+        for (const nlohmann::json& object : objects) {
             auto file = object.find("file");
             if (file == object.end() || !file->is_string()) continue;
             text += file_stamp(scene.path.parent_path() / file->get<std::string>()) + "\n";
+        }
+    };
+    if (auto it = root.find("objects"); it != root.end()) add_objects(*it);
+    if (auto it = root.find("prototypes"); it != root.end() && it->is_object()) {
+        for (const auto& [name, prototype] : it->items()) {
+            text += name + "\n";
+            if (auto objects = prototype.find("objects"); objects != prototype.end())
+                add_objects(*objects);
         }
     }
     if (auto it = root.find("lights"); it != root.end()) {
@@ -151,6 +161,11 @@ std::string geometry_key(const nlohmann::json& root, const Scene& scene) {
             if (light.value("type", "") == "area") text += light.dump() + "\n";
     }
     for (const std::string& name : scene.material_names) text += name + "\n";
+    // The meshes a normal map gave tangents (a material's edit can add them).
+    for (const Object& object : scene.objects) {
+        const auto* mesh = std::get_if<Mesh>(&object.shape);
+        text += mesh && !mesh->tangents.empty() ? "t" : "-";
+    }
     return sha256_hex(text);
 }
 
@@ -163,8 +178,8 @@ Scene scene_from_json(const nlohmann::json& root, const fs::path& path, MeshFile
     scene.path = path;
     scene.files = files;
     JsonNode top(root, path.string(), "");
-    top.expect_object(
-        {"camera", "film", "render", "materials", "lights", "objects", "environment"});
+    top.expect_object({"camera", "film", "render", "materials", "lights", "objects", "environment",
+                       "prototypes"});
     scene.camera = parse_camera(top.at("camera"));
     if (auto film = top.find("film")) scene.film = parse_film(*film);
     if (auto render = top.find("render")) scene.render = parse_render(*render);
@@ -174,10 +189,12 @@ Scene scene_from_json(const nlohmann::json& root, const fs::path& path, MeshFile
             scene.lights.push_back(parse_light(lights->at(k)));
     }
     if (auto environment = top.find("environment")) parse_environment(*environment, scene);
+    Prototypes prototypes(top.find("prototypes"));
     if (auto objects = top.find("objects")) {
         for (size_t k = 0; k < objects->size(); ++k)
-            parse_object(objects->at(k), scene, meshes ? *meshes : own);
+            parse_object(objects->at(k), scene, meshes ? *meshes : own, prototypes, scene.objects);
     }
+    add_missing_tangents(scene);
     scene.geometry_key = geometry_key(root, scene);
     return scene;
 }

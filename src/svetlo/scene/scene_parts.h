@@ -1,6 +1,10 @@
 // The parts of the scene loader, one per section of the file. Internal to scene/.
 #pragma once
 
+#include <map>
+#include <optional>
+
+#include "svetlo/core/image_io.h"
 #include "svetlo/scene/json_node.h"
 #include "svetlo/scene/mesh_file.h"
 #include "svetlo/scene/scene.h"
@@ -21,12 +25,43 @@ size_t texture_bytes_left(const Scene& scene);
 /// A material colour (constant, texture or checker); an image is sRGB unless `srgb_default` is
 /// false or the texture says otherwise ("srgb": false).
 ColorSource parse_color_source(const JsonNode& node, Scene& scene, bool srgb_default = true);
+/// An image texture {"texture": IMAGE, "filter", "wrap", ...} read as `meaning` says.
+ColorSource parse_image_source(const JsonNode& node, Scene& scene, TexelMeaning meaning);
 /// One material: its model's keys, and the keys of every material (emission).
 Material parse_material(const JsonNode& node, Scene& scene);
 Light parse_light(const JsonNode& node);
 /// The top-level `environment`: the map read into the scene's textures.
 void parse_environment(const JsonNode& node, Scene& scene);
 Transform parse_transform(const JsonNode& node);
-void parse_object(const JsonNode& node, Scene& scene, MeshFileCache& meshes);
+
+/// The top-level `prototypes` (docs/scene-format.md, "Instances"): each parsed the first
+/// time an instance names it, with the lights its mesh files bring; a prototype that holds
+/// an instance of itself, directly or through others, is refused naming the chain.
+class Prototypes {
+public:
+    explicit Prototypes(std::optional<JsonNode> section);
+
+    struct Parts {
+        std::vector<Object> objects;  // in the prototype's space
+        std::vector<Light> lights;
+    };
+    /// The parts of the prototype that `name` (an instance's "prototype" key) names.
+    const Parts& get(const JsonNode& name, Scene& scene, MeshFileCache& meshes);
+
+    /// Objects made by instances so far, and their triangles: bounded (instances are copies
+    /// of their prototypes' objects, docs/real-scenes.md, "Instances").
+    size_t instanced_objects = 0;
+    uint64_t instanced_triangles = 0;
+
+private:
+    std::optional<JsonNode> section_;
+    std::map<std::string, Parts> parsed_;
+    std::vector<std::string> expanding_;  // the chain being parsed, outermost first
+};
+
+/// An entry of `objects` (or of a prototype's): its object, or an instance's copies of its
+/// prototype's, appended to `out`.
+void parse_object(const JsonNode& node, Scene& scene, MeshFileCache& meshes, Prototypes& prototypes,
+                  std::vector<Object>& out);
 
 }  // namespace svetlo

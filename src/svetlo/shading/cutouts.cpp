@@ -1,0 +1,73 @@
+#include "svetlo/shading/cutouts.h"
+
+#include <bit>
+
+#include "svetlo/core/rng.h"
+#include "svetlo/shading/texture.h"
+
+namespace svetlo {
+
+namespace {
+
+/// A blended surface's coin from the ray and the primitive it meets: the same for the same
+/// ray whatever the thread (so the same seed gives the same image), different from ray to ray.
+float ray_coin(const Ray& ray, uint32_t prim) {
+    uint64_t h = mix64(prim);
+    for (float c : {ray.o.x, ray.o.y, ray.o.z, ray.d.x, ray.d.y, ray.d.z})
+        h = mix64(h ^ std::bit_cast<uint32_t>(c));
+    return blend_coin(h);
+}
+
+}  // namespace
+
+float blend_coin(uint64_t key) { return static_cast<float>(mix64(key) >> 40) * 0x1.0p-24f; }
+
+bool alpha_hole(const Alpha& alpha, vec2 uv, float coin,
+                const std::vector<TextureImage>& textures) {
+    if (!alpha.active()) return false;
+    const float coverage = alpha.coverage.kind == ColorSource::Kind::Constant
+                               ? alpha.coverage.value.r
+                               : eval_color(alpha.coverage, uv, textures).r;
+    return alpha.mode == AlphaMode::Mask ? coverage < alpha.cutoff : coin >= coverage;
+}
+
+Cutouts::Cutouts(const Geometry& geometry, const std::vector<Material>& materials,
+                 const std::vector<TextureImage>& textures)
+    : geometry_(geometry), materials_(materials), textures_(textures) {
+    for (const Material& m : materials) {
+        active_.push_back(m.alpha.active() ? 1 : 0);
+        any_ = any_ || m.alpha.active();
+    }
+}
+
+bool Cutouts::hole(const Ray& ray, const Hit& hit) const {
+    uint32_t material = geometry_.material(hit.prim);
+    if (!geometry_.is_triangle(hit.prim)) material = geometry_.surface(ray, hit).material;
+    if (material >= active_.size() || !active_[material]) return false;
+    const Alpha& alpha = materials_[material].alpha;
+    const vec2 uv = alpha.coverage.kind == ColorSource::Kind::Constant
+                        ? vec2(0.0f)
+                        : geometry_.surface(ray, hit).uv;
+    return alpha_hole(alpha, uv, alpha.mode == AlphaMode::Blend ? ray_coin(ray, hit.prim) : 0.0f,
+                      textures_);
+}
+
+bool Cutouts::past(const Ray& ray, Ray& r, const Hit& h) const {
+    const SurfaceHit s = geometry_.surface(r, h);
+    r.o = offset_ray_origin(s.p, s.ng, r.d);
+    r.tmax = ray.tmax - ray_offset(ray, r);
+    return r.tmax > 0.0f;
+}
+
+bool CutoutAccel::intersect(const Ray& ray, Hit& hit) const {
+    return cutouts_.closest_solid(ray, hit,
+                                  [&](const Ray& r, Hit& h) { return inner_.intersect(r, h); });
+}
+
+bool CutoutAccel::occluded(const Ray& ray) const {
+    if (!cutouts_.any()) return inner_.occluded(ray);
+    Hit hit;
+    return intersect(ray, hit);
+}
+
+}  // namespace svetlo

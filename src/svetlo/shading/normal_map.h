@@ -1,0 +1,29 @@
+// Normal mapping, one rule for every engine (docs/real-scenes.md, "Normal maps"): the texel
+// of a tangent-space map bends the shading normal in the frame of the surface's tangent,
+// bitangent and normal (glTF 2.0, "normalTexture"; the frame of MikkTSpace).
+#pragma once
+
+#include <vector>
+
+#include "svetlo/scene/scene.h"
+#include "svetlo/shading/texture.h"
+
+namespace svetlo {
+
+/// The shading normal that `map`'s linear texel `texel` gives a surface of unit shading normal
+/// ns and geometric normal ng (both of its front side) with tangent `tangent` (xyz unit and
+/// orthogonal to ns, w the bitangent's side; SurfaceHit::tangent). ns itself where the
+/// tangent is zero or the texel gives no direction. The answer to a mapped normal that faces
+/// away from the geometric one: it is bent back over the surface, to 0.01 of the way above
+/// it (cos 89.4 degrees from the plane), so that no light from behind the surface lights it
+/// and no camera ray sees a normal that faces away from the geometry's side.
+vec3 mapped_normal(const NormalMap& map, Color texel, vec3 ns, vec3 ng, vec4 tangent);
+
+/// The same, the map read at uv in `textures` (the ray tracers).
+inline vec3 mapped_normal(const NormalMap& map, vec2 uv, vec3 ns, vec3 ng, vec4 tangent,
+                          const std::vector<TextureImage>& textures) {
+    if (!map.present() || tangent.w == 0.0f) return ns;
+    return mapped_normal(map, eval_color(map.texture, uv, textures), ns, ng, tangent);
+}
+
+}  // namespace svetlo
