@@ -114,6 +114,52 @@ TEST_P(EveryAccel, SameHitsAsBruteForceOnRandomRays) {
     EXPECT_GT(hits, 2000);  // the test exercises real hits
 }
 
+/// The twelve triangles of the cube [lo, lo + 1]^3.
+Geometry cube_at(float lo) {
+    Geometry g;
+    const float hi = lo + 1.0f;
+    for (int k = 0; k < 8; ++k)
+        g.positions.emplace_back(k & 1 ? hi : lo, k & 2 ? hi : lo, k & 4 ? hi : lo);
+    const uint32_t faces[6][4] = {{0, 2, 6, 4}, {1, 5, 7, 3}, {0, 4, 5, 1},
+                                  {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 6, 7, 5}};
+    for (const auto& f : faces) {
+        for (uint32_t v : {f[0], f[1], f[2], f[0], f[2], f[3]}) g.indices.push_back(v);
+        g.triangle_material.insert(g.triangle_material.end(), {0u, 0u});
+    }
+    return g;
+}
+
+TEST_P(EveryAccel, ARayAlongABoxFaceMeetsTheEdgeAheadOfIt) {
+    // A ray in the plane of the cube's top face (its direction's z exactly 0, its origin's z
+    // the face's) meets the side face's top edge, as the watertight test finds it. A tight box
+    // answered no: the slab's exit (hi - o) / d was 0 * 1e32 = 0 (the boxes are now a ulp
+    // wider, bvh_build.cpp). Near the origin and at coordinates of a few hundred units, along
+    // each axis, both ways.
+    for (float lo : {0.0f, 200.0f, -300.0f}) {
+        const Geometry g = cube_at(lo);
+        std::unique_ptr<Accel> accel = make_accel(GetParam(), g, 2);
+        ASSERT_TRUE(accel);
+        BruteForce brute(g);
+        const float hi = lo + 1.0f, mid = lo + 0.5f;
+        for (int axis = 0; axis < 3; ++axis) {
+            for (float sign : {1.0f, -1.0f}) {
+                const int up = (axis + 2) % 3;  // the face the ray runs along: up = hi
+                vec3 o(mid), d(0.0f);
+                o[axis] = sign > 0.0f ? lo - 0.5f : hi + 0.5f;
+                o[up] = hi;
+                d[axis] = sign;
+                const Ray ray{o, d, kInfinity};
+                Hit a, b;
+                ASSERT_TRUE(brute.intersect(ray, b)) << lo << " " << axis << " " << sign;
+                ASSERT_TRUE(accel->intersect(ray, a))
+                    << "missed: cube at " << lo << ", along axis " << axis << " sign " << sign;
+                EXPECT_EQ(a.t, b.t);
+                EXPECT_TRUE(accel->occluded(ray)) << lo << " " << axis << " " << sign;
+            }
+        }
+    }
+}
+
 /// Shadow rays toward one point (Accel::occluded_toward), as the rasterizer casts them: the
 /// same answers as occluded() ray by ray, for packets that sweep narrow shafts (a patch of
 /// nearby origins), wide ones (origins all over, on both sides of the end, which the wide

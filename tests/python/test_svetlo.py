@@ -210,10 +210,9 @@ def test_scene_errors_raise_scene_error(scenes):
     with pytest.raises(svetlo.SceneError, match="--pixel"):
         svetlo.trace(path, (4000, 0))
     # the message is the command line's line after "svetlo: error: "
-    try:
+    with pytest.raises(svetlo.SceneError) as e:
         svetlo.render(path, spp=0)
-    except svetlo.SceneError as e:
-        assert str(e) == path + ": render.spp: must be in [1, 1048576] (is 0)"
+    assert str(e.value) == path + ": render.spp: must be in [1, 1048576] (is 0)"
 
 
 def test_fuzz_corpus_never_crashes(scenes):

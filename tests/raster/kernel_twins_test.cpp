@@ -220,13 +220,7 @@ TEST(RasterKernelTwins, PcfBlockIsTheTwinsSumInAnotherOrder) {
     EXPECT_GT(spread, 1000.0) << "the blocks were never lit: nothing was compared";
 }
 
-#else
-
-TEST(RasterKernelTwins, ScalarBuildHasOnlyTheTwins) {
-    GTEST_SKIP() << "SVETLO_SIMD=OFF: the twins are the kernels, there is no SSE form to compare";
-}
-
-#endif
+#endif  // (SVETLO_SIMD=OFF: the twins are the kernels, and there is nothing to compare)
 
 }  // namespace
 }  // namespace svetlo::raster

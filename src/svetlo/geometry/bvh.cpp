@@ -41,7 +41,9 @@ bool Bvh::intersect(const Ray& ray, Hit& hit) const {
     bool found = false;
     while (sp > 0) {
         Entry e = stack[--sp];
-        if (e.t > hit.t) continue;  // a closer hit was found since this node was pushed
+        // A closer hit was found since this node was pushed (its entry rounded as the box
+        // test rounds its exit: ray_box.h).
+        if (e.t > hit.t * kSlabRobust) continue;
         const BvhNode* node = &nodes_[e.node];
         while (node->count == 0) {
             const BvhNode& l = nodes_[node->first];

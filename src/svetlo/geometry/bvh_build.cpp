@@ -14,6 +14,7 @@
 #include "svetlo/core/parallel.h"
 #include "svetlo/geometry/avx2.h"
 #include "svetlo/geometry/bvh_sah.h"
+#include "svetlo/geometry/ray_box.h"
 #if SVETLO_SIMD
 #include "svetlo/geometry/bvh_sah_sse.h"
 #else
@@ -308,7 +309,27 @@ private:
 
 }  // namespace
 
+namespace {
+
+/// Every box moved out by one ulp on every side (ray_box.h, widen_box).
+void widen(LargeArray<BvhNode>& nodes) {
+    for (size_t k = 0; k < nodes.size(); ++k) widen_box(nodes[k].min, nodes[k].max);
+}
+
+BvhBuild build_tight(const Geometry& geometry, int threads);
+
+}  // namespace
+
 BvhBuild build_bvh(const Geometry& geometry, int threads) {
+    BvhBuild out = build_tight(geometry, threads);
+    widen(out.nodes);
+    return out;
+}
+
+namespace {
+
+/// The BVH with every box the tight union of its primitives' bounds.
+BvhBuild build_tight(const Geometry& geometry, int threads) {
     // Every triangle, then the bounded shapes (infinite planes are tested apart).
     const uint32_t triangles = geometry.triangle_count();
     std::vector<uint32_t> shapes;
@@ -385,5 +406,7 @@ BvhBuild build_bvh(const Geometry& geometry, int threads) {
     out.nodes.truncate(count);
     return out;
 }
+
+}  // namespace
 
 }  // namespace svetlo

@@ -32,6 +32,7 @@ Grid::Grid(const Geometry& geometry) : geometry_(geometry) {
             bounds_.max[a] += pad;
         }
     }
+    widen_box(bounds_.min, bounds_.max);
     extent = bounds_.extent();
     double volume = static_cast<double>(extent.x) * extent.y * extent.z;
     double density = std::cbrt(kCellsPerPrimitive * static_cast<double>(ids.size()) / volume);

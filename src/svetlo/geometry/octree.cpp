@@ -38,6 +38,7 @@ Octree::Octree(const Geometry& geometry) : geometry_(geometry) {
         bounds[id] = geometry.primitive_bounds(id);
         bounds_.extend(bounds[id]);
     }
+    widen_box(bounds_.min, bounds_.max);
     reference_budget_ = kMaxExtraReferences;
     nodes_.push_back({});
     build(0, bounds_, all, bounds, 1);

@@ -1,7 +1,9 @@
 // Ray against axis-aligned boxes, shared by every acceleration structure.
 #pragma once
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 
 #include "svetlo/geometry/ray.h"
 
@@ -17,6 +19,27 @@ inline vec3 safe_inverse(vec3 d) {
     vec3 inv;
     for (int k = 0; k < 3; ++k) inv[k] = d[k] != 0.0f ? 1.0f / d[k] : std::copysign(1e32f, d[k]);
     return inv;
+}
+
+/// The next float above x (below, with `up` false); infinities and NaN as they are.
+inline float next_float(float x, bool up) {
+    if (!std::isfinite(x)) return x;
+    if (x == 0.0f) return up ? 0x1p-149f : -0x1p-149f;
+    const auto bits = std::bit_cast<int32_t>(x);
+    return std::bit_cast<float>((x > 0.0f) == up ? bits + 1 : bits - 1);
+}
+
+/// The box [lo, hi] moved out by one ulp on every side, as every structure stores its boxes.
+/// A tight box fails a ray whose direction has a zero component and whose origin lies on the
+/// box's far plane in that axis: the slab's exit (hi - o) / d is 0 * 1e32 = 0 (safe_inverse),
+/// though the ray runs along the face and may meet a triangle's edge in it (a tessellated
+/// piece's pole in an axis plane, a cube's edge met along its top face). Moved out, such an
+/// origin lies strictly inside the slab.
+inline void widen_box(vec3& lo, vec3& hi) {
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = next_float(lo[a], false);
+        hi[a] = next_float(hi[a], true);
+    }
 }
 
 /// The parametric range [t0, t1] of the ray inside the box, clipped to [0, tmax]. Returns
