@@ -491,5 +491,10 @@ void rasterize_tile(const PassGeometry& f, const Tile& tile, const SamplePattern
 /// rasterize_tile for a pass with the stencil on or depth writes off (rasterize_stencil.cpp).
 void rasterize_tile_stencil(const PassGeometry& f, const Tile& tile, const SamplePattern& sp,
                             const PipelineState& state, TileBuffers& buf);
+/// Whether the sample at fixed-point (sx, sy) of triangle `id` (`t`, its edges `te`) falls in
+/// a hole of its material's alpha (alpha_test.h): its perspective-correct texture coordinates,
+/// and the pixel, sample and triangle as a blend's coin (rasterize.cpp).
+bool in_alpha_hole(const PassGeometry& f, uint32_t id, const SetupTriangle& t,
+                   const TriangleEdges& te, int64_t sx, int64_t sy, const PipelineState& state);
 
 }  // namespace svetlo::raster

@@ -254,9 +254,6 @@ void rasterize_alpha(uint32_t id, const SetupTriangle& t, const PassGeometry& f,
     const TriangleEdges te(t);
     double dzdx, dzdy;
     te.depth_gradient(t, dzdx, dzdy);
-    const ClipVertex& A = f.vertex(t.v[0]);
-    const ClipVertex& B = f.vertex(t.v[1]);
-    const ClipVertex& C = f.vertex(t.v[2]);
     const int tw = tile.x1 - tile.x0, S = sp.count;
     for (int py = span.ys; py < span.ye; ++py) {
         for (int px = span.xs; px < span.xe; ++px) {
@@ -272,11 +269,7 @@ void rasterize_alpha(uint32_t id, const SetupTriangle& t, const PassGeometry& f,
                     dzdy * static_cast<double>(sy - t.y[0]) / kSubpixel);
                 const size_t i = (static_cast<size_t>(py - tile.y0) * tw + (px - tile.x0)) * S + s;
                 if (state.depth_test && !(z < buf.depth[i])) continue;
-                const Weights w = perspective_weights(te.weights(sx, sy), A, B, C);
-                const vec2 uv = w.b[0] * A.uv + w.b[1] * B.uv + w.b[2] * C.uv;
-                const uint64_t key = (static_cast<uint64_t>(sy) << 40) ^
-                                     (static_cast<uint64_t>(sx) << 20) ^ f.source(id);
-                if (state.alpha->hole(t.material, uv, key)) continue;
+                if (in_alpha_hole(f, id, t, te, sx, sy, state)) continue;
                 buf.depth[i] = z;
                 buf.tri[i] = id;
             }
@@ -314,6 +307,18 @@ void draw_triangle(uint32_t id, const SetupTriangle& t, const PassGeometry& f, c
 }
 
 }  // namespace
+
+bool in_alpha_hole(const PassGeometry& f, uint32_t id, const SetupTriangle& t,
+                   const TriangleEdges& te, int64_t sx, int64_t sy, const PipelineState& state) {
+    const ClipVertex& A = f.vertex(t.v[0]);
+    const ClipVertex& B = f.vertex(t.v[1]);
+    const ClipVertex& C = f.vertex(t.v[2]);
+    const Weights w = perspective_weights(te.weights(sx, sy), A, B, C);
+    const vec2 uv = w.b[0] * A.uv + w.b[1] * B.uv + w.b[2] * C.uv;
+    const uint64_t key =
+        (static_cast<uint64_t>(sy) << 40) ^ (static_cast<uint64_t>(sx) << 20) ^ f.source(id);
+    return state.alpha->hole(t.material, uv, key);
+}
 
 SamplePattern sample_pattern(int spp, uint64_t seed, int first, int count) {
     SamplePattern p;

@@ -6,25 +6,11 @@
 #include <algorithm>
 #include <cmath>
 
-#include "svetlo/raster/fragment.h"
 #include "svetlo/raster/pipeline.h"
 
 namespace svetlo::raster {
 
 namespace {
-
-/// Whether the sample at fixed-point (sx, sy) of triangle `id` falls in its alpha's hole.
-bool in_hole(const PassGeometry& f, uint32_t id, const SetupTriangle& t, const TriangleEdges& te,
-             int64_t sx, int64_t sy, const PipelineState& state) {
-    const ClipVertex& A = f.vertex(t.v[0]);
-    const ClipVertex& B = f.vertex(t.v[1]);
-    const ClipVertex& C = f.vertex(t.v[2]);
-    const Weights w = perspective_weights(te.weights(sx, sy), A, B, C);
-    const vec2 uv = w.b[0] * A.uv + w.b[1] * B.uv + w.b[2] * C.uv;
-    const uint64_t key =
-        (static_cast<uint64_t>(sy) << 40) ^ (static_cast<uint64_t>(sx) << 20) ^ f.source(id);
-    return state.alpha->hole(t.material, uv, key);
-}
 
 /// The textbook per-sample loop over the pixels r of the tile: coverage by the edge functions,
 /// the stencil test and its fail operation, the depth test and its depth-fail operation, then
@@ -50,8 +36,9 @@ void test_samples(uint32_t id, const SetupTriangle& t, const TriangleEdges& te, 
             size_t i = (static_cast<size_t>(py - tile.y0) * tw + (r.xs - tile.x0)) * S + s;
             for (int px = r.xs; px < r.xe; ++px, w0 += d0, w1 += d1, w2 += d2, i += S) {
                 if ((w0 | w1 | w2) < 0) continue;
-                if (alpha && in_hole(*alpha, id, t, te,
-                                     static_cast<int64_t>(px) * kSubpixel + sp.ox[s], sy, state))
+                if (alpha &&
+                    in_alpha_hole(*alpha, id, t, te,
+                                  static_cast<int64_t>(px) * kSubpixel + sp.ox[s], sy, state))
                     continue;
                 uint8_t unused = 0;
                 uint8_t& stencil = st.enabled ? buf.stencil[i] : unused;
