@@ -76,6 +76,14 @@ int run_info(const InfoArgs& args) {
         std::printf("  lights[%zu] %s\n", k, light_name(scene.lights[k]));
     }
     std::printf("textures   %zu\n", scene.textures.size());
+    if (scene.instances > 0)
+        std::printf("instances  %zu, making %zu objects\n", scene.instances,
+                    scene.instanced_objects);
+    if (!scene.extensions.empty()) {
+        std::string names;
+        for (const std::string& e : scene.extensions) names += (names.empty() ? "" : ", ") + e;
+        std::printf("extensions %s\n", names.c_str());
+    }
     if (!bounds.empty()) {
         std::printf("bounds     (%g, %g, %g) - (%g, %g, %g)\n", bounds.min.x, bounds.min.y,
                     bounds.min.z, bounds.max.x, bounds.max.y, bounds.max.z);

@@ -86,6 +86,15 @@ TEST(Instances, RenderAsTheirObjectsWrittenOutInEveryEngine) {
     expect_same_as_written_out<RadiosityRenderer>("radiosity");
 }
 
+TEST(Instances, TheSceneCountsThemAndTheObjectsTheyMake) {
+    const Scene s = scene_from_json(forest("path", true), "s.json");
+    // Three placed in objects, one in the grove prototype (parsed once): the grove's two
+    // objects made once, then each instance's copies, 2 + 2 + 2 + 2.
+    EXPECT_EQ(s.instances, 4u);
+    EXPECT_EQ(s.instanced_objects, 8u);
+    EXPECT_EQ(s.objects.size(), 6u);
+}
+
 std::string error_of(const json& j) {
     try {
         scene_from_json(j, "s.json");

@@ -494,8 +494,10 @@ void check_extensions(const tinygltf::Model& model, MeshFile& file) {
         if (!read(name))
             throw std::runtime_error("extensionsRequired names '" + name +
                                      "', which svetlo does not read");
-    for (const std::string& name : model.extensionsUsed)
+    for (const std::string& name : model.extensionsUsed) {
+        file.extensions.push_back(read(name) ? name : name + " (ignored)");
         if (!read(name)) file.warnings.push_back("extension '" + name + "' is not read: ignored");
+    }
 }
 
 }  // namespace

@@ -28,6 +28,8 @@ struct MeshFile {
     // What was read but left out, one line each (a glTF's optional extension svetlo does not
     // read): the scene keeps them and the command line prints them as warnings.
     std::vector<std::string> warnings;
+    // The glTF extensions the file uses (extensionsUsed), those svetlo ignores marked so.
+    std::vector<std::string> extensions;
 };
 
 /// A colour read from a mesh file (MTL Kd, glTF baseColorFactor, a light's intensity...):

@@ -81,6 +81,10 @@ Mesh parse_mesh(const JsonNode& node, Scene& scene, MeshFileCache& meshes, int m
         }
         const MeshFile& loaded = *read;
         mesh = loaded.mesh;
+        for (const std::string& e : loaded.extensions)
+            if (std::find(scene.extensions.begin(), scene.extensions.end(), e) ==
+                scene.extensions.end())
+                scene.extensions.push_back(e);
         for (const std::string& w : loaded.warnings)
             scene.warnings.push_back(file_node->path() + ": '" + file_node->as_string() +
                                      "': " + w);
@@ -473,6 +477,7 @@ void parse_object(const JsonNode& node, Scene& scene, MeshFileCache& meshes, Pro
     int material = -1;
     if (auto m = node.find("material")) material = find_material(scene, *m);
     const Prototypes::Parts& parts = prototypes.get(node.at("prototype"), scene, meshes);
+    scene.instances += 1;
     for (const Object& o : parts.objects) {
         prototypes.instanced_objects += 1;
         prototypes.instanced_triangles += triangles_of(o);
@@ -487,6 +492,7 @@ void parse_object(const JsonNode& node, Scene& scene, MeshFileCache& meshes, Pro
         copy.transform.is_identity = place.is_identity && o.transform.is_identity;
         if (material >= 0) copy.material = material;
         out.push_back(std::move(copy));
+        scene.instanced_objects += 1;
     }
     for (const Light& l : parts.lights) scene.lights.push_back(transformed(l, place));
 }

@@ -498,6 +498,10 @@ struct Scene {
     /// What a mesh file had that svetlo left out (an optional glTF extension), a line each,
     /// naming the key and the file: the command line prints them as warnings.
     std::vector<std::string> warnings;
+    /// What `svetlo info` reports: the instances placed (nested ones counted where their
+    /// prototype holds them) and the objects they made; the mesh files' glTF extensions.
+    size_t instances = 0, instanced_objects = 0;
+    std::vector<std::string> extensions;
 };
 
 }  // namespace svetlo
