@@ -154,6 +154,22 @@ TEST_F(GltfTextures, ARequiredExtensionNotReadRefusesTheFileAnOptionalOneWarns) 
                                           {"extensionsRequired", {"KHR_texture_transform"}}}));
 }
 
+TEST_F(GltfTextures, ANetworkUriIsRefusedByName) {
+    const json material = {{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}};
+    for (const json& extra :
+         {json{{"images", {{{"uri", "https://example.com/tex.png"}}}}},
+          json{{"buffers", {{{"byteLength", 44}, {"uri", "http://example.com/buf.bin"}}}}}}) {
+        try {
+            read(material, extra);
+            ADD_FAILURE() << extra.dump() << " was read";
+        } catch (const std::runtime_error& e) {
+            EXPECT_NE(std::string(e.what()).find("example.com"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("names a network resource"), std::string::npos)
+                << e.what();
+        }
+    }
+}
+
 TEST_F(GltfTextures, TextureTransformOffsetsRotatesAndScales) {
     // offset (0.5, 0): u = 0.25 reads u = 0.75, the right texel.
     json offset = {

@@ -113,6 +113,12 @@ mat4 node_matrix(const tinygltf::Node& node) {
     return t * r * s;
 }
 
+/// Whether a URI names a resource on a network (a scheme before "://"): svetlo reads local
+/// files and data: URIs only, and makes no request.
+bool names_network(const std::string& uri) { return uri.find("://") != std::string::npos; }
+constexpr const char* kNetwork =
+    "names a network resource (svetlo reads local files and data: URIs only)";
+
 /// glTF's textures as svetlo's: each image decoded once per colour space (sRGB for base
 /// colour and emission, linear for data), each texture reference a ColorSource with the
 /// texture's sampler and KHR_texture_transform.
@@ -194,6 +200,7 @@ private:
         // The encoded bytes (keep_encoded), decoded here by stb to 8-bit RGB: a 16-bit PNG
         // keeps its high bytes, grey is repeated; or to coverage, its alpha channel. The size
         // is checked from the header before anything is decoded.
+        if (names_network(im.uri)) throw std::runtime_error(what + ": " + name + " " + kNetwork);
         const auto size = static_cast<int>(std::min<size_t>(im.image.size(), INT32_MAX));
         int w = 0, h = 0, n = 0;
         if (im.image.empty() || !stbi_info_from_memory(im.image.data(), size, &w, &h, &n))
@@ -465,6 +472,10 @@ bool keep_encoded(tinygltf::Image* image, int, std::string*, std::string*, int, 
 /// as svetlo checks every input file, and inside the FileScope that `user_data` points to.
 bool read_checked_file(std::vector<unsigned char>* out, std::string* err, const std::string& path,
                        void* user_data) {
+    if (names_network(path)) {
+        if (err) *err += "'" + path + "' " + kNetwork + "\n";
+        return false;
+    }
     try {
         static_cast<const FileScope*>(user_data)->resolve({}, path);
     } catch (const std::runtime_error& e) {
@@ -500,11 +511,17 @@ void check_extensions(const tinygltf::Model& model, MeshFile& file) {
     }
 }
 
+/// tinygltf's question whether a file exists, answered yes for a network URI so that
+/// read_checked_file refuses it by name (tinygltf would say "File not found").
+bool exists_or_network(const std::string& path, void* user_data) {
+    return names_network(path) || tinygltf::FileExists(path, user_data);
+}
+
 }  // namespace
 
 MeshFile read_gltf(const std::filesystem::path& path, const FileScope& files) {
     tinygltf::TinyGLTF loader;
-    loader.SetFsCallbacks({&tinygltf::FileExists, &tinygltf::ExpandFilePath, &read_checked_file,
+    loader.SetFsCallbacks({&exists_or_network, &tinygltf::ExpandFilePath, &read_checked_file,
                            &tinygltf::WriteWholeFile,
                            const_cast<void*>(static_cast<const void*>(&files))});
     loader.SetImageLoader(&keep_encoded, nullptr);
