@@ -75,6 +75,11 @@ PatchMesh::PatchMesh(const Scene& scene, int threads)
         settings.patch_size = std::max(diameter / 4.0f, settings.element_size);
     if (settings.element_size <= 0.0f) settings.element_size = 0.25f * settings.patch_size;
 
+    choose_solver(file);
+    tree = std::make_unique<ElementTree>(list, lights.materials(), scene.textures);
+}
+
+void PatchMesh::choose_solver(const std::string& file) {
     patch_count = uniform_count(list, settings.patch_size);
     element_count = uniform_count(list, settings.element_size);
     // Whether a x b, form factors, pass `limit` (without overflowing).
@@ -130,7 +135,6 @@ PatchMesh::PatchMesh(const Scene& scene, int threads)
                         std::to_string(kMaxHierarchicalRoots) + " (this scene has " +
                         std::to_string(list.triangle_count()) + "); use progressive");
     }
-    tree = std::make_unique<ElementTree>(list, lights.materials(), scene.textures);
 }
 
 void PatchMesh::subdivide_uniform() {

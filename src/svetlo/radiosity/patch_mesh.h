@@ -50,6 +50,11 @@ struct PatchMesh {
     RadiositySettings settings;
     uint64_t patch_count = 0;  // the uniform mesh's patches and elements
     uint64_t element_count = 0;
+
+private:
+    /// The mesh's patch and element counts, the solver `auto` picks, and the limits each
+    /// solver has (throws Error naming render.radiosity's key).
+    void choose_solver(const std::string& file);
 };
 
 }  // namespace svetlo

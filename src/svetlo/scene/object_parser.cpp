@@ -19,6 +19,24 @@ int find_material(const Scene& scene, const JsonNode& node) {
     node.fail("unknown material '" + name + "'");
 }
 
+/// `light` carried by `t`: a mesh file's glTF light placed by its object, or a prototype's by
+/// its instance.
+Light transformed(Light light, const Transform& t) {
+    std::visit(
+        [&](auto& l) {
+            if constexpr (requires { l.position; }) l.position = t.point(l.position);
+            if constexpr (requires { l.direction; })
+                l.direction = glm::normalize(t.vector(l.direction));
+            if constexpr (requires { l.corner; }) {
+                l.corner = t.point(l.corner);
+                l.edge_u = t.vector(l.edge_u);
+                l.edge_v = t.vector(l.edge_v);
+            }
+        },
+        light);
+    return light;
+}
+
 /// Reads an array of vectors given either nested ([[x,y,z], ...]) or flat ([x,y,z, ...]).
 template <int N>
 std::vector<glm::vec<N, float>> parse_vectors(const JsonNode& node) {
@@ -101,20 +119,8 @@ Mesh parse_mesh(const JsonNode& node, Scene& scene, MeshFileCache& meshes, int m
             scene.material_names.push_back(node.path() + ":" + loaded.material_names[k]);
         }
         for (int& m : mesh.face_material) m = m >= 0 ? m + offset : -1;
-        for (Light l : loaded.lights) {  // glTF lights move with the object
-            std::visit(
-                [&](auto& light) {
-                    using T = std::decay_t<decltype(light)>;
-                    if constexpr (requires { light.position; })
-                        light.position = transform.point(light.position);
-                    if constexpr (requires { light.direction; }) {
-                        light.direction = glm::normalize(transform.vector(light.direction));
-                    }
-                    (void)sizeof(T);
-                },
-                l);
-            scene.lights.push_back(l);
-        }
+        for (const Light& l : loaded.lights)  // glTF lights move with the object
+            scene.lights.push_back(transformed(l, transform));
     } else {
         mesh.positions = parse_vectors<3>(node.at("positions"));
         JsonNode indices = node.at("indices");
@@ -401,34 +407,16 @@ uint64_t triangles_of(const Object& obj) {
     return mesh ? mesh->triangle_count() : 1;
 }
 
-/// `light` carried by `t` (a glTF light of a prototype, placed by its instance).
-Light transformed(Light light, const Transform& t) {
-    std::visit(
-        [&](auto& l) {
-            if constexpr (requires { l.position; }) l.position = t.point(l.position);
-            if constexpr (requires { l.direction; })
-                l.direction = glm::normalize(t.vector(l.direction));
-            if constexpr (requires { l.corner; }) {
-                l.corner = t.point(l.corner);
-                l.edge_u = t.vector(l.edge_u);
-                l.edge_v = t.vector(l.edge_v);
-            }
-        },
-        light);
-    return light;
-}
-
 }  // namespace
 
 Prototypes::Prototypes(std::optional<JsonNode> section) : section_(std::move(section)) {
     if (!section_) return;
     if (!section_->is_object()) section_->fail("must be an object of prototypes by name");
-    for (const auto& [name, value] : section_->raw().items()) {
-        const JsonNode p = section_->at(name);
+    for (const auto& item : section_->raw().items()) {
+        const JsonNode p = section_->at(item.key());
         if (!p.is_object()) p.fail("expected {\"objects\": [...]}");
         p.expect_object({"objects"});
         if (!p.at("objects").is_array()) p.at("objects").fail("must be an array of objects");
-        (void)value;
     }
 }
 

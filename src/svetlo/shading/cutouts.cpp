@@ -1,6 +1,7 @@
 #include "svetlo/shading/cutouts.h"
 
 #include <bit>
+#include <optional>
 
 #include "svetlo/core/rng.h"
 #include "svetlo/shading/texture.h"
@@ -41,13 +42,17 @@ Cutouts::Cutouts(const Geometry& geometry, const std::vector<Material>& material
 }
 
 bool Cutouts::hole(const Ray& ray, const Hit& hit) const {
-    uint32_t material = geometry_.material(hit.prim);
-    if (!geometry_.is_triangle(hit.prim)) material = geometry_.surface(ray, hit).material;
+    // A shape's material is its surface's (a CSG leaf's); a triangle's is stored.
+    std::optional<SurfaceHit> surface;
+    if (!geometry_.is_triangle(hit.prim)) surface = geometry_.surface(ray, hit);
+    const uint32_t material = surface ? surface->material : geometry_.material(hit.prim);
     if (material >= active_.size() || !active_[material]) return false;
     const Alpha& alpha = materials_[material].alpha;
-    const vec2 uv = alpha.coverage.kind == ColorSource::Kind::Constant
-                        ? vec2(0.0f)
-                        : geometry_.surface(ray, hit).uv;
+    vec2 uv(0.0f);
+    if (alpha.coverage.kind != ColorSource::Kind::Constant) {
+        if (!surface) surface = geometry_.surface(ray, hit);
+        uv = surface->uv;
+    }
     return alpha_hole(alpha, uv, alpha.mode == AlphaMode::Blend ? ray_coin(ray, hit.prim) : 0.0f,
                       textures_);
 }
