@@ -154,6 +154,25 @@ TEST_F(GltfTextures, ARequiredExtensionNotReadRefusesTheFileAnOptionalOneWarns) 
                                           {"extensionsRequired", {"KHR_texture_transform"}}}));
 }
 
+TEST_F(GltfTextures, ATextureOfASetPastTheSecondIsRefusedNamingTheMaterial) {
+    const json material = {
+        {"name", "paint"},
+        {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}, {"texCoord", 2}}}}}};
+    try {
+        read(material);
+        ADD_FAILURE() << "TEXCOORD_2 was read";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("material 'paint' baseColorTexture: TEXCOORD_2"),
+                  std::string::npos)
+            << e.what();
+    }
+    const json occlusion = {
+        {"occlusionTexture", {{"index", 0}, {"texCoord", 1}, {"strength", 0.25}}}};
+    const auto& ct = std::get<CookTorranceMaterial>(read(occlusion).materials[0].model);
+    EXPECT_EQ(ct.occlusion.uv_set, 1);
+    EXPECT_EQ(ct.occlusion_strength, 0.25f);
+}
+
 TEST_F(GltfTextures, ANetworkUriIsRefusedByName) {
     const json material = {{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}};
     for (const json& extra :
@@ -266,6 +285,41 @@ TEST(ObjTextures, MapsReplaceTheirColoursAndPbrKeysMakeCookTorrance) {
                   std::string::npos)
             << e.what();
     }
+    fs::remove_all(dir);
+}
+
+// map_Pr and map_Pm replace Pr and Pm, as glTF's metallic-roughness channels (G, B); map_Ns
+// multiplies Ns.
+TEST(ObjTextures, ScalarMapsMakeRoughnessMetallicAndShininess) {
+    const fs::path dir = fs::temp_directory_path() / "svetlo_obj_scalar_maps";
+    fs::create_directories(dir);
+    Image ramp(2, 1);  // linear codes: 0.2 on the left, 0.6 on the right (first channel)
+    ramp.at(0, 0) = Color(0.2f);
+    ramp.at(1, 0) = Color(0.6f);
+    write_image(dir / "ramp.pfm", ramp, PixelMeaning::Radiance, 1.0f, "test");
+    write_image(dir / "half.pfm", Image(1, 1, Color(0.5f)), PixelMeaning::Radiance, 1.0f, "test");
+    std::ofstream(dir / "m.mtl")
+        << "newmtl rough\nKd 0.5 0.5 0.5\nmap_Pr ramp.pfm\nPm 0.3\n"
+           "newmtl both\nKd 0.5 0.5 0.5\nmap_Pr half.pfm\nmap_Pm ramp.pfm\n"
+           "newmtl shiny\nKd 0.5 0.5 0.5\nKs 0.5 0.5 0.5\nNs 100\n"
+           "map_Ns ramp.pfm\n";
+    const std::string faces = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n";
+    std::ofstream(dir / "m.obj") << "mtllib m.mtl\n"
+                                 << faces << "usemtl rough\nf 1/1 2/2 3/3\n"
+                                 << "usemtl both\nf 1/1 2/2 3/3\nusemtl shiny\nf 1/1 2/2 3/3\n";
+    const MeshFile f = read_mesh_file(dir / "m.obj");
+    ASSERT_EQ(f.materials.size(), 3u);
+    const vec2 left(0.25f, 0.5f), right(0.75f, 0.5f);
+    const Bsdf rough = make_bsdf(f.materials[0], right, f.textures);
+    EXPECT_NEAR(rough.alpha, square(0.6f), 1e-6f);  // the map's roughness, not a factor's
+    EXPECT_NEAR(rough.specular.r, glm::mix(0.04f, 0.5f, 0.3f), 1e-6f);  // Pm 0.3 kept
+    const Bsdf both_left = make_bsdf(f.materials[1], left, f.textures);
+    const Bsdf both_right = make_bsdf(f.materials[1], right, f.textures);
+    EXPECT_NEAR(both_left.alpha, square(0.5f), 1e-6f);  // the 1 x 1 map read everywhere
+    EXPECT_NEAR(both_left.specular.r, glm::mix(0.04f, 0.5f, 0.2f), 1e-6f);
+    EXPECT_NEAR(both_right.specular.r, glm::mix(0.04f, 0.5f, 0.6f), 1e-6f);
+    EXPECT_NEAR(make_bsdf(f.materials[2], left, f.textures).shininess, 20.0f, 1e-4f);
+    EXPECT_NEAR(make_bsdf(f.materials[2], right, f.textures).shininess, 60.0f, 1e-4f);
     fs::remove_all(dir);
 }
 

@@ -54,7 +54,7 @@ SurfaceHit Geometry::surface(const Ray& ray, const Hit& hit) const {
         s.p = ss.p;
         s.ng = ss.n;
         s.ns = ss.ns;
-        s.uv = ss.uv;
+        s.uv = s.uv1 = ss.uv;
         s.material = ss.material;
         s.tangent = orthogonal_tangent(ss.tangent, s.ns);
         return s;
@@ -71,11 +71,7 @@ SurfaceHit Geometry::surface(const Ray& ray, const Hit& hit) const {
         float len = glm::length(n);
         if (len > 1e-12f) s.ns = glm::dot(n, s.ng) < 0.0f ? -n / len : n / len;
     }
-    if (!uvs.empty()) {
-        s.uv = b0 * uvs[tri[0]] + hit.u * uvs[tri[1]] + hit.v * uvs[tri[2]];
-    } else {
-        s.uv = vec2(hit.u, hit.v);
-    }
+    s.set_varyings(interpolate_varyings(uvs, uvs1, colors, tri, vec2(hit.u, hit.v)));
     if (!tangents.empty()) {
         const vec4 t = b0 * tangents[tri[0]] + hit.u * tangents[tri[1]] + hit.v * tangents[tri[2]];
         // The sign is a vertex's; a triangle whose corners disagree takes its first corner's.
@@ -86,9 +82,9 @@ SurfaceHit Geometry::surface(const Ray& ray, const Hit& hit) const {
 
 size_t Geometry::memory_bytes() const {
     return positions.size() * sizeof(vec3) + normals.size() * sizeof(vec3) +
-           uvs.size() * sizeof(vec2) + tangents.size() * sizeof(vec4) +
-           indices.size() * sizeof(uint32_t) + triangle_material.size() * sizeof(uint32_t) +
-           shapes.size() * sizeof(AnalyticShape);
+           (uvs.size() + uvs1.size()) * sizeof(vec2) +
+           (tangents.size() + colors.size()) * sizeof(vec4) + indices.size() * sizeof(uint32_t) +
+           triangle_material.size() * sizeof(uint32_t) + shapes.size() * sizeof(AnalyticShape);
 }
 
 }  // namespace svetlo

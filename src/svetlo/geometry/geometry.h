@@ -17,11 +17,33 @@ struct SurfaceHit {
     vec3 ng{0.0f};  // unit geometric normal: a triangle's CCW side, a shape's outside
     vec3 ns{0.0f};  // unit shading normal (interpolated on smooth meshes), same side as ng
     vec2 uv{0.0f};
+    vec2 uv1{0.0f};    // the second texture coordinate set; uv where the surface has one
+    vec4 color{1.0f};  // the vertex colour (Varyings::color)
     // The front side's unit tangent along increasing u, orthogonal to ns, and the bitangent's
     // side in w (Mesh::tangents); zero where the surface has none (no uvs, CSG, implicit).
     vec4 tangent{0.0f};
     uint32_t material = 0;
+
+    /// What the material's colours read here.
+    Varyings varyings() const { return {uv, uv1, color}; }
+    void set_varyings(const Varyings& at) {
+        uv = at.uv[0];
+        uv1 = at.uv[1];
+        color = at.color;
+    }
 };
+
+/// The varyings at barycentric point b (of corners 1 and 2) of the triangle with vertices
+/// v[0..2]: each set and colour interpolated; an empty `uvs` gives b itself, an empty `uvs1`
+/// set 0, empty `colors` white.
+inline Varyings interpolate_varyings(const std::vector<vec2>& uvs, const std::vector<vec2>& uvs1,
+                                     const std::vector<vec4>& colors, const uint32_t v[3], vec2 b) {
+    const float b0 = 1.0f - b.x - b.y;
+    const vec2 uv = uvs.empty() ? b : b0 * uvs[v[0]] + b.x * uvs[v[1]] + b.y * uvs[v[2]];
+    return {
+        uv, uvs1.empty() ? uv : b0 * uvs1[v[0]] + b.x * uvs1[v[1]] + b.y * uvs1[v[2]],
+        colors.empty() ? vec4(1.0f) : b0 * colors[v[0]] + b.x * colors[v[1]] + b.y * colors[v[2]]};
+}
 
 /// The primitive ids [first, end) that one object became (empty when end <= first).
 struct PrimitiveRange {
@@ -34,6 +56,8 @@ public:
     std::vector<vec3> positions;
     std::vector<vec3> normals;   // empty, or per vertex (zero where the mesh has none)
     std::vector<vec2> uvs;       // empty, or per vertex
+    std::vector<vec2> uvs1;      // empty, or per vertex (Mesh::uvs1; uvs where a mesh has none)
+    std::vector<vec4> colors;    // empty, or per vertex (Mesh::colors; white where a mesh has none)
     std::vector<vec4> tangents;  // empty, or per vertex (zero where the mesh has none)
     std::vector<uint32_t> indices;
     std::vector<uint32_t> triangle_material;

@@ -20,6 +20,18 @@ void add_mesh(const Mesh& mesh, const Object& obj, Geometry& g) {
         g.uvs.insert(g.uvs.end(), mesh.uvs.begin(), mesh.uvs.end());
         g.uvs.resize(g.positions.size(), vec2(0.0f));
     }
+    if (!mesh.uvs1.empty() || !g.uvs1.empty()) {  // set 1 is set 0 where a mesh has one set
+        for (size_t v = g.uvs1.size(); v < base; ++v)
+            g.uvs1.push_back(v < g.uvs.size() ? g.uvs[v] : vec2(0.0f));
+        if (!mesh.uvs1.empty()) g.uvs1.insert(g.uvs1.end(), mesh.uvs1.begin(), mesh.uvs1.end());
+        for (size_t v = g.uvs1.size(); v < g.positions.size(); ++v)
+            g.uvs1.push_back(v < g.uvs.size() ? g.uvs[v] : vec2(0.0f));
+    }
+    if (!mesh.colors.empty() || !g.colors.empty()) {
+        g.colors.resize(base, vec4(1.0f));
+        g.colors.insert(g.colors.end(), mesh.colors.begin(), mesh.colors.end());
+        g.colors.resize(g.positions.size(), vec4(1.0f));
+    }
     if (!mesh.tangents.empty() || !g.tangents.empty()) {
         g.tangents.resize(base, vec4(0.0f));
         for (const vec4& t : mesh.tangents)

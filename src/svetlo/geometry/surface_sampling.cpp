@@ -94,7 +94,7 @@ SurfaceSample sample_triangle_primitive(const Geometry& g, uint32_t id, vec2 u, 
     float b0 = 1.0f - b.x - b.y;
     s.p = b0 * g.positions[t[0]] + b.x * g.positions[t[1]] + b.y * g.positions[t[2]];
     s.n = n;
-    s.uv = g.uvs.empty() ? b : b0 * g.uvs[t[0]] + b.x * g.uvs[t[1]] + b.y * g.uvs[t[2]];
+    s.at = interpolate_varyings(g.uvs, g.uvs1, g.colors, t, b);
     return s;
 }
 
@@ -109,7 +109,7 @@ SurfaceSample sample_primitive(const Geometry& g, uint32_t id, vec2 u, float u_p
     if (shape.kind == ShapeKind::Quad) {
         s.p = shape.p0 + u.x * shape.p1 + u.y * shape.p2;
         s.n = shape.frame.n;
-        s.uv = u;
+        s.at = u;
         return s;
     }
     vec3 p, n;
@@ -126,7 +126,7 @@ SurfaceSample sample_primitive(const Geometry& g, uint32_t id, vec2 u, float u_p
     ShapeSurface surface = shape_surface(shape, Ray{p, vec3(0.0f), 0.0f}, at);
     s.p = surface.p;
     s.n = n;
-    s.uv = surface.uv;
+    s.at = surface.uv;
     return s;
 }
 

@@ -12,7 +12,7 @@ namespace svetlo {
 struct SurfaceSample {
     vec3 p{0.0f};  // world-space point on the primitive
     vec3 n{0.0f};  // its unit front normal (a triangle's counter-clockwise side, a shape's outside)
-    vec2 uv{0.0f};
+    Varyings at;   // what its material's colours read there
 };
 
 /// Side `side` of the box from `lo` to `hi` in its own space: 0-5 are the low and the high

@@ -22,13 +22,18 @@ TriangleList build_triangle_list(const std::vector<const Object*>& objects,
     });
     TriangleList list;
     size_t vertices = 0, triangles = 0;
+    bool second_set = false, colored = false;
     for (const Mesh& m : meshes) {
         vertices += m.positions.size();
         triangles += m.triangle_count();
+        second_set = second_set || !m.uvs1.empty();
+        colored = colored || !m.colors.empty();
     }
     list.positions.resize(vertices);
     list.normals.resize(vertices);
     list.uvs.resize(vertices);
+    if (second_set) list.uvs1.resize(vertices);
+    if (colored) list.colors.resize(vertices);
     list.tangents.resize(vertices);
     list.indices.resize(3 * triangles);
     list.material.resize(triangles);
@@ -56,6 +61,9 @@ TriangleList build_triangle_list(const std::vector<const Object*>& objects,
             float len2 = glm::dot(n, n);
             list.normals[base + v] = len2 > 0.0f ? n * (1.0f / std::sqrt(len2)) : vec3(0.0f);
             list.uvs[base + v] = v < m.uvs.size() ? m.uvs[v] : vec2(0.0f);
+            if (second_set)
+                list.uvs1[base + v] = v < m.uvs1.size() ? m.uvs1[v] : list.uvs[base + v];
+            if (colored) list.colors[base + v] = v < m.colors.size() ? m.colors[v] : vec4(1.0f);
             list.tangents[base + v] = v < m.tangents.size()
                                           ? transform_tangent(objects[k]->transform, m.tangents[v])
                                           : vec4(0.0f);

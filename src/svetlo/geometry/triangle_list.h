@@ -18,6 +18,8 @@ struct TriangleList {
     std::vector<vec3> positions;          // world space
     std::vector<vec3> normals;            // per vertex: unit, or zero where there is none
     std::vector<vec2> uvs;                // per vertex
+    std::vector<vec2> uvs1;               // empty, or per vertex (Mesh::uvs1; uvs where none)
+    std::vector<vec4> colors;             // empty, or per vertex (Mesh::colors; white where none)
     std::vector<vec4> tangents;           // per vertex (Mesh::tangents), zero where none
     std::vector<uint32_t> indices;        // 3 per triangle, counter-clockwise seen from its front
     std::vector<uint32_t> material;       // per triangle, an index into the scene's materials
@@ -32,6 +34,11 @@ struct TriangleList {
     std::vector<float> w;
 
     size_t triangle_count() const { return material.size(); }
+    /// What the materials' colours read at barycentric point b (of corners 1 and 2) of
+    /// triangle t.
+    Varyings varyings(size_t t, vec2 b) const {
+        return interpolate_varyings(uvs, uvs1, colors, &indices[3 * t], b);
+    }
     /// The bounds of the positions (of a list whose vertices all have weight 1).
     Bounds3 bounds() const {
         Bounds3 b;
@@ -57,6 +64,8 @@ inline Geometry triangle_geometry(const TriangleList& list) {
     Geometry g;
     g.positions = list.positions;
     g.uvs = list.uvs;  // what alpha's holes read (cutouts.h)
+    g.uvs1 = list.uvs1;
+    g.colors = list.colors;
     g.indices = list.indices;
     g.triangle_material = list.material;
     return g;

@@ -234,7 +234,7 @@ void CausticPhotons::trace_photon(uint64_t index, int pass, int count, std::vect
         Hit hit;
         if (!rt_.intersect(ray, hit)) return;
         SurfaceHit sh = rt_.surface(ray, hit);
-        Bsdf bsdf = rt_.bsdf(sh.material, sh.uv);
+        Bsdf bsdf = rt_.bsdf(sh.material, sh.varyings());
         const vec3 wo = -glm::normalize(ray.d);
         const ShadingFrame frame = make_shading_frame(sh.ng, sh.ns, wo);
         if (bsdf.has_lobes() && delta_bounces > 0 && out.size() < cap)

@@ -218,7 +218,7 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, R
             break;
         }
         SurfaceHit sh = rt_.surface(ray, hit);
-        Bsdf bsdf = rt_.bsdf(sh.material, sh.uv);
+        Bsdf bsdf = rt_.bsdf(sh.material, sh.varyings());
         const vec3 wo = -ray.d;
         const ShadingFrame frame = make_shading_frame(sh.ng, sh.ns, wo);
         if (log) {

@@ -126,8 +126,7 @@ DisplaySample sample_on_triangle(const TriangleList& list, uint32_t t, vec3 ng, 
     out.x = p0 + b.x * e1 + b.y * e2;
     out.side = denom < 0.0f ? 0 : 1;
     out.n = out.side == 0 ? ng : -ng;
-    out.uv =
-        (1.0f - b.x - b.y) * list.uvs[tri[0]] + b.x * list.uvs[tri[1]] + b.y * list.uvs[tri[2]];
+    out.at = list.varyings(t, b);
     out.distance = t_hit * glm::length(ray.d);
     return out;
 }

@@ -43,7 +43,7 @@ struct DisplaySample {
     vec3 x{0.0f};           // the point, world space
     vec3 n{0.0f};           // the unit normal of the side the camera sees
     vec2 b{0.0f};           // barycentrics (b1, b2) of the triangle
-    vec2 uv{0.0f};          // interpolated texture coordinates
+    Varyings at;            // interpolated texture coordinates and vertex colour
     float distance = 0.0f;  // from the camera, scene units
     int side = 0;           // 0: the camera sees the front (counter-clockwise) side
 };

@@ -43,11 +43,8 @@ ElementTree::ElementTree(const TriangleList& list, const std::vector<Material>& 
 }
 
 void ElementTree::set_material(ElementNode& n) const {
-    const uint32_t* tri = &list_.indices[3 * static_cast<size_t>(n.root)];
-    vec2 b = (n.bary[0] + n.bary[1] + n.bary[2]) / 3.0f;
-    vec2 uv =
-        (1.0f - b.x - b.y) * list_.uvs[tri[0]] + b.x * list_.uvs[tri[1]] + b.y * list_.uvs[tri[2]];
-    Bsdf bsdf = make_bsdf(materials_[list_.material[n.root]], uv, textures_);
+    const vec2 b = (n.bary[0] + n.bary[1] + n.bary[2]) / 3.0f;
+    Bsdf bsdf = make_bsdf(materials_[list_.material[n.root]], list_.varyings(n.root, b), textures_);
     n.reflectance = radiosity_reflectance(bsdf);
     n.emission = kPi * bsdf.emission;  // black unless the material emits
 }

@@ -216,7 +216,7 @@ RenderResult display_window(const Scene& scene, const RenderOptions& options, co
                     const vec3 x = at.x, n = at.n;
                     const vec2 b = at.b;
                     const int side = at.side;
-                    Bsdf bsdf = make_bsdf(mesh.lights.materials()[mesh.list.material[t]], at.uv,
+                    Bsdf bsdf = make_bsdf(mesh.lights.materials()[mesh.list.material[t]], at.at,
                                           scene.textures);
                     const Color rho = radiosity_reflectance(bsdf);
                     const Color emitted = side == 0 ? bsdf.emission : Color(0.0f);

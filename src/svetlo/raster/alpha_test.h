@@ -25,10 +25,10 @@ public:
     bool any() const { return any_; }
     /// Whether triangles of material m are tested (else every covered sample is drawn).
     bool active(uint32_t m) const { return m < active_.size() && active_[m]; }
-    /// Whether the sample at texture coordinates uv, `key` naming it (pixel, sample and
-    /// triangle: a blend's coin), is a hole.
-    bool hole(uint32_t m, vec2 uv, uint64_t key) const {
-        return alpha_hole(materials_[m].alpha, uv, blend_coin(key), textures_);
+    /// Whether the sample with varyings `at`, `key` naming it (pixel, sample and triangle: a
+    /// blend's coin), is a hole.
+    bool hole(uint32_t m, const Varyings& at, uint64_t key) const {
+        return alpha_hole(materials_[m].alpha, at, blend_coin(key), textures_);
     }
 
 private:

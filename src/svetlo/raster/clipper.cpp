@@ -10,6 +10,8 @@ ClipVertex lerp(const ClipVertex& a, const ClipVertex& b, float t) {
     r.world = a.world + t * (b.world - a.world);
     r.normal = a.normal + t * (b.normal - a.normal);
     r.uv = a.uv + t * (b.uv - a.uv);
+    r.uv1 = a.uv1 + t * (b.uv1 - a.uv1);
+    r.vertex_color = a.vertex_color + t * (b.vertex_color - a.vertex_color);
     r.tangent = vec4(vec3(a.tangent) + t * (vec3(b.tangent) - vec3(a.tangent)), a.tangent.w);
     r.color = a.color + t * (b.color - a.color);
     r.wh = a.wh + t * (b.wh - a.wh);

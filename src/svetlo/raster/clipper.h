@@ -13,6 +13,7 @@
 #include <limits>
 
 #include "svetlo/core/math.h"
+#include "svetlo/scene/scene.h"
 
 namespace svetlo {
 
@@ -22,10 +23,14 @@ struct ClipVertex {
     vec3 world{0.0f};
     vec3 normal{0.0f};
     vec2 uv{0.0f};
-    vec4 tangent{0.0f};  // TriangleList::tangents
-    Color color{0.0f};   // Gouraud: the lit vertex colour
-    float invw = 0.0f;   // 1 / clip.w (set for the vertex stage's and the clipper's outputs)
-    float wh = 1.0f;     // the world point's homogeneous weight (0: a point at infinity)
+    vec2 uv1{0.0f};           // the second set (TriangleList::uvs1; uv where it has none)
+    vec4 vertex_color{1.0f};  // TriangleList::colors
+    vec4 tangent{0.0f};       // TriangleList::tangents
+    Color color{0.0f};        // Gouraud: the lit vertex colour
+    float invw = 0.0f;        // 1 / clip.w (set for the vertex stage's and the clipper's outputs)
+    float wh = 1.0f;          // the world point's homogeneous weight (0: a point at infinity)
+
+    Varyings varyings() const { return {uv, uv1, vertex_color}; }
 };
 
 /// A convex polygon of at most 3 + 6 vertices (each plane adds at most one).

@@ -43,7 +43,7 @@ void shade_tile_fast(const FrameState& f, const Tile& tile, const SamplePattern&
     // A textured material's colours (ka, kd, ks) at a sample's uv and footprint.
     auto colours_at = [&](uint32_t material, const SurfaceUv& at, Color colours[3]) {
         Bsdf scratch;
-        const Bsdf& bsdf = material_at(f, material, at.uv, at.duv_dx, at.duv_dy, scratch);
+        const Bsdf& bsdf = material_at(f, material, at, scratch);
         colours[0] = bsdf.ambient;
         colours[1] = bsdf.diffuse;
         colours[2] = bsdf.specular;

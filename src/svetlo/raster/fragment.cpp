@@ -10,19 +10,25 @@
 
 namespace svetlo::raster {
 
-const Bsdf& material_at(const FrameShading& f, uint32_t m, vec2 uv, vec2 duv_dx, vec2 duv_dy,
-                        Bsdf& scratch) {
+const Bsdf& material_at(const FrameShading& f, uint32_t m, const SurfaceUv& at, Bsdf& scratch) {
     if (!f.textured[m]) return f.constant_bsdf[m];
-    TextureLookup lookup{f.scene->textures, f.mips, duv_dx, duv_dy};
     // Made where it stays (a placement new of the returned value, which C++17 builds in
     // place): assigned, it was built in a temporary and copied, and the copy's wide loads of
     // the temporary's just-written narrow stores stalled (most of this function's time).
-    return *::new (static_cast<void*>(&scratch)) Bsdf(make_bsdf(f.materials[m], uv, lookup));
+    return *::new (static_cast<void*>(&scratch))
+        Bsdf(make_bsdf(f.materials[m], at.varyings(), at.lookup(f)));
 }
 
-const Bsdf& material_for_vertices(const FrameShading& f, uint32_t m, vec2 uv, Bsdf& scratch) {
-    if (!f.modulate[m]) return material_at(f, m, uv, vec2(0.0f), vec2(0.0f), scratch);
-    scratch = make_bsdf(f.lit_white[m], uv, TextureLookup{f.scene->textures});
+const Bsdf& material_for_vertices(const FrameShading& f, uint32_t m, const Varyings& at,
+                                  Bsdf& scratch) {
+    if (!f.modulate[m]) {
+        SurfaceUv point;
+        point.uv = at.uv[0];
+        point.uv1 = at.uv[1];
+        point.color = at.color;
+        return material_at(f, m, point, scratch);
+    }
+    scratch = make_bsdf(f.lit_white[m], at, TextureLookup{f.scene->textures});
     return scratch;
 }
 
@@ -42,10 +48,12 @@ Color flat_colour(const FrameState& f, const uint32_t idx[3], uint32_t material,
     const ClipVertex* cv[3] = {&f.vertices[idx[0]], &f.vertices[idx[1]], &f.vertices[idx[2]]};
     vec3 p = (cv[0]->world + cv[1]->world + cv[2]->world) / 3.0f;
     vec3 ng = triangle_normal(cv[0]->world, cv[1]->world, cv[2]->world);
-    vec2 uv = (cv[0]->uv + cv[1]->uv + cv[2]->uv) / 3.0f;
+    const Varyings at((cv[0]->uv + cv[1]->uv + cv[2]->uv) / 3.0f,
+                      (cv[0]->uv1 + cv[1]->uv1 + cv[2]->uv1) / 3.0f,
+                      (cv[0]->vertex_color + cv[1]->vertex_color + cv[2]->vertex_color) / 3.0f);
     vec3 wo = view_direction(f, p);
     Bsdf scratch;
-    const Bsdf& bsdf = material_for_vertices(f, material, uv, scratch);
+    const Bsdf& bsdf = material_for_vertices(f, material, at, scratch);
     if (per_light) return light_point_per_light(f, bsdf, p, wo, ng, ng, per_light);
     return light_point(f, bsdf, p, wo, ng, ng);
 }
@@ -74,12 +82,14 @@ UvGradients uv_gradients(const FrameState& f, const SetupTriangle& t, const Clip
 
 namespace {
 
-/// surface_uv's footprint, inlined where surface_uvs calls it lane by lane:
-/// d(q_i / sum q) = (dq_i sum - q_i dsum) / sum^2 per screen axis, times the uvs.
+/// surface_uv's footprint of set `set` (ClipVertex::uv or uv1), inlined where surface_uvs
+/// calls it lane by lane: d(q_i / sum q) = (dq_i sum - q_i dsum) / sum^2 per screen axis,
+/// times the uvs.
 [[gnu::always_inline]] inline void footprint(const UvGradients& g, const ClipVertex& A,
                                              const ClipVertex& B, const ClipVertex& C,
-                                             const Weights& w, vec2 (&d)[2]) {
-    const vec2* uvs[3] = {&A.uv, &B.uv, &C.uv};
+                                             const Weights& w, vec2 (&d)[2],
+                                             vec2 ClipVertex::*set = &ClipVertex::uv) {
+    const vec2* uvs[3] = {&(A.*set), &(B.*set), &(C.*set)};
     const float sum = w.q[0] + w.q[1] + w.q[2];
     for (int axis = 0; axis < 2; ++axis) {
         d[axis] = vec2(0.0f);
@@ -99,11 +109,16 @@ SurfaceUv surface_uv(const UvGradients& g, const ClipVertex& A, const ClipVertex
                      const ClipVertex& C, const Weights& w) {
     SurfaceUv r;
     r.uv = uv_at(A, B, C, w);
+    r.uv1 = w.b[0] * A.uv1 + w.b[1] * B.uv1 + w.b[2] * C.uv1;
+    r.color = w.b[0] * A.vertex_color + w.b[1] * B.vertex_color + w.b[2] * C.vertex_color;
     if (!g.footprint) return r;
     vec2 d[2];
     footprint(g, A, B, C, w, d);
     r.duv_dx = d[0];
     r.duv_dy = d[1];
+    footprint(g, A, B, C, w, d, &ClipVertex::uv1);
+    r.duv1_dx = d[0];
+    r.duv1_dy = d[1];
     return r;
 }
 
@@ -176,14 +191,13 @@ ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& 
     ns = glm::length(ns) > 0.0f ? glm::normalize(ns) : ng;
     vec3 wo = view_direction(f, p);
     const SurfaceUv at = surface_uv(f, t, A, B, C, w);
-    const vec2 uv = at.uv, dx = at.duv_dx, dy = at.duv_dy;
     if (const NormalMap& map = f.materials[t.material].normal_map; map.present()) {
         if (glm::dot(ns, ng) < 0.0f) ns = -ns;  // onto the front side, as the ray tracers'
         const vec4 tangent = orthogonal_tangent(
             vec4(b0 * vec3(A.tangent) + b1 * vec3(B.tangent) + b2 * vec3(C.tangent), A.tangent.w),
             ns);
-        const TextureLookup lookup{f.scene->textures, f.mips, dx, dy};
-        ns = mapped_normal(map, eval_color(map.texture, uv, lookup), ns, ng, tangent);
+        ns = mapped_normal(map, eval_color(map.texture, at.varyings(), at.lookup(f)), ns, ng,
+                           tangent);
     }
     if (want_aovs || f.mode == Mode::Normal || f.mode == Mode::Depth) {
         r.distance = f.cam.orthographic ? glm::dot(p - f.cam.eye, f.cam.forward)
@@ -194,8 +208,7 @@ ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& 
     auto modulated = [&](Color lit) {
         const ColorSource* base = f.modulate[t.material];
         if (!base) return lit;
-        TextureLookup lookup{f.scene->textures, f.mips, dx, dy};
-        return lit * eval_color(*base, uv, lookup);
+        return lit * eval_color(*base, at.varyings(), at.lookup(f));
     };
     switch (f.mode) {
         case Mode::Flat: {
@@ -242,7 +255,7 @@ ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& 
             break;
         case Mode::Phong: {
             Bsdf scratch;
-            const Bsdf& bsdf = material_at(f, t.material, uv, dx, dy, scratch);
+            const Bsdf& bsdf = material_at(f, t.material, at, scratch);
             r.color = light_point(f, bsdf, p, wo, ng, ns, vis, sample);
             if (want_aovs) r.albedo = albedo_of(bsdf);
             return r;
@@ -250,7 +263,9 @@ ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& 
     }
     if (want_aovs) {
         Bsdf scratch;
-        const Bsdf& bsdf = material_at(f, t.material, uv, vec2(0.0f), vec2(0.0f), scratch);
+        SurfaceUv point = at;  // the albedo AOV without the footprint
+        point.duv_dx = point.duv_dy = point.duv1_dx = point.duv1_dy = vec2(0.0f);
+        const Bsdf& bsdf = material_at(f, t.material, point, scratch);
         r.albedo = albedo_of(bsdf);
     }
     return r;

@@ -13,12 +13,13 @@ namespace svetlo::raster {
 
 /// The material's BRDF at a point: the per-material constant one, or (in `scratch`) textures
 /// evaluated with the footprint when the rasterizer has one.
-const Bsdf& material_at(const FrameShading& f, uint32_t m, vec2 uv, vec2 duv_dx, vec2 duv_dy,
-                        Bsdf& scratch);
+struct SurfaceUv;
+const Bsdf& material_at(const FrameShading& f, uint32_t m, const SurfaceUv& at, Bsdf& scratch);
 
 /// The same for lighting a vertex or a face in flat and Gouraud shading: with the base colour's
 /// texture made white, when the fragments modulate by it (FrameShading::modulate).
-const Bsdf& material_for_vertices(const FrameShading& f, uint32_t m, vec2 uv, Bsdf& scratch);
+const Bsdf& material_for_vertices(const FrameShading& f, uint32_t m, const Varyings& at,
+                                  Bsdf& scratch);
 
 /// Lit colour at a point with unit geometric normal ng (the counter-clockwise side) and
 /// shading normal ns (unit or zero), seen from the camera along -wo (shading_frame.h).
@@ -53,11 +54,19 @@ inline Weights perspective_weights(vec2 l, const ClipVertex& A, const ClipVertex
     return w;
 }
 
-/// A sample's texture coordinates and, for the materials whose filters need the pixel's
-/// footprint (FrameShading::needs_footprint), d(uv)/dx and d(uv)/dy (else zero), from its
-/// perspective weights w in triangle t of vertices A, B, C.
+/// A sample's varyings (texture coordinates of both sets, vertex colour) and, for the
+/// materials whose filters need the pixel's footprint (FrameShading::needs_footprint), each
+/// set's d(uv)/dx and d(uv)/dy (else zero), from its perspective weights w in triangle t of
+/// vertices A, B, C.
 struct SurfaceUv {
     vec2 uv{0.0f}, duv_dx{0.0f}, duv_dy{0.0f};
+    vec2 uv1{0.0f}, duv1_dx{0.0f}, duv1_dy{0.0f};
+    vec4 color{1.0f};
+
+    Varyings varyings() const { return {uv, uv1, color}; }
+    TextureLookup lookup(const FrameShading& f) const {
+        return {f.scene->textures, f.mips, duv_dx, duv_dy, duv1_dx, duv1_dy};
+    }
 };
 SurfaceUv surface_uv(const FrameState& f, const SetupTriangle& t, const ClipVertex& A,
                      const ClipVertex& B, const ClipVertex& C, const Weights& w);
@@ -74,8 +83,9 @@ UvGradients uv_gradients(const FrameState& f, const SetupTriangle& t, const Clip
 /// surface_uv from the triangle's gradients (the same numbers, bit for bit).
 SurfaceUv surface_uv(const UvGradients& g, const ClipVertex& A, const ClipVertex& B,
                      const ClipVertex& C, const Weights& w);
-/// surface_uv at n samples of one triangle (n <= kTile) with screen barycentrics (l1[k],
-/// l2[k]) of vertices 1 and 2, lane by lane (the same numbers), into out[k].
+/// surface_uv's set 0 at n samples of one triangle (n <= kTile) with screen barycentrics
+/// (l1[k], l2[k]) of vertices 1 and 2, lane by lane (the same numbers), into out[k]: for the
+/// fast path, whose materials read no other varying (uv1 and color are left as made).
 void surface_uvs(const UvGradients& g, const ClipVertex& A, const ClipVertex& B,
                  const ClipVertex& C, const float* l1, const float* l2, int n, SurfaceUv* out);
 

@@ -235,8 +235,10 @@ private:
                 const float inv = 1.0f / std::max(glm::dot(n2, n2), 1e-30f);
                 const float b1 = glm::dot(glm::cross(x - p0, p2 - p0), n2) * inv;
                 const float b2 = glm::dot(glm::cross(p1 - p0, x - p0), n2) * inv;
-                out.uvs.push_back((1.0f - b1 - b2) * list.uvs[v[0]] + b1 * list.uvs[v[1]] +
-                                  b2 * list.uvs[v[2]]);
+                const Varyings at = list.varyings(t, vec2(b1, b2));
+                out.uvs.push_back(at.uv[0]);
+                if (!list.uvs1.empty()) out.uvs1.push_back(at.uv[1]);
+                if (!list.colors.empty()) out.colors.push_back(at.color);
             }
             for (int k = 1; k + 1 < count; ++k) {
                 out.indices.insert(out.indices.end(), {first, first + static_cast<uint32_t>(k),

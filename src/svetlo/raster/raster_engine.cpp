@@ -151,7 +151,7 @@ void prepare_shading(const Scene& scene, FrameShading& f, KeptMipChains& kept) {
     // GL_MODULATE for flat and Gouraud shading: the base colour's texture, if any.
     for (const Material& m : f.materials) {
         const ColorSource* base = base_color(m);
-        bool textured = base && base->kind != ColorSource::Kind::Constant;
+        bool textured = base && base->varies();
         f.modulate.push_back(textured ? base : nullptr);
         Material white = m;
         if (ColorSource* white_base = base_color(white); textured && white_base)
@@ -209,12 +209,19 @@ void prepare_shading(const Scene& scene, FrameShading& f, KeptMipChains& kept) {
         // Textured colours too: the fast path evaluates them per sample (material_at). Not an
         // emitting one: the fast path has no emission term.
         // Nor under an environment map: image-based lighting is shade_point's alone.
-        // Nor a normal-mapped one: its normal is bent per sample in fragment.cpp.
+        // Nor a normal-mapped one: its normal is bent per sample in fragment.cpp. Nor one that
+        // reads the second texture coordinate set or the vertex colour (surface_uvs's batches
+        // carry set 0 only). Nor a shininess map (its batches take the shininess constant).
         const bool emits = !f.materials[m].emission.is_black();
+        const auto* phong_material = std::get_if<PhongMaterial>(&f.materials[m].model);
+        const bool shininess_mapped = phong_material && phong_material->shininess_map.varies();
         const bool ibl = f.lights->environment.active();
         const bool mapped = f.materials[m].normal_map.present();
-        f.simd_ok.push_back(
-            (phong || b.model == Bsdf::Model::Lambert) && !emits && !ibl && !mapped ? 1 : 0);
+        const bool varyings = any_source(f.materials[m], reads_more_than_uv);
+        f.simd_ok.push_back((phong || b.model == Bsdf::Model::Lambert) && !emits && !ibl &&
+                                    !mapped && !varyings && !shininess_mapped
+                                ? 1
+                                : 0);
         f.simd_material.emplace_back(b.ambient, b.diffuse, b.specular, b.shininess,
                                      b.model == Bsdf::Model::BlinnPhong, phong);
     }

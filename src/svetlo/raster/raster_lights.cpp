@@ -51,7 +51,8 @@ Color unlit_point(const Bsdf& bsdf, const ShadingFrame& frame, vec3 wo, Color am
                   Color background, const ImageBasedLighting& environment) {
     Color L = emitted_and_ambient(bsdf, frame, ambient);
     if (environment.active()) {  // image-based lighting (image_based_lighting.h)
-        if (bsdf.has_lobes()) L += bsdf.diffuse * kInvPi * environment.irradiance(frame.ns);
+        if (bsdf.has_lobes())
+            L += bsdf.diffuse * kInvPi * bsdf.occlusion * environment.irradiance(frame.ns);
         if (bsdf.model == Bsdf::Model::Mirror)
             L += bsdf.reflect * environment.environment().radiance(reflect(wo, frame.ns));
         if (bsdf.model == Bsdf::Model::Dielectric) L += environment.environment().radiance(-wo);

@@ -314,10 +314,12 @@ bool in_alpha_hole(const PassGeometry& f, uint32_t id, const SetupTriangle& t,
     const ClipVertex& B = f.vertex(t.v[1]);
     const ClipVertex& C = f.vertex(t.v[2]);
     const Weights w = perspective_weights(te.weights(sx, sy), A, B, C);
-    const vec2 uv = w.b[0] * A.uv + w.b[1] * B.uv + w.b[2] * C.uv;
+    const Varyings at(w.b[0] * A.uv + w.b[1] * B.uv + w.b[2] * C.uv,
+                      w.b[0] * A.uv1 + w.b[1] * B.uv1 + w.b[2] * C.uv1,
+                      w.b[0] * A.vertex_color + w.b[1] * B.vertex_color + w.b[2] * C.vertex_color);
     const uint64_t key =
         (static_cast<uint64_t>(sy) << 40) ^ (static_cast<uint64_t>(sx) << 20) ^ f.source(id);
-    return state.alpha->hole(t.material, uv, key);
+    return state.alpha->hole(t.material, at, key);
 }
 
 SamplePattern sample_pattern(int spp, uint64_t seed, int first, int count) {

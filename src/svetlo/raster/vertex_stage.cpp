@@ -40,6 +40,8 @@ void vertex_stage(const TriangleList& list, FrameState& f, int threads) {
             out.clip = vp * vec4(out.world, out.wh);
             out.normal = list.normals[v];
             out.uv = list.uvs[v];
+            out.uv1 = list.uvs1.empty() ? out.uv : list.uvs1[v];
+            out.vertex_color = list.colors.empty() ? vec4(1.0f) : list.colors[v];
             out.tangent = list.tangents.empty() ? vec4(0.0f) : list.tangents[v];
             out.color = Color(0.0f);
             // Projected here once when inside the clip volume; otherwise the triangles that
@@ -73,7 +75,7 @@ void vertex_stage(const TriangleList& list, FrameState& f, int threads) {
             ClipVertex& out = f.vertices[v];
             vec3 wo = view_direction(f, out.world);
             Bsdf scratch;
-            const Bsdf& bsdf = material_for_vertices(f, list.material[t], out.uv, scratch);
+            const Bsdf& bsdf = material_for_vertices(f, list.material[t], out.varyings(), scratch);
             out.color = f.per_light ? light_point_per_light(f, bsdf, out.world, wo, ng, out.normal,
                                                             &f.vertex_light[v * f.sources])
                                     : light_point(f, bsdf, out.world, wo, ng, out.normal);

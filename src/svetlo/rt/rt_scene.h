@@ -40,13 +40,14 @@ public:
     SurfaceHit surface(const Ray& ray, const Hit& hit) const {
         SurfaceHit s = geometry().surface(ray, hit);
         const NormalMap& map = materials()[s.material].normal_map;
-        if (map.present()) s.ns = mapped_normal(map, s.uv, s.ns, s.ng, s.tangent, scene_.textures);
+        if (map.present())
+            s.ns = mapped_normal(map, s.varyings(), s.ns, s.ng, s.tangent, scene_.textures);
         return s;
     }
-    /// The BSDF of material `material` at texture coordinates uv: made once for a material
-    /// without textures, at each call for one with.
-    Bsdf bsdf(uint32_t material, vec2 uv) const {
-        return textured_[material] ? make_bsdf(materials()[material], uv, scene_.textures)
+    /// The BSDF of material `material` at a point with varyings `at`: made once for a
+    /// material without textures, at each call for one with.
+    Bsdf bsdf(uint32_t material, const Varyings& at) const {
+        return textured_[material] ? make_bsdf(materials()[material], at, scene_.textures)
                                    : uniform_bsdfs_[material];
     }
 

@@ -53,7 +53,7 @@ public:
             return Le;
         }
         SurfaceHit sh = rt_.surface(ray, hit);
-        Bsdf bsdf = rt_.bsdf(sh.material, sh.uv);
+        Bsdf bsdf = rt_.bsdf(sh.material, sh.varyings());
         vec3 wo = -glm::normalize(ray.d);
         const ShadingFrame frame = make_shading_frame(sh.ng, sh.ns, wo);
         const bool front = frame.front;
@@ -82,7 +82,7 @@ public:
                               return v;
                           });
         if (rt_.environment().is_map() && bsdf.has_lobes())
-            L += environment_light(bsdf, sh.p, frame, wo, rng);
+            L += bsdf.occlusion * environment_light(bsdf, sh.p, frame, wo, rng);
         if (depth >= scene_.render.max_depth) return L;
 
         auto follow = [&](Color scale, vec3 dir, const char* kind, float fresnel) {

@@ -11,6 +11,7 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <map>
 #include <memory>
+#include <set>
 #include <stdexcept>
 #include <string_view>
 
@@ -56,6 +57,14 @@ public:
     }
 
     size_t count() const { return count_; }
+
+    /// The number of components of accessor `index`'s type (3 for VEC3, ...), 0 when there
+    /// is no such accessor.
+    static int components_of(const tinygltf::Model& model, int index) {
+        if (index < 0 || static_cast<size_t>(index) >= model.accessors.size()) return 0;
+        return tinygltf::GetNumComponentsInType(
+            static_cast<uint32_t>(model.accessors[static_cast<size_t>(index)].type));
+    }
 
     double component(size_t index, int c) const {
         const unsigned char* p = data_ + index * stride_ + static_cast<size_t>(c) * component_size_;
@@ -132,12 +141,10 @@ public:
                        Color factor, TexelMeaning meaning, const std::string& what) {
         if (texture < 0 || static_cast<size_t>(texture) >= model_.textures.size())
             throw std::runtime_error(what + ": texture " + std::to_string(texture) + " missing");
-        if (tex_coord != 0)
-            throw std::runtime_error(what + ": TEXCOORD_" + std::to_string(tex_coord) +
-                                     " is not read yet (only TEXCOORD_0)");
         const tinygltf::Texture& t = model_.textures[static_cast<size_t>(texture)];
         ColorSource s;
         s.kind = ColorSource::Kind::Image;
+        s.uv_set = texture_set(tex_coord, what);
         s.texture = image(t.source, meaning, what);
         s.factor = factor;
         if (t.sampler >= 0 && static_cast<size_t>(t.sampler) < model_.samplers.size()) {
@@ -157,6 +164,14 @@ public:
     }
 
 private:
+    /// A texCoord as a Varyings set: svetlo reads TEXCOORD_0 and TEXCOORD_1.
+    static int texture_set(int tex_coord, const std::string& what) {
+        if (tex_coord < 0 || tex_coord > 1)
+            throw std::runtime_error(what + ": TEXCOORD_" + std::to_string(tex_coord) +
+                                     " is not read (svetlo reads TEXCOORD_0 and TEXCOORD_1)");
+        return tex_coord;
+    }
+
     /// KHR_texture_transform: uv' = T R S uv in glTF's texture space (its v runs down), mapped
     /// into svetlo's (v up) by F = (u, 1 - v) on both sides: M = F T R S F. R maps (u, v) to
     /// (u cos r + v sin r, -u sin r + v cos r): the sample model TextureTransformTest's arrow
@@ -170,8 +185,9 @@ private:
                        ? v.Get(index).GetNumberAsDouble()
                        : fallback;
         };
-        if (ext.Has("texCoord") && ext.Get("texCoord").GetNumberAsInt() != 0)
-            throw std::runtime_error("KHR_texture_transform: only TEXCOORD_0 is read yet");
+        // Its texCoord, when given, replaces the texture reference's.
+        if (ext.Has("texCoord"))
+            s.uv_set = texture_set(ext.Get("texCoord").GetNumberAsInt(), "KHR_texture_transform");
         const float ox = static_cast<float>(number("offset", 0, 0.0));
         const float oy = static_cast<float>(number("offset", 1, 0.0));
         const float r = static_cast<float>(number("rotation", -1, 0.0));
@@ -264,6 +280,13 @@ Material material_from_gltf(const tinygltf::Material& m, GltfTextures& textures)
             pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
             pbr.metallicRoughnessTexture.extensions, Color(1.0f), TexelMeaning::Linear,
             name + " metallicRoughnessTexture");
+    if (m.occlusionTexture.index >= 0) {
+        ct.occlusion = textures.source(m.occlusionTexture.index, m.occlusionTexture.texCoord,
+                                       m.occlusionTexture.extensions, Color(1.0f),
+                                       TexelMeaning::Linear, name + " occlusionTexture");
+        ct.occlusion_strength =
+            static_cast<float>(std::clamp(m.occlusionTexture.strength, 0.0, 1.0));
+    }
     // Emission on the metallic-roughness surface (the material's `emission`): the factor
     // times the texture (sRGB) when there is one.
     Material out = ct;
@@ -304,6 +327,15 @@ struct Flattener {
     const tinygltf::Model& model;
     MeshFile& file;
     int depth_guard = 0;
+    std::set<int> colored_materials;  // the materials of primitives with COLOR_0
+
+    /// Mesh::uvs1 up to vertex `end`: set 0's coordinates (or zero) where a vertex has no
+    /// second set.
+    void fill_second_set(size_t end) {
+        Mesh& mesh = file.mesh;
+        for (size_t v = mesh.uvs1.size(); v < end; ++v)
+            mesh.uvs1.push_back(v < mesh.uvs.size() ? mesh.uvs[v] : vec2(0.0f));
+    }
 
     void visit(int node_index, const mat4& parent) {
         if (node_index < 0 || static_cast<size_t>(node_index) >= model.nodes.size()) {
@@ -434,6 +466,36 @@ struct Flattener {
                     mesh.uvs.emplace_back(uvs.component(k, 0), 1.0 - uvs.component(k, 1));
                 }
             }
+            if (auto tex1 = prim.attributes.find("TEXCOORD_1"); tex1 != prim.attributes.end()) {
+                AccessorView uvs(model, tex1->second, 2);
+                if (uvs.count() != positions.count()) throw std::runtime_error("TEXCOORD_1 count");
+                fill_second_set(base);
+                for (size_t k = 0; k < uvs.count(); ++k)
+                    mesh.uvs1.emplace_back(uvs.component(k, 0), 1.0 - uvs.component(k, 1));
+            }
+            if (auto col = prim.attributes.find("COLOR_0"); col != prim.attributes.end()) {
+                // VEC3 or VEC4; floats, or normalised unsigned bytes or shorts; linear.
+                const int n = AccessorView::components_of(model, col->second);
+                AccessorView colors(model, col->second, n == 4 ? 4 : 3);
+                if (colors.count() != positions.count()) throw std::runtime_error("COLOR_0 count");
+                mesh.colors.resize(base, vec4(1.0f));
+                for (size_t k = 0; k < colors.count(); ++k) {
+                    vec4 c(1.0f);
+                    for (int i = 0; i < (n == 4 ? 4 : 3); ++i) {
+                        const double x = colors.component(k, i);
+                        if (!std::isfinite(x) || x < 0.0 || x > 1.0)
+                            throw std::runtime_error("COLOR_0 " + std::to_string(k) +
+                                                     " lies outside [0, 1]");
+                        c[i] = static_cast<float>(x);
+                    }
+                    mesh.colors.push_back(c);
+                }
+                if (prim.material >= 0) colored_materials.insert(prim.material);
+            }
+            // A primitive without a second set reads its first there; one without colours
+            // is white.
+            if (!mesh.uvs1.empty()) fill_second_set(mesh.positions.size());
+            if (!mesh.colors.empty()) mesh.colors.resize(mesh.positions.size(), vec4(1.0f));
             size_t first = mesh.indices.size();
             if (prim.indices >= 0) {
                 AccessorView indices(model, prim.indices, 1);
@@ -552,10 +614,21 @@ MeshFile read_gltf(const std::filesystem::path& path, const FileScope& files) {
         for (size_t n = 0; n < model.nodes.size(); ++n)
             flattener.visit(static_cast<int>(n), mat4(1.0f));
     }
+    // COLOR_0 multiplies the base colour and its alpha (glTF 2.0, 3.9.2), in the materials of
+    // the primitives that have it (another primitive of such a material is white).
+    for (int m : flattener.colored_materials) {
+        if (static_cast<size_t>(m) >= file.materials.size()) continue;
+        Material& material = file.materials[static_cast<size_t>(m)];
+        if (auto* ct = std::get_if<CookTorranceMaterial>(&material.model))
+            ct->base_color.vertex_color = VertexColor::Rgb;
+        if (material.alpha.active()) material.alpha.coverage.vertex_color = VertexColor::Alpha;
+    }
     Mesh& mesh = file.mesh;
     if (mesh.indices.empty()) throw std::runtime_error("glTF file has no triangles");
     if (!mesh.normals.empty()) mesh.normals.resize(mesh.positions.size(), vec3(0.0f));
     if (!mesh.uvs.empty()) mesh.uvs.resize(mesh.positions.size(), vec2(0.0f));
+    if (!mesh.uvs1.empty()) flattener.fill_second_set(mesh.positions.size());
+    if (!mesh.colors.empty()) mesh.colors.resize(mesh.positions.size(), vec4(1.0f));
     if (!mesh.tangents.empty()) mesh.tangents.resize(mesh.positions.size(), vec4(0.0f));
     bool any_material = false;
     for (int m : mesh.face_material) any_material = any_material || m >= 0;

@@ -80,13 +80,17 @@ MaterialModel parse_model(const JsonNode& node, Scene& scene) {
         return m;
     }
     if (type == "cook_torrance") {
-        node.expect_object({"type", "base_color", "roughness", "metallic", "metallic_roughness"});
+        node.expect_object({"type", "base_color", "roughness", "metallic", "metallic_roughness",
+                            "occlusion", "occlusion_strength"});
         CookTorranceMaterial m;
         m.base_color = optional_color(node, "base_color", Color(0.8f), scene);
         m.roughness = roughness_like(node, "roughness", 0.5f);
         m.metallic = roughness_like(node, "metallic", 0.0f);
         if (auto n = node.find("metallic_roughness"))  // data, not colour: linear unless told
             m.metallic_roughness = parse_color_source(*n, scene, /*srgb=*/false);
+        if (auto n = node.find("occlusion"))  // data too: its red channel read
+            m.occlusion = parse_color_source(*n, scene, /*srgb=*/false);
+        m.occlusion_strength = roughness_like(node, "occlusion_strength", 1.0f);
         return m;
     }
     if (type == "mirror") {

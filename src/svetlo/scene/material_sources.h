@@ -22,9 +22,10 @@ bool any_source(M& m, F&& f) {
                           std::is_same_v<T, OrenNayarMaterial>) {
                 return f(mat.albedo);
             } else if constexpr (std::is_same_v<T, PhongMaterial>) {
-                return f(mat.ka) || f(mat.kd) || f(mat.ks) || f(mat.reflect) || f(mat.transmit);
+                return f(mat.ka) || f(mat.kd) || f(mat.ks) || f(mat.reflect) || f(mat.transmit) ||
+                       f(mat.shininess_map);
             } else if constexpr (std::is_same_v<T, CookTorranceMaterial>) {
-                return f(mat.base_color) || f(mat.metallic_roughness);
+                return f(mat.base_color) || f(mat.metallic_roughness) || f(mat.occlusion);
             } else if constexpr (std::is_same_v<T, MirrorMaterial>) {
                 return f(mat.reflectance);
             } else if constexpr (std::is_same_v<T, EmissiveMaterial>) {
@@ -36,7 +37,11 @@ bool any_source(M& m, F&& f) {
         m.model);
 }
 
-/// A colour that varies over the surface (an image or a checker).
-inline bool is_textured(const ColorSource& c) { return c.kind != ColorSource::Kind::Constant; }
+/// A colour that varies over the surface (an image, a checker, the vertex colour).
+inline bool is_textured(const ColorSource& c) { return c.varies(); }
+/// A colour read at the second texture coordinate set or times the vertex colour.
+inline bool reads_more_than_uv(const ColorSource& c) {
+    return c.uv_set != 0 || c.vertex_color != VertexColor::None;
+}
 
 }  // namespace svetlo

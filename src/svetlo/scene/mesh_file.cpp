@@ -83,6 +83,12 @@ void validate_mesh(const Mesh& mesh) {
     if (!mesh.uvs.empty() && mesh.uvs.size() != mesh.positions.size()) {
         throw std::runtime_error("uv count differs from position count");
     }
+    if (!mesh.uvs1.empty() && mesh.uvs1.size() != mesh.positions.size()) {
+        throw std::runtime_error("second uv set's count differs from position count");
+    }
+    if (!mesh.colors.empty() && mesh.colors.size() != mesh.positions.size()) {
+        throw std::runtime_error("vertex colour count differs from position count");
+    }
     if (!mesh.tangents.empty() && mesh.tangents.size() != mesh.positions.size()) {
         throw std::runtime_error("tangent count differs from position count");
     }

@@ -2,7 +2,8 @@
 // so seams keep their own normals and texture coordinates. MTL mapping (docs/scene-format.md,
 // "OBJ/MTL"): Ke > 0 or map_Ke -> emissive (Kd or map_Kd as albedo); illum 3 or 5 -> mirror
 // (Ks); illum 4, 6, 7 or d < 1 -> dielectric (Ni); Pr or Pm > 0 -> cook_torrance; otherwise
-// phong with Ka, Kd or map_Kd, Ks or map_Ks, Ns. `norm` is a tangent-space normal map,
+// phong with Ka, Kd or map_Kd, Ks or map_Ks, Ns times map_Ns; map_Pr and map_Pm make
+// cook_torrance's metallic_roughness. `norm` is a tangent-space normal map,
 // `map_Bump` (or `bump`) a height map made into one.
 #include <tiny_obj_loader.h>
 
@@ -76,6 +77,36 @@ public:
         return heights;
     }
 
+    /// glTF's metallic-roughness texture (G roughness, B metallic) from the MTL's scalar maps
+    /// map_Pr and map_Pm (either may be empty: its channel is then 1, the factor alone), each
+    /// read linear, its first channel; at the larger map's size, the other read nearest.
+    ColorSource metallic_roughness(const std::string& pr, const std::string& pm,
+                                   const std::string& what) {
+        const ColorSource r =
+            source(pr, Color(1.0f), Color(1.0f), TexelMeaning::Linear, what + "map_Pr");
+        const ColorSource m =
+            source(pm, Color(1.0f), Color(1.0f), TexelMeaning::Linear, what + "map_Pm");
+        const TextureImage* maps[2] = {
+            r.texture >= 0 ? &file_.textures[static_cast<size_t>(r.texture)] : nullptr,
+            m.texture >= 0 ? &file_.textures[static_cast<size_t>(m.texture)] : nullptr};
+        int w = 1, h = 1;
+        for (const TextureImage* t : maps)
+            if (t && t->width() * t->height() > w * h) w = t->width(), h = t->height();
+        Image both(w, h, Color(0.0f, 1.0f, 1.0f));
+        for (int j = 0; j < h; ++j)
+            for (int i = 0; i < w; ++i)
+                for (int k = 0; k < 2; ++k) {
+                    const TextureImage* t = maps[k];
+                    if (!t) continue;
+                    both.at(i, j)[k + 1] = t->texel(i * t->width() / w, j * t->height() / h).r;
+                }
+        file_.textures.emplace_back(std::move(both));
+        ColorSource s;
+        s.kind = ColorSource::Kind::Image;
+        s.texture = static_cast<int>(file_.textures.size()) - 1;
+        return s;
+    }
+
 private:
     std::filesystem::path dir_;
     const FileScope& files_;
@@ -119,11 +150,20 @@ MaterialModel model_from_mtl(const tinyobj::material_t& m, MtlTextures& textures
         d.ior = m.ior > 1.0f ? m.ior : 1.5f;
         return d;
     }
-    if (m.roughness > 0.0f || m.metallic > 0.0f) {  // the PBR extension: Pr, Pm
+    const bool pbr_maps = !m.roughness_texname.empty() || !m.metallic_texname.empty();
+    if (m.roughness > 0.0f || m.metallic > 0.0f || pbr_maps) {  // the PBR extension
         CookTorranceMaterial ct;
         ct.base_color = diffuse;
-        ct.roughness = std::clamp(static_cast<float>(m.roughness), 0.0f, 1.0f);
-        ct.metallic = std::clamp(static_cast<float>(m.metallic), 0.0f, 1.0f);
+        // A map replaces its value, as map_Kd replaces Kd.
+        ct.roughness = m.roughness_texname.empty()
+                           ? std::clamp(static_cast<float>(m.roughness), 0.0f, 1.0f)
+                           : 1.0f;
+        ct.metallic = m.metallic_texname.empty()
+                          ? std::clamp(static_cast<float>(m.metallic), 0.0f, 1.0f)
+                          : 1.0f;
+        if (pbr_maps)
+            ct.metallic_roughness =
+                textures.metallic_roughness(m.roughness_texname, m.metallic_texname, name);
         return ct;
     }
     PhongMaterial p;
@@ -131,6 +171,9 @@ MaterialModel model_from_mtl(const tinyobj::material_t& m, MtlTextures& textures
     p.kd = diffuse;
     p.ks = specular;
     p.shininess = m.shininess > 0.0f ? m.shininess : 1.0f;
+    // map_Ns: a scalar map multiplying Ns (the MTL specification), its first channel, linear.
+    p.shininess_map = textures.source(m.specular_highlight_texname, Color(1.0f), Color(1.0f),
+                                      TexelMeaning::Linear, name + "map_Ns");
     return p;
 }
 

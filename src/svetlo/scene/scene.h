@@ -26,8 +26,25 @@ namespace svetlo {
 enum class TextureFilter { Nearest, Bilinear, Trilinear, Anisotropic };
 enum class TextureWrap { Repeat, Clamp };
 
+/// What a surface point hands its material's colours besides its position: its two texture
+/// coordinate sets (glTF's TEXCOORD_0 and TEXCOORD_1; a surface with one set gives it as
+/// both) and its vertex colour (glTF's COLOR_0, linear RGBA; white where there is none),
+/// interpolated over the triangle as the rasterizer's varyings are.
+struct Varyings {
+    vec2 uv[2] = {vec2(0.0f), vec2(0.0f)};
+    vec4 color{1.0f};
+
+    Varyings() = default;
+    Varyings(vec2 uv0) : uv{uv0, uv0} {}  // NOLINT: one set and no vertex colour
+    Varyings(vec2 uv0, vec2 uv1, vec4 c) : uv{uv0, uv1}, color(c) {}
+};
+
+/// Whether a colour is multiplied by the point's vertex colour (glTF multiplies the base
+/// colour by COLOR_0's rgb, and its alpha by COLOR_0's alpha).
+enum class VertexColor : unsigned char { None, Rgb, Alpha };
+
 /// A material colour: a constant, an image texture (by index into Scene::textures) or a
-/// checkerboard in texture space.
+/// checkerboard in texture space; times the vertex colour where `vertex_color` says so.
 struct ColorSource {
     enum class Kind { Constant, Image, Checker };
     Kind kind = Kind::Constant;
@@ -43,6 +60,8 @@ struct ColorSource {
     TextureWrap wrap = TextureWrap::Repeat;
     Color a{0.0f}, b{1.0f};  // Checker: a where floor(scale*u) + floor(scale*v) is even
     float scale = 1.0f;
+    int uv_set = 0;  // Image, Checker: the texture coordinate set read (Varyings::uv)
+    VertexColor vertex_color = VertexColor::None;
 
     static ColorSource constant(Color c) {
         ColorSource s;
@@ -50,6 +69,8 @@ struct ColorSource {
         return s;
     }
     bool is_black() const { return kind == Kind::Constant && svetlo::is_black(value); }
+    /// Whether the colour changes over a surface (a texture, a checker, the vertex colour).
+    bool varies() const { return kind != Kind::Constant || vertex_color != VertexColor::None; }
 };
 
 // ---- materials ----------------------------------------------------------------------------
@@ -62,6 +83,7 @@ struct LambertMaterial {
 struct PhongMaterial {
     ColorSource ka, kd = ColorSource::constant(Color(0.8f)), ks;
     float shininess = 32.0f;
+    ColorSource shininess_map = ColorSource::constant(Color(1.0f));  // its red scales shininess
     ColorSource reflect, transmit;
     float ior = 1.5f;
     bool blinn = false;
@@ -77,6 +99,10 @@ struct CookTorranceMaterial {
     // glTF's metallicRoughness texture, linear: green scales `roughness`, blue `metallic`
     // (constant white: the factors alone).
     ColorSource metallic_roughness = ColorSource::constant(Color(1.0f));
+    // glTF's occlusion texture, linear, its red channel read: it darkens the ambient and
+    // environment light of the rasterizer and Whitted (1 + strength (r - 1)), nothing else.
+    ColorSource occlusion = ColorSource::constant(Color(1.0f));
+    float occlusion_strength = 1.0f;
 };
 struct MirrorMaterial {
     ColorSource reflectance = ColorSource::constant(Color(1.0f));
@@ -187,6 +213,8 @@ struct Mesh {
     std::vector<vec3> positions;
     std::vector<vec3> normals;  // empty, or one per position
     std::vector<vec2> uvs;      // empty, or one per position
+    std::vector<vec2> uvs1;     // a second set (glTF's TEXCOORD_1): empty, or one per position
+    std::vector<vec4> colors;   // vertex colours, linear RGBA: empty, or one per position
     // Empty, or one per position: a unit tangent along increasing u in xyz, and w = +1 or -1,
     // the bitangent's side: bitangent = w * cross(normal, tangent) (glTF's TANGENT).
     std::vector<vec4> tangents;

@@ -7,10 +7,10 @@ namespace svetlo {
 namespace {
 
 struct BsdfMaker {
-    vec2 uv;
+    const Varyings& at;
     const TextureLookup& lookup;
 
-    Color c(const ColorSource& s) const { return eval_color(s, uv, lookup); }
+    Color c(const ColorSource& s) const { return eval_color(s, at, lookup); }
 
     Bsdf operator()(const LambertMaterial& m) const {
         Bsdf b;
@@ -24,7 +24,8 @@ struct BsdfMaker {
         b.ambient = c(m.ka);
         b.diffuse = c(m.kd);
         b.specular = c(m.ks);
-        b.shininess = m.shininess;
+        b.shininess = m.shininess *
+                      (m.shininess_map.varies() ? c(m.shininess_map).r : m.shininess_map.value.r);
         b.reflect = c(m.reflect);
         b.transmit = c(m.transmit);
         b.ior = m.ior;
@@ -54,6 +55,9 @@ struct BsdfMaker {
         b.specular = glm::mix(Color(0.04f), base, metallic);
         // Below alpha ~ 1e-3 the GGX peak exceeds float range for point lights.
         b.alpha = std::max(square(roughness), 1e-3f);
+        if (m.occlusion.varies() || m.occlusion.value.r != 1.0f)
+            b.occlusion =
+                std::clamp(1.0f + m.occlusion_strength * (c(m.occlusion).r - 1.0f), 0.0f, 1.0f);
         return b;
     }
     Bsdf operator()(const MirrorMaterial& m) const {
@@ -105,6 +109,7 @@ bool colour_sources(const Material& material, const ColorSource* out[3]) {
         return true;
     }
     if (const auto* p = std::get_if<PhongMaterial>(&material.model)) {
+        if (p->shininess_map.varies()) return false;  // the shininess is not a colour
         out[0] = &p->ka;
         out[1] = &p->kd;
         out[2] = &p->ks;
@@ -113,13 +118,14 @@ bool colour_sources(const Material& material, const ColorSource* out[3]) {
     return false;
 }
 
-Bsdf make_bsdf(const Material& material, vec2 uv, const std::vector<TextureImage>& textures) {
-    return make_bsdf(material, uv, TextureLookup{textures});
+Bsdf make_bsdf(const Material& material, const Varyings& at,
+               const std::vector<TextureImage>& textures) {
+    return make_bsdf(material, at, TextureLookup{textures});
 }
 
-Bsdf make_bsdf(const Material& material, vec2 uv, const TextureLookup& lookup) {
-    Bsdf b = std::visit(BsdfMaker{uv, lookup}, material.model);
-    if (!material.emission.is_black()) b.emission += eval_color(material.emission, uv, lookup);
+Bsdf make_bsdf(const Material& material, const Varyings& at, const TextureLookup& lookup) {
+    Bsdf b = std::visit(BsdfMaker{at, lookup}, material.model);
+    if (!material.emission.is_black()) b.emission += eval_color(material.emission, at, lookup);
     return b;
 }
 

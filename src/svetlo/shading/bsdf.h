@@ -51,15 +51,19 @@ struct Bsdf {
     float ior = 1.0f;
     float abbe = 0.0f;  // dielectric: the Abbe number V_d, 0 = no dispersion (path tracer)
     float on_a = 1.0f, on_b = 0.0f;  // Oren-Nayar A and B
+    // What reaches the point of the ambient and environment light in the rasterizer and
+    // Whitted (glTF's occlusion texture); the path tracer finds its own occlusion.
+    float occlusion = 1.0f;
 
     /// True when the BRDF has a non-delta part that direct lighting must evaluate.
     bool has_lobes() const;
 };
 
-/// The material at texture coordinates uv.
-Bsdf make_bsdf(const Material& material, vec2 uv, const std::vector<TextureImage>& textures);
+/// The material at a point with varyings `at` (texture coordinates, vertex colour).
+Bsdf make_bsdf(const Material& material, const Varyings& at,
+               const std::vector<TextureImage>& textures);
 /// The same with a texture footprint (trilinear filtering in the rasterizer).
-Bsdf make_bsdf(const Material& material, vec2 uv, const TextureLookup& lookup);
+Bsdf make_bsdf(const Material& material, const Varyings& at, const TextureLookup& lookup);
 
 /// Where make_bsdf takes a lambert or phong material's ambient, diffuse and specular colours
 /// from (out[0..2]; null: black), so that a renderer may evaluate them for many points at

@@ -23,12 +23,11 @@ float ray_coin(const Ray& ray, uint32_t prim) {
 
 float blend_coin(uint64_t key) { return static_cast<float>(mix64(key) >> 40) * 0x1.0p-24f; }
 
-bool alpha_hole(const Alpha& alpha, vec2 uv, float coin,
+bool alpha_hole(const Alpha& alpha, const Varyings& at, float coin,
                 const std::vector<TextureImage>& textures) {
     if (!alpha.active()) return false;
-    const float coverage = alpha.coverage.kind == ColorSource::Kind::Constant
-                               ? alpha.coverage.value.r
-                               : eval_color(alpha.coverage, uv, textures).r;
+    const float coverage = alpha.coverage.varies() ? eval_color(alpha.coverage, at, textures).r
+                                                   : alpha.coverage.value.r;
     return alpha.mode == AlphaMode::Mask ? coverage < alpha.cutoff : coin >= coverage;
 }
 
@@ -48,12 +47,12 @@ bool Cutouts::hole(const Ray& ray, const Hit& hit) const {
     const uint32_t material = surface ? surface->material : geometry_.material(hit.prim);
     if (material >= active_.size() || !active_[material]) return false;
     const Alpha& alpha = materials_[material].alpha;
-    vec2 uv(0.0f);
-    if (alpha.coverage.kind != ColorSource::Kind::Constant) {
+    Varyings at;
+    if (alpha.coverage.varies()) {
         if (!surface) surface = geometry_.surface(ray, hit);
-        uv = surface->uv;
+        at = surface->varyings();
     }
-    return alpha_hole(alpha, uv, alpha.mode == AlphaMode::Blend ? ray_coin(ray, hit.prim) : 0.0f,
+    return alpha_hole(alpha, at, alpha.mode == AlphaMode::Blend ? ray_coin(ray, hit.prim) : 0.0f,
                       textures_);
 }
 

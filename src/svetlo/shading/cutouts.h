@@ -15,10 +15,11 @@
 
 namespace svetlo {
 
-/// The one rule: whether a surface of alpha `alpha` is a hole at texture coordinates uv, with
+/// The one rule: whether a surface of alpha `alpha` is a hole at a point with varyings `at`, with
 /// `coin` uniform in [0, 1) for a blend (a hole with probability 1 - coverage). The coverage
 /// is the texture's finest level, bilinear (a cutout's edge is as sharp as its texels).
-bool alpha_hole(const Alpha& alpha, vec2 uv, float coin, const std::vector<TextureImage>& textures);
+bool alpha_hole(const Alpha& alpha, const Varyings& at, float coin,
+                const std::vector<TextureImage>& textures);
 
 /// A uniform number in [0, 1) from `key` (a ray's bits, a sample's place): a blend's coin.
 float blend_coin(uint64_t key);

@@ -18,11 +18,12 @@
 
 namespace svetlo {
 
-/// L_e (from the front side only) + k_a I_a, the empirical ambient term.
+/// L_e (from the front side only) + k_a I_a, the empirical ambient term, darkened by the
+/// material's occlusion texture.
 inline Color emitted_and_ambient(const Bsdf& bsdf, const ShadingFrame& frame, Color ambient) {
     Color L(0.0f);
     if (frame.front) L += bsdf.emission;  // black unless the material emits
-    return L + bsdf.ambient * ambient;
+    return L + bsdf.ambient * ambient * bsdf.occlusion;
 }
 
 /// f(wo, wi) E cos(theta) for one light sample, before occlusion: zero when wi lies below the

@@ -153,8 +153,7 @@ LightSet::LightSet(const Scene& scene) : scene_(scene), materials_(scene.materia
     for (const Material& m : materials_) {
         // What make_bsdf emits: an emissive material's radiance plus any material's emission.
         const auto* e = std::get_if<EmissiveMaterial>(&m.model);
-        const bool textured = (e && e->radiance.kind != ColorSource::Kind::Constant) ||
-                              m.emission.kind != ColorSource::Kind::Constant;
+        const bool textured = (e && e->radiance.varies()) || m.emission.varies();
         emission_textured_.push_back(textured);
         emission_.push_back(textured ? Color(0.0f)
                                      : (e ? e->radiance.value : Color(0.0f)) + m.emission.value);
@@ -215,7 +214,7 @@ AreaPoint LightSet::sample_area(const Source& source, vec2 u, float u_pick) cons
                     ? sample_primitive(geometry_, prim, u, u_rest)
                     : sample_triangle_primitive(geometry_, prim, u, source.normals[k]);
     a.pdf_area = source.pdf_area.empty() ? 1.0f / source.area : source.pdf_area[k];
-    a.radiance = emission_at(prim, a.surface.uv);
+    a.radiance = emission_at(prim, a.surface.at);
     return a;
 }
 
@@ -229,11 +228,11 @@ void LightSet::weigh_by_power(Source& s) const {
         for (int a = 0; a < kSide; ++a) {
             for (int b = 0; b < kSide; ++b) {
                 const vec2 u((a + 0.5f) / kSide, (b + 0.5f) / kSide);
-                const vec2 uv =
+                const Varyings at =
                     s.normals.empty()
-                        ? sample_primitive(geometry_, prim, u, 0.5f).uv
-                        : sample_triangle_primitive(geometry_, prim, u, s.normals[k]).uv;
-                lum += luminance(emission_at(prim, uv));
+                        ? sample_primitive(geometry_, prim, u, 0.5f).at
+                        : sample_triangle_primitive(geometry_, prim, u, s.normals[k]).at;
+                lum += luminance(emission_at(prim, at));
             }
         }
         const double prim_area = primitive_area(geometry_, prim);
@@ -259,9 +258,9 @@ void LightSet::weigh_by_power(Source& s) const {
     s.cdf.back() = 1.0f;
 }
 
-Color LightSet::emission_at(uint32_t prim, vec2 uv) const {
+Color LightSet::emission_at(uint32_t prim, const Varyings& at) const {
     const uint32_t m = geometry_.material(prim);
-    return emission_textured_[m] ? make_bsdf(materials_[m], uv, scene_.textures).emission
+    return emission_textured_[m] ? make_bsdf(materials_[m], at, scene_.textures).emission
                                  : emission_[m];
 }
 
@@ -303,7 +302,7 @@ LightSample LightSet::sample(const Source& source, vec3 p, vec2 u, float u_pick)
                         : sample_triangle_primitive(geometry_, prim, u, source.normals[face->prim]);
             }
             a.pdf_area = (glm::dot(face->n, p) - face->offset) / weight;
-            a.radiance = emission_at(prim, a.surface.uv);
+            a.radiance = emission_at(prim, a.surface.at);
         }
         LightSample s = sample_at(a, p);
         if (!face && !source.faces.empty()) s.irradiance = Color(0.0f);  // as pdf() says

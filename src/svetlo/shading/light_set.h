@@ -118,8 +118,8 @@ private:
     void weigh_by_power(Source& source) const;
     static float facing_weight(const Source& source, vec3 p, float pick = 0.0f,
                                const Face** face = nullptr);
-    /// The emitted radiance of primitive `prim` at uv.
-    Color emission_at(uint32_t prim, vec2 uv) const;
+    /// The emitted radiance of primitive `prim` at a point with varyings `at`.
+    Color emission_at(uint32_t prim, const Varyings& at) const;
 
     const Scene& scene_;
     std::vector<Material> materials_;

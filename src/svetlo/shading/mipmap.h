@@ -52,7 +52,8 @@ Color sample_anisotropic(const MipChain& chain, vec2 uv, vec2 duv_dx, vec2 duv_d
 struct TextureLookup {
     const std::vector<TextureImage>& images;
     const std::vector<MipChain>* mips = nullptr;
-    vec2 duv_dx{0.0f}, duv_dy{0.0f};
+    vec2 duv_dx{0.0f}, duv_dy{0.0f};    // of texture coordinate set 0
+    vec2 duv1_dx{0.0f}, duv1_dy{0.0f};  // of set 1 (Varyings::uv[1])
 };
 
 }  // namespace svetlo

@@ -19,11 +19,11 @@ namespace svetlo {
 /// and no camera ray sees a normal that faces away from the geometry's side.
 vec3 mapped_normal(const NormalMap& map, Color texel, vec3 ns, vec3 ng, vec4 tangent);
 
-/// The same, the map read at uv in `textures` (the ray tracers).
-inline vec3 mapped_normal(const NormalMap& map, vec2 uv, vec3 ns, vec3 ng, vec4 tangent,
+/// The same, the map read at `at` in `textures` (the ray tracers).
+inline vec3 mapped_normal(const NormalMap& map, const Varyings& at, vec3 ns, vec3 ng, vec4 tangent,
                           const std::vector<TextureImage>& textures) {
     if (!map.present() || tangent.w == 0.0f) return ns;
-    return mapped_normal(map, eval_color(map.texture, uv, textures), ns, ng, tangent);
+    return mapped_normal(map, eval_color(map.texture, at, textures), ns, ng, tangent);
 }
 
 }  // namespace svetlo

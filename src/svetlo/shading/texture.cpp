@@ -60,11 +60,10 @@ Color sample_bilinear(const TextureImage& image, vec2 uv, TextureWrap wrap) {
            (1.0f - fx) * fy * image.texel(i0, top - j1) + fx * fy * image.texel(i1, top - j1);
 }
 
-Color eval_color(const ColorSource& source, vec2 uv, const std::vector<TextureImage>& textures) {
-    return eval_color(source, uv, TextureLookup{textures});
-}
+namespace {
 
-Color eval_color(const ColorSource& source, vec2 uv, const TextureLookup& lookup) {
+/// The source's colour at uv with the footprint of `lookup`, before the vertex colour.
+Color colour_at(const ColorSource& source, vec2 uv, const TextureLookup& lookup) {
     const std::vector<TextureImage>& textures = lookup.images;
     switch (source.kind) {
         case ColorSource::Kind::Constant:
@@ -83,7 +82,7 @@ Color eval_color(const ColorSource& source, vec2 uv, const TextureLookup& lookup
                 mapped.duv_dy = linear * lookup.duv_dy;
                 ColorSource plain = source;
                 plain.transformed = false;
-                return eval_color(plain, vec2(source.uv_transform * vec3(uv, 1.0f)), mapped);
+                return colour_at(plain, vec2(source.uv_transform * vec3(uv, 1.0f)), mapped);
             }
             const TextureImage& image = textures[static_cast<size_t>(source.texture)];
             if (source.filter == TextureFilter::Nearest)
@@ -104,6 +103,34 @@ Color eval_color(const ColorSource& source, vec2 uv, const TextureLookup& lookup
         }
     }
     return source.value;
+}
+
+}  // namespace
+
+Color eval_color(const ColorSource& source, const Varyings& at,
+                 const std::vector<TextureImage>& textures) {
+    return eval_color(source, at, TextureLookup{textures});
+}
+
+Color eval_color(const ColorSource& source, const Varyings& at, const TextureLookup& lookup) {
+    Color c;
+    if (source.uv_set == 0) {
+        c = colour_at(source, at.uv[0], lookup);
+    } else {
+        TextureLookup second = lookup;
+        second.duv_dx = lookup.duv1_dx;
+        second.duv_dy = lookup.duv1_dy;
+        c = colour_at(source, at.uv[1], second);
+    }
+    switch (source.vertex_color) {
+        case VertexColor::None:
+            return c;
+        case VertexColor::Rgb:
+            return c * Color(at.color);
+        case VertexColor::Alpha:
+            return c * at.color.a;
+    }
+    return c;
 }
 
 void eval_colors(const ColorSource& source, const vec2* uv, const vec2* duv_dx, const vec2* duv_dy,
@@ -127,7 +154,7 @@ void eval_colors(const ColorSource& source, const vec2* uv, const vec2* duv_dx, 
         TextureLookup at = lookup;
         at.duv_dx = duv_dx[k];
         at.duv_dy = duv_dy[k];
-        out[k] = eval_color(source, uv[k], at);
+        out[k] = colour_at(source, uv[k], at);
     }
 }
 
