@@ -173,6 +173,47 @@ TEST_F(GltfTextures, ATextureOfASetPastTheSecondIsRefusedNamingTheMaterial) {
     EXPECT_EQ(ct.occlusion_strength, 0.25f);
 }
 
+TEST_F(GltfTextures, EXTTextureWebpReadsTheWebpImageInPlaceOfTheFallback) {
+    if (!reads_webp()) GTEST_SKIP() << "this build has no libwebp";
+    // A lossless 2 x 1 WebP (libwebp's WebPEncodeLosslessRGBA): left (255, 0, 0) of alpha 0,
+    // right (0, 128, 255) of alpha 200.
+    const unsigned char webp[38] = {82, 73,  70, 70,  30,  0,  0,  0,  87, 69,  66,  80, 86,
+                                    80, 56,  76, 18,  0,   0,  0,  47, 1,  0,   0,   16, 15,
+                                    48, 128, 49, 255, 131, 28, 56, 42, 16, 209, 255, 0};
+    std::ofstream(dir / "tex.webp", std::ios::binary)
+        .write(reinterpret_cast<const char*>(webp), sizeof webp);
+    write_image(dir / "fallback.png", Image(1, 1, Color(0.5f)), PixelMeaning::Data, 1.0f, "test");
+    const json extra = {
+        {"extensionsUsed", {"EXT_texture_webp"}},
+        {"images", {{{"uri", "fallback.png"}}, {{"uri", "tex.webp"}}}},
+        {"textures", {{{"source", 0}, {"extensions", {{"EXT_texture_webp", {{"source", 1}}}}}}}}};
+    const MeshFile f = read(
+        {{"alphaMode", "MASK"}, {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}},
+        extra);
+    EXPECT_TRUE(f.warnings.empty());
+    const auto& ct = std::get<CookTorranceMaterial>(f.materials[0].model);
+    const Color right = at(ct.base_color, vec2(0.75f, 0.5f), f);
+    EXPECT_NEAR(right.g, 0.2158605f, 1e-4f);  // code 128 in sRGB, not the fallback's grey
+    EXPECT_NEAR(right.b, 1.0f, 1e-6f);
+    EXPECT_EQ(at(f.materials[0].alpha.coverage, vec2(0.25f, 0.5f), f).r, 0.0f);
+    EXPECT_NEAR(at(f.materials[0].alpha.coverage, vec2(0.75f, 0.5f), f).r, 200.0f / 255.0f, 1e-6f);
+    // A .webp named by a scene's texture key reads the same way.
+    const TextureImage t =
+        read_texture(dir / "tex.webp", TexelMeaning::Linear, kMaxTextureBytes, "t");
+    EXPECT_NEAR(t.texel(1, 0).g, 128.0f / 255.0f, 1e-6f);
+    // A truncated one names the image.
+    std::ofstream(dir / "tex.webp", std::ios::binary)
+        .write(reinterpret_cast<const char*>(webp), 20);
+    try {
+        read({{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}, extra);
+        ADD_FAILURE() << "a truncated WebP was read";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("image 1 'tex.webp' does not decode"),
+                  std::string::npos)
+            << e.what();
+    }
+}
+
 TEST_F(GltfTextures, ANetworkUriIsRefusedByName) {
     const json material = {{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}};
     for (const json& extra :

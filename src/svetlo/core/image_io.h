@@ -92,6 +92,13 @@ TextureImage read_texture(const std::filesystem::path& path, TexelMeaning meanin
                           NegativeTexels negative = NegativeTexels::Refuse);
 /// stb's decoded 8-bit texels (`n` channels each) as coverage texels (TexelMeaning::Coverage).
 std::vector<unsigned char> coverage_codes(const unsigned char* data, int n, size_t texels);
+/// An 8-bit image held in memory (PNG, JPEG, BMP, TGA, GIF by stb; WebP by libwebp where the
+/// build has it, reads_webp()) as `meaning` says, its size checked from its header first
+/// (at most `max_bytes` of texels). Throws std::runtime_error saying why it does not decode.
+TextureImage decode_texture(const unsigned char* bytes, size_t size, TexelMeaning meaning,
+                            size_t max_bytes);
+/// Whether this build reads WebP (libwebp, Debian's libwebp-dev).
+bool reads_webp();
 
 /// The most memory one texture's texels may take: a 16384² 8-bit texture (3 bytes a texel)
 /// or an 8192² float one (12 bytes a texel). The rasterizer's mipmaps add a third.

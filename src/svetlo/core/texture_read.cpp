@@ -1,12 +1,15 @@
-// Reading textures: PFM, OpenEXR and stb's 8-bit and HDR formats into TextureImage, each
-// size checked from its header before anything is decoded; colour, data or coverage texels
-// (image_io.h, read_texture). The writing of images and the reading of films and their
-// metadata stay in image_io.cpp.
+// Reading textures: PFM, OpenEXR, stb's 8-bit and HDR formats and WebP (libwebp, where the
+// build has it) into TextureImage, each size checked from its header before anything is
+// decoded; colour, data or coverage texels (image_io.h, read_texture). The writing of images
+// and the reading of films and their metadata stay in image_io.cpp.
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfInputFile.h>
 #include <stb_image.h>
+#ifdef SVETLO_HAS_WEBP
+#include <webp/decode.h>
+#endif
 
 #include <cstdio>
 #include <cstring>
@@ -98,25 +101,103 @@ std::vector<unsigned char> coverage_codes(const unsigned char* data, int n, size
     return codes;
 }
 
+bool reads_webp() {
+#ifdef SVETLO_HAS_WEBP
+    return true;
+#else
+    return false;
+#endif
+}
+
 namespace {
+
+/// Whether the bytes are a WebP file (RIFF, then WEBP).
+bool is_webp(const unsigned char* bytes, size_t size) {
+    return size >= 12 && std::memcmp(bytes, "RIFF", 4) == 0 &&
+           std::memcmp(bytes + 8, "WEBP", 4) == 0;
+}
+
+/// Refuses a header that declares more texels than any compression packs into `size` bytes:
+/// a truncated or forged file, which a decoder would pad to the full size (a 23-byte TGA of
+/// 30463 x 4120 texels took 1.3 s and 740 MB, found by fuzzing). No format read here packs
+/// more than 16384 texels into a byte (deflate's limit is 1032:1, times 8 texels a byte for
+/// 1-bit PNGs).
+void check_texels_per_byte(int w, int h, uintmax_t size) {
+    const auto texels = static_cast<uintmax_t>(w) * static_cast<uintmax_t>(h);
+    if (texels > kMaxTexelsPerByte * size)
+        throw std::runtime_error("declares " + std::to_string(w) + " x " + std::to_string(h) +
+                                 " texels in " + std::to_string(size) +
+                                 " bytes, more than any compression holds: the file is "
+                                 "truncated or damaged");
+}
+
+/// An 8-bit texture's codes: RGB for a colour, coverage_codes for coverage.
+TextureImage texture_of_codes(const unsigned char* data, int w, int h, int n, bool srgb,
+                              bool coverage) {
+    const size_t texels = static_cast<size_t>(w) * static_cast<size_t>(h);
+    if (coverage) return TextureImage(w, h, coverage_codes(data, n, texels), false);
+    return TextureImage(w, h, std::vector<unsigned char>(data, data + 3 * texels), srgb);
+}
+
+#ifdef SVETLO_HAS_WEBP
+TextureImage decode_webp(const unsigned char* bytes, size_t size, bool srgb, size_t max_bytes,
+                         bool coverage) {
+    WebPBitstreamFeatures features;
+    if (WebPGetFeatures(bytes, size, &features) != VP8_STATUS_OK)
+        throw std::runtime_error("not a WebP image libwebp reads");
+    const int w = features.width, h = features.height;
+    check_texture_size(w, h, 3, max_bytes);
+    check_texels_per_byte(w, h, size);
+    const int n = coverage && features.has_alpha ? 4 : 3;
+    int dw = 0, dh = 0;
+    std::unique_ptr<uint8_t, void (*)(void*)> data(
+        n == 4 ? WebPDecodeRGBA(bytes, size, &dw, &dh) : WebPDecodeRGB(bytes, size, &dw, &dh),
+        WebPFree);
+    if (!data || dw != w || dh != h) throw std::runtime_error("the WebP image does not decode");
+    return texture_of_codes(data.get(), w, h, n, srgb, coverage);
+}
+#endif
+
+}  // namespace
+
+TextureImage decode_texture(const unsigned char* bytes, size_t size, TexelMeaning meaning,
+                            size_t max_bytes) {
+    const bool srgb = meaning == TexelMeaning::Srgb, coverage = meaning == TexelMeaning::Coverage;
+    if (is_webp(bytes, size)) {
+#ifdef SVETLO_HAS_WEBP
+        return decode_webp(bytes, size, srgb, max_bytes, coverage);
+#else
+        throw std::runtime_error("a WebP image, and this build of svetlo has no libwebp");
+#endif
+    }
+    const auto length = static_cast<int>(std::min<size_t>(size, INT32_MAX));
+    int w = 0, h = 0, n = 0;
+    if (size == 0 || !stbi_info_from_memory(bytes, length, &w, &h, &n))
+        throw std::runtime_error(size == 0 ? "no data" : stbi_failure_reason());
+    check_texture_size(w, h, 3, max_bytes);
+    check_texels_per_byte(w, h, size);
+    std::unique_ptr<unsigned char, void (*)(void*)> data(
+        stbi_load_from_memory(bytes, length, &w, &h, &n, coverage ? 0 : 3), stbi_image_free);
+    if (!data) throw std::runtime_error(stbi_failure_reason());
+    return texture_of_codes(data.get(), w, h, coverage ? n : 3, srgb, coverage);
+}
+
+namespace {
+
+TextureImage read_webp(const fs::path& path, TexelMeaning meaning, size_t max_bytes) {
+    std::ifstream in(path, std::ios::binary);
+    std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
+                                     std::istreambuf_iterator<char>());
+    if (!in && !in.eof()) throw std::runtime_error("cannot read the file");
+    return decode_texture(bytes.data(), bytes.size(), meaning, max_bytes);
+}
 
 TextureImage read_stb(const fs::path& path, bool srgb, size_t max_bytes, bool coverage) {
     int w = 0, h = 0, n = 0;
     if (!stbi_info(path.c_str(), &w, &h, &n)) throw std::runtime_error(stbi_failure_reason());
     bool hdr = stbi_is_hdr(path.c_str()) != 0;
     check_texture_size(w, h, hdr ? sizeof(Color) : 3, max_bytes);
-    // No format stb reads packs more than 16384 texels into a byte (deflate's limit is 1032:1,
-    // times 8 texels a byte for 1-bit PNGs); a header that declares more is a truncated or
-    // forged file, which stb would pad to the full size: a 23-byte TGA of 30463 x 4120 texels
-    // took 1.3 s and 740 MB (found by fuzzing).
-    auto texels = static_cast<uintmax_t>(w) * static_cast<uintmax_t>(h);
-    uintmax_t file_bytes = fs::file_size(path);
-    if (texels > kMaxTexelsPerByte * file_bytes) {
-        throw std::runtime_error("declares " + std::to_string(w) + " x " + std::to_string(h) +
-                                 " texels in " + std::to_string(file_bytes) +
-                                 " bytes, more than any compression holds: the file is "
-                                 "truncated or damaged");
-    }
+    check_texels_per_byte(w, h, fs::file_size(path));
     if (hdr) {
         std::unique_ptr<float, void (*)(void*)> data(stbi_loadf(path.c_str(), &w, &h, &n, 3),
                                                      stbi_image_free);
@@ -128,12 +209,7 @@ TextureImage read_stb(const fs::path& path, bool srgb, size_t max_bytes, bool co
     std::unique_ptr<unsigned char, void (*)(void*)> data(
         stbi_load(path.c_str(), &w, &h, &n, coverage ? 0 : 3), stbi_image_free);
     if (!data) throw std::runtime_error(stbi_failure_reason());
-    if (coverage)
-        return TextureImage(w, h, coverage_codes(data.get(), n, static_cast<size_t>(texels)),
-                            false);
-    size_t bytes = 3 * static_cast<size_t>(w) * static_cast<size_t>(h);
-    std::vector<unsigned char> codes(data.get(), data.get() + bytes);
-    return TextureImage(w, h, std::move(codes), srgb);
+    return texture_of_codes(data.get(), w, h, coverage ? n : 3, srgb, coverage);
 }
 
 }  // namespace
@@ -152,9 +228,10 @@ TextureImage read_texture(const fs::path& path, TexelMeaning meaning, size_t max
     TextureImage texture;
     try {
         std::string ext = lower_extension(path);
-        texture = ext == ".pfm"   ? read_pfm(path, max_bytes)
-                  : ext == ".exr" ? read_exr(path, max_bytes)
-                                  : read_stb(path, srgb, max_bytes, coverage);
+        texture = ext == ".pfm"    ? read_pfm(path, max_bytes)
+                  : ext == ".exr"  ? read_exr(path, max_bytes)
+                  : ext == ".webp" ? read_webp(path, meaning, max_bytes)
+                                   : read_stb(path, srgb, max_bytes, coverage);
     } catch (const std::exception& e) {
         throw Error(path.string(), where, std::string("cannot read image: ") + e.what());
     }

@@ -145,7 +145,12 @@ public:
         ColorSource s;
         s.kind = ColorSource::Kind::Image;
         s.uv_set = texture_set(tex_coord, what);
-        s.texture = image(t.source, meaning, what);
+        // EXT_texture_webp names the WebP image in place of `source` (a fallback, or none).
+        int source = t.source;
+        if (auto webp = t.extensions.find("EXT_texture_webp");
+            webp != t.extensions.end() && reads_webp() && webp->second.Has("source"))
+            source = webp->second.Get("source").GetNumberAsInt();
+        s.texture = image(source, meaning, what);
         s.factor = factor;
         if (t.sampler >= 0 && static_cast<size_t>(t.sampler) < model_.samplers.size()) {
             const tinygltf::Sampler& sampler = model_.samplers[static_cast<size_t>(t.sampler)];
@@ -213,31 +218,16 @@ private:
         const std::string name =
             "image " + std::to_string(index) +
             (im.uri.empty() || im.uri.rfind("data:", 0) == 0 ? "" : " '" + im.uri + "'");
-        // The encoded bytes (keep_encoded), decoded here by stb to 8-bit RGB: a 16-bit PNG
-        // keeps its high bytes, grey is repeated; or to coverage, its alpha channel. The size
-        // is checked from the header before anything is decoded.
+        // The encoded bytes (keep_encoded), decoded here to 8-bit RGB: a 16-bit PNG keeps its
+        // high bytes, grey is repeated; or to coverage, its alpha channel. The size is checked
+        // from the header before anything is decoded.
         if (names_network(im.uri)) throw std::runtime_error(what + ": " + name + " " + kNetwork);
-        const auto size = static_cast<int>(std::min<size_t>(im.image.size(), INT32_MAX));
-        int w = 0, h = 0, n = 0;
-        if (im.image.empty() || !stbi_info_from_memory(im.image.data(), size, &w, &h, &n))
-            throw std::runtime_error(what + ": " + name + " does not decode: " +
-                                     (im.image.empty() ? "no data" : stbi_failure_reason()));
-        if (3.0 * w * h > static_cast<double>(kMaxTextureBytes))
-            throw std::runtime_error(what + ": " + name + " is " + std::to_string(w) + " x " +
-                                     std::to_string(h) + ", more than a texture's " +
-                                     std::to_string(kMaxTextureBytes >> 20) + " MiB");
-        const bool coverage = meaning == TexelMeaning::Coverage;
-        std::unique_ptr<unsigned char, void (*)(void*)> data(
-            stbi_load_from_memory(im.image.data(), size, &w, &h, &n, coverage ? 0 : 3),
-            stbi_image_free);
-        if (!data)
-            throw std::runtime_error(what + ": " + name +
-                                     " does not decode: " + stbi_failure_reason());
-        const size_t texels = static_cast<size_t>(w) * static_cast<size_t>(h);
-        std::vector<unsigned char> codes =
-            coverage ? coverage_codes(data.get(), n, texels)
-                     : std::vector<unsigned char>(data.get(), data.get() + 3 * texels);
-        file_.textures.emplace_back(w, h, std::move(codes), meaning == TexelMeaning::Srgb);
+        try {
+            file_.textures.push_back(
+                decode_texture(im.image.data(), im.image.size(), meaning, kMaxTextureBytes));
+        } catch (const std::runtime_error& e) {
+            throw std::runtime_error(what + ": " + name + " does not decode: " + e.what());
+        }
         const int made = static_cast<int>(file_.textures.size()) - 1;
         made_[key] = made;
         return made;
@@ -552,17 +542,18 @@ bool read_checked_file(std::vector<unsigned char>* out, std::string* err, const 
     return tinygltf::ReadWholeFile(out, err, path, nullptr);
 }
 
-/// The extensions svetlo reads (docs/scene-format.md, "Mesh files").
-constexpr std::string_view kReadExtensions[] = {"KHR_lights_punctual",
-                                                "KHR_materials_emissive_strength",
-                                                "KHR_mesh_quantization", "KHR_texture_transform"};
+/// The extensions svetlo reads (docs/scene-format.md, "Mesh files"), those of the libraries
+/// a build may lack (libwebp) where it has them.
+bool reads_extension(const std::string& name) {
+    constexpr std::string_view always[] = {"KHR_lights_punctual", "KHR_materials_emissive_strength",
+                                           "KHR_mesh_quantization", "KHR_texture_transform"};
+    if (name == "EXT_texture_webp") return reads_webp();
+    return std::find(std::begin(always), std::end(always), name) != std::end(always);
+}
 
 /// A required extension svetlo does not read refuses the file; an optional one is a warning.
 void check_extensions(const tinygltf::Model& model, MeshFile& file) {
-    const auto read = [](const std::string& name) {
-        return std::find(std::begin(kReadExtensions), std::end(kReadExtensions), name) !=
-               std::end(kReadExtensions);
-    };
+    const auto read = [](const std::string& name) { return reads_extension(name); };
     for (const std::string& name : model.extensionsRequired)
         if (!read(name))
             throw std::runtime_error("extensionsRequired names '" + name +
