@@ -17,6 +17,7 @@
 
 #include "svetlo/core/image_io.h"
 #include "svetlo/core/input_file.h"
+#include "svetlo/scene/gltf_compression.h"
 #include "svetlo/scene/mesh_file.h"
 
 namespace svetlo {
@@ -520,16 +521,30 @@ bool keep_encoded(tinygltf::Image* image, int, std::string*, std::string*, int, 
     return true;
 }
 
+/// What tinygltf's file callbacks know: the folder the files must lie in, and the model file
+/// itself as tinygltf can load it (tinygltf_loadable; empty: the file as it is).
+struct GltfFiles {
+    const FileScope* scope;
+    std::string model;
+    std::vector<unsigned char> loadable;
+};
+
 /// tinygltf's file reading with every file checked first (buffers and images a glTF names),
-/// as svetlo checks every input file, and inside the FileScope that `user_data` points to.
+/// as svetlo checks every input file, and inside the FileScope of the GltfFiles that
+/// `user_data` points to.
 bool read_checked_file(std::vector<unsigned char>* out, std::string* err, const std::string& path,
                        void* user_data) {
+    const auto* files = static_cast<const GltfFiles*>(user_data);
+    if (path == files->model && !files->loadable.empty()) {
+        *out = files->loadable;
+        return true;
+    }
     if (names_network(path)) {
         if (err) *err += "'" + path + "' " + kNetwork + "\n";
         return false;
     }
     try {
-        static_cast<const FileScope*>(user_data)->resolve({}, path);
+        files->scope->resolve({}, path);
     } catch (const std::runtime_error& e) {
         if (err) *err += std::string(e.what()) + "\n";
         return false;
@@ -548,6 +563,7 @@ bool reads_extension(const std::string& name) {
     constexpr std::string_view always[] = {"KHR_lights_punctual", "KHR_materials_emissive_strength",
                                            "KHR_mesh_quantization", "KHR_texture_transform"};
     if (name == "EXT_texture_webp") return reads_webp();
+    if (decodes_compression(name)) return true;
     return std::find(std::begin(always), std::end(always), name) != std::end(always);
 }
 
@@ -574,13 +590,13 @@ bool exists_or_network(const std::string& path, void* user_data) {
 
 MeshFile read_gltf(const std::filesystem::path& path, const FileScope& files) {
     tinygltf::TinyGLTF loader;
+    const bool binary = path.extension() == ".glb" || path.extension() == ".GLB";
+    GltfFiles reading{&files, path.string(), tinygltf_loadable(path, binary)};
     loader.SetFsCallbacks({&exists_or_network, &tinygltf::ExpandFilePath, &read_checked_file,
-                           &tinygltf::WriteWholeFile,
-                           const_cast<void*>(static_cast<const void*>(&files))});
+                           &tinygltf::WriteWholeFile, &reading});
     loader.SetImageLoader(&keep_encoded, nullptr);
     tinygltf::Model model;
     std::string err, warn;
-    bool binary = path.extension() == ".glb" || path.extension() == ".GLB";
     bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path.string())
                      : loader.LoadASCIIFromFile(&model, &err, &warn, path.string());
     if (!ok) {
@@ -592,12 +608,13 @@ MeshFile read_gltf(const std::filesystem::path& path, const FileScope& files) {
     }
     MeshFile file;
     check_extensions(model, file);
+    decompress_geometry(model);
     GltfTextures textures(model, file);
     for (const tinygltf::Material& m : model.materials) {
         file.materials.push_back(material_from_gltf(m, textures));
         file.material_names.push_back(m.name);
     }
-    Flattener flattener{model, file};
+    Flattener flattener{model, file, 0, {}};
     int scene = model.defaultScene >= 0 ? model.defaultScene : 0;
     if (static_cast<size_t>(scene) < model.scenes.size()) {
         for (int node : model.scenes[scene].nodes) flattener.visit(node, mat4(1.0f));
