@@ -56,6 +56,10 @@ Color unlit_point(const Bsdf& bsdf, const ShadingFrame& frame, vec3 wo, Color am
         if (bsdf.model == Bsdf::Model::Mirror)
             L += bsdf.reflect * environment.environment().radiance(reflect(wo, frame.ns));
         if (bsdf.model == Bsdf::Model::Dielectric) L += environment.environment().radiance(-wo);
+        // A Cook-Torrance surface's transmission: what lies behind is the map, unrefracted.
+        if (bsdf.model == Bsdf::Model::CookTorrance && !is_black(bsdf.transmit))
+            L += transmitted_weight(bsdf, glm::dot(frame.ns, wo)) *
+                 environment.environment().radiance(-wo);
         return L;
     }
     // Ideal mirrors and glass see the uniform environment (the background) only: a
@@ -63,6 +67,8 @@ Color unlit_point(const Bsdf& bsdf, const ShadingFrame& frame, vec3 wo, Color am
     // of it, reflected or transmitted.
     if (bsdf.model == Bsdf::Model::Mirror) L += bsdf.reflect * background;
     if (bsdf.model == Bsdf::Model::Dielectric) L += background;
+    if (bsdf.model == Bsdf::Model::CookTorrance && !is_black(bsdf.transmit))
+        L += transmitted_weight(bsdf, glm::dot(frame.ns, wo)) * background;
     return L;
 }
 

@@ -123,6 +123,16 @@ public:
                 }
                 break;
             }
+            case Bsdf::Model::CookTorrance:
+                if (!is_black(bsdf.transmit)) {  // KHR_materials_transmission, smooth
+                    float eta = front ? bsdf.ior : 1.0f / bsdf.ior;
+                    vec3 wt;
+                    const bool tir = !refract(wo, ns, eta, wt);
+                    if (tir) wt = reflect(wo, ns);
+                    L += follow(transmitted_weight(bsdf, glm::dot(ns, wo)), wt,
+                                tir ? "reflect" : "refract", -1.0f);
+                }
+                break;
             default:
                 break;
         }

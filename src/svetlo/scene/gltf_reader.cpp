@@ -278,6 +278,33 @@ Material material_from_gltf(const tinygltf::Material& m, GltfTextures& textures)
         ct.occlusion_strength =
             static_cast<float>(std::clamp(m.occlusionTexture.strength, 0.0, 1.0));
     }
+    // KHR_materials_ior and KHR_materials_transmission (its texture's red channel, linear,
+    // times the factor).
+    if (auto ior = m.extensions.find("KHR_materials_ior");
+        ior != m.extensions.end() && ior->second.Has("ior")) {
+        const double value = ior->second.Get("ior").GetNumberAsDouble();
+        if (!std::isfinite(value))
+            throw std::runtime_error(name + " KHR_materials_ior: not finite");
+        ct.ior = static_cast<float>(std::clamp(value, 1.0, 10.0));
+    }
+    if (auto tr = m.extensions.find("KHR_materials_transmission"); tr != m.extensions.end()) {
+        const tinygltf::Value& t = tr->second;
+        const double factor =
+            t.Has("transmissionFactor") ? t.Get("transmissionFactor").GetNumberAsDouble() : 0.0;
+        if (!(factor >= 0.0 && factor <= 1.0))
+            throw std::runtime_error(name + " transmissionFactor must lie in [0, 1]");
+        ct.transmission = ColorSource::constant(Color(static_cast<float>(factor)));
+        if (t.Has("transmissionTexture") && factor > 0.0) {
+            const tinygltf::Value& ref = t.Get("transmissionTexture");
+            const int index = ref.Has("index") ? ref.Get("index").GetNumberAsInt() : -1;
+            const int set = ref.Has("texCoord") ? ref.Get("texCoord").GetNumberAsInt() : 0;
+            tinygltf::ExtensionMap none;
+            if (ref.Has("extensions") && ref.Get("extensions").Has("KHR_texture_transform"))
+                none["KHR_texture_transform"] = ref.Get("extensions").Get("KHR_texture_transform");
+            ct.transmission = textures.source(index, set, none, Color(static_cast<float>(factor)),
+                                              TexelMeaning::Linear, name + " transmissionTexture");
+        }
+    }
     // Emission on the metallic-roughness surface (the material's `emission`): the factor
     // times the texture (sRGB) when there is one.
     Material out = ct;
@@ -560,8 +587,9 @@ bool read_checked_file(std::vector<unsigned char>* out, std::string* err, const 
 /// The extensions svetlo reads (docs/scene-format.md, "Mesh files"), those of the libraries
 /// a build may lack (libwebp) where it has them.
 bool reads_extension(const std::string& name) {
-    constexpr std::string_view always[] = {"KHR_lights_punctual", "KHR_materials_emissive_strength",
-                                           "KHR_mesh_quantization", "KHR_texture_transform"};
+    constexpr std::string_view always[] = {
+        "KHR_lights_punctual",        "KHR_materials_emissive_strength", "KHR_materials_ior",
+        "KHR_materials_transmission", "KHR_mesh_quantization",           "KHR_texture_transform"};
     if (name == "EXT_texture_webp") return reads_webp();
     if (decodes_compression(name)) return true;
     return std::find(std::begin(always), std::end(always), name) != std::end(always);

@@ -81,7 +81,7 @@ MaterialModel parse_model(const JsonNode& node, Scene& scene) {
     }
     if (type == "cook_torrance") {
         node.expect_object({"type", "base_color", "roughness", "metallic", "metallic_roughness",
-                            "occlusion", "occlusion_strength"});
+                            "occlusion", "occlusion_strength", "ior", "transmission"});
         CookTorranceMaterial m;
         m.base_color = optional_color(node, "base_color", Color(0.8f), scene);
         m.roughness = roughness_like(node, "roughness", 0.5f);
@@ -91,6 +91,9 @@ MaterialModel parse_model(const JsonNode& node, Scene& scene) {
         if (auto n = node.find("occlusion"))  // data too: its red channel read
             m.occlusion = parse_color_source(*n, scene, /*srgb=*/false);
         m.occlusion_strength = roughness_like(node, "occlusion_strength", 1.0f);
+        if (auto n = node.find("ior")) m.ior = static_cast<float>(n->as_in_range(1.0, 10.0));
+        if (auto n = node.find("transmission"))  // a share: linear, its red channel read
+            m.transmission = parse_color_source(*n, scene, /*srgb=*/false);
         return m;
     }
     if (type == "mirror") {

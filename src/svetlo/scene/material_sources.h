@@ -25,7 +25,8 @@ bool any_source(M& m, F&& f) {
                 return f(mat.ka) || f(mat.kd) || f(mat.ks) || f(mat.reflect) || f(mat.transmit) ||
                        f(mat.shininess_map);
             } else if constexpr (std::is_same_v<T, CookTorranceMaterial>) {
-                return f(mat.base_color) || f(mat.metallic_roughness) || f(mat.occlusion);
+                return f(mat.base_color) || f(mat.metallic_roughness) || f(mat.occlusion) ||
+                       f(mat.transmission);
             } else if constexpr (std::is_same_v<T, MirrorMaterial>) {
                 return f(mat.reflectance);
             } else if constexpr (std::is_same_v<T, EmissiveMaterial>) {

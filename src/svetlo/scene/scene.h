@@ -103,6 +103,12 @@ struct CookTorranceMaterial {
     // environment light of the rasterizer and Whitted (1 + strength (r - 1)), nothing else.
     ColorSource occlusion = ColorSource::constant(Color(1.0f));
     float occlusion_strength = 1.0f;
+    // glTF's KHR_materials_ior: the dielectric's index of refraction, which sets its F0,
+    // ((ior - 1) / (ior + 1))^2 (0.04 at 1.5), and the refraction of its transmission.
+    float ior = 1.5f;
+    // KHR_materials_transmission: the share of the dielectric's diffuse part that is
+    // transmitted instead, as ideal refraction through a smooth interface (its red channel).
+    ColorSource transmission = ColorSource::constant(Color(0.0f));
 };
 struct MirrorMaterial {
     ColorSource reflectance = ColorSource::constant(Color(1.0f));

@@ -51,8 +51,15 @@ struct BsdfMaker {
         const Color mr = c(m.metallic_roughness);  // glTF: G roughness, B metallic
         const float metallic = std::clamp(m.metallic * mr.b, 0.0f, 1.0f);
         const float roughness = std::clamp(m.roughness * mr.g, 0.0f, 1.0f);
-        b.diffuse = b.ambient = base * (1.0f - metallic);
-        b.specular = glm::mix(Color(0.04f), base, metallic);
+        // KHR_materials_transmission: the transmitted share t of the dielectric's diffuse part.
+        const float t = m.transmission.varies() || m.transmission.value.r != 0.0f
+                            ? std::clamp(c(m.transmission).r, 0.0f, 1.0f)
+                            : 0.0f;
+        b.diffuse = b.ambient = base * ((1.0f - metallic) * (1.0f - t));
+        b.transmit = base * ((1.0f - metallic) * t);
+        b.ior = m.ior;
+        const float f0 = square((m.ior - 1.0f) / (m.ior + 1.0f));  // 0.04 at ior 1.5
+        b.specular = glm::mix(Color(f0), base, metallic);
         // Below alpha ~ 1e-3 the GGX peak exceeds float range for point lights.
         b.alpha = std::max(square(roughness), 1e-3f);
         if (m.occlusion.varies() || m.occlusion.value.r != 1.0f)
@@ -175,7 +182,7 @@ Color eval_bsdf(const Bsdf& b, vec3 n, vec3 wo, vec3 wi) {
             float d = a2 / (kPi * square(nh * nh * (a2 - 1.0f) + 1.0f));
             float vis = 0.5f / (cos_i * std::sqrt(cos_o * cos_o * (1.0f - a2) + a2) +
                                 cos_o * std::sqrt(cos_i * cos_i * (1.0f - a2) + a2));
-            Color f = b.specular + (Color(1.0f) - b.specular) * std::pow(1.0f - vh, 5.0f);
+            Color f = fresnel_schlick(b.specular, vh);
             return (Color(1.0f) - f) * b.diffuse * kInvPi + f * (d * vis);
         }
         case Bsdf::Model::Mirror:

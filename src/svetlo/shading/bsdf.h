@@ -20,6 +20,7 @@
 // (mirror, glass, phong's `reflect` and `transmit`) by their weights.
 #pragma once
 
+#include <algorithm>
 #include <vector>
 
 #include "svetlo/core/math.h"
@@ -78,6 +79,18 @@ Color eval_bsdf(const Bsdf& bsdf, vec3 n, vec3 wo, vec3 wi);
 inline Color albedo_of(const Bsdf& b) {
     if (b.has_lobes()) return b.diffuse;
     return b.model == Bsdf::Model::Dielectric ? Color(1.0f) : b.reflect;
+}
+
+/// Schlick's Fresnel: F0 + (1 - F0) (1 - cos)^5.
+inline Color fresnel_schlick(Color f0, float cos_theta) {
+    const float m = std::clamp(1.0f - cos_theta, 0.0f, 1.0f);
+    return f0 + (Color(1.0f) - f0) * (m * m * m * m * m);
+}
+
+/// What a Cook-Torrance surface transmits toward wo from behind it (its transmitted part
+/// times what Fresnel leaves, 1 - F at cos_o = n.wo): the weight of its ideal refraction.
+inline Color transmitted_weight(const Bsdf& b, float cos_o) {
+    return b.transmit * (Color(1.0f) - fresnel_schlick(b.specular, cos_o));
 }
 
 /// A direction drawn from a BSDF.

@@ -31,9 +31,10 @@ LobeChoice lobe_choice(const Bsdf& b, float cos_o) {
             break;
         case Bsdf::Model::CookTorrance: {
             // The specular share at this angle (Schlick's Fresnel), against the diffuse.
-            Color f = b.specular + (Color(1.0f) - b.specular) * std::pow(1.0f - cos_o, 5.0f);
+            Color f = fresnel_schlick(b.specular, cos_o);
             c.glossy = luminance(f);
             c.diffuse = luminance((Color(1.0f) - f) * b.diffuse);
+            c.transmit = luminance(transmitted_weight(b, cos_o));
             break;
         }
         case Bsdf::Model::Mirror:
@@ -171,7 +172,8 @@ BsdfSample sample_bsdf(const Bsdf& b, vec3 n, vec3 wo, bool front, vec2 u, float
         vec3 wt;
         // Under total internal reflection the transmitted part reflects (as in Whitted).
         if (!refract(wo, n, eta, wt)) wt = reflect(wo, n);
-        return delta(wt, b.transmit, c.transmit);
+        const bool fresnel = b.model == Bsdf::Model::CookTorrance;
+        return delta(wt, fresnel ? transmitted_weight(b, lo.z) : b.transmit, c.transmit);
     }
     vec3 li;
     if (x < c.diffuse) {

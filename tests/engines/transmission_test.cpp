@@ -1,0 +1,88 @@
+// Transmission on cook_torrance (glTF's KHR_materials_transmission and _ior; docs/real-scenes.md,
+// "Transmission") against closed forms: a clear sheet (base colour 1, metallic 0, smooth)
+// seen head-on before a uniform background B passes (1 - F0) B by refraction, F0 =
+// ((ior - 1) / (ior + 1))^2, in Whitted and the rasterizer (which add no reflection of a
+// uniform background) and B in the path tracer (which adds the reflection, F0 B, as well);
+// without transmission the path tracer sees F0 B. Both windings.
+#include <gtest/gtest.h>
+
+#include "image_means.h"
+#include "render_json.h"
+#include "svetlo/pt/path_tracer.h"
+#include "svetlo/raster/raster_engine.h"
+#include "svetlo/rt/whitted.h"
+#include "svetlo/shading/bsdf.h"
+
+namespace svetlo {
+namespace {
+
+using json = nlohmann::json;
+
+constexpr double kB = 2.0;  // the background's radiance
+
+json sheet(bool front, double transmission, double ior, const char* engine) {
+    json corner = front ? json{-1, -1, 0} : json{-1, 1, 0};
+    json edge_v = front ? json{0, 2, 0} : json{0, -2, 0};
+    return {{"camera", {{"position", {0, 0, 4}}, {"look_at", {0, 0, 0}}, {"fov", 4}}},
+            {"film", {{"width", 8}, {"height", 8}}},
+            {"render", {{"engine", engine}, {"spp", 64}, {"max_depth", 4}, {"background", kB}}},
+            {"materials",
+             {{"clear",
+               {{"type", "cook_torrance"},
+                {"base_color", 1.0},
+                {"metallic", 0.0},
+                {"roughness", 0.0},
+                {"ior", ior},
+                {"transmission", transmission}}}}},
+            {"lights", json::array()},
+            {"objects",
+             {{{"type", "quad"},
+               {"corner", corner},
+               {"edge_u", {2, 0, 0}},
+               {"edge_v", edge_v},
+               {"material", "clear"}}}}};
+}
+
+double f0(double ior) { return std::pow((ior - 1.0) / (ior + 1.0), 2.0); }
+
+TEST(Transmission, TheIorSetsTheDielectricsF0) {
+    CookTorranceMaterial m;
+    m.base_color = ColorSource::constant(Color(1.0f));
+    m.ior = 2.0f;
+    EXPECT_NEAR(make_bsdf(Material(m), vec2(0.0f), {}).specular.g, 1.0f / 9.0f, 1e-6f);
+    m.ior = 1.5f;
+    EXPECT_NEAR(make_bsdf(Material(m), vec2(0.0f), {}).specular.g, 0.04f, 1e-6f);
+    m.transmission = ColorSource::constant(Color(0.25f));
+    const Bsdf b = make_bsdf(Material(m), vec2(0.0f), {});
+    EXPECT_NEAR(b.diffuse.r, 0.75f, 1e-6f);  // the dielectric's diffuse part, less what passes
+    EXPECT_NEAR(b.transmit.r, 0.25f, 1e-6f);
+}
+
+template <class Engine>
+void expect_refracted(const char* engine, double expected_share) {
+    for (bool front : {true, false}) {
+        for (double ior : {1.5, 2.0}) {
+            const RenderResult r = render_json<Engine>(sheet(front, 1.0, ior, engine));
+            // At a field of 4 degrees, cos_o > 0.9994: Schlick's F within 1e-13 of F0.
+            const double expected = kB * (expected_share < 0.0 ? 1.0 : 1.0 - f0(ior));
+            EXPECT_NEAR(mean(r.color, 1), expected, 2e-3 * kB)
+                << engine << (front ? " front" : " back") << ", ior " << ior;
+        }
+    }
+}
+
+TEST(Transmission, WhittedAndTheRasterizerPassWhatFresnelLeaves) {
+    expect_refracted<WhittedRenderer>("whitted", 0.0);
+    expect_refracted<RasterRenderer>("raster", 0.0);
+}
+
+TEST(Transmission, ThePathTracerPassesAndReflectsTheWholeBackground) {
+    expect_refracted<PathRenderer>("path", -1.0);
+    // Without transmission the sheet's black diffuse part reflects nothing: F0 B remains.
+    json opaque = sheet(true, 0.0, 1.5, "path");
+    opaque["materials"]["clear"]["base_color"] = 0.0;
+    EXPECT_NEAR(mean(render_json<PathRenderer>(opaque).color, 1), f0(1.5) * kB, 2e-3 * kB);
+}
+
+}  // namespace
+}  // namespace svetlo
