@@ -3,7 +3,8 @@
 // seen head-on before a uniform background B passes (1 - F0) B by refraction, F0 =
 // ((ior - 1) / (ior + 1))^2, in Whitted and the rasterizer (which add no reflection of a
 // uniform background) and B in the path tracer (which adds the reflection, F0 B, as well);
-// without transmission the path tracer sees F0 B. Both windings.
+// without transmission the path tracer sees F0 B. Both windings. An absorbing inside
+// (KHR_materials_volume) keeps Beer-Lambert's share along the path through it.
 #include <gtest/gtest.h>
 
 #include "image_means.h"
@@ -82,6 +83,37 @@ TEST(Transmission, ThePathTracerPassesAndReflectsTheWholeBackground) {
     json opaque = sheet(true, 0.0, 1.5, "path");
     opaque["materials"]["clear"]["base_color"] = 0.0;
     EXPECT_NEAR(mean(render_json<PathRenderer>(opaque).color, 1), f0(1.5) * kB, 2e-3 * kB);
+}
+
+/// A box of side 1 along the view (z from -1 to 0), of ior 1 (no reflection, no bending),
+/// fully transmitting, whose inside keeps `keep` over `distance`: the background behind it is
+/// seen through 1 unit of it, keep^(1 / distance) of B. Seen from +z, then from -z.
+json absorbing_box(double keep, double distance, bool from_front, const char* engine) {
+    json scene = sheet(true, 1.0, 1.0, engine);
+    scene["materials"]["clear"]["attenuation_color"] = {keep, 1.0, 1.0};
+    scene["materials"]["clear"]["attenuation_distance"] = distance;
+    scene["objects"] = {
+        {{"type", "box"}, {"min", {-1, -1, -1}}, {"max", {1, 1, 0}}, {"material", "clear"}}};
+    if (!from_front) scene["camera"]["position"] = {0, 0, -5};
+    return scene;
+}
+
+template <class Engine>
+void expect_absorbed(const char* engine) {
+    for (bool from_front : {true, false}) {
+        for (double distance : {0.5, 2.0}) {
+            const RenderResult r =
+                render_json<Engine>(absorbing_box(0.25, distance, from_front, engine));
+            EXPECT_NEAR(mean(r.color, 0), kB * std::pow(0.25, 1.0 / distance), 2e-3 * kB)
+                << engine << (from_front ? " from +z" : " from -z") << ", distance " << distance;
+            EXPECT_NEAR(mean(r.color, 1), kB, 2e-3 * kB) << engine << " green is not absorbed";
+        }
+    }
+}
+
+TEST(Transmission, AVolumeAbsorbsAlongThePathInsideIt) {
+    expect_absorbed<PathRenderer>("path");
+    expect_absorbed<WhittedRenderer>("whitted");
 }
 
 }  // namespace

@@ -193,6 +193,7 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, R
     int prev_light_samples = 1;  // the previous vertex's light samples per light with area
     vec3 prev_p(0.0f), prev_ng(0.0f);
     bool after_lobes = false;  // a non-delta vertex lies behind: caustic paths start there
+    Color medium(0.0f);        // the absorption of the object the ray travels inside
     float lambda = 0.0f;       // nm, picked at the first dispersive interface
     int self = -1;             // the log's entry of the ray being followed
     int depth = 0;
@@ -202,6 +203,7 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, R
         const bool met = rt_.intersect(ray, hit);
         if (log)
             self = log_ray(ray, depth, self, met ? hit.t : kInfinity, beta, prev_pdf, prev_delta);
+        beta *= transmittance(medium, met ? hit.t : kInfinity);
         if (!met) {
             if (environment_) {
                 const Environment& env = rt_.environment();
@@ -291,6 +293,7 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, R
         // A reflection that leaves below the geometric surface would leak light through it.
         bool transmission = glm::dot(frame.ns, bs.wi) < 0.0f;
         if (!transmission && glm::dot(frame.ng, bs.wi) <= 0.0f) break;
+        if (transmission) medium = medium_after(bsdf, frame.front);
         beta *= bs.weight;
         if (is_black(beta)) break;
         if (train_ && guided && guided_count_ < kMaxGuidedVertices)

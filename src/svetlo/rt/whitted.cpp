@@ -29,6 +29,7 @@ struct Branch {
     const char* kind = "camera";
     int parent = -1;
     Color to_pixel{1.0f};
+    Color medium{0.0f};  // the absorption of the object the ray travels inside
 };
 
 class Tracer {
@@ -47,6 +48,17 @@ public:
         Hit hit;
         const bool met = rt_.intersect(ray, hit);
         const int self = log ? log_ray(ray, depth, branch, met ? hit.t : kInfinity) : -1;
+        // What the medium the ray crosses leaves of what it meets (Beer-Lambert).
+        const Color kept =
+            transmittance(branch.medium, met ? hit.t * glm::length(ray.d) : kInfinity);
+        if (is_black(kept)) return Color(0.0f);
+        return kept * shade(ray, hit, met, self, depth, weight, rng, aov, branch);
+    }
+
+private:
+    /// What ray `ray` sees at `hit` (or beyond everything, `met` false).
+    Color shade(const Ray& ray, const Hit& hit, bool met, int self, int depth, float weight,
+                Rng& rng, AovSample* aov, const Branch& branch) {
         if (!met) {  // what comes from far away: the environment map or the background
             const Color Le = rt_.environment().radiance(glm::normalize(ray.d));
             if (log) log->rays[self].contribution = branch.to_pixel * Le;
@@ -89,7 +101,10 @@ public:
             float w = weight * max_component(scale);
             if (w < kMinBranchWeight) return Color(0.0f);
             Ray next{offset_ray_origin(sh.p, ng, dir), dir, kInfinity};
-            const Branch next_branch{kind, self, branch.to_pixel * scale};
+            // Through the surface, the ray enters (or leaves) the object's medium.
+            const bool through = glm::dot(dir, ng) < 0.0f;
+            const Branch next_branch{kind, self, branch.to_pixel * scale,
+                                     through ? medium_after(bsdf, front) : branch.medium};
             if (log && fresnel >= 0.0f) log_fresnel_ = fresnel;
             return scale * trace(next, depth + 1, w, rng, nullptr, next_branch);
         };

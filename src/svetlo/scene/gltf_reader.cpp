@@ -305,6 +305,24 @@ Material material_from_gltf(const tinygltf::Material& m, GltfTextures& textures)
                                               TexelMeaning::Linear, name + " transmissionTexture");
         }
     }
+    // KHR_materials_volume: the inside's absorption (its thickness, for rasterizers that
+    // fake the inside, is not needed: the ray tracers trace it).
+    if (auto vol = m.extensions.find("KHR_materials_volume"); vol != m.extensions.end()) {
+        const tinygltf::Value& v = vol->second;
+        if (v.Has("attenuationDistance")) {
+            const double d = v.Get("attenuationDistance").GetNumberAsDouble();
+            if (!(d > 0.0)) throw std::runtime_error(name + " attenuationDistance must be > 0");
+            ct.attenuation_distance = static_cast<float>(std::min(d, 1e30));
+        }
+        if (v.Has("attenuationColor") && v.Get("attenuationColor").ArrayLen() == 3) {
+            const tinygltf::Value& c = v.Get("attenuationColor");
+            ct.attenuation_color =
+                file_color(c.Get(0).GetNumberAsDouble(), c.Get(1).GetNumberAsDouble(),
+                           c.Get(2).GetNumberAsDouble(), name + " attenuationColor");
+            if (max_component(ct.attenuation_color) > 1.0f)
+                throw std::runtime_error(name + " attenuationColor must lie in [0, 1]");
+        }
+    }
     // Emission on the metallic-roughness surface (the material's `emission`): the factor
     // times the texture (sRGB) when there is one.
     Material out = ct;
@@ -588,8 +606,10 @@ bool read_checked_file(std::vector<unsigned char>* out, std::string* err, const 
 /// a build may lack (libwebp) where it has them.
 bool reads_extension(const std::string& name) {
     constexpr std::string_view always[] = {
-        "KHR_lights_punctual",        "KHR_materials_emissive_strength", "KHR_materials_ior",
-        "KHR_materials_transmission", "KHR_mesh_quantization",           "KHR_texture_transform"};
+        "KHR_lights_punctual",  "KHR_materials_emissive_strength",
+        "KHR_materials_ior",    "KHR_materials_transmission",
+        "KHR_materials_volume", "KHR_mesh_quantization",
+        "KHR_texture_transform"};
     if (name == "EXT_texture_webp") return reads_webp();
     if (decodes_compression(name)) return true;
     return std::find(std::begin(always), std::end(always), name) != std::end(always);

@@ -81,7 +81,8 @@ MaterialModel parse_model(const JsonNode& node, Scene& scene) {
     }
     if (type == "cook_torrance") {
         node.expect_object({"type", "base_color", "roughness", "metallic", "metallic_roughness",
-                            "occlusion", "occlusion_strength", "ior", "transmission"});
+                            "occlusion", "occlusion_strength", "ior", "transmission",
+                            "attenuation_color", "attenuation_distance"});
         CookTorranceMaterial m;
         m.base_color = optional_color(node, "base_color", Color(0.8f), scene);
         m.roughness = roughness_like(node, "roughness", 0.5f);
@@ -94,6 +95,11 @@ MaterialModel parse_model(const JsonNode& node, Scene& scene) {
         if (auto n = node.find("ior")) m.ior = static_cast<float>(n->as_in_range(1.0, 10.0));
         if (auto n = node.find("transmission"))  // a share: linear, its red channel read
             m.transmission = parse_color_source(*n, scene, /*srgb=*/false);
+        if (auto n = node.find("attenuation_color")) {
+            m.attenuation_color = n->as_color();
+            if (max_component(m.attenuation_color) > 1.0f) n->fail("must lie in [0, 1]");
+        }
+        if (auto n = node.find("attenuation_distance")) m.attenuation_distance = n->as_positive();
         return m;
     }
     if (type == "mirror") {

@@ -109,6 +109,11 @@ struct CookTorranceMaterial {
     // KHR_materials_transmission: the share of the dielectric's diffuse part that is
     // transmitted instead, as ideal refraction through a smooth interface (its red channel).
     ColorSource transmission = ColorSource::constant(Color(0.0f));
+    // KHR_materials_volume: what the object's inside absorbs, Beer-Lambert: light that
+    // travels `attenuation_distance` (scene units; infinite: nothing absorbed) inside keeps
+    // `attenuation_color` of itself.
+    Color attenuation_color{1.0f};
+    float attenuation_distance = kInfinity;
 };
 struct MirrorMaterial {
     ColorSource reflectance = ColorSource::constant(Color(1.0f));

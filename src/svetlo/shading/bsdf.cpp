@@ -58,6 +58,10 @@ struct BsdfMaker {
         b.diffuse = b.ambient = base * ((1.0f - metallic) * (1.0f - t));
         b.transmit = base * ((1.0f - metallic) * t);
         b.ior = m.ior;
+        if (std::isfinite(m.attenuation_distance))
+            for (int k = 0; k < 3; ++k)
+                b.absorption[k] =
+                    -std::log(std::max(m.attenuation_color[k], 1e-30f)) / m.attenuation_distance;
         const float f0 = square((m.ior - 1.0f) / (m.ior + 1.0f));  // 0.04 at ior 1.5
         b.specular = glm::mix(Color(f0), base, metallic);
         // Below alpha ~ 1e-3 the GGX peak exceeds float range for point lights.

@@ -55,6 +55,9 @@ struct Bsdf {
     // What reaches the point of the ambient and environment light in the rasterizer and
     // Whitted (glTF's occlusion texture); the path tracer finds its own occlusion.
     float occlusion = 1.0f;
+    // The absorption coefficient inside (1/scene unit) for a ray transmitted into the front
+    // side: -ln(attenuation colour) / attenuation distance (Cook-Torrance with a volume).
+    Color absorption{0.0f};
 
     /// True when the BRDF has a non-delta part that direct lighting must evaluate.
     bool has_lobes() const;
@@ -91,6 +94,17 @@ inline Color fresnel_schlick(Color f0, float cos_theta) {
 /// times what Fresnel leaves, 1 - F at cos_o = n.wo): the weight of its ideal refraction.
 inline Color transmitted_weight(const Bsdf& b, float cos_o) {
     return b.transmit * (Color(1.0f) - fresnel_schlick(b.specular, cos_o));
+}
+
+/// The medium a ray enters when it is transmitted through a surface from the side `front`
+/// says: the material's absorption going in through the front, none coming out of the back.
+inline Color medium_after(const Bsdf& b, bool front) { return front ? b.absorption : Color(0.0f); }
+
+/// What a medium of absorption `sigma` (1/scene unit) leaves of light that crosses `distance`
+/// of it (Beer-Lambert); 0 across an infinite distance.
+inline Color transmittance(Color sigma, float distance) {
+    if (is_black(sigma)) return Color(1.0f);
+    return glm::exp(-sigma * distance);
 }
 
 /// A direction drawn from a BSDF.
