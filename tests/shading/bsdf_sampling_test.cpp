@@ -29,6 +29,13 @@ CookTorranceMaterial cook_torrance(float roughness, float metallic, float base =
     return m;
 }
 
+/// m under a clear coat of strength `coat` and roughness `roughness` (KHR_materials_clearcoat).
+CookTorranceMaterial coated(CookTorranceMaterial m, float coat, float roughness) {
+    m.clearcoat = ColorSource::constant(Color(coat));
+    m.clearcoat_roughness = ColorSource::constant(Color(roughness));
+    return m;
+}
+
 OrenNayarMaterial oren_nayar(float sigma, float albedo = 0.8f) {
     OrenNayarMaterial m;
     m.albedo = ColorSource::constant(Color(albedo));
@@ -125,7 +132,9 @@ std::vector<Case> glossy_cases() {
             {"blinn_phong specular only", phong(0.0f, 0.9f, 60.0f, true)},
             {"cook_torrance rough dielectric", cook_torrance(0.7f, 0.0f)},
             {"cook_torrance smooth metal", cook_torrance(0.2f, 1.0f)},
-            {"cook_torrance mid", cook_torrance(0.45f, 0.5f)}};
+            {"cook_torrance mid", cook_torrance(0.45f, 0.5f)},
+            {"cook_torrance coated rough", coated(cook_torrance(0.8f, 0.0f), 1.0f, 0.1f)},
+            {"cook_torrance half coated metal", coated(cook_torrance(0.3f, 1.0f), 0.5f, 0.5f)}};
 }
 
 /// sample_bsdf as chi_square_test draws: the direction, and whether there is one.
@@ -262,7 +271,9 @@ TEST(WhiteFurnace, SampledAlbedoMatchesQuadratureAndEnergyIsConserved) {
         {{"oren_nayar sigma 40", oren_nayar(40.0f, 1.0f)}, true},
         {{"cook_torrance metal r=0.3", cook_torrance(0.3f, 1.0f, 1.0f)}, true},
         {{"cook_torrance metal r=1", cook_torrance(1.0f, 1.0f, 1.0f)}, true},
-        {{"cook_torrance plastic", cook_torrance(0.5f, 0.0f, 1.0f)}, false}};
+        {{"cook_torrance plastic", cook_torrance(0.5f, 0.0f, 1.0f)}, false},
+        {{"cook_torrance coated metal", coated(cook_torrance(0.3f, 1.0f, 1.0f), 1.0f, 0.2f)},
+         false}};
     for (const Furnace& f : cases) {
         Bsdf b = make(f.c.material);
         for (float theta : {0.0f, 45.0f, 80.0f}) {

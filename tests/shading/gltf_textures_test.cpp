@@ -213,6 +213,31 @@ TEST_F(GltfTextures, EXTTextureWebpReadsTheWebpImageInPlaceOfTheFallback) {
     }
 }
 
+TEST_F(GltfTextures, IorTransmissionVolumeAndClearcoatAreRead) {
+    const json ext = {
+        {"KHR_materials_ior", {{"ior", 2.0}}},
+        {"KHR_materials_transmission", {{"transmissionFactor", 0.5}}},
+        {"KHR_materials_volume", {{"attenuationDistance", 2.0}, {"attenuationColor", {0.5, 1, 1}}}},
+        {"KHR_materials_clearcoat",
+         {{"clearcoatFactor", 0.8},
+          {"clearcoatRoughnessFactor", 0.5},
+          {"clearcoatRoughnessTexture", {{"index", 0}}}}}};
+    const MeshFile f =
+        read({{"extensions", ext}, {"pbrMetallicRoughness", {{"metallicFactor", 0}}}},
+             {{"extensionsUsed",
+               {"KHR_materials_ior", "KHR_materials_transmission", "KHR_materials_volume",
+                "KHR_materials_clearcoat"}}});
+    EXPECT_TRUE(f.warnings.empty());
+    const Bsdf b = make_bsdf(f.materials[0], vec2(0.75f, 0.5f), f.textures);
+    EXPECT_NEAR(b.specular.g, 1.0f / 9.0f, 1e-6f);  // ((2 - 1) / (2 + 1))^2
+    EXPECT_NEAR(b.transmit.g, 0.5f, 1e-6f);
+    EXPECT_NEAR(b.absorption.r, std::log(2.0f) / 2.0f, 1e-6f);
+    EXPECT_EQ(b.absorption.g, 0.0f);
+    EXPECT_NEAR(b.coat, 0.8f, 1e-6f);
+    // The roughness texture's green (128/255, linear) times its factor, squared.
+    EXPECT_NEAR(b.coat_alpha, square(0.5f * 128.0f / 255.0f), 1e-6f);
+}
+
 TEST_F(GltfTextures, ANetworkUriIsRefusedByName) {
     const json material = {{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}};
     for (const json& extra :

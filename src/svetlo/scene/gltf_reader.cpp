@@ -169,6 +169,18 @@ public:
         return s;
     }
 
+    /// The same for a texture reference inside an extension (a JSON object with `index`,
+    /// `texCoord` and KHR_texture_transform), linear data.
+    ColorSource source(const tinygltf::Value& ref, Color factor, const std::string& what) {
+        const int index = ref.Has("index") ? ref.Get("index").GetNumberAsInt() : -1;
+        const int set = ref.Has("texCoord") ? ref.Get("texCoord").GetNumberAsInt() : 0;
+        tinygltf::ExtensionMap extensions;
+        if (ref.Has("extensions") && ref.Get("extensions").Has("KHR_texture_transform"))
+            extensions["KHR_texture_transform"] =
+                ref.Get("extensions").Get("KHR_texture_transform");
+        return source(index, set, extensions, factor, TexelMeaning::Linear, what);
+    }
+
 private:
     /// A texCoord as a Varyings set: svetlo reads TEXCOORD_0 and TEXCOORD_1.
     static int texture_set(int tex_coord, const std::string& what) {
@@ -294,16 +306,32 @@ Material material_from_gltf(const tinygltf::Material& m, GltfTextures& textures)
         if (!(factor >= 0.0 && factor <= 1.0))
             throw std::runtime_error(name + " transmissionFactor must lie in [0, 1]");
         ct.transmission = ColorSource::constant(Color(static_cast<float>(factor)));
-        if (t.Has("transmissionTexture") && factor > 0.0) {
-            const tinygltf::Value& ref = t.Get("transmissionTexture");
-            const int index = ref.Has("index") ? ref.Get("index").GetNumberAsInt() : -1;
-            const int set = ref.Has("texCoord") ? ref.Get("texCoord").GetNumberAsInt() : 0;
-            tinygltf::ExtensionMap none;
-            if (ref.Has("extensions") && ref.Get("extensions").Has("KHR_texture_transform"))
-                none["KHR_texture_transform"] = ref.Get("extensions").Get("KHR_texture_transform");
-            ct.transmission = textures.source(index, set, none, Color(static_cast<float>(factor)),
-                                              TexelMeaning::Linear, name + " transmissionTexture");
-        }
+        if (t.Has("transmissionTexture") && factor > 0.0)
+            ct.transmission =
+                textures.source(t.Get("transmissionTexture"), Color(static_cast<float>(factor)),
+                                name + " transmissionTexture");
+    }
+    // KHR_materials_clearcoat: strength (red) and roughness (green), each its factor times
+    // its texture. Its own normal map is not read: the coat takes the surface's normal.
+    if (auto cc = m.extensions.find("KHR_materials_clearcoat"); cc != m.extensions.end()) {
+        const tinygltf::Value& v = cc->second;
+        auto factor = [&](const char* key) {
+            const double f = v.Has(key) ? v.Get(key).GetNumberAsDouble() : 0.0;
+            if (!(f >= 0.0 && f <= 1.0))
+                throw std::runtime_error(name + " " + key + " must lie in [0, 1]");
+            return Color(static_cast<float>(f));
+        };
+        const Color strength = factor("clearcoatFactor"),
+                    roughness = factor("clearcoatRoughnessFactor");
+        ct.clearcoat =
+            v.Has("clearcoatTexture")
+                ? textures.source(v.Get("clearcoatTexture"), strength, name + " clearcoatTexture")
+                : ColorSource::constant(strength);
+        ct.clearcoat_roughness =
+            v.Has("clearcoatRoughnessTexture")
+                ? textures.source(v.Get("clearcoatRoughnessTexture"), roughness,
+                                  name + " clearcoatRoughnessTexture")
+                : ColorSource::constant(roughness);
     }
     // KHR_materials_volume: the inside's absorption (its thickness, for rasterizers that
     // fake the inside, is not needed: the ray tracers trace it).
@@ -606,10 +634,10 @@ bool read_checked_file(std::vector<unsigned char>* out, std::string* err, const 
 /// a build may lack (libwebp) where it has them.
 bool reads_extension(const std::string& name) {
     constexpr std::string_view always[] = {
-        "KHR_lights_punctual",  "KHR_materials_emissive_strength",
-        "KHR_materials_ior",    "KHR_materials_transmission",
-        "KHR_materials_volume", "KHR_mesh_quantization",
-        "KHR_texture_transform"};
+        "KHR_lights_punctual",   "KHR_materials_emissive_strength",
+        "KHR_materials_ior",     "KHR_materials_transmission",
+        "KHR_materials_volume",  "KHR_materials_clearcoat",
+        "KHR_mesh_quantization", "KHR_texture_transform"};
     if (name == "EXT_texture_webp") return reads_webp();
     if (decodes_compression(name)) return true;
     return std::find(std::begin(always), std::end(always), name) != std::end(always);

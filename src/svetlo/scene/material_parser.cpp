@@ -82,7 +82,8 @@ MaterialModel parse_model(const JsonNode& node, Scene& scene) {
     if (type == "cook_torrance") {
         node.expect_object({"type", "base_color", "roughness", "metallic", "metallic_roughness",
                             "occlusion", "occlusion_strength", "ior", "transmission",
-                            "attenuation_color", "attenuation_distance"});
+                            "attenuation_color", "attenuation_distance", "clearcoat",
+                            "clearcoat_roughness"});
         CookTorranceMaterial m;
         m.base_color = optional_color(node, "base_color", Color(0.8f), scene);
         m.roughness = roughness_like(node, "roughness", 0.5f);
@@ -100,6 +101,10 @@ MaterialModel parse_model(const JsonNode& node, Scene& scene) {
             if (max_component(m.attenuation_color) > 1.0f) n->fail("must lie in [0, 1]");
         }
         if (auto n = node.find("attenuation_distance")) m.attenuation_distance = n->as_positive();
+        // The coat's strength (red) and roughness (green): shares, linear unless told.
+        if (auto n = node.find("clearcoat")) m.clearcoat = parse_color_source(*n, scene, false);
+        if (auto n = node.find("clearcoat_roughness"))
+            m.clearcoat_roughness = parse_color_source(*n, scene, false);
         return m;
     }
     if (type == "mirror") {

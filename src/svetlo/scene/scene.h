@@ -114,6 +114,10 @@ struct CookTorranceMaterial {
     // `attenuation_color` of itself.
     Color attenuation_color{1.0f};
     float attenuation_distance = kInfinity;
+    // KHR_materials_clearcoat: a clear varnish over the material, its strength (red channel)
+    // and its perceptual roughness (green channel, GGX alpha = roughness^2), F0 0.04.
+    ColorSource clearcoat = ColorSource::constant(Color(0.0f));
+    ColorSource clearcoat_roughness = ColorSource::constant(Color(0.0f));
 };
 struct MirrorMaterial {
     ColorSource reflectance = ColorSource::constant(Color(1.0f));

@@ -64,6 +64,11 @@ struct BsdfMaker {
                     -std::log(std::max(m.attenuation_color[k], 1e-30f)) / m.attenuation_distance;
         const float f0 = square((m.ior - 1.0f) / (m.ior + 1.0f));  // 0.04 at ior 1.5
         b.specular = glm::mix(Color(f0), base, metallic);
+        if (m.clearcoat.varies() || m.clearcoat.value.r > 0.0f) {
+            b.coat = std::clamp(c(m.clearcoat).r, 0.0f, 1.0f);
+            b.coat_alpha =
+                std::max(square(std::clamp(c(m.clearcoat_roughness).g, 0.0f, 1.0f)), 1e-3f);
+        }
         // Below alpha ~ 1e-3 the GGX peak exceeds float range for point lights.
         b.alpha = std::max(square(roughness), 1e-3f);
         if (m.occlusion.varies() || m.occlusion.value.r != 1.0f)
@@ -140,6 +145,20 @@ Bsdf make_bsdf(const Material& material, const Varyings& at, const TextureLookup
     return b;
 }
 
+namespace {
+
+/// GGX D times the height-correlated Smith visibility, D V (the specular lobe without its
+/// Fresnel), for n.h, n.wi and n.wo.
+float ggx_specular(float nh, float cos_i, float cos_o, float alpha) {
+    const float a2 = alpha * alpha;
+    const float d = a2 / (kPi * square(nh * nh * (a2 - 1.0f) + 1.0f));
+    const float vis = 0.5f / (cos_i * std::sqrt(cos_o * cos_o * (1.0f - a2) + a2) +
+                              cos_o * std::sqrt(cos_i * cos_i * (1.0f - a2) + a2));
+    return d * vis;
+}
+
+}  // namespace
+
 Color eval_bsdf(const Bsdf& b, vec3 n, vec3 wo, vec3 wi) {
     float cos_i = glm::dot(n, wi), cos_o = glm::dot(n, wo);
     if (cos_i <= 0.0f || cos_o <= 0.0f) return Color(0.0f);
@@ -182,12 +201,14 @@ Color eval_bsdf(const Bsdf& b, vec3 n, vec3 wo, vec3 wi) {
             vec3 h = glm::normalize(wi + wo);
             float nh = std::max(0.0f, glm::dot(n, h));
             float vh = std::max(0.0f, glm::dot(wo, h));
-            float a2 = b.alpha * b.alpha;
-            float d = a2 / (kPi * square(nh * nh * (a2 - 1.0f) + 1.0f));
-            float vis = 0.5f / (cos_i * std::sqrt(cos_o * cos_o * (1.0f - a2) + a2) +
-                                cos_o * std::sqrt(cos_i * cos_i * (1.0f - a2) + a2));
             Color f = fresnel_schlick(b.specular, vh);
-            return (Color(1.0f) - f) * b.diffuse * kInvPi + f * (d * vis);
+            const Color base = (Color(1.0f) - f) * b.diffuse * kInvPi +
+                               f * ggx_specular(nh, cos_i, cos_o, b.alpha);
+            if (b.coat <= 0.0f) return base;
+            // The coat (glTF's KHR_materials_clearcoat): the base seen through it, less what
+            // it reflects at the viewer's angle, plus its own GGX lobe of F0 0.04.
+            return base * under_coat(b, cos_o) +
+                   Color(b.coat * coat_fresnel(vh) * ggx_specular(nh, cos_i, cos_o, b.coat_alpha));
         }
         case Bsdf::Model::Mirror:
         case Bsdf::Model::Dielectric:

@@ -58,6 +58,8 @@ struct Bsdf {
     // The absorption coefficient inside (1/scene unit) for a ray transmitted into the front
     // side: -ln(attenuation colour) / attenuation distance (Cook-Torrance with a volume).
     Color absorption{0.0f};
+    // Cook-Torrance's clear coat: its strength and GGX alpha (0: none).
+    float coat = 0.0f, coat_alpha = 0.0f;
 
     /// True when the BRDF has a non-delta part that direct lighting must evaluate.
     bool has_lobes() const;
@@ -90,10 +92,19 @@ inline Color fresnel_schlick(Color f0, float cos_theta) {
     return f0 + (Color(1.0f) - f0) * (m * m * m * m * m);
 }
 
+/// The clear coat's Fresnel reflectance seen at cos_o = n.wo: its F0 is 0.04 (ior 1.5).
+inline float coat_fresnel(float cos_o) { return fresnel_schlick(Color(0.04f), cos_o).r; }
+
+/// What passes a Cook-Torrance surface's clear coat, both ways, seen at cos_o: 1 - coat F_c.
+inline float under_coat(const Bsdf& b, float cos_o) {
+    return b.coat > 0.0f ? 1.0f - b.coat * coat_fresnel(cos_o) : 1.0f;
+}
+
 /// What a Cook-Torrance surface transmits toward wo from behind it (its transmitted part
-/// times what Fresnel leaves, 1 - F at cos_o = n.wo): the weight of its ideal refraction.
+/// times what Fresnel leaves, 1 - F at cos_o = n.wo, under its coat): the weight of its
+/// ideal refraction.
 inline Color transmitted_weight(const Bsdf& b, float cos_o) {
-    return b.transmit * (Color(1.0f) - fresnel_schlick(b.specular, cos_o));
+    return b.transmit * (Color(1.0f) - fresnel_schlick(b.specular, cos_o)) * under_coat(b, cos_o);
 }
 
 /// The medium a ray enters when it is transmitted through a surface from the side `front`

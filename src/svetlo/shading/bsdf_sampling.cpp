@@ -12,6 +12,7 @@ namespace {
 /// transmission, in proportion to their weights' luminance.
 struct LobeChoice {
     float diffuse = 0.0f, glossy = 0.0f, reflect = 0.0f, transmit = 0.0f;
+    float coat = 0.0f;  // Cook-Torrance's clear coat (a second GGX lobe)
 };
 
 LobeChoice lobe_choice(const Bsdf& b, float cos_o) {
@@ -32,9 +33,11 @@ LobeChoice lobe_choice(const Bsdf& b, float cos_o) {
         case Bsdf::Model::CookTorrance: {
             // The specular share at this angle (Schlick's Fresnel), against the diffuse.
             Color f = fresnel_schlick(b.specular, cos_o);
-            c.glossy = luminance(f);
-            c.diffuse = luminance((Color(1.0f) - f) * b.diffuse);
+            const float under = under_coat(b, cos_o);
+            c.glossy = luminance(f) * under;
+            c.diffuse = luminance((Color(1.0f) - f) * b.diffuse) * under;
             c.transmit = luminance(transmitted_weight(b, cos_o));
+            c.coat = b.coat * coat_fresnel(cos_o);
             break;
         }
         case Bsdf::Model::Mirror:
@@ -44,12 +47,13 @@ LobeChoice lobe_choice(const Bsdf& b, float cos_o) {
             c.reflect = 1.0f;  // split by Fresnel in sample_bsdf
             return c;
     }
-    float total = c.diffuse + c.glossy + c.reflect + c.transmit;
+    float total = c.diffuse + c.glossy + c.reflect + c.transmit + c.coat;
     if (!(total > 0.0f)) return LobeChoice{};
     c.diffuse /= total;
     c.glossy /= total;
     c.reflect /= total;
     c.transmit /= total;
+    c.coat /= total;
     return c;
 }
 
@@ -89,6 +93,14 @@ vec3 sample_ggx_visible(vec3 wo, float alpha, vec2 u) {
     return glm::normalize(vec3(alpha * nh.x, alpha * nh.y, std::max(1e-6f, nh.z)));
 }
 
+/// pdf per steradian of GGX's visible normals reflecting wo into wi (local space):
+/// G1(wo) D(h) / (4 cos_o).
+float ggx_reflection_pdf(vec3 wo, vec3 wi, float alpha) {
+    vec3 h = glm::normalize(wo + wi);
+    if (h.z <= 0.0f || glm::dot(wo, h) <= 0.0f) return 0.0f;
+    return ggx_g1(wo.z, alpha) * ggx_d(h.z, alpha) / (4.0f * wo.z);
+}
+
 /// pdf per steradian of the glossy lobe drawing wi (local space, both above the surface).
 float glossy_pdf(const Bsdf& b, vec3 wo, vec3 wi) {
     switch (b.model) {
@@ -99,11 +111,8 @@ float glossy_pdf(const Bsdf& b, vec3 wo, vec3 wi) {
             float oh = glm::dot(wo, h);
             return oh <= 0.0f ? 0.0f : power_cosine_pdf(h.z, b.shininess) / (4.0f * oh);
         }
-        case Bsdf::Model::CookTorrance: {  // visible normals: G1(wo) D(h) / (4 cos_o)
-            vec3 h = glm::normalize(wo + wi);
-            if (h.z <= 0.0f || glm::dot(wo, h) <= 0.0f) return 0.0f;
-            return ggx_g1(wo.z, b.alpha) * ggx_d(h.z, b.alpha) / (4.0f * wo.z);
-        }
+        case Bsdf::Model::CookTorrance:
+            return ggx_reflection_pdf(wo, wi, b.alpha);
         default:
             return 0.0f;
     }
@@ -113,6 +122,7 @@ float glossy_pdf(const Bsdf& b, vec3 wo, vec3 wi) {
 float local_pdf(const Bsdf& b, const LobeChoice& c, vec3 wo, vec3 wi) {
     if (wo.z <= 0.0f || wi.z <= 0.0f) return 0.0f;
     float pdf = c.diffuse * wi.z * kInvPi;
+    if (c.coat > 0.0f) pdf += c.coat * ggx_reflection_pdf(wo, wi, b.coat_alpha);
     return c.glossy > 0.0f ? pdf + c.glossy * glossy_pdf(b, wo, wi) : pdf;
 }
 
@@ -163,11 +173,12 @@ BsdfSample sample_bsdf(const Bsdf& b, vec3 n, vec3 wo, bool front, vec2 u, float
         if (u_lobe >= fr && refract(wo, n, eta, wt)) return delta(wt, Color(1.0f - fr), 1.0f - fr);
         return delta(reflect(wo, n), Color(fr), fr);
     }
-    // The lobes in the order diffuse, glossy, delta reflection, delta transmission.
+    // The lobes in the order diffuse, glossy, delta reflection, delta transmission, coat.
     float x = u_lobe;
     if (x < c.reflect + c.diffuse + c.glossy && x >= c.diffuse + c.glossy)
         return delta(reflect(wo, n), b.reflect, c.reflect);
-    if (x >= c.diffuse + c.glossy + c.reflect && c.transmit > 0.0f) {
+    const float before_coat = c.diffuse + c.glossy + c.reflect + c.transmit;
+    if (x >= c.diffuse + c.glossy + c.reflect && x < before_coat && c.transmit > 0.0f) {
         float eta = front ? b.ior : 1.0f / b.ior;
         vec3 wt;
         // Under total internal reflection the transmitted part reflects (as in Whitted).
@@ -178,6 +189,8 @@ BsdfSample sample_bsdf(const Bsdf& b, vec3 n, vec3 wo, bool front, vec2 u, float
     vec3 li;
     if (x < c.diffuse) {
         li = sample_cosine_hemisphere(u);
+    } else if (x >= before_coat && c.coat > 0.0f) {
+        li = glm::reflect(-lo, sample_ggx_visible(lo, b.coat_alpha, u));
     } else if (c.glossy > 0.0f) {
         if (b.model == Bsdf::Model::CookTorrance) {
             li = glm::reflect(-lo, sample_ggx_visible(lo, b.alpha, u));
