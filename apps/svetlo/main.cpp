@@ -44,7 +44,8 @@ int main(int argc, char** argv) {
     r->add_option("--mse-log", render.mse_log,
                   "Write spp,seconds,mse,relmse after each pass to this CSV file");
     r->add_option("--checkpoint", render.checkpoint,
-                  "Save the passes done to FILE after each, and resume from it (path)");
+                  "Save the path tracer's passes after each (progressive radiosity's solve about "
+                  "once a second) to FILE, and resume from it (docs/cli.md)");
     render.command.assign(argv, argv + argc);
     render.mpi = &mpi;
 

@@ -1,5 +1,5 @@
 // Materials as BRDFs. A Bsdf is a material with its textures evaluated at one surface point:
-// a flat struct (shared with future GPU code) plus free functions. All directions are unit
+// a flat struct of colours and numbers plus free functions. All directions are unit
 // vectors in world space pointing away from the surface; f is in 1/sr.
 //
 //   lambert       f = albedo / pi
