@@ -165,5 +165,54 @@ TEST(Alpha, ABlendCoversItsFractionOfWhatLiesBehind) {
     }
 }
 
+/// A floor of albedo 0.5 under a glowing square of side 2 at height 2, facing down: masked on
+/// its -x half, or (`half`) only its +x half there, unmasked. The camera looks down at the
+/// floor from above the lamp (which it does not see: the floor's view is under it).
+json lamp_scene(bool half, const char* engine) {
+    json lamp = {{"type", "lambert"}, {"albedo", 0.0}, {"emission", 4.0}};
+    json corner = half ? json{0, 2, -1} : json{-1, 2, -1};
+    json edge_u = half ? json{1, 0, 0} : json{2, 0, 0};
+    return {
+        {"camera",
+         {{"position", {0, 1.5, 0}}, {"look_at", {0, 0, 0}}, {"up", {0, 0, -1}}, {"fov", 60}}},
+        {"film", {{"width", 16}, {"height", 16}}},
+        {"render", {{"engine", engine}, {"spp", 256}, {"max_depth", 1}, {"light_samples", 4}}},
+        {"materials",
+         {{"lamp", half ? lamp : masked(lamp)}, {"floor", {{"type", "lambert"}, {"albedo", 0.5}}}}},
+        {"lights", json::array()},
+        {"objects",
+         {{{"type", "quad"},
+           {"corner", corner},
+           {"edge_u", edge_u},
+           {"edge_v", {0, 0, 2}},
+           {"material", "lamp"}},
+          {{"type", "quad"},
+           {"corner", {-4, 0, 4}},
+           {"edge_u", {8, 0, 0}},
+           {"edge_v", {0, 0, -8}},
+           {"material", "floor"}}}}};
+}
+
+TEST(Alpha, AMaskedEmitterLightsWithItsSolidPartAlone) {
+    // The light set samples the whole square; its holes emit nothing (and, weighed by the
+    // power each triangle emits, are rarely drawn): the floor is lit as by the half alone.
+    // (edge_u x edge_v points down: the lamp's front faces the floor.)
+    for (const char* engine : {"path", "whitted"}) {
+        const bool path = std::string(engine) == "path";
+        const RenderResult masked_lamp =
+            path ? render_json<PathRenderer>(lamp_scene(false, engine))
+                 : render_json<WhittedRenderer>(lamp_scene(false, engine));
+        const RenderResult half_lamp = path
+                                           ? render_json<PathRenderer>(lamp_scene(true, engine))
+                                           : render_json<WhittedRenderer>(lamp_scene(true, engine));
+        for (int x0 : {0, 8}) {  // the floor under the hole, then under the solid half
+            const double a = mean(masked_lamp.color, x0, 0, x0 + 8, 16, 0);
+            const double b = mean(half_lamp.color, x0, 0, x0 + 8, 16, 0);
+            EXPECT_GT(b, 0.05) << engine;
+            EXPECT_NEAR(a, b, 0.03 * b) << engine << " columns from " << x0;
+        }
+    }
+}
+
 }  // namespace
 }  // namespace svetlo

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "svetlo/shading/cutouts.h"
+
 namespace svetlo {
 
 float longest_edge(const vec3 p[3]) {
@@ -44,9 +46,14 @@ ElementTree::ElementTree(const TriangleList& list, const std::vector<Material>& 
 
 void ElementTree::set_material(ElementNode& n) const {
     const vec2 b = (n.bary[0] + n.bary[1] + n.bary[2]) / 3.0f;
-    Bsdf bsdf = make_bsdf(materials_[list_.material[n.root]], list_.varyings(n.root, b), textures_);
-    n.reflectance = radiosity_reflectance(bsdf);
-    n.emission = kPi * bsdf.emission;  // black unless the material emits
+    const Material& material = materials_[list_.material[n.root]];
+    const Varyings at = list_.varyings(n.root, b);
+    Bsdf bsdf = make_bsdf(material, at, textures_);
+    // An element at a cutout's hole is not there: it neither reflects nor emits (a blend's
+    // coverage of both).
+    const float cover = mean_cover(material.alpha, at, textures_);
+    n.reflectance = cover * radiosity_reflectance(bsdf);
+    n.emission = cover * kPi * bsdf.emission;  // black unless the material emits
 }
 
 uint32_t ElementTree::split(uint32_t id) {

@@ -23,12 +23,35 @@ float ray_coin(const Ray& ray, uint32_t prim) {
 
 float blend_coin(uint64_t key) { return static_cast<float>(mix64(key) >> 40) * 0x1.0p-24f; }
 
+namespace {
+
+/// The coverage texel (or constant) at `at`: its red channel.
+float coverage_at(const Alpha& alpha, const Varyings& at,
+                  const std::vector<TextureImage>& textures) {
+    return alpha.coverage.varies() ? eval_color(alpha.coverage, at, textures).r
+                                   : alpha.coverage.value.r;
+}
+
+}  // namespace
+
 bool alpha_hole(const Alpha& alpha, const Varyings& at, float coin,
                 const std::vector<TextureImage>& textures) {
     if (!alpha.active()) return false;
-    const float coverage = alpha.coverage.varies() ? eval_color(alpha.coverage, at, textures).r
-                                                   : alpha.coverage.value.r;
+    const float coverage = coverage_at(alpha, at, textures);
     return alpha.mode == AlphaMode::Mask ? coverage < alpha.cutoff : coin >= coverage;
+}
+
+float mean_cover(const Alpha& alpha, const Varyings& at,
+                 const std::vector<TextureImage>& textures) {
+    switch (alpha.mode) {
+        case AlphaMode::Opaque:
+            return 1.0f;
+        case AlphaMode::Mask:
+            return alpha_hole(alpha, at, 0.0f, textures) ? 0.0f : 1.0f;
+        case AlphaMode::Blend:
+            return std::clamp(coverage_at(alpha, at, textures), 0.0f, 1.0f);
+    }
+    return 1.0f;
 }
 
 Cutouts::Cutouts(const Geometry& geometry, const std::vector<Material>& materials,

@@ -21,6 +21,11 @@ namespace svetlo {
 bool alpha_hole(const Alpha& alpha, const Varyings& at, float coin,
                 const std::vector<TextureImage>& textures);
 
+/// The expected share of the surface that is there at `at`, over blend_coin's coins: 1 where
+/// opaque, 0 or 1 for a mask, the coverage for a blend. What a light's emission is weighed by
+/// where the light set samples a point of it (light_set.h).
+float mean_cover(const Alpha& alpha, const Varyings& at, const std::vector<TextureImage>& textures);
+
 /// A uniform number in [0, 1) from `key` (a ray's bits, a sample's place): a blend's coin.
 float blend_coin(uint64_t key);
 

@@ -6,6 +6,7 @@
 #include "svetlo/core/error.h"
 #include "svetlo/geometry/scene_geometry.h"
 #include "svetlo/shading/bsdf.h"
+#include "svetlo/shading/cutouts.h"
 #include "svetlo/shading/lights.h"
 
 namespace svetlo {
@@ -153,7 +154,9 @@ LightSet::LightSet(const Scene& scene) : scene_(scene), materials_(scene.materia
     for (const Material& m : materials_) {
         // What make_bsdf emits: an emissive material's radiance plus any material's emission.
         const auto* e = std::get_if<EmissiveMaterial>(&m.model);
-        const bool textured = (e && e->radiance.varies()) || m.emission.varies();
+        // A cutout emitter too: its holes emit nothing (emission_at).
+        const bool textured =
+            (e && e->radiance.varies()) || m.emission.varies() || m.alpha.active();
         emission_textured_.push_back(textured);
         emission_.push_back(textured ? Color(0.0f)
                                      : (e ? e->radiance.value : Color(0.0f)) + m.emission.value);
@@ -260,8 +263,11 @@ void LightSet::weigh_by_power(Source& s) const {
 
 Color LightSet::emission_at(uint32_t prim, const Varyings& at) const {
     const uint32_t m = geometry_.material(prim);
-    return emission_textured_[m] ? make_bsdf(materials_[m], at, scene_.textures).emission
-                                 : emission_[m];
+    if (!emission_textured_[m]) return emission_[m];
+    const Material& material = materials_[m];
+    const Color emitted = make_bsdf(material, at, scene_.textures).emission;
+    return material.alpha.active() ? emitted * mean_cover(material.alpha, at, scene_.textures)
+                                   : emitted;
 }
 
 float LightSet::facing_weight(const Source& source, vec3 p, float pick, const Face** face) {
