@@ -83,6 +83,33 @@ TEST(Environment, ADiffuseSphereUnderAUniformMapShowsAlbedoTimesL) {
     });
 }
 
+TEST(Environment, TheRastersSplitSumGivesAGlossyMetalThePathTracersRadiance) {
+    // A metal sphere (F0 = base = 1) under a uniform map of 2: every point reflects 2 E(n.v),
+    // E the GGX lobe's directional albedo; the path tracer integrates it (the sphere is
+    // convex: every reflected ray leaves), the rasterizer reads it from its split-sum table.
+    const std::string map = write_map("uniform_metal", 16, 8, [](int, int) { return Color(2.0f); });
+    for (double roughness : {0.2, 0.5, 0.9}) {
+        json j = scene_with(
+            map, "path",
+            {{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1}, {"material", "m"}}},
+            {{"position", {0, 0, 5}}, {"look_at", {0, 0, 0}}, {"fov", 20}});
+        j["materials"]["m"] = {{"type", "cook_torrance"},
+                               {"base_color", 1.0},
+                               {"metallic", 1.0},
+                               {"roughness", roughness}};
+        j["render"]["spp"] = 256;
+        const Image path = render<PathRenderer>(j);
+        j["render"]["engine"] = "raster";
+        const Image raster = render<RasterRenderer>(j);
+        // The centre, seen head-on, and a ring toward the rim.
+        for (const auto& [x0, x1] : {std::pair{10, 14}, std::pair{5, 7}}) {
+            const double p = mean(path, x0, 10, x1, 14), r = mean(raster, x0, 10, x1, 14);
+            EXPECT_GT(p, 0.5) << roughness;  // GGX of roughness 0.9 keeps 0.42 of 2
+            EXPECT_NEAR(r, p, 0.02 * p) << "roughness " << roughness << " columns " << x0;
+        }
+    }
+}
+
 TEST(Environment, ASkyBrightAboveTheHorizonLightsAnUpwardFaceFullyAndAVerticalOneByHalf) {
     const int h = 128;
     const std::string map =

@@ -18,7 +18,8 @@ std::array<float, 9> sh_basis(vec3 d) {
             0.546274f * (d.x * d.x - d.y * d.y)};
 }
 
-ImageBasedLighting::ImageBasedLighting(const Scene& scene) : environment_(scene, false) {
+ImageBasedLighting::ImageBasedLighting(const Scene& scene, int threads)
+    : environment_(scene, false) {
     if (!environment_.is_map()) return;
     // L_lm = integral of L Y_lm over the sphere, texel by texel: a texel of row j spans
     // (2 pi / W)(pi / H) cos(latitude) steradians; its radiance is read at its centre.
@@ -39,6 +40,13 @@ ImageBasedLighting::ImageBasedLighting(const Scene& scene) : environment_(scene,
                         kPi / 4, kPi / 4,     kPi / 4,     kPi / 4};
     for (int k = 0; k < 9; ++k)
         coefficients_[static_cast<size_t>(k)] = Color(sum[static_cast<size_t>(k)]) * a[k];
+    prefiltered_.emplace(environment_, threads);
+    table_.emplace(threads);
+}
+
+Color ImageBasedLighting::glossy(vec3 r, float n_dot_v, float roughness, Color f0) const {
+    const vec2 ab = table_->at(n_dot_v, roughness);
+    return prefiltered_->radiance(r, roughness) * (f0 * ab.x + Color(ab.y));
 }
 
 Color ImageBasedLighting::irradiance(vec3 n) const {

@@ -4,14 +4,17 @@
 //     of orders 0 to 2, E(n) = sum over l, m of A_l L_lm Y_lm(n), with A_0 = pi, A_1 = 2pi/3,
 //     A_2 = pi/4 (Ramamoorthi and Hanrahan 2001, "An efficient representation for irradiance
 //     environment maps"); exact for a uniform map and for a sky bright above the horizon;
+//   - glossy (Cook-Torrance): the split-sum approximation, a prefiltered map times the
+//     BRDF's directional albedo from a table (split_sum.h; Karis 2013);
 //   - mirrors: the map along the mirrored direction; glass: the map straight through;
 //   - the background: the map along each sample's camera ray.
-// Glossy reflection (a prefiltered map and the split-sum table) is not built yet.
 #pragma once
 
 #include <array>
+#include <optional>
 
 #include "svetlo/raster/camera_matrices.h"
+#include "svetlo/raster/split_sum.h"
 #include "svetlo/scene/scene.h"
 #include "svetlo/shading/environment.h"
 
@@ -19,13 +22,18 @@ namespace svetlo {
 
 class ImageBasedLighting {
 public:
-    explicit ImageBasedLighting(const Scene& scene);
+    /// The SH projection, and the prefiltered levels and table made on `threads` threads.
+    explicit ImageBasedLighting(const Scene& scene, int threads = 0);
 
     /// Whether a map is given (else the uniform background, as before).
     bool active() const { return environment_.is_map(); }
     const Environment& environment() const { return environment_; }
     /// The irradiance (W/m^2) on a surface of unit normal n, from the SH coefficients.
     Color irradiance(vec3 n) const;
+    /// The glossy radiance a Cook-Torrance lobe of perceptual `roughness` and Fresnel F0
+    /// `f0` reflects toward the viewer: the prefiltered map about the mirror direction r
+    /// times F0 A + B at n.v (split_sum.h).
+    Color glossy(vec3 r, float n_dot_v, float roughness, Color f0) const;
 
     /// The map seen along the camera ray through the sample at (sx, sy) (pixels times
     /// kSubpixel), for the camera `cam` whose inverse view-projection is `inverse`.
@@ -33,7 +41,9 @@ public:
 
 private:
     Environment environment_;
-    std::array<Color, 9> coefficients_{};  // A_l L_lm, in the order of sh_basis
+    std::array<Color, 9> coefficients_{};                // A_l L_lm, in the order of sh_basis
+    std::optional<PrefilteredEnvironment> prefiltered_;  // with a map
+    std::optional<SplitSumTable> table_;
 };
 
 /// The nine real spherical harmonics of orders 0 to 2 at the unit direction d (y up is

@@ -69,7 +69,7 @@ std::shared_ptr<const TriangleList> tessellate_scene(const Scene& scene, FrameSh
                     "the scene would make " + std::to_string(total) + " triangles (at most " +
                         std::to_string(kMaxTriangles) + "); lower render.tessellation");
     }
-    f.lights.emplace(scene);
+    f.lights.emplace(scene, threads);
     f.materials = f.lights->set.materials();
     const bool split = f.mode == Mode::Gouraud;
     const bool adjacency = scene.render.shadows == ShadowTechnique::Volume;  // silhouettes

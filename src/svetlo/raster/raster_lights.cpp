@@ -23,7 +23,8 @@ struct VplSampling {
 
 }  // namespace
 
-RasterLights::RasterLights(const Scene& scene) : set(scene), environment(scene) {
+RasterLights::RasterLights(const Scene& scene, int threads)
+    : set(scene), environment(scene, threads) {
     const int n = scene.render.area_light_points;
     const int side = static_cast<int>(std::lround(std::sqrt(static_cast<double>(n))));
     for (const LightSet::Source& s : set.sources()) {
@@ -53,6 +54,9 @@ Color unlit_point(const Bsdf& bsdf, const ShadingFrame& frame, vec3 wo, Color am
     if (environment.active()) {  // image-based lighting (image_based_lighting.h)
         if (bsdf.has_lobes())
             L += bsdf.diffuse * kInvPi * bsdf.occlusion * environment.irradiance(frame.ns);
+        if (bsdf.model == Bsdf::Model::CookTorrance)  // the glossy part: split sum
+            L += bsdf.occlusion * environment.glossy(reflect(wo, frame.ns), glm::dot(frame.ns, wo),
+                                                     std::sqrt(bsdf.alpha), bsdf.specular);
         if (bsdf.model == Bsdf::Model::Mirror)
             L += bsdf.reflect * environment.environment().radiance(reflect(wo, frame.ns));
         if (bsdf.model == Bsdf::Model::Dielectric) L += environment.environment().radiance(-wo);

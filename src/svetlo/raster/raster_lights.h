@@ -18,7 +18,8 @@
 namespace svetlo {
 
 struct RasterLights {
-    explicit RasterLights(const Scene& scene);
+    /// `threads` make the environment's prefiltered levels (0: all cores).
+    explicit RasterLights(const Scene& scene, int threads = 0);
 
     LightSet set;
     ImageBasedLighting environment;  // the map, when the scene has one

@@ -53,10 +53,10 @@ public:
 
     /// The world direction that reads the map at (u, v) (rotate applied), unit.
     vec3 direction_of(vec2 uv) const;
-
-private:
+    /// Where the unit direction d reads the map: the inverse of direction_of.
     vec2 uv_of(vec3 d) const;
 
+private:
     const TextureImage* map_ = nullptr;
     Color scale_{1.0f}, uniform_{0.0f};
     float cos_rot_ = 1.0f, sin_rot_ = 0.0f;
