@@ -23,6 +23,35 @@ else()
     message(STATUS "svetlo: MPI not found: one process only")
 endif()
 
+# glTF's compressed geometry is optional: Draco (Debian's libdraco-dev) and meshoptimizer
+# (libmeshoptimizer-dev); a build without one does not read its extension. libdraco carries a
+# tinygltf of its own (its glTF reader's), laid out differently from libtinygltf's: where it
+# came first on a link line, its functions took the place of libtinygltf's and the program
+# freed a pointer it never allocated. So Draco is linked statically (only the objects the
+# decoder needs are taken), after libtinygltf and the libstb it needs: else the linker took
+# libdraco's copy of stb for libtinygltf, and its tinygltf with it.
+find_package(draco CONFIG QUIET)
+find_library(SVETLO_LIBSTB stb)
+find_package(meshoptimizer CONFIG QUIET)
+if(NOT (draco_FOUND AND TARGET draco::draco_static AND SVETLO_LIBSTB))
+    message(STATUS "svetlo: draco not found: KHR_draco_mesh_compression is not read")
+endif()
+if(NOT (meshoptimizer_FOUND AND TARGET meshoptimizer::meshoptimizer))
+    message(STATUS "svetlo: meshoptimizer not found: EXT_meshopt_compression is not read")
+endif()
+# Links `target` with the codecs found, defining SVETLO_HAS_DRACO and SVETLO_HAS_MESHOPT.
+function(svetlo_link_mesh_codecs target)
+    if(draco_FOUND AND TARGET draco::draco_static AND SVETLO_LIBSTB)
+        target_link_libraries(${target} PRIVATE TinyGLTF::TinyGLTF ${SVETLO_LIBSTB}
+                                                draco::draco_static)
+        target_compile_definitions(${target} PRIVATE SVETLO_HAS_DRACO)
+    endif()
+    if(meshoptimizer_FOUND AND TARGET meshoptimizer::meshoptimizer)
+        target_link_libraries(${target} PRIVATE meshoptimizer::meshoptimizer)
+        target_compile_definitions(${target} PRIVATE SVETLO_HAS_MESHOPT)
+    endif()
+endfunction()
+
 # Embree is optional: the comparison backend is built only when it is found.
 find_package(embree 3 CONFIG QUIET)
 if(embree_FOUND)
