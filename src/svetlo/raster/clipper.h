@@ -33,6 +33,14 @@ struct ClipVertex {
     Varyings varyings() const { return {uv, uv1, vertex_color}; }
 };
 
+/// The varyings at the point of barycentric weights b[0..2] (perspective-correct ones for a
+/// sample) of the triangle A, B, C.
+inline Varyings varyings_at(const ClipVertex& A, const ClipVertex& B, const ClipVertex& C,
+                            const float b[3]) {
+    return {b[0] * A.uv + b[1] * B.uv + b[2] * C.uv, b[0] * A.uv1 + b[1] * B.uv1 + b[2] * C.uv1,
+            b[0] * A.vertex_color + b[1] * B.vertex_color + b[2] * C.vertex_color};
+}
+
 /// A convex polygon of at most 3 + 6 vertices (each plane adds at most one).
 struct ClipPolygon {
     std::array<ClipVertex, 9> v;

@@ -108,9 +108,10 @@ namespace {
 SurfaceUv surface_uv(const UvGradients& g, const ClipVertex& A, const ClipVertex& B,
                      const ClipVertex& C, const Weights& w) {
     SurfaceUv r;
-    r.uv = uv_at(A, B, C, w);
-    r.uv1 = w.b[0] * A.uv1 + w.b[1] * B.uv1 + w.b[2] * C.uv1;
-    r.color = w.b[0] * A.vertex_color + w.b[1] * B.vertex_color + w.b[2] * C.vertex_color;
+    const Varyings at = varyings_at(A, B, C, w.b);
+    r.uv = at.uv[0];
+    r.uv1 = at.uv[1];
+    r.color = at.color;
     if (!g.footprint) return r;
     vec2 d[2];
     footprint(g, A, B, C, w, d);

@@ -314,9 +314,7 @@ bool in_alpha_hole(const PassGeometry& f, uint32_t id, const SetupTriangle& t,
     const ClipVertex& B = f.vertex(t.v[1]);
     const ClipVertex& C = f.vertex(t.v[2]);
     const Weights w = perspective_weights(te.weights(sx, sy), A, B, C);
-    const Varyings at(w.b[0] * A.uv + w.b[1] * B.uv + w.b[2] * C.uv,
-                      w.b[0] * A.uv1 + w.b[1] * B.uv1 + w.b[2] * C.uv1,
-                      w.b[0] * A.vertex_color + w.b[1] * B.vertex_color + w.b[2] * C.vertex_color);
+    const Varyings at = varyings_at(A, B, C, w.b);
     const uint64_t key =
         (static_cast<uint64_t>(sy) << 40) ^ (static_cast<uint64_t>(sx) << 20) ^ f.source(id);
     return state.alpha->hole(t.material, at, key);

@@ -108,6 +108,15 @@ private:
             if (log && fresnel >= 0.0f) log_fresnel_ = fresnel;
             return scale * trace(next, depth + 1, w, rng, nullptr, next_branch);
         };
+        // The ideal transmitted part of weight `scale`: refracted at the material's ior; under
+        // total internal reflection it reflects.
+        auto transmit = [&](Color scale) {
+            const float eta = front ? bsdf.ior : 1.0f / bsdf.ior;
+            vec3 wt;
+            const bool tir = !refract(wo, ns, eta, wt);
+            if (tir) wt = reflect(wo, ns);
+            return follow(scale, wt, tir ? "reflect" : "refract", -1.0f);
+        };
         switch (bsdf.model) {
             case Bsdf::Model::Mirror:
                 L += follow(bsdf.reflect, reflect(wo, ns), "reflect", -1.0f);
@@ -128,25 +137,12 @@ private:
             case Bsdf::Model::BlinnPhong: {
                 if (!is_black(bsdf.reflect))
                     L += follow(bsdf.reflect, reflect(wo, ns), "reflect", -1.0f);
-                if (!is_black(bsdf.transmit)) {
-                    float eta = front ? bsdf.ior : 1.0f / bsdf.ior;
-                    vec3 wt;
-                    // Under total internal reflection the transmitted part reflects.
-                    const bool tir = !refract(wo, ns, eta, wt);
-                    if (tir) wt = reflect(wo, ns);
-                    L += follow(bsdf.transmit, wt, tir ? "reflect" : "refract", -1.0f);
-                }
+                if (!is_black(bsdf.transmit)) L += transmit(bsdf.transmit);
                 break;
             }
-            case Bsdf::Model::CookTorrance:
-                if (!is_black(bsdf.transmit)) {  // KHR_materials_transmission, smooth
-                    float eta = front ? bsdf.ior : 1.0f / bsdf.ior;
-                    vec3 wt;
-                    const bool tir = !refract(wo, ns, eta, wt);
-                    if (tir) wt = reflect(wo, ns);
-                    L += follow(transmitted_weight(bsdf, glm::dot(ns, wo)), wt,
-                                tir ? "reflect" : "refract", -1.0f);
-                }
+            case Bsdf::Model::CookTorrance:  // KHR_materials_transmission, smooth
+                if (!is_black(bsdf.transmit))
+                    L += transmit(transmitted_weight(bsdf, glm::dot(ns, wo)));
                 break;
             default:
                 break;

@@ -1,15 +1,13 @@
 // glTF 2.0 (.gltf and .glb) through tinygltf: every triangle primitive of every node of the
-// default scene, with node transforms baked in; metallic-roughness materials mapped to
-// cook_torrance, emission to emissive; KHR_lights_punctual lights (glTF's candela and lux
+// default scene, with node transforms baked in; its materials (gltf_materials.h) and
+// compressed geometry (gltf_compression.h); KHR_lights_punctual lights (glTF's candela and lux
 // are taken as W/sr and W/m^2, since svetlo is radiometric).
-#include <stb_image.h>
 #include <tiny_gltf.h>
 
 #include <algorithm>
 #include <cmath>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
-#include <map>
 #include <memory>
 #include <set>
 #include <stdexcept>
@@ -18,6 +16,7 @@
 #include "svetlo/core/image_io.h"
 #include "svetlo/core/input_file.h"
 #include "svetlo/scene/gltf_compression.h"
+#include "svetlo/scene/gltf_materials.h"
 #include "svetlo/scene/mesh_file.h"
 
 namespace svetlo {
@@ -123,270 +122,6 @@ mat4 node_matrix(const tinygltf::Node& node) {
     return t * r * s;
 }
 
-/// Whether a URI names a resource on a network (a scheme before "://"): svetlo reads local
-/// files and data: URIs only, and makes no request.
-bool names_network(const std::string& uri) { return uri.find("://") != std::string::npos; }
-constexpr const char* kNetwork =
-    "names a network resource (svetlo reads local files and data: URIs only)";
-
-/// glTF's textures as svetlo's: each image decoded once per colour space (sRGB for base
-/// colour and emission, linear for data), each texture reference a ColorSource with the
-/// texture's sampler and KHR_texture_transform.
-class GltfTextures {
-public:
-    GltfTextures(const tinygltf::Model& model, MeshFile& file) : model_(model), file_(file) {}
-
-    /// The ColorSource of a material's texture reference, times `factor`; throws for a
-    /// texture or image that is missing or does not decode.
-    ColorSource source(int texture, int tex_coord, const tinygltf::ExtensionMap& extensions,
-                       Color factor, TexelMeaning meaning, const std::string& what) {
-        if (texture < 0 || static_cast<size_t>(texture) >= model_.textures.size())
-            throw std::runtime_error(what + ": texture " + std::to_string(texture) + " missing");
-        const tinygltf::Texture& t = model_.textures[static_cast<size_t>(texture)];
-        ColorSource s;
-        s.kind = ColorSource::Kind::Image;
-        s.uv_set = texture_set(tex_coord, what);
-        // EXT_texture_webp names the WebP image in place of `source` (a fallback, or none).
-        int source = t.source;
-        if (auto webp = t.extensions.find("EXT_texture_webp");
-            webp != t.extensions.end() && reads_webp() && webp->second.Has("source"))
-            source = webp->second.Get("source").GetNumberAsInt();
-        s.texture = image(source, meaning, what);
-        s.factor = factor;
-        if (t.sampler >= 0 && static_cast<size_t>(t.sampler) < model_.samplers.size()) {
-            const tinygltf::Sampler& sampler = model_.samplers[static_cast<size_t>(t.sampler)];
-            if (sampler.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST)
-                s.filter = TextureFilter::Nearest;
-            // One wrap mode for both axes (svetlo's textures have one): clamp when both clamp,
-            // else repeat (mirrored repeat repeats). BoxTextured's u runs to 6 under mirrored
-            // repeat, with v clamped in [0, 1].
-            if (sampler.wrapS == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE &&
-                sampler.wrapT == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE)
-                s.wrap = TextureWrap::Clamp;
-        }
-        if (auto ext = extensions.find("KHR_texture_transform"); ext != extensions.end())
-            transform(ext->second, s);
-        return s;
-    }
-
-    /// The same for a texture reference inside an extension (a JSON object with `index`,
-    /// `texCoord` and KHR_texture_transform), linear data.
-    ColorSource source(const tinygltf::Value& ref, Color factor, const std::string& what) {
-        const int index = ref.Has("index") ? ref.Get("index").GetNumberAsInt() : -1;
-        const int set = ref.Has("texCoord") ? ref.Get("texCoord").GetNumberAsInt() : 0;
-        tinygltf::ExtensionMap extensions;
-        if (ref.Has("extensions") && ref.Get("extensions").Has("KHR_texture_transform"))
-            extensions["KHR_texture_transform"] =
-                ref.Get("extensions").Get("KHR_texture_transform");
-        return source(index, set, extensions, factor, TexelMeaning::Linear, what);
-    }
-
-private:
-    /// A texCoord as a Varyings set: svetlo reads TEXCOORD_0 and TEXCOORD_1.
-    static int texture_set(int tex_coord, const std::string& what) {
-        if (tex_coord < 0 || tex_coord > 1)
-            throw std::runtime_error(what + ": TEXCOORD_" + std::to_string(tex_coord) +
-                                     " is not read (svetlo reads TEXCOORD_0 and TEXCOORD_1)");
-        return tex_coord;
-    }
-
-    /// KHR_texture_transform: uv' = T R S uv in glTF's texture space (its v runs down), mapped
-    /// into svetlo's (v up) by F = (u, 1 - v) on both sides: M = F T R S F. R maps (u, v) to
-    /// (u cos r + v sin r, -u sin r + v cos r): the sample model TextureTransformTest's arrow
-    /// then points at its green marker (the opposite sign points at the red one).
-    static void transform(const tinygltf::Value& ext, ColorSource& s) {
-        auto number = [&](const char* key, int index, double fallback) {
-            if (!ext.Has(key)) return fallback;
-            const tinygltf::Value& v = ext.Get(key);
-            if (index < 0) return v.GetNumberAsDouble();
-            return v.IsArray() && v.ArrayLen() > static_cast<size_t>(index)
-                       ? v.Get(index).GetNumberAsDouble()
-                       : fallback;
-        };
-        // Its texCoord, when given, replaces the texture reference's.
-        if (ext.Has("texCoord"))
-            s.uv_set = texture_set(ext.Get("texCoord").GetNumberAsInt(), "KHR_texture_transform");
-        const float ox = static_cast<float>(number("offset", 0, 0.0));
-        const float oy = static_cast<float>(number("offset", 1, 0.0));
-        const float r = static_cast<float>(number("rotation", -1, 0.0));
-        const float sx = static_cast<float>(number("scale", 0, 1.0));
-        const float sy = static_cast<float>(number("scale", 1, 1.0));
-        for (float v : {ox, oy, r, sx, sy})
-            if (!std::isfinite(v)) throw std::runtime_error("KHR_texture_transform: not finite");
-        const mat3 t(1, 0, 0, 0, 1, 0, ox, oy, 1);  // column-major, as the extension writes it
-        const mat3 rot(std::cos(r), -std::sin(r), 0, std::sin(r), std::cos(r), 0, 0, 0, 1);
-        const mat3 scale(sx, 0, 0, 0, sy, 0, 0, 0, 1);
-        const mat3 flip(1, 0, 0, 0, -1, 0, 0, 1, 1);
-        s.uv_transform = flip * t * rot * scale * flip;
-        s.transformed = true;
-    }
-
-    /// The index in file_.textures of image `index` decoded as `meaning` says.
-    int image(int index, TexelMeaning meaning, const std::string& what) {
-        if (index < 0 || static_cast<size_t>(index) >= model_.images.size())
-            throw std::runtime_error(what + ": image " + std::to_string(index) + " missing");
-        const auto key = std::make_pair(index, meaning);
-        if (auto known = made_.find(key); known != made_.end()) return known->second;
-        const tinygltf::Image& im = model_.images[static_cast<size_t>(index)];
-        const std::string name =
-            "image " + std::to_string(index) +
-            (im.uri.empty() || im.uri.rfind("data:", 0) == 0 ? "" : " '" + im.uri + "'");
-        // The encoded bytes (keep_encoded), decoded here to 8-bit RGB: a 16-bit PNG keeps its
-        // high bytes, grey is repeated; or to coverage, its alpha channel. The size is checked
-        // from the header before anything is decoded.
-        if (names_network(im.uri)) throw std::runtime_error(what + ": " + name + " " + kNetwork);
-        try {
-            file_.textures.push_back(
-                decode_texture(im.image.data(), im.image.size(), meaning, kMaxTextureBytes));
-        } catch (const std::runtime_error& e) {
-            throw std::runtime_error(what + ": " + name + " does not decode: " + e.what());
-        }
-        const int made = static_cast<int>(file_.textures.size()) - 1;
-        made_[key] = made;
-        return made;
-    }
-
-    const tinygltf::Model& model_;
-    MeshFile& file_;
-    std::map<std::pair<int, TexelMeaning>, int> made_;
-};
-
-Material material_from_gltf(const tinygltf::Material& m, GltfTextures& textures) {
-    const auto& pbr = m.pbrMetallicRoughness;
-    // Every factor checked (file_color): [-1, 2, 1e39] or an emission of 1e39 is refused.
-    const std::string name = "material '" + m.name + "'";
-    Color base(1.0f);
-    if (pbr.baseColorFactor.size() >= 3) {
-        base = file_color(pbr.baseColorFactor[0], pbr.baseColorFactor[1], pbr.baseColorFactor[2],
-                          name + " baseColorFactor");
-    }
-    double strength = 1.0;
-    auto ext = m.extensions.find("KHR_materials_emissive_strength");
-    if (ext != m.extensions.end() && ext->second.Has("emissiveStrength"))
-        strength = ext->second.Get("emissiveStrength").GetNumberAsDouble();
-    Color emission(0.0f);
-    if (m.emissiveFactor.size() == 3) {
-        emission = file_color(strength * m.emissiveFactor[0], strength * m.emissiveFactor[1],
-                              strength * m.emissiveFactor[2],
-                              name + " emissiveFactor times emissiveStrength");
-    }
-    CookTorranceMaterial ct;
-    ct.base_color = ColorSource::constant(base);
-    if (pbr.baseColorTexture.index >= 0)
-        ct.base_color = textures.source(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
-                                        pbr.baseColorTexture.extensions, base, TexelMeaning::Srgb,
-                                        name + " baseColorTexture");
-    ct.roughness = static_cast<float>(std::clamp(pbr.roughnessFactor, 0.0, 1.0));
-    ct.metallic = static_cast<float>(std::clamp(pbr.metallicFactor, 0.0, 1.0));
-    if (pbr.metallicRoughnessTexture.index >= 0)
-        ct.metallic_roughness = textures.source(
-            pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
-            pbr.metallicRoughnessTexture.extensions, Color(1.0f), TexelMeaning::Linear,
-            name + " metallicRoughnessTexture");
-    if (m.occlusionTexture.index >= 0) {
-        ct.occlusion = textures.source(m.occlusionTexture.index, m.occlusionTexture.texCoord,
-                                       m.occlusionTexture.extensions, Color(1.0f),
-                                       TexelMeaning::Linear, name + " occlusionTexture");
-        ct.occlusion_strength =
-            static_cast<float>(std::clamp(m.occlusionTexture.strength, 0.0, 1.0));
-    }
-    // KHR_materials_ior and KHR_materials_transmission (its texture's red channel, linear,
-    // times the factor).
-    if (auto ior = m.extensions.find("KHR_materials_ior");
-        ior != m.extensions.end() && ior->second.Has("ior")) {
-        const double value = ior->second.Get("ior").GetNumberAsDouble();
-        if (!std::isfinite(value))
-            throw std::runtime_error(name + " KHR_materials_ior: not finite");
-        ct.ior = static_cast<float>(std::clamp(value, 1.0, 10.0));
-    }
-    if (auto tr = m.extensions.find("KHR_materials_transmission"); tr != m.extensions.end()) {
-        const tinygltf::Value& t = tr->second;
-        const double factor =
-            t.Has("transmissionFactor") ? t.Get("transmissionFactor").GetNumberAsDouble() : 0.0;
-        if (!(factor >= 0.0 && factor <= 1.0))
-            throw std::runtime_error(name + " transmissionFactor must lie in [0, 1]");
-        ct.transmission = ColorSource::constant(Color(static_cast<float>(factor)));
-        if (t.Has("transmissionTexture") && factor > 0.0)
-            ct.transmission =
-                textures.source(t.Get("transmissionTexture"), Color(static_cast<float>(factor)),
-                                name + " transmissionTexture");
-    }
-    // KHR_materials_clearcoat: strength (red) and roughness (green), each its factor times
-    // its texture. Its own normal map is not read: the coat takes the surface's normal.
-    if (auto cc = m.extensions.find("KHR_materials_clearcoat"); cc != m.extensions.end()) {
-        const tinygltf::Value& v = cc->second;
-        auto factor = [&](const char* key) {
-            const double f = v.Has(key) ? v.Get(key).GetNumberAsDouble() : 0.0;
-            if (!(f >= 0.0 && f <= 1.0))
-                throw std::runtime_error(name + " " + key + " must lie in [0, 1]");
-            return Color(static_cast<float>(f));
-        };
-        const Color strength = factor("clearcoatFactor"),
-                    roughness = factor("clearcoatRoughnessFactor");
-        ct.clearcoat =
-            v.Has("clearcoatTexture")
-                ? textures.source(v.Get("clearcoatTexture"), strength, name + " clearcoatTexture")
-                : ColorSource::constant(strength);
-        ct.clearcoat_roughness =
-            v.Has("clearcoatRoughnessTexture")
-                ? textures.source(v.Get("clearcoatRoughnessTexture"), roughness,
-                                  name + " clearcoatRoughnessTexture")
-                : ColorSource::constant(roughness);
-    }
-    // KHR_materials_volume: the inside's absorption (its thickness, for rasterizers that
-    // fake the inside, is not needed: the ray tracers trace it).
-    if (auto vol = m.extensions.find("KHR_materials_volume"); vol != m.extensions.end()) {
-        const tinygltf::Value& v = vol->second;
-        if (v.Has("attenuationDistance")) {
-            const double d = v.Get("attenuationDistance").GetNumberAsDouble();
-            if (!(d > 0.0)) throw std::runtime_error(name + " attenuationDistance must be > 0");
-            ct.attenuation_distance = static_cast<float>(std::min(d, 1e30));
-        }
-        if (v.Has("attenuationColor") && v.Get("attenuationColor").ArrayLen() == 3) {
-            const tinygltf::Value& c = v.Get("attenuationColor");
-            ct.attenuation_color =
-                file_color(c.Get(0).GetNumberAsDouble(), c.Get(1).GetNumberAsDouble(),
-                           c.Get(2).GetNumberAsDouble(), name + " attenuationColor");
-            if (max_component(ct.attenuation_color) > 1.0f)
-                throw std::runtime_error(name + " attenuationColor must lie in [0, 1]");
-        }
-    }
-    // Emission on the metallic-roughness surface (the material's `emission`): the factor
-    // times the texture (sRGB) when there is one.
-    Material out = ct;
-    if (max_component(emission) > 0.0f) {
-        out.emission = ColorSource::constant(emission);
-        if (m.emissiveTexture.index >= 0)
-            out.emission = textures.source(m.emissiveTexture.index, m.emissiveTexture.texCoord,
-                                           m.emissiveTexture.extensions, emission,
-                                           TexelMeaning::Srgb, name + " emissiveTexture");
-    }
-    if (m.normalTexture.index >= 0) {
-        out.normal_map.texture = textures.source(m.normalTexture.index, m.normalTexture.texCoord,
-                                                 m.normalTexture.extensions, Color(1.0f),
-                                                 TexelMeaning::Linear, name + " normalTexture");
-        out.normal_map.scale = static_cast<float>(m.normalTexture.scale);
-    }
-    // alphaMode: MASK with alphaCutoff, BLEND; coverage the base colour's alpha (its
-    // texture's alpha channel, linear) times the factor's.
-    if (m.alphaMode == "MASK" || m.alphaMode == "BLEND") {
-        out.alpha.mode = m.alphaMode == "MASK" ? AlphaMode::Mask : AlphaMode::Blend;
-        const double a = pbr.baseColorFactor.size() == 4 ? pbr.baseColorFactor[3] : 1.0;
-        if (!(a >= 0.0 && a <= 1.0))
-            throw std::runtime_error(name + " baseColorFactor: alpha must lie in [0, 1]");
-        out.alpha.coverage = ColorSource::constant(Color(static_cast<float>(a)));
-        if (pbr.baseColorTexture.index >= 0)
-            out.alpha.coverage =
-                textures.source(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
-                                pbr.baseColorTexture.extensions, Color(static_cast<float>(a)),
-                                TexelMeaning::Coverage, name + " baseColorTexture");
-        if (!(m.alphaCutoff >= 0.0 && m.alphaCutoff <= 1.0))
-            throw std::runtime_error(name + " alphaCutoff must lie in [0, 1]");
-        out.alpha.cutoff = static_cast<float>(m.alphaCutoff);
-    }
-    return out;
-}
-
 struct Flattener {
     const tinygltf::Model& model;
     MeshFile& file;
@@ -476,6 +211,44 @@ struct Flattener {
         }
     }
 
+    /// Texture coordinate set `name` of `prim` (one per position), empty when it has none;
+    /// glTF's v runs down the image, svetlo's (OpenGL's) up.
+    std::vector<vec2> texture_coordinates(const tinygltf::Primitive& prim, const char* name,
+                                          size_t count) const {
+        std::vector<vec2> out;
+        auto it = prim.attributes.find(name);
+        if (it == prim.attributes.end()) return out;
+        AccessorView uvs(model, it->second, 2);
+        if (uvs.count() != count) throw std::runtime_error(std::string(name) + " count");
+        for (size_t k = 0; k < uvs.count(); ++k)
+            out.emplace_back(uvs.component(k, 0), 1.0 - uvs.component(k, 1));
+        return out;
+    }
+
+    /// COLOR_0 of `prim`, its `count` vertices from `base` on (VEC3 or VEC4; floats, or
+    /// normalised unsigned bytes or shorts; linear, each component in [0, 1]).
+    void add_vertex_colors(const tinygltf::Primitive& prim, size_t count, size_t base) {
+        auto col = prim.attributes.find("COLOR_0");
+        if (col == prim.attributes.end()) return;
+        const int n = AccessorView::components_of(model, col->second) == 4 ? 4 : 3;
+        AccessorView colors(model, col->second, n);
+        if (colors.count() != count) throw std::runtime_error("COLOR_0 count");
+        Mesh& mesh = file.mesh;
+        mesh.colors.resize(base, vec4(1.0f));
+        for (size_t k = 0; k < colors.count(); ++k) {
+            vec4 c(1.0f);
+            for (int i = 0; i < n; ++i) {
+                const double x = colors.component(k, i);
+                if (!std::isfinite(x) || x < 0.0 || x > 1.0)
+                    throw std::runtime_error("COLOR_0 " + std::to_string(k) +
+                                             " lies outside [0, 1]");
+                c[i] = static_cast<float>(x);
+            }
+            mesh.colors.push_back(c);
+        }
+        if (prim.material >= 0) colored_materials.insert(prim.material);
+    }
+
     void add_mesh(int mesh_index, const mat4& world) {
         if (static_cast<size_t>(mesh_index) >= model.meshes.size()) {
             throw std::runtime_error("mesh " + std::to_string(mesh_index) + " missing");
@@ -520,42 +293,17 @@ struct Flattener {
                     mesh.tangents.push_back(transform_tangent(to_world, t));
                 }
             }
-            auto tex = prim.attributes.find("TEXCOORD_0");
-            if (tex != prim.attributes.end()) {
-                AccessorView uvs(model, tex->second, 2);
-                if (uvs.count() != positions.count()) throw std::runtime_error("TEXCOORD_0 count");
+            if (std::vector<vec2> uvs = texture_coordinates(prim, "TEXCOORD_0", positions.count());
+                !uvs.empty()) {
                 mesh.uvs.resize(base);
-                // glTF's v runs down the image; svetlo's (OpenGL's) runs up.
-                for (size_t k = 0; k < uvs.count(); ++k) {
-                    mesh.uvs.emplace_back(uvs.component(k, 0), 1.0 - uvs.component(k, 1));
-                }
+                mesh.uvs.insert(mesh.uvs.end(), uvs.begin(), uvs.end());
             }
-            if (auto tex1 = prim.attributes.find("TEXCOORD_1"); tex1 != prim.attributes.end()) {
-                AccessorView uvs(model, tex1->second, 2);
-                if (uvs.count() != positions.count()) throw std::runtime_error("TEXCOORD_1 count");
+            if (std::vector<vec2> uvs = texture_coordinates(prim, "TEXCOORD_1", positions.count());
+                !uvs.empty()) {
                 fill_second_set(base);
-                for (size_t k = 0; k < uvs.count(); ++k)
-                    mesh.uvs1.emplace_back(uvs.component(k, 0), 1.0 - uvs.component(k, 1));
+                mesh.uvs1.insert(mesh.uvs1.end(), uvs.begin(), uvs.end());
             }
-            if (auto col = prim.attributes.find("COLOR_0"); col != prim.attributes.end()) {
-                // VEC3 or VEC4; floats, or normalised unsigned bytes or shorts; linear.
-                const int n = AccessorView::components_of(model, col->second);
-                AccessorView colors(model, col->second, n == 4 ? 4 : 3);
-                if (colors.count() != positions.count()) throw std::runtime_error("COLOR_0 count");
-                mesh.colors.resize(base, vec4(1.0f));
-                for (size_t k = 0; k < colors.count(); ++k) {
-                    vec4 c(1.0f);
-                    for (int i = 0; i < (n == 4 ? 4 : 3); ++i) {
-                        const double x = colors.component(k, i);
-                        if (!std::isfinite(x) || x < 0.0 || x > 1.0)
-                            throw std::runtime_error("COLOR_0 " + std::to_string(k) +
-                                                     " lies outside [0, 1]");
-                        c[i] = static_cast<float>(x);
-                    }
-                    mesh.colors.push_back(c);
-                }
-                if (prim.material >= 0) colored_materials.insert(prim.material);
-            }
+            add_vertex_colors(prim, positions.count(), base);
             // A primitive without a second set reads its first there; one without colours
             // is white.
             if (!mesh.uvs1.empty()) fill_second_set(mesh.positions.size());
@@ -685,11 +433,7 @@ MeshFile read_gltf(const std::filesystem::path& path, const FileScope& files) {
     MeshFile file;
     check_extensions(model, file);
     decompress_geometry(model);
-    GltfTextures textures(model, file);
-    for (const tinygltf::Material& m : model.materials) {
-        file.materials.push_back(material_from_gltf(m, textures));
-        file.material_names.push_back(m.name);
-    }
+    read_gltf_materials(model, file);
     Flattener flattener{model, file, 0, {}};
     int scene = model.defaultScene >= 0 ? model.defaultScene : 0;
     if (static_cast<size_t>(scene) < model.scenes.size()) {
