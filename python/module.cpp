@@ -22,6 +22,7 @@
 #include "svetlo/geometry/scene_geometry.h"
 #include "svetlo/geometry/tessellate.h"
 #include "svetlo/geometry/triangle_list.h"
+#include "svetlo/scene/instances.h"
 #include "svetlo/shading/light_set.h"
 
 namespace py = pybind11;
@@ -250,8 +251,9 @@ py::bytes png(const FloatArray& a, float exposure) {
 py::tuple triangles(const std::string& text, const std::string& path) {
     const Scene scene = scene_from_json(parse(text, path), path);
     const LightSet lights(scene);
+    const std::vector<Object> copies = instance_copies(scene);
     const TriangleList list =
-        build_triangle_list(object_pointers(scene.objects, lights.area_light_quads()),
+        build_triangle_list(object_pointers(scene.objects, copies, lights.area_light_quads()),
                             tessellation_options(scene.render), 0);
     py::array_t<float> positions({static_cast<py::ssize_t>(list.positions.size()), py::ssize_t{3}});
     std::memcpy(positions.mutable_data(), list.positions.data(),

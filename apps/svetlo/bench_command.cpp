@@ -98,6 +98,7 @@ int run_bench(const BenchArgs& args) {
     Scene scene = load_scene(args.scene, overrides);
     LightSet lights(scene);
     Geometry g = build_geometry(object_pointers(scene.objects, lights.area_light_quads()));
+    place_instances(scene, g);
     std::unique_ptr<Accel> reference = make_accel("bvh", g, threads);
     std::vector<Ray> rays = make_rays(scene, g, *reference, args.rays == "diffuse", threads);
     reference.reset();

@@ -6,6 +6,7 @@
 #include "svetlo/radiosity/patch_mesh.h"
 #include "svetlo/raster/raster_engine.h"
 #include "svetlo/rt/rt_scene.h"
+#include "svetlo/scene/instances.h"
 
 namespace svetlo {
 
@@ -38,8 +39,8 @@ int run_info(const InfoArgs& args) {
         std::fprintf(stderr, "svetlo: warning: %s: %s\n", args.scene.c_str(), w.c_str());
     LightSet lights(scene);
     Geometry g = build_geometry(object_pointers(scene.objects, lights.area_light_quads()));
-    Bounds3 bounds;
-    for (uint32_t id : g.bounded_primitives()) bounds.extend(g.primitive_bounds(id));
+    place_instances(scene, g);
+    const Bounds3 bounds = g.bounds();
     const Camera& c = scene.camera;
     std::printf("scene      %s\n", scene.path.c_str());
     std::printf("camera     %s at (%g, %g, %g) looking at (%g, %g, %g), %s %g\n",
@@ -76,9 +77,13 @@ int run_info(const InfoArgs& args) {
         std::printf("  lights[%zu] %s\n", k, light_name(scene.lights[k]));
     }
     std::printf("textures   %zu\n", scene.textures.size());
-    if (scene.instances > 0)
-        std::printf("instances  %zu, making %zu objects\n", scene.instances,
-                    scene.instanced_objects);
+    if (!scene.instances.empty() || scene.copied_objects > 0) {
+        // Placed: traced without copies by the ray tracers; copied: written into the objects.
+        std::printf("instances  %zu placed, of %zu prototypes, standing for %llu triangles",
+                    scene.instances.size(), scene.prototypes.size(),
+                    static_cast<unsigned long long>(instanced_triangles(scene)));
+        std::printf(" (+ %zu objects written out as copies)\n", scene.copied_objects);
+    }
     if (!scene.extensions.empty()) {
         std::string names;
         for (const std::string& e : scene.extensions) names += (names.empty() ? "" : ", ") + e;

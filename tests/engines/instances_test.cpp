@@ -65,34 +65,51 @@ json forest(const char* engine, bool instanced) {
     return j;
 }
 
+/// The rasterizer and radiosity draw instances as copies: bit for bit the objects written
+/// out. The ray tracers trace each instance in its prototype's space, where the ray's origin
+/// and the hit point round differently by an ulp: a ray that grazes an edge may pass on the
+/// other side, so `edge_pixels` pixels in a hundred may differ, and the image's sum by no more
+/// than they can make.
 template <class Engine>
-void expect_same_as_written_out(const char* engine) {
+void expect_same_as_written_out(const char* engine, size_t edge_pixels) {
     const RenderResult a = render_json<Engine>(forest(engine, true));
     const RenderResult b = render_json<Engine>(forest(engine, false));
     ASSERT_EQ(a.color.pixels.size(), b.color.pixels.size());
     size_t differ = 0;
-    for (size_t k = 0; k < a.color.pixels.size(); ++k)
+    double sum_a = 0.0, sum_b = 0.0;
+    for (size_t k = 0; k < a.color.pixels.size(); ++k) {
         differ += a.color.pixels[k] != b.color.pixels[k];
-    EXPECT_EQ(differ, 0u) << engine;
-    double sum = 0.0;
-    for (const Color& c : a.color.pixels) sum += c.r;
-    EXPECT_GT(sum, 0.0) << engine;  // the trees are there
+        sum_a += a.color.pixels[k].r;
+        sum_b += b.color.pixels[k].r;
+    }
+    EXPECT_LE(differ * 100, edge_pixels * a.color.pixels.size()) << engine;
+    EXPECT_NEAR(sum_a, sum_b, edge_pixels == 0 ? 0.0 : 0.01 * sum_b) << engine;
+    EXPECT_GT(sum_a, 0.0) << engine;  // the trees are there
 }
 
 TEST(Instances, RenderAsTheirObjectsWrittenOutInEveryEngine) {
-    expect_same_as_written_out<RasterRenderer>("raster");
-    expect_same_as_written_out<WhittedRenderer>("whitted");
-    expect_same_as_written_out<PathRenderer>("path");
-    expect_same_as_written_out<RadiosityRenderer>("radiosity");
+    expect_same_as_written_out<RasterRenderer>("raster", 0);
+    expect_same_as_written_out<RadiosityRenderer>("radiosity", 0);
+    expect_same_as_written_out<WhittedRenderer>("whitted", 1);
+    expect_same_as_written_out<PathRenderer>("path", 1);
 }
 
-TEST(Instances, TheSceneCountsThemAndTheObjectsTheyMake) {
+TEST(Instances, PlaceTheirPrototypesWithoutCopies) {
     const Scene s = scene_from_json(forest("path", true), "s.json");
-    // Three placed in objects, one in the grove prototype (parsed once): the grove's two
-    // objects made once, then each instance's copies, 2 + 2 + 2 + 2.
-    EXPECT_EQ(s.instances, 4u);
-    EXPECT_EQ(s.instanced_objects, 8u);
-    EXPECT_EQ(s.objects.size(), 6u);
+    // The tree twice, and the grove's tree: three placements of the one prototype that has
+    // objects of its own (the grove has none), and no object written out.
+    ASSERT_EQ(s.prototypes.size(), 1u);
+    EXPECT_EQ(s.prototypes[0].name, "tree");
+    EXPECT_EQ(s.prototypes[0].objects.size(), 2u);
+    ASSERT_EQ(s.instances.size(), 3u);
+    EXPECT_TRUE(s.objects.empty());
+    EXPECT_EQ(s.copied_objects, 0u);
+    // The grove's tree: the grove's transform after the tree's place in it.
+    EXPECT_EQ(s.instances[2].name, "objects[2]");
+    EXPECT_EQ(vec3(s.instances[2].transform.matrix[3]), vec3(2.0f, -1.0f, 0.0f));
+    ASSERT_GE(s.instances[1].material, 0);
+    EXPECT_EQ(s.material_names[static_cast<size_t>(s.instances[1].material)], "grey");
+    EXPECT_EQ(s.instances[0].material, -1);
 }
 
 std::string error_of(const json& j) {

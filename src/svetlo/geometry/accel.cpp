@@ -5,6 +5,7 @@
 #include "svetlo/geometry/bvh.h"
 #include "svetlo/geometry/embree_accel.h"
 #include "svetlo/geometry/grid.h"
+#include "svetlo/geometry/instanced_accel.h"
 #include "svetlo/geometry/octree.h"
 #include "svetlo/geometry/wide_bvh.h"
 
@@ -76,7 +77,8 @@ std::string accel_description(std::string_view name) {
 
 std::unique_ptr<Accel> make_accel(std::string_view name, const Geometry& geometry, int threads) {
     const AccelEntry* e = find_accel(name);
-    return e ? e->make(geometry, threads) : nullptr;
+    if (!e) return nullptr;
+    return make_instanced_accel(geometry, [&](const Geometry& g) { return e->make(g, threads); });
 }
 
 bool BruteForce::intersect(const Ray& ray, Hit& hit) const {

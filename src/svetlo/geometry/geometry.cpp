@@ -41,6 +41,23 @@ Bounds3 Geometry::primitive_bounds(uint32_t id) const {
 }
 
 SurfaceHit Geometry::surface(const Ray& ray, const Hit& hit) const {
+    if (hit.instance != Hit::kNone) {
+        const Placement& place = placements[hit.instance];
+        const Geometry& prototype = *prototypes[place.prototype];
+        Hit local = hit;
+        local.instance = Hit::kNone;
+        SurfaceHit s = prototype.surface(place.to_prototype_ray(ray), local);
+        s.p = place.to_world.point(s.p);
+        // A triangle's geometric normal is its counter-clockwise side, in the world as in the
+        // prototype: a mirroring placement turns it (a shape's stays outside).
+        const bool turn = place.mirrors && prototype.is_triangle(hit.prim);
+        s.ng = glm::normalize(place.normal_to_world * s.ng) * (turn ? -1.0f : 1.0f);
+        s.ns = glm::normalize(place.normal_to_world * s.ns);
+        if (glm::dot(s.ns, s.ng) < 0.0f) s.ns = -s.ns;
+        s.tangent = orthogonal_tangent(transform_tangent(place.to_world, s.tangent), s.ns);
+        if (place.material >= 0) s.material = static_cast<uint32_t>(place.material);
+        return s;
+    }
     SurfaceHit s;
     s.material = material(hit.prim);
     if (!is_triangle(hit.prim)) {
@@ -80,8 +97,18 @@ SurfaceHit Geometry::surface(const Ray& ray, const Hit& hit) const {
     return s;
 }
 
+Bounds3 Geometry::bounds() const {
+    Bounds3 b;
+    for (uint32_t id : bounded_primitives()) b.extend(primitive_bounds(id));
+    for (const Placement& p : placements) b.extend(p.bounds);
+    return b;
+}
+
 size_t Geometry::memory_bytes() const {
-    return positions.size() * sizeof(vec3) + normals.size() * sizeof(vec3) +
+    size_t placed = placements.size() * sizeof(Placement) +
+                    prototypes.size() * sizeof(std::shared_ptr<const Geometry>);
+    for (const auto& p : prototypes) placed += p->memory_bytes();
+    return placed + positions.size() * sizeof(vec3) + normals.size() * sizeof(vec3) +
            (uvs.size() + uvs1.size()) * sizeof(vec2) +
            (tangents.size() + colors.size()) * sizeof(vec4) + indices.size() * sizeof(uint32_t) +
            triangle_material.size() * sizeof(uint32_t) + shapes.size() * sizeof(AnalyticShape);

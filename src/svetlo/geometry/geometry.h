@@ -1,9 +1,12 @@
 // Everything a ray can hit, in world space: the triangles of all meshes (transforms baked
 // in) and the analytic shapes. Primitive ids: [0, T) are triangles, [T, T + S) shapes.
 // Acceleration structures index the bounded primitives; infinite planes are tested apart.
+// Instances are the one exception to "world space": a prototype's geometry, in its own space,
+// placed by a transform (Placement; a hit on one names it in Hit::instance).
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "svetlo/geometry/shapes.h"
@@ -50,6 +53,24 @@ struct PrimitiveRange {
     uint32_t first = 0, end = 0;
 };
 
+/// A prototype's geometry placed once (docs/real-scenes.md, "Instances"). A ray meets it in
+/// the prototype's space: the ray is carried there by the inverse transform, with the same t
+/// (the map is affine and t is measured in units of |d|), and the surface found is carried
+/// back.
+struct Placement {
+    uint32_t prototype = 0;  // index into Geometry::prototypes
+    Transform to_world;      // the prototype's space to the world
+    mat4 to_prototype{1.0f};
+    mat3 normal_to_world{1.0f};  // inverse transpose of to_world's linear part
+    bool mirrors = false;        // to_world turns a triangle's winding
+    int material = -1;           // replaces the prototype's materials when >= 0
+    Bounds3 bounds;              // of the placed prototype, in the world
+
+    Ray to_prototype_ray(const Ray& r) const {
+        return {vec3(to_prototype * vec4(r.o, 1.0f)), mat3(to_prototype) * r.d, r.tmax};
+    }
+};
+
 class Geometry {
 public:
     // Triangles: three indices each into the vertex arrays.
@@ -62,6 +83,10 @@ public:
     std::vector<uint32_t> indices;
     std::vector<uint32_t> triangle_material;
     std::vector<AnalyticShape> shapes;
+    // Instances: the prototypes' geometries (each in its own space, with no placements of its
+    // own) and where they are placed. The primitives above are the world's own.
+    std::vector<std::shared_ptr<const Geometry>> prototypes;
+    std::vector<Placement> placements;
 
     uint32_t triangle_count() const { return static_cast<uint32_t>(triangle_material.size()); }
     uint32_t primitive_count() const {
@@ -72,6 +97,18 @@ public:
     /// The material of a primitive; a CSG shape's leaves may differ (SurfaceHit has the one hit).
     uint32_t material(uint32_t id) const {
         return is_triangle(id) ? triangle_material[id] : shape(id).material;
+    }
+    /// The same for the primitive of a hit, in the world or in an instance.
+    bool is_triangle(const Hit& hit) const {
+        return hit.instance == Hit::kNone
+                   ? is_triangle(hit.prim)
+                   : prototypes[placements[hit.instance].prototype]->is_triangle(hit.prim);
+    }
+    uint32_t material(const Hit& hit) const {
+        if (hit.instance == Hit::kNone) return material(hit.prim);
+        const Placement& p = placements[hit.instance];
+        return p.material >= 0 ? static_cast<uint32_t>(p.material)
+                               : prototypes[p.prototype]->material(hit.prim);
     }
 
     /// Ids of the primitives with finite bounds (what acceleration structures hold), and of
@@ -98,6 +135,7 @@ public:
             hit.v = b2;
             hit.part = 0;
             hit.sub = 0;
+            hit.instance = Hit::kNone;
             return true;
         }
         ShapeHit sh;
@@ -108,6 +146,7 @@ public:
         hit.v = sh.v;
         hit.part = sh.part;
         hit.sub = sh.sub;
+        hit.instance = Hit::kNone;
         return true;
     }
 
@@ -129,9 +168,14 @@ public:
         return false;
     }
 
+    /// The surface at a hit, in the world (a hit in an instance carried out of its prototype's
+    /// space, its material the placement's where it replaces the prototype's).
     SurfaceHit surface(const Ray& ray, const Hit& hit) const;
 
-    /// Bytes held by the triangle and shape arrays.
+    /// The bounds of the bounded primitives and of the placements.
+    Bounds3 bounds() const;
+
+    /// Bytes held by the triangle and shape arrays, the placements and the prototypes.
     size_t memory_bytes() const;
 };
 

@@ -21,6 +21,10 @@ struct Hit {
     float u = 0.0f, v = 0.0f;  // barycentrics of vertices 1 and 2 for triangles
     int part = 0;              // which face or surface of an analytic shape
     uint32_t sub = 0;          // the leaf of a CSG shape (see ShapeHit)
+    // The placement (Geometry::placements) whose prototype `prim` belongs to; kNone for the
+    // world's own primitives.
+    uint32_t instance = kNone;
+    static constexpr uint32_t kNone = ~0u;
     bool valid() const { return prim != ~0u; }
 };
 

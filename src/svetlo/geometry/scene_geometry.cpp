@@ -75,12 +75,53 @@ Geometry build_geometry(const std::vector<const Object*>& objects,
     return g;
 }
 
+void place_instances(const Scene& scene, Geometry& g) {
+    std::vector<int> built(scene.prototypes.size(), -1);  // index in g.prototypes
+    std::vector<Bounds3> bounds;                          // per built prototype, its own space
+    for (const Instance& instance : scene.instances) {
+        int& index = built[instance.prototype];
+        if (index < 0) {
+            auto prototype = std::make_shared<Geometry>(
+                build_geometry(object_pointers(scene.prototypes[instance.prototype].objects)));
+            bounds.push_back(prototype->bounds());
+            index = static_cast<int>(g.prototypes.size());
+            g.prototypes.push_back(std::move(prototype));
+        }
+        Placement p;
+        p.prototype = static_cast<uint32_t>(index);
+        p.to_world = instance.transform;
+        p.to_prototype = glm::inverse(instance.transform.matrix);
+        p.normal_to_world = normal_matrix(instance.transform.matrix);
+        p.mirrors = glm::determinant(mat3(instance.transform.matrix)) < 0.0f;
+        p.material = instance.material;
+        // The corners of the prototype's box carried out, then widened by a few ulps of the
+        // box's size: a point the local ray meets lies inside it despite the rounding of both
+        // transforms.
+        const Bounds3& b = bounds[static_cast<size_t>(index)];
+        if (!b.empty()) {
+            for (int c = 0; c < 8; ++c) {
+                const vec3 corner((c & 1) ? b.max.x : b.min.x, (c & 2) ? b.max.y : b.min.y,
+                                  (c & 4) ? b.max.z : b.min.z);
+                p.bounds.extend(instance.transform.point(corner));
+            }
+            const vec3 pad =
+                1e-5f * (glm::abs(p.bounds.min) + glm::abs(p.bounds.max) + p.bounds.extent()) +
+                vec3(1e-30f);
+            p.bounds.min -= pad;
+            p.bounds.max += pad;
+        }
+        g.placements.push_back(p);
+    }
+}
+
 std::vector<const Object*> object_pointers(const std::vector<Object>& objects,
-                                           const std::vector<Object>& more) {
+                                           const std::vector<Object>& more,
+                                           const std::vector<Object>& last) {
     std::vector<const Object*> out;
-    out.reserve(objects.size() + more.size());
+    out.reserve(objects.size() + more.size() + last.size());
     for (const Object& o : objects) out.push_back(&o);
     for (const Object& o : more) out.push_back(&o);
+    for (const Object& o : last) out.push_back(&o);
     return out;
 }
 

@@ -14,8 +14,13 @@ namespace svetlo {
 Geometry build_geometry(const std::vector<const Object*>& objects,
                         std::vector<PrimitiveRange>* ranges = nullptr);
 
-/// Pointers to every object of `objects`, then of `more` (for build_geometry).
+/// The scene's instances into `g`: each prototype an instance places built once, in its own
+/// space, and one Placement per instance (geometry.h).
+void place_instances(const Scene& scene, Geometry& g);
+
+/// Pointers to every object of `objects`, then of `more` and `last` (for build_geometry).
 std::vector<const Object*> object_pointers(const std::vector<Object>& objects,
-                                           const std::vector<Object>& more = {});
+                                           const std::vector<Object>& more = {},
+                                           const std::vector<Object>& last = {});
 
 }  // namespace svetlo

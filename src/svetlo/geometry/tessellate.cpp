@@ -257,6 +257,19 @@ float sphere_tessellation_error(float r, const TessellationOptions& o) {
     return r * (1.0f - std::cos(0.5f * std::sqrt(dphi * dphi + dtheta * dtheta)));
 }
 
+uint64_t tessellated_triangles(const Scene& scene, const TessellationOptions& options) {
+    uint64_t total = 0;
+    for (const Object& obj : scene.objects) total += tessellated_triangles(obj, options);
+    std::vector<uint64_t> per_prototype;
+    for (const Prototype& p : scene.prototypes) {
+        uint64_t n = 0;
+        for (const Object& obj : p.objects) n += tessellated_triangles(obj, options);
+        per_prototype.push_back(n);
+    }
+    for (const Instance& i : scene.instances) total += per_prototype[i.prototype];
+    return total;
+}
+
 uint64_t tessellated_triangles(const Object& obj, const TessellationOptions& o) {
     auto seg = static_cast<uint64_t>(o.segments), rings = static_cast<uint64_t>(o.rings);
     if (std::holds_alternative<Sphere>(obj.shape)) return 2 * seg * rings;

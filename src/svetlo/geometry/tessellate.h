@@ -42,6 +42,8 @@ bool tessellates_convex(const Object& obj);
 /// An upper bound on the triangles tessellate() makes of `obj` (for memory limits before
 /// tessellating: a CSG or implicit surface counts its grid's worst case).
 uint64_t tessellated_triangles(const Object& obj, const TessellationOptions& options = {});
+/// The same for every object of the scene and every instance's (drawn as copies).
+uint64_t tessellated_triangles(const Scene& scene, const TessellationOptions& options);
 
 /// A bound on the distance between a sphere of radius r and its tessellation with these
 /// options: r (1 - cos(d / 2)), d the angular diagonal of a longitude-latitude cell (used by

@@ -68,14 +68,14 @@ PathIntegrator::PathIntegrator(const RtScene& rt, const LightSelection& selectio
       photons_(photons),
       environment_(!rt.environment().is_black()) {}
 
-float PathIntegrator::emitter_weight(uint32_t prim, vec3 from, float pdf_bsdf, int light_samples,
+float PathIntegrator::emitter_weight(const Hit& hit, vec3 from, float pdf_bsdf, int light_samples,
                                      vec3 p, vec3 ng) const {
-    int source = rt_.light_source_of(prim);
+    int source = rt_.light_source_of(hit);
     if (source < 0) return 1.0f;  // a glowing CSG or implicit surface: no light to sample
     const LightSet::Source& s = rt_.lights().sources()[static_cast<size_t>(source)];
     // As one_light draws it: the light's choice, then its samples.
     float pdf_light = selection_.probability(static_cast<size_t>(source)) *
-                      rt_.lights().pdf(s, from, p, ng, rt_.light_prim_of(prim)) *
+                      rt_.lights().pdf(s, from, p, ng, rt_.light_prim_of(hit)) *
                       static_cast<float>(light_samples);
     return bsdf_weight(scene_.render.mis, pdf_bsdf, pdf_light);
 }
@@ -244,11 +244,11 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, R
             // With every light sending photons, the paths that reach an emitter through delta
             // vertices after a non-delta one are the photon map's (no double counting).
             bool photon_path = prev_delta && after_lobes && photons_ &&
-                               photons_->covers_area_lights() && rt_.light_source_of(hit.prim) >= 0;
+                               photons_->covers_area_lights() && rt_.light_source_of(hit) >= 0;
             if (!photon_path) {
                 float w = prev_delta ? 1.0f
-                                     : emitter_weight(hit.prim, prev_p, prev_pdf,
-                                                      prev_light_samples, sh.p, frame.ng);
+                                     : emitter_weight(hit, prev_p, prev_pdf, prev_light_samples,
+                                                      sh.p, frame.ng);
                 L += beta * bsdf.emission * w;
                 if (log) {
                     log->rays[self].contribution += beta * bsdf.emission * w;

@@ -59,7 +59,7 @@ private:
 
     /// MIS weight of an emitter met by BSDF sampling from `from` (pdf `pdf_bsdf`), where
     /// next-event estimation took `light_samples` samples per light with area.
-    float emitter_weight(uint32_t prim, vec3 from, float pdf_bsdf, int light_samples, vec3 p,
+    float emitter_weight(const Hit& hit, vec3 from, float pdf_bsdf, int light_samples, vec3 p,
                          vec3 ng) const;
     /// Next-event estimation of one light, chosen by selection_, at p: `n` samples of it
     /// when it has area.

@@ -194,9 +194,7 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
     auto t0 = Clock::now();
     RtScene rt(scene, scene.render.accel, options.threads, options.accels);
     WavelengthWeights wavelengths;
-    Bounds3 bounds;
-    for (uint32_t id : rt.geometry().bounded_primitives())
-        bounds.extend(rt.geometry().primitive_bounds(id));
+    const Bounds3 bounds = rt.geometry().bounds();
     float diameter = bounds.empty() ? 1.0f : std::max(glm::length(bounds.extent()), 1e-6f);
     LightSelection selection(rt.lights(), scene, 0.5f * diameter);
     auto photons = std::make_unique<CausticPhotons>(rt, wavelengths, diameter);

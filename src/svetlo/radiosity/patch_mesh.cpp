@@ -6,6 +6,7 @@
 #include "svetlo/geometry/scene_geometry.h"
 #include "svetlo/geometry/tessellate.h"
 #include "svetlo/radiosity/solver.h"
+#include "svetlo/scene/instances.h"
 
 namespace svetlo {
 
@@ -32,19 +33,21 @@ PatchMesh::PatchMesh(const Scene& scene, int threads)
     : lights(scene), environment(scene), settings(scene.render.radiosity) {
     const std::string file = scene.path.string();
     TessellationOptions options = tessellation_options(scene.render);
-    uint64_t triangles = 0;
-    for (const Object& obj : scene.objects) triangles += tessellated_triangles(obj, options);
+    const uint64_t triangles = tessellated_triangles(scene, options);
     if (triangles > kMaxTessellatedTriangles) {
         throw Error(file, "render.tessellation",
                     "the scene would make " + std::to_string(triangles) + " triangles (at most " +
                         std::to_string(kMaxTessellatedTriangles) + ")");
     }
-    list = build_triangle_list(object_pointers(scene.objects, lights.area_light_quads()), options,
-                               threads);
+    // Each instance's own patches: its objects written out (scene/instances.h).
+    const std::vector<Object> copies = instance_copies(scene);
+    const std::vector<const Object*> objects =
+        object_pointers(scene.objects, copies, lights.area_light_quads());
+    list = build_triangle_list(objects, options, threads);
     // An infinite plane stands in as a square around the rest of the scene: twice its
     // diameter across (the rasterizer's 100 m square would be millions of elements).
     const auto is_plane = [&](size_t k) {
-        return k < scene.objects.size() && std::holds_alternative<Plane>(scene.objects[k].shape);
+        return std::holds_alternative<Plane>(objects[k]->shape);
     };
     Bounds3 bounds;
     for (size_t k = 0; k < list.objects.size(); ++k) {
@@ -53,12 +56,11 @@ PatchMesh::PatchMesh(const Scene& scene, int threads)
             for (int c = 0; c < 3; ++c) bounds.extend(list.positions[list.indices[3 * t + c]]);
     }
     bool planes = false;
-    for (size_t k = 0; k < scene.objects.size(); ++k) planes |= is_plane(k);
+    for (size_t k = 0; k < objects.size(); ++k) planes |= is_plane(k);
     if (planes && !bounds.empty()) {
         // At most 1e37, so that the square stays within float range around a scene near it.
         options.plane_extent = std::clamp(glm::length(bounds.extent()), 1e-3f, 1e37f);
-        list = build_triangle_list(object_pointers(scene.objects, lights.area_light_quads()),
-                                   options, threads);
+        list = build_triangle_list(objects, options, threads);
     }
     geometry = triangle_geometry(list);
     bvh = make_accel("bvh", geometry, threads);

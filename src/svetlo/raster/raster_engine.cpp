@@ -17,6 +17,7 @@
 #include "svetlo/raster/pipeline.h"
 #include "svetlo/raster/raster_trace.h"
 #include "svetlo/raster/shadow_masks.h"
+#include "svetlo/scene/instances.h"
 #include "svetlo/scene/material_sources.h"
 
 namespace svetlo {
@@ -62,8 +63,7 @@ std::shared_ptr<const TriangleList> tessellate_scene(const Scene& scene, FrameSh
                                                      TriangleListCache* cache = nullptr) {
     const TessellationOptions options = tessellation_options(scene.render);
     // Refuse what would not fit in memory before making it (a fine tessellation of many shapes).
-    uint64_t total = 0;
-    for (const Object& obj : scene.objects) total += tessellated_triangles(obj, options);
+    const uint64_t total = tessellated_triangles(scene, options);
     if (total > kMaxTriangles) {
         throw Error(scene.path.string(), "render.tessellation",
                     "the scene would make " + std::to_string(total) + " triangles (at most " +
@@ -82,8 +82,11 @@ std::shared_ptr<const TriangleList> tessellate_scene(const Scene& scene, FrameSh
                      (split ? " split" : "") + (adjacency ? " adjacency" : "");
     }
     return shared_entry<TriangleList>(cache, f.list_key, [&](TriangleList& list) {
-        list = build_triangle_list(object_pointers(scene.objects, f.lights->set.area_light_quads()),
-                                   options, threads);
+        // Instances are drawn as copies (scene/instances.h).
+        const std::vector<Object> copies = instance_copies(scene);
+        list = build_triangle_list(
+            object_pointers(scene.objects, copies, f.lights->set.area_light_quads()), options,
+            threads);
         if (split) split_vertices_by_material(list);
         if (adjacency) build_adjacency(list);
     });

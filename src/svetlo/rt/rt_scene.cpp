@@ -15,6 +15,7 @@ RtScene::RtScene(const Scene& scene, const std::string& accel, int threads, Acce
     built_ = shared_entry<BuiltGeometry>(cache, key, [&](BuiltGeometry& b) {
         b.geometry =
             build_geometry(object_pointers(scene.objects, lights_.area_light_quads()), &b.ranges);
+        place_instances(scene, b.geometry);
         b.accel = make_accel(accel, b.geometry, threads);
         if (!b.accel) {
             throw Error(scene.path.string(), "render.accel",
@@ -38,7 +39,9 @@ RtScene::RtScene(const Scene& scene, const std::string& accel, int threads, Acce
     cutouts_ = std::make_unique<Cutouts>(geometry(), materials(), scene.textures);
 }
 
-int RtScene::light_source_of(uint32_t prim) const {
+int RtScene::light_source_of(const Hit& hit) const {
+    if (hit.instance != Hit::kNone) return -1;  // an instance never emits (scene.h)
+    const uint32_t prim = hit.prim;
     auto it = std::upper_bound(emitter_ranges_.begin(), emitter_ranges_.end(), prim,
                                [](uint32_t id, const EmitterRange& r) { return id < r.first; });
     if (it == emitter_ranges_.begin()) return -1;
@@ -46,7 +49,9 @@ int RtScene::light_source_of(uint32_t prim) const {
     return prim < it->end ? it->source : -1;
 }
 
-uint32_t RtScene::light_prim_of(uint32_t prim) const {
+uint32_t RtScene::light_prim_of(const Hit& hit) const {
+    if (hit.instance != Hit::kNone) return ~0u;
+    const uint32_t prim = hit.prim;
     auto it = std::upper_bound(emitter_ranges_.begin(), emitter_ranges_.end(), prim,
                                [](uint32_t id, const EmitterRange& r) { return id < r.first; });
     if (it == emitter_ranges_.begin()) return ~0u;

@@ -51,11 +51,11 @@ public:
                                    : uniform_bsdfs_[material];
     }
 
-    /// The index in lights().sources() of the light with area that primitive `prim` belongs to,
-    /// or -1 (the path tracer weighs an emitter it meets by the pdf of sampling it).
-    int light_source_of(uint32_t prim) const;
+    /// The index in lights().sources() of the light with area that the primitive of `hit`
+    /// belongs to, or -1 (the path tracer weighs an emitter it meets by the pdf of sampling it).
+    int light_source_of(const Hit& hit) const;
     /// The same primitive in the light set's geometry (LightSet::pdf's `prim`); ~0u for none.
-    uint32_t light_prim_of(uint32_t prim) const;
+    uint32_t light_prim_of(const Hit& hit) const;
 
     /// The primitives of each object of the scene, then of each area light's quad.
     const std::vector<PrimitiveRange>& object_ranges() const { return built_->ranges; }

@@ -45,4 +45,11 @@ inline bool reads_more_than_uv(const ColorSource& c) {
     return c.uv_set != 0 || c.vertex_color != VertexColor::None;
 }
 
+/// True when the material gives off light: an emissive model's radiance or any model's
+/// emission (what makes an object a light, light_set.h).
+inline bool emits(const Material& m) {
+    const auto* e = std::get_if<EmissiveMaterial>(&m.model);
+    return (e && !e->radiance.is_black()) || !m.emission.is_black();
+}
+
 }  // namespace svetlo

@@ -3,6 +3,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "svetlo/core/image_io.h"
+#include "svetlo/scene/instances.h"
 #include "svetlo/scene/material_sources.h"
 #include "svetlo/scene/mesh_file.h"
 #include "svetlo/scene/scene_parts.h"
@@ -399,12 +400,28 @@ Object parse_object_node(const JsonNode& node, Scene& scene, MeshFileCache& mesh
 
 namespace {
 
-constexpr size_t kMaxInstancedObjects = size_t{1} << 20;
-constexpr uint64_t kMaxInstancedTriangles = uint64_t{64} << 20;
+/// Bounds on what instances make (docs/scene-format.md, "Instances"): placements, and the
+/// triangles of the instances written out as copies.
+constexpr size_t kMaxInstances = size_t{1} << 20;
 
-uint64_t triangles_of(const Object& obj) {
-    const auto* mesh = std::get_if<Mesh>(&obj.shape);
-    return mesh ? mesh->triangle_count() : 1;
+/// Whether `prototype` placed with material `material` (-1: its own) must be written out:
+/// it holds an emitter (the light set samples emitters in world space) or an infinite plane
+/// (which no box bounds).
+bool needs_copies(const Scene& scene, const Prototype& prototype, int material) {
+    const auto emitting = [&](int m) {
+        return m >= 0 && emits(scene.materials[static_cast<size_t>(m)]);
+    };
+    if (emitting(material)) return true;
+    for (const Object& o : prototype.objects) {
+        if (std::holds_alternative<Plane>(o.shape)) return true;
+        if (material >= 0) continue;
+        const auto* mesh = std::get_if<Mesh>(&o.shape);
+        if (mesh && o.material < 0
+                ? std::any_of(mesh->face_material.begin(), mesh->face_material.end(), emitting)
+                : emitting(o.material))
+            return true;
+    }
+    return false;
 }
 
 }  // namespace
@@ -440,11 +457,20 @@ const Prototypes::Parts& Prototypes::get(const JsonNode& name_node, Scene& scene
                        ")");
     }
     expanding_.push_back(name);
-    Parts parts;
+    std::vector<Object> own;
+    std::vector<Instance> nested;
     const size_t lights_before = scene.lights.size();
     const JsonNode objects = section_->at(name).at("objects");
     for (size_t k = 0; k < objects.size(); ++k)
-        parse_object(objects.at(k), scene, meshes, *this, parts.objects);
+        parse_object(objects.at(k), scene, meshes, *this, own, nested);
+    Parts parts;
+    if (!own.empty()) {
+        scene.prototypes.push_back({name, std::move(own)});
+        Instance self;
+        self.prototype = static_cast<uint32_t>(scene.prototypes.size() - 1);
+        parts.placements.push_back(self);
+    }
+    parts.placements.insert(parts.placements.end(), nested.begin(), nested.end());
     parts.lights.assign(scene.lights.begin() + static_cast<std::ptrdiff_t>(lights_before),
                         scene.lights.end());
     scene.lights.resize(lights_before);
@@ -453,7 +479,7 @@ const Prototypes::Parts& Prototypes::get(const JsonNode& name_node, Scene& scene
 }
 
 void parse_object(const JsonNode& node, Scene& scene, MeshFileCache& meshes, Prototypes& prototypes,
-                  std::vector<Object>& out) {
+                  std::vector<Object>& out, std::vector<Instance>& placed) {
     if (!node.is_object() || !node.has("type") || !node.at("type").is_string() ||
         node.at("type").as_string() != "instance") {
         out.push_back(parse_object_node(node, scene, meshes, -1, 1));
@@ -465,24 +491,40 @@ void parse_object(const JsonNode& node, Scene& scene, MeshFileCache& meshes, Pro
     int material = -1;
     if (auto m = node.find("material")) material = find_material(scene, *m);
     const Prototypes::Parts& parts = prototypes.get(node.at("prototype"), scene, meshes);
-    scene.instances += 1;
-    for (const Object& o : parts.objects) {
-        prototypes.instanced_objects += 1;
-        prototypes.instanced_triangles += triangles_of(o);
-        if (prototypes.instanced_objects > kMaxInstancedObjects ||
-            prototypes.instanced_triangles > kMaxInstancedTriangles)
-            node.fail("the instances would make more than " + std::to_string(kMaxInstancedObjects) +
-                      " objects or " + std::to_string(kMaxInstancedTriangles) +
-                      " triangles (an instance is a copy of its prototype's objects)");
-        Object copy = o;
-        copy.name = node.path() + "/" + o.name;
-        copy.transform.matrix = place.matrix * o.transform.matrix;
-        copy.transform.is_identity = place.is_identity && o.transform.is_identity;
-        if (material >= 0) copy.material = material;
-        out.push_back(std::move(copy));
-        scene.instanced_objects += 1;
+    for (const Instance& p : parts.placements) {
+        if (++prototypes.placed > kMaxInstances)
+            node.fail("the instances would place more than " + std::to_string(kMaxInstances) +
+                      " prototypes");
+        Instance i;
+        i.name = node.path();
+        i.prototype = p.prototype;
+        i.transform.matrix = place.matrix * p.transform.matrix;
+        i.transform.is_identity = place.is_identity && p.transform.is_identity;
+        i.material = material >= 0 ? material : p.material;
+        placed.push_back(std::move(i));
     }
     for (const Light& l : parts.lights) scene.lights.push_back(transformed(l, place));
+}
+
+void settle_instances(std::vector<Instance> placed, Scene& scene) {
+    uint64_t copied_triangles = 0;
+    for (Instance& i : placed) {
+        const Prototype& prototype = scene.prototypes[i.prototype];
+        if (!needs_copies(scene, prototype, i.material)) {
+            scene.instances.push_back(std::move(i));
+            continue;
+        }
+        for (const Object& o : prototype.objects) {
+            copied_triangles += object_triangles(o);
+            if (copied_triangles > kMaxCopiedTriangles)
+                throw Error(scene.path.string(), i.name,
+                            "the instances written out as copies (those that emit or hold a "
+                            "plane) would make more than " +
+                                std::to_string(kMaxCopiedTriangles) + " triangles");
+            scene.objects.push_back(placed_object(o, i));
+            scene.copied_objects += 1;
+        }
+    }
 }
 
 }  // namespace svetlo

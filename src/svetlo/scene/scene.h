@@ -311,6 +311,22 @@ struct Object {
     Transform transform;
 };
 
+/// A prototype's objects, in its own space (docs/scene-format.md, "Instances").
+struct Prototype {
+    std::string name;
+    std::vector<Object> objects;
+};
+
+/// One placement of a prototype: its objects carried by `transform` into the world, their
+/// materials all replaced by `material` when it is >= 0. Nested prototypes are resolved when
+/// the scene is read: an instance always names a prototype's own objects.
+struct Instance {
+    std::string name;        // the JSON path of the instance that placed it, for messages
+    uint32_t prototype = 0;  // index into Scene::prototypes
+    Transform transform;
+    int material = -1;
+};
+
 // ---- camera, film, settings ---------------------------------------------------------------
 
 struct Camera {
@@ -541,9 +557,15 @@ struct Scene {
     /// What a mesh file had that svetlo left out (an optional glTF extension), a line each,
     /// naming the key and the file: the command line prints them as warnings.
     std::vector<std::string> warnings;
-    /// What `svetlo info` reports: the instances placed (nested ones counted where their
-    /// prototype holds them) and the objects they made; the mesh files' glTF extensions.
-    size_t instances = 0, instanced_objects = 0;
+    /// The prototypes that instances place, and the placements. The ray tracers trace them
+    /// as a two-level structure; the rasterizer and radiosity draw them as copies
+    /// (instance_copies, scene/instances.h). An instance whose prototype holds an emitter or an
+    /// infinite plane is written into `objects` as copies instead (the light set samples
+    /// emitters in world space): `copied_objects` counts those.
+    std::vector<Prototype> prototypes;
+    std::vector<Instance> instances;
+    size_t copied_objects = 0;
+    /// The mesh files' glTF extensions (what `svetlo info` reports).
     std::vector<std::string> extensions;
 };
 

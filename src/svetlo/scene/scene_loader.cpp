@@ -162,10 +162,13 @@ std::string geometry_key(const nlohmann::json& root, const Scene& scene) {
     }
     for (const std::string& name : scene.material_names) text += name + "\n";
     // The meshes a normal map gave tangents (a material's edit can add them).
-    for (const Object& object : scene.objects) {
+    const auto tangents = [&](const Object& object) {
         const auto* mesh = std::get_if<Mesh>(&object.shape);
         text += mesh && !mesh->tangents.empty() ? "t" : "-";
-    }
+    };
+    for (const Object& object : scene.objects) tangents(object);
+    for (const Prototype& prototype : scene.prototypes)
+        for (const Object& object : prototype.objects) tangents(object);
     return sha256_hex(text);
 }
 
@@ -190,10 +193,13 @@ Scene scene_from_json(const nlohmann::json& root, const fs::path& path, MeshFile
     }
     if (auto environment = top.find("environment")) parse_environment(*environment, scene);
     Prototypes prototypes(top.find("prototypes"));
+    std::vector<Instance> placed;
     if (auto objects = top.find("objects")) {
         for (size_t k = 0; k < objects->size(); ++k)
-            parse_object(objects->at(k), scene, meshes ? *meshes : own, prototypes, scene.objects);
+            parse_object(objects->at(k), scene, meshes ? *meshes : own, prototypes, scene.objects,
+                         placed);
     }
+    settle_instances(std::move(placed), scene);
     add_missing_tangents(scene);
     scene.geometry_key = geometry_key(root, scene);
     return scene;

@@ -42,16 +42,16 @@ public:
     explicit Prototypes(std::optional<JsonNode> section);
 
     struct Parts {
-        std::vector<Object> objects;  // in the prototype's space
+        /// Where the prototype's objects lie, in its space: its own (a Scene::prototypes
+        /// entry, when it has any), then those of the prototypes it places.
+        std::vector<Instance> placements;
         std::vector<Light> lights;
     };
     /// The parts of the prototype that `name` (an instance's "prototype" key) names.
     const Parts& get(const JsonNode& name, Scene& scene, MeshFileCache& meshes);
 
-    /// Objects made by instances so far, and their triangles: bounded (instances are copies
-    /// of their prototypes' objects, docs/real-scenes.md, "Instances").
-    size_t instanced_objects = 0;
-    uint64_t instanced_triangles = 0;
+    /// Placements made so far (bounded: docs/scene-format.md, "Instances").
+    size_t placed = 0;
 
 private:
     std::optional<JsonNode> section_;
@@ -59,9 +59,13 @@ private:
     std::vector<std::string> expanding_;  // the chain being parsed, outermost first
 };
 
-/// An entry of `objects` (or of a prototype's): its object, or an instance's copies of its
-/// prototype's, appended to `out`.
+/// An entry of `objects` (or of a prototype's): its object appended to `out`, or an
+/// instance's placements (nested prototypes resolved) to `placed`.
 void parse_object(const JsonNode& node, Scene& scene, MeshFileCache& meshes, Prototypes& prototypes,
-                  std::vector<Object>& out);
+                  std::vector<Object>& out, std::vector<Instance>& placed);
+
+/// The top level's placements into the scene: each into Scene::instances, or written into
+/// Scene::objects as copies where its prototype emits or holds a plane (scene.h).
+void settle_instances(std::vector<Instance> placed, Scene& scene);
 
 }  // namespace svetlo

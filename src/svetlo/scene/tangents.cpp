@@ -69,27 +69,35 @@ void add_missing_tangents(Scene& scene) {
         return m >= 0 && static_cast<size_t>(m) < scene.materials.size() &&
                scene.materials[static_cast<size_t>(m)].normal_map.present();
     };
-    for (Object& obj : scene.objects) {
+    // `also`: a material that replaces the object's somewhere (an instance's) has a normal map.
+    auto add = [&](Object& obj, bool also) {
         auto* mesh = std::get_if<Mesh>(&obj.shape);
-        if (!mesh || mesh->uvs.empty()) continue;
+        if (!mesh || mesh->uvs.empty()) return;
         // A file's tangents are kept; vertices it gave none (a glTF primitive without TANGENT
         // beside one with) get made ones.
         const auto none = [](const vec4& t) { return t.w == 0.0f; };
         if (!mesh->tangents.empty() &&
             std::none_of(mesh->tangents.begin(), mesh->tangents.end(), none))
-            continue;
-        bool needed = mapped(obj.material);
+            return;
+        bool needed = also || mapped(obj.material);
         if (obj.material < 0)
-            needed = std::any_of(mesh->face_material.begin(), mesh->face_material.end(), mapped);
-        if (!needed) continue;
+            needed = needed ||
+                     std::any_of(mesh->face_material.begin(), mesh->face_material.end(), mapped);
+        if (!needed) return;
         std::vector<vec4> made = mesh_tangents(*mesh);
         if (mesh->tangents.empty()) {
             mesh->tangents = std::move(made);
-            continue;
+            return;
         }
         for (size_t k = 0; k < made.size(); ++k)
             if (none(mesh->tangents[k])) mesh->tangents[k] = made[k];
-    }
+    };
+    for (Object& obj : scene.objects) add(obj, false);
+    std::vector<char> replaced_by_mapped(scene.prototypes.size(), 0);
+    for (const Instance& i : scene.instances)
+        if (mapped(i.material)) replaced_by_mapped[i.prototype] = 1;
+    for (size_t p = 0; p < scene.prototypes.size(); ++p)
+        for (Object& obj : scene.prototypes[p].objects) add(obj, replaced_by_mapped[p] != 0);
 }
 
 vec4 orthogonal_tangent(vec4 t, vec3 ns) {

@@ -66,8 +66,8 @@ Cutouts::Cutouts(const Geometry& geometry, const std::vector<Material>& material
 bool Cutouts::hole(const Ray& ray, const Hit& hit) const {
     // A shape's material is its surface's (a CSG leaf's); a triangle's is stored.
     std::optional<SurfaceHit> surface;
-    if (!geometry_.is_triangle(hit.prim)) surface = geometry_.surface(ray, hit);
-    const uint32_t material = surface ? surface->material : geometry_.material(hit.prim);
+    if (!geometry_.is_triangle(hit)) surface = geometry_.surface(ray, hit);
+    const uint32_t material = surface ? surface->material : geometry_.material(hit);
     if (material >= active_.size() || !active_[material]) return false;
     const Alpha& alpha = materials_[material].alpha;
     Varyings at;

@@ -5,6 +5,7 @@
 
 #include "svetlo/core/error.h"
 #include "svetlo/geometry/scene_geometry.h"
+#include "svetlo/scene/material_sources.h"
 #include "svetlo/shading/bsdf.h"
 #include "svetlo/shading/cutouts.h"
 #include "svetlo/shading/lights.h"
@@ -12,11 +13,6 @@
 namespace svetlo {
 
 namespace {
-
-bool emits(const Material& m) {
-    const auto* e = std::get_if<EmissiveMaterial>(&m.model);
-    return (e && !e->radiance.is_black()) || !m.emission.is_black();
-}
 
 /// True when the linear part is a rotation times a uniform scale (areas scale uniformly).
 bool is_similarity(const mat4& m) {
