@@ -126,12 +126,35 @@ struct Flattener {
     const tinygltf::Model& model;
     MeshFile& file;
     int depth_guard = 0;
-    std::set<int> colored_materials;  // the materials of primitives with COLOR_0
+    std::set<int> colored_materials;           // the materials of primitives with COLOR_0
+    Mesh* target = &file.mesh;                 // the mesh add_mesh appends to
+    std::vector<std::pair<int, mat4>> uses{};  // each node's mesh and its place in the file
+
+    /// The meshes the nodes visited place: baked into file.mesh where one node places a
+    /// mesh, kept in their own space (MeshFile::shared) where several do.
+    void place_meshes() {
+        std::map<int, int> count, shared;  // per mesh index: its nodes; its MeshFile::shared
+        for (const auto& [mesh, world] : uses) ++count[mesh];
+        for (const auto& [mesh, world] : uses) {
+            if (count[mesh] < 2) {
+                add_mesh(mesh, world);
+                continue;
+            }
+            auto [at, made] = shared.try_emplace(mesh, static_cast<int>(file.shared.size()));
+            if (made) {
+                file.shared.emplace_back();
+                target = &file.shared.back().mesh;
+                add_mesh(mesh, mat4(1.0f));
+                target = &file.mesh;
+            }
+            file.shared[static_cast<size_t>(at->second)].places.push_back(world);
+        }
+    }
 
     /// Mesh::uvs1 up to vertex `end`: set 0's coordinates (or zero) where a vertex has no
     /// second set.
     void fill_second_set(size_t end) {
-        Mesh& mesh = file.mesh;
+        Mesh& mesh = *target;
         for (size_t v = mesh.uvs1.size(); v < end; ++v)
             mesh.uvs1.push_back(v < mesh.uvs.size() ? mesh.uvs[v] : vec2(0.0f));
     }
@@ -143,7 +166,7 @@ struct Flattener {
         if (++depth_guard > 10000) throw std::runtime_error("node hierarchy too deep or cyclic");
         const tinygltf::Node& node = model.nodes[node_index];
         mat4 world = parent * node_matrix(node);
-        if (node.mesh >= 0) add_mesh(node.mesh, world);
+        if (node.mesh >= 0) uses.emplace_back(node.mesh, world);
         add_light(node, world);
         if (node.camera >= 0 && !file.camera) add_camera(node.camera, world);
         for (int child : node.children) visit(child, world);
@@ -233,7 +256,7 @@ struct Flattener {
         const int n = AccessorView::components_of(model, col->second) == 4 ? 4 : 3;
         AccessorView colors(model, col->second, n);
         if (colors.count() != count) throw std::runtime_error("COLOR_0 count");
-        Mesh& mesh = file.mesh;
+        Mesh& mesh = *target;
         mesh.colors.resize(base, vec4(1.0f));
         for (size_t k = 0; k < colors.count(); ++k) {
             vec4 c(1.0f);
@@ -254,7 +277,7 @@ struct Flattener {
             throw std::runtime_error("mesh " + std::to_string(mesh_index) + " missing");
         }
         mat3 nm = normal_matrix(world);
-        Mesh& mesh = file.mesh;
+        Mesh& mesh = *target;
         for (const tinygltf::Primitive& prim : model.meshes[mesh_index].primitives) {
             if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != -1) continue;
             auto pos = prim.attributes.find("POSITION");
@@ -442,6 +465,7 @@ MeshFile read_gltf(const std::filesystem::path& path, const FileScope& files) {
         for (size_t n = 0; n < model.nodes.size(); ++n)
             flattener.visit(static_cast<int>(n), mat4(1.0f));
     }
+    flattener.place_meshes();
     // COLOR_0 multiplies the base colour and its alpha (glTF 2.0, 3.9.2), in the materials of
     // the primitives that have it (another primitive of such a material is white).
     for (int m : flattener.colored_materials) {
@@ -451,16 +475,21 @@ MeshFile read_gltf(const std::filesystem::path& path, const FileScope& files) {
             ct->base_color.vertex_color = VertexColor::Rgb;
         if (material.alpha.active()) material.alpha.coverage.vertex_color = VertexColor::Alpha;
     }
-    Mesh& mesh = file.mesh;
-    if (mesh.indices.empty()) throw std::runtime_error("glTF file has no triangles");
-    if (!mesh.normals.empty()) mesh.normals.resize(mesh.positions.size(), vec3(0.0f));
-    if (!mesh.uvs.empty()) mesh.uvs.resize(mesh.positions.size(), vec2(0.0f));
-    if (!mesh.uvs1.empty()) flattener.fill_second_set(mesh.positions.size());
-    if (!mesh.colors.empty()) mesh.colors.resize(mesh.positions.size(), vec4(1.0f));
-    if (!mesh.tangents.empty()) mesh.tangents.resize(mesh.positions.size(), vec4(0.0f));
-    bool any_material = false;
-    for (int m : mesh.face_material) any_material = any_material || m >= 0;
-    if (!any_material) mesh.face_material.clear();
+    if (file.mesh.indices.empty() && file.shared.empty())
+        throw std::runtime_error("glTF file has no triangles");
+    const auto finish = [&](Mesh& mesh) {
+        if (!mesh.normals.empty()) mesh.normals.resize(mesh.positions.size(), vec3(0.0f));
+        if (!mesh.uvs.empty()) mesh.uvs.resize(mesh.positions.size(), vec2(0.0f));
+        flattener.target = &mesh;
+        if (!mesh.uvs1.empty()) flattener.fill_second_set(mesh.positions.size());
+        if (!mesh.colors.empty()) mesh.colors.resize(mesh.positions.size(), vec4(1.0f));
+        if (!mesh.tangents.empty()) mesh.tangents.resize(mesh.positions.size(), vec4(0.0f));
+        bool any_material = false;
+        for (int m : mesh.face_material) any_material = any_material || m >= 0;
+        if (!any_material) mesh.face_material.clear();
+    };
+    finish(file.mesh);
+    for (MeshFile::Shared& s : file.shared) finish(s.mesh);
     return file;
 }
 

@@ -26,7 +26,17 @@ MeshFile read_mesh_file(const fs::path& path, const FileScope& files) {
         throw std::runtime_error("unknown mesh format '" + ext + "' (use .obj, .ply, .gltf, .glb)");
     }
     validate_mesh(file.mesh);
+    for (const MeshFile::Shared& s : file.shared) validate_mesh(s.mesh);
     return file;
+}
+
+Bounds3 file_bounds(const MeshFile& file) {
+    Bounds3 b;
+    for (const vec3& p : file.mesh.positions) b.extend(p);
+    for (const MeshFile::Shared& s : file.shared)
+        for (const mat4& m : s.places)
+            for (const vec3& p : s.mesh.positions) b.extend(vec3(m * vec4(p, 1.0f)));
+    return b;
 }
 
 std::string file_stamp(const fs::path& path) {

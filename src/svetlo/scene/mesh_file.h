@@ -19,6 +19,14 @@ namespace svetlo {
 
 struct MeshFile {
     Mesh mesh;  // face_material indexes `materials` below, or is empty
+    /// A glTF mesh that several nodes place, in its own space, and each node's transform to
+    /// the file's space: the scene makes it a prototype and each node an instance
+    /// (docs/real-scenes.md, "Instances"). `mesh` holds the meshes one node places, baked.
+    struct Shared {
+        Mesh mesh;
+        std::vector<mat4> places;
+    };
+    std::vector<Shared> shared;
     std::vector<Material> materials;
     std::vector<std::string> material_names;
     std::vector<Light> lights;     // glTF punctual lights, in the file's space
@@ -36,6 +44,10 @@ struct MeshFile {
 /// every component finite, >= 0 and within a float's range, as the scene's own colours.
 /// Throws std::runtime_error naming `what` and the value otherwise.
 Color file_color(double r, double g, double b, const std::string& what);
+
+/// The bounds of everything the file places, in its space (`mesh`, and each shared mesh at
+/// each of its places).
+Bounds3 file_bounds(const MeshFile& file);
 
 /// Reads .obj, .ply, .gltf or .glb by extension. The files it names in turn (an OBJ's MTL, a
 /// glTF's buffers and images) must lie in `files`.

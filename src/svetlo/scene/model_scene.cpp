@@ -68,12 +68,8 @@ nlohmann::json model_scene_json(const fs::path& path, MeshFileCache& meshes,
     } catch (const std::exception& e) {
         throw Error(path.string(), "file", std::string("cannot read model: ") + e.what());
     }
-    vec3 lo(kInfinity), hi(-kInfinity);
-    for (const vec3& p : model->mesh.positions) {
-        lo = glm::min(lo, p);
-        hi = glm::max(hi, p);
-    }
-    const Camera camera = model->camera ? *model->camera : framing_camera(lo, hi);
+    const Bounds3 bounds = file_bounds(*model);
+    const Camera camera = model->camera ? *model->camera : framing_camera(bounds.min, bounds.max);
     nlohmann::json scene = {
         {"_comment", "the model alone (docs/scene-format.md, \"A model alone\")"},
         {"camera", camera_json(camera)},

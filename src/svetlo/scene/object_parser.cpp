@@ -86,9 +86,51 @@ std::vector<int> add_file_textures(const JsonNode& node, const std::filesystem::
     return out;
 }
 
+/// A mesh file's shared mesh (MeshFile::Shared) as the scene holds it: a prototype, and
+/// where the file's nodes place it in the file's space.
+struct SharedPlaces {
+    uint32_t prototype = 0;
+    std::vector<mat4> places;
+};
+
+/// What `smooth` and `material` say of a mesh, after its file's materials are in the scene
+/// from `offset` on: vertex normals kept, made or dropped; the file's faces given the scene's
+/// materials (none where `material` replaces them; a grey Lambertian where the file gave none).
+void finish_mesh(Mesh& mesh, const JsonNode& node, Scene& scene, int material, int offset) {
+    for (int& m : mesh.face_material) m = m >= 0 ? m + offset : -1;
+    if (auto n = node.find("smooth")) mesh.smooth = n->as_bool();
+    if (!mesh.smooth) {
+        mesh.normals.clear();
+    } else {
+        bool usable = !mesh.normals.empty();
+        for (const vec3& n : mesh.normals) usable = usable && glm::length(n) > 0.0f;
+        if (!usable) compute_vertex_normals(mesh);
+    }
+    if (material >= 0 || mesh.indices.empty()) {
+        mesh.face_material.clear();
+    } else if (mesh.face_material.empty()) {
+        node.at("material");  // fails with "missing key": the file brings no material
+    } else {
+        // Faces the file left without a material get a plain grey Lambertian one.
+        for (int& m : mesh.face_material) {
+            if (m < 0) {
+                scene.materials.push_back(LambertMaterial{});
+                scene.material_names.push_back(node.path() + ":default");
+                m = static_cast<int>(scene.materials.size()) - 1;
+                for (int& rest : mesh.face_material) rest = rest < 0 ? m : rest;
+            }
+        }
+    }
+}
+
+/// A `mesh` object's triangles: its file's (the meshes one node places, baked) or its own.
+/// A glTF mesh that several nodes place becomes a prototype of the scene, and its places go
+/// to `shared`; where `shared` is null (a CSG child, which must be one mesh) such a file is
+/// refused.
 Mesh parse_mesh(const JsonNode& node, Scene& scene, MeshFileCache& meshes, int material,
-                const Transform& transform) {
+                const Transform& transform, std::vector<SharedPlaces>* shared) {
     Mesh mesh;
+    int offset = 0;
     if (auto file_node = node.find("file")) {
         if (node.has("positions")) node.fail("give either file or positions, not both");
         const std::filesystem::path file = named_file(*file_node, scene);
@@ -100,6 +142,10 @@ Mesh parse_mesh(const JsonNode& node, Scene& scene, MeshFileCache& meshes, int m
         }
         const MeshFile& loaded = *read;
         mesh = loaded.mesh;
+        if (!loaded.shared.empty() && !shared)
+            file_node->fail("'" + file_node->as_string() +
+                            "' places one mesh at several nodes (instances); a CSG child must "
+                            "be one mesh");
         for (const std::string& e : loaded.extensions)
             if (std::find(scene.extensions.begin(), scene.extensions.end(), e) ==
                 scene.extensions.end())
@@ -107,7 +153,7 @@ Mesh parse_mesh(const JsonNode& node, Scene& scene, MeshFileCache& meshes, int m
         for (const std::string& w : loaded.warnings)
             scene.warnings.push_back(file_node->path() + ": '" + file_node->as_string() +
                                      "': " + w);
-        auto offset = static_cast<int>(scene.materials.size());
+        offset = static_cast<int>(scene.materials.size());
         const std::vector<int> textures = add_file_textures(*file_node, file, loaded, scene);
         for (size_t k = 0; k < loaded.materials.size(); ++k) {
             Material m = loaded.materials[k];
@@ -119,9 +165,18 @@ Mesh parse_mesh(const JsonNode& node, Scene& scene, MeshFileCache& meshes, int m
             scene.materials.push_back(std::move(m));
             scene.material_names.push_back(node.path() + ":" + loaded.material_names[k]);
         }
-        for (int& m : mesh.face_material) m = m >= 0 ? m + offset : -1;
         for (const Light& l : loaded.lights)  // glTF lights move with the object
             scene.lights.push_back(transformed(l, transform));
+        for (size_t k = 0; k < loaded.shared.size(); ++k) {
+            Object part;
+            part.name = node.path() + ":mesh" + std::to_string(k);
+            part.shape = loaded.shared[k].mesh;
+            part.material = material;
+            finish_mesh(std::get<Mesh>(part.shape), node, scene, material, offset);
+            scene.prototypes.push_back({part.name, {std::move(part)}});
+            shared->push_back(
+                {static_cast<uint32_t>(scene.prototypes.size() - 1), loaded.shared[k].places});
+        }
     } else {
         mesh.positions = parse_vectors<3>(node.at("positions"));
         JsonNode indices = node.at("indices");
@@ -142,29 +197,7 @@ Mesh parse_mesh(const JsonNode& node, Scene& scene, MeshFileCache& meshes, int m
             if (mesh.uvs.size() != mesh.positions.size()) n->fail("needs one uv per position");
         }
     }
-    if (auto n = node.find("smooth")) mesh.smooth = n->as_bool();
-    if (!mesh.smooth) {
-        mesh.normals.clear();
-    } else {
-        bool usable = !mesh.normals.empty();
-        for (const vec3& n : mesh.normals) usable = usable && glm::length(n) > 0.0f;
-        if (!usable) compute_vertex_normals(mesh);
-    }
-    if (material >= 0) {
-        mesh.face_material.clear();
-    } else if (mesh.face_material.empty()) {
-        node.at("material");  // fails with "missing key": the file brings no material
-    } else {
-        // Faces the file left without a material get a plain grey Lambertian one.
-        for (int& m : mesh.face_material) {
-            if (m < 0) {
-                scene.materials.push_back(LambertMaterial{});
-                scene.material_names.push_back(node.path() + ":default");
-                m = static_cast<int>(scene.materials.size()) - 1;
-                for (int& rest : mesh.face_material) rest = rest < 0 ? m : rest;
-            }
-        }
-    }
+    finish_mesh(mesh, node, scene, material, offset);
     return mesh;
 }
 
@@ -246,8 +279,10 @@ namespace {
 
 constexpr int kMaxTreeDepth = 64;  // CSG and SDF nesting: deeper trees are refused
 
+/// One object (not an instance); a mesh file's shared meshes placed into `placed` (where
+/// null, as for a CSG child, such a file is refused).
 Object parse_object_node(const JsonNode& node, Scene& scene, MeshFileCache& meshes,
-                         int inherited_material, int depth);
+                         int inherited_material, int depth, std::vector<Instance>* placed);
 
 /// The children of a CSG node, which must be closed shapes.
 Csg parse_csg(const JsonNode& node, Scene& scene, MeshFileCache& meshes, int material, int depth) {
@@ -269,7 +304,8 @@ Csg parse_csg(const JsonNode& node, Scene& scene, MeshFileCache& meshes, int mat
                 "mesh or csg), not '" +
                 type + "'");
         }
-        csg.children.push_back(parse_object_node(child, scene, meshes, material, depth + 1));
+        csg.children.push_back(
+            parse_object_node(child, scene, meshes, material, depth + 1, nullptr));
     }
     return csg;
 }
@@ -338,7 +374,7 @@ SdfNode parse_sdf(const JsonNode& node, int depth) {
 }
 
 Object parse_object_node(const JsonNode& node, Scene& scene, MeshFileCache& meshes,
-                         int inherited_material, int depth) {
+                         int inherited_material, int depth, std::vector<Instance>* placed) {
     if (!node.is_object()) node.fail("must be an object");
     if (depth > kMaxTreeDepth)
         node.fail("CSG tree nested deeper than " + std::to_string(kMaxTreeDepth));
@@ -385,7 +421,19 @@ Object parse_object_node(const JsonNode& node, Scene& scene, MeshFileCache& mesh
     } else if (type == "mesh") {
         node.expect_object({"type", "file", "positions", "indices", "normals", "uvs", "smooth",
                             "material", "transform"});
-        obj.shape = parse_mesh(node, scene, meshes, obj.material, obj.transform);
+        std::vector<SharedPlaces> shared;
+        obj.shape = parse_mesh(node, scene, meshes, obj.material, obj.transform,
+                               placed ? &shared : nullptr);
+        for (const SharedPlaces& s : shared) {
+            for (const mat4& place : s.places) {
+                Instance i;
+                i.name = node.path();
+                i.prototype = s.prototype;
+                i.transform.matrix = obj.transform.matrix * place;
+                i.transform.is_identity = false;
+                placed->push_back(std::move(i));
+            }
+        }
     } else if (type == "csg") {
         node.expect_object({"type", "op", "children", "material", "transform"});
         obj.shape = parse_csg(node, scene, meshes, obj.material, depth);
@@ -482,7 +530,10 @@ void parse_object(const JsonNode& node, Scene& scene, MeshFileCache& meshes, Pro
                   std::vector<Object>& out, std::vector<Instance>& placed) {
     if (!node.is_object() || !node.has("type") || !node.at("type").is_string() ||
         node.at("type").as_string() != "instance") {
-        out.push_back(parse_object_node(node, scene, meshes, -1, 1));
+        Object obj = parse_object_node(node, scene, meshes, -1, 1, &placed);
+        // (A mesh file whose every mesh is shared leaves nothing of its own.)
+        const auto* mesh = std::get_if<Mesh>(&obj.shape);
+        if (!mesh || !mesh->indices.empty()) out.push_back(std::move(obj));
         return;
     }
     node.expect_object({"type", "prototype", "transform", "material"});
