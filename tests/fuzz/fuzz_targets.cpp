@@ -67,6 +67,11 @@ void scene(const uint8_t* data, size_t size) {
     for (const Object& o : s.objects) {
         if (const auto* m = std::get_if<Mesh>(&o.shape)) check_mesh(*m);
     }
+    for (const Prototype& p : s.prototypes)
+        for (const Object& o : p.objects)
+            if (const auto* m = std::get_if<Mesh>(&o.shape)) check_mesh(*m);
+    for (const Instance& i : s.instances)
+        require(i.prototype < s.prototypes.size(), "an instance of no prototype");
 }
 
 void mesh(const uint8_t* data, size_t size, const std::string& extension) {
@@ -78,6 +83,7 @@ void mesh(const uint8_t* data, size_t size, const std::string& extension) {
         return;
     }
     check_mesh(m.mesh);
+    for (const MeshFile::Shared& shared : m.shared) check_mesh(shared.mesh);
 }
 
 /// The file extension that the bytes' magic number says, `fallback` for none.
