@@ -1,7 +1,8 @@
 // svetlo serve [SCENE.json|DIR] [--port P] [--host H]: a live browser viewer (docs/viewer.md).
 // It serves one page (viewer/index.html, inside the binary) and a small API that renders
 // through the command line's own code:
-//   GET /api/scenes                  the scene and model files of the folder, and the one given
+//   GET /api/scenes                  the scene and model files of the folder, the one given, and
+//                                    the environment maps in it
 //   GET /api/scene?scene=NAME        a scene's effective JSON (the page orbits its camera)
 //   GET /api/link?QUERY              a shared link read as the server reads a request: its
 //                                    scene, engine and each set= value as --set reads it, and
@@ -64,6 +65,8 @@ constexpr int kPreviewAreaPoints = 1;
 /// The server's threads: each client's work is one render at a time, and renders share the
 /// cores.
 constexpr size_t kThreads = 4;
+/// The environment maps /api/scenes lists at most (a folder of many images lists these).
+constexpr size_t kMaxEnvironments = 200;
 
 struct Server {
     fs::path folder;  // canonical
@@ -287,7 +290,23 @@ int run_serve(const ServeArgs& args) {
                 names.push_back(name);
         }
         std::sort(names.begin(), names.end());
-        res.set_content(nlohmann::json{{"scenes", names}, {"default", server.default_scene}}.dump(),
+        // The environment maps the folder holds (.hdr, .exr, .pfm, in it or two folders
+        // down), relative to it: the viewer's environment menu.
+        std::vector<std::string> environments;
+        fs::recursive_directory_iterator it(server.folder, ec), end;
+        for (; !ec && it != end && environments.size() < kMaxEnvironments; it.increment(ec)) {
+            if (it.depth() >= 2) it.disable_recursion_pending();
+            const fs::path& p = it->path();
+            const std::string ext = lower_extension(p);
+            if (it->is_regular_file() && p.filename().string()[0] != '.' &&
+                (ext == ".hdr" || ext == ".exr" || ext == ".pfm"))
+                environments.push_back(p.lexically_relative(server.folder).generic_string());
+        }
+        std::sort(environments.begin(), environments.end());
+        res.set_content(nlohmann::json{{"scenes", names},
+                                       {"default", server.default_scene},
+                                       {"environments", environments}}
+                            .dump(),
                         "application/json");
     });
     http.Get("/api/scene", [&](const httplib::Request& request, httplib::Response& res) {

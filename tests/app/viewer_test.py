@@ -281,6 +281,26 @@ def main():
               v and v[:2])
         if v:
             views.append(v)
+        # The environment menu (the folder's maps), then its rotation slider, then none again.
+        listed = json.loads(http(port, "/api/scenes")[1]).get("environments", [])
+        check("/api/scenes lists the folder's maps", "references/door_ajar.exr" in listed, listed)
+        set_control(tab, "environment", "references/door_ajar.exr", "change")
+        v = wait_view(tab, views[-1][2])
+        check("an environment from the menu changes the pixels", v is not None and
+              v[0] != views[-1][0] and "environment" in tab.eval("location.search"), v and v[:2])
+        if v:
+            views.append(v)
+        tab.eval("(() => { const e = document.querySelector('[data-key=\"environment.rotate\"]');"
+                 " e.value = 90; e.dispatchEvent(new Event('input')); })()")
+        v = wait_view(tab, views[-1][2])
+        check("the environment's rotation slider changes the pixels",
+              v is not None and v[0] != views[-1][0], v and v[:2])
+        if v:
+            views.append(v)
+        set_control(tab, "environment", "", "change")
+        v = wait_view(tab, views[-1][2])
+        if v:
+            views.append(v)
         for value in ["shadow_map", ""]:
             set_control(tab, "aov", value, "change")
             v = wait_view(tab, views[-1][2])
