@@ -124,7 +124,8 @@ class KeptMipChains {
 public:
     static constexpr size_t kKeptBytes = size_t{32} << 20;
 
-    const std::vector<MipChain>& of(const std::vector<TextureImage>& textures) {
+    /// The chains of `textures`, made (when they must be) one texture per task on `threads`.
+    const std::vector<MipChain>& of(const std::vector<TextureImage>& textures, int threads) {
         const bool same = kept_ && textures.size() == textures_.size() &&
                           std::equal(textures.begin(), textures.end(), textures_.begin(),
                                      [](const TextureImage& a, const TextureImage& b) {
@@ -135,9 +136,10 @@ public:
         for (const TextureImage& t : textures) bytes += t.bytes();
         kept_ = bytes <= kKeptBytes;
         textures_ = kept_ ? textures : std::vector<TextureImage>{};
-        chains_.clear();
-        for (const TextureImage& t : kept_ ? textures_ : textures)
-            chains_.push_back(build_mip_chain(t));
+        const std::vector<TextureImage>& level0 = kept_ ? textures_ : textures;
+        chains_.assign(level0.size(), MipChain{});
+        parallel_indices(level0.size(), threads,
+                         [&](size_t k) { chains_[k] = build_mip_chain(level0[k]); });
         return chains_;
     }
 
@@ -150,7 +152,7 @@ private:
 /// The shading state of the frame's colour pass: constant BRDFs made once, mip chains when a
 /// texture is filtered with them (`kept`'s), and what the SIMD fast path takes (constant
 /// Lambert and Phong-family materials under point, spot and directional lights only).
-void prepare_shading(const Scene& scene, FrameShading& f, KeptMipChains& kept) {
+void prepare_shading(const Scene& scene, FrameShading& f, KeptMipChains& kept, int threads) {
     // GL_MODULATE for flat and Gouraud shading: the base colour's texture, if any.
     for (const Material& m : f.materials) {
         const ColorSource* base = base_color(m);
@@ -171,7 +173,7 @@ void prepare_shading(const Scene& scene, FrameShading& f, KeptMipChains& kept) {
         sources.known = colour_sources(m, sources.of);
         f.colour_sources.push_back(sources);
     }
-    if (any_mips) f.mips = &kept.of(scene.textures);
+    if (any_mips) f.mips = &kept.of(scene.textures, threads);
     // The fast path takes point, spot and directional lights and the VPLs of lights with area.
     f.simd_lights_ok = true;
     const auto& sources = f.lights->set.sources();
@@ -344,7 +346,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     const TriangleList& list = *shared_list;
     f.accels = options.accels;
     f.occluder_cubes = options.occluder_cubes;
-    prepare_shading(scene, f, buffers_->mips);
+    prepare_shading(scene, f, buffers_->mips, threads);
     const CameraMatrices camera = frame_camera(scene, list, threads);
     f.list = &list;
     f.sources = f.lights->set.sources().size();

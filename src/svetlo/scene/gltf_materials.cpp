@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "svetlo/core/image_io.h"
+#include "svetlo/core/parallel.h"
 
 namespace svetlo {
 
@@ -105,7 +106,8 @@ private:
         s.transformed = true;
     }
 
-    /// The index in file_.textures of image `index` decoded as `meaning` says.
+    /// The index in file_.textures of image `index` decoded as `meaning` says (by decode_all:
+    /// until then its place is held).
     int image(int index, TexelMeaning meaning, const std::string& what) {
         if (index < 0 || static_cast<size_t>(index) >= model_.images.size())
             throw std::runtime_error(what + ": image " + std::to_string(index) + " missing");
@@ -119,20 +121,43 @@ private:
         // high bytes, grey is repeated; or to coverage, its alpha channel. The size is checked
         // from the header before anything is decoded.
         if (names_network(im.uri)) throw std::runtime_error(what + ": " + name + " " + kNetwork);
-        try {
-            file_.textures.push_back(
-                decode_texture(im.image.data(), im.image.size(), meaning, kMaxTextureBytes));
-        } catch (const std::runtime_error& e) {
-            throw std::runtime_error(what + ": " + name + " does not decode: " + e.what());
-        }
+        file_.textures.emplace_back();
         const int made = static_cast<int>(file_.textures.size()) - 1;
+        pending_.push_back({&im, meaning, static_cast<size_t>(made), what + ": " + name});
         made_[key] = made;
         return made;
     }
 
+public:
+    /// Decodes the images image() named, on all cores (a model's textures are most of its
+    /// loading time); a failure is the first image's in the file's order, whatever the
+    /// threads.
+    void decode_all() {
+        std::vector<std::string> errors(pending_.size());
+        parallel_indices(pending_.size(), 0, [&](size_t k) {
+            const Pending& p = pending_[k];
+            try {
+                file_.textures[p.slot] = decode_texture(
+                    p.image->image.data(), p.image->image.size(), p.meaning, kMaxTextureBytes);
+            } catch (const std::exception& e) {
+                errors[k] = p.label + " does not decode: " + e.what();
+            }
+        });
+        for (const std::string& e : errors)
+            if (!e.empty()) throw std::runtime_error(e);
+    }
+
+private:
     const tinygltf::Model& model_;
     MeshFile& file_;
     std::map<std::pair<int, TexelMeaning>, int> made_;
+    struct Pending {
+        const tinygltf::Image* image;
+        TexelMeaning meaning;
+        size_t slot;        // in file_.textures
+        std::string label;  // "material 2 baseColorTexture: image 0 'a.png'"
+    };
+    std::vector<Pending> pending_;
 };
 
 /// The metallic-roughness surface: base colour, metallic and roughness, occlusion. Every
@@ -292,6 +317,7 @@ void read_gltf_materials(const tinygltf::Model& model, MeshFile& file) {
         file.materials.push_back(material_from_gltf(m, textures));
         file.material_names.push_back(m.name);
     }
+    textures.decode_all();
 }
 
 }  // namespace svetlo

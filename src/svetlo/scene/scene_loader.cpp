@@ -129,7 +129,9 @@ nlohmann::json effective_scene_json(const fs::path& path, const std::vector<Over
 }
 
 Scene load_scene(const fs::path& path, const std::vector<Override>& overrides) {
-    return scene_from_json(effective_scene_json(path, overrides), path);
+    // One cache for both steps: a model file is read once, for its framing and its triangles.
+    MeshFileCache meshes;
+    return scene_from_json(effective_scene_json(path, overrides, &meshes), path, &meshes);
 }
 
 namespace {
