@@ -214,6 +214,34 @@ TEST(Instances, PlaceTheirPrototypesWithoutCopies) {
     EXPECT_EQ(s.instances[0].material, -1);
 }
 
+TEST(Instances, ThoseThatEmitOrHaveNoBoxAreWrittenOut) {
+    // An emitting material given by the instance, a plane, an implicit surface (a plane in an
+    // SDF has no box): each written into the objects; the plain tree stays placed.
+    json j = forest("path", true);
+    j["materials"]["glow"] = {{"type", "emissive"}, {"radiance", 1}};
+    j["prototypes"]["floor"] = {{"objects",
+                                 {{{"type", "plane"},
+                                   {"point", {0, -1, 0}},
+                                   {"normal", {0, 1, 0}},
+                                   {"material", "grey"}}}}};
+    j["prototypes"]["blob"] = {
+        {"objects",
+         {{{"type", "implicit"},
+           {"material", "red"},
+           {"sdf", {{"op", "sphere"}, {"center", {0, 0, 0}}, {"radius", 0.5}}}}}}};
+    j["objects"] = {{{"type", "instance"}, {"prototype", "tree"}, {"material", "glow"}},
+                    {{"type", "instance"}, {"prototype", "floor"}},
+                    {{"type", "instance"}, {"prototype", "blob"}},
+                    {{"type", "instance"}, {"prototype", "tree"}}};
+    const Scene s = scene_from_json(j, "s.json");
+    EXPECT_EQ(s.copied_objects, 4u);  // the tree's two, the plane, the implicit surface
+    ASSERT_EQ(s.objects.size(), 4u);
+    EXPECT_TRUE(std::holds_alternative<Plane>(s.objects[2].shape));
+    EXPECT_TRUE(std::holds_alternative<Implicit>(s.objects[3].shape));
+    ASSERT_EQ(s.instances.size(), 1u);
+    EXPECT_EQ(s.instances[0].name, "objects[3]");
+}
+
 std::string error_of(const json& j) {
     try {
         scene_from_json(j, "s.json");

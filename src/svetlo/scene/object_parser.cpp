@@ -453,15 +453,16 @@ namespace {
 constexpr size_t kMaxInstances = size_t{1} << 20;
 
 /// Whether `prototype` placed with material `material` (-1: its own) must be written out:
-/// it holds an emitter (the light set samples emitters in world space) or an infinite plane
-/// (which no box bounds).
+/// it holds an emitter (the light set samples emitters in world space), an infinite plane or
+/// an implicit surface (which may be unbounded: no box would hold it).
 bool needs_copies(const Scene& scene, const Prototype& prototype, int material) {
     const auto emitting = [&](int m) {
         return m >= 0 && emits(scene.materials[static_cast<size_t>(m)]);
     };
     if (emitting(material)) return true;
     for (const Object& o : prototype.objects) {
-        if (std::holds_alternative<Plane>(o.shape)) return true;
+        if (std::holds_alternative<Plane>(o.shape) || std::holds_alternative<Implicit>(o.shape))
+            return true;
         if (material >= 0) continue;
         const auto* mesh = std::get_if<Mesh>(&o.shape);
         if (mesh && o.material < 0

@@ -559,9 +559,9 @@ struct Scene {
     std::vector<std::string> warnings;
     /// The prototypes that instances place, and the placements. The ray tracers trace them
     /// as a two-level structure; the rasterizer and radiosity draw them as copies
-    /// (instance_copies, scene/instances.h). An instance whose prototype holds an emitter or an
-    /// infinite plane is written into `objects` as copies instead (the light set samples
-    /// emitters in world space): `copied_objects` counts those.
+    /// (instance_copies, scene/instances.h). An instance whose prototype holds an emitter, an
+    /// infinite plane or an implicit surface is written into `objects` as copies instead (the light
+    /// set samples emitters in world space): `copied_objects` counts those.
     std::vector<Prototype> prototypes;
     std::vector<Instance> instances;
     size_t copied_objects = 0;
