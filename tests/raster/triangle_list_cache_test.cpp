@@ -124,8 +124,28 @@ TEST(RasterRenderer, OneRendererDrawsEachFrameAsANewOneWould) {
         for (int i = 0; i < 16; ++i) checker.at(i, j) = Color((i / 4 + j / 4) % 2 ? 0.9f : 0.1f);
     const std::string texture = testing::TempDir() + "/svetlo_kept_checker.pfm";
     write_image(texture, checker, PixelMeaning::Data, 1.0f, "the test's texture");
+    // Two environment maps (a bright spot on a gradient, in two places), so that the kept
+    // image-based lighting must be made again when the map, its rotation or its scale change.
+    std::string maps[2];
+    for (int m = 0; m < 2; ++m) {
+        Image sky(32, 16);
+        for (int j = 0; j < 16; ++j)
+            for (int i = 0; i < 32; ++i)
+                sky.at(i, j) = Color(0.2f + 0.05f * j, 0.3f, 0.4f) *
+                               ((i == 8 + 12 * m && j == 4) ? 200.0f : 1.0f);
+        maps[m] = testing::TempDir() + "/svetlo_kept_sky" + std::to_string(m) + ".pfm";
+        write_image(maps[m], sky, PixelMeaning::Radiance, 1.0f, "the test's map");
+    }
+    const auto sky = [&](int m, const char* rest) {
+        return raster_scene({{"environment", "{\"file\": \"" + maps[m] + "\"" + rest + "}"}});
+    };
     const Scene frames[] = {
         raster_scene(),
+        sky(0, ""),
+        sky(0, ", \"rotate\": 90"),
+        sky(0, ", \"rotate\": 90, \"scale\": 2"),
+        sky(1, ", \"rotate\": 90, \"scale\": 2"),
+        sky(0, ""),
         load_scene(SVETLO_SCENES "/shadows.json",
                    {{"film.width", "64"}, {"film.height", "40"}, {"render.spp", "4"}}),
         raster_scene({{"render.shadows", "\"volume\""}, {"film.width", "20"}}),

@@ -11,7 +11,7 @@
 #pragma once
 
 #include <array>
-#include <optional>
+#include <memory>
 
 #include "svetlo/raster/camera_matrices.h"
 #include "svetlo/raster/split_sum.h"
@@ -20,10 +20,34 @@
 
 namespace svetlo {
 
+/// What image-based lighting makes of a map (its SH coefficients, its prefiltered levels, the
+/// split-sum table), kept from one frame to the next as a GL context keeps a texture: the
+/// viewer loads the scene again each frame, and making them took 100 ms of each frame on two
+/// threads (royal_esplanade_1k.hdr), kept 0.7 ms (the texels compared). Made again when the
+/// map's texels, its rotation or its scale change; a map over kKeptBytes is not kept (a copy
+/// would double it).
+class IblCache {
+public:
+    static constexpr size_t kKeptBytes = size_t{64} << 20;
+
+    struct Made {
+        std::array<Color, 9> coefficients{};  // A_l L_lm, in the order of sh_basis
+        std::shared_ptr<const PrefilteredEnvironment> prefiltered;
+        std::shared_ptr<const SplitSumTable> table;
+    };
+    /// The parts for `scene`'s map, made on `threads` threads when they must be.
+    Made of(const Scene& scene, int threads);
+
+private:
+    Scene kept_;  // the map the parts were made from (a copy), with its settings
+    Made made_;
+};
+
 class ImageBasedLighting {
 public:
-    /// The SH projection, and the prefiltered levels and table made on `threads` threads.
-    explicit ImageBasedLighting(const Scene& scene, int threads = 0);
+    /// The SH projection, and the prefiltered levels and table made on `threads` threads, or
+    /// taken from `cache` when it holds them for this map.
+    explicit ImageBasedLighting(const Scene& scene, int threads = 0, IblCache* cache = nullptr);
 
     /// Whether a map is given (else the uniform background, as before).
     bool active() const { return environment_.is_map(); }
@@ -41,10 +65,11 @@ public:
 
 private:
     Environment environment_;
-    std::array<Color, 9> coefficients_{};                // A_l L_lm, in the order of sh_basis
-    std::optional<PrefilteredEnvironment> prefiltered_;  // with a map
-    std::optional<SplitSumTable> table_;
+    IblCache::Made made_;  // with a map
 };
+
+/// The parts of image-based lighting for `scene`'s map, made afresh (IblCache keeps them).
+IblCache::Made make_image_based_lighting(const Scene& scene, int threads);
 
 /// The nine real spherical harmonics of orders 0 to 2 at the unit direction d (y up is
 /// svetlo's; the basis is rotation-invariant as a whole, any axis order serves).

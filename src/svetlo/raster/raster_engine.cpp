@@ -60,7 +60,8 @@ void split_vertices_by_material(TriangleList& list) {
 /// the command made it (f.list_key). Makes the light set and its VPLs.
 std::shared_ptr<const TriangleList> tessellate_scene(const Scene& scene, FrameShading& f,
                                                      int threads,
-                                                     TriangleListCache* cache = nullptr) {
+                                                     TriangleListCache* cache = nullptr,
+                                                     IblCache* ibl = nullptr) {
     const TessellationOptions options = tessellation_options(scene.render);
     // Refuse what would not fit in memory before making it (a fine tessellation of many shapes).
     const uint64_t total = tessellated_triangles(scene, options);
@@ -69,7 +70,7 @@ std::shared_ptr<const TriangleList> tessellate_scene(const Scene& scene, FrameSh
                     "the scene would make " + std::to_string(total) + " triangles (at most " +
                         std::to_string(kMaxTriangles) + "); lower render.tessellation");
     }
-    f.lights.emplace(scene, threads);
+    f.lights.emplace(scene, threads, ibl);
     f.materials = f.lights->set.materials();
     const bool split = f.mode == Mode::Gouraud;
     const bool adjacency = scene.render.shadows == ShadowTechnique::Volume;  // silhouettes
@@ -297,6 +298,7 @@ struct RasterRenderer::Buffers {
     LargeArray<Color> flat;
     PassMemory passes;  // the shadow techniques' passes
     KeptMipChains mips;
+    IblCache ibl;
 };
 
 RasterRenderer::RasterRenderer() : buffers_(std::make_unique<Buffers>()) {}
@@ -342,7 +344,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     f.scene = &scene;
     f.mode = scene.render.shading;
     const std::shared_ptr<const TriangleList> shared_list =
-        tessellate_scene(scene, f, threads, options.triangle_lists);
+        tessellate_scene(scene, f, threads, options.triangle_lists, &buffers_->ibl);
     const TriangleList& list = *shared_list;
     f.accels = options.accels;
     f.occluder_cubes = options.occluder_cubes;

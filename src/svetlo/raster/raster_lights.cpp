@@ -23,8 +23,8 @@ struct VplSampling {
 
 }  // namespace
 
-RasterLights::RasterLights(const Scene& scene, int threads)
-    : set(scene), environment(scene, threads) {
+RasterLights::RasterLights(const Scene& scene, int threads, IblCache* ibl)
+    : set(scene), environment(scene, threads, ibl) {
     const int n = scene.render.area_light_points;
     const int side = static_cast<int>(std::lround(std::sqrt(static_cast<double>(n))));
     for (const LightSet::Source& s : set.sources()) {

@@ -19,7 +19,8 @@ namespace svetlo {
 
 struct RasterLights {
     /// `threads` make the environment's prefiltered levels (0: all cores).
-    explicit RasterLights(const Scene& scene, int threads = 0);
+    /// `ibl`, when given, keeps the environment's parts from frame to frame (IblCache).
+    explicit RasterLights(const Scene& scene, int threads = 0, IblCache* ibl = nullptr);
 
     LightSet set;
     ImageBasedLighting environment;  // the map, when the scene has one
