@@ -11,6 +11,7 @@
 #include <chrono>
 #include <csignal>
 #include <cstring>
+#include <optional>
 
 #include "commands.h"
 #include "interrupt.h"
@@ -96,18 +97,14 @@ RenderJob python_job(const std::string& text, const std::string& path, const std
 
 /// Renders with the GIL released. SIGINT (on the main thread) ends the pass in progress, as
 /// on the command line, and then raises KeyboardInterrupt. `progress(fraction, spp, seconds)`
-/// runs after each pass, with the GIL.
+/// runs after each pass, with the GIL. `time` (None: none) is checked as --time is.
 py::dict render(const std::string& text, const std::string& path, const std::string& sha256,
                 const Overrides& overrides, const std::vector<std::string>& aovs, int threads,
-                double time_budget, const std::vector<std::string>& command,
+                std::optional<double> time, const std::vector<std::string>& command,
                 const py::object& progress) {
     RenderJob job = python_job(text, path, sha256, overrides, aovs, threads, command);
-    if (time_budget > 0.0 && job.scene.render.engine != "path") {
-        throw Error(
-            path, "time",
-            "needs a progressive engine (path); " + job.scene.render.engine + " is not one");
-    }
-    job.options.time_budget = time_budget;
+    if (time) set_time_budget(job, *time, path, "time");
+    const double time_budget = job.options.time_budget;
     const int planned = job.scene.render.spp;
     if (!progress.is_none()) {
         job.options.on_pass = [&](int passes, double seconds, const Image&) {

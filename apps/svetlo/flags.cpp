@@ -35,7 +35,6 @@ long long flag_integer(const std::string& file, const std::string& flag, const s
 
 double flag_seconds(const std::string& file, const std::string& flag, const std::string& text) {
     if (text.empty()) return 0.0;
-    constexpr double kWeek = 7.0 * 24.0 * 3600.0;
     char* end = nullptr;
     double value = std::strtod(text.c_str(), &end);
     if (end != text.c_str() + text.size() || text.find_first_of(" \t") != std::string::npos ||
@@ -43,7 +42,7 @@ double flag_seconds(const std::string& file, const std::string& flag, const std:
         throw Error(file, flag, "must be a number of seconds (is '" + shown(text) + "')");
     }
     if (!(value > 0.0)) throw Error(file, flag, "must be > 0 (is " + shown(text) + ")");
-    if (value > kWeek)
+    if (value > kMaxSeconds)
         throw Error(file, flag, "must be <= 604800, a week (is " + shown(text) + ")");
     return value;
 }

@@ -15,6 +15,9 @@ long long flag_integer(const std::string& file, const std::string& flag, const s
 /// most a week.
 double flag_seconds(const std::string& file, const std::string& flag, const std::string& text);
 
+/// The longest time budget, seconds: a week (--time, Python's `time`).
+inline constexpr double kMaxSeconds = 7.0 * 24.0 * 3600.0;
+
 /// The largest thread count a flag may ask for; more than the machine's cores run on its cores.
 inline constexpr long long kMaxThreads = 4096;
 

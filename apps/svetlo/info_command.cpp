@@ -2,6 +2,7 @@
 #include <cstdio>
 
 #include "commands.h"
+#include "engines.h"
 #include "svetlo/geometry/scene_geometry.h"
 #include "svetlo/radiosity/patch_mesh.h"
 #include "svetlo/raster/raster_engine.h"
@@ -93,7 +94,7 @@ int run_info(const InfoArgs& args) {
         std::printf("bounds     (%g, %g, %g) - (%g, %g, %g)\n", bounds.min.x, bounds.min.y,
                     bounds.min.z, bounds.max.x, bounds.max.y, bounds.max.z);
     }
-    if (scene.render.engine == "radiosity") {
+    if (capabilities_of(scene.render.engine, args.scene).patch_mesh) {
         // The uniform patch mesh (adaptive and hierarchical subdivision come at render time).
         PatchMesh m(scene, 0);
         std::printf("patches    %llu of %g m from %zu triangles, %llu elements of %g m\n",

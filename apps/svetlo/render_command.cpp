@@ -133,14 +133,9 @@ int run_render(const RenderArgs& args) {
     if (!args.crop.empty())
         job.options.crop = parse_crop(args.crop, args.scene, scene.film.width, scene.film.height);
     request_aovs(job, args.aovs, args.output);
-    // An unknown engine, before the checks below; a progressive one for --time and
-    // --checkpoint.
+    // An unknown engine, before the checks below; a progressive one for --time.
     const Capabilities& engine = capabilities_of(scene.render.engine, args.scene);
-    const std::string progressive =
-        "needs a progressive engine (" +
-        engines_with([](const Capabilities& c) { return c.progressive; }) + "); ";
-    if (time_budget > 0.0 && !engine.progressive)
-        throw Error(args.scene, "--time", progressive + engine.name + " is not one");
+    if (time_budget > 0.0) set_time_budget(job, time_budget, args.scene, "--time");
     // Many processes (mpirun): every rank checks all of the above, so that bad input ends
     // them all alike; rank 0 alone writes and speaks.
     const int processes = args.mpi ? args.mpi->size() : 1;
@@ -172,7 +167,6 @@ int run_render(const RenderArgs& args) {
     }
     RenderOptions& options = job.options;
     options.threads = threads;
-    options.time_budget = time_budget;
     options.spp_caps_time = !args.spp.empty();  // the scene's spp does not cap --time
     options.progress = !args.quiet && stderr_is_terminal() && processes == 1;
     MseLog mse(args, job);

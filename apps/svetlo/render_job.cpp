@@ -24,6 +24,23 @@ RenderJob make_job(nlohmann::json json, const std::filesystem::path& path, std::
     return job;
 }
 
+void set_time_budget(RenderJob& job, double seconds, const std::string& file,
+                     const std::string& key) {
+    char shown[48];
+    std::snprintf(shown, sizeof shown, "%g", seconds);
+    if (!std::isfinite(seconds) || !(seconds > 0.0) || seconds > kMaxSeconds)
+        throw Error(
+            file, key,
+            std::string("must be a number of seconds in (0, 604800], a week (is ") + shown + ")");
+    const Capabilities& engine = capabilities_of(job.scene.render.engine, file);
+    if (!engine.progressive)
+        throw Error(file, key,
+                    "needs a progressive engine (" +
+                        engines_with([](const Capabilities& c) { return c.progressive; }) + "); " +
+                        engine.name + " is not one");
+    job.options.time_budget = seconds;
+}
+
 Crop parse_crop(const std::string& text, const std::string& file, int width, int height) {
     long long v[4];
     size_t start = 0;

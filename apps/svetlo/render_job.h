@@ -27,6 +27,12 @@ struct RenderJob {
 RenderJob make_job(nlohmann::json json, const std::filesystem::path& path, std::string sha256,
                    MeshFileCache* meshes = nullptr, const FileScope& files = {});
 
+/// Gives the job a time budget of `seconds` (> 0, at most a week): the command line's --time
+/// and Python's `time`, named `key` in the errors. Throws Error for a number out of range or
+/// an engine that is not progressive (engines.h).
+void set_time_budget(RenderJob& job, double seconds, const std::string& file,
+                     const std::string& key);
+
 /// Parses --crop X0,X1,Y0,Y1 for a film of width x height; throws Error naming --crop for a
 /// window outside the film or empty.
 Crop parse_crop(const std::string& text, const std::string& file, int width, int height);

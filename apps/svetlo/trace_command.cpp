@@ -145,8 +145,8 @@ PixelTrace trace_job(RenderJob& job, int x, int y, long long sample, long long s
                     "sample " + std::to_string(sample) + " of " + std::to_string(spp) +
                         " per pixel does not exist (--spp sets the samples of " + engine + ")");
     }
-    if (engine == "raster" && sample > 0)
-        throw Error(file, "--sample", "the rasterizer's trace is of the whole pixel (--sample 0)");
+    if (!capabilities_of(engine, file).traces_samples && sample > 0)
+        throw Error(file, "--sample", engine + "'s trace is of the whole pixel (--sample 0)");
     if (x < 0 || y < 0 || x >= scene.film.width || y >= scene.film.height) {
         char why[160];
         std::snprintf(why, sizeof why, "(%d, %d) lies outside the %d x %d film", x, y,

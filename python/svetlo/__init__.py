@@ -203,13 +203,10 @@ def render(scene, *, engine=None, spp=None, width=None, height=None, threads=Non
         aovs = []
     if isinstance(aovs, str) or not all(isinstance(a, str) for a in aovs):
         raise TypeError("aovs must be a list of names (str)")
-    budget = 0.0
+    budget = None  # its range and the engine are checked as --time's (render_job.h)
     if time is not None:
         if isinstance(time, bool) or not isinstance(time, (int, float)):
             raise TypeError("time must be a number of seconds, not %s" % type(time).__name__)
-        if not (math.isfinite(time) and 0 < time <= 7 * 24 * 3600):
-            raise SceneError("%s: time: must be a number of seconds in (0, 604800] (is %r)"
-                             % (scene.path, time))
         budget = float(time)
     if progress is not None and not callable(progress):
         raise TypeError("progress must be callable (fraction, spp, seconds)")

@@ -379,6 +379,7 @@ render_bad "thin lens, orthographic" "camera.aperture: a thin lens needs a persp
 expect_error "time of whitted" "--time: needs a progressive engine" render "$work/good.json" -o "$work/keep.png" --time 1
 expect_error "time not a number" "--time: must be a number of seconds" render "$work/good.json" -o "$work/keep.png" --engine path --time abc
 expect_error "time zero" "--time: must be > 0" render "$work/good.json" -o "$work/keep.png" --engine path --time 0
+expect_error "a later sample of the rasterizer" "--sample: raster's trace is of the whole pixel" trace "$work/good.json" -e raster --spp 4 --pixel 1,1 --sample 1
 render_bad "photon count" "render.photons.count" 'scene["render"]["photons"] = {"count": 0}' --engine path
 render_bad "photon alpha" "render.photons.alpha: must lie in" 'scene["render"]["photons"] = {"alpha": 1}' --engine path
 render_bad "unknown caustics" "render.caustics: unknown value" 'scene["render"]["caustics"] = "sometimes"' --engine path

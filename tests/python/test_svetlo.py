@@ -197,6 +197,12 @@ def test_scene_errors_raise_scene_error(scenes):
         svetlo.render(path, aovs=["depths"])
     with pytest.raises(svetlo.SceneError, match="planar"):
         svetlo.render(path, engine="raster", aovs=["planar"])
+    # The time budget's rule is the command line's (--time): its range and the engine.
+    with pytest.raises(svetlo.SceneError, match=r"time: needs a progressive engine \(path\); raster"):
+        svetlo.render(path, engine="raster", time=1)
+    for bad in (0, -1, 1e9, float("nan"), float("inf")):
+        with pytest.raises(svetlo.SceneError, match=r"time: must be a number of seconds in \(0, 604800\]"):
+            svetlo.render(path, engine="path", time=bad)
     scene = svetlo.load(path)
     with pytest.raises(svetlo.SceneError, match="camera.fov"):
         scene["camera.fov"] = 200

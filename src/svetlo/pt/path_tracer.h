@@ -15,6 +15,7 @@ public:
         return {.name = "path",
                 .progressive = true,
                 .checkpoints = true,
+                .traces_samples = true,
                 .debug_aovs = {"bvh_cost", "path_depth"}};
     }
     RenderResult render(const Scene& scene, const RenderOptions& options) override;

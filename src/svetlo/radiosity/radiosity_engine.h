@@ -16,6 +16,7 @@ public:
         return {.name = "radiosity",
                 .checkpoints = true,  // the progressive solve's
                 .whole_frame = true,
+                .patch_mesh = true,
                 .debug_aovs = {"patches"}};
     }
     RenderResult render(const Scene& scene, const RenderOptions& options) override;

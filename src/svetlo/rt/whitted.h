@@ -12,7 +12,7 @@ namespace svetlo {
 class WhittedRenderer final : public Renderer {
 public:
     Capabilities capabilities() const override {
-        return {.name = "whitted", .debug_aovs = {"bvh_cost"}};
+        return {.name = "whitted", .traces_samples = true, .debug_aovs = {"bvh_cost"}};
     }
     RenderResult render(const Scene& scene, const RenderOptions& options) override;
 };

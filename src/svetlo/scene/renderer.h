@@ -60,6 +60,9 @@ struct Capabilities {
     bool checkpoints = false;             // resumes from --checkpoint (RenderOptions::checkpoint)
     bool whole_frame = false;             // draws the whole frame at once: under MPI its
                                           // windows are bands of rows, each cut from a frame
+    bool traces_samples = false;          // svetlo trace follows one sample of a pixel (--sample);
+                                          // else its trace is of the whole pixel
+    bool patch_mesh = false;              // solves on a mesh of patches (svetlo info shows it)
     std::vector<std::string> debug_aovs;  // the teaching buffers it makes
 };
 
