@@ -14,6 +14,7 @@
 #include <optional>
 
 #include "commands.h"
+#include "flags.h"
 #include "interrupt.h"
 #include "render_job.h"
 #include "sheet.h"
@@ -283,4 +284,8 @@ PYBIND11_MODULE(_svetlo, m) {
     m.def("triangles", &triangles);
     m.attr("aov_names") = aov_names();
     m.attr("debug_aov_names") = debug_aov_names();
+    // The command line's bounds, so that the keywords are held to the same (flags.h,
+    // scene_loader.h).
+    m.attr("max_threads") = kMaxThreads;
+    m.attr("max_spp") = kMaxSpp;
 }

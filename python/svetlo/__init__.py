@@ -184,7 +184,7 @@ def _overrides(scene, engine, width, height, spp, seed, set):
 
 
 def _threads(threads):
-    return _int("threads", threads, 0, 4096, "threads") or 0
+    return _int("threads", threads, 0, _svetlo.max_threads, "threads") or 0
 
 
 def render(scene, *, engine=None, spp=None, width=None, height=None, threads=None, seed=None,
@@ -224,8 +224,8 @@ def trace(scene, pixel, *, sample=0, spp=None, engine=None, width=None, height=N
     if (not isinstance(pixel, (tuple, list)) or len(pixel) != 2
             or not all(isinstance(v, int) and not isinstance(v, bool) for v in pixel)):
         raise TypeError("pixel must be (x, y), two ints")
-    sample = _int("sample", sample, 0, (1 << 20) - 1, "sample")
-    spp_value = _int("spp", spp, 1, 1 << 20, "spp") or 1
+    sample = _int("sample", sample, 0, _svetlo.max_spp - 1, "sample")
+    spp_value = _int("spp", spp, 1, _svetlo.max_spp, "spp") or 1
     overrides = _overrides(scene, engine, width, height, None, seed, set)
     text = _svetlo.trace(scene._text, scene._path, scene._sha256, overrides, pixel[0], pixel[1],
                          sample, spp_value, _threads(threads))
