@@ -97,9 +97,10 @@ Color PathIntegrator::one_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& fr
                                 k == 0 ? choice.y : sampler.next_float());
         Color c = unoccluded_light(bsdf, frame, wo, s);  // f E cos, the lighting core's
         if (is_black(c)) {
-            if (log)
-                log_light(p, frame.ng, s.wi, s.distance, 0.0f, 0.0f, 0.0f, Color(0.0f),
-                          "brings no light here (below the surface): not traced");
+            if (observer)
+                observer->light_sample(p, frame.ng, s.wi, s.distance, 0.0f, 0.0f, 0.0f, Color(0.0f),
+                                       1.0f,
+                                       "brings no light here (below the surface): not traced");
             continue;
         }
         float w = 1.0f;
@@ -108,11 +109,12 @@ Color PathIntegrator::one_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& fr
                              scatter_pdf(bsdf, frame.ns, wo, s.wi, guide));
         }
         const bool blocked = w == 0.0f || shadow_blocked(rt_, p, frame.ng, s, rays);
-        if (log) {
+        if (observer) {
             const float scale = 1.0f / (static_cast<float>(n) * chosen);
-            log_light(p, frame.ng, s.wi, s.distance, s.delta ? chosen : n * chosen * s.pdf, w,
-                      blocked ? 0.0f : 1.0f, blocked ? Color(0.0f) : log_beta_ * c * (w * scale),
-                      w == 0.0f ? "MIS weight 0: not traced" : nullptr);
+            observer->light_sample(p, frame.ng, s.wi, s.distance,
+                                   s.delta ? chosen : n * chosen * s.pdf, w, blocked ? 0.0f : 1.0f,
+                                   blocked ? Color(0.0f) : c, w * scale,
+                                   w == 0.0f ? "MIS weight 0: not traced" : nullptr);
         }
         if (blocked) continue;
         sum += c * w;
@@ -146,40 +148,10 @@ Color PathIntegrator::environment_light(const Bsdf& bsdf, vec3 p, const ShadingF
     const bool blocked = rt_.occluded(Ray{offset_ray_origin(p, frame.ng, wi), wi, kInfinity});
     float w = light_weight(scene_.render.mis, pdf, scatter_pdf(bsdf, frame.ns, wo, wi, guide));
     const Color c = blocked ? Color(0.0f) : f * Le * (cos_theta * w / pdf);
-    if (log)
-        log_light(p, frame.ng, wi, kInfinity, pdf, w, blocked ? 0.0f : 1.0f, log_beta_ * c,
-                  "the background");
+    if (observer)
+        observer->light_sample(p, frame.ng, wi, kInfinity, pdf, w, blocked ? 0.0f : 1.0f, c, 1.0f,
+                               "the background");
     return c;
-}
-
-int PathIntegrator::log_ray(const Ray& ray, int depth, int parent, float t, Color beta, float pdf,
-                            bool delta) {
-    TraceRay r;
-    r.kind = parent < 0 ? "camera" : "bsdf";
-    r.parent = parent;
-    r.depth = depth;
-    r.origin = ray.o;
-    r.direction = ray.d;
-    r.t = t;
-    r.set("throughput", beta);
-    if (parent >= 0) r.set("pdf", {delta ? 0.0f : pdf});
-    if (delta && parent >= 0) r.note = "a delta lobe";
-    return log->add(std::move(r));
-}
-
-void PathIntegrator::log_light(vec3 p, vec3 ng, vec3 wi, float distance, float pdf, float w,
-                               float visible, Color contribution, const char* note) {
-    TraceRay r;
-    r.kind = "light";
-    r.parent = log_parent_;
-    r.depth = log_depth_;
-    r.origin = offset_ray_origin(p, ng, wi);
-    r.direction = wi;
-    r.t = distance;
-    r.contribution = contribution;
-    r.note = note ? note : visible > 0.0f ? "the light is visible" : "blocked";
-    r.set("pdf", {pdf}).set("mis_weight", {w}).set("visibility", {visible});
-    log->add(std::move(r));
 }
 
 Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, Rng* aov_rng) {
@@ -195,14 +167,13 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, R
     bool after_lobes = false;  // a non-delta vertex lies behind: caustic paths start there
     Color medium(0.0f);        // the absorption of the object the ray travels inside
     float lambda = 0.0f;       // nm, picked at the first dispersive interface
-    int self = -1;             // the log's entry of the ray being followed
     int depth = 0;
     for (;; ++depth) {
         ++rays;
         Hit hit;
         const bool met = rt_.intersect(ray, hit);
-        if (log)
-            self = log_ray(ray, depth, self, met ? hit.t : kInfinity, beta, prev_pdf, prev_delta);
+        if (observer)
+            observer->ray(ray, depth, met ? hit.t : kInfinity, beta, prev_pdf, prev_delta);
         beta *= transmittance(medium, met ? hit.t : kInfinity);
         if (!met) {
             if (environment_) {
@@ -212,10 +183,7 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, R
                                              : std::max(0.0f, glm::dot(prev_ng, ray.d)) * kInvPi;
                 float w = prev_delta ? 1.0f : bsdf_weight(settings.mis, prev_pdf, pdf_env);
                 L += beta * Le * w;
-                if (log) {
-                    log->rays[self].contribution = beta * Le * w;
-                    log->rays[self].set("mis_weight", {w}).note = "the background";
-                }
+                if (observer) observer->background(beta * Le * w, w);
             }
             break;
         }
@@ -223,13 +191,7 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, R
         Bsdf bsdf = rt_.bsdf(sh.material, sh.varyings());
         const vec3 wo = -ray.d;
         const ShadingFrame frame = make_shading_frame(sh.ng, sh.ns, wo);
-        if (log) {
-            describe_hit(log->rays[self], scene_.material_names, sh.material, sh.p, frame.ns,
-                         frame.front);
-            log_parent_ = self;
-            log_depth_ = depth;
-            log_beta_ = beta;
-        }
+        if (observer) observer->vertex(sh, frame, depth, beta);
         if (aov && depth == 0) {
             aov->depth = hit.t;
             aov->normal = frame.ns;
@@ -250,10 +212,7 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, R
                                      : emitter_weight(hit, prev_p, prev_pdf, prev_light_samples,
                                                       sh.p, frame.ng);
                 L += beta * bsdf.emission * w;
-                if (log) {
-                    log->rays[self].contribution += beta * bsdf.emission * w;
-                    log->rays[self].set("mis_weight", {w});
-                }
+                if (observer) observer->emitted(beta * bsdf.emission * w, w);
             }
         }
         if (depth > settings.max_depth) break;
@@ -275,8 +234,7 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, R
             if (photons_) {
                 const Color caustic = photons_->radiance(sh.p, frame, wo, bsdf);
                 L += beta * caustic;
-                if (log) log->rays[self].contribution += beta * caustic;
-                if (log) log->rays[self].set("photon_radiance", caustic);
+                if (observer) observer->photons(caustic, beta * caustic);
             }
         }
 
@@ -306,11 +264,8 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, R
         ray = Ray{offset_ray_origin(sh.p, frame.ng, bs.wi), bs.wi, kInfinity};
         if (depth + 1 >= kRouletteDepth) {
             float survive = std::min(kMaxSurvival, std::sqrt(max_component(beta)));
-            if (log) log->rays[self].set("survival", {survive});
-            if (u[3].y >= survive) {
-                if (log) log->rays[self].note += "; Russian roulette ends the path here";
-                break;
-            }
+            if (observer) observer->roulette(survive, u[3].y >= survive);
+            if (u[3].y >= survive) break;
             beta /= survive;
         }
     }

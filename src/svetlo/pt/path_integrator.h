@@ -18,6 +18,7 @@
 #include "svetlo/pt/caustic_photons.h"
 #include "svetlo/pt/guiding_field.h"
 #include "svetlo/pt/light_selection.h"
+#include "svetlo/pt/path_observer.h"
 #include "svetlo/pt/sobol_sampler.h"
 #include "svetlo/pt/spectrum.h"
 #include "svetlo/rt/rt_scene.h"
@@ -42,21 +43,11 @@ public:
         train_ = field && train;
     }
 
-    uint64_t rays = 0;          // every ray traced, shadow rays included
-    int bounces = 0;            // of the last path: the BSDF-sampled rays it traced (path_depth)
-    PixelTrace* log = nullptr;  // svetlo trace: every vertex and light sample, when set
+    uint64_t rays = 0;  // every ray traced, shadow rays included
+    int bounces = 0;    // of the last path: the BSDF-sampled rays it traced (path_depth)
+    PathObserver* observer = nullptr;  // svetlo trace's (path_observer.h), when set
 
 private:
-    /// The log's entry for the ray that leaves vertex `parent` (-1: the camera) and meets
-    /// something at distance t (or nothing); beta is the throughput it carries.
-    int log_ray(const Ray& ray, int depth, int parent, float t, Color beta, float pdf, bool delta);
-    /// The log's entry for a light sample from p: its pdf (solid angle, with the light's
-    /// choice), MIS weight, visibility and what it adds.
-    void log_light(vec3 p, vec3 ng, vec3 wi, float distance, float pdf, float w, float visible,
-                   Color contribution, const char* note);
-    int log_parent_ = -1, log_depth_ = 0;  // the vertex whose light samples are being logged
-    Color log_beta_{1.0f};                 // and its throughput
-
     /// MIS weight of an emitter met by BSDF sampling from `from` (pdf `pdf_bsdf`), where
     /// next-event estimation took `light_samples` samples per light with area.
     float emitter_weight(const Hit& hit, vec3 from, float pdf_bsdf, int light_samples, vec3 p,

@@ -137,11 +137,15 @@ void trace_pass(const PassSetup& s, const Crop& window, int pass, GuidingField* 
                     if (s.want_cost)
                         sums.debug[slot] += glm::dvec4(glm::dvec3(s.rt.camera_ray_cost(ray)), 0.0);
                     PixelTrace* log = s.options.trace;
-                    integrator.log = log && log->at(i, j) && log->sample == pass ? log : nullptr;
+                    std::optional<PathTraceLog> traced;
+                    if (log && log->at(i, j) && log->sample == pass) {
+                        traced.emplace(*log, scene.material_names);
+                        integrator.observer = &*traced;
+                    }
                     Color c = integrator.radiance(ray, sampler, s.want_aovs ? &aov : nullptr,
                                                   aov_rng ? &*aov_rng : nullptr);
-                    if (integrator.log) record_total(*integrator.log, c, is_finite(c));
-                    integrator.log = nullptr;
+                    if (traced) record_total(*log, c, is_finite(c));
+                    integrator.observer = nullptr;
                     if (s.want_depth) sums.debug[slot].w += integrator.bounces;
                     // A sample that is not finite never reaches the pixel: it counts as
                     // black, and is reported.
