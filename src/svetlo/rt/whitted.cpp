@@ -2,6 +2,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <optional>
 
 #include "svetlo/core/parallel.h"
 #include "svetlo/core/progress.h"
@@ -10,6 +11,7 @@
 #include "svetlo/rt/camera.h"
 #include "svetlo/rt/rt_scene.h"
 #include "svetlo/rt/shadow_rays.h"
+#include "svetlo/rt/whitted_observer.h"
 #include "svetlo/shading/bsdf.h"
 #include "svetlo/shading/direct_light.h"
 #include "svetlo/shading/shading_frame.h"
@@ -38,16 +40,18 @@ public:
         : rt_(rt), scene_(rt.scene()), want_visibility_(want_visibility) {}
 
     uint64_t rays = 0;
-    uint64_t nonfinite = 0;     // camera samples dropped for a radiance that is not finite
-    Rng* aov_rng = nullptr;     // the visibility AOV's own stream, so AOVs never change the image
-    PixelTrace* log = nullptr;  // svetlo trace: every ray of the sample, when set
+    uint64_t nonfinite = 0;  // camera samples dropped for a radiance that is not finite
+    Rng* aov_rng = nullptr;  // the visibility AOV's own stream, so AOVs never change the image
+    WhittedObserver* observer = nullptr;  // svetlo trace's (whitted_observer.h), when set
 
     Color trace(const Ray& ray, int depth, float weight, Rng& rng, AovSample* aov,
                 const Branch& branch = {}) {
         ++rays;
         Hit hit;
         const bool met = rt_.intersect(ray, hit);
-        const int self = log ? log_ray(ray, depth, branch, met ? hit.t : kInfinity) : -1;
+        const int self = observer ? observer->ray(ray, depth, branch.kind, branch.parent,
+                                                  branch.to_pixel, met ? hit.t : kInfinity)
+                                  : -1;
         // What the medium the ray crosses leaves of what it meets (Beer-Lambert).
         const Color kept =
             transmittance(branch.medium, met ? hit.t * glm::length(ray.d) : kInfinity);
@@ -61,7 +65,7 @@ private:
                 Rng& rng, AovSample* aov, const Branch& branch) {
         if (!met) {  // what comes from far away: the environment map or the background
             const Color Le = rt_.environment().radiance(glm::normalize(ray.d));
-            if (log) log->rays[self].contribution = branch.to_pixel * Le;
+            if (observer) observer->adds(self, branch.to_pixel * Le);
             return Le;
         }
         SurfaceHit sh = rt_.surface(ray, hit);
@@ -70,7 +74,7 @@ private:
         const ShadingFrame frame = make_shading_frame(sh.ng, sh.ns, wo);
         const bool front = frame.front;
         const vec3 ng = frame.ng, ns = frame.ns;
-        if (log) describe_hit(log->rays[self], scene_.material_names, sh.material, sh.p, ns, front);
+        if (observer) observer->hit(self, sh, ns, front);
 
         if (aov) {
             aov->depth = hit.t * glm::length(ray.d);
@@ -83,16 +87,22 @@ private:
         }
 
         Color L = emitted_and_ambient(bsdf, frame, scene_.render.ambient);
-        if (log) log->rays[self].contribution = branch.to_pixel * L;
-        L += direct_light(rt_.lights(), bsdf, sh.p, frame, wo,
-                          StratifiedLightSampling{rt_.lights(), rng, scene_.render.light_samples},
-                          [&](size_t index, const LightSample& s) {
-                              const float v = shadow_blocked(rt_, sh.p, ng, s, rays) ? 0.0f : 1.0f;
-                              if (log)
-                                  log_shadow_ray(sh.p, ng, index, s, v, bsdf, frame, wo, self,
-                                                 depth, branch.to_pixel);
-                              return v;
-                          });
+        if (observer) observer->adds(self, branch.to_pixel * L);
+        L += direct_light(
+            rt_.lights(), bsdf, sh.p, frame, wo,
+            StratifiedLightSampling{rt_.lights(), rng, scene_.render.light_samples},
+            [&](size_t index, const LightSample& s) {
+                const float v = shadow_blocked(rt_, sh.p, ng, s, rays) ? 0.0f : 1.0f;
+                if (observer) {
+                    const LightSet::Source& source = rt_.lights().sources()[index];
+                    observer->shadow_ray(
+                        self, depth, sh.p, ng, s.wi, s.distance, source.light_index, v,
+                        unoccluded_light(bsdf, frame, wo, s),
+                        source.delta ? 1.0f : static_cast<float>(scene_.render.light_samples),
+                        branch.to_pixel);
+                }
+                return v;
+            });
         if (rt_.environment().is_map() && bsdf.has_lobes())
             L += bsdf.occlusion * environment_light(bsdf, sh.p, frame, wo, rng);
         if (depth >= scene_.render.max_depth) return L;
@@ -105,7 +115,7 @@ private:
             const bool through = glm::dot(dir, ng) < 0.0f;
             const Branch next_branch{kind, self, branch.to_pixel * scale,
                                      through ? medium_after(bsdf, front) : branch.medium};
-            if (log && fresnel >= 0.0f) log_fresnel_ = fresnel;
+            if (observer && fresnel >= 0.0f) observer->fresnel(fresnel);
             return scale * trace(next, depth + 1, w, rng, nullptr, next_branch);
         };
         // The ideal transmitted part of weight `scale`: refracted at the material's ior; under
@@ -171,48 +181,9 @@ private:
         return sum / static_cast<float>(n);
     }
 
-    /// The log's entry for a ray that met something at distance t (or nothing).
-    int log_ray(const Ray& ray, int depth, const Branch& branch, float t) {
-        TraceRay r;
-        r.kind = branch.kind;
-        r.parent = branch.parent;
-        r.depth = depth;
-        r.origin = ray.o;
-        r.direction = glm::normalize(ray.d);
-        r.t = std::isfinite(t) ? t * glm::length(ray.d) : kInfinity;
-        r.set("weight", branch.to_pixel);
-        if (log_fresnel_ >= 0.0f) r.set("fresnel", {log_fresnel_});
-        log_fresnel_ = -1.0f;
-        return log->add(std::move(r));
-    }
-
-    /// The log's entry for the shadow ray toward light sample s: its visibility v, and what it
-    /// adds, the sample's f E cos over the light's sample count.
-    void log_shadow_ray(vec3 p, vec3 ng, size_t index, const LightSample& s, float v,
-                        const Bsdf& bsdf, const ShadingFrame& frame, vec3 wo, int parent, int depth,
-                        Color to_pixel) {
-        const LightSet::Source& source = rt_.lights().sources()[index];
-        const float n = source.delta ? 1.0f : static_cast<float>(scene_.render.light_samples);
-        const Color c = unoccluded_light(bsdf, frame, wo, s);
-        TraceRay r;
-        r.kind = "shadow";
-        r.parent = parent;
-        r.depth = depth;
-        r.origin = offset_ray_origin(p, ng, s.wi);
-        r.direction = s.wi;
-        r.t = s.distance;
-        r.contribution = to_pixel * c * (v / n);
-        r.note = v > 0.0f ? "the light is visible" : "blocked";
-        r.set("light", {static_cast<float>(source.light_index)});
-        r.set("visibility", {v});
-        r.set("unoccluded", c / n);
-        log->add(std::move(r));
-    }
-
     const RtScene& rt_;
     const Scene& scene_;
     bool want_visibility_;
-    float log_fresnel_ = -1.0f;  // the Fresnel weight of the next ray logged (-1: none)
 };
 
 }  // namespace
@@ -268,8 +239,11 @@ RenderResult WhittedRenderer::render(const Scene& scene, const RenderOptions& op
                                 if (cost_image) cost += rt.camera_ray_cost(ray);
                                 AovSample aov;
                                 PixelTrace* log = options.trace;
-                                tracer.log =
-                                    log && log->at(i, j) && log->sample == s ? log : nullptr;
+                                std::optional<WhittedTraceLog> traced;
+                                if (log && log->at(i, j) && log->sample == s) {
+                                    traced.emplace(*log, scene.material_names);
+                                    tracer.observer = &*traced;
+                                }
                                 Color c =
                                     tracer.trace(ray, 0, 1.0f, rng, targets.any ? &aov : nullptr);
                                 // A sample that is not finite never reaches the pixel: it is
@@ -277,8 +251,8 @@ RenderResult WhittedRenderer::render(const Scene& scene, const RenderOptions& op
                                 const bool finite = is_finite(c) && is_finite(aov.normal) &&
                                                     is_finite(aov.albedo) &&
                                                     std::isfinite(aov.depth);
-                                if (tracer.log) record_total(*tracer.log, c, finite);
-                                tracer.log = nullptr;
+                                if (traced) record_total(*log, c, finite);
+                                tracer.observer = nullptr;
                                 if (!finite) {
                                     ++tracer.nonfinite;
                                     continue;
