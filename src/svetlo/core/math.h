@@ -95,4 +95,16 @@ struct Bounds3 {
     }
 };
 
+/// The box around `b`'s eight corners carried by the affine map m (empty stays empty).
+inline Bounds3 transformed_bounds(const Bounds3& b, const mat4& m) {
+    Bounds3 out;
+    if (b.empty()) return out;
+    for (int k = 0; k < 8; ++k) {
+        const vec3 corner((k & 1) ? b.max.x : b.min.x, (k & 2) ? b.max.y : b.min.y,
+                          (k & 4) ? b.max.z : b.min.z);
+        out.extend(vec3(m * vec4(corner, 1.0f)));
+    }
+    return out;
+}
+
 }  // namespace svetlo

@@ -50,25 +50,35 @@ template <class F>
 void InstancedAccel::visit(const Ray& ray, const float& tmax, uint32_t* visited, F&& f) const {
     if (nodes_.empty()) return;
     const vec3 inv = safe_inverse(ray.d);
-    uint32_t stack[64];
+    // Each node's box is tested once, when it is pushed; its entry distance goes with it, and
+    // a node whose entry lies past a tmax shrunk since is passed by (conservatively: the
+    // test's own rounding allowance kept).
+    struct Entry {
+        uint32_t node;
+        float t;
+    };
+    Entry stack[64];
     int size = 0;
-    stack[size++] = 0;
-    while (size > 0) {
-        const Node& n = nodes_[stack[--size]];
+    const auto test = [&](uint32_t node) {
         if (visited) ++*visited;
-        if (box_entry(n.box.min, n.box.max, ray.o, inv, tmax) == kInfinity) continue;
+        const Bounds3& b = nodes_[node].box;
+        return Entry{node, box_entry(b.min, b.max, ray.o, inv, tmax)};
+    };
+    if (const Entry root = test(0); root.t != kInfinity) stack[size++] = root;
+    while (size > 0) {
+        const Entry e = stack[--size];
+        if (e.t > tmax * kSlabRobust) continue;
+        const Node& n = nodes_[e.node];
         if (n.count > 0) {
             for (uint32_t k = 0; k < n.count; ++k)
                 if (!f(order_[n.a + k])) return;
             continue;
         }
         // The nearer child is visited first (pushed last), so that tmax shrinks early.
-        const Node& l = nodes_[n.a];
-        const Node& r = nodes_[n.b];
-        const bool left_first = box_entry(l.box.min, l.box.max, ray.o, inv, tmax) <=
-                                box_entry(r.box.min, r.box.max, ray.o, inv, tmax);
-        stack[size++] = left_first ? n.b : n.a;
-        stack[size++] = left_first ? n.a : n.b;
+        const Entry l = test(n.a), r = test(n.b);
+        const bool left_first = l.t <= r.t;
+        for (const Entry& c : {left_first ? r : l, left_first ? l : r})
+            if (c.t != kInfinity) stack[size++] = c;
     }
 }
 

@@ -97,13 +97,9 @@ void place_instances(const Scene& scene, Geometry& g) {
         // The corners of the prototype's box carried out, then widened by a few ulps of the
         // box's size: a point the local ray meets lies inside it despite the rounding of both
         // transforms.
-        const Bounds3& b = bounds[static_cast<size_t>(index)];
-        if (!b.empty()) {
-            for (int c = 0; c < 8; ++c) {
-                const vec3 corner((c & 1) ? b.max.x : b.min.x, (c & 2) ? b.max.y : b.min.y,
-                                  (c & 4) ? b.max.z : b.min.z);
-                p.bounds.extend(instance.transform.point(corner));
-            }
+        p.bounds =
+            transformed_bounds(bounds[static_cast<size_t>(index)], instance.transform.matrix);
+        if (!p.bounds.empty()) {
             const vec3 pad =
                 1e-5f * (glm::abs(p.bounds.min) + glm::abs(p.bounds.max) + p.bounds.extent()) +
                 vec3(1e-30f);

@@ -271,13 +271,7 @@ Bounds3 shape_bounds(const AnalyticShape& s) {
         }
     }
     if (!s.transformed) return local;
-    Bounds3 world;
-    for (int k = 0; k < 8; ++k) {
-        vec3 corner((k & 1) ? local.max.x : local.min.x, (k & 2) ? local.max.y : local.min.y,
-                    (k & 4) ? local.max.z : local.min.z);
-        world.extend(vec3(s.to_world * vec4(corner, 1.0f)));
-    }
-    return world;
+    return transformed_bounds(local, s.to_world);
 }
 
 bool intersect_shape(const AnalyticShape& s, const Ray& ray, float tmax, ShapeHit& hit) {

@@ -4,6 +4,7 @@
 
 #include "svetlo/geometry/csg.h"
 #include "svetlo/geometry/sdf.h"
+#include "svetlo/scene/instances.h"
 
 namespace svetlo {
 
@@ -258,16 +259,10 @@ float sphere_tessellation_error(float r, const TessellationOptions& o) {
 }
 
 uint64_t tessellated_triangles(const Scene& scene, const TessellationOptions& options) {
+    const auto count = [&](const Object& obj) { return tessellated_triangles(obj, options); };
     uint64_t total = 0;
-    for (const Object& obj : scene.objects) total += tessellated_triangles(obj, options);
-    std::vector<uint64_t> per_prototype;
-    for (const Prototype& p : scene.prototypes) {
-        uint64_t n = 0;
-        for (const Object& obj : p.objects) n += tessellated_triangles(obj, options);
-        per_prototype.push_back(n);
-    }
-    for (const Instance& i : scene.instances) total += per_prototype[i.prototype];
-    return total;
+    for (const Object& obj : scene.objects) total += count(obj);
+    return total + sum_over_instances(scene, count);
 }
 
 uint64_t tessellated_triangles(const Object& obj, const TessellationOptions& o) {

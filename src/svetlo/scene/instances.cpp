@@ -10,15 +10,7 @@ uint64_t object_triangles(const Object& object) {
 }
 
 uint64_t instanced_triangles(const Scene& scene) {
-    std::vector<uint64_t> per_prototype;
-    for (const Prototype& p : scene.prototypes) {
-        uint64_t n = 0;
-        for (const Object& o : p.objects) n += object_triangles(o);
-        per_prototype.push_back(n);
-    }
-    uint64_t total = 0;
-    for (const Instance& i : scene.instances) total += per_prototype[i.prototype];
-    return total;
+    return sum_over_instances(scene, object_triangles);
 }
 
 Object placed_object(const Object& object, const Instance& instance) {

@@ -14,6 +14,21 @@ namespace svetlo {
 /// The triangles of a mesh, or 1 for any other shape: what bounds the copies.
 uint64_t object_triangles(const Object& object);
 
+/// The sum of count(object) over every instance's objects: each prototype summed once, times
+/// its placements.
+template <class Count>
+uint64_t sum_over_instances(const Scene& scene, Count&& count) {
+    std::vector<uint64_t> per_prototype;
+    for (const Prototype& p : scene.prototypes) {
+        uint64_t n = 0;
+        for (const Object& o : p.objects) n += count(o);
+        per_prototype.push_back(n);
+    }
+    uint64_t total = 0;
+    for (const Instance& i : scene.instances) total += per_prototype[i.prototype];
+    return total;
+}
+
 /// The triangles the scene's instances stand for (each instance's prototype's meshes; a shape
 /// counts one).
 uint64_t instanced_triangles(const Scene& scene);
