@@ -14,9 +14,7 @@
 #include <optional>
 
 #include "commands.h"
-#include "flags.h"
 #include "interrupt.h"
-#include "render_job.h"
 #include "sheet.h"
 #include "svetlo/core/error.h"
 #include "svetlo/core/image_io.h"
@@ -24,6 +22,8 @@
 #include "svetlo/geometry/scene_geometry.h"
 #include "svetlo/geometry/tessellate.h"
 #include "svetlo/geometry/triangle_list.h"
+#include "svetlo/job/limits.h"
+#include "svetlo/job/render_job.h"
 #include "svetlo/scene/instances.h"
 #include "svetlo/shading/light_set.h"
 
@@ -284,7 +284,7 @@ PYBIND11_MODULE(_svetlo, m) {
     m.def("triangles", &triangles);
     m.attr("aov_names") = aov_names();
     m.attr("debug_aov_names") = debug_aov_names();
-    // The command line's bounds, so that the keywords are held to the same (flags.h,
+    // The command line's bounds, so that the keywords are held to the same (svetlo/job/limits.h,
     // scene_loader.h).
     m.attr("max_threads") = kMaxThreads;
     m.attr("max_spp") = kMaxSpp;

@@ -4,9 +4,9 @@
 #include <cstdio>
 
 #include "commands.h"
-#include "provenance.h"
 #include "svetlo/core/error.h"
 #include "svetlo/core/image_io.h"
+#include "svetlo/job/provenance.h"
 
 namespace svetlo {
 

@@ -12,8 +12,8 @@
 
 namespace svetlo {
 
-// Numeric flags are kept as given (empty when absent) and checked by the commands (flags.h),
-// so that a bad value gets one line naming the flag.
+// Numeric flags are kept as given (empty when absent) and checked by the commands
+// (svetlo/job/limits.h), so that a bad value gets one line naming the flag.
 struct RenderArgs {
     std::string scene;
     std::string output = "out.png";

@@ -9,9 +9,9 @@
 #include <thread>
 #include <vector>
 
-#include "engines.h"
 #include "svetlo/core/error.h"
 #include "svetlo/core/process_group.h"
+#include "svetlo/job/engines.h"
 
 #ifdef SVETLO_MPI
 #include <mpi.h>

@@ -9,8 +9,8 @@
 
 #include <cstdint>
 
-#include "checkpoint.h"
-#include "render_job.h"
+#include "svetlo/job/checkpoint.h"
+#include "svetlo/job/render_job.h"
 
 namespace svetlo {
 

@@ -2,8 +2,8 @@
 #include <cstdio>
 
 #include "commands.h"
-#include "engines.h"
 #include "svetlo/geometry/scene_geometry.h"
+#include "svetlo/job/engines.h"
 #include "svetlo/radiosity/patch_mesh.h"
 #include "svetlo/raster/raster_engine.h"
 #include "svetlo/rt/rt_scene.h"

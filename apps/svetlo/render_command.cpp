@@ -6,19 +6,19 @@
 #include <cstring>
 #include <optional>
 
-#include "checkpoint.h"
 #include "commands.h"
 #include "distributed.h"
-#include "engines.h"
-#include "flags.h"
 #include "interrupt.h"
-#include "render_job.h"
 #include "svetlo/core/error.h"
 #include "svetlo/core/image_io.h"
 #include "svetlo/core/image_metrics.h"
 #include "svetlo/core/parallel.h"
 #include "svetlo/core/progress.h"
 #include "svetlo/core/sha256.h"
+#include "svetlo/job/checkpoint.h"
+#include "svetlo/job/engines.h"
+#include "svetlo/job/limits.h"
+#include "svetlo/job/render_job.h"
 
 namespace svetlo {
 

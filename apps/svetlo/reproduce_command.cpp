@@ -4,11 +4,11 @@
 #include <cstdio>
 
 #include "commands.h"
-#include "flags.h"
-#include "render_job.h"
 #include "svetlo/core/error.h"
 #include "svetlo/core/image_io.h"
 #include "svetlo/core/progress.h"
+#include "svetlo/job/limits.h"
+#include "svetlo/job/render_job.h"
 
 namespace svetlo {
 

@@ -28,11 +28,8 @@
 #include <thread>
 
 #include "commands.h"
-#include "engines.h"
-#include "flags.h"
 #include "interrupt.h"
 #include "query.h"
-#include "render_job.h"
 #include "sheet.h"
 #include "svetlo/core/error.h"
 #include "svetlo/core/image_io.h"
@@ -41,6 +38,9 @@
 #include "svetlo/geometry/accel_cache.h"
 #include "svetlo/geometry/occluder_cube.h"
 #include "svetlo/geometry/triangle_list_cache.h"
+#include "svetlo/job/engines.h"
+#include "svetlo/job/limits.h"
+#include "svetlo/job/render_job.h"
 #include "svetlo/scene/model_scene.h"
 
 namespace svetlo {

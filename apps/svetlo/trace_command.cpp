@@ -9,12 +9,12 @@
 #include <sstream>
 
 #include "commands.h"
-#include "engines.h"
-#include "flags.h"
-#include "render_job.h"
 #include "svetlo/core/error.h"
 #include "svetlo/core/image_io.h"
 #include "svetlo/core/sha256.h"
+#include "svetlo/job/engines.h"
+#include "svetlo/job/limits.h"
+#include "svetlo/job/render_job.h"
 
 namespace svetlo {
 

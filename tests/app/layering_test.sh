@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The modules' dependencies point one way (README, "Layout"):
-#   core <- scene <- geometry <- shading <- {raster, rt} <- {pt, radiosity} <- apps
+#   core <- scene <- geometry <- shading <- {raster, rt} <- {pt, radiosity} <- job <- apps
 # A module includes only its own headers and those of the modules below it; raster and rt
 # never include each other.
 set -euo pipefail
@@ -15,10 +15,11 @@ allowed() {
         rt) echo "core scene geometry shading rt" ;;
         pt) echo "core scene geometry shading rt pt" ;;
         radiosity) echo "core scene geometry shading raster rt radiosity" ;;
+        job) echo "core scene geometry shading raster rt pt radiosity job" ;;
     esac
 }
 bad=0
-for module in core scene geometry shading raster rt pt radiosity; do
+for module in core scene geometry shading raster rt pt radiosity job; do
     ok=" $(allowed "$module") "
     while IFS= read -r line; do
         file=${line%%:*}

@@ -109,7 +109,7 @@ TEST(TriangleListCache, TheOccluderCubesFollowTheLights) {
     }
 }
 
-// The viewer keeps its renderers from one request to the next (apps/svetlo/renderer_pool.h),
+// The viewer keeps its renderers from one request to the next (src/svetlo/job/renderer_pool.h),
 // so that a frame draws into the last one's buffers: each frame of one renderer, whatever
 // came before it (another scene, size, shadow technique or texture, a frame that threw), is
 // the frame of a new renderer, bit for bit.

@@ -1,5 +1,5 @@
 // The interface every engine implements, and what a render returns. Engines are an open set:
-// apps/svetlo/engines.cpp maps names to factories.
+// src/svetlo/job/engines.cpp maps names to factories.
 #pragma once
 
 #include <atomic>
@@ -53,7 +53,7 @@ inline std::optional<ShadowTechnique> debug_aov_technique(const std::string& nam
 }
 
 /// What an engine is and can do. The command line's checks and their messages are made from
-/// it (apps/svetlo/engines.h), not from engines' names.
+/// it (src/svetlo/job/engines.h), not from engines' names.
 struct Capabilities {
     std::string name;                     // its render.engine
     bool progressive = false;             // refines pass by pass: --time

@@ -1,4 +1,4 @@
-#include "flags.h"
+#include "svetlo/job/limits.h"
 
 #include <cerrno>
 #include <cmath>

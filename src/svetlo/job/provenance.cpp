@@ -1,4 +1,4 @@
-#include "provenance.h"
+#include "svetlo/job/provenance.h"
 
 #include "svetlo/core/error.h"
 #include "svetlo/core/image_io.h"

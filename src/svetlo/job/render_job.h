@@ -6,8 +6,8 @@
 #include <utility>
 #include <vector>
 
-#include "provenance.h"
-#include "renderer_pool.h"
+#include "svetlo/job/provenance.h"
+#include "svetlo/job/renderer_pool.h"
 #include "svetlo/scene/renderer.h"
 #include "svetlo/scene/scene_loader.h"
 

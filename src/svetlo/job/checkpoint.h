@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "render_job.h"
+#include "svetlo/job/render_job.h"
 
 namespace svetlo {
 

@@ -1,14 +1,14 @@
-#include "render_job.h"
+#include "svetlo/job/render_job.h"
 
 #include <algorithm>
 #include <cstdio>
 
-#include "engines.h"
-#include "flags.h"
 #include "svetlo/core/atomic_file.h"
 #include "svetlo/core/error.h"
 #include "svetlo/core/image_io.h"
 #include "svetlo/core/image_metrics.h"
+#include "svetlo/job/engines.h"
+#include "svetlo/job/limits.h"
 
 namespace svetlo {
 

@@ -1,4 +1,4 @@
-#include "engines.h"
+#include "svetlo/job/engines.h"
 
 #include <algorithm>
 #include <functional>

@@ -1,4 +1,4 @@
-#include "checkpoint.h"
+#include "svetlo/job/checkpoint.h"
 
 #include <cstdint>
 #include <cstring>

@@ -1,6 +1,6 @@
-#include "renderer_pool.h"
+#include "svetlo/job/renderer_pool.h"
 
-#include "engines.h"
+#include "svetlo/job/engines.h"
 
 namespace svetlo {
 
