@@ -5,7 +5,10 @@ BUILD := build
 SVETLO := $(BUILD)/svetlo
 DEMO_SCENES := $(wildcard scenes/*.json)
 
-.PHONY: all build test test-asan test-asan-input asan-configure test-scalar scalar-images scalar-configure test-arm64 demo bench setup clean format fuzz fuzz-scenes figures
+WEB_BUILD := build-web-cmake
+WEB := $(BUILD)/web
+
+.PHONY: web test-web all build test test-asan test-asan-input asan-configure test-scalar scalar-images scalar-configure test-arm64 demo bench setup clean format fuzz fuzz-scenes figures
 
 all: build
 
@@ -40,16 +43,18 @@ test-asan-input: asan-configure
 	ctest --test-dir $(ASAN) --output-on-failure -j $(JOBS) --timeout $(CTEST_TIMEOUT) \
 	    -L '^(unit|fuzz)$$' --no-tests=error
 
-# The suite built from the scalar twins alone (SVETLO_SIMD=OFF: no SSE or AVX2 anywhere), then
-# every engine's images held against the SIMD build's (tests/app/twins_test.sh; docs/kernels.md).
-# scalar-images, which .ci/run runs, builds the program alone and compares the images;
-# test-scalar does that first.
+# The suite built from the scalar twins alone (SVETLO_SIMD=OFF: no SSE or AVX2 anywhere) and
+# the parallel loops on std::threads (SVETLO_TBB=OFF): the browser's build, natively. Every
+# engine's images are held against the SIMD build's (tests/app/twins_test.sh; docs/kernels.md).
+# scalar-images, which .ci/run runs, builds the program and the core's tests (the thread pool,
+# the checksums) and runs them, then compares the images; test-scalar does that first.
 SCALAR := build-scalar
 scalar-configure: build
-	cmake -S . -B $(SCALAR) -DCMAKE_BUILD_TYPE=Release -DSVETLO_SIMD=OFF -DSVETLO_BENCH=OFF \
-	    -DSVETLO_PYTHON=OFF > /dev/null
+	cmake -S . -B $(SCALAR) -DCMAKE_BUILD_TYPE=Release -DSVETLO_SIMD=OFF -DSVETLO_TBB=OFF \
+	    -DSVETLO_BENCH=OFF -DSVETLO_PYTHON=OFF > /dev/null
 scalar-images: scalar-configure
-	cmake --build $(SCALAR) -j $(JOBS) --target svetlo
+	cmake --build $(SCALAR) -j $(JOBS) --target svetlo core_test
+	$(SCALAR)/tests/core_test --gtest_brief=1
 	bash tests/app/twins_test.sh $(SVETLO) $(SCALAR)/svetlo scenes
 test-scalar: scalar-images
 	cmake --build $(SCALAR) -j $(JOBS)
@@ -64,6 +69,21 @@ test-arm64:
 	    -DSVETLO_BENCH=OFF -DSVETLO_PYTHON=OFF
 	cmake --build $(ARM64) -j $(JOBS)
 	ctest --test-dir $(ARM64) --output-on-failure -j $(JOBS) --timeout 6000
+
+# The page (docs/web.md): every engine compiled to WebAssembly by Debian's emscripten
+# (scripts/setup web installs it; its tools find Debian's JavaScript packages through
+# NODE_PATH), in build/web/ with the page's files and the demo scenes. test-web, which .ci/run
+# runs after make test, builds it and drives the page in headless chromium.
+EMENV := NODE_PATH=/usr/share/nodejs
+web:
+	@scripts/setup web
+	$(EMENV) emcmake cmake -S . -B $(WEB_BUILD) -DCMAKE_BUILD_TYPE=Release \
+	    -DSVETLO_WEB_OUT=$(CURDIR)/$(WEB) > /dev/null
+	$(EMENV) cmake --build $(WEB_BUILD) -j $(JOBS)
+	cp web/page/index.html web/page/svetlo_page.js web/page/render_worker.js $(WEB)/
+	@du -sh $(WEB) | sed 's/^/make web: /'
+test-web: build web
+	/usr/bin/python3 tests/web/web_test.py $(SVETLO) $(WEB) scenes
 
 demo: build
 	@mkdir -p out
@@ -138,4 +158,4 @@ fuzz-scenes:
 	python3 tests/fuzz/mutate_scenes.py build-asan/svetlo --runs $(FUZZ_RUNS) --seed $(FUZZ_SEED)
 
 clean:
-	rm -rf $(BUILD) out
+	rm -rf $(BUILD) $(WEB_BUILD) out

@@ -7,6 +7,7 @@
 
 #include "svetlo/core/flip.h"
 #include "svetlo/core/image_metrics.h"
+#include "svetlo/job/overrides.h"
 #include "svetlo/scene/pixel_trace.h"
 #include "svetlo/scene/scene_loader.h"
 
@@ -121,9 +122,6 @@ nlohmann::json trace_json(const PixelTrace& trace, const std::string& engine);
 
 int run_info(const InfoArgs& args);
 int run_bench(const BenchArgs& args);
-
-/// --set KEY=VALUE strings as overrides.
-std::vector<Override> parse_sets(const std::vector<std::string>& sets, const std::string& file);
 
 /// The flags that stand for scene keys, checked, as overrides after the --set ones (the flags
 /// win): -e (render.engine), -W and -H (film), --seed (render.seed); empty ones are left out.

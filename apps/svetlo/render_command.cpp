@@ -18,38 +18,15 @@
 #include "svetlo/job/checkpoint.h"
 #include "svetlo/job/engines.h"
 #include "svetlo/job/limits.h"
+#include "svetlo/job/overrides.h"
 #include "svetlo/job/render_job.h"
 
 namespace svetlo {
 
-std::vector<Override> parse_sets(const std::vector<std::string>& sets, const std::string& file) {
-    std::vector<Override> out;
-    for (const std::string& s : sets) {
-        size_t eq = s.find('=');
-        if (eq == std::string::npos || eq == 0) {
-            throw Error(file, "--set " + s, "expected KEY=VALUE");
-        }
-        out.push_back({s.substr(0, eq), s.substr(eq + 1)});
-    }
-    return out;
-}
-
 void add_flag_overrides(const std::string& file, const std::string& width,
                         const std::string& height, std::vector<Override>& overrides,
                         const std::string& engine, const std::string& seed) {
-    if (!engine.empty()) overrides.push_back({"render.engine", "\"" + engine + "\""});
-    if (!width.empty()) {
-        overrides.push_back(
-            {"film.width", std::to_string(flag_integer(file, "-W", width, 1, kMaxFilmSide))});
-    }
-    if (!height.empty()) {
-        overrides.push_back(
-            {"film.height", std::to_string(flag_integer(file, "-H", height, 1, kMaxFilmSide))});
-    }
-    if (!seed.empty()) {
-        overrides.push_back(
-            {"render.seed", std::to_string(flag_integer(file, "--seed", seed, 0, kMaxSeed))});
-    }
+    add_key_overrides(file, RequestKeys{engine, width, height, {}, seed}, kFlagNames, overrides);
 }
 
 int flag_threads(const std::string& file, const std::string& text) {
@@ -62,11 +39,9 @@ namespace {
 /// (the flags win).
 std::vector<Override> render_overrides(const RenderArgs& args) {
     std::vector<Override> overrides = parse_sets(args.sets, args.scene);
-    add_flag_overrides(args.scene, args.width, args.height, overrides, args.engine, args.seed);
-    if (!args.spp.empty()) {
-        overrides.push_back({"render.spp", std::to_string(flag_integer(args.scene, "--spp",
-                                                                       args.spp, 1, kMaxSpp))});
-    }
+    add_key_overrides(args.scene,
+                      RequestKeys{args.engine, args.width, args.height, args.spp, args.seed},
+                      kFlagNames, overrides);
     return overrides;
 }
 

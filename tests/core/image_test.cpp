@@ -1,5 +1,4 @@
 #include <gtest/gtest.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <bit>
@@ -11,6 +10,7 @@
 
 #include "svetlo/core/error.h"
 #include "svetlo/core/image_io.h"
+#include "svetlo/core/parallel.h"
 
 namespace svetlo {
 namespace {
@@ -155,9 +155,9 @@ TEST(ImageIo, JpegRowsMadeBesideTheEncodingAreTheSameOnOneAndTwoThreads) {
         for (int x = 0; x < 200; ++x) image.at(x, y) = Color(x / 199.0f, y / 149.0f, 0.5f);
     std::vector<std::vector<unsigned char>> jpegs;
     for (int threads : {1, 2, 1, 2}) {
-        tbb::task_arena arena(threads);
-        arena.execute(
-            [&] { jpegs.push_back(encode_jpeg(image, PixelMeaning::Radiance, 1.0f, 90)); });
+        with_threads(threads, [&] {
+            jpegs.push_back(encode_jpeg(image, PixelMeaning::Radiance, 1.0f, 90));
+        });
     }
     for (const std::vector<unsigned char>& jpeg : jpegs) EXPECT_EQ(jpeg, jpegs[0]);
     const fs::path path = temp_file("rows.jpg");

@@ -12,6 +12,7 @@
 #include "svetlo/core/flip.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "svetlo/core/parallel.h"

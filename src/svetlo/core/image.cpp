@@ -1,8 +1,9 @@
 #include "svetlo/core/image.h"
 
-#include <bit>
 #include <cstdint>
 #include <limits>
+
+#include "svetlo/core/bit_cast.h"
 
 namespace svetlo {
 
@@ -24,16 +25,16 @@ Srgb8Encoder::Srgb8Encoder() {
     for (unsigned k = 1; k <= 255; ++k) {
         // The least positive float with code >= k: bisection on the bit patterns of the
         // floats in (0, 1], which are ordered as the floats are.
-        uint32_t lo = 0, hi = std::bit_cast<uint32_t>(1.0f);  // code(lo) < k <= code(hi)
+        uint32_t lo = 0, hi = svetlo::bit_cast<uint32_t>(1.0f);  // code(lo) < k <= code(hi)
         while (hi - lo > 1) {
             const uint32_t mid = lo + (hi - lo) / 2;
-            if (linear_to_srgb8(std::bit_cast<float>(mid)) >= k) {
+            if (linear_to_srgb8(svetlo::bit_cast<float>(mid)) >= k) {
                 hi = mid;
             } else {
                 lo = mid;
             }
         }
-        steps_[k - 1] = std::bit_cast<float>(hi);
+        steps_[k - 1] = svetlo::bit_cast<float>(hi);
     }
     steps_[255] = std::numeric_limits<float>::infinity();
     for (unsigned c = 0; c <= kCells; ++c) {

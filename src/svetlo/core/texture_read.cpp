@@ -2,10 +2,12 @@
 // build has it) into TextureImage, each size checked from its header before anything is
 // decoded; colour, data or coverage texels (image_io.h, read_texture). The writing of images
 // and the reading of films and their metadata stay in image_io.cpp.
+#ifdef SVETLO_HAS_OPENEXR
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfInputFile.h>
+#endif
 #include <stb_image.h>
 #ifdef SVETLO_HAS_WEBP
 #include <webp/decode.h>
@@ -69,6 +71,10 @@ TextureImage read_pfm(const fs::path& path, size_t max_bytes) {
 }
 
 TextureImage read_exr(const fs::path& path, size_t max_bytes) {
+#ifndef SVETLO_HAS_OPENEXR
+    (void)path, (void)max_bytes;
+    throw std::runtime_error("OpenEXR is not in this build: use .pfm or .hdr");
+#else
     Imf::InputFile file(path.c_str());
     Imath::Box2i window = file.header().dataWindow();
     long long w = static_cast<long long>(window.max.x) - window.min.x + 1;
@@ -88,6 +94,7 @@ TextureImage read_exr(const fs::path& path, size_t max_bytes) {
     file.setFrameBuffer(frame);
     file.readPixels(window.min.y, window.max.y);
     return TextureImage(std::move(image));
+#endif
 }
 
 }  // namespace

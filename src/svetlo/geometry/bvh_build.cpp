@@ -1,9 +1,5 @@
 #include "svetlo/geometry/bvh_build.h"
 
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
-#include <tbb/task_group.h>
-
 #include <algorithm>
 #include <atomic>
 #include <mutex>
@@ -225,7 +221,8 @@ private:
                 for (int b = 0; b <= best_bin; ++b) in_left += chunk_bins[c].count[b];
                 lefts[c + 1] = lefts[c] + in_left;
             }
-            tbb::parallel_for(0u, chunks, [&](uint32_t c) {
+            parallel_for_each(chunks, [&](size_t chunk) {
+                const auto c = static_cast<uint32_t>(chunk);
                 const uint32_t first = s.begin + c * kSplitChunk;
                 K::partition_range(src, dst, first, std::min(s.end, first + kSplitChunk),
                                    s.begin + lefts[c], mid + (first - s.begin - lefts[c]),
@@ -251,7 +248,7 @@ private:
             K::bin_range(src, s.begin, s.end, position, bins, avx2_);
         } else {
             chunk_bins.resize((s.size() + kSplitChunk - 1) / kSplitChunk);
-            tbb::parallel_for(size_t{0}, chunk_bins.size(), [&](size_t c) {
+            parallel_for_each(chunk_bins.size(), [&](size_t c) {
                 const uint32_t first = s.begin + static_cast<uint32_t>(c) * kSplitChunk;
                 K::bin_range(src, first, std::min(s.end, first + kSplitChunk), position,
                              chunk_bins[c], avx2_);
@@ -304,7 +301,7 @@ private:
     std::atomic<int> depth_{0};
     std::mutex holes_mutex_;
     std::vector<std::pair<uint32_t, uint32_t>> holes_;
-    tbb::task_group group_;
+    TaskGroup group_;
 };
 
 }  // namespace
@@ -339,12 +336,11 @@ BvhBuild build_tight(const Geometry& geometry, int threads) {
     if (n == 0) return out;
     LargeArray<BuildRef> refs(n);
     int workers = resolve_threads(threads);
-    tbb::task_arena arena(workers);
     // The references and their bounds, in chunks merged in order.
     size_t chunks = std::min<size_t>(static_cast<size_t>(workers) * 4, (n + 4095) / 4096);
     std::vector<Bounds3> chunk_bounds(chunks), chunk_centroids(chunks);
-    arena.execute([&] {
-        tbb::parallel_for(size_t{0}, chunks, [&](size_t c) {
+    with_threads(workers, [&] {
+        parallel_for_each(chunks, [&](size_t c) {
             K::make_refs(geometry, shapes, c * n / chunks, (c + 1) * n / chunks, refs.data(),
                          chunk_bounds[c], chunk_centroids[c]);
         });
@@ -361,7 +357,7 @@ BvhBuild build_tight(const Geometry& geometry, int threads) {
     LargeArray<BvhNode> room(2 * refs.size(), serial);
     out.prims = LargeArray<uint32_t>(refs.size());
     Builder builder(refs, triangles, room.data(), out.prims.data());
-    arena.execute([&] { builder.build_root(bounds, centroids, serial); });
+    with_threads(workers, [&] { builder.build_root(bounds, centroids, serial); });
     out.depth = builder.depth();
     if (builder.holes().empty()) {
         // Built on one thread: the room holds the nodes as they are (the pages past them
@@ -389,8 +385,8 @@ BvhBuild build_tight(const Geometry& geometry, int threads) {
                    1;
         return old - shift[k];
     };
-    arena.execute([&] {
-        tbb::parallel_for(size_t{0}, run_start.size(), [&](size_t k) {
+    with_threads(workers, [&] {
+        parallel_for_each(run_start.size(), [&](size_t k) {
             uint32_t first = run_start[k];
             uint32_t last = k + 1 < run_start.size() ? holes[k].first : total;
             for (uint32_t i = first; i < last; ++i) {

@@ -2,9 +2,9 @@
 // |d|, which lets transformed shapes intersect object-space rays with the same t.
 #pragma once
 
-#include <bit>
 #include <cstdint>
 
+#include "svetlo/core/bit_cast.h"
 #include "svetlo/core/math.h"
 
 namespace svetlo {
@@ -40,8 +40,8 @@ inline vec3 offset_ray_origin(vec3 p, vec3 ng, vec3 w) {
     vec3 out;
     for (int k = 0; k < 3; ++k) {
         auto of = static_cast<int32_t>(kIntScale * n[k]);
-        int32_t bits = std::bit_cast<int32_t>(p[k]);
-        float moved = std::bit_cast<float>(bits + (p[k] < 0.0f ? -of : of));
+        int32_t bits = svetlo::bit_cast<int32_t>(p[k]);
+        float moved = svetlo::bit_cast<float>(bits + (p[k] < 0.0f ? -of : of));
         out[k] = std::abs(p[k]) < kOrigin ? p[k] + kFloatScale * n[k] : moved;
     }
     return out;

@@ -1,10 +1,10 @@
 // Ray against axis-aligned boxes, shared by every acceleration structure.
 #pragma once
 
-#include <bit>
 #include <cmath>
 #include <cstdint>
 
+#include "svetlo/core/bit_cast.h"
 #include "svetlo/geometry/ray.h"
 
 namespace svetlo {
@@ -25,8 +25,8 @@ inline vec3 safe_inverse(vec3 d) {
 inline float next_float(float x, bool up) {
     if (!std::isfinite(x)) return x;
     if (x == 0.0f) return up ? 0x1p-149f : -0x1p-149f;
-    const auto bits = std::bit_cast<int32_t>(x);
-    return std::bit_cast<float>((x > 0.0f) == up ? bits + 1 : bits - 1);
+    const auto bits = svetlo::bit_cast<int32_t>(x);
+    return svetlo::bit_cast<float>((x > 0.0f) == up ? bits + 1 : bits - 1);
 }
 
 /// The box [lo, hi] moved out by one ulp on every side, as every structure stores its boxes.

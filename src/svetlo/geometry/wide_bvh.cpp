@@ -6,8 +6,6 @@
 #if SVETLO_SIMD
 #include <immintrin.h>
 #endif
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cstring>
@@ -121,9 +119,7 @@ WideBvh::WideBvh(const Geometry& geometry, int threads, int width) : geometry_(g
     // each leaf knows its place.
     packets_ = LargeArray<TrianglePacket>(packet_count_);
     shapes_ = LargeArray<uint32_t>(shape_count_);
-    tbb::task_arena arena(resolve_threads(threads));
-    arena.execute(
-        [&] { tbb::parallel_for(size_t{0}, leaf_count_, [&](size_t k) { fill_leaf(k); }); });
+    with_threads(threads, [&] { parallel_for_each(leaf_count_, [&](size_t k) { fill_leaf(k); }); });
     leaf_prims_ = {};
 }
 

@@ -3,6 +3,8 @@
 #include <atomic>
 #include <cmath>
 
+#include "svetlo/core/atomic_add.h"
+
 namespace svetlo {
 
 namespace {
@@ -191,7 +193,7 @@ void DirectionRecorder::add(vec2 x, uint64_t value) {
         Node& n = nodes_[index];
         const auto q = static_cast<size_t>(quadrant_of(x));
         if (n.child[q] == 0) {
-            std::atomic_ref<uint64_t>(n.sum[q]).fetch_add(value, std::memory_order_relaxed);
+            atomic_add_relaxed(n.sum[q], value);
             return;
         }
         index = n.child[q];

@@ -4,6 +4,8 @@
 #include <bit>
 #include <cmath>
 
+#include "svetlo/core/atomic_add.h"
+#include "svetlo/core/bit_cast.h"
 #include "svetlo/core/rng.h"
 
 namespace svetlo {
@@ -99,7 +101,7 @@ Guide GuidingField::at(vec3 p, vec3 n) const {
 void GuidingField::record(const Guide& where, vec3 wi, float value) {
     // Many threads record at once: the recorders and counts are added to atomically.
     Region& r = regions_[where.region];
-    std::atomic_ref<uint64_t>(r.records).fetch_add(1, std::memory_order_relaxed);
+    atomic_add_relaxed(r.records, 1);
     if (!(value > 0.0f) || !std::isfinite(value)) return;
     const double steps =
         std::min(std::round(static_cast<double>(value) / kStep), kMaxStepsPerRecord);
@@ -160,7 +162,7 @@ uint64_t GuidingField::fingerprint() const {
             h = combine(h, d.drawable);
             for (const DirectionTree::Node& n : d.sampling.nodes()) {
                 for (size_t q = 0; q < 4; ++q)
-                    h = combine(combine(h, std::bit_cast<uint32_t>(n.energy[q])), n.child[q]);
+                    h = combine(combine(h, svetlo::bit_cast<uint32_t>(n.energy[q])), n.child[q]);
             }
         }
     }

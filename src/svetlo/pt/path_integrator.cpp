@@ -89,12 +89,14 @@ Color PathIntegrator::one_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& fr
     if (source.delta) n = 1;
     Color sum(0.0f);
     for (int k = 0; k < n; ++k) {
-        LightSample s =
-            source.delta
-                ? lights.sample(source, p, vec2(0.0f), 0.0f)
-                : lights.sample(source, p,
-                                stratified_sample(k, n, k == 0 ? u_first : sampler.next_2d()),
-                                k == 0 ? choice.y : sampler.next_float());
+        // Further samples draw the primitive's pick, then the point: in two statements, so
+        // that every compiler draws them in this order (as arguments of one call, GCC drew
+        // them right to left and clang left to right: another image in the browser's build).
+        const float u_pick = k == 0 ? choice.y : sampler.next_float();
+        const vec2 u_point = k == 0 ? u_first : sampler.next_2d();
+        LightSample s = source.delta
+                            ? lights.sample(source, p, vec2(0.0f), 0.0f)
+                            : lights.sample(source, p, stratified_sample(k, n, u_point), u_pick);
         Color c = unoccluded_light(bsdf, frame, wo, s);  // f E cos, the lighting core's
         if (is_black(c)) {
             if (observer)

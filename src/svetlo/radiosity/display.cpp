@@ -1,9 +1,10 @@
 #include "svetlo/radiosity/display.h"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <unordered_map>
+
+#include "svetlo/core/bit_cast.h"
 
 namespace svetlo {
 
@@ -25,8 +26,8 @@ struct PositionHash {
 };
 PositionKey key_of(vec3 p) {
     // +0 and -0 are one position.
-    return {std::bit_cast<uint32_t>(p.x + 0.0f), std::bit_cast<uint32_t>(p.y + 0.0f),
-            std::bit_cast<uint32_t>(p.z + 0.0f)};
+    return {svetlo::bit_cast<uint32_t>(p.x + 0.0f), svetlo::bit_cast<uint32_t>(p.y + 0.0f),
+            svetlo::bit_cast<uint32_t>(p.z + 0.0f)};
 }
 
 constexpr float kSmooth = 0.8f;  // cos 37 degrees: corners of normals closer than this are one

@@ -6,6 +6,7 @@
 #include <optional>
 #include <vector>
 
+#include "svetlo/core/bit_cast.h"
 #include "svetlo/radiosity/hemicube.h"
 #include "svetlo/radiosity/solver.h"
 
@@ -73,7 +74,7 @@ public:
             const ShotRow& row = *cached_[slot];
             for (size_t i = 0; i < row.target.size(); ++i)
                 out[slot].push_back(uint64_t{row.target[i]} << 32 |
-                                    std::bit_cast<uint32_t>(row.factor[i]));
+                                    svetlo::bit_cast<uint32_t>(row.factor[i]));
         }
         return out;
     }
@@ -89,7 +90,7 @@ public:
             const auto target = static_cast<uint32_t>(words[i] >> 32);
             if (!mine_[target >> 1]) continue;
             row.target.push_back(target);
-            row.factor.push_back(std::bit_cast<float>(static_cast<uint32_t>(words[i])));
+            row.factor.push_back(svetlo::bit_cast<float>(static_cast<uint32_t>(words[i])));
         }
         if (used_ + row.bytes() > budget_) return;
         used_ += row.bytes();

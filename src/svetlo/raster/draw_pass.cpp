@@ -1,9 +1,8 @@
 #include "svetlo/raster/draw_pass.h"
 
-#include <tbb/enumerable_thread_specific.h>
-
 #include <algorithm>
 
+#include "svetlo/core/parallel.h"
 #include "svetlo/raster/pipeline.h"
 #include "svetlo/raster/rasterize_kernels.h"
 
@@ -69,7 +68,7 @@ void draw_samples(const TriangleList& list, const CameraMatrices& camera,
     f.depth_only = S == 1 && state.depth_test && state.depth_write && !stencil && !items &&
                    !(state.alpha && state.alpha->any());
     prepare_pass(list, camera, state, f, threads);
-    tbb::enumerable_thread_specific<TileBuffers> buffers;
+    PerWorker<TileBuffers> buffers(threads);
     parallel_tiles(
         targets.width, targets.height, kTile, threads,
         [&](const Tile& tile) {

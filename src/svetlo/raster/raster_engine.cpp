@@ -1,7 +1,5 @@
 #include "svetlo/raster/raster_engine.h"
 
-#include <tbb/enumerable_thread_specific.h>
-
 #include <algorithm>
 #include <chrono>
 #include <memory>
@@ -392,8 +390,8 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     // Small triangles go through rasterize_small, which keeps the screen barycentrics of the
     // samples it writes, unless the stencil is on.
     const bool small_left_weights = !state.stencil.enabled;
-    tbb::enumerable_thread_specific<TileBuffers> buffers;
-    tbb::enumerable_thread_specific<MaskScratch> mask_scratch;
+    PerWorker<TileBuffers> buffers(threads);
+    PerWorker<MaskScratch> mask_scratch(threads);
     Progress progress("raster", static_cast<int64_t>(width) * height, options.progress);
     parallel_tiles(
         width, height, kTile, threads,

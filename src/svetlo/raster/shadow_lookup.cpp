@@ -7,8 +7,9 @@
 #endif
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
+
+#include "svetlo/core/bit_cast.h"
 
 namespace svetlo::raster {
 
@@ -107,7 +108,7 @@ void shadow_lookup4(const ShadowMapSettings& settings, const ShadowCaster& c, co
     _mm_store_ps(ss, slope);
     _mm_store_ps(ok, on_map);
     for (int L = 0; L < 4; ++L)
-        out[L] = ShadowLookup{xs[L], ys[L], rs[L], ss[L], std::bit_cast<uint32_t>(ok[L]) != 0};
+        out[L] = ShadowLookup{xs[L], ys[L], rs[L], ss[L], svetlo::bit_cast<uint32_t>(ok[L]) != 0};
 }
 
 }  // namespace sse

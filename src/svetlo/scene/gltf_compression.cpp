@@ -19,6 +19,7 @@ namespace svetlo {
 
 namespace {
 
+#if defined(SVETLO_HAS_DRACO) || defined(SVETLO_HAS_MESHOPT)
 /// The bytes [offset, offset + length) of buffer view `index`, checked against its buffer.
 const unsigned char* view_bytes(const tinygltf::Model& model, int index, size_t& length) {
     if (index < 0 || static_cast<size_t>(index) >= model.bufferViews.size())
@@ -48,6 +49,7 @@ int add_view(tinygltf::Model& model, std::vector<unsigned char> bytes, size_t st
     model.bufferViews.push_back(view);
     return static_cast<int>(model.bufferViews.size()) - 1;
 }
+#endif
 
 #ifdef SVETLO_HAS_DRACO
 /// Accessor `index` pointed at `bytes`: `count` elements of its type, as floats.

@@ -44,7 +44,8 @@ std::string file_stamp(const fs::path& path) {
     const auto size = fs::file_size(path, size_error);
     const auto time = fs::last_write_time(path, time_error);
     if (size_error || time_error) return "";
-    return std::to_string(size) + " " + std::to_string(time.time_since_epoch().count());
+    return std::to_string(size) + " " +
+           std::to_string(static_cast<long long>(time.time_since_epoch().count()));
 }
 
 std::shared_ptr<const MeshFile> MeshFileCache::read(const fs::path& path, const FileScope& files) {

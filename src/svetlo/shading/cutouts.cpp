@@ -1,8 +1,8 @@
 #include "svetlo/shading/cutouts.h"
 
-#include <bit>
 #include <optional>
 
+#include "svetlo/core/bit_cast.h"
 #include "svetlo/core/rng.h"
 #include "svetlo/shading/texture.h"
 
@@ -15,7 +15,7 @@ namespace {
 float ray_coin(const Ray& ray, uint32_t prim) {
     uint64_t h = mix64(prim);
     for (float c : {ray.o.x, ray.o.y, ray.o.z, ray.d.x, ray.d.y, ray.d.z})
-        h = mix64(h ^ std::bit_cast<uint32_t>(c));
+        h = mix64(h ^ svetlo::bit_cast<uint32_t>(c));
     return blend_coin(h);
 }
 

@@ -1,0 +1,44 @@
+// A caller's request as scene overrides, by one rule for every caller (the command line, the
+// viewer's links, Python, the web page): its `set` entries first, then the keys its flags or
+// keywords stand for (they win), each checked with the ranges of the scene's keys and named in
+// messages as that caller names it.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "svetlo/scene/scene_loader.h"
+
+namespace svetlo {
+
+/// `KEY=VALUE` strings (--set, a link's set=) as overrides, split at the first '='; the value
+/// is read later as --set reads it (override_value). Throws Error naming `--set ENTRY` for an
+/// entry without a key.
+std::vector<Override> parse_sets(const std::vector<std::string>& sets, const std::string& file);
+
+/// The keys a caller may set beside `set`, as text (empty: not given).
+struct RequestKeys {
+    std::string engine;  // render.engine
+    std::string width;   // film.width
+    std::string height;  // film.height
+    std::string spp;     // render.spp
+    std::string seed;    // render.seed
+};
+
+/// How a caller names those keys in its messages.
+struct RequestKeyNames {
+    const char* engine;
+    const char* width;
+    const char* height;
+    const char* spp;
+    const char* seed;
+};
+inline constexpr RequestKeyNames kFlagNames{"-e", "-W", "-H", "--spp", "--seed"};
+inline constexpr RequestKeyNames kKeywordNames{"engine", "width", "height", "spp", "seed"};
+
+/// Appends the given keys to `overrides`, checked (whole numbers in the scene keys' ranges);
+/// throws Error(file, NAME, ...) naming the key as `names` says.
+void add_key_overrides(const std::string& file, const RequestKeys& keys,
+                       const RequestKeyNames& names, std::vector<Override>& overrides);
+
+}  // namespace svetlo

@@ -1,0 +1,258 @@
+"""svetlo's web page (make web, docs/web.md) in Debian's headless chromium, driven through its
+DevTools protocol as the viewer's test is, served by a static server with the headers of
+cross-origin isolation:
+  - the page loads, `svetlo.ready` settles, and #view shows an image;
+  - each engine renders a bundled scene in the page, and its pixels are the native program's
+    (`svetlo render` of the same scene, seed and spp) up to the last bits of the maths
+    libraries (a relative RMS difference of at most 1e-6);
+  - one thread and two give the same pixels;
+  - a bad scene rejects svetlo.render with the one-line error, and the page renders after it;
+  - a link's bare set= value is read as --set reads it;
+  - the page makes no request outside its own origin, and logs no error.
+
+    web_test.py SVETLO WEB_DIR SCENES_DIR
+Exit 0 when every check passes; 77 (CTest's skip) when chromium or websocket is missing.
+"""
+import base64
+import json
+import os
+import re
+import shutil
+import struct
+import subprocess
+import sys
+import tempfile
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "app"))
+
+try:
+    import websocket
+except ImportError:
+    print("python3-websocket is missing: skipped")
+    sys.exit(77)
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+if not CHROMIUM:
+    print("chromium is missing: skipped")
+    sys.exit(77)
+
+failures = []
+
+
+def check(name, ok, detail=""):
+    print(("ok   " if ok else "FAIL ") + name + ("" if ok else ": " + str(detail)), flush=True)
+    if not ok:
+        failures.append(name)
+
+
+class Tab:
+    """One page of the browser, through the DevTools protocol."""
+
+    def __init__(self, ws_url):
+        self.ws = websocket.create_connection(ws_url, timeout=300, suppress_origin=True)
+        self.next_id = 0
+        self.errors = []
+        self.requests = []
+        self.console = []
+        for domain in ("Runtime.enable", "Log.enable", "Network.enable"):
+            self.call(domain)
+        # The workers' consoles and requests too (the render worker and the module's threads).
+        self.call("Target.setAutoAttach", autoAttach=True, waitForDebuggerOnStart=False,
+                  flatten=True)
+
+    def call(self, method, **params):
+        self.next_id += 1
+        self.ws.send(json.dumps({"id": self.next_id, "method": method, "params": params}))
+        while True:
+            message = json.loads(self.ws.recv())
+            if message.get("id") == self.next_id:
+                return message.get("result", {})
+            self.event(message)
+
+    def send(self, method, session, **params):
+        self.next_id += 1
+        self.ws.send(json.dumps({"id": self.next_id, "method": method, "params": params,
+                                 "sessionId": session}))
+
+    def event(self, message):
+        method = message.get("method", "")
+        p = message.get("params", {})
+        if method == "Target.attachedToTarget":
+            session = p["sessionId"]
+            for domain in ("Runtime.enable", "Network.enable"):
+                self.send(domain, session)
+            self.send("Target.setAutoAttach", session, autoAttach=True,
+                      waitForDebuggerOnStart=False, flatten=True)
+        elif method == "Runtime.exceptionThrown":
+            d = p["exceptionDetails"]
+            self.errors.append(d.get("text", "exception") + " " +
+                               str(d.get("exception", {}).get("description", "")))
+        elif method == "Runtime.consoleAPICalled":
+            text = " ".join(str(a.get("value", a.get("description", ""))) for a in p.get("args", []))
+            self.console.append(text)
+            if p.get("type") == "error":
+                self.errors.append(text)
+        elif method == "Log.entryAdded" and p["entry"].get("level") == "error":
+            self.errors.append(p["entry"].get("text"))
+        elif method == "Network.requestWillBeSent":
+            self.requests.append(p["request"]["url"])
+
+    def eval(self, expression):
+        r = self.call("Runtime.evaluate", expression=expression, returnByValue=True,
+                      awaitPromise=True)
+        if "exceptionDetails" in r:
+            return {"exception": r["exceptionDetails"].get("exception", {}).get("description")}
+        return r.get("result", {}).get("value")
+
+
+# svetlo.render's result as {width, height, seconds, b64 (the float32 pixels)}, or {error}.
+RENDER = """svetlo.render(%s, %s).then(r => {
+  const bytes = new Uint8Array(r.pixels.buffer, r.pixels.byteOffset, r.pixels.byteLength);
+  let s = ''; for (let i = 0; i < bytes.length; i += 8192)
+    s += String.fromCharCode.apply(null, bytes.subarray(i, i + 8192));
+  return {width: r.width, height: r.height, seconds: r.seconds, b64: btoa(s)};
+}, e => ({error: e.message}))"""
+
+# The count of lit pixels of #view once the page has stopped rendering, else null.
+VIEW = """(() => {
+  if (window.svetloBusy && window.svetloBusy()) return null;
+  const c = document.getElementById('view');
+  const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+  let lit = 0;
+  for (let i = 0; i < d.length; i += 4) if (d[i] + d[i + 1] + d[i + 2] > 30) lit++;
+  return lit;
+})()"""
+
+
+def floats(result):
+    data = base64.b64decode(result["b64"])
+    return struct.unpack("<%df" % (len(data) // 4), data)
+
+
+def read_pfm(path):
+    with open(path, "rb") as f:
+        assert f.readline().strip() == b"PF"
+        w, h = map(int, f.readline().split())
+        scale = float(f.readline())
+        rows = [struct.unpack(("<" if scale < 0 else ">") + "%df" % (3 * w), f.read(12 * w))
+                for _ in range(h)]
+    return w, h, [v for row in reversed(rows) for v in row]  # PFM stores the bottom row first
+
+
+def relative_difference(a, b):
+    """The RMS of a - b over the RMS of b."""
+    num = sum((x - y) ** 2 for x, y in zip(a, b))
+    den = sum(y * y for y in b)
+    return (num / max(den, 1e-30)) ** 0.5
+
+
+def main():
+    svetlo, web, scenes = sys.argv[1], sys.argv[2], sys.argv[3]
+    work = tempfile.mkdtemp(prefix="svetlo_web_")
+    server = subprocess.Popen([sys.executable, os.path.join(HERE, "static_server.py"), web, "0",
+                               "--isolated"], stdout=subprocess.PIPE, text=True)
+    port = int(re.search(r"serving on (\d+)", server.stdout.readline()).group(1))
+    origin = "http://127.0.0.1:%d/" % port
+    profile = tempfile.mkdtemp(prefix="svetlo_chromium_")
+    url = origin + "index.html?scene=cornell.json&engine=raster&size=64&spp=1&set=render.shading=phong"
+    browser = subprocess.Popen(
+        [CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
+         "--disable-background-networking", "--disable-component-update", "--disable-sync",
+         "--remote-debugging-port=0", "--user-data-dir=" + profile, "--window-size=1000,700",
+         "about:blank"], stderr=subprocess.PIPE, text=True)
+    try:
+        devtools = None
+        end = time.time() + 30
+        while time.time() < end and devtools is None:
+            m = re.search(r"DevTools listening on (ws://\S+)", browser.stderr.readline())
+            if m:
+                devtools = m.group(1)
+        check("chromium's DevTools", devtools is not None)
+        if devtools is None:
+            return 1
+        import urllib.request
+        port_dt = int(re.search(r":(\d+)/", devtools).group(1))
+        pages = []
+        for _ in range(50):
+            with urllib.request.urlopen("http://127.0.0.1:%d/json/list" % port_dt) as r:
+                pages = [t for t in json.loads(r.read()) if t["type"] == "page"]
+            if pages:
+                break
+            time.sleep(0.1)
+        tab = Tab(pages[0]["webSocketDebuggerUrl"])
+        start = time.time()
+        tab.call("Page.navigate", url=url)
+        ready = None
+        while time.time() - start < 120:
+            ready = tab.eval("typeof svetlo !== 'undefined' ? svetlo.ready.then(() => true, e => e.message) : null")
+            if ready is not None:
+                break
+            time.sleep(0.1)
+        check("svetlo.ready settles", ready is True, ready)
+        if ready is not True:
+            print("\n".join(tab.console + tab.errors))
+            return 1
+        check("the page is cross-origin isolated", tab.eval("self.crossOriginIsolated") is True)
+        lit = None
+        while time.time() - start < 120 and not lit:
+            lit = tab.eval(VIEW)
+            time.sleep(0.05)
+        print("first image in #view %.2f s after opening" % (time.time() - start))
+        check("#view shows an image", bool(lit), lit)
+        check("the link's bare set= value renders (no error shown)",
+              tab.eval("document.getElementById('error').textContent") == "")
+
+        # Each engine against the native program.
+        # Measured: 1e-8 to 1e-7 (raster 7.4e-9, whitted 1.9e-8, path 9.6e-8, radiosity 5.9e-8).
+        cases = [("raster", "cornell.json", 1e-6), ("whitted", "cornell.json", 1e-6),
+                 ("path", "cornell.json", 1e-6), ("radiosity", "cornell_radiosity.json", 1e-6)]
+        for engine, scene, tolerance in cases:
+            opts = {"engine": engine, "width": 64, "height": 48, "spp": 4, "seed": 3, "threads": 2}
+            r = tab.eval(RENDER % (json.dumps(scene), json.dumps(opts)))
+            if not r or "error" in r or "b64" not in r:
+                check("%s renders in the page" % engine, False, r)
+                continue
+            page = floats(r)
+            native_file = os.path.join(work, engine + ".pfm")
+            subprocess.run([svetlo, "render", os.path.join(scenes, scene), "-e", engine,
+                            "-W", "64", "-H", "48", "--spp", "4", "--seed", "3", "-q", "-o",
+                            native_file], check=True)
+            w, h, native = read_pfm(native_file)
+            check("%s renders in the page (%d x %d, %.2f s)" % (engine, r["width"], r["height"],
+                                                                r["seconds"]),
+                  (r["width"], r["height"]) == (w, h) and len(page) == len(native))
+            diff = relative_difference(page, native)
+            check("%s: the native program's image (relative RMS difference %.2e)" % (engine, diff),
+                  diff <= tolerance, diff)
+            if engine == "path":
+                one = tab.eval(RENDER % (json.dumps(scene), json.dumps(dict(opts, threads=1))))
+                check("path: one thread and two give the same pixels",
+                      one and one.get("b64") == r["b64"])
+
+        # A bad scene: the one-line error, and the page still renders.
+        bad = tab.eval(RENDER % (json.dumps({"film": {"width": -3}}), "{}"))
+        check("a bad scene rejects with the one-line error",
+              bad and "error" in bad and "\n" not in bad["error"] and "scene.json" in bad["error"],
+              bad)
+        bad_key = tab.eval(RENDER % (json.dumps("cornell.json"), json.dumps({"spp": 0})))
+        check("a bad option names its key", bad_key and "spp" in bad_key.get("error", ""), bad_key)
+        after = tab.eval(RENDER % (json.dumps("cornell.json"),
+                                   json.dumps({"engine": "raster", "width": 32, "height": 32})))
+        check("the page renders after an error", after and "b64" in after, after)
+
+        outside = [u for u in tab.requests if not (u.startswith(origin) or u.startswith("data:")
+                                                    or u.startswith("blob:"))]
+        check("no request outside the page's origin", not outside, outside)
+        check("no error in the console", not tab.errors, tab.errors)
+    finally:
+        browser.kill()
+        server.kill()
+        shutil.rmtree(profile, ignore_errors=True)
+        shutil.rmtree(work, ignore_errors=True)
+    print("%d failed" % len(failures) if failures else "all web checks passed")
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,64 @@
+// The `svetlo` object of the page (docs/web.md, the contract's "In the browser"):
+//   await svetlo.ready;
+//   const {width, height, seconds, pixels} = await svetlo.render(SCENE, {engine, width,
+//       height, spp, seed, threads, set});
+// SCENE is a bundled scene's name ("cornell.json") or a scene object; pixels is a
+// Float32Array of linear RGB, top row first. A bad scene rejects with an Error whose message
+// is the one-line error. Renders run one at a time in a worker (render_worker.js), in order.
+(function () {
+    'use strict';
+    const worker = new Worker(new URL('render_worker.js', document.currentScript.src));
+    const waiting = new Map();  // id -> {resolve, reject}
+    let nextId = 1;
+    let info = {scenes: [], engines: [], cores: 1};
+    let readyResolve, readyReject;
+    const ready = new Promise((resolve, reject) => {
+        readyResolve = resolve;
+        readyReject = reject;
+    });
+    worker.onmessage = (event) => {
+        const data = event.data;
+        if (data.ready) {
+            info = data;
+            readyResolve();
+            return;
+        }
+        if (data.failed !== undefined) {
+            readyReject(new Error('svetlo: the WebAssembly module did not start: ' + data.failed));
+            return;
+        }
+        const call = waiting.get(data.id);
+        if (!call) return;
+        waiting.delete(data.id);
+        if (data.error !== undefined) call.reject(new Error(data.error));
+        else call.resolve({width: data.width, height: data.height, seconds: data.seconds,
+                           pixels: data.pixels});
+    };
+    worker.onerror = (event) => readyReject(new Error('svetlo: ' + event.message));
+
+    /// Threads above one need a cross-origin isolated page (COOP and COEP headers).
+    function threadsFor(asked) {
+        if (!self.crossOriginIsolated) return 1;
+        return asked === undefined || asked === null ? 0 : asked;
+    }
+
+    function render(scene, options) {
+        return ready.then(() => new Promise((resolve, reject) => {
+            const id = nextId++;
+            waiting.set(id, {resolve, reject});
+            const opts = Object.assign({}, options || {});
+            opts.threads = threadsFor(opts.threads);
+            const isText = typeof scene !== 'string';
+            worker.postMessage({id, scene: isText ? JSON.stringify(scene) : scene, isText,
+                                options: opts});
+        }));
+    }
+
+    self.svetlo = {
+        ready,
+        render,
+        get scenes() { return info.scenes.slice(); },
+        get engines() { return info.engines.map((e) => e.name); },
+        get threads() { return self.crossOriginIsolated ? info.cores : 1; },
+    };
+})();
