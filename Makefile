@@ -72,7 +72,8 @@ test-arm64:
 
 # The page (docs/web.md): every engine compiled to WebAssembly by Debian's emscripten
 # (scripts/setup web installs it; its tools find Debian's JavaScript packages through
-# NODE_PATH), in build/web/ with the page's files and the demo scenes. test-web, which .ci/run
+# NODE_PATH), in build/web/ with the page's files and the demo scenes: two modules, one with
+# threads for cross-origin isolated pages, one without for the others. test-web, which .ci/run
 # runs after make test, builds it and drives the page in headless chromium.
 EMENV := NODE_PATH=/usr/share/nodejs
 web:
@@ -80,6 +81,9 @@ web:
 	$(EMENV) emcmake cmake -S . -B $(WEB_BUILD) -DCMAKE_BUILD_TYPE=Release \
 	    -DSVETLO_WEB_OUT=$(CURDIR)/$(WEB) > /dev/null
 	$(EMENV) cmake --build $(WEB_BUILD) -j $(JOBS)
+	$(EMENV) emcmake cmake -S . -B $(WEB_BUILD)-st -DCMAKE_BUILD_TYPE=Release \
+	    -DSVETLO_WEB_THREADS=OFF -DSVETLO_WEB_OUT=$(CURDIR)/$(WEB) > /dev/null
+	$(EMENV) cmake --build $(WEB_BUILD)-st -j $(JOBS)
 	cp web/page/index.html web/page/svetlo_page.js web/page/render_worker.js $(WEB)/
 	@du -sh $(WEB) | sed 's/^/make web: /'
 test-web: build web
@@ -158,4 +162,4 @@ fuzz-scenes:
 	python3 tests/fuzz/mutate_scenes.py build-asan/svetlo --runs $(FUZZ_RUNS) --seed $(FUZZ_SEED)
 
 clean:
-	rm -rf $(BUILD) $(WEB_BUILD) out
+	rm -rf $(BUILD) $(WEB_BUILD) $(WEB_BUILD)-st out

@@ -11,9 +11,11 @@ import subprocess
 import sys
 import tempfile
 import time
-import urllib.request
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "web"))
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "tests", "app"))
+sys.path.insert(0, os.path.join(HERE, "..", "tests", "web"))
+import devtools  # noqa: E402
 import web_test as W  # noqa: E402
 
 
@@ -24,19 +26,9 @@ def main():
                                "--isolated"], stdout=subprocess.PIPE, text=True)
     port = int(re.search(r"serving on (\d+)", server.stdout.readline()).group(1))
     profile = tempfile.mkdtemp()
-    browser = subprocess.Popen([W.CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu",
-                                "--remote-debugging-port=0", "--user-data-dir=" + profile,
-                                "about:blank"], stderr=subprocess.PIPE, text=True)
+    browser, port_devtools = devtools.start_chromium(profile, "about:blank")
     try:
-        devtools = None
-        while devtools is None:
-            m = re.search(r"DevTools listening on ws://127.0.0.1:(\d+)/", browser.stderr.readline())
-            if m:
-                devtools = int(m.group(1))
-        time.sleep(0.5)
-        with urllib.request.urlopen("http://127.0.0.1:%d/json/list" % devtools) as r:
-            page = [t for t in json.loads(r.read()) if t["type"] == "page"][0]
-        tab = W.Tab(page["webSocketDebuggerUrl"])
+        tab = devtools.Tab(devtools.first_page(port_devtools), timeout=300)
         tab.call("Page.navigate", url="http://127.0.0.1:%d/index.html?engine=raster&size=16" % port)
         while tab.eval("typeof svetlo !== 'undefined' ? svetlo.ready.then(() => true) : null") is not True:
             time.sleep(0.1)

@@ -24,24 +24,7 @@ import urllib.request
 # every wait is that much longer there. The checks themselves are the same.
 SLOW = 10 if os.environ.get("SVETLO_EMULATED") == "1" else 1
 
-try:
-    import websocket
-except ImportError:
-    print("python3-websocket is missing: skipped")
-    sys.exit(77)
-
-CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
-if not CHROMIUM:
-    print("chromium is missing: skipped")
-    sys.exit(77)
-
-failures = []
-
-
-def check(name, ok, detail=""):
-    print(("ok   " if ok else "FAIL ") + name + ("" if ok else ": " + str(detail)))
-    if not ok:
-        failures.append(name)
+from devtools import Tab, check, failures, first_page, start_chromium  # noqa: E402
 
 
 def http(port, path):
@@ -51,41 +34,6 @@ def http(port, path):
             return r.status, r.read()
     except urllib.error.HTTPError as e:
         return e.code, e.read()
-
-
-class Tab:
-    """One page of the browser, through the DevTools protocol."""
-
-    def __init__(self, ws_url):
-        self.ws = websocket.create_connection(ws_url, timeout=60 * SLOW, suppress_origin=True)
-        self.next_id = 0
-        self.errors = []
-        self.call("Runtime.enable")
-        self.call("Log.enable")
-
-    def call(self, method, **params):
-        self.next_id += 1
-        self.ws.send(json.dumps({"id": self.next_id, "method": method, "params": params}))
-        while True:
-            message = json.loads(self.ws.recv())
-            if message.get("id") == self.next_id:
-                return message.get("result", {})
-            self.event(message)
-
-    def event(self, message):
-        method = message.get("method", "")
-        p = message.get("params", {})
-        if method == "Runtime.exceptionThrown":
-            self.errors.append(p["exceptionDetails"].get("text", "exception"))
-        elif method == "Runtime.consoleAPICalled" and p.get("type") == "error":
-            self.errors.append(str(p.get("args")))
-        elif method == "Log.entryAdded" and p["entry"].get("level") == "error":
-            self.errors.append(p["entry"].get("text"))
-
-    def eval(self, expression):
-        r = self.call("Runtime.evaluate", expression=expression, returnByValue=True,
-                      awaitPromise=True)
-        return r.get("result", {}).get("value")
 
 
 # The pixels of #view once loaded: a hash, the count of non-black pixels, and its source.
@@ -232,27 +180,11 @@ def main():
               taken.stderr.count("\n") == 1 and "--port" in taken.stderr, taken.stderr)
 
         url = "http://127.0.0.1:%d/?scene=shadows.json&engine=raster" % port
-        browser = subprocess.Popen(
-            [CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
-             "--disable-background-networking", "--disable-component-update", "--disable-sync",
-             "--remote-debugging-port=0", "--user-data-dir=" + profile, "--window-size=1000,600",
-             url], stderr=subprocess.PIPE, text=True)
-        devtools = None
-        end = time.time() + 30
-        while time.time() < end and devtools is None:
-            m = re.search(r"DevTools listening on ws://127\.0\.0\.1:(\d+)/", browser.stderr.readline())
-            if m:
-                devtools = int(m.group(1))
+        browser, devtools = start_chromium(profile, url)
         check("chromium's DevTools", devtools is not None)
         if devtools is None:
             return 1
-        pages = []
-        for _ in range(50):
-            pages = [t for t in json.loads(http(devtools, "/json/list")[1]) if t["type"] == "page"]
-            if pages:
-                break
-            time.sleep(0.1)
-        tab = Tab(pages[0]["webSocketDebuggerUrl"])
+        tab = Tab(first_page(devtools), timeout=60 * SLOW)
 
         first = wait_view(tab)
         check("#view shows an image", first is not None)
@@ -371,7 +303,7 @@ def main():
         req = urllib.request.Request("http://127.0.0.1:%d/json/new?%s"
                                      % (devtools, urllib.parse.quote(href, safe="")), method="PUT")
         target = json.loads(urllib.request.urlopen(req, timeout=30 * SLOW).read())
-        again = Tab(target["webSocketDebuggerUrl"])
+        again = Tab(target["webSocketDebuggerUrl"], timeout=60 * SLOW)
         restored = settle(again)
         check("the query string restores the view",
               restored is not None and final is not None and restored[0] == final[0],
@@ -382,7 +314,8 @@ def main():
             req = urllib.request.Request("http://127.0.0.1:%d/json/new?%s" % (
                 devtools, urllib.parse.quote("http://127.0.0.1:%d/?%s" % (port, query), safe="")),
                 method="PUT")
-            return Tab(json.loads(urllib.request.urlopen(req, timeout=30 * SLOW).read())["webSocketDebuggerUrl"])
+            return Tab(json.loads(urllib.request.urlopen(req, timeout=30 * SLOW).read())["webSocketDebuggerUrl"],
+                       timeout=60 * SLOW)
         shared = open_tab("scene=cornell.json&engine=raster&set=render.shading=phong&set=camera.fov=30")
         shown = settle(shared)
         check("a bare-value link shows its view", shown is not None and shown[1] > 100, shown and shown[:2])

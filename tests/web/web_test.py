@@ -6,6 +6,8 @@ cross-origin isolation:
     (`svetlo render` of the same scene, seed and spp) up to the last bits of the maths
     libraries (a relative RMS difference of at most 1e-6);
   - one thread and two give the same pixels;
+  - served without the headers of isolation, the page runs its single-threaded module, and
+    its pixels are the same;
   - a bad scene rejects svetlo.render with the one-line error, and the page renders after it;
   - a link's bare set= value is read as --set reads it;
   - the page makes no request outside its own origin, and logs no error.
@@ -27,83 +29,7 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "app"))
 
-try:
-    import websocket
-except ImportError:
-    print("python3-websocket is missing: skipped")
-    sys.exit(77)
-CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
-if not CHROMIUM:
-    print("chromium is missing: skipped")
-    sys.exit(77)
-
-failures = []
-
-
-def check(name, ok, detail=""):
-    print(("ok   " if ok else "FAIL ") + name + ("" if ok else ": " + str(detail)), flush=True)
-    if not ok:
-        failures.append(name)
-
-
-class Tab:
-    """One page of the browser, through the DevTools protocol."""
-
-    def __init__(self, ws_url):
-        self.ws = websocket.create_connection(ws_url, timeout=300, suppress_origin=True)
-        self.next_id = 0
-        self.errors = []
-        self.requests = []
-        self.console = []
-        for domain in ("Runtime.enable", "Log.enable", "Network.enable"):
-            self.call(domain)
-        # The workers' consoles and requests too (the render worker and the module's threads).
-        self.call("Target.setAutoAttach", autoAttach=True, waitForDebuggerOnStart=False,
-                  flatten=True)
-
-    def call(self, method, **params):
-        self.next_id += 1
-        self.ws.send(json.dumps({"id": self.next_id, "method": method, "params": params}))
-        while True:
-            message = json.loads(self.ws.recv())
-            if message.get("id") == self.next_id:
-                return message.get("result", {})
-            self.event(message)
-
-    def send(self, method, session, **params):
-        self.next_id += 1
-        self.ws.send(json.dumps({"id": self.next_id, "method": method, "params": params,
-                                 "sessionId": session}))
-
-    def event(self, message):
-        method = message.get("method", "")
-        p = message.get("params", {})
-        if method == "Target.attachedToTarget":
-            session = p["sessionId"]
-            for domain in ("Runtime.enable", "Network.enable"):
-                self.send(domain, session)
-            self.send("Target.setAutoAttach", session, autoAttach=True,
-                      waitForDebuggerOnStart=False, flatten=True)
-        elif method == "Runtime.exceptionThrown":
-            d = p["exceptionDetails"]
-            self.errors.append(d.get("text", "exception") + " " +
-                               str(d.get("exception", {}).get("description", "")))
-        elif method == "Runtime.consoleAPICalled":
-            text = " ".join(str(a.get("value", a.get("description", ""))) for a in p.get("args", []))
-            self.console.append(text)
-            if p.get("type") == "error":
-                self.errors.append(text)
-        elif method == "Log.entryAdded" and p["entry"].get("level") == "error":
-            self.errors.append(p["entry"].get("text"))
-        elif method == "Network.requestWillBeSent":
-            self.requests.append(p["request"]["url"])
-
-    def eval(self, expression):
-        r = self.call("Runtime.evaluate", expression=expression, returnByValue=True,
-                      awaitPromise=True)
-        if "exceptionDetails" in r:
-            return {"exception": r["exceptionDetails"].get("exception", {}).get("description")}
-        return r.get("result", {}).get("value")
+from devtools import Tab, check, failures, first_page, start_chromium  # noqa: E402
 
 
 # svetlo.render's result as {width, height, seconds, b64 (the float32 pixels)}, or {error}.
@@ -156,31 +82,12 @@ def main():
     origin = "http://127.0.0.1:%d/" % port
     profile = tempfile.mkdtemp(prefix="svetlo_chromium_")
     url = origin + "index.html?scene=cornell.json&engine=raster&size=64&spp=1&set=render.shading=phong"
-    browser = subprocess.Popen(
-        [CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
-         "--disable-background-networking", "--disable-component-update", "--disable-sync",
-         "--remote-debugging-port=0", "--user-data-dir=" + profile, "--window-size=1000,700",
-         "about:blank"], stderr=subprocess.PIPE, text=True)
+    browser, devtools = start_chromium(profile, "about:blank", window="1000,700")
     try:
-        devtools = None
-        end = time.time() + 30
-        while time.time() < end and devtools is None:
-            m = re.search(r"DevTools listening on (ws://\S+)", browser.stderr.readline())
-            if m:
-                devtools = m.group(1)
         check("chromium's DevTools", devtools is not None)
         if devtools is None:
             return 1
-        import urllib.request
-        port_dt = int(re.search(r":(\d+)/", devtools).group(1))
-        pages = []
-        for _ in range(50):
-            with urllib.request.urlopen("http://127.0.0.1:%d/json/list" % port_dt) as r:
-                pages = [t for t in json.loads(r.read()) if t["type"] == "page"]
-            if pages:
-                break
-            time.sleep(0.1)
-        tab = Tab(pages[0]["webSocketDebuggerUrl"])
+        tab = Tab(first_page(devtools), timeout=300)
         start = time.time()
         tab.call("Page.navigate", url=url)
         ready = None
@@ -207,6 +114,7 @@ def main():
         # Measured: 1e-8 to 1e-7 (raster 7.4e-9, whitted 1.9e-8, path 9.6e-8, radiosity 5.9e-8).
         cases = [("raster", "cornell.json", 1e-6), ("whitted", "cornell.json", 1e-6),
                  ("path", "cornell.json", 1e-6), ("radiosity", "cornell_radiosity.json", 1e-6)]
+        isolated_pixels = {}
         for engine, scene, tolerance in cases:
             opts = {"engine": engine, "width": 64, "height": 48, "spp": 4, "seed": 3, "threads": 2}
             r = tab.eval(RENDER % (json.dumps(scene), json.dumps(opts)))
@@ -225,6 +133,7 @@ def main():
             diff = relative_difference(page, native)
             check("%s: the native program's image (relative RMS difference %.2e)" % (engine, diff),
                   diff <= tolerance, diff)
+            isolated_pixels[engine] = (scene, opts, r["b64"])
             if engine == "path":
                 one = tab.eval(RENDER % (json.dumps(scene), json.dumps(dict(opts, threads=1))))
                 check("path: one thread and two give the same pixels",
@@ -241,7 +150,34 @@ def main():
                                    json.dumps({"engine": "raster", "width": 32, "height": 32})))
         check("the page renders after an error", after and "b64" in after, after)
 
-        outside = [u for u in tab.requests if not (u.startswith(origin) or u.startswith("data:")
+        # The same page from a server without the headers: one thread, the same pixels.
+        plain = subprocess.Popen([sys.executable, os.path.join(HERE, "static_server.py"), web,
+                                  "0"], stdout=subprocess.PIPE, text=True)
+        plain_origin = origin
+        try:
+            plain_port = int(re.search(r"serving on (\d+)", plain.stdout.readline()).group(1))
+            plain_origin = "http://127.0.0.1:%d/" % plain_port
+            tab.call("Page.navigate", url=plain_origin + "index.html?scene=cornell.json&engine=raster&size=32")
+            ready = None
+            end = time.time() + 120
+            while time.time() < end and ready is None:
+                ready = tab.eval("typeof svetlo !== 'undefined' ? svetlo.ready.then(() => true, e => e.message) : null")
+                time.sleep(0.1)
+            check("without isolation: svetlo.ready settles", ready is True, ready)
+            check("without isolation: the page is not isolated and says so",
+                  tab.eval("self.crossOriginIsolated") is False and
+                  "one thread" in (tab.eval("document.getElementById('threads').textContent") or ""))
+            for engine in ("raster", "path"):
+                if engine not in isolated_pixels:
+                    continue
+                scene, opts, pixels = isolated_pixels[engine]
+                r = tab.eval(RENDER % (json.dumps(scene), json.dumps(opts)))
+                check("without isolation: %s gives the isolated page's pixels" % engine,
+                      r and r.get("b64") == pixels, r and r.get("error"))
+        finally:
+            plain.kill()
+        origin_ok = (origin, plain_origin)
+        outside = [u for u in tab.requests if not (u.startswith(origin_ok) or u.startswith("data:")
                                                     or u.startswith("blob:"))]
         check("no request outside the page's origin", not outside, outside)
         check("no error in the console", not tab.errors, tab.errors)

@@ -1,20 +1,23 @@
 // The worker that holds svetlo's WebAssembly module (docs/web.md): a render blocks it, not
-// the page, and its threads are the module's own workers. Messages in: {id, scene, isText,
-// options}; out: {ready} once, then {id, width, height, seconds, pixels} or {id, error}.
-importScripts('svetlo.js');
+// the page. In a cross-origin isolated page the module has threads (svetlo.js, its threads
+// the module's own workers); elsewhere it is the single-threaded one (svetlo-st.js). Messages
+// in: {id, scene, isText, options}; out: {ready} once, then {id, width, height, seconds,
+// pixels} or {id, error}.
+const script = self.crossOriginIsolated ? 'svetlo.js' : 'svetlo-st.js';
+importScripts(script);
 
 createSvetlo({
     // The module's files beside this script, whatever the page's own address.
     locateFile: (name) => new URL(name, self.location.href).href,
     // What the module's threads load (a modularized module inside a worker cannot tell).
-    mainScriptUrlOrBlob: new URL('svetlo.js', self.location.href).href,
+    mainScriptUrlOrBlob: new URL(script, self.location.href).href,
     print: (text) => console.log(text),
     printErr: (text) => console.warn(text),
 }).then((module) => {
     module.FS.chdir('/scenes');
     const scenes = module.FS.readdir('/scenes').filter((name) => name.endsWith('.json')).sort();
     self.postMessage({ready: true, scenes, engines: JSON.parse(module.engines()),
-                      cores: navigator.hardwareConcurrency || 1});
+                      cores: self.crossOriginIsolated ? navigator.hardwareConcurrency || 1 : 1});
     self.onmessage = (event) => {
         const {id, scene, isText, options} = event.data;
         const out = module.render(scene, isText, JSON.stringify(options || {}));

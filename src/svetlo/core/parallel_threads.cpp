@@ -22,7 +22,15 @@ thread_local int t_worker = 0;
 thread_local bool t_inside = false;  // inside a parallel call: run nested work here
 thread_local int t_threads = 0;      // set by with_threads; 0: all cores
 
-int cores() { return std::max(1, static_cast<int>(std::thread::hardware_concurrency())); }
+/// The threads a call may use: the machine's cores, or one where the build has no threads
+/// (the browser's module for pages that are not cross-origin isolated).
+int cores() {
+#if defined(__EMSCRIPTEN__) && !defined(__EMSCRIPTEN_PTHREADS__)
+    return 1;
+#else
+    return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+#endif
+}
 
 /// Threads that wait for work: run(n, work) calls work(k) for k in [0, n), work(0) on the
 /// caller. One call at a time; the threads live as long as the program.

@@ -31,7 +31,8 @@ struct ShadowCaster {
     /// (Both tests made, without a branch: a frame asks it of every sample it shadows.)
     bool faces(vec3 p, vec3 n) const {
         vec3 wi = kind == Kind::Directional ? -direction : position - p;  // (signs only)
-        return (glm::dot(n, wi) > 0.0f) & !(glm::dot(normal, wi) > 0.0f);
+        return static_cast<bool>(static_cast<int>(glm::dot(n, wi) > 0.0f) &
+                                 static_cast<int>(!(glm::dot(normal, wi) > 0.0f)));
     }
 };
 
