@@ -221,20 +221,38 @@ def test_scene_errors_raise_scene_error(scenes):
     assert str(e.value) == path + ": render.spp: must be in [1, 1048576] (is 0)"
 
 
-def test_fuzz_corpus_never_crashes(scenes):
+def test_fuzz_corpus_as_the_command_line_reads_it(svetlo_bin, tmp_path):
+    """Each scene of the fuzz corpus, given to Python as a dict, does what the command line does
+    with its file: the same pixels where it renders, the same one-line error (but for the
+    file's name) where it is refused."""
     corpus = os.path.join(ROOT, "tests", "fuzz", "corpus", "scene")
+    compared = 0
     for name in sorted(os.listdir(corpus)):
+        path = os.path.join(corpus, name)
         try:
-            with open(os.path.join(corpus, name)) as f:
+            with open(path) as f:
                 as_dict = json.load(f)
         except ValueError:
-            continue  # not JSON: the file parser's business
+            continue  # not JSON: the file parser's (fuzz_replay_test's)
         if not isinstance(as_dict, dict):
             continue
-        try:
-            svetlo.render(svetlo.Scene(as_dict, base=corpus), width=16, height=12, spp=1, threads=1)
-        except svetlo.SceneError:
-            pass
+        out = str(tmp_path / (name + ".pfm"))
+        cli = subprocess.run([svetlo_bin, "render", path, "-W", "16", "-H", "12", "--spp", "1",
+                              "-t", "1", "-q", "-o", out], capture_output=True, text=True)
+        if cli.returncode == 0:
+            r = svetlo.render(svetlo.Scene(as_dict, base=corpus), width=16, height=12, spp=1,
+                              threads=1)
+            assert np.array_equal(r.image, read_pfm(out)), name
+        else:
+            line = cli.stderr.strip().splitlines()[-1]
+            assert line.startswith("svetlo: error: " + path + ": "), line
+            with pytest.raises(svetlo.SceneError) as refused:
+                svetlo.render(svetlo.Scene(as_dict, base=corpus), width=16, height=12, spp=1,
+                              threads=1)
+            # The same key and message; the file is named as each caller names it.
+            assert str(refused.value).split(": ", 1)[1] == line.split(path + ": ", 1)[1], name
+        compared += 1
+    assert compared >= 4  # the corpus's scenes that are JSON objects
 
 
 def test_compare_is_cli_compare(svetlo_bin, scenes, tmp_path):
