@@ -20,7 +20,13 @@ createSvetlo({
                       cores: self.crossOriginIsolated ? navigator.hardwareConcurrency || 1 : 1});
     self.onmessage = (event) => {
         const {id, scene, isText, options} = event.data;
-        const out = module.render(scene, isText, JSON.stringify(options || {}));
+        let out;
+        try {
+            out = module.render(scene, isText, JSON.stringify(options || {}));
+        } catch (error) {  // the module itself failed (out of memory, an abort): say so
+            self.postMessage({id, error: 'svetlo: the render failed: ' + error});
+            return;
+        }
         if (out.error !== undefined) {
             self.postMessage({id, error: out.error});
             return;

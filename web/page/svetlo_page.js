@@ -34,7 +34,13 @@
         else call.resolve({width: data.width, height: data.height, seconds: data.seconds,
                            pixels: data.pixels});
     };
-    worker.onerror = (event) => readyReject(new Error('svetlo: ' + event.message));
+    // The worker failed: the start, and every render waiting, end with its message.
+    worker.onerror = (event) => {
+        const error = new Error('svetlo: ' + event.message);
+        readyReject(error);
+        for (const call of waiting.values()) call.reject(error);
+        waiting.clear();
+    };
 
     /// Threads above one need a cross-origin isolated page (COOP and COEP headers).
     function threadsFor(asked) {
