@@ -23,6 +23,7 @@
 #include "svetlo/geometry/tessellate.h"
 #include "svetlo/geometry/triangle_list.h"
 #include "svetlo/job/limits.h"
+#include "svetlo/job/overrides.h"
 #include "svetlo/job/render_job.h"
 #include "svetlo/scene/instances.h"
 #include "svetlo/shading/light_set.h"
@@ -53,11 +54,7 @@ Image from_array(const FloatArray& a, const char* name) {
 }
 
 nlohmann::json parse(const std::string& text, const std::string& path) {
-    try {
-        return nlohmann::json::parse(text);
-    } catch (const nlohmann::json::exception& e) {
-        throw Error(path, "scene", e.what());
-    }
+    return scene_text_with_overrides(text, path, {});
 }
 
 /// Overrides from Python: (dotted KEY, JSON value text), applied in order as --set's.
@@ -66,9 +63,9 @@ using Overrides = std::vector<std::pair<std::string, std::string>>;
 /// The scene's JSON with `overrides` applied.
 nlohmann::json with_overrides(const std::string& text, const std::string& path,
                               const Overrides& overrides) {
-    nlohmann::json json = parse(text, path);
-    for (const auto& [key, value] : overrides) apply_override(json, Override{key, value}, path);
-    return json;
+    std::vector<Override> list;
+    for (const auto& [key, value] : overrides) list.push_back({key, value});
+    return scene_text_with_overrides(text, path, list);
 }
 
 /// The scene's JSON checked as a scene file is (throws Error, which becomes SceneError).

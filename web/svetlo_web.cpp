@@ -68,14 +68,7 @@ nlohmann::json effective_json(const std::string& scene, bool is_text,
             throw Error(scene, "scene", "expected the name of a bundled scene (svetlo.scenes)");
         return effective_scene_json(scene, overrides);
     }
-    nlohmann::json json;
-    try {
-        json = nlohmann::json::parse(scene);
-    } catch (const nlohmann::json::exception& e) {
-        throw Error(file, "scene", e.what());
-    }
-    for (const Override& o : overrides) apply_override(json, o, file);
-    return json;
+    return scene_text_with_overrides(scene, file, overrides);
 }
 
 val render_scene(const std::string& scene, bool is_text, const std::string& options_text) {

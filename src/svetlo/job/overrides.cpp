@@ -16,6 +16,18 @@ std::vector<Override> parse_sets(const std::vector<std::string>& sets, const std
     return out;
 }
 
+nlohmann::json scene_text_with_overrides(const std::string& text, const std::string& file,
+                                         const std::vector<Override>& overrides) {
+    nlohmann::json json;
+    try {
+        json = nlohmann::json::parse(text);
+    } catch (const nlohmann::json::exception& e) {
+        throw Error(file, "scene", e.what());
+    }
+    for (const Override& o : overrides) apply_override(json, o, file);
+    return json;
+}
+
 void add_key_overrides(const std::string& file, const RequestKeys& keys,
                        const RequestKeyNames& names, std::vector<Override>& overrides) {
     if (!keys.engine.empty())

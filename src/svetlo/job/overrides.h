@@ -16,6 +16,11 @@ namespace svetlo {
 /// entry without a key.
 std::vector<Override> parse_sets(const std::vector<std::string>& sets, const std::string& file);
 
+/// A scene given as JSON text (Python's, the web page's), named `file`, with `overrides`
+/// applied in order; throws Error(file, "scene", ...) for text that is not JSON.
+nlohmann::json scene_text_with_overrides(const std::string& text, const std::string& file,
+                                         const std::vector<Override>& overrides);
+
 /// The keys a caller may set beside `set`, as text (empty: not given).
 struct RequestKeys {
     std::string engine;  // render.engine

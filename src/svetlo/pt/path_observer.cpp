@@ -1,5 +1,7 @@
 #include "svetlo/pt/path_observer.h"
 
+#include "svetlo/rt/light_trace_ray.h"
+
 namespace svetlo {
 
 void PathTraceLog::ray(const Ray& ray, int depth, float t, Color beta, float pdf, bool delta) {
@@ -45,15 +47,9 @@ void PathTraceLog::roulette(float survive, bool ends) {
 
 void PathTraceLog::light_sample(vec3 p, vec3 ng, vec3 wi, float distance, float pdf, float w,
                                 float visible, Color c, float scale, const char* note) {
-    TraceRay r;
-    r.kind = "light";
-    r.parent = parent_;
-    r.depth = depth_;
-    r.origin = offset_ray_origin(p, ng, wi);
-    r.direction = wi;
-    r.t = distance;
+    TraceRay r = light_trace_ray("light", parent_, depth_, p, ng, wi, distance, visible);
     r.contribution = beta_ * c * scale;
-    r.note = note ? note : visible > 0.0f ? "the light is visible" : "blocked";
+    if (note) r.note = note;
     r.set("pdf", {pdf}).set("mis_weight", {w}).set("visibility", {visible});
     trace_.add(std::move(r));
 }

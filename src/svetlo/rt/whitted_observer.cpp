@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "svetlo/rt/light_trace_ray.h"
+
 namespace svetlo {
 
 int WhittedTraceLog::ray(const Ray& ray, int depth, const char* kind, int parent, Color to_pixel,
@@ -29,15 +31,8 @@ void WhittedTraceLog::hit(int self, const SurfaceHit& hit, vec3 ns, bool front) 
 
 void WhittedTraceLog::shadow_ray(int parent, int depth, vec3 p, vec3 ng, vec3 wi, float distance,
                                  int light, float v, Color f_e_cos, float count, Color to_pixel) {
-    TraceRay r;
-    r.kind = "shadow";
-    r.parent = parent;
-    r.depth = depth;
-    r.origin = offset_ray_origin(p, ng, wi);
-    r.direction = wi;
-    r.t = distance;
+    TraceRay r = light_trace_ray("shadow", parent, depth, p, ng, wi, distance, v);
     r.contribution = to_pixel * f_e_cos * (v / count);
-    r.note = v > 0.0f ? "the light is visible" : "blocked";
     r.set("light", {static_cast<float>(light)});
     r.set("visibility", {v});
     r.set("unoccluded", f_e_cos / count);
