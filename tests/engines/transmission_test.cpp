@@ -85,6 +85,47 @@ TEST(Transmission, ThePathTracerPassesAndReflectsTheWholeBackground) {
     EXPECT_NEAR(mean(render_json<PathRenderer>(opaque).color, 1), f0(1.5) * kB, 2e-3 * kB);
 }
 
+/// The directional albedo of a BSDF seen along its normal, reflection and transmission: the
+/// integral of (f + f_t) |cos| over the sphere by the midpoint rule in theta (fine at the
+/// poles, where the transmitted lobe narrows), which needs no sampler. Seen along the normal
+/// the integrand does not depend on phi.
+double albedo_along_normal(const Bsdf& b, bool front) {
+    constexpr int kTheta = 20000;
+    const vec3 n(0.0f, 0.0f, 1.0f);
+    double sum = 0.0;
+    for (int i = 0; i < kTheta; ++i) {
+        const double theta = kPi * (i + 0.5) / kTheta;
+        const vec3 wi(static_cast<float>(std::sin(theta)), 0.0f,
+                      static_cast<float>(std::cos(theta)));
+        const Color f = eval_bsdf(b, n, n, wi) + eval_transmitted(b, n, n, wi, front);
+        sum += f.g * std::abs(std::cos(theta)) * std::sin(theta) * (kPi / kTheta) * 2.0 * kPi;
+    }
+    return sum;
+}
+
+TEST(Transmission, ARoughSheetPassesAndReflectsItsAlbedoOfTheBackground) {
+    // A rough clear sheet (roughness 0.5) before a uniform background B: what the path tracer
+    // sees is B times the sheet's albedo (reflection, and transmission through microfacets),
+    // which the quadrature of eval_bsdf and eval_transmitted gives; both sides (entering, and
+    // leaving, where microfacets reflect totally). A smooth sheet's albedo is 1; the rough
+    // one's is less by what masking takes.
+    for (bool front : {true, false}) {
+        json scene = sheet(front, 1.0, 1.5, "path");
+        scene["materials"]["clear"]["roughness"] = 0.5;
+        scene["render"]["spp"] = 256;
+        CookTorranceMaterial m;
+        m.base_color = ColorSource::constant(Color(1.0f));
+        m.roughness = 0.5f;
+        m.ior = 1.5f;
+        m.transmission = ColorSource::constant(Color(1.0f));
+        const double albedo = albedo_along_normal(make_bsdf(Material(m), vec2(0.0f), {}), front);
+        EXPECT_LT(albedo, 0.998);
+        EXPECT_GT(albedo, 0.85);
+        EXPECT_NEAR(mean(render_json<PathRenderer>(scene).color, 1), albedo * kB, 3e-3 * kB)
+            << (front ? "front" : "back");
+    }
+}
+
 /// A box of side 1 along the view (z from -1 to 0), of ior 1 (no reflection, no bending),
 /// fully transmitting, whose inside keeps `keep` over `distance`: the background behind it is
 /// seen through 1 unit of it, keep^(1 / distance) of B. Seen from +z, then from -z.

@@ -67,10 +67,9 @@ struct BsdfMaker {
         if (m.clearcoat.varies() || m.clearcoat.value.r > 0.0f) {
             b.coat = std::clamp(c(m.clearcoat).r, 0.0f, 1.0f);
             b.coat_alpha =
-                std::max(square(std::clamp(c(m.clearcoat_roughness).g, 0.0f, 1.0f)), 1e-3f);
+                std::max(square(std::clamp(c(m.clearcoat_roughness).g, 0.0f, 1.0f)), kSmoothAlpha);
         }
-        // Below alpha ~ 1e-3 the GGX peak exceeds float range for point lights.
-        b.alpha = std::max(square(roughness), 1e-3f);
+        b.alpha = std::max(square(roughness), kSmoothAlpha);
         if (m.occlusion.varies() || m.occlusion.value.r != 1.0f)
             b.occlusion =
                 std::clamp(1.0f + m.occlusion_strength * (c(m.occlusion).r - 1.0f), 0.0f, 1.0f);

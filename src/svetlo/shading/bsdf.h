@@ -10,7 +10,9 @@
 //   oren_nayar    f = albedo/pi (A + B max(0, cos(phi_i - phi_o)) sin(alpha) tan(beta))
 //                 (Oren & Nayar 1994, the qualitative model)
 //   cook_torrance glTF 2.0 metallic-roughness: GGX D (Walter et al. 2007), height-correlated
-//                 Smith V (Heitz 2014), Schlick F; diffuse (1 - F) c_diff / pi
+//                 Smith V (Heitz 2014), Schlick F; diffuse (1 - F) c_diff / pi; its
+//                 transmitted part (KHR_materials_transmission) refracts ideally at the
+//                 smallest roughness and through GGX microfacets above it (Walter et al. 2007)
 //   mirror        delta reflection, weight = reflectance
 //   dielectric    delta reflection and refraction, chosen by the Fresnel reflectance
 //
@@ -28,6 +30,10 @@
 #include "svetlo/shading/mipmap.h"
 
 namespace svetlo {
+
+/// The least GGX alpha make_bsdf gives (roughness 0.032): below it the GGX peak exceeds float
+/// range for point lights. A Cook-Torrance surface this smooth transmits by ideal refraction.
+inline constexpr float kSmoothAlpha = 1e-3f;
 
 struct Bsdf {
     enum class Model : unsigned char {
@@ -107,6 +113,14 @@ inline Color transmitted_weight(const Bsdf& b, float cos_o) {
     return b.transmit * (Color(1.0f) - fresnel_schlick(b.specular, cos_o)) * under_coat(b, cos_o);
 }
 
+/// Whether a Cook-Torrance surface's transmitted part is a rough one (a microfacet BTDF,
+/// sampled by sample_bsdf and never by light sampling) rather than ideal refraction. At ior 1
+/// no microfacet bends light, whatever its roughness: the light passes straight on.
+inline bool rough_transmission(const Bsdf& b) {
+    return b.model == Bsdf::Model::CookTorrance && b.alpha > kSmoothAlpha && b.ior != 1.0f &&
+           !is_black(b.transmit);
+}
+
 /// The medium a ray enters when it is transmitted through a surface from the side `front`
 /// says: the material's absorption going in through the front, none coming out of the back.
 inline Color medium_after(const Bsdf& b, bool front) { return front ? b.absorption : Color(0.0f); }
@@ -124,7 +138,10 @@ struct BsdfSample {
     Color f{0.0f};       // f(wo, wi) of the non-delta lobes (0 for a delta lobe)
     Color weight{0.0f};  // f |cos| / pdf: what the sample multiplies incoming radiance by
     float pdf = 0.0f;    // per steradian; for a delta lobe, the probability of choosing it
-    bool delta = false;  // a mirror or refraction direction
+    // A direction that light sampling never draws, so that what it reaches counts in full
+    // (no MIS): a mirror or refraction direction, or a rough refraction (its pdf then per
+    // steradian, as pdf_transmitted gives it).
+    bool delta = false;
     bool valid() const { return pdf > 0.0f; }
 };
 
@@ -135,6 +152,17 @@ BsdfSample sample_bsdf(const Bsdf& bsdf, vec3 n, vec3 wo, bool front, vec2 u, fl
 
 /// The pdf per steradian with which sample_bsdf draws wi through its non-delta lobes.
 float pdf_bsdf(const Bsdf& bsdf, vec3 n, vec3 wo, vec3 wi);
+
+/// The rough transmitted part of a Cook-Torrance surface (rough_transmission), for wo on the
+/// side n faces and `front` as sample_bsdf takes it: f(wo, wi) per steradian, and the pdf per
+/// steradian with which sample_bsdf draws wi through it, the lobe's probability included.
+/// For wi below the surface, the microfacet BTDF of Walter et al. 2007 with GGX visible
+/// normals and the height-correlated Smith G (pbrt-v4, section 9.7), its Fresnel glTF's
+/// Schlick at wo.m; not divided by eta^2 across the interface, as the ideal refraction is
+/// not. For wi above, the share of microfacets that reflect wo totally (inside a denser
+/// medium), which reflect the transmitted part instead, as the ideal refraction does.
+Color eval_transmitted(const Bsdf& bsdf, vec3 n, vec3 wo, vec3 wi, bool front);
+float pdf_transmitted(const Bsdf& bsdf, vec3 n, vec3 wo, vec3 wi, bool front);
 
 /// Unpolarised Fresnel reflectance of a dielectric interface. cos_i is the cosine of the
 /// incident angle (> 0), eta = n_transmitted / n_incident. Returns 1 under total internal

@@ -79,6 +79,19 @@ float ggx_g1(float c, float alpha) {
     return 2.0f * c / (c + std::sqrt(a2 + (1.0f - a2) * c * c));
 }
 
+/// Smith's Lambda of GGX for a direction at cosine c to the normal, on either side:
+/// (sqrt(1 + alpha^2 tan^2) - 1) / 2.
+float ggx_lambda(float c, float alpha) {
+    c = std::abs(c);
+    float a2 = alpha * alpha;
+    return 0.5f * (std::sqrt(a2 + (1.0f - a2) * c * c) / c - 1.0f);
+}
+
+/// The height-correlated masking-shadowing of GGX for two directions (pbrt-v4, 9.6.3).
+float ggx_g2(float cos_o, float cos_i, float alpha) {
+    return 1.0f / (1.0f + ggx_lambda(cos_o, alpha) + ggx_lambda(cos_i, alpha));
+}
+
 /// A visible normal of GGX for wo (local space, wo.z > 0): Heitz 2018, listing 1.
 vec3 sample_ggx_visible(vec3 wo, float alpha, vec2 u) {
     vec3 vh = glm::normalize(vec3(alpha * wo.x, alpha * wo.y, wo.z));
@@ -126,12 +139,107 @@ float local_pdf(const Bsdf& b, const LobeChoice& c, vec3 wo, vec3 wi) {
     return c.glossy > 0.0f ? pdf + c.glossy * glossy_pdf(b, wo, wi) : pdf;
 }
 
+/// How the rough transmitted part carries wo to wi (local space, wo.z > 0): through the
+/// microfacet normal m, refracted (wi below) or totally reflected (wi above); `valid` is
+/// false where no microfacet does.
+struct TransmittedPath {
+    vec3 m{0.0f, 0.0f, 1.0f};
+    bool refracted = false, valid = false;
+};
+
+/// eta = n_t / n_i, the index of wi's side over wo's.
+TransmittedPath transmitted_path(vec3 lo, vec3 li, float eta) {
+    TransmittedPath p;
+    p.refracted = li.z < 0.0f;
+    if (p.refracted) {
+        // The generalised half vector of refraction (Walter et al. 2007, eq. 16).
+        vec3 m = eta * li + lo;
+        if (glm::dot(m, m) == 0.0f) return p;
+        p.m = glm::normalize(m) * (m.z < 0.0f ? -1.0f : 1.0f);
+        p.valid = glm::dot(lo, p.m) > 0.0f && glm::dot(li, p.m) < 0.0f;
+    } else {
+        vec3 m = lo + li;
+        if (li.z <= 0.0f || glm::dot(m, m) == 0.0f) return p;
+        p.m = glm::normalize(m);
+        const float c = glm::dot(lo, p.m);
+        p.valid = c > 0.0f && (1.0f - c * c) >= eta * eta;  // total internal reflection at m
+    }
+    return p;
+}
+
+/// The rough transmitted part's f and pdf (bsdf.h: eval_transmitted, pdf_transmitted) in
+/// local space, the lobe's probability `chosen` included in the pdf.
+void transmitted_local(const Bsdf& b, vec3 lo, vec3 li, float eta, float chosen, Color& f,
+                       float& pdf) {
+    f = Color(0.0f);
+    pdf = 0.0f;
+    const TransmittedPath p = transmitted_path(lo, li, eta);
+    if (!p.valid || lo.z <= 0.0f || li.z == 0.0f) return;
+    const float om = glm::dot(lo, p.m), im = std::abs(glm::dot(li, p.m));
+    const float d = ggx_d(p.m.z, b.alpha), g = ggx_g2(lo.z, li.z, b.alpha);
+    const Color t =
+        b.transmit * (Color(1.0f) - fresnel_schlick(b.specular, om)) * under_coat(b, lo.z);
+    const float visible = ggx_g1(lo.z, b.alpha) * d * om / lo.z;  // visible normals' density
+    if (p.refracted) {
+        const float denom = square(glm::dot(li, p.m) + om / eta);
+        f = t * (d * g * im * om / (std::abs(li.z) * lo.z * denom));
+        pdf = chosen * visible * im / denom;  // d(omega_m) / d(omega_i) = |i.m| / denom
+    } else {
+        f = t * (d * g / (4.0f * li.z * lo.z));
+        pdf = chosen * visible / (4.0f * om);
+    }
+}
+
 /// Lambert's BRDF (and an emitter's albedo) are sampled by the cosine alone.
 bool cosine_only(const Bsdf& b) {
     return b.model == Bsdf::Model::Lambert || b.model == Bsdf::Model::Emissive;
 }
 
+/// A direction through the rough transmitted part: a visible microfacet normal of GGX, and wo
+/// refracted through it (reflected where it reflects totally). Its weight is
+/// f |cos_i| / pdf = T G2 / G1 over the lobe's probability (Heitz 2018, section 2).
+BsdfSample sample_rough_transmission(const Bsdf& b, const Frame& frame, vec3 lo, float eta,
+                                     float chosen, vec2 u) {
+    BsdfSample s;
+    const vec3 m = sample_ggx_visible(lo, b.alpha, u);
+    vec3 li;
+    const bool refracted = refract(lo, m, eta, li);
+    if (!refracted) li = glm::reflect(-lo, m);
+    if (refracted ? li.z >= 0.0f : li.z <= 0.0f) return s;  // a microfacet sends it back: lost
+    const float om = glm::dot(lo, m);
+    if (!(om > 0.0f)) return s;
+    const Color t =
+        b.transmit * (Color(1.0f) - fresnel_schlick(b.specular, om)) * under_coat(b, lo.z);
+    s.wi = frame.to_world(li);
+    s.weight = t * (ggx_g2(lo.z, li.z, b.alpha) / (ggx_g1(lo.z, b.alpha) * chosen));
+    transmitted_local(b, lo, li, eta, chosen, s.f, s.pdf);
+    s.delta = true;  // light sampling never draws it: what it reaches counts in full
+    if (!(s.pdf > 0.0f)) return BsdfSample{};
+    return s;
+}
+
 }  // namespace
+
+Color eval_transmitted(const Bsdf& b, vec3 n, vec3 wo, vec3 wi, bool front) {
+    Color f(0.0f);
+    float pdf;
+    if (!rough_transmission(b) || glm::dot(n, wo) <= 0.0f) return f;
+    Frame frame = Frame::from_normal(n);
+    vec3 lo = frame.to_local(wo);
+    transmitted_local(b, lo, frame.to_local(wi), front ? b.ior : 1.0f / b.ior, 1.0f, f, pdf);
+    return f;
+}
+
+float pdf_transmitted(const Bsdf& b, vec3 n, vec3 wo, vec3 wi, bool front) {
+    Color f;
+    float pdf = 0.0f;
+    if (!rough_transmission(b) || glm::dot(n, wo) <= 0.0f) return pdf;
+    Frame frame = Frame::from_normal(n);
+    vec3 lo = frame.to_local(wo);
+    const float chosen = lobe_choice(b, lo.z).transmit;
+    transmitted_local(b, lo, frame.to_local(wi), front ? b.ior : 1.0f / b.ior, chosen, f, pdf);
+    return pdf;
+}
 
 float pdf_bsdf(const Bsdf& b, vec3 n, vec3 wo, vec3 wi) {
     if (cosine_only(b))
@@ -180,6 +288,8 @@ BsdfSample sample_bsdf(const Bsdf& b, vec3 n, vec3 wo, bool front, vec2 u, float
     const float before_coat = c.diffuse + c.glossy + c.reflect + c.transmit;
     if (x >= c.diffuse + c.glossy + c.reflect && x < before_coat && c.transmit > 0.0f) {
         float eta = front ? b.ior : 1.0f / b.ior;
+        if (rough_transmission(b))
+            return sample_rough_transmission(b, frame, lo, eta, c.transmit, u);
         vec3 wt;
         // Under total internal reflection the transmitted part reflects (as in Whitted).
         if (!refract(wo, n, eta, wt)) wt = reflect(wo, n);
