@@ -195,5 +195,30 @@ TEST(Environment, TheSamplersDensityIntegratesToOneAndMatchesItsDraws) {
     EXPECT_GT(sun, 400);  // the sun's share of the power, drawn as often
 }
 
+TEST(Environment, TheDensityFollowsTheMeanRadianceOfEachCell) {
+    // One bright texel on black: a draw lands in the texel's own cell, where the bilinear
+    // radiance is highest, with the cell's share of the mean radiance, (3/4)^2 = 0.5625 of the
+    // texel's power (less the black texels' small floor). It was 1/9 when each cell took the
+    // largest luminance of its 3 x 3 neighbourhood, spreading the draws over eight dark cells
+    // around it.
+    const int w = 64, h = 32, si = 40, sj = 16;
+    const std::string map = write_map(
+        "texel", w, h, [&](int i, int j) { return Color(i == si && j == sj ? 1000.0f : 0.0f); });
+    Scene scene;
+    scene.textures.push_back(read_texture(map, false, kMaxTextureBytes, "map"));
+    scene.environment = EnvironmentSettings{0, Color(1.0f), 0.0f};
+    const Environment env(scene);
+    Rng rng(3, 0);
+    int own = 0;
+    const int n = 20000;
+    for (int k = 0; k < n; ++k) {
+        const EnvironmentSample s = env.sample(rng.next_2d());
+        const vec2 uv = env.uv_of(s.wi);
+        const int i = static_cast<int>(uv.x * w), j = static_cast<int>((1.0f - uv.y) * h);
+        own += i == si && j == sj;
+    }
+    EXPECT_NEAR(static_cast<double>(own) / n, 0.5625, 0.02);
+}
+
 }  // namespace
 }  // namespace svetlo

@@ -30,11 +30,16 @@ Environment::Environment(const Scene& scene, bool importance) {
     height_ = map_->height();
     black_ = false;
     if (!importance) return;
-    // Texel weights: the 3 x 3 neighbourhood's largest luminance times sin(theta).
+    // Texel weights: the mean luminance over the cell that sample() maps texel (i, j) to,
+    // times sin(theta). The cell spans from half a texel before the texel's centre to half a
+    // texel after it, where radiance() interpolates bilinearly with the neighbours: the mean
+    // of that interpolation is the texel's luminance filtered by (1/8, 3/4, 1/8) along each
+    // axis. It is positive wherever the radiance in the cell is.
     std::vector<float> lum(static_cast<size_t>(width_) * height_);
     for (int j = 0; j < height_; ++j)
         for (int i = 0; i < width_; ++i)
             lum[static_cast<size_t>(j) * width_ + i] = luminance(map_->texel(i, j) * scale_);
+    constexpr float kTent[3] = {0.125f, 0.75f, 0.125f};
     std::vector<double> weight(lum.size());
     double total = 0.0;
     for (int j = 0; j < height_; ++j) {
@@ -45,7 +50,7 @@ Environment::Environment(const Scene& scene, bool importance) {
                 const int jj = std::clamp(j + dj, 0, height_ - 1);
                 for (int di = -1; di <= 1; ++di) {
                     const int ii = (i + di + width_) % width_;
-                    m = std::max(m, lum[static_cast<size_t>(jj) * width_ + ii]);
+                    m += kTent[dj + 1] * kTent[di + 1] * lum[static_cast<size_t>(jj) * width_ + ii];
                 }
             }
             weight[static_cast<size_t>(j) * width_ + i] = m * sin_theta;
