@@ -20,7 +20,7 @@ def main():
     scene = svetlo.load(os.path.join(ROOT, "scenes", "cornell.json"))
     for engine, spp in (("raster", 1), ("path", 1)):
         kwargs = dict(engine=engine, spp=spp, width=64, height=64, threads=1)
-        overrides = svetlo._overrides(scene, engine, 64, 64, spp, None, None)
+        overrides, keywords = svetlo._request(scene, engine, 64, 64, spp, None, None)
         svetlo.render(scene, **kwargs)  # warm
         best_py, best_native = float("inf"), float("inf")
         for _ in range(5):  # interleaved, best of five
@@ -29,7 +29,7 @@ def main():
                 svetlo.render(scene, **kwargs)
             best_py = min(best_py, (time.perf_counter() - t0) / repeats)
             best_native = min(best_native, _svetlo.native_render_seconds(
-                scene._text, scene._path, scene._sha256, overrides, 1, repeats))
+                scene._text, scene._path, scene._sha256, overrides, keywords, 1, repeats))
         print("%-7s 64x64: python %.3f ms, C++ %.3f ms, overhead %.3f ms a call"
               % (engine, 1e3 * best_py, 1e3 * best_native, 1e3 * (best_py - best_native)))
 

@@ -11,6 +11,7 @@
 #include <chrono>
 #include <csignal>
 #include <cstring>
+#include <map>
 #include <optional>
 
 #include "commands.h"
@@ -59,12 +60,28 @@ nlohmann::json parse(const std::string& text, const std::string& path) {
 
 /// Overrides from Python: (dotted KEY, JSON value text), applied in order as --set's.
 using Overrides = std::vector<std::pair<std::string, std::string>>;
+/// The keywords that stand for scene keys (engine, width, height, spp, seed), as text: the
+/// request keys of the job layer (job/overrides.h), checked and named as Python names them.
+using Keywords = std::map<std::string, std::string>;
 
-/// The scene's JSON with `overrides` applied.
+/// The scene's JSON with `overrides` applied, then `keywords` (they win, as the command
+/// line's flags do over its --set).
 nlohmann::json with_overrides(const std::string& text, const std::string& path,
-                              const Overrides& overrides) {
+                              const Overrides& overrides, const Keywords& keywords = {}) {
     std::vector<Override> list;
     for (const auto& [key, value] : overrides) list.push_back({key, value});
+    RequestKeys keys;
+    for (const auto& [name, value] : keywords) {
+        std::string* field = name == "engine"   ? &keys.engine
+                             : name == "width"  ? &keys.width
+                             : name == "height" ? &keys.height
+                             : name == "spp"    ? &keys.spp
+                             : name == "seed"   ? &keys.seed
+                                                : nullptr;
+        if (!field) throw py::value_error("not a request key: " + name);
+        *field = value;
+    }
+    add_key_overrides(path, keys, kKeywordNames, list);
     return scene_text_with_overrides(text, path, list);
 }
 
@@ -84,9 +101,10 @@ std::string set_key(const std::string& text, const std::string& path, const std:
 /// The job of a render from Python: the scene's JSON with the overrides (KEY, JSON value) in
 /// order, its AOVs and threads.
 RenderJob python_job(const std::string& text, const std::string& path, const std::string& sha256,
-                     const Overrides& overrides, const std::vector<std::string>& aovs, int threads,
+                     const Overrides& overrides, const Keywords& keywords,
+                     const std::vector<std::string>& aovs, int threads,
                      const std::vector<std::string>& command) {
-    RenderJob job = make_job(with_overrides(text, path, overrides), path, sha256);
+    RenderJob job = make_job(with_overrides(text, path, overrides, keywords), path, sha256);
     job.run.command = command;
     job.options.threads = threads;
     for (const std::string& name : aovs) request_aov(job, name, path, "aovs");
@@ -97,10 +115,10 @@ RenderJob python_job(const std::string& text, const std::string& path, const std
 /// on the command line, and then raises KeyboardInterrupt. `progress(fraction, spp, seconds)`
 /// runs after each pass, with the GIL. `time` (None: none) is checked as --time is.
 py::dict render(const std::string& text, const std::string& path, const std::string& sha256,
-                const Overrides& overrides, const std::vector<std::string>& aovs, int threads,
-                std::optional<double> time, const std::vector<std::string>& command,
-                const py::object& progress) {
-    RenderJob job = python_job(text, path, sha256, overrides, aovs, threads, command);
+                const Overrides& overrides, const Keywords& keywords,
+                const std::vector<std::string>& aovs, int threads, std::optional<double> time,
+                const std::vector<std::string>& command, const py::object& progress) {
+    RenderJob job = python_job(text, path, sha256, overrides, keywords, aovs, threads, command);
     if (time) set_time_budget(job, *time, path, "time");
     const double time_budget = job.options.time_budget;
     const int planned = job.scene.render.spp;
@@ -153,7 +171,7 @@ py::dict render(const std::string& text, const std::string& path, const std::str
     stats["nonfinite"] = result.stats.nonfinite;
     stats["engine"] = job.scene.render.engine;
     out["stats"] = stats;
-    out["provenance"] = make_provenance(job.run, job.scene, job.options, result.stats, spp).dump();
+    out["provenance"] = job_provenance(job, result);
     out["exposure"] = job.scene.render.exposure;
     return out;
 }
@@ -161,15 +179,14 @@ py::dict render(const std::string& text, const std::string& path, const std::str
 /// For bench/python_overhead.py: the mean wall-clock seconds of the same render as `render`
 /// (the job made from the JSON, then run), `repeats` times in C++ with no Python in the loop.
 double native_render_seconds(const std::string& text, const std::string& path,
-                             const std::string& sha256, const Overrides& overrides, int threads,
-                             int repeats) {
+                             const std::string& sha256, const Overrides& overrides,
+                             const Keywords& keywords, int threads, int repeats) {
     py::gil_scoped_release release;
     const auto t0 = std::chrono::steady_clock::now();
     for (int k = 0; k < repeats; ++k) {
-        RenderJob job = python_job(text, path, sha256, overrides, {}, threads, {});
+        RenderJob job = python_job(text, path, sha256, overrides, keywords, {}, threads, {});
         RenderResult result = run_job(job);
-        (void)make_provenance(job.run, job.scene, job.options, result.stats,
-                              reached_spp(job, result));
+        (void)job_provenance(job, result);
     }
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() /
            std::max(repeats, 1);
@@ -177,9 +194,9 @@ double native_render_seconds(const std::string& text, const std::string& path,
 
 /// svetlo trace's JSON of sample `sample` of pixel (x, y).
 std::string trace(const std::string& text, const std::string& path, const std::string& sha256,
-                  const Overrides& overrides, int x, int y, long long sample, long long spp,
-                  int threads) {
-    RenderJob job = python_job(text, path, sha256, overrides, {}, threads, {});
+                  const Overrides& overrides, const Keywords& keywords, int x, int y,
+                  long long sample, long long spp, int threads) {
+    RenderJob job = python_job(text, path, sha256, overrides, keywords, {}, threads, {});
     PixelTrace log;
     {
         py::gil_scoped_release release;
@@ -191,13 +208,13 @@ std::string trace(const std::string& text, const std::string& path, const std::s
 /// svetlo compare's --json of the techniques (SPECs) against the reference; with `html` or
 /// `png`, the sheet is written there too.
 std::string compare(const std::string& text, const std::string& path, const std::string& sha256,
-                    const Overrides& overrides, const std::vector<std::string>& techniques,
-                    const std::string& reference, int threads, bool curves, const std::string& html,
-                    const std::string& png) {
+                    const Overrides& overrides, const Keywords& keywords,
+                    const std::vector<std::string>& techniques, const std::string& reference,
+                    int threads, bool curves, const std::string& html, const std::string& png) {
     if (techniques.empty()) throw Error(path, "techniques", "give at least one technique SPEC");
     if (!png.empty()) check_writable(png, "png");
     if (!html.empty()) check_creatable(html, "html");
-    const nlohmann::json json = with_overrides(text, path, overrides);
+    const nlohmann::json json = with_overrides(text, path, overrides, keywords);
     Sheet sheet;
     {
         py::gil_scoped_release release;

@@ -40,6 +40,7 @@
 #include "svetlo/geometry/triangle_list_cache.h"
 #include "svetlo/job/engines.h"
 #include "svetlo/job/limits.h"
+#include "svetlo/job/overrides.h"
 #include "svetlo/job/render_job.h"
 #include "svetlo/scene/model_scene.h"
 
@@ -53,7 +54,7 @@ namespace fs = std::filesystem;
 
 /// What one request may ask: the viewer's film and samples are bounded, so that no client
 /// can hold the machine.
-constexpr long long kMaxSide = 1920, kMaxSamples = 4096;
+constexpr RequestLimits kRequestLimits{1920, 4096};
 
 /// The frame drawn while the view moves (preview=1; docs/viewer.md, "While the view moves"):
 /// the rasterizer draws each light with area from at most this many points, in its shading
@@ -122,15 +123,9 @@ RenderJob request_job(Server& server, const Query& req, const std::string& side 
         if (req.has("b_engine")) engine = req.get("b_engine");
     }
     std::vector<Override> overrides = parse_sets(sets, file);
-    add_flag_overrides(file, {}, {}, overrides, engine);
-    auto integer = [&](const char* name, const char* key, long long lo, long long hi) {
-        if (!req.has(name)) return;
-        const long long v = flag_integer(file, name, req.get(name), lo, hi);
-        overrides.push_back({key, std::to_string(v)});
-    };
-    integer("width", "film.width", 1, kMaxSide);
-    integer("height", "film.height", 1, kMaxSide);
-    integer("spp", "render.spp", 1, kMaxSamples);
+    add_key_overrides(file,
+                      RequestKeys{engine, req.get("width"), req.get("height"), req.get("spp"), {}},
+                      kKeywordNames, overrides, kRequestLimits);
     const std::string preview = req.get("preview");
     if (!preview.empty() && preview != "0" && preview != "1")
         throw Error(file, "preview", "must be 0 or 1, not '" + preview + "'");
@@ -225,7 +220,9 @@ nlohmann::json read_link(const Server& server, const Query& link) {
         if (!link.get(name).empty()) check([&] { capabilities_of(link.get(name), file); });
     }
     if (link.has("spp"))
-        check([&] { out["spp"] = flag_integer(file, "spp", link.get("spp"), 1, kMaxSamples); });
+        check([&] {
+            out["spp"] = flag_integer(file, "spp", link.get("spp"), 1, kRequestLimits.spp);
+        });
     for (const char* name : {"aov", "ab"}) out[name] = link.get(name);
     for (const char* name : {"set", "b_set"}) {
         nlohmann::json& list = out[std::string(name) + "s"] = nlohmann::json::array();
@@ -345,9 +342,12 @@ int run_serve(const ServeArgs& args) {
             const PixelMeaning meaning =
                 aov.empty() || aov == "albedo" ? PixelMeaning::Radiance : PixelMeaning::Data;
             const float exposure = aov.empty() ? job.scene.render.exposure : 1.0f;
-            const std::vector<unsigned char> bytes = jpeg
-                                                         ? encode_jpeg(shown, meaning, exposure, 90)
-                                                         : encode_png(shown, meaning, exposure);
+            // A still image carries its provenance, as every file svetlo writes does.
+            job.run.command = {"svetlo serve", request.target};
+            const std::vector<unsigned char> bytes =
+                jpeg ? encode_jpeg(shown, meaning, exposure, 90)
+                     : encode_png(shown, meaning, exposure,
+                                  job_provenance(job, result, aov.empty() ? "color" : aov));
             const double encode =
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
             res.set_header("X-Svetlo-Seconds", std::to_string(result.stats.seconds));
@@ -420,8 +420,8 @@ int run_serve(const ServeArgs& args) {
         try {
             RenderJob job = request_job(server, req);
             const std::string file = job.run.scene_file.string();
-            const auto x = flag_integer(file, "x", req.get("x"), 0, kMaxSide);
-            const auto y = flag_integer(file, "y", req.get("y"), 0, kMaxSide);
+            const auto x = flag_integer(file, "x", req.get("x"), 0, kRequestLimits.side);
+            const auto y = flag_integer(file, "y", req.get("y"), 0, kRequestLimits.side);
             InProgress busy(server.renders);
             const PixelTrace log = trace_job(job, static_cast<int>(x), static_cast<int>(y), 0, 1);
             res.set_content(trace_json(log, job.scene.render.engine).dump(), "application/json");

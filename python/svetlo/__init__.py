@@ -160,27 +160,29 @@ def _int(name, value, lo, hi, where):
     return value
 
 
-def _overrides(scene, engine, width, height, spp, seed, set):
-    """The render's keyword arguments as (KEY, JSON value) overrides: `set` first, then the
-    keywords that stand for scene keys (they win, as the flags do)."""
-    out = []
+def _request(scene, engine, width, height, spp, seed, set):
+    """The call's keyword arguments as the job layer takes them (docs/python.md): `set` as
+    (KEY, JSON value) overrides, and the keywords that stand for scene keys as text, which the
+    module checks in their ranges and applies after `set` (they win), by the rule the command
+    line's flags follow (job/overrides.h), naming each as it is named here."""
+    overrides = []
     if set is not None:
         if not isinstance(set, dict):
             raise TypeError("set must be a dict of KEY: value, not %s" % type(set).__name__)
         for key, value in set.items():
             if not isinstance(key, str):
                 raise TypeError("set's keys are str, not %s" % type(key).__name__)
-            out.append((key, _json(value, key, scene.path)))
+            overrides.append((key, _json(value, key, scene.path)))
+    keywords = {}
     if engine is not None:
         if not isinstance(engine, str):
             raise TypeError("engine must be a str, not %s" % type(engine).__name__)
-        out.append(("render.engine", json.dumps(engine)))
-    for name, key, value in (("width", "film.width", width), ("height", "film.height", height),
-                             ("spp", "render.spp", spp), ("seed", "render.seed", seed)):
+        keywords["engine"] = engine
+    for name, value in (("width", width), ("height", height), ("spp", spp), ("seed", seed)):
         if value is not None:
             _require_int(name, value)
-            out.append((key, json.dumps(value)))
-    return out
+            keywords[name] = str(value)
+    return overrides, keywords
 
 
 def _threads(threads):
@@ -198,7 +200,7 @@ def render(scene, *, engine=None, spp=None, width=None, height=None, threads=Non
     progress and raises KeyboardInterrupt.
     """
     scene = _as_scene(scene)
-    overrides = _overrides(scene, engine, width, height, spp, seed, set)
+    overrides, keywords = _request(scene, engine, width, height, spp, seed, set)
     if aovs is None:
         aovs = []
     if isinstance(aovs, str) or not all(isinstance(a, str) for a in aovs):
@@ -210,8 +212,9 @@ def render(scene, *, engine=None, spp=None, width=None, height=None, threads=Non
         budget = float(time)
     if progress is not None and not callable(progress):
         raise TypeError("progress must be callable (fraction, spp, seconds)")
-    command = ["python", "svetlo.render"] + ["%s=%s" % kv for kv in overrides]
-    raw = _svetlo.render(scene._text, scene._path, scene._sha256, overrides, list(aovs),
+    command = (["python", "svetlo.render"] + ["%s=%s" % kv for kv in overrides] +
+               ["%s=%s" % kv for kv in keywords.items()])
+    raw = _svetlo.render(scene._text, scene._path, scene._sha256, overrides, keywords, list(aovs),
                          _threads(threads), budget, command, progress)
     return Result(raw)
 
@@ -226,8 +229,8 @@ def trace(scene, pixel, *, sample=0, spp=None, engine=None, width=None, height=N
         raise TypeError("pixel must be (x, y), two ints")
     sample = _int("sample", sample, 0, _svetlo.max_spp - 1, "sample")
     spp_value = _int("spp", spp, 1, _svetlo.max_spp, "spp") or 1
-    overrides = _overrides(scene, engine, width, height, None, seed, set)
-    text = _svetlo.trace(scene._text, scene._path, scene._sha256, overrides, pixel[0], pixel[1],
+    overrides, keywords = _request(scene, engine, width, height, None, seed, set)
+    text = _svetlo.trace(scene._text, scene._path, scene._sha256, overrides, keywords, pixel[0], pixel[1],
                          sample, spp_value, _threads(threads))
     return json.loads(text)
 
@@ -242,8 +245,9 @@ def compare(scene, techniques, *, reference=None, width=None, height=None, threa
         raise TypeError("techniques must be a list of SPECs (str)")
     if reference is not None and not isinstance(reference, (str, os.PathLike)):
         raise TypeError("reference must be a SPEC or an image file")
-    overrides = _overrides(scene, None, width, height, None, seed, set)
-    text = _svetlo.compare(scene._text, scene._path, scene._sha256, overrides, list(techniques),
+    overrides, keywords = _request(scene, None, width, height, None, seed, set)
+    text = _svetlo.compare(scene._text, scene._path, scene._sha256, overrides, keywords,
+                           list(techniques),
                            os.fspath(reference) if reference is not None else "",
                            _threads(threads), bool(curves), os.fspath(html) if html else "",
                            os.fspath(png) if png else "")

@@ -187,10 +187,19 @@ def test_bad_keywords_and_types_raise_type_error(scenes):
 def test_scene_errors_raise_scene_error(scenes):
     path = os.path.join(scenes, "cornell.json")
     assert issubclass(svetlo.SceneError, ValueError)
-    with pytest.raises(svetlo.SceneError, match="render.spp"):
+    # A keyword that stands for a scene key is checked in that key's range and named as the
+    # call names it, by the rule the command line's flags follow (which name -W, --spp).
+    with pytest.raises(svetlo.SceneError, match=r": spp: must be "):
         svetlo.render(path, spp=0)
-    with pytest.raises(svetlo.SceneError, match="film.width"):
+    with pytest.raises(svetlo.SceneError, match=r": width: must be "):
         svetlo.render(path, width=-3)
+    with pytest.raises(svetlo.SceneError, match=r": seed: must be "):
+        svetlo.trace(path, (0, 0), seed=-1)
+    with pytest.raises(svetlo.SceneError, match=r": height: must be "):
+        svetlo.compare(path, ["raster"], height=100000)
+    # set= is read as --set is, and named by its key.
+    with pytest.raises(svetlo.SceneError, match="render.spp"):
+        svetlo.render(path, set={"render.spp": 0})
     with pytest.raises(svetlo.SceneError, match="render.engine"):
         svetlo.render(path, engine="phong")
     with pytest.raises(svetlo.SceneError, match="unknown AOV"):
@@ -215,10 +224,11 @@ def test_scene_errors_raise_scene_error(scenes):
         svetlo.load(os.path.join(scenes, "no_such_scene.json"))
     with pytest.raises(svetlo.SceneError, match="--pixel"):
         svetlo.trace(path, (4000, 0))
-    # the message is the command line's line after "svetlo: error: "
+    # the message is the command line's line after "svetlo: error: ", with the keyword's name
+    # where the command line names its flag
     with pytest.raises(svetlo.SceneError) as e:
         svetlo.render(path, spp=0)
-    assert str(e.value) == path + ": render.spp: must be in [1, 1048576] (is 0)"
+    assert str(e.value) == path + ": spp: must be >= 1 (is 0)"
 
 
 def test_fuzz_corpus_as_the_command_line_reads_it(svetlo_bin, tmp_path):
@@ -288,3 +298,50 @@ def test_a_model_alone_loads_and_renders_as_the_cli_renders_it(svetlo_bin, tmp_p
                     "--seed", "0", "-t", "2", "-q", "-o", str(out)], check=True)
     assert r.image.max() > 0.05
     assert np.array_equal(r.image, read_pfm(out))
+
+
+def test_every_caller_makes_the_same_job(svetlo_bin, scenes, tmp_path):
+    """The command line's flags, Python's keywords and the viewer's query, asking for the same
+    render, make one job (src/svetlo/job/): the same effective scene in their images'
+    provenance, and the viewer's image the command line's pixel for pixel."""
+    import socket
+    import urllib.request
+    path = os.path.join(scenes, "cornell.json")
+    cli_png = str(tmp_path / "cli.png")
+    subprocess.run([svetlo_bin, "render", path, "-q", "-o", cli_png, "-e", "raster", "-W", "40",
+                    "-H", "32", "--spp", "2", "--set", "render.shading=phong", "--set",
+                    "camera.fov=35"], check=True)
+
+    def provenance(image):
+        out = subprocess.run([svetlo_bin, "info", image, "--json"], capture_output=True,
+                             text=True, check=True).stdout
+        return json.loads(out)
+
+    cli = provenance(cli_png)
+    py = svetlo.render(path, engine="raster", width=40, height=32, spp=2,
+                       set={"render.shading": "phong", "camera.fov": 35}).provenance
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    server = subprocess.Popen([svetlo_bin, "serve", scenes, "--port", str(port)],
+                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        base = "http://127.0.0.1:%d" % port
+        for _ in range(100):
+            try:
+                urllib.request.urlopen(base + "/api/status", timeout=1).read()
+                break
+            except OSError:
+                time.sleep(0.1)
+        query = ("/api/render?scene=cornell.json&engine=raster&width=40&height=32&spp=2"
+                 "&set=render.shading=phong&set=camera.fov%3D35")
+        view_png = str(tmp_path / "view.png")
+        with open(view_png, "wb") as f:
+            f.write(urllib.request.urlopen(base + query, timeout=60).read())
+    finally:
+        server.terminate()
+        server.wait()
+    view = provenance(view_png)
+    assert cli["scene"] == py["scene"] == view["scene"]
+    assert cli["scene"]["render"]["shading"] == "phong" and cli["scene"]["camera"]["fov"] == 35
+    assert np.array_equal(svetlo.read_image(cli_png), svetlo.read_image(view_png))

@@ -1,5 +1,7 @@
 #include "svetlo/job/overrides.h"
 
+#include <algorithm>
+
 #include "svetlo/core/error.h"
 #include "svetlo/job/limits.h"
 
@@ -29,7 +31,8 @@ nlohmann::json scene_text_with_overrides(const std::string& text, const std::str
 }
 
 void add_key_overrides(const std::string& file, const RequestKeys& keys,
-                       const RequestKeyNames& names, std::vector<Override>& overrides) {
+                       const RequestKeyNames& names, std::vector<Override>& overrides,
+                       const RequestLimits& limits) {
     if (!keys.engine.empty())
         overrides.push_back({"render.engine", nlohmann::json(keys.engine).dump()});
     auto number = [&](const std::string& text, const char* name, const char* key, long long lo,
@@ -37,9 +40,9 @@ void add_key_overrides(const std::string& file, const RequestKeys& keys,
         if (!text.empty())
             overrides.push_back({key, std::to_string(flag_integer(file, name, text, lo, hi))});
     };
-    number(keys.width, names.width, "film.width", 1, kMaxFilmSide);
-    number(keys.height, names.height, "film.height", 1, kMaxFilmSide);
-    number(keys.spp, names.spp, "render.spp", 1, kMaxSpp);
+    number(keys.width, names.width, "film.width", 1, std::min(limits.side, kMaxFilmSide));
+    number(keys.height, names.height, "film.height", 1, std::min(limits.side, kMaxFilmSide));
+    number(keys.spp, names.spp, "render.spp", 1, std::min(limits.spp, kMaxSpp));
     number(keys.seed, names.seed, "render.seed", 0, kMaxSeed);
 }
 

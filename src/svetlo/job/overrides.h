@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "svetlo/job/limits.h"
 #include "svetlo/scene/scene_loader.h"
 
 namespace svetlo {
@@ -30,6 +31,13 @@ struct RequestKeys {
     std::string seed;    // render.seed
 };
 
+/// The largest film side and samples a caller accepts: the scene keys' own ranges, or a
+/// server's tighter ones (svetlo serve's, so that no client can hold the machine).
+struct RequestLimits {
+    long long side = kMaxFilmSide;
+    long long spp = kMaxSpp;
+};
+
 /// How a caller names those keys in its messages.
 struct RequestKeyNames {
     const char* engine;
@@ -39,11 +47,14 @@ struct RequestKeyNames {
     const char* seed;
 };
 inline constexpr RequestKeyNames kFlagNames{"-e", "-W", "-H", "--spp", "--seed"};
+/// Python's keywords, the web page's options and the viewer's query parameters.
 inline constexpr RequestKeyNames kKeywordNames{"engine", "width", "height", "spp", "seed"};
 
-/// Appends the given keys to `overrides`, checked (whole numbers in the scene keys' ranges);
-/// throws Error(file, NAME, ...) naming the key as `names` says.
+/// Appends the given keys to `overrides`, checked (whole numbers in the scene keys' ranges,
+/// the film and samples within `limits`); throws Error(file, NAME, ...) naming the key as
+/// `names` says.
 void add_key_overrides(const std::string& file, const RequestKeys& keys,
-                       const RequestKeyNames& names, std::vector<Override>& overrides);
+                       const RequestKeyNames& names, std::vector<Override>& overrides,
+                       const RequestLimits& limits = {});
 
 }  // namespace svetlo

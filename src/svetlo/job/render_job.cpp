@@ -166,21 +166,25 @@ Image aov_for_display(const std::string& name, Image image) {
     return image;
 }
 
+std::string job_provenance(const RenderJob& job, const RenderResult& result,
+                           const std::string& image) {
+    RunRecord run = job.run;
+    run.image = image;
+    return make_provenance(run, job.scene, job.options, result.stats, reached_spp(job, result))
+        .dump();
+}
+
 void write_job_outputs(const RenderJob& job, const RenderResult& result,
                        const std::string& output) {
-    const int spp = reached_spp(job, result);
     if (!output.empty())
         write_image(output, result.color, PixelMeaning::Radiance, job.scene.render.exposure, "-o",
-                    make_provenance(job.run, job.scene, job.options, result.stats, spp).dump());
+                    job_provenance(job, result));
     for (const auto& [name, file] : job.aov_files) {
         Image image = result.aovs.at(name);
         if (image_format_for(file, "--aov") == ImageFormat::Png)
             image = aov_for_display(name, std::move(image));
-        RunRecord run = job.run;
-        run.image = name;
         write_image(file, image, name == "albedo" ? PixelMeaning::Radiance : PixelMeaning::Data,
-                    1.0f, "--aov " + name,
-                    make_provenance(run, job.scene, job.options, result.stats, spp).dump());
+                    1.0f, "--aov " + name, job_provenance(job, result, name));
     }
 }
 

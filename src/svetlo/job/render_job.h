@@ -63,4 +63,9 @@ void write_job_outputs(const RenderJob& job, const RenderResult& result, const s
 /// scene's spp.
 int reached_spp(const RenderJob& job, const RenderResult& result);
 
+/// The provenance an image of the job carries (docs/provenance.md), as the text written into
+/// the file: of its colour image, or of the AOV `image` names.
+std::string job_provenance(const RenderJob& job, const RenderResult& result,
+                           const std::string& image = "color");
+
 }  // namespace svetlo
