@@ -3,13 +3,15 @@
 // through the command line's own code:
 //   GET /api/scenes                  the scene and model files of the folder, the one given, and
 //                                    the environment maps in it
+//   GET /api/engines                 the engines and their capabilities (the page's menus)
 //   GET /api/scene?scene=NAME        a scene's effective JSON (the page orbits its camera)
 //   GET /api/link?QUERY              a shared link read as the server reads a request: its
 //                                    scene, engine and each set= value as --set reads it, and
 //                                    the first problem found (the page starts from this)
 //   GET /api/render?scene=NAME&engine=E&spp=N&width=W&height=H&set=KEY=VALUE...&client=ID
 //                   [&format=jpeg][&preview=1]
-//                                    a PNG; X-Svetlo-Seconds and X-Svetlo-Spp say how it went
+//                                    a PNG with its provenance; X-Svetlo-Seconds and
+//                                    X-Svetlo-Spp say how it went
 //   GET /api/trace?...&x=X&y=Y      svetlo trace's JSON of that pixel
 // A bad value gets HTTP 400 and the one-line message; a render superseded by a newer request
 // of the same page is cancelled after its pass and answered 409. Only files directly in the
@@ -305,6 +307,17 @@ int run_serve(const ServeArgs& args) {
                                        {"environments", environments}}
                             .dump(),
                         "application/json");
+    });
+    // The engines and what each can do, from the registry (job/engines.h): the page builds its
+    // menus from it and streams the passes of an engine that shows them.
+    http.Get("/api/engines", [&](const httplib::Request&, httplib::Response& res) {
+        nlohmann::json list = nlohmann::json::array();
+        for (const Capabilities& c : engine_capabilities())
+            list.push_back({{"name", c.name},
+                            {"progressive", c.progressive},
+                            {"shows_passes", c.shows_passes},
+                            {"debug_aovs", c.debug_aovs}});
+        res.set_content(list.dump(), "application/json");
     });
     http.Get("/api/scene", [&](const httplib::Request& request, httplib::Response& res) {
         const Query req(request.target);

@@ -216,6 +216,17 @@ def main():
               v and v[:2])
         if v:
             views.append(v)
+        # The engine menus are the registry's engines (/api/engines), which say which stream
+        # their passes; the page compares no engine names.
+        engines = json.loads(http(port, "/api/engines")[1])
+        check("/api/engines lists the four engines, path and radiosity showing their passes",
+              [e["name"] for e in engines] == ["raster", "whitted", "path", "radiosity"] and
+              [e["name"] for e in engines if e["shows_passes"]] == ["path", "radiosity"], engines)
+        check("the engine menus are /api/engines'",
+              tab.eval("[...document.getElementById('engine').options].map(o => o.value).join()") ==
+              "raster,whitted,path,radiosity" and
+              tab.eval("[...document.getElementById('bengine').options].map(o => o.value).join()") ==
+              ",raster,whitted,path,radiosity")
         # The environment menu (the folder's maps), then its rotation slider, then none again.
         listed = json.loads(http(port, "/api/scenes")[1]).get("environments", [])
         check("/api/scenes lists the folder's maps", "references/door_ajar.exr" in listed, listed)

@@ -14,6 +14,7 @@ public:
     Capabilities capabilities() const override {
         return {.name = "path",
                 .progressive = true,
+                .shows_passes = true,
                 .checkpoints = true,
                 .traces_samples = true,
                 .debug_aovs = {"bvh_cost", "path_depth"}};

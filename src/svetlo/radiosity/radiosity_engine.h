@@ -14,7 +14,8 @@ class RadiosityRenderer final : public Renderer {
 public:
     Capabilities capabilities() const override {
         return {.name = "radiosity",
-                .checkpoints = true,  // the progressive solve's
+                .shows_passes = true,  // the progressive solver's snapshots
+                .checkpoints = true,   // the progressive solve's
                 .whole_frame = true,
                 .patch_mesh = true,
                 .debug_aovs = {"patches"}};

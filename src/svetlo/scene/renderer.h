@@ -57,6 +57,8 @@ inline std::optional<ShadowTechnique> debug_aov_technique(const std::string& nam
 struct Capabilities {
     std::string name;                     // its render.engine
     bool progressive = false;             // refines pass by pass: --time
+    bool shows_passes = false;            // hands RenderOptions::on_pass its image as it refines
+                                          // (the viewer streams them: /api/progressive)
     bool checkpoints = false;             // resumes from --checkpoint (RenderOptions::checkpoint)
     bool whole_frame = false;             // draws the whole frame at once: under MPI its
                                           // windows are bands of rows, each cut from a frame
