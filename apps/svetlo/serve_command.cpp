@@ -246,21 +246,201 @@ void fail(const Server& server, httplib::Response& res, int status, const std::s
     res.set_content(server.scope.relative_text(message) + "\n", "text/plain; charset=utf-8");
 }
 
-}  // namespace
+/// GET /api/scenes: the folder's scene and model files, the one given, and the environment
+/// maps in the folder or two folders down (the page's menus).
+void serve_scenes(Server& server, const httplib::Request&, httplib::Response& res) {
+    std::error_code ec;  // an unreadable entry is left out
+    std::vector<std::string> names;
+    for (const auto& entry : fs::directory_iterator(server.folder, ec)) {
+        const std::string name = entry.path().filename().string();
+        if (entry.is_regular_file() && name[0] != '.' &&
+            (entry.path().extension() == ".json" || is_model_file(entry.path())))
+            names.push_back(name);
+    }
+    std::sort(names.begin(), names.end());
+    // The environment maps the folder holds (.hdr, .exr, .pfm, in it or two folders
+    // down), relative to it: the viewer's environment menu.
+    std::vector<std::string> environments;
+    fs::recursive_directory_iterator it(server.folder, ec), end;
+    for (; !ec && it != end && environments.size() < kMaxEnvironments; it.increment(ec)) {
+        if (it.depth() >= 2) it.disable_recursion_pending();
+        const fs::path& p = it->path();
+        const std::string ext = lower_extension(p);
+        if (it->is_regular_file() && p.filename().string()[0] != '.' &&
+            (ext == ".hdr" || ext == ".exr" || ext == ".pfm"))
+            environments.push_back(p.lexically_relative(server.folder).generic_string());
+    }
+    std::sort(environments.begin(), environments.end());
+    res.set_content(
+        nlohmann::json{
+            {"scenes", names}, {"default", server.default_scene}, {"environments", environments}}
+            .dump(),
+        "application/json");
+}
 
-int run_serve(const ServeArgs& args) {
-    Server server;
+/// GET /api/scene: a scene's effective JSON (the page orbits its camera).
+void serve_scene(Server& server, const httplib::Request& request, httplib::Response& res) {
+    const Query req(request.target);
+    try {
+        const fs::path path = scene_path(server, req.get("scene"));
+        res.set_content(effective_scene_json(path, {}, &server.meshes, server.scope).dump(),
+                        "application/json");
+    } catch (const Error& e) {
+        fail(server, res, 400, e.what());
+    }
+}
+
+/// GET /api/render: one render's image, or the AOV that aov= names: a PNG with its provenance
+/// when the view is still, a JPEG while it moves (format=jpeg).
+void serve_render(Server& server, const httplib::Request& request, httplib::Response& res) {
+    const Query req(request.target);
+    try {
+        RenderJob job = request_job(server, req);
+        // aov=NAME: that buffer instead of the image, drawn as its PNG would be.
+        const std::string aov = req.get("aov");
+        if (!aov.empty()) request_aov(job, aov, job.run.scene_file.string(), "aov");
+        // This client's newer request supersedes the one in progress: it is cancelled.
+        auto cancel = supersede(server, req.get("client"));
+        job.options.cancel = cancel.get();
+        InProgress busy(server.renders);
+        const RenderResult result = run_job(job, server.renderers);
+        if (cancel->load()) return fail(server, res, 409, "superseded by a newer request");
+        // JPEG while the view moves (fast), PNG when it is still (lossless).
+        const bool jpeg = req.get("format") == "jpeg";
+        const auto t0 = std::chrono::steady_clock::now();
+        Image buffer;
+        if (!aov.empty()) buffer = aov_for_display(aov, result.aovs.at(aov));
+        const Image& shown = aov.empty() ? result.color : buffer;
+        const PixelMeaning meaning =
+            aov.empty() || aov == "albedo" ? PixelMeaning::Radiance : PixelMeaning::Data;
+        const float exposure = aov.empty() ? job.scene.render.exposure : 1.0f;
+        // A still image carries its provenance, as every file svetlo writes does.
+        job.run.command = {"svetlo serve", request.target};
+        const std::vector<unsigned char> bytes =
+            jpeg ? encode_jpeg(shown, meaning, exposure, 90)
+                 : encode_png(shown, meaning, exposure,
+                              job_provenance(job, result, aov.empty() ? "color" : aov));
+        const double encode =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        res.set_header("X-Svetlo-Seconds", std::to_string(result.stats.seconds));
+        res.set_header("X-Svetlo-Encode-Seconds", std::to_string(encode));
+        res.set_header("X-Svetlo-Spp", std::to_string(reached_spp(job, result)));
+        res.set_header("Cache-Control", "no-store");
+        res.set_content(std::string(bytes.begin(), bytes.end()), jpeg ? "image/jpeg" : "image/png");
+    } catch (const Error& e) {
+        fail(server, res, 400, e.what());
+    } catch (const std::exception& e) {
+        fail(server, res, 500, std::string("svetlo: internal: ") + e.what());
+    }
+}
+
+/// GET /api/progressive: the same render, its passes streamed as they come (an engine that
+/// shows its passes: path, radiosity's solver).
+void serve_progressive(Server& server, const httplib::Request& request, httplib::Response& res) {
+    const Query req(request.target);
+    try {
+        auto job = std::make_shared<RenderJob>(request_job(server, req));
+        auto cancel = supersede(server, req.get("client"));
+        job->options.cancel = cancel.get();
+        res.set_header("Cache-Control", "no-store");
+        res.set_chunked_content_provider(
+            "application/octet-stream", [job, cancel, &server](size_t, httplib::DataSink& sink) {
+                InProgress busy(server.renders);
+                stream_passes(*job, server.renderers, server.scope, *cancel, sink);
+                sink.done();
+                return true;
+            });
+    } catch (const Error& e) {
+        fail(server, res, 400, e.what());
+    }
+}
+
+/// GET /api/diff, A/B: both sides rendered (one after the other, sharing the caches), their metrics
+/// as svetlo diff gives them (B against A), and the images and ꟻLIP's error map inline.
+void serve_diff(Server& server, const httplib::Request& request, httplib::Response& res) {
+    const Query req(request.target);
+    try {
+        RenderJob a = request_job(server, req), b = request_job(server, req, "b");
+        if (a.scene.film.width != b.scene.film.width || a.scene.film.height != b.scene.film.height)
+            throw Error(a.run.scene_file.string(), "b_set", "B's film differs from A's");
+        InProgress busy(server.renders);
+        const RenderResult ra = run_job(a, server.renderers), rb = run_job(b, server.renderers);
+        const ImageComparison c = compare_images(rb.color, ra.color, false, a.options.threads);
+        nlohmann::ordered_json j = {
+            {"mae", c.pixels.mae},
+            {"rmse", c.pixels.rmse},
+            {"relmse", c.pixels.relmse},
+            {"flip", c.flip.mean},
+            {"seconds", {ra.stats.seconds, rb.stats.seconds}},
+            {"a", png_data_url(ra.color, PixelMeaning::Radiance, a.scene.render.exposure)},
+            {"b", png_data_url(rb.color, PixelMeaning::Radiance, b.scene.render.exposure)},
+            {"error", png_data_url(false_color(c.flip.error, ra.color.width, ra.color.height, 1.0f),
+                                   PixelMeaning::Data, 1.0f)}};
+        res.set_header("Cache-Control", "no-store");
+        res.set_content(j.dump(), "application/json");
+    } catch (const Error& e) {
+        fail(server, res, 400, e.what());
+    }
+}
+
+/// GET /api/trace: svetlo trace's JSON of one pixel (x=, y=).
+void serve_trace(Server& server, const httplib::Request& request, httplib::Response& res) {
+    const Query req(request.target);
+    try {
+        RenderJob job = request_job(server, req);
+        const std::string file = job.run.scene_file.string();
+        const auto x = flag_integer(file, "x", req.get("x"), 0, kRequestLimits.side);
+        const auto y = flag_integer(file, "y", req.get("y"), 0, kRequestLimits.side);
+        InProgress busy(server.renders);
+        const PixelTrace log = trace_job(job, static_cast<int>(x), static_cast<int>(y), 0, 1);
+        res.set_content(trace_json(log, job.scene.render.engine).dump(), "application/json");
+    } catch (const Error& e) {
+        fail(server, res, 400, e.what());
+    }
+}
+
+/// The folder a server serves, from `target` (a folder, or a scene file in it: the default).
+void open_folder(Server& server, const std::string& target_text) {
     std::error_code ec;
-    fs::path target = args.target.empty() ? fs::path(".") : fs::path(args.target);
+    fs::path target = target_text.empty() ? fs::path(".") : fs::path(target_text);
     if (fs::is_regular_file(target)) {
         server.default_scene = target.filename().string();
         target = target.has_parent_path() ? target.parent_path() : fs::path(".");
     } else if (!fs::is_directory(target)) {
-        throw Error(args.target, "serve", "is neither a scene file nor a folder");
+        throw Error(target_text, "serve", "is neither a scene file nor a folder");
     }
     server.folder = fs::canonical(target, ec);
-    if (ec) throw Error(args.target, "serve", "cannot be read: " + ec.message());
+    if (ec) throw Error(target_text, "serve", "cannot be read: " + ec.message());
     server.scope = FileScope(server.folder);
+}
+
+/// GET /api/engines: the engines and what each can do, from the registry (job/engines.h):
+/// the page builds its menus from it and streams the passes of an engine that shows them.
+void serve_engines(Server&, const httplib::Request&, httplib::Response& res) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const Capabilities& c : engine_capabilities())
+        list.push_back({{"name", c.name},
+                        {"progressive", c.progressive},
+                        {"shows_passes", c.shows_passes},
+                        {"debug_aovs", c.debug_aovs}});
+    res.set_content(list.dump(), "application/json");
+}
+
+/// GET /api/link: a shared link read as a request is (read_link).
+void serve_link(Server& server, const httplib::Request& request, httplib::Response& res) {
+    res.set_header("Cache-Control", "no-store");
+    res.set_content(read_link(server, Query(request.target)).dump(), "application/json");
+}
+
+/// GET /api/status: the renders in progress.
+void serve_status(Server& server, const httplib::Request&, httplib::Response& res) {
+    res.set_content(nlohmann::json{{"renders", server.renders.load()}}.dump(), "application/json");
+}
+
+}  // namespace
+int run_serve(const ServeArgs& args) {
+    Server server;
+    open_folder(server, args.target);
     const long long port =
         flag_integer(args.target, "--port", args.port.empty() ? "8080" : args.port, 0, 65535);
     const std::string host = args.host.empty() ? "127.0.0.1" : args.host;
@@ -277,171 +457,24 @@ int run_serve(const ServeArgs& args) {
     // a few milliseconds a frame (the drag: 23 -> 27 frames a second, bench/serve_latency.py).
     http.set_tcp_nodelay(true);
     http.new_task_queue = [] { return new httplib::ThreadPool(kThreads); };
+    using Handler = void (*)(Server&, const httplib::Request&, httplib::Response&);
+    const std::pair<const char*, Handler> routes[] = {{"/api/scenes", serve_scenes},
+                                                      {"/api/engines", serve_engines},
+                                                      {"/api/scene", serve_scene},
+                                                      {"/api/link", serve_link},
+                                                      {"/api/render", serve_render},
+                                                      {"/api/status", serve_status},
+                                                      {"/api/progressive", serve_progressive},
+                                                      {"/api/diff", serve_diff},
+                                                      {"/api/trace", serve_trace}};
     http.Get("/", [](const httplib::Request&, httplib::Response& res) {
         res.set_content(viewer_page(), "text/html; charset=utf-8");
     });
-    http.Get("/api/scenes", [&](const httplib::Request&, httplib::Response& res) {
-        std::vector<std::string> names;
-        for (const auto& entry : fs::directory_iterator(server.folder, ec)) {
-            const std::string name = entry.path().filename().string();
-            if (entry.is_regular_file() && name[0] != '.' &&
-                (entry.path().extension() == ".json" || is_model_file(entry.path())))
-                names.push_back(name);
-        }
-        std::sort(names.begin(), names.end());
-        // The environment maps the folder holds (.hdr, .exr, .pfm, in it or two folders
-        // down), relative to it: the viewer's environment menu.
-        std::vector<std::string> environments;
-        fs::recursive_directory_iterator it(server.folder, ec), end;
-        for (; !ec && it != end && environments.size() < kMaxEnvironments; it.increment(ec)) {
-            if (it.depth() >= 2) it.disable_recursion_pending();
-            const fs::path& p = it->path();
-            const std::string ext = lower_extension(p);
-            if (it->is_regular_file() && p.filename().string()[0] != '.' &&
-                (ext == ".hdr" || ext == ".exr" || ext == ".pfm"))
-                environments.push_back(p.lexically_relative(server.folder).generic_string());
-        }
-        std::sort(environments.begin(), environments.end());
-        res.set_content(nlohmann::json{{"scenes", names},
-                                       {"default", server.default_scene},
-                                       {"environments", environments}}
-                            .dump(),
-                        "application/json");
-    });
-    // The engines and what each can do, from the registry (job/engines.h): the page builds its
-    // menus from it and streams the passes of an engine that shows them.
-    http.Get("/api/engines", [&](const httplib::Request&, httplib::Response& res) {
-        nlohmann::json list = nlohmann::json::array();
-        for (const Capabilities& c : engine_capabilities())
-            list.push_back({{"name", c.name},
-                            {"progressive", c.progressive},
-                            {"shows_passes", c.shows_passes},
-                            {"debug_aovs", c.debug_aovs}});
-        res.set_content(list.dump(), "application/json");
-    });
-    http.Get("/api/scene", [&](const httplib::Request& request, httplib::Response& res) {
-        const Query req(request.target);
-        try {
-            const fs::path path = scene_path(server, req.get("scene"));
-            res.set_content(effective_scene_json(path, {}, &server.meshes, server.scope).dump(),
-                            "application/json");
-        } catch (const Error& e) {
-            fail(server, res, 400, e.what());
-        }
-    });
-    http.Get("/api/link", [&](const httplib::Request& request, httplib::Response& res) {
-        res.set_header("Cache-Control", "no-store");
-        res.set_content(read_link(server, Query(request.target)).dump(), "application/json");
-    });
-    http.Get("/api/render", [&](const httplib::Request& request, httplib::Response& res) {
-        const Query req(request.target);
-        try {
-            RenderJob job = request_job(server, req);
-            // aov=NAME: that buffer instead of the image, drawn as its PNG would be.
-            const std::string aov = req.get("aov");
-            if (!aov.empty()) request_aov(job, aov, job.run.scene_file.string(), "aov");
-            // This client's newer request supersedes the one in progress: it is cancelled.
-            auto cancel = supersede(server, req.get("client"));
-            job.options.cancel = cancel.get();
-            InProgress busy(server.renders);
-            const RenderResult result = run_job(job, server.renderers);
-            if (cancel->load()) return fail(server, res, 409, "superseded by a newer request");
-            // JPEG while the view moves (fast), PNG when it is still (lossless).
-            const bool jpeg = req.get("format") == "jpeg";
-            const auto t0 = std::chrono::steady_clock::now();
-            Image buffer;
-            if (!aov.empty()) buffer = aov_for_display(aov, result.aovs.at(aov));
-            const Image& shown = aov.empty() ? result.color : buffer;
-            const PixelMeaning meaning =
-                aov.empty() || aov == "albedo" ? PixelMeaning::Radiance : PixelMeaning::Data;
-            const float exposure = aov.empty() ? job.scene.render.exposure : 1.0f;
-            // A still image carries its provenance, as every file svetlo writes does.
-            job.run.command = {"svetlo serve", request.target};
-            const std::vector<unsigned char> bytes =
-                jpeg ? encode_jpeg(shown, meaning, exposure, 90)
-                     : encode_png(shown, meaning, exposure,
-                                  job_provenance(job, result, aov.empty() ? "color" : aov));
-            const double encode =
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-            res.set_header("X-Svetlo-Seconds", std::to_string(result.stats.seconds));
-            res.set_header("X-Svetlo-Encode-Seconds", std::to_string(encode));
-            res.set_header("X-Svetlo-Spp", std::to_string(reached_spp(job, result)));
-            res.set_header("Cache-Control", "no-store");
-            res.set_content(std::string(bytes.begin(), bytes.end()),
-                            jpeg ? "image/jpeg" : "image/png");
-        } catch (const Error& e) {
-            fail(server, res, 400, e.what());
-        } catch (const std::exception& e) {
-            fail(server, res, 500, std::string("svetlo: internal: ") + e.what());
-        }
-    });
-    http.Get("/api/status", [&](const httplib::Request&, httplib::Response& res) {
-        res.set_content(nlohmann::json{{"renders", server.renders.load()}}.dump(),
-                        "application/json");
-    });
-    // The same render, its passes streamed as they come (path; radiosity's solver).
-    http.Get("/api/progressive", [&](const httplib::Request& request, httplib::Response& res) {
-        const Query req(request.target);
-        try {
-            auto job = std::make_shared<RenderJob>(request_job(server, req));
-            auto cancel = supersede(server, req.get("client"));
-            job->options.cancel = cancel.get();
-            res.set_header("Cache-Control", "no-store");
-            res.set_chunked_content_provider(
-                "application/octet-stream",
-                [job, cancel, &server](size_t, httplib::DataSink& sink) {
-                    InProgress busy(server.renders);
-                    stream_passes(*job, server.renderers, server.scope, *cancel, sink);
-                    sink.done();
-                    return true;
-                });
-        } catch (const Error& e) {
-            fail(server, res, 400, e.what());
-        }
-    });
-    // A/B: both sides rendered (one after the other, sharing the caches), their metrics as
-    // svetlo diff gives them (B against A), and the images and ꟻLIP's error map inline.
-    http.Get("/api/diff", [&](const httplib::Request& request, httplib::Response& res) {
-        const Query req(request.target);
-        try {
-            RenderJob a = request_job(server, req), b = request_job(server, req, "b");
-            if (a.scene.film.width != b.scene.film.width ||
-                a.scene.film.height != b.scene.film.height)
-                throw Error(a.run.scene_file.string(), "b_set", "B's film differs from A's");
-            InProgress busy(server.renders);
-            const RenderResult ra = run_job(a, server.renderers), rb = run_job(b, server.renderers);
-            const ImageComparison c = compare_images(rb.color, ra.color, false, a.options.threads);
-            nlohmann::ordered_json j = {
-                {"mae", c.pixels.mae},
-                {"rmse", c.pixels.rmse},
-                {"relmse", c.pixels.relmse},
-                {"flip", c.flip.mean},
-                {"seconds", {ra.stats.seconds, rb.stats.seconds}},
-                {"a", png_data_url(ra.color, PixelMeaning::Radiance, a.scene.render.exposure)},
-                {"b", png_data_url(rb.color, PixelMeaning::Radiance, b.scene.render.exposure)},
-                {"error",
-                 png_data_url(false_color(c.flip.error, ra.color.width, ra.color.height, 1.0f),
-                              PixelMeaning::Data, 1.0f)}};
-            res.set_header("Cache-Control", "no-store");
-            res.set_content(j.dump(), "application/json");
-        } catch (const Error& e) {
-            fail(server, res, 400, e.what());
-        }
-    });
-    http.Get("/api/trace", [&](const httplib::Request& request, httplib::Response& res) {
-        const Query req(request.target);
-        try {
-            RenderJob job = request_job(server, req);
-            const std::string file = job.run.scene_file.string();
-            const auto x = flag_integer(file, "x", req.get("x"), 0, kRequestLimits.side);
-            const auto y = flag_integer(file, "y", req.get("y"), 0, kRequestLimits.side);
-            InProgress busy(server.renders);
-            const PixelTrace log = trace_job(job, static_cast<int>(x), static_cast<int>(y), 0, 1);
-            res.set_content(trace_json(log, job.scene.render.engine).dump(), "application/json");
-        } catch (const Error& e) {
-            fail(server, res, 400, e.what());
-        }
-    });
+    for (const auto& [path, handler] : routes)
+        http.Get(path,
+                 [&server, handler = handler](const httplib::Request& q, httplib::Response& r) {
+                     handler(server, q, r);
+                 });
 
     const int bound =
         port == 0 ? http.bind_to_any_port(host)
