@@ -172,22 +172,23 @@ Image mean_color(const FilmSums& sums, int width, int height, int passes) {
     return image;
 }
 
-}  // namespace
+using Clock = std::chrono::steady_clock;
 
-RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& options) {
-    using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+/// Throws unless the images and the accumulators fit: for the crop, or the whole film when
+/// windows are handed out, 12 bytes a pixel per image, 24 for the colour's sums and 64 for
+/// the AOVs'; with guiding, the whole film's sums of the training passes too.
+void check_film_memory(const Scene& scene, const RenderOptions& options) {
     const int width = scene.film.width, height = scene.film.height;
-    const bool guiding = scene.render.guiding;
-    // The images and the accumulators, checked before they are allocated (for the crop, or
-    // the whole film when windows are handed out; with guiding, the whole film's sums of the
-    // training passes too): 12 bytes a pixel per image, 24 for the colour's sums and 64 for
-    // the AOVs'.
     const Crop largest = film_window(scene, options);
     const double images = 1.0 + static_cast<double>(options.aovs.size());
     const double sum_bytes = 24.0 + (options.aovs.empty() ? 0.0 : 64.0);
     double bytes =
         static_cast<double>(largest.width()) * largest.height() * (12.0 * images + sum_bytes) +
-        (guiding ? static_cast<double>(width) * height * sum_bytes : 0.0);
+        (scene.render.guiding ? static_cast<double>(width) * height * sum_bytes : 0.0);
     if (bytes > kMaxFilmBytes) {
         throw Error(scene.path.string(), "film",
                     "the path tracer's film of " + std::to_string(width) + " x " +
@@ -195,6 +196,158 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
                         std::to_string(static_cast<long long>(bytes / (1 << 20))) +
                         " MiB (at most 4096)");
     }
+}
+
+/// How many passes a render makes: the scene's spp, or as many as its time allows.
+struct PassPlan {
+    int max_passes;
+    bool budget;  // --time: passes until it is spent
+};
+
+/// What path guiding's training leaves for the render's passes: the field, the whole film's
+/// sums of the training passes (the start of every window's) and their count, time and rays.
+struct Training {
+    std::unique_ptr<GuidingField> guide;
+    FilmSums sums;
+    int passes = 0;
+    double seconds = 0.0;
+    std::atomic<uint64_t> rays{0}, nonfinite{0};
+};
+
+/// Path guiding's training (docs/path.md, "Path guiding"): the first passes, over the whole
+/// film whatever the window, so that the field, and so every pixel, is the full render's.
+void train_guide(const PassSetup& setup, CausticPhotons* photons, const Bounds3& bounds,
+                 const PassPlan& plan, Training& t) {
+    const Scene& scene = setup.scene;
+    const RenderOptions& options = setup.options;
+    const int width = scene.film.width, height = scene.film.height;
+    const auto start = Clock::now();
+    t.guide = std::make_unique<GuidingField>(bounds);
+    const int training =
+        std::min(guiding_training_passes(scene.render.spp, plan.budget && !options.spp_caps_time),
+                 plan.max_passes);
+    const Crop film = Crop::full(width, height);
+    const Crop largest = film_window(scene, options);
+    const size_t pixels = static_cast<size_t>(width) * height;
+    if (training > 0) t.sums = setup.sums(pixels);
+    Progress progress("path: guiding",
+                      static_cast<int64_t>(training) * static_cast<int64_t>(pixels),
+                      options.progress);
+    if (plan.budget) progress.set_budget(options.time_budget);
+    for (int pass = 0; pass < training; ++pass) {
+        if (pass > 0 && plan.budget && seconds_since(start) >= options.time_budget) break;
+        if (pass > 0 && options.cancel && options.cancel->load()) break;
+        progress.set_status("training pass " + std::to_string(pass + 1) + "/" +
+                            std::to_string(training));
+        if (photons) photons->build(pass, options.threads);
+        trace_pass(setup, film, pass, t.guide.get(), true, t.sums, t.rays, t.nonfinite, progress);
+        ++t.passes;
+        int iteration_passes = 0;
+        if (ends_guiding_iteration(pass, iteration_passes)) t.guide->refine(iteration_passes);
+        if (options.on_pass && !options.windows) {
+            options.on_pass(t.passes, seconds_since(start),
+                            mean_color(t.sums.window_of(largest, width), largest.width(),
+                                       largest.height(), t.passes));
+        }
+    }
+    progress.finish();
+    t.seconds = seconds_since(start);
+}
+
+/// A window's images from its sums over `passes` passes: the colour, the AOVs asked for and
+/// the debug AOVs (the camera rays' cost, the paths' bounces).
+void resolve_window(const PassSetup& setup, const FilmSums& sums, int passes, int ww, int wh,
+                    const AovTargets& targets, RenderResult& result) {
+    const size_t pixels = static_cast<size_t>(ww) * static_cast<size_t>(wh);
+    const double inv = 1.0 / passes;
+    if (setup.want_cost || setup.want_depth) {
+        Image cost(ww, wh), depth(ww, wh);
+        for (size_t pixel = 0; pixel < pixels; ++pixel) {
+            const glm::dvec4 d = sums.debug[pixel] * inv;
+            cost.pixels[pixel] = Color(d.x, d.y, d.z);
+            depth.pixels[pixel] = Color(static_cast<float>(d.w));
+        }
+        if (setup.want_cost) result.aovs["bvh_cost"] = std::move(cost);
+        if (setup.want_depth) result.aovs["path_depth"] = std::move(depth);
+    }
+    for (size_t pixel = 0; pixel < pixels; ++pixel) {
+        const int i = static_cast<int>(pixel % ww), j = static_cast<int>(pixel / ww);
+        result.color.at(i, j) = Color(sums.color[pixel] * inv);
+        if (targets.any) targets.write(i, j, sums.aov[pixel].mean(passes));
+    }
+}
+
+/// The passes over one window (the crop, or one of options.windows), in the film's pixel
+/// coordinates, after guiding's training: a pixel's samples depend only on its place and the
+/// pass, so a window is the full render's. --checkpoint's saved passes are taken up first.
+RenderResult render_window(const PassSetup& setup, CausticPhotons* photons,
+                           const Training& training, const PassPlan& plan, const Crop& window) {
+    const RenderOptions& options = setup.options;
+    const int width = setup.scene.film.width;
+    const auto start = Clock::now();
+    const int ww = window.width(), wh = window.height();
+    const size_t pixels = static_cast<size_t>(ww) * static_cast<size_t>(wh);
+    RenderResult result;
+    const AovTargets targets = prepare_result(result, options.aovs, ww, wh);
+    FilmSums sums =
+        training.passes > 0 ? training.sums.window_of(window, width) : setup.sums(pixels);
+    std::atomic<uint64_t> rays{0}, nonfinite{0};
+
+    // --checkpoint: the passes already saved, and their sums (guiding's training is traced
+    // again: the field is not saved, and its passes come out the same).
+    int passes = training.passes;
+    if (options.checkpoint) {
+        std::vector<double> state(sums.doubles());
+        const int saved = options.checkpoint->restore(state);
+        if (saved > passes) {
+            sums.load(state);
+            passes = saved;
+        }
+    }
+    // The photon map's radius as it was after those passes.
+    for (int pass = 0; photons && pass < passes; ++pass) photons->shrink_radius(pass);
+    const int first = passes;
+    Progress progress("path",
+                      static_cast<int64_t>(plan.max_passes - first) * static_cast<int64_t>(pixels),
+                      options.progress);
+    progress.show_rate("samples");
+    if (plan.budget) progress.set_budget(options.time_budget);
+    for (int pass = first; pass < plan.max_passes; ++pass) {
+        const double elapsed = training.seconds + seconds_since(start);
+        if (pass > first && plan.budget && elapsed >= options.time_budget) break;
+        if (pass > first && options.cancel && options.cancel->load()) break;
+        char status[48];
+        if (plan.budget && !options.spp_caps_time) {
+            std::snprintf(status, sizeof status, "pass %d", pass + 1);
+        } else {
+            std::snprintf(status, sizeof status, "pass %d/%d", pass + 1, plan.max_passes);
+        }
+        progress.set_status(status);
+        if (photons) photons->build(pass, options.threads);
+        trace_pass(setup, window, pass, training.guide.get(), false, sums, rays, nonfinite,
+                   progress);
+        ++passes;
+        if (options.checkpoint) options.checkpoint->save(passes, sums.flat());
+        if (options.on_pass) {
+            options.on_pass(passes, training.seconds + seconds_since(start),
+                            mean_color(sums, ww, wh, passes));
+        }
+    }
+    progress.finish();
+
+    resolve_window(setup, sums, passes, ww, wh, targets, result);
+    result.stats.seconds = seconds_since(start);
+    result.stats.rays = rays.load() + (photons ? photons->rays() : 0);
+    result.stats.nonfinite = nonfinite.load();
+    result.stats.passes = passes;
+    return result;
+}
+
+}  // namespace
+
+RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& options) {
+    const int width = scene.film.width, height = scene.film.height;
+    check_film_memory(scene, options);
     auto t0 = Clock::now();
     RtScene rt(scene, scene.render.accel, options.threads, options.accels);
     WavelengthWeights wavelengths;
@@ -206,8 +359,8 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
     auto t1 = Clock::now();
 
     const bool budget = options.time_budget > 0.0;
-    const int max_passes =
-        budget && !options.spp_caps_time ? static_cast<int>(kMaxSpp) : scene.render.spp;
+    const PassPlan plan{
+        budget && !options.spp_caps_time ? static_cast<int>(kMaxSpp) : scene.render.spp, budget};
     // The debug AOVs: the camera rays' cost, cast again, and the bounces of the paths.
     const bool want_cost = wants_debug_aov(options, "bvh_cost");
     const bool want_depth = wants_debug_aov(options, "path_depth");
@@ -217,137 +370,23 @@ RenderResult PathRenderer::render(const Scene& scene, const RenderOptions& optio
     const PassSetup setup{
         scene,   rt,        selection,  wavelengths,     photons.get(),         camera,
         options, want_cost, want_depth, want_visibility, !options.aovs.empty(), avx2_available()};
-    std::atomic<uint64_t> training_rays{0}, training_nonfinite{0};
 
-    // Path guiding's training (docs/path.md, "Path guiding"): the first passes, over the whole
-    // film whatever the window, so that the field, and so every pixel, is the full render's.
-    // Their sums are the start of every window's.
-    std::unique_ptr<GuidingField> guide;
-    FilmSums trained;
-    int trained_passes = 0;
-    const auto training_start = Clock::now();
-    auto since = [](Clock::time_point t) {
-        return std::chrono::duration<double>(Clock::now() - t).count();
-    };
-    if (guiding) {
-        guide = std::make_unique<GuidingField>(bounds);
-        const int training =
-            std::min(guiding_training_passes(scene.render.spp, budget && !options.spp_caps_time),
-                     max_passes);
-        const Crop film = Crop::full(width, height);
-        const size_t pixels = static_cast<size_t>(width) * height;
-        if (training > 0) trained = setup.sums(pixels);
-        Progress progress("path: guiding",
-                          static_cast<int64_t>(training) * static_cast<int64_t>(pixels),
-                          options.progress);
-        if (budget) progress.set_budget(options.time_budget);
-        for (int pass = 0; pass < training; ++pass) {
-            if (pass > 0 && budget && since(training_start) >= options.time_budget) break;
-            if (pass > 0 && options.cancel && options.cancel->load()) break;
-            progress.set_status("training pass " + std::to_string(pass + 1) + "/" +
-                                std::to_string(training));
-            if (photons) photons->build(pass, options.threads);
-            trace_pass(setup, film, pass, guide.get(), true, trained, training_rays,
-                       training_nonfinite, progress);
-            ++trained_passes;
-            int iteration_passes = 0;
-            if (ends_guiding_iteration(pass, iteration_passes)) guide->refine(iteration_passes);
-            if (options.on_pass && !options.windows) {
-                options.on_pass(trained_passes, since(training_start),
-                                mean_color(trained.window_of(largest, width), largest.width(),
-                                           largest.height(), trained_passes));
-            }
-        }
-        progress.finish();
-    }
-    const double training_seconds = since(training_start);
-
-    // The pixels rendered: a window's (the crop's, or each of options.windows), at their
-    // places in the full film; a pixel's samples depend only on its place and the pass, so a
-    // window is the full render's.
-    RenderResult all = render_windows(largest, options, [&](const Crop& window) {
-        const auto start = Clock::now();
-        const int ww = window.width(), wh = window.height();
-        const size_t pixels = static_cast<size_t>(ww) * static_cast<size_t>(wh);
-        RenderResult result;
-        const AovTargets targets = prepare_result(result, options.aovs, ww, wh);
-        FilmSums sums = trained_passes > 0 ? trained.window_of(window, width) : setup.sums(pixels);
-        std::atomic<uint64_t> rays{0}, nonfinite{0};
-
-        // --checkpoint: the passes already saved, and their sums (guiding's training is
-        // traced again: the field is not saved, and its passes come out the same).
-        int passes = trained_passes;
-        if (options.checkpoint) {
-            std::vector<double> state(sums.doubles());
-            const int saved = options.checkpoint->restore(state);
-            if (saved > passes) {
-                sums.load(state);
-                passes = saved;
-            }
-        }
-        // The photon map's radius as it was after those passes.
-        for (int pass = 0; photons && pass < passes; ++pass) photons->shrink_radius(pass);
-        const int first = passes;
-        Progress progress("path",
-                          static_cast<int64_t>(max_passes - first) * static_cast<int64_t>(pixels),
-                          options.progress);
-        progress.show_rate("samples");
-        if (budget) progress.set_budget(options.time_budget);
-        for (int pass = first; pass < max_passes; ++pass) {
-            const double elapsed = training_seconds + since(start);
-            if (pass > first && budget && elapsed >= options.time_budget) break;
-            if (pass > first && options.cancel && options.cancel->load()) break;
-            char status[48];
-            if (budget && !options.spp_caps_time) {
-                std::snprintf(status, sizeof status, "pass %d", pass + 1);
-            } else {
-                std::snprintf(status, sizeof status, "pass %d/%d", pass + 1, max_passes);
-            }
-            progress.set_status(status);
-            if (photons) photons->build(pass, options.threads);
-            trace_pass(setup, window, pass, guide.get(), false, sums, rays, nonfinite, progress);
-            ++passes;
-            if (options.checkpoint) options.checkpoint->save(passes, sums.flat());
-            if (options.on_pass) {
-                options.on_pass(passes, training_seconds + since(start),
-                                mean_color(sums, ww, wh, passes));
-            }
-        }
-        progress.finish();
-
-        const double inv = 1.0 / passes;
-        if (want_cost || want_depth) {
-            Image cost(ww, wh), depth(ww, wh);
-            for (size_t pixel = 0; pixel < pixels; ++pixel) {
-                const glm::dvec4 d = sums.debug[pixel] * inv;
-                cost.pixels[pixel] = Color(d.x, d.y, d.z);
-                depth.pixels[pixel] = Color(static_cast<float>(d.w));
-            }
-            if (want_cost) result.aovs["bvh_cost"] = std::move(cost);
-            if (want_depth) result.aovs["path_depth"] = std::move(depth);
-        }
-        for (size_t pixel = 0; pixel < pixels; ++pixel) {
-            const int i = static_cast<int>(pixel % ww), j = static_cast<int>(pixel / ww);
-            result.color.at(i, j) = Color(sums.color[pixel] * inv);
-            if (targets.any) targets.write(i, j, sums.aov[pixel].mean(passes));
-        }
-        result.stats.seconds = since(start);
-        result.stats.rays = rays.load() + (photons ? photons->rays() : 0);
-        result.stats.nonfinite = nonfinite.load();
-        result.stats.passes = passes;
-        return result;
+    Training training;
+    if (scene.render.guiding) train_guide(setup, photons.get(), bounds, plan, training);
+    RenderResult all = render_windows(film_window(scene, options), options, [&](const Crop& w) {
+        return render_window(setup, photons.get(), training, plan, w);
     });
     all.stats.setup_seconds = std::chrono::duration<double>(t1 - t0).count();
-    all.stats.seconds += training_seconds;
-    all.stats.rays += training_rays.load();
-    all.stats.nonfinite += training_nonfinite.load();
-    if (guide) {
+    all.stats.seconds += training.seconds;
+    all.stats.rays += training.rays.load();
+    all.stats.nonfinite += training.nonfinite.load();
+    if (training.guide) {
         char detail[160];
         std::snprintf(
             detail, sizeof detail,
             "guiding: %d training passes, %d regions, %zu directional nodes (field %016llx)",
-            trained_passes, guide->regions(), guide->direction_nodes(),
-            static_cast<unsigned long long>(guide->fingerprint()));
+            training.passes, training.guide->regions(), training.guide->direction_nodes(),
+            static_cast<unsigned long long>(training.guide->fingerprint()));
         all.stats.detail = detail;
     }
     return all;
