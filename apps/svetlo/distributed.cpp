@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -189,6 +190,249 @@ void MpiSession::abort(int status) const {
     std::exit(status);
 }
 
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/// The test's slow rank (slowdown): after each tile it waits (F - 1) times the tile's time.
+class Pacer {
+public:
+    explicit Pacer(double slow) : slow_(slow) {}
+    void start() { clock_ = Clock::now(); }
+    void pace() const {
+        if (slow_ <= 1.0) return;
+        const auto took = Clock::now() - clock_;
+        std::this_thread::sleep_for(
+            std::chrono::duration_cast<std::chrono::nanoseconds>(took * (slow_ - 1.0)));
+    }
+
+private:
+    double slow_;
+    Clock::time_point clock_ = Clock::now();
+};
+
+/// Rank 0's side of the tiles: it hands them out, to itself and to every worker that asks,
+/// pastes what comes back into the window's images, and keeps and saves them for
+/// --checkpoint (Layout::Tiles).
+class TileMaster {
+public:
+    TileMaster(const std::vector<Crop>& tiles, const Crop& window,
+               const std::vector<std::string>& names, const CheckpointFile* checkpoint,
+               std::map<int, std::vector<float>> kept, int ranks, Pacer& pacer,
+               DistributedStats& stats)
+        : tiles_(tiles),
+          window_(window),
+          names_(names),
+          checkpoint_(checkpoint),
+          kept_(std::move(kept)),
+          ranks_(ranks),
+          pacer_(pacer),
+          stats_(stats) {
+        full_.color = Image(window.width(), window.height());
+        for (const auto& [t, data] : kept_)
+            paste(full_, window_, tiles_[static_cast<size_t>(t)], unpack(data, names_));
+    }
+
+    /// The next tile rank 0 renders itself, after answering every rank that asked
+    /// meanwhile; false when none is left and every worker's results are in.
+    bool next(Crop& w, bool interrupted) {
+        // SIGINT or SIGTERM (every rank gets it from mpirun): no tile is begun after it; the
+        // tiles in progress end their pass and come in, the others stay black.
+        if (interrupted) next_ = tiles_.size();
+        for (int flag = 1; flag;) {
+            MPI_Status status;
+            MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &status);
+            if (flag) handle(status);
+        }
+        if (const size_t t = take(); t < tiles_.size()) {
+            own_ = static_cast<int>(t);
+            w = tiles_[t];
+            pacer_.start();
+            return true;
+        }
+        // A worker's results come before its kDone (messages between two ranks keep their
+        // order), so every tile is in once all are done.
+        while (finished_ < ranks_ - 1) {
+            MPI_Status status;
+            MPI_Probe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &status);
+            handle(status);
+        }
+        return false;
+    }
+
+    /// Rank 0's own tile, rendered.
+    void done(const Crop& w, RenderResult&& r) {
+        pacer_.pace();
+        ++stats_.rank0_tiles;
+        if (checkpoint_)
+            keep(own_, w, pack(r));
+        else
+            paste(full_, window_, w, std::move(r));
+    }
+
+    /// After the last tile: the checkpoint's last save; the window's images.
+    RenderResult finish() {
+        save(true);
+        return std::move(full_);
+    }
+
+    uint64_t bytes() const { return bytes_; }
+
+private:
+    /// The next tile not done, or tiles.size().
+    size_t take() {
+        while (next_ < tiles_.size() && kept_.count(static_cast<int>(next_))) ++next_;
+        return next_ < tiles_.size() ? next_++ : tiles_.size();
+    }
+
+    /// A worker's message: a request for a tile (answered with one, or -1), its last word
+    /// (kDone), or a tile's result.
+    void handle(const MPI_Status& status) {
+        if (status.MPI_TAG == kRequest || status.MPI_TAG == kDone) {
+            MPI_Recv(nullptr, 0, MPI_INT, status.MPI_SOURCE, status.MPI_TAG, MPI_COMM_WORLD,
+                     MPI_STATUS_IGNORE);
+            if (status.MPI_TAG == kDone) {
+                ++finished_;
+                return;
+            }
+            const size_t t = take();
+            int given = t < tiles_.size() ? static_cast<int>(t) : -1;
+            MPI_Send(&given, 1, MPI_INT, status.MPI_SOURCE, kAssign, MPI_COMM_WORLD);
+            return;
+        }
+        int count = 0;
+        MPI_Get_count(&status, MPI_FLOAT, &count);
+        std::vector<float> data(static_cast<size_t>(count));
+        MPI_Recv(data.data(), count, MPI_FLOAT, status.MPI_SOURCE, kResult, MPI_COMM_WORLD,
+                 MPI_STATUS_IGNORE);
+        const auto tile = static_cast<int>(data.back());
+        data.pop_back();
+        keep(tile, tiles_[static_cast<size_t>(tile)], std::move(data));
+        bytes_ += static_cast<uint64_t>(count) * sizeof(float);
+    }
+
+    /// A tile done: pasted, and kept (and saved now and then) for the checkpoint.
+    void keep(int t, const Crop& tile, std::vector<float>&& data) {
+        RenderResult part = unpack(data, names_);
+        if (checkpoint_) kept_[t] = std::move(data);
+        paste(full_, window_, tile, std::move(part));
+        save(false);
+    }
+
+    /// The tiles done, as sent, into the checkpoint: about every kSaveSeconds, or `now`.
+    void save(bool now) {
+        if (!checkpoint_ || kept_.empty()) return;
+        const auto at = Clock::now();
+        if (!now && std::chrono::duration<double>(at - saved_at_).count() < kSaveSeconds) return;
+        std::vector<double> state;
+        for (const auto& [tile, data] : kept_) {
+            state.push_back(tile);
+            state.push_back(static_cast<double>(data.size()));
+            state.insert(state.end(), data.begin(), data.end());
+        }
+        checkpoint_->save(static_cast<int>(kept_.size()), state);
+        saved_at_ = at;
+    }
+
+    const std::vector<Crop>& tiles_;
+    Crop window_;
+    const std::vector<std::string>& names_;
+    const CheckpointFile* checkpoint_;
+    std::map<int, std::vector<float>> kept_;  // the tiles done, as sent (with a checkpoint)
+    int ranks_;
+    Pacer& pacer_;
+    DistributedStats& stats_;
+    RenderResult full_;   // the window's images
+    size_t next_ = 0;     // the next tile to hand out
+    int own_ = -1;        // the tile rank 0 renders itself
+    int finished_ = 0;    // workers that said they are done (after their last result)
+    uint64_t bytes_ = 0;  // received
+    Clock::time_point saved_at_ = Clock::now();  // the checkpoint's last save
+};
+
+/// A worker's side: it asks rank 0 for tiles ahead (kAhead), renders them in order and sends
+/// each result without waiting, then says it is done.
+class TileWorker {
+public:
+    TileWorker(const std::vector<Crop>& tiles, Pacer& pacer) : tiles_(tiles), pacer_(pacer) {}
+
+    /// The next tile assigned; false (after its last results are sent and kDone) when rank 0
+    /// has none left, or once `interrupted` says so.
+    bool next(Crop& w, const std::function<bool()>& interrupted) {
+        reap(false);
+        if (interrupted()) {  // begin nothing more; collect the answers still due
+            exhausted_ = true;
+            queue_.clear();
+        }
+        while (!exhausted_ && static_cast<int>(queue_.size()) + asked_ < kAhead) {
+            MPI_Send(nullptr, 0, MPI_INT, 0, kRequest, MPI_COMM_WORLD);
+            ++asked_;
+        }
+        while (queue_.empty() && asked_ > 0) {
+            int answer = -1;
+            MPI_Recv(&answer, 1, MPI_INT, 0, kAssign, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+            --asked_;
+            if (answer < 0)
+                exhausted_ = true;
+            else if (!interrupted())
+                queue_.push_back(answer);
+        }
+        if (queue_.empty()) {  // every request answered, the last with -1
+            reap(true);
+            MPI_Send(nullptr, 0, MPI_INT, 0, kDone, MPI_COMM_WORLD);
+            return false;
+        }
+        index_ = queue_.front();
+        queue_.erase(queue_.begin());
+        w = tiles_[static_cast<size_t>(index_)];
+        pacer_.start();
+        return true;
+    }
+
+    /// The tile rendered: sent to rank 0 without waiting, its index last.
+    void done(RenderResult&& r) {
+        pacer_.pace();
+        sending_.push_back(pack(r));
+        sending_.back().push_back(static_cast<float>(index_));
+        requests_.emplace_back();
+        MPI_Isend(sending_.back().data(), static_cast<int>(sending_.back().size()), MPI_FLOAT, 0,
+                  kResult, MPI_COMM_WORLD, &requests_.back());
+    }
+
+private:
+    /// Frees the results whose sends are complete (with `all`, waits for every one).
+    void reap(bool all) {
+        for (size_t k = 0; k < requests_.size();) {
+            int complete = 0;
+            if (all) {
+                MPI_Wait(&requests_[k], MPI_STATUS_IGNORE);
+                complete = 1;
+            } else {
+                MPI_Test(&requests_[k], &complete, MPI_STATUS_IGNORE);
+            }
+            if (!complete) {
+                ++k;
+                continue;
+            }
+            requests_.erase(requests_.begin() + static_cast<std::ptrdiff_t>(k));
+            sending_.erase(sending_.begin() + static_cast<std::ptrdiff_t>(k));
+        }
+    }
+
+    const std::vector<Crop>& tiles_;
+    Pacer& pacer_;
+    std::vector<int> queue_;  // tiles assigned and not yet begun, in order
+    int asked_ = 0;           // requests not yet answered
+    bool exhausted_ = false;  // rank 0 answered -1: no tile left
+    int index_ = -1;          // the tile being rendered
+    // Results in flight: sent without waiting (a tile is larger than the eager limit, and rank
+    // 0 receives only between tiles of its own), kept until their sends complete.
+    std::vector<std::vector<float>> sending_;
+    std::vector<MPI_Request> requests_;
+};
+
+}  // namespace
+
 RenderResult run_job_distributed(const RenderJob& job, const MpiSession& mpi,
                                  DistributedStats& stats, const CheckpointFile* checkpoint) {
     if (mpi.size() == 1) return run_job(job);
@@ -196,7 +440,6 @@ RenderResult run_job_distributed(const RenderJob& job, const MpiSession& mpi,
     const Crop window = film_window(job.scene, job.options);
     const std::vector<Crop> tiles = make_tiles(window, job.scene.render.engine, ranks);
     const bool bands = capabilities_of(job.scene.render.engine, "").whole_frame;
-    const double slow = slowdown(mpi.rank());
     RenderJob local = job;
     local.options.progress = false;
     local.options.crop.reset();
@@ -206,189 +449,33 @@ RenderResult run_job_distributed(const RenderJob& job, const MpiSession& mpi,
     std::map<int, std::vector<float>> kept =
         saved_tiles(checkpoint, tiles.size(), job.scene.path.string());
     stats.resumed_tiles = static_cast<int>(kept.size());
-    if (mpi.rank() != 0) kept.clear();
-    RenderResult full;  // rank 0: the window's images
     // The images a tile carries besides the colour: the AOVs the job asks for (the engines
     // name them so), in name order on every rank, as pack sends a result's std::map.
     std::vector<std::string> names = job.options.aovs;
     names.insert(names.end(), job.options.debug_aovs.begin(), job.options.debug_aovs.end());
     std::sort(names.begin(), names.end());
     names.erase(std::unique(names.begin(), names.end()), names.end());  // one AOV, two files
-    uint64_t bytes = 0;
-    auto clock = std::chrono::steady_clock::now();
-    auto pace = [&]() {  // the test's slow rank: wait (F - 1) times the tile's time
-        if (slow <= 1.0) return;
-        const auto took = std::chrono::steady_clock::now() - clock;
-        std::this_thread::sleep_for(
-            std::chrono::duration_cast<std::chrono::nanoseconds>(took * (slow - 1.0)));
-    };
-
-    // The state the window source's callbacks keep, alive as long as the render.
-    // Rank 0:
-    size_t next = 0;                                   // the next tile to hand out
-    int own = -1;                                      // the tile it renders itself
-    auto saved_at = std::chrono::steady_clock::now();  // the checkpoint's last save
-    std::function<void()> finish;  // after the last tile: the checkpoint's last save
-    int finished = 0;              // workers that said they are done (after their last result)
-    // A worker:
-    std::vector<int> queue;  // tiles assigned and not yet begun, in order
-    int asked = 0;           // requests not yet answered
-    bool exhausted = false;  // rank 0 answered -1: no tile left
-    int index = -1;          // the tile being rendered
-    // Results in flight: sent without waiting (a tile is larger than the eager limit, and rank
-    // 0 receives only between tiles of its own), kept until their sends complete.
-    std::vector<std::vector<float>> sending;
-    std::vector<MPI_Request> requests;
-
+    Pacer pacer(slowdown(mpi.rank()));
     // SIGINT or SIGTERM: the ray tracers' tiles stop; the whole-frame engines' few bands are
     // drawn (the radiosity solve stops itself, and its image is displayed).
-    auto interrupted = [&] { return !bands && job.options.cancel && job.options.cancel->load(); };
+    const std::function<bool()> interrupted = [&] {
+        return !bands && job.options.cancel && job.options.cancel->load();
+    };
+    std::optional<TileMaster> master;
+    std::optional<TileWorker> worker;
     WindowSource source;
     if (mpi.rank() == 0) {
-        full.color = Image(window.width(), window.height());
-        // The tiles done, kept as sent and saved (checkpoint, Layout::Tiles).
-        auto save = [&, checkpoint](bool now) {
-            if (!checkpoint || kept.empty()) return;
-            const auto at = std::chrono::steady_clock::now();
-            if (!now && std::chrono::duration<double>(at - saved_at).count() < kSaveSeconds) return;
-            std::vector<double> state;
-            for (const auto& [tile, data] : kept) {
-                state.push_back(tile);
-                state.push_back(static_cast<double>(data.size()));
-                state.insert(state.end(), data.begin(), data.end());
-            }
-            checkpoint->save(static_cast<int>(kept.size()), state);
-            saved_at = at;
-        };
-        auto keep = [&, checkpoint, save](int t, const Crop& tile, std::vector<float>&& data) {
-            RenderResult part = unpack(data, names);
-            if (checkpoint) kept[t] = std::move(data);
-            paste(full, window, tile, std::move(part));
-            save(false);
-        };
-        for (const auto& [t, data] : kept)
-            paste(full, window, tiles[static_cast<size_t>(t)], unpack(data, names));
-        auto take = [&] {  // the next tile not done, or tiles.size()
-            while (next < tiles.size() && kept.count(static_cast<int>(next))) ++next;
-            return next < tiles.size() ? next++ : tiles.size();
-        };
-        auto handle = [&, keep, take](const MPI_Status& status) {
-            if (status.MPI_TAG == kRequest || status.MPI_TAG == kDone) {
-                MPI_Recv(nullptr, 0, MPI_INT, status.MPI_SOURCE, status.MPI_TAG, MPI_COMM_WORLD,
-                         MPI_STATUS_IGNORE);
-                if (status.MPI_TAG == kDone) {
-                    ++finished;
-                    return;
-                }
-                const size_t t = take();
-                int given = t < tiles.size() ? static_cast<int>(t) : -1;
-                MPI_Send(&given, 1, MPI_INT, status.MPI_SOURCE, kAssign, MPI_COMM_WORLD);
-                return;
-            }
-            int count = 0;
-            MPI_Get_count(&status, MPI_FLOAT, &count);
-            std::vector<float> data(static_cast<size_t>(count));
-            MPI_Recv(data.data(), count, MPI_FLOAT, status.MPI_SOURCE, kResult, MPI_COMM_WORLD,
-                     MPI_STATUS_IGNORE);
-            const auto tile = static_cast<int>(data.back());
-            data.pop_back();
-            keep(tile, tiles[static_cast<size_t>(tile)], std::move(data));
-            bytes += static_cast<uint64_t>(count) * sizeof(float);
-        };
-        // (The helpers are copied in: they end with this block; what they use does not.)
-        source.next = [&, handle, interrupted, take](Crop& w) {
-            // SIGINT or SIGTERM (every rank gets it from mpirun): no tile is begun after it;
-            // the tiles in progress end their pass and come in, the others stay black.
-            if (interrupted()) next = tiles.size();
-            for (int flag = 1; flag;) {  // answer every rank that asked meanwhile
-                MPI_Status status;
-                MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &status);
-                if (flag) handle(status);
-            }
-            if (const size_t t = take(); t < tiles.size()) {
-                own = static_cast<int>(t);
-                w = tiles[t];
-                clock = std::chrono::steady_clock::now();
-                return true;
-            }
-            // A worker's results come before its kDone (messages between two ranks keep
-            // their order), so every tile is in once all are done.
-            while (finished < ranks - 1) {
-                MPI_Status status;
-                MPI_Probe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &status);
-                handle(status);
-            }
-            return false;
-        };
-        source.done = [&, keep](const Crop& w, RenderResult&& r) {
-            pace();
-            ++stats.rank0_tiles;
-            if (checkpoint)
-                keep(own, w, pack(r));
-            else
-                paste(full, window, w, std::move(r));
-        };
-        finish = [save] { save(true); };
+        master.emplace(tiles, window, names, checkpoint, std::move(kept), ranks, pacer, stats);
+        source.next = [&](Crop& w) { return master->next(w, interrupted()); };
+        source.done = [&](const Crop& w, RenderResult&& r) { master->done(w, std::move(r)); };
     } else {
-        auto reap = [&](bool all) {
-            for (size_t k = 0; k < requests.size();) {
-                int complete = 0;
-                if (all) {
-                    MPI_Wait(&requests[k], MPI_STATUS_IGNORE);
-                    complete = 1;
-                } else {
-                    MPI_Test(&requests[k], &complete, MPI_STATUS_IGNORE);
-                }
-                if (!complete) {
-                    ++k;
-                    continue;
-                }
-                requests.erase(requests.begin() + static_cast<std::ptrdiff_t>(k));
-                sending.erase(sending.begin() + static_cast<std::ptrdiff_t>(k));
-            }
-        };
-        source.next = [&, reap, interrupted](Crop& w) {
-            reap(false);
-            if (interrupted()) {  // begin nothing more; collect the answers still due
-                exhausted = true;
-                queue.clear();
-            }
-            while (!exhausted && static_cast<int>(queue.size()) + asked < kAhead) {
-                MPI_Send(nullptr, 0, MPI_INT, 0, kRequest, MPI_COMM_WORLD);
-                ++asked;
-            }
-            while (queue.empty() && asked > 0) {
-                int answer = -1;
-                MPI_Recv(&answer, 1, MPI_INT, 0, kAssign, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-                --asked;
-                if (answer < 0)
-                    exhausted = true;
-                else if (!interrupted())
-                    queue.push_back(answer);
-            }
-            if (queue.empty()) {  // every request answered, the last with -1
-                reap(true);
-                MPI_Send(nullptr, 0, MPI_INT, 0, kDone, MPI_COMM_WORLD);
-                return false;
-            }
-            index = queue.front();
-            queue.erase(queue.begin());
-            w = tiles[static_cast<size_t>(index)];
-            clock = std::chrono::steady_clock::now();
-            return true;
-        };
-        source.done = [&](const Crop&, RenderResult&& r) {
-            pace();
-            sending.push_back(pack(r));
-            sending.back().push_back(static_cast<float>(index));
-            requests.emplace_back();
-            MPI_Isend(sending.back().data(), static_cast<int>(sending.back().size()), MPI_FLOAT, 0,
-                      kResult, MPI_COMM_WORLD, &requests.back());
-        };
+        worker.emplace(tiles, pacer);
+        source.next = [&](Crop& w) { return worker->next(w, interrupted); };
+        source.done = [&](const Crop&, RenderResult&& r) { worker->done(std::move(r)); };
     }
     local.options.windows = &source;
     RenderResult result = run_job(local);
-    if (finish) finish();
+    RenderResult full = master ? master->finish() : RenderResult{};
     const uint64_t exchanged = group.received();
     MPI_Reduce(&exchanged, &stats.exchanged, 1, MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
     uint64_t total_rays = 0, total_nonfinite = 0;
@@ -400,7 +487,7 @@ RenderResult run_job_distributed(const RenderJob& job, const MpiSession& mpi,
     full.stats.rays = total_rays;
     full.stats.nonfinite = total_nonfinite;
     stats.tiles = static_cast<int>(tiles.size());
-    stats.bytes = bytes;
+    stats.bytes = master->bytes();
     return full;
 }
 
