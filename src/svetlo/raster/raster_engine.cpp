@@ -302,13 +302,16 @@ struct RasterRenderer::Buffers {
 RasterRenderer::RasterRenderer() : buffers_(std::make_unique<Buffers>()) {}
 RasterRenderer::~RasterRenderer() = default;
 
-RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& options) {
+namespace {
+
+/// Refuses what the rasterizer cannot draw: a thin lens, and a debug AOV of a shadow technique
+/// the scene does not use (the table in renderer.h).
+void check_raster_request(const Scene& scene, const RenderOptions& options) {
     if (scene.camera.aperture > 0.0f) {
         throw Error(scene.path.string(), "camera.aperture",
                     "the rasterizer draws through a pinhole; a thin lens needs the whitted or "
                     "path engine");
     }
-    // A debug AOV of a shadow technique needs that technique (the table in renderer.h).
     for (const std::string& name : options.debug_aovs) {
         const std::optional<ShadowTechnique> technique = debug_aov_technique(name);
         if (technique && scene.render.shadows != *technique)
@@ -316,6 +319,76 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
                         "the " + name + " AOV needs render.shadows " +
                             std::string(name_of(kShadowTechniques, *technique)));
     }
+}
+
+/// What every tile of one colour pass shares.
+struct ColourPass {
+    const FrameState& f;
+    const std::vector<SamplePattern>& passes;  // the sample positions, pass by pass
+    const PipelineState& state;
+    ShadowTechniqueState* shadows;  // the technique's maps, volumes or masks (none: unlit)
+    const AovTargets& targets;
+    int spp;
+    bool msaa;
+    bool simd;                // the fast path (fast_shading.cpp) where it applies
+    bool small_left_weights;  // rasterize_small keeps its samples' screen barycentrics
+};
+
+/// One tile of the frame, stage 5 on: for each sample pass its rasterization, the shadow
+/// technique's masks, the shading of its visible samples; then the resolve into `color`.
+void draw_tile(const ColourPass& c, const Tile& tile, TileBuffers& buf, MaskScratch& scratch,
+               Image& color) {
+    const size_t pixels = static_cast<size_t>(tile.x1 - tile.x0) * (tile.y1 - tile.y0);
+    // (One sample per pixel on the fast path writes every pixel: nothing to clear.)
+    if (!(c.simd && c.spp == 1)) buf.color.assign(pixels, Color(0.0f));
+    if (c.targets.any) {
+        buf.aov.assign(pixels, AovSum{});
+    }
+    for (size_t pass = 0; pass < c.passes.size(); ++pass) {
+        const SamplePattern& sp = c.passes[pass];
+        const int S = sp.count;
+        buf.reset(pixels * static_cast<size_t>(S), pixels, c.targets.any, c.state.stencil.enabled);
+        rasterize_tile(c.f, tile, sp, c.state, buf);
+        if (c.shadows) {
+            fill_masks(*c.shadows, c.f, tile, sp, static_cast<int>(pass), c.small_left_weights, buf,
+                       scratch);
+        }
+        if (!c.simd) {
+            shade_tile(c.f, tile, sp, c.msaa, c.targets.any, buf);
+        } else {
+#if SVETLO_SIMD
+            shade_tile_fast(c.f, tile, sp, c.small_left_weights, buf);
+#endif
+            if (c.spp == 1) {  // nothing to add up: the samples are the pixels
+                std::swap(buf.color, buf.sample_color);
+            } else {
+                accumulate_samples(buf, pixels, S, buf.color.data());
+            }
+        }
+    }
+    resolve_tile(c.f, tile, c.spp, c.passes.back().count, c.targets, buf, color);
+}
+
+/// The debug AOVs of the scene's shadow technique (checked by check_raster_request): light
+/// 0's shadow map, projected mask or stencil count.
+void debug_aov_images(const Scene& scene, const RenderOptions& options,
+                      const ShadowTechniqueState* shadows, RenderResult& result) {
+    for (const std::string& name : options.debug_aovs) {
+        const ShadowTechnique technique = *debug_aov_technique(name);
+        Image image = technique == ShadowTechnique::Map      ? shadows->shadow_map_image()
+                      : technique == ShadowTechnique::Planar ? shadows->mask_image()
+                                                             : shadows->stencil_image();
+        if (image.width == 0)
+            throw Error(scene.path.string(), "lights",
+                        "the " + name + " AOV shows light 0's shadows, and it casts none");
+        result.aovs[name] = std::move(image);
+    }
+}
+
+}  // namespace
+
+RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& options) {
+    check_raster_request(scene, options);
     if (options.trace) return trace_raster_pixel(*this, scene, options);
     if (options.windows) {  // the frame is drawn once, and each window cut from it
         RenderOptions whole = options;
@@ -384,49 +457,26 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
 
     const bool msaa = scene.render.raster.msaa;
     // The fast path (fast_shading.cpp, SSE or AVX2) where it applies; its twin, the general
-    // shading (fragment.cpp), everywhere else and in a build without SIMD.
-    const bool simd =
-        SVETLO_SIMD && f.mode == Mode::Phong && !msaa && !targets.any && f.simd_lights_ok;
-    // Small triangles go through rasterize_small, which keeps the screen barycentrics of the
-    // samples it writes, unless the stencil is on.
-    const bool small_left_weights = !state.stencil.enabled;
+    // shading (fragment.cpp), everywhere else and in a build without SIMD. Small triangles go
+    // through rasterize_small, which keeps the screen barycentrics of the samples it writes,
+    // unless the stencil is on.
+    const ColourPass pass{
+        f,
+        passes,
+        state,
+        shadows.get(),
+        targets,
+        spp,
+        msaa,
+        SVETLO_SIMD && f.mode == Mode::Phong && !msaa && !targets.any && f.simd_lights_ok,
+        !state.stencil.enabled};
     PerWorker<TileBuffers> buffers(threads);
     PerWorker<MaskScratch> mask_scratch(threads);
     Progress progress("raster", static_cast<int64_t>(width) * height, options.progress);
     parallel_tiles(
         width, height, kTile, threads,
         [&](const Tile& tile) {
-            TileBuffers& buf = buffers.local();
-            const size_t pixels = static_cast<size_t>(tile.x1 - tile.x0) * (tile.y1 - tile.y0);
-            // (One sample per pixel on the fast path writes every pixel: nothing to clear.)
-            if (!(simd && spp == 1)) buf.color.assign(pixels, Color(0.0f));
-            if (targets.any) {
-                buf.aov.assign(pixels, AovSum{});
-            }
-            for (size_t pass = 0; pass < passes.size(); ++pass) {
-                const SamplePattern& sp = passes[pass];
-                const int S = sp.count;
-                buf.reset(pixels * static_cast<size_t>(S), pixels, targets.any,
-                          state.stencil.enabled);
-                rasterize_tile(f, tile, sp, state, buf);
-                if (shadows) {
-                    fill_masks(*shadows, f, tile, sp, static_cast<int>(pass), small_left_weights,
-                               buf, mask_scratch.local());
-                }
-                if (!simd) {
-                    shade_tile(f, tile, sp, msaa, targets.any, buf);
-                } else {
-#if SVETLO_SIMD
-                    shade_tile_fast(f, tile, sp, small_left_weights, buf);
-#endif
-                    if (spp == 1) {  // nothing to add up: the samples are the pixels
-                        std::swap(buf.color, buf.sample_color);
-                    } else {
-                        accumulate_samples(buf, pixels, S, buf.color.data());
-                    }
-                }
-            }
-            resolve_tile(f, tile, spp, passes.back().count, targets, buf, result.color);
+            draw_tile(pass, tile, buffers.local(), mask_scratch.local(), result.color);
         },
         [&](int pixels) { progress.advance(pixels); });
     progress.finish();
@@ -434,17 +484,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     result.stats.seconds = std::chrono::duration<double>(Clock::now() - t1).count();
     result.stats.triangles = f.triangle_count;
     for (TileBuffers& buf : buffers) result.stats.nonfinite += buf.nonfinite;
-    for (const std::string& name : options.debug_aovs) {
-        // The scene's technique, checked above.
-        const ShadowTechnique technique = *debug_aov_technique(name);
-        Image image = technique == ShadowTechnique::Map      ? shadows->shadow_map_image()
-                      : technique == ShadowTechnique::Planar ? shadows->mask_image()
-                                                             : shadows->stencil_image();
-        if (image.width == 0)
-            throw Error(scene.path.string(), "lights",
-                        "the " + name + " AOV shows light 0's shadows, and it casts none");
-        result.aovs[name] = std::move(image);
-    }
+    debug_aov_images(scene, options, shadows.get(), result);
     buffers_->vertices = std::move(f.vertices);
     buffers_->screen = std::move(f.screen);
     buffers_->tris = std::move(f.tris);
