@@ -11,17 +11,24 @@
 
 namespace svetlo {
 
-Solution solve_matrix(SolverInput& in, bool gauss_seidel) {
-    ElementTree& tree = in.tree;
-    const std::vector<uint32_t> leaves = tree.leaves();
-    const size_t n = leaves.size();
-    Solution sol;
-    sol.E.assign(tree.nodes().size(), Sides{});
-    sol.direct.assign(tree.nodes().size(), Sides{});
+namespace {
 
-    // F[i n + j]: from element i (its side facing j) to element j; side[i n + j]: that side.
-    std::vector<float> F(n * n, 0.0f);
-    std::vector<uint8_t> side(n * n, 0);
+/// The matrix of the leaves' form factors: F[i n + j] from element i (its side facing j) to
+/// element j, and side[i n + j] that side; by rays between the elements or by hemicubes.
+struct FormFactorMatrix {
+    std::vector<float> F;
+    std::vector<uint8_t> side;
+    uint64_t rays = 0;
+};
+
+FormFactorMatrix form_factor_matrix(SolverInput& in, const std::vector<uint32_t>& leaves) {
+    ElementTree& tree = in.tree;
+    const size_t n = leaves.size();
+    FormFactorMatrix m;
+    m.F.assign(n * n, 0.0f);
+    m.side.assign(n * n, 0);
+    std::vector<float>& F = m.F;
+    std::vector<uint8_t>& side = m.side;
     std::atomic<uint64_t> rays{0};
     const bool hemicube = in.settings.form_factors == FormFactorMethod::Hemicube;
     TriangleList triangles;
@@ -63,7 +70,24 @@ Solution solve_matrix(SolverInput& in, bool gauss_seidel) {
             rays += local_rays;
         },
         4);
-    sol.rays = rays.load();
+    m.rays = rays.load();
+    return m;
+}
+
+}  // namespace
+
+Solution solve_matrix(SolverInput& in, bool gauss_seidel) {
+    ElementTree& tree = in.tree;
+    const std::vector<uint32_t> leaves = tree.leaves();
+    const size_t n = leaves.size();
+    Solution sol;
+    sol.E.assign(tree.nodes().size(), Sides{});
+    sol.direct.assign(tree.nodes().size(), Sides{});
+
+    const FormFactorMatrix m = form_factor_matrix(in, leaves);
+    const std::vector<float>& F = m.F;
+    const std::vector<uint8_t>& side = m.side;
+    sol.rays = m.rays;
 
     // Lights first (L), then the emitters' direct light; B starts at E^e + rho L.
     std::vector<Sides> light(n), B(n);
