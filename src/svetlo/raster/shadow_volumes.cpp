@@ -201,6 +201,70 @@ private:
         return false;
     }
 
+    /// The triangles of `list` that bound a shadow region of caster c (`used`), and which of
+    /// them face away from it and so are flipped (`flipped`).
+    void boundary_triangles(const TriangleList& list, const ShadowCaster& c,
+                            std::vector<char>& used, std::vector<char>& flipped) const {
+        const bool directional = c.kind == ShadowCaster::Kind::Directional;
+        const size_t T = list.triangle_count();
+        used.assign(T, 0);
+        flipped.assign(T, 0);
+        for (size_t t = 0; t < T; ++t) {
+            const uint32_t* idx = &list.indices[3 * t];
+            vec3 a = list.positions[idx[0]], b = list.positions[idx[1]],
+                 cc = list.positions[idx[2]];
+            vec3 normal = glm::cross(b - a, cc - a);
+            if (!(glm::dot(normal, normal) > 0.0f)) continue;  // no area: bounds nothing
+            float side =
+                directional ? -glm::dot(normal, c.direction) : glm::dot(normal, c.position - a);
+            bool facing = side > 0.0f;
+            // A closed object's region is bounded by its faces away from the caster (the
+            // lit faces are then on no volume's boundary, and no rounding can shadow them).
+            if (facing && closed_[object_of_[t]]) continue;
+            used[t] = 1;
+            flipped[t] = facing ? 0 : 1;
+        }
+    }
+
+    /// Far caps at infinity as a fan: the far caps of an object's regions, seen from the
+    /// caster, cover the directions its silhouette encloses; the stencil counts winding
+    /// numbers, so a fan from one direction A over the object's side edges counts the same
+    /// as one far cap per triangle, with a triangle per side edge instead of one per cap.
+    /// It holds where every direction from the caster to the object lies within 90 degrees
+    /// of A (the fan's triangles are then the small spherical ones): a point or spot caster
+    /// outside the object. Returns each object's apex, A as a vertex at infinity appended to
+    /// `v`, or kOpen where it takes one far cap per triangle (and for finite volumes).
+    std::vector<uint32_t> far_cap_apexes(const TriangleList& list, const ShadowCaster& c,
+                                         bool finite, const std::vector<char>& used,
+                                         TriangleList& v) const {
+        std::vector<uint32_t> apex(list.objects.size(), TriangleList::kOpen);
+        if (finite || c.kind == ShadowCaster::Kind::Directional) return apex;
+        for (size_t o = 0; o < list.objects.size(); ++o) {
+            const PrimitiveRange r = list.objects[o];
+            vec3 centre(0.0f);
+            float count = 0.0f;
+            for (uint32_t t = r.first; t < r.end; ++t) {
+                if (!used[t]) continue;
+                for (int k = 0; k < 3; ++k) centre += list.positions[list.indices[3 * t + k]];
+                count += 3.0f;
+            }
+            if (count == 0.0f) continue;
+            const vec3 a = centre / count - c.position;
+            bool within = glm::dot(a, a) > 0.0f;
+            for (uint32_t t = r.first; t < r.end && within; ++t) {
+                for (int k = 0; k < 3 && used[t]; ++k) {
+                    vec3 d = list.positions[list.indices[3 * t + k]] - c.position;
+                    within = within && glm::dot(d, a) > 1e-3f * glm::length(d) * glm::length(a);
+                }
+            }
+            if (!within) continue;
+            apex[o] = static_cast<uint32_t>(v.positions.size());
+            v.positions.push_back(a);
+            v.w.push_back(0.0f);
+        }
+        return apex;
+    }
+
     /// The shadow volume of caster c over every triangle of `list`: its sides, far caps and
     /// unflipped near caps, and apart the flipped near caps in the list's winding (with
     /// `caps` false, the sides alone).
@@ -229,57 +293,10 @@ private:
             std::fill(v.w.begin() + static_cast<std::ptrdiff_t>(n), v.w.end(), 0.0f);
         }
         auto far = [&](uint32_t i) { return static_cast<uint32_t>(n + (one_direction ? 0 : i)); };
-        // Which triangles bound a region, and which of them are flipped toward the caster.
         const size_t T = list.triangle_count();
-        std::vector<char> used(T, 0), flipped(T, 0);
-        for (size_t t = 0; t < T; ++t) {
-            const uint32_t* idx = &list.indices[3 * t];
-            vec3 a = list.positions[idx[0]], b = list.positions[idx[1]],
-                 cc = list.positions[idx[2]];
-            vec3 normal = glm::cross(b - a, cc - a);
-            if (!(glm::dot(normal, normal) > 0.0f)) continue;  // no area: bounds nothing
-            float side =
-                directional ? -glm::dot(normal, c.direction) : glm::dot(normal, c.position - a);
-            bool facing = side > 0.0f;
-            // A closed object's region is bounded by its faces away from the caster (the
-            // lit faces are then on no volume's boundary, and no rounding can shadow them).
-            if (facing && closed_[object_of_[t]]) continue;
-            used[t] = 1;
-            flipped[t] = facing ? 0 : 1;
-        }
-        // Far caps at infinity as a fan: the far caps of an object's regions, seen from the
-        // caster, cover the directions its silhouette encloses; the stencil counts winding
-        // numbers, so a fan from one direction A over the object's side edges counts the same
-        // as one far cap per triangle, with a triangle per side edge instead of one per cap.
-        // It holds where every direction from the caster to the object lies within 90 degrees
-        // of A (the fan's triangles are then the small spherical ones): a point or spot caster
-        // outside the object. Else, and for finite volumes, one far cap per triangle.
-        std::vector<uint32_t> apex(list.objects.size(), TriangleList::kOpen);
-        if (!finite && !directional) {
-            for (size_t o = 0; o < list.objects.size(); ++o) {
-                const PrimitiveRange r = list.objects[o];
-                vec3 centre(0.0f);
-                float count = 0.0f;
-                for (uint32_t t = r.first; t < r.end; ++t) {
-                    if (!used[t]) continue;
-                    for (int k = 0; k < 3; ++k) centre += list.positions[list.indices[3 * t + k]];
-                    count += 3.0f;
-                }
-                if (count == 0.0f) continue;
-                const vec3 a = centre / count - c.position;
-                bool within = glm::dot(a, a) > 0.0f;
-                for (uint32_t t = r.first; t < r.end && within; ++t) {
-                    for (int k = 0; k < 3 && used[t]; ++k) {
-                        vec3 d = list.positions[list.indices[3 * t + k]] - c.position;
-                        within = within && glm::dot(d, a) > 1e-3f * glm::length(d) * glm::length(a);
-                    }
-                }
-                if (!within) continue;
-                apex[o] = static_cast<uint32_t>(v.positions.size());
-                v.positions.push_back(a);
-                v.w.push_back(0.0f);
-            }
-        }
+        std::vector<char> used, flipped;
+        boundary_triangles(list, c, used, flipped);
+        const std::vector<uint32_t> apex = far_cap_apexes(list, c, finite, used, v);
         TriangleList flipped_caps;
         flipped_caps.positions = list.positions;
         auto add = [&](uint32_t a, uint32_t b, uint32_t cc) {
