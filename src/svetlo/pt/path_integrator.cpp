@@ -156,37 +156,70 @@ Color PathIntegrator::environment_light(const Bsdf& bsdf, vec3 p, const ShadingF
     return c;
 }
 
+// Inlined into radiance(), its one caller: the path loop pays no call per vertex.
+[[gnu::always_inline]] inline Color PathIntegrator::escaped(const Ray& ray,
+                                                            const PreviousVertex& prev,
+                                                            Color beta) {
+    if (!environment_) return Color(0.0f);
+    const Environment& env = rt_.environment();
+    const Color Le = env.radiance(ray.d);
+    float pdf_env =
+        env.is_map() ? env.pdf(ray.d) : std::max(0.0f, glm::dot(prev.ng, ray.d)) * kInvPi;
+    float w = prev.delta ? 1.0f : bsdf_weight(scene_.render.mis, prev.pdf, pdf_env);
+    if (observer) observer->background(beta * Le * w, w);
+    return beta * Le * w;
+}
+
+// Inlined into radiance(), its one caller: the path loop pays no call per vertex.
+[[gnu::always_inline]] inline Color PathIntegrator::emitted(const Hit& hit, const SurfaceHit& sh,
+                                                            const ShadingFrame& frame,
+                                                            const Bsdf& bsdf,
+                                                            const PreviousVertex& prev,
+                                                            Color beta) {
+    if (!frame.front || is_black(bsdf.emission)) return Color(0.0f);
+    // With every light sending photons, the paths that reach an emitter through delta
+    // vertices after a non-delta one are the photon map's (no double counting).
+    bool photon_path = prev.delta && prev.after_lobes && photons_ &&
+                       photons_->covers_area_lights() && rt_.light_source_of(hit) >= 0;
+    if (photon_path) return Color(0.0f);
+    float w = prev.delta
+                  ? 1.0f
+                  : emitter_weight(hit, prev.p, prev.pdf, prev.light_samples, sh.p, frame.ng);
+    if (observer) observer->emitted(beta * bsdf.emission * w, w);
+    return beta * bsdf.emission * w;
+}
+
+// Inlined into radiance(), its one caller: the path loop pays no call per vertex.
+[[gnu::always_inline]] inline void PathIntegrator::add_direct_light(
+    const Bsdf& bsdf, const SurfaceHit& sh, const ShadingFrame& frame, vec3 wo, int n,
+    const std::array<vec2, 4>& u, SobolSampler& sampler, Guide guide, Color beta, Color& L) {
+    L += beta * one_light(bsdf, sh.p, frame, wo, n, u[0], u[1], sampler, guide);
+    if (environment_)
+        L += beta * environment_light(bsdf, sh.p, frame, wo, sampler.next_2d(), guide);
+    if (photons_) {
+        const Color caustic = photons_->radiance(sh.p, frame, wo, bsdf);
+        L += beta * caustic;
+        if (observer) observer->photons(caustic, beta * caustic);
+    }
+}
+
 Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, Rng* aov_rng) {
     const RenderSettings& settings = scene_.render;
     ray.d = glm::normalize(ray.d);  // hit.t is then the distance (the depth AOV)
     Color L(0.0f), beta(1.0f);
-    // The previous vertex: its BSDF sample's pdf (non-delta lobes), point and normal. The
-    // camera counts like a delta vertex: what it sees directly counts in full.
-    bool prev_delta = true;
-    float prev_pdf = 0.0f;
-    int prev_light_samples = 1;  // the previous vertex's light samples per light with area
-    vec3 prev_p(0.0f), prev_ng(0.0f);
-    bool after_lobes = false;  // a non-delta vertex lies behind: caustic paths start there
-    Color medium(0.0f);        // the absorption of the object the ray travels inside
-    float lambda = 0.0f;       // nm, picked at the first dispersive interface
+    PreviousVertex prev;
+    Color medium(0.0f);   // the absorption of the object the ray travels inside
+    float lambda = 0.0f;  // nm, picked at the first dispersive interface
     int depth = 0;
     for (;; ++depth) {
         ++rays;
         Hit hit;
         const bool met = rt_.intersect(ray, hit);
         if (observer)
-            observer->ray(ray, depth, met ? hit.t : kInfinity, beta, prev_pdf, prev_delta);
+            observer->ray(ray, depth, met ? hit.t : kInfinity, beta, prev.pdf, prev.delta);
         beta *= transmittance(medium, met ? hit.t : kInfinity);
         if (!met) {
-            if (environment_) {
-                const Environment& env = rt_.environment();
-                const Color Le = env.radiance(ray.d);
-                float pdf_env = env.is_map() ? env.pdf(ray.d)
-                                             : std::max(0.0f, glm::dot(prev_ng, ray.d)) * kInvPi;
-                float w = prev_delta ? 1.0f : bsdf_weight(settings.mis, prev_pdf, pdf_env);
-                L += beta * Le * w;
-                if (observer) observer->background(beta * Le * w, w);
-            }
+            L += escaped(ray, prev, beta);
             break;
         }
         SurfaceHit sh = rt_.surface(ray, hit);
@@ -203,20 +236,7 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, R
                     light0_visibility(rt_, sh.p, frame.ng, settings.light_samples, *aov_rng, rays);
             }
         }
-
-        if (frame.front && !is_black(bsdf.emission)) {
-            // With every light sending photons, the paths that reach an emitter through delta
-            // vertices after a non-delta one are the photon map's (no double counting).
-            bool photon_path = prev_delta && after_lobes && photons_ &&
-                               photons_->covers_area_lights() && rt_.light_source_of(hit) >= 0;
-            if (!photon_path) {
-                float w = prev_delta ? 1.0f
-                                     : emitter_weight(hit, prev_p, prev_pdf, prev_light_samples,
-                                                      sh.p, frame.ng);
-                L += beta * bsdf.emission * w;
-                if (observer) observer->emitted(beta * bsdf.emission * w, w);
-            }
-        }
+        L += emitted(hit, sh, frame, bsdf, prev, beta);
         if (depth > settings.max_depth) break;
 
         // The vertex's sample values, four pairs: the light and its first sample's primitive
@@ -228,16 +248,8 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, R
         if (bsdf.has_lobes()) {
             // render.light_samples at the first hit, where direct light shows most; one
             // sample deeper, where the path's own spread averages it out.
-            const int n = depth == 0 ? settings.light_samples : 1;
-            prev_light_samples = n;
-            L += beta * one_light(bsdf, sh.p, frame, wo, n, u[0], u[1], sampler, guide);
-            if (environment_)
-                L += beta * environment_light(bsdf, sh.p, frame, wo, sampler.next_2d(), guide);
-            if (photons_) {
-                const Color caustic = photons_->radiance(sh.p, frame, wo, bsdf);
-                L += beta * caustic;
-                if (observer) observer->photons(caustic, beta * caustic);
-            }
+            prev.light_samples = depth == 0 ? settings.light_samples : 1;
+            add_direct_light(bsdf, sh, frame, wo, prev.light_samples, u, sampler, guide, beta, L);
         }
 
         if (bsdf.model == Bsdf::Model::Dielectric && bsdf.abbe > 0.0f) {
@@ -258,11 +270,11 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, R
         if (is_black(beta)) break;
         if (train_ && guided && guided_count_ < kMaxGuidedVertices)
             guided_[static_cast<size_t>(guided_count_++)] = {guide, bs.wi, beta, L, bs.pdf};
-        prev_delta = bs.delta;
-        prev_pdf = bs.pdf;
-        prev_p = sh.p;
-        prev_ng = frame.ng;  // the environment's sampling about it (environment_light)
-        after_lobes = after_lobes || !bs.delta;
+        prev.delta = bs.delta;
+        prev.pdf = bs.pdf;
+        prev.p = sh.p;
+        prev.ng = frame.ng;  // the environment's sampling about it (environment_light)
+        prev.after_lobes = prev.after_lobes || !bs.delta;
         ray = Ray{offset_ray_origin(sh.p, frame.ng, bs.wi), bs.wi, kInfinity};
         if (depth + 1 >= kRouletteDepth) {
             float survive = std::min(kMaxSurvival, std::sqrt(max_component(beta)));

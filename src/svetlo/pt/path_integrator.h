@@ -48,6 +48,28 @@ public:
     PathObserver* observer = nullptr;  // svetlo trace's (path_observer.h), when set
 
 private:
+    /// What radiance() keeps of the vertex before the one it is at: how its BSDF sample was
+    /// drawn (MIS weighs what that sample meets by it) and where. The camera counts like a
+    /// delta vertex: what it sees directly counts in full.
+    struct PreviousVertex {
+        bool delta = true;
+        float pdf = 0.0f;       // its BSDF sample's pdf (non-delta lobes)
+        int light_samples = 1;  // its light samples per light with area
+        vec3 p{0.0f}, ng{0.0f};
+        bool after_lobes = false;  // a non-delta vertex lies behind: caustic paths start there
+    };
+    /// The background's radiance along a ray that left the scene, MIS-weighted against the
+    /// environment's own sampling at the previous vertex.
+    Color escaped(const Ray& ray, const PreviousVertex& prev, Color beta);
+    /// The emission of the surface met, seen from its front, MIS-weighted against next-event
+    /// estimation at the previous vertex (none on the photon map's paths).
+    Color emitted(const Hit& hit, const SurfaceHit& sh, const ShadingFrame& frame, const Bsdf& bsdf,
+                  const PreviousVertex& prev, Color beta);
+    /// Next-event estimation at a vertex with lobes, added to L: one light (`n` samples of it
+    /// when it has area), the environment, and the caustic photons.
+    void add_direct_light(const Bsdf& bsdf, const SurfaceHit& sh, const ShadingFrame& frame,
+                          vec3 wo, int n, const std::array<vec2, 4>& u, SobolSampler& sampler,
+                          Guide guide, Color beta, Color& L);
     /// MIS weight of an emitter met by BSDF sampling from `from` (pdf `pdf_bsdf`), where
     /// next-event estimation took `light_samples` samples per light with area.
     float emitter_weight(const Hit& hit, vec3 from, float pdf_bsdf, int light_samples, vec3 p,
