@@ -88,17 +88,19 @@ private:
     Format format_;
 };
 
-}  // namespace
-
-MeshFile read_ply(const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw std::runtime_error("cannot open file");
-    uint64_t file_size = std::filesystem::file_size(path);
-    std::string line;
-    std::getline(in, line);
-    if (line.rfind("ply", 0) != 0) throw std::runtime_error("line 1: not a PLY file");
+/// A PLY header, after its first line: the format and the elements with their properties.
+struct Header {
     Format format = Format::Ascii;
     std::vector<Element> elements;
+};
+
+/// The header's lines up to end_header (the first line read already); an element count past
+/// the file's size is refused before anything is allocated for it.
+Header read_header(std::istream& in, uint64_t file_size) {
+    Header h;
+    Format& format = h.format;
+    std::vector<Element>& elements = h.elements;
+    std::string line;
     int line_no = 1;
     bool header_done = false;
     while (std::getline(in, line)) {
@@ -153,67 +155,81 @@ MeshFile read_ply(const std::filesystem::path& path) {
         }
     }
     if (!header_done) throw std::runtime_error("no end_header");
+    return h;
+}
 
-    MeshFile file;
-    Mesh& mesh = file.mesh;
-    Source source(in, format);
-    for (const Element& e : elements) {
-        bool is_vertex = e.name == "vertex", is_face = e.name == "face";
-        auto find = [&](std::initializer_list<const char*> names) {
-            for (size_t k = 0; k < e.properties.size(); ++k) {
-                for (const char* n : names) {
-                    if (e.properties[k].name == n) return static_cast<int>(k);
-                }
+/// The items of element `e` from `source`: a vertex's position, normal and texture
+/// coordinates, a face's polygon fanned into triangles, anything else read and left.
+void read_element(const Element& e, Source& source, Mesh& mesh) {
+    bool is_vertex = e.name == "vertex", is_face = e.name == "face";
+    auto find = [&](std::initializer_list<const char*> names) {
+        for (size_t k = 0; k < e.properties.size(); ++k) {
+            for (const char* n : names) {
+                if (e.properties[k].name == n) return static_cast<int>(k);
             }
-            return -1;
-        };
-        int px = find({"x"}), py = find({"y"}), pz = find({"z"});
-        int nx = find({"nx"}), ny = find({"ny"}), nz = find({"nz"});
-        int tu = find({"u", "s", "texture_u"}), tv = find({"v", "t", "texture_v"});
-        int fi = find({"vertex_indices", "vertex_index"});
-        if (is_vertex) {
-            if (px < 0 || py < 0 || pz < 0) throw std::runtime_error("vertex has no x, y, z");
-            mesh.positions.reserve(e.count);
         }
-        if (is_face && fi < 0) throw std::runtime_error("face has no vertex_indices");
-        std::vector<double> values(e.properties.size());
-        std::vector<uint32_t> polygon;
-        for (uint64_t item = 0; item < e.count; ++item) {
-            for (size_t k = 0; k < e.properties.size(); ++k) {
-                const Property& p = e.properties[k];
-                if (p.count_type.empty()) {
-                    values[k] = source.read(p.type);
-                    continue;
-                }
-                double n = source.read(p.count_type);
-                // Written so that NaN fails too (a float count type may hold one).
-                if (!(n >= 0.0 && n <= 1e6)) throw std::runtime_error("bad list length");
-                bool keep = is_face && static_cast<int>(k) == fi;
-                if (keep) polygon.clear();
-                for (int j = 0; j < static_cast<int>(n); ++j) {
-                    double v = source.read(p.type);
-                    if (keep) {
-                        if (!(v >= 0.0 && v < 4294967295.0))
-                            throw std::runtime_error("bad vertex index");
-                        polygon.push_back(static_cast<uint32_t>(v));
-                    }
+        return -1;
+    };
+    int px = find({"x"}), py = find({"y"}), pz = find({"z"});
+    int nx = find({"nx"}), ny = find({"ny"}), nz = find({"nz"});
+    int tu = find({"u", "s", "texture_u"}), tv = find({"v", "t", "texture_v"});
+    int fi = find({"vertex_indices", "vertex_index"});
+    if (is_vertex) {
+        if (px < 0 || py < 0 || pz < 0) throw std::runtime_error("vertex has no x, y, z");
+        mesh.positions.reserve(e.count);
+    }
+    if (is_face && fi < 0) throw std::runtime_error("face has no vertex_indices");
+    std::vector<double> values(e.properties.size());
+    std::vector<uint32_t> polygon;
+    for (uint64_t item = 0; item < e.count; ++item) {
+        for (size_t k = 0; k < e.properties.size(); ++k) {
+            const Property& p = e.properties[k];
+            if (p.count_type.empty()) {
+                values[k] = source.read(p.type);
+                continue;
+            }
+            double n = source.read(p.count_type);
+            // Written so that NaN fails too (a float count type may hold one).
+            if (!(n >= 0.0 && n <= 1e6)) throw std::runtime_error("bad list length");
+            bool keep = is_face && static_cast<int>(k) == fi;
+            if (keep) polygon.clear();
+            for (int j = 0; j < static_cast<int>(n); ++j) {
+                double v = source.read(p.type);
+                if (keep) {
+                    if (!(v >= 0.0 && v < 4294967295.0))
+                        throw std::runtime_error("bad vertex index");
+                    polygon.push_back(static_cast<uint32_t>(v));
                 }
             }
-            if (is_vertex) {
-                mesh.positions.emplace_back(values[px], values[py], values[pz]);
-                if (nx >= 0 && ny >= 0 && nz >= 0) {
-                    mesh.normals.emplace_back(values[nx], values[ny], values[nz]);
-                }
-                if (tu >= 0 && tv >= 0) mesh.uvs.emplace_back(values[tu], values[tv]);
-            } else if (is_face) {
-                for (size_t j = 2; j < polygon.size(); ++j) {  // fan triangulation
-                    mesh.indices.insert(mesh.indices.end(),
-                                        {polygon[0], polygon[j - 1], polygon[j]});
-                }
+        }
+        if (is_vertex) {
+            mesh.positions.emplace_back(values[px], values[py], values[pz]);
+            if (nx >= 0 && ny >= 0 && nz >= 0) {
+                mesh.normals.emplace_back(values[nx], values[ny], values[nz]);
+            }
+            if (tu >= 0 && tv >= 0) mesh.uvs.emplace_back(values[tu], values[tv]);
+        } else if (is_face) {
+            for (size_t j = 2; j < polygon.size(); ++j) {  // fan triangulation
+                mesh.indices.insert(mesh.indices.end(), {polygon[0], polygon[j - 1], polygon[j]});
             }
         }
     }
-    if (mesh.indices.empty()) throw std::runtime_error("PLY file has no faces");
+}
+
+}  // namespace
+
+MeshFile read_ply(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw std::runtime_error("cannot open file");
+    uint64_t file_size = std::filesystem::file_size(path);
+    std::string line;
+    std::getline(in, line);
+    if (line.rfind("ply", 0) != 0) throw std::runtime_error("line 1: not a PLY file");
+    const Header header = read_header(in, file_size);
+    MeshFile file;
+    Source source(in, header.format);
+    for (const Element& e : header.elements) read_element(e, source, file.mesh);
+    if (file.mesh.indices.empty()) throw std::runtime_error("PLY file has no faces");
     return file;
 }
 
