@@ -149,6 +149,85 @@ struct DisplayCounters {
     std::atomic<uint64_t> rays{0}, nonfinite{0};
 };
 
+/// What the display of one window reads: the scene, the solution and how it is shown.
+struct Display {
+    const Scene& scene;
+    const RenderOptions& options;
+    const PatchMesh& mesh;
+    const Solution& sol;
+    const IrradianceField& field;
+    const CameraRays& camera_rays;
+    bool gather;       // render.radiosity.display: gather (the direct light again, per pixel)
+    bool aovs;         // AOVs asked for
+    bool visibility;   // the visibility AOV among them
+    bool patches_aov;  // the patches debug AOV
+    // A pixel's size at unit distance (perspective) or its size (orthographic), scene units.
+    float pixel_footprint;
+};
+
+/// Pixel (i, j)'s sample s (its jitter `jitter`), where the item buffer found triangle t:
+/// the radiance B/pi of the solution there (emitted plus reflected irradiance, with gather
+/// the direct light traced again), added to `sum` and its AOVs, the patches AOV at s = 0.
+void display_sample(const Display& d, int i, int j, int s, vec2 jitter, uint32_t t, glm::dvec3& sum,
+                    AovSum& aov_sum, Image& patches_image, uint64_t& rays, uint64_t& nonfinite) {
+    const Scene& scene = d.scene;
+    const int width = scene.film.width, height = scene.film.height;
+    const ElementTree& tree = *d.mesh.tree;
+    const size_t pixel = static_cast<size_t>(j) * width + i;
+    Ray ray = d.camera_rays.generate((static_cast<float>(i) + jitter.x) / width,
+                                     (static_cast<float>(j) + jitter.y) / height);
+    const DisplaySample at = sample_on_triangle(d.mesh.list, t, tree.normal(t), ray);
+    const vec3 x = at.x, n = at.n;
+    const vec2 b = at.b;
+    const int side = at.side;
+    Bsdf bsdf =
+        make_bsdf(d.mesh.lights.materials()[d.mesh.list.material[t]], at.at, scene.textures);
+    const Color rho = radiosity_reflectance(bsdf);
+    const Color emitted = side == 0 ? bsdf.emission : Color(0.0f);
+    IrradianceField::Value E = d.field.at(t, b, side);
+    Rng rng = pixel_rng(mix64(scene.render.seed + static_cast<uint64_t>(s)), pixel);
+    Color irradiance = E.total;  // W/m^2, the ambient term's aside
+    if (d.gather) {
+        // Every light and emitter, and the background: what the solution counted as direct.
+        Color direct = light_irradiance(d.mesh.lights, *d.mesh.accel, x, n, LightSources::All,
+                                        scene.render.light_samples, rng, rays) +
+                       sky_irradiance(*d.mesh.accel, d.mesh.environment, x, n, kSkyRays, rng);
+        irradiance = E.indirect + direct;
+    }
+    Color L = emitted + rho * (1.0f / kPi) * (irradiance + d.sol.ambient);
+    AovSample aov{0.0f, vec3(0.0f), Color(0.0f), 0.0f};
+    if (d.aovs) {
+        aov.visibility = d.visibility ? light0_visibility(d.mesh.lights, *d.mesh.accel, x, n,
+                                                          scene.render.light_samples, rng, rays)
+                                      : 1.0f;
+        aov.depth = at.distance;
+        aov.normal = n;
+        aov.albedo = albedo_of(bsdf);
+    }
+    const bool finite = is_finite(L) && is_finite(aov.normal) && is_finite(aov.albedo) &&
+                        std::isfinite(aov.depth + aov.visibility);
+    if (PixelTrace* log = d.options.trace; log && log->at(i, j) && log->sample == s) {
+        log_display_sample(*log, scene, tree, ray, at, t, d.mesh.list.material[t],
+                           d.mesh.settings.patch_size, emitted, irradiance, d.sol.ambient, rho, L);
+        record_total(*log, L, finite);
+    }
+    // A sample that is not finite is dropped (black) and counted, as in every engine.
+    if (!finite) {
+        ++nonfinite;
+        return;
+    }
+    sum += glm::dvec3(L);
+    if (d.aovs) aov_sum.add(aov);
+    if (d.patches_aov && s == 0) {
+        // Lines about a pixel wide: the pixel's footprint at the point.
+        const float footprint = scene.camera.type == Camera::Type::Perspective
+                                    ? d.pixel_footprint * at.distance
+                                    : d.pixel_footprint;
+        patches_image.at(i, j) =
+            patches_view(tree, t, b, side, d.sol.E, rho, d.mesh.settings.patch_size, footprint);
+    }
+}
+
 /// Step 3: one window of the display. spp item-buffer passes of the scene's triangles, each
 /// jittered within the pixel, and per sample L = L_e + rho / pi E from the field (display.h).
 /// The item buffer is drawn whole; only the window's pixels are gathered.
@@ -158,11 +237,8 @@ RenderResult display_window(const Scene& scene, const RenderOptions& options, co
     const int width = scene.film.width, height = scene.film.height;
     const int threads = options.threads;
     const uint64_t seed = scene.render.seed;
-    const RadiositySettings& settings = mesh.settings;
-    const ElementTree& tree = *mesh.tree;
     RenderResult result;
     const AovTargets targets = prepare_result(result, options.aovs, width, height);
-    const bool gather = settings.display == RadiosityDisplay::Gather;
     const bool patches_aov = wants_debug_aov(options, "patches");
     Image patches_image;
     if (patches_aov) patches_image = Image(width, height);
@@ -171,15 +247,23 @@ RenderResult display_window(const Scene& scene, const RenderOptions& options, co
     std::vector<AovSum> aov_sums(targets.any ? sums.size() : 0);
     const CameraMatrices camera = frame_camera(scene, mesh.list, threads);
     const CameraRays camera_rays(scene.camera, width, height);
-    RenderTargets buffers;
-    PassMemory memory;
-    const float inv_pi = 1.0f / kPi;
-    // A pixel's size at unit distance (perspective) or its size (orthographic), scene
-    // units.
-    const float pixel_footprint =
+    const Display display{
+        scene,
+        options,
+        mesh,
+        sol,
+        field,
+        camera_rays,
+        mesh.settings.display == RadiosityDisplay::Gather,
+        targets.any,
+        targets.want(Aov::Visibility),
+        patches_aov,
         scene.camera.type == Camera::Type::Perspective
             ? 2.0f * std::tan(0.5f * radians(scene.camera.fov_deg)) / static_cast<float>(height)
-            : scene.camera.height / static_cast<float>(height);
+            : scene.camera.height / static_cast<float>(height)};
+    RenderTargets buffers;
+    PassMemory memory;
+    AovSum no_aov;
     // Alpha's holes (raster/alpha_test.h): the camera sees through them.
     const raster::AlphaTest alpha(mesh.lights.materials(), scene.textures);
     for (int s = 0; s < spp; ++s) {
@@ -196,79 +280,20 @@ RenderResult display_window(const Scene& scene, const RenderOptions& options, co
                         continue;
                     const size_t pixel = static_cast<size_t>(j) * width + i;
                     const uint32_t t = buffers.primitive[buffers.index(i, j)];
-                    if (t == RenderTargets::kNoPrimitive) {
-                        if (PixelTrace* log = options.trace;
-                            log && log->at(i, j) && log->sample == s) {
-                            log_background_sample(*log, camera_rays, i, j, jitter, scene);
-                        }
-                        // What comes from far away along the pixel's ray.
-                        const Ray away =
-                            camera_rays.generate((static_cast<float>(i) + jitter.x) / width,
-                                                 (static_cast<float>(j) + jitter.y) / height);
-                        sums[pixel] +=
-                            glm::dvec3(mesh.environment.radiance(glm::normalize(away.d)));
-                        if (targets.any) aov_sums[pixel].visibility += 1.0;
+                    if (t != RenderTargets::kNoPrimitive) {
+                        display_sample(display, i, j, s, jitter, t, sums[pixel],
+                                       targets.any ? aov_sums[pixel] : no_aov, patches_image,
+                                       local_rays, local_nonfinite);
                         continue;
                     }
-                    Ray ray = camera_rays.generate((static_cast<float>(i) + jitter.x) / width,
-                                                   (static_cast<float>(j) + jitter.y) / height);
-                    const DisplaySample at = sample_on_triangle(mesh.list, t, tree.normal(t), ray);
-                    const vec3 x = at.x, n = at.n;
-                    const vec2 b = at.b;
-                    const int side = at.side;
-                    Bsdf bsdf = make_bsdf(mesh.lights.materials()[mesh.list.material[t]], at.at,
-                                          scene.textures);
-                    const Color rho = radiosity_reflectance(bsdf);
-                    const Color emitted = side == 0 ? bsdf.emission : Color(0.0f);
-                    IrradianceField::Value E = field.at(t, b, side);
-                    Rng rng = pixel_rng(mix64(seed + static_cast<uint64_t>(s)), pixel);
-                    Color irradiance = E.total;  // W/m^2, the ambient term's aside
-                    if (gather) {
-                        // Every light and emitter, and the background: what the solution
-                        // counted as direct.
-                        Color direct =
-                            light_irradiance(mesh.lights, *mesh.accel, x, n, LightSources::All,
-                                             scene.render.light_samples, rng, local_rays) +
-                            sky_irradiance(*mesh.accel, mesh.environment, x, n, kSkyRays, rng);
-                        irradiance = E.indirect + direct;
-                    }
-                    Color L = emitted + rho * inv_pi * (irradiance + sol.ambient);
-                    AovSample aov{0.0f, vec3(0.0f), Color(0.0f), 0.0f};
-                    if (targets.any) {
-                        aov.visibility =
-                            targets.want(Aov::Visibility)
-                                ? light0_visibility(mesh.lights, *mesh.accel, x, n,
-                                                    scene.render.light_samples, rng, local_rays)
-                                : 1.0f;
-                        aov.depth = at.distance;
-                        aov.normal = n;
-                        aov.albedo = albedo_of(bsdf);
-                    }
-                    const bool finite = is_finite(L) && is_finite(aov.normal) &&
-                                        is_finite(aov.albedo) &&
-                                        std::isfinite(aov.depth + aov.visibility);
-                    if (PixelTrace* log = options.trace; log && log->at(i, j) && log->sample == s) {
-                        log_display_sample(*log, scene, tree, ray, at, t, mesh.list.material[t],
-                                           settings.patch_size, emitted, irradiance, sol.ambient,
-                                           rho, L);
-                        record_total(*log, L, finite);
-                    }
-                    // A sample that is not finite is dropped (black) and counted, as in
-                    // every engine.
-                    if (!finite) {
-                        ++local_nonfinite;
-                        continue;
-                    }
-                    sums[pixel] += glm::dvec3(L);
-                    if (targets.any) aov_sums[pixel].add(aov);
-                    if (patches_aov && s == 0) {
-                        // Lines about a pixel wide: the pixel's footprint at the point.
-                        const float footprint = scene.camera.type == Camera::Type::Perspective
-                                                    ? pixel_footprint * at.distance
-                                                    : pixel_footprint;
-                        patches_image.at(i, j) = patches_view(tree, t, b, side, sol.E, rho,
-                                                              settings.patch_size, footprint);
-                    }
+                    if (PixelTrace* log = options.trace; log && log->at(i, j) && log->sample == s)
+                        log_background_sample(*log, camera_rays, i, j, jitter, scene);
+                    // What comes from far away along the pixel's ray.
+                    const Ray away =
+                        camera_rays.generate((static_cast<float>(i) + jitter.x) / width,
+                                             (static_cast<float>(j) + jitter.y) / height);
+                    sums[pixel] += glm::dvec3(mesh.environment.radiance(glm::normalize(away.d)));
+                    if (targets.any) aov_sums[pixel].visibility += 1.0;
                 }
             }
             counters.rays += local_rays;
