@@ -387,22 +387,26 @@ void debug_aov_images(const Scene& scene, const RenderOptions& options,
 
 }  // namespace
 
+// A window costs the rasterizer its whole frame's setup anyway: the frame is drawn once.
+RenderResult RasterRenderer::render_cut_into_windows(const Scene& scene,
+                                                     const RenderOptions& options) {
+    RenderOptions whole = options;
+    whole.windows = nullptr;
+    whole.crop.reset();
+    const RenderResult frame = render(scene, whole);
+    Crop window;
+    while (options.windows->next(window))
+        options.windows->done(window,
+                              window_of(frame, window, scene.film.width, scene.film.height));
+    RenderResult total;
+    total.stats = frame.stats;
+    return total;
+}
+
 RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& options) {
     check_raster_request(scene, options);
     if (options.trace) return trace_raster_pixel(*this, scene, options);
-    if (options.windows) {  // the frame is drawn once, and each window cut from it
-        RenderOptions whole = options;
-        whole.windows = nullptr;
-        whole.crop.reset();
-        const RenderResult frame = render(scene, whole);
-        Crop window;
-        while (options.windows->next(window))
-            options.windows->done(window,
-                                  window_of(frame, window, scene.film.width, scene.film.height));
-        RenderResult total;
-        total.stats = frame.stats;
-        return total;
-    }
+    if (options.windows) return render_cut_into_windows(scene, options);
     using Clock = std::chrono::steady_clock;
     auto t0 = Clock::now();
     const int width = scene.film.width, height = scene.film.height, spp = scene.render.spp;

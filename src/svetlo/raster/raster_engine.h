@@ -50,6 +50,9 @@ public:
     struct Buffers;
 
 private:
+    /// The frame drawn once, and each of options.windows cut from it.
+    RenderResult render_cut_into_windows(const Scene& scene, const RenderOptions& options);
+
     std::unique_ptr<Buffers> buffers_;
 };
 
