@@ -149,34 +149,13 @@ size_t surfaces_of_run(const FrameState& f, const Tile& tile, int pass, const Ti
 
 }  // namespace
 
-void fill_masks(const ShadowTechniqueState& technique, const FrameState& f, const Tile& tile,
-                const SamplePattern& sp, int pass, bool small_left_weights, TileBuffers& buf,
-                MaskScratch& scratch) {
-    const int S = sp.count;
-    const int tw = tile.x1 - tile.x0;
-    const size_t pixels = static_cast<size_t>(tw) * (tile.y1 - tile.y0);
-    const size_t samples = pixels * static_cast<size_t>(S);
-    const size_t sources = f.lights->set.sources().size();
-    buf.visibility.assign(sources * samples, 1.0f);
-    const std::vector<ShadowCaster>& casters = technique.casters();
-    if (casters.empty()) return;
-    const bool needs_surface = technique.needs_surface();
-    const bool left_weights = small_left_weights && S == 1;
-    // A screen-space technique's masks, read directly for the samples every caster lights.
-    scratch.masks.clear();
-    for (size_t k = 0; k < casters.size() && !needs_surface; ++k)
-        scratch.masks.push_back(technique.screen_mask(k, pass));
-    // First the samples that need a mask, with their surface; then each caster answers for
-    // all of them at once (lit_many), so that their lookups overlap.
-    // (Written in place: a sample made on the stack and copied would be read back before its
-    // stores had landed.)
-    std::vector<ShadowSample>& found = scratch.samples;
-    if (found.size() < samples) {
-        found.resize(samples);
-        scratch.index.resize(samples);
-    }
-    // The samples that need a mask: covered, and for a screen-space technique, not lit by
-    // every caster (where every caster lights it, V is 1 whether it faces them or not).
+namespace {
+
+/// The samples of the tile that need a mask, their indices into scratch.index, counted: the
+/// covered ones, and for a screen-space technique those not lit by every caster (where every
+/// caster lights a sample, V is 1 whether it faces them or not).
+size_t samples_to_mask(const FrameState& f, const Tile& tile, int S, size_t samples,
+                       bool needs_surface, const TileBuffers& buf, MaskScratch& scratch) {
     size_t n = 0;
     if (needs_surface) {
         for (size_t i = 0; i < samples; ++i) {
@@ -197,7 +176,16 @@ void fill_masks(const ShadowTechniqueState& technique, const FrameState& f, cons
             }
         }
     }
-    // Their surfaces.
+    return n;
+}
+
+/// The surfaces of the first n samples listed in scratch.index: point, normal toward the
+/// viewer and triangle, into found[0, n).
+void surfaces_to_mask(const FrameState& f, const Tile& tile, const SamplePattern& sp, int pass,
+                      bool left_weights, const TileBuffers& buf, MaskScratch& scratch, size_t n,
+                      ShadowSample* found) {
+    const int S = sp.count;
+    const int tw = tile.x1 - tile.x0;
     EdgeCache edges(f);
     const Viewer viewer(f);
     uint32_t normal_of = kNone;  // the triangle whose unit normal ng is
@@ -206,7 +194,7 @@ void fill_masks(const ShadowTechniqueState& technique, const FrameState& f, cons
         // One sample per pixel: a run of one triangle's pixels along a row, lane by lane.
         if (S == 1) {
             const size_t run = surfaces_of_run(f, tile, pass, buf, scratch.index.data() + m, n - m,
-                                               left_weights, sp, found.data() + m);
+                                               left_weights, sp, found + m);
             if (run > 0) {
                 m += run - 1;
                 continue;
@@ -249,6 +237,13 @@ void fill_masks(const ShadowTechniqueState& technique, const FrameState& f, cons
         at.n = viewer.sees_front(ng, at.p) ? ng : -ng;
         at.triangle = f.source(id);
     }
+}
+
+/// Each light's visibility of the n samples found: the mean over its casters of the lit
+/// fraction each answers (lit_many), written into buf.visibility at the samples' places.
+void visibility_of(const ShadowTechniqueState& technique, const ShadowSample* found, size_t n,
+                   size_t samples, TileBuffers& buf, MaskScratch& scratch) {
+    const std::vector<ShadowCaster>& casters = technique.casters();
     // Source by source (shadow_casters groups a source's casters together), so that the sums
     // take memory for one source's samples, whatever the number of lights.
     scratch.sum.resize(n);
@@ -283,7 +278,7 @@ void fill_masks(const ShadowTechniqueState& technique, const FrameState& f, cons
             }
             scratch.facing.resize(facing);
             scratch.lit.resize(facing);
-            technique.lit_many(k, found.data(), scratch.facing.data(), facing, scratch.lit.data());
+            technique.lit_many(k, found, scratch.facing.data(), facing, scratch.lit.data());
             for (size_t m = 0; m < facing; ++m) {
                 scratch.sum[scratch.facing[m]] += scratch.lit[m];
                 scratch.count[scratch.facing[m]] += 1.0f;
@@ -295,6 +290,39 @@ void fill_masks(const ShadowTechniqueState& technique, const FrameState& f, cons
                 visibility[scratch.index[m]] = scratch.sum[m] / scratch.count[m];
         }
     }
+}
+
+}  // namespace
+
+void fill_masks(const ShadowTechniqueState& technique, const FrameState& f, const Tile& tile,
+                const SamplePattern& sp, int pass, bool small_left_weights, TileBuffers& buf,
+                MaskScratch& scratch) {
+    const int S = sp.count;
+    const int tw = tile.x1 - tile.x0;
+    const size_t pixels = static_cast<size_t>(tw) * (tile.y1 - tile.y0);
+    const size_t samples = pixels * static_cast<size_t>(S);
+    const size_t sources = f.lights->set.sources().size();
+    buf.visibility.assign(sources * samples, 1.0f);
+    const std::vector<ShadowCaster>& casters = technique.casters();
+    if (casters.empty()) return;
+    const bool needs_surface = technique.needs_surface();
+    // A screen-space technique's masks, read directly for the samples every caster lights.
+    scratch.masks.clear();
+    for (size_t k = 0; k < casters.size() && !needs_surface; ++k)
+        scratch.masks.push_back(technique.screen_mask(k, pass));
+    // First the samples that need a mask, with their surface; then each caster answers for
+    // all of them at once (lit_many), so that their lookups overlap.
+    // (Written in place: a sample made on the stack and copied would be read back before its
+    // stores had landed.)
+    std::vector<ShadowSample>& found = scratch.samples;
+    if (found.size() < samples) {
+        found.resize(samples);
+        scratch.index.resize(samples);
+    }
+    const size_t n = samples_to_mask(f, tile, S, samples, needs_surface, buf, scratch);
+    surfaces_to_mask(f, tile, sp, pass, small_left_weights && S == 1, buf, scratch, n,
+                     found.data());
+    visibility_of(technique, found.data(), n, samples, buf, scratch);
 }
 
 }  // namespace svetlo::raster
