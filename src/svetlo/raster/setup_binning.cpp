@@ -125,6 +125,81 @@ void bin_chunk(const PassGeometry& f, const std::vector<Binned>& tris, PassGeome
     each([&](size_t tile, uint32_t id) { b.ids[fill[tile]++] = id; });
 }
 
+/// The pieces of one chunk's triangles that cross the guard band or the near plane: set-up
+/// triangles whose vertices index `vertices` (chunk-local, kExtra set), the triangle each
+/// came from, and its flat colour.
+struct ClippedPieces {
+    std::vector<SetupTriangle> triangles;
+    std::vector<ClipVertex> vertices;
+    std::vector<uint32_t> source;
+    std::vector<Color> flat;
+};
+
+/// Triangle s (vertices idx) clipped against the near plane and the guard band, its polygon
+/// set up as a fan of pieces appended to `out`. A vertex whose clip coordinates overflowed
+/// (world coordinates near a float's limit) cannot be clipped or snapped, and a piece through
+/// the eye (w = 0: a point at infinity seen edge-on) has no place: neither is drawn.
+void clip_and_set_up(FrameState& f, const uint32_t idx[3], uint32_t material, uint32_t s, float gx,
+                     float gy, bool flat_mode, ClippedPieces& out) {
+    const vec4 &c0 = f.vertices[idx[0]].clip, &c1 = f.vertices[idx[1]].clip,
+               &c2 = f.vertices[idx[2]].clip;
+    if (!std::isfinite(c0.x + c0.y + c0.z + c0.w + c1.x + c1.y + c1.z + c1.w + c2.x + c2.y + c2.z +
+                       c2.w))
+        return;
+    ClipPolygon poly =
+        clip_triangle(f.vertices[idx[0]], f.vertices[idx[1]], f.vertices[idx[2]], gx, gy);
+    if (poly.count < 3) return;
+    if (!std::all_of(poly.v.begin(), poly.v.begin() + poly.count,
+                     [](const ClipVertex& v) { return projectable(v.clip); }))
+        return;
+    auto first = static_cast<uint32_t>(out.vertices.size());
+    std::array<ScreenVertex, std::tuple_size_v<decltype(ClipPolygon::v)>> ps;
+    for (int k = 0; k < poly.count; ++k) {
+        out.vertices.push_back(poly.v[static_cast<size_t>(k)]);
+        ps[k] = project(f, poly.v[static_cast<size_t>(k)]);
+    }
+    for (int k = 1; k + 1 < poly.count; ++k) {
+        const ScreenVertex* fv[3] = {&ps[0], &ps[k], &ps[k + 1]};
+        SetupTriangle piece;
+        // Chunk-local vertex indices for now: fixed up when the chunks are joined.
+        uint32_t local[3] = {kExtra | first, kExtra | (first + static_cast<uint32_t>(k)),
+                             kExtra | (first + static_cast<uint32_t>(k) + 1)};
+        if (setup_triangle(f, fv, local, material, piece)) {
+            out.triangles.push_back(piece);
+            out.source.push_back(s);
+            if (flat_mode) out.flat.push_back(f.flat[s]);
+        }
+    }
+}
+
+/// The chunks' clipped pieces and their vertices concatenated, chunk after chunk, into the
+/// frame's, and the bins' chunk-local ids of pieces made the frame's.
+void join_chunks(FrameState& f, const std::vector<ClippedPieces>& chunk_pieces,
+                 const std::vector<size_t>& counts, int threads) {
+    const size_t chunks = chunk_pieces.size();
+    for (size_t c = 0; c < chunks; ++c) {
+        const ClippedPieces& p = chunk_pieces[c];
+        auto offset = static_cast<uint32_t>(f.extra.size());
+        f.extra.insert(f.extra.end(), p.vertices.begin(), p.vertices.end());
+        auto begin = static_cast<uint32_t>(f.clipped.size());
+        for (SetupTriangle t : p.triangles) {
+            for (uint32_t& v : t.v) v = kExtra | (offset + (v & ~kExtra));
+            f.clipped.push_back(t);
+        }
+        f.clipped_flat.insert(f.clipped_flat.end(), p.flat.begin(), p.flat.end());
+        f.clipped_source.insert(f.clipped_source.end(), p.source.begin(), p.source.end());
+        f.clipped_range.emplace_back(begin, static_cast<uint32_t>(f.clipped.size()));
+        f.triangle_count += counts[c] + p.triangles.size();
+    }
+    auto main_count = static_cast<uint32_t>(f.tris.size());
+    parallel_indices(chunks, threads, [&](size_t c) {
+        if (chunk_pieces[c].triangles.empty()) return;
+        for (uint32_t& id : f.bins[c].ids) {
+            if (id & kExtra) id = main_count + f.clipped_range[c].first + (id & ~kExtra);
+        }
+    });
+}
+
 }  // namespace
 
 /// Stage 3: primitive assembly, clipping and setup of every triangle, in chunks of kChunk
@@ -137,8 +212,7 @@ void assemble(const TriangleList& list, FrameState& f, int threads) {
     const size_t total = list.triangle_count();
     size_t chunks = (total + kChunk - 1) / kChunk;
     f.tris.reuse(total);
-    std::vector<std::vector<SetupTriangle>> clipped(chunks);
-    std::vector<std::vector<ClipVertex>> extra(chunks);
+    std::vector<ClippedPieces> chunk_pieces(chunks);
     std::vector<size_t> counts(chunks, 0);
     f.tiles_x = (f.cam.width + kTile - 1) / kTile;
     f.tiles_y = (f.cam.height + kTile - 1) / kTile;
@@ -149,8 +223,6 @@ void assemble(const TriangleList& list, FrameState& f, int threads) {
     const bool flat_mode = f.mode == Mode::Flat;
     if (flat_mode) f.flat.reuse(total);
     if (flat_mode && f.per_light) f.face_light.reuse(total * f.sources);
-    std::vector<std::vector<Color>> clipped_flat(chunks);
-    std::vector<std::vector<uint32_t>> clipped_source(chunks);
     parallel_indices(chunks, threads, [&](size_t c) {
         const size_t begin = c * kChunk, end = std::min(total, (c + 1) * kChunk);
         std::vector<Binned> to_bin(end - begin);  // binned while the chunk is in cache, below
@@ -179,38 +251,8 @@ void assemble(const TriangleList& list, FrameState& f, int threads) {
                 return;
             }
             slot.make_empty();
-            // A vertex whose clip coordinates overflowed (world coordinates near a float's
-            // limit) cannot be clipped or snapped: its triangle is not drawn.
-            const vec4 &c0 = f.vertices[idx[0]].clip, &c1 = f.vertices[idx[1]].clip,
-                       &c2 = f.vertices[idx[2]].clip;
-            if (!std::isfinite(c0.x + c0.y + c0.z + c0.w + c1.x + c1.y + c1.z + c1.w + c2.x + c2.y +
-                               c2.z + c2.w))
-                return;
-            ClipPolygon poly =
-                clip_triangle(f.vertices[idx[0]], f.vertices[idx[1]], f.vertices[idx[2]], gx, gy);
-            if (poly.count < 3) return;
-            // A piece through the eye (w = 0: a point at infinity seen edge-on) has no place.
-            if (!std::all_of(poly.v.begin(), poly.v.begin() + poly.count,
-                             [](const ClipVertex& v) { return projectable(v.clip); }))
-                return;
-            auto first = static_cast<uint32_t>(extra[c].size());
-            std::array<ScreenVertex, std::tuple_size_v<decltype(ClipPolygon::v)>> ps;
-            for (int k = 0; k < poly.count; ++k) {
-                extra[c].push_back(poly.v[static_cast<size_t>(k)]);
-                ps[k] = project(f, poly.v[static_cast<size_t>(k)]);
-            }
-            for (int k = 1; k + 1 < poly.count; ++k) {
-                const ScreenVertex* fv[3] = {&ps[0], &ps[k], &ps[k + 1]};
-                SetupTriangle piece;
-                // Chunk-local vertex indices for now: fixed up when the chunks are joined.
-                uint32_t local[3] = {kExtra | first, kExtra | (first + static_cast<uint32_t>(k)),
-                                     kExtra | (first + static_cast<uint32_t>(k) + 1)};
-                if (setup_triangle(f, fv, local, material, piece)) {
-                    clipped[c].push_back(piece);
-                    clipped_source[c].push_back(static_cast<uint32_t>(s));
-                    if (flat_mode) clipped_flat[c].push_back(f.flat[s]);
-                }
-            }
+            clip_and_set_up(f, idx, material, static_cast<uint32_t>(s), gx, gy, flat_mode,
+                            chunk_pieces[c]);
         };
         size_t s = begin;
 #if SVETLO_SIMD
@@ -228,10 +270,11 @@ void assemble(const TriangleList& list, FrameState& f, int threads) {
         // Its slots, then its pieces (ids chunk-local until the pieces are concatenated below).
         to_bin.resize(binned_count);
         counts[c] = binned_count;
-        for (size_t k = 0; k < clipped[c].size(); ++k)
-            to_bin.push_back(binned(kExtra | static_cast<uint32_t>(k), clipped[c][k]));
+        const std::vector<SetupTriangle>& pieces = chunk_pieces[c].triangles;
+        for (size_t k = 0; k < pieces.size(); ++k)
+            to_bin.push_back(binned(kExtra | static_cast<uint32_t>(k), pieces[k]));
         bin_chunk(f, to_bin, f.bins[c], [&](uint32_t id) -> const SetupTriangle& {
-            return (id & kExtra) ? clipped[c][id & ~kExtra] : f.tris[id];
+            return (id & kExtra) ? pieces[id & ~kExtra] : f.tris[id];
         });
         if (f.depth_records()) {
             std::vector<Binned> records(depth_count);
@@ -243,28 +286,7 @@ void assemble(const TriangleList& list, FrameState& f, int threads) {
         }
         counts[c] += depth_count;
     });
-    // Concatenate the clipped pieces and their vertices, chunk after chunk.
-    for (size_t c = 0; c < chunks; ++c) {
-        auto offset = static_cast<uint32_t>(f.extra.size());
-        f.extra.insert(f.extra.end(), extra[c].begin(), extra[c].end());
-        auto begin = static_cast<uint32_t>(f.clipped.size());
-        for (SetupTriangle t : clipped[c]) {
-            for (uint32_t& v : t.v) v = kExtra | (offset + (v & ~kExtra));
-            f.clipped.push_back(t);
-        }
-        f.clipped_flat.insert(f.clipped_flat.end(), clipped_flat[c].begin(), clipped_flat[c].end());
-        f.clipped_source.insert(f.clipped_source.end(), clipped_source[c].begin(),
-                                clipped_source[c].end());
-        f.clipped_range.emplace_back(begin, static_cast<uint32_t>(f.clipped.size()));
-        f.triangle_count += counts[c] + clipped[c].size();
-    }
-    auto main_count = static_cast<uint32_t>(f.tris.size());
-    parallel_indices(chunks, threads, [&](size_t c) {
-        if (clipped[c].empty()) return;
-        for (uint32_t& id : f.bins[c].ids) {
-            if (id & kExtra) id = main_count + f.clipped_range[c].first + (id & ~kExtra);
-        }
-    });
+    join_chunks(f, chunk_pieces, counts, threads);
 }
 
 /// Stage 4 for the painter's algorithm: every triangle sorted back to front by the
