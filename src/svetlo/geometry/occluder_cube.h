@@ -71,6 +71,12 @@ private:
         float nearest2, other2;
         uint32_t object;
     };
+    /// Triangle p (its corners relative to E, its distance d to E or 0 where not known, its
+    /// object o) into the cells of `face` its projection may touch, each cell's bounds
+    /// lowered to what the triangle allows; `pad` the ray test's rounding, `least_length`
+    /// each grown cell's least |(u, v, 1)|.
+    static void add_triangle(Cell* cells, int face, const glm::dvec3 (&p)[3], double d, uint32_t o,
+                             double pad, const std::vector<double>& least_length);
     static int cell_index(float u) {
         // u in [-1, 1] on the face (a hair outside by rounding): its cell, clamped.
         const int k = static_cast<int>((u + 1.0f) * (0.5f * kResolution));
