@@ -137,6 +137,7 @@ Sheet compare_techniques(const nlohmann::json& base, const std::string& file,
         RenderJob& job = jobs[k];
         SheetEntry e;
         e.spec = techniques[k];
+        e.name = technique_name(job.scene.render);
         e.engine = job.scene.render.engine;
         e.exposure = job.scene.render.exposure;
         if (curves) {
@@ -183,6 +184,7 @@ nlohmann::ordered_json sheet_json(const Sheet& sheet) {
     j["techniques"] = nlohmann::ordered_json::array();
     for (const SheetEntry& e : sheet.entries) {
         nlohmann::ordered_json t = {{"spec", e.spec},
+                                    {"name", e.name},
                                     {"engine", e.engine},
                                     {"seconds", e.seconds},
                                     {"mae", e.metrics.pixels.mae},

@@ -137,7 +137,7 @@ std::string curves_svg(const Sheet& sheet) {
                "\" points=\"" + points + "\"/>\n" + mark;
         std::snprintf(line, sizeof line, "<text x=\"%.1f\" y=\"%.1f\" fill=\"%s\">", W - R - 240,
                       T + 16.0 * (k + 1), color);
-        svg += line + escape_html(e.spec) + "</text>\n";
+        svg += line + escape_html(e.name) + "</text>\n";
         ++k;
     }
     return svg + "</svg>";
@@ -172,8 +172,9 @@ std::string sheet_html(const Sheet& sheet) {
     for (const SheetEntry& e : sheet.entries) {
         char seconds[64];
         std::snprintf(seconds, sizeof seconds, "%.3f", e.seconds);
-        h += "<tr class=\"technique\"><td><code>" + escape_html(e.spec) +
-             "</code></td><td><img alt=\"" + escape_html(e.spec) + "\" src=\"" +
+        h += "<tr class=\"technique\"><td title=\"" + escape_html(e.spec) + "\">" +
+             escape_html(e.name) + "<br><code>" + escape_html(e.spec) +
+             "</code></td><td><img alt=\"" + escape_html(e.name) + "\" src=\"" +
              png_data_url(e.image, PixelMeaning::Radiance, e.exposure) +
              "\"></td><td><img alt=\"error of " + escape_html(e.spec) + "\" src=\"" +
              png_data_url(error_image(e), PixelMeaning::Data, 1.0f) + "\"></td><td>";
@@ -278,9 +279,10 @@ Image sheet_png(const Sheet& sheet) {
     for (size_t n = 0; n < sheet.entries.size(); ++n) {
         const SheetEntry& e = sheet.entries[n];
         x += col_w;
-        std::string spec = e.spec;
-        // Twice the font's size where the SPEC fits the column, else its own size.
-        draw_text(out, x, 4, spec, ink, 2 * stb_easy_font_width(spec.data()) < col_w - gap ? 2 : 1);
+        // The technique's name (its SPEC is in the HTML sheet and the JSON), twice the font's
+        // size where it fits the column, else its own size.
+        std::string name = e.name;
+        draw_text(out, x, 4, name, ink, 2 * stb_easy_font_width(name.data()) < col_w - gap ? 2 : 1);
         paste(out, as_8bit_srgb(e.image, e.exposure), x, label);
         Image err = error_image(e);
         for (Color& c : err.pixels) c = srgb(c);

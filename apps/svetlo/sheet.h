@@ -22,6 +22,7 @@ struct CurvePoint {
 
 struct SheetEntry {
     std::string spec;  // the technique SPEC
+    std::string name;  // the technique as the lecture names it (technique_name)
     std::string engine;
     Image image;  // linear radiance
     float exposure = 1.0f;

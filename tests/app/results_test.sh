@@ -135,6 +135,9 @@ import json
 m = json.load(open('$work/m.json'))
 assert list(m) == ['scene', 'reference', 'techniques'], list(m)
 assert [t['spec'] for t in m['techniques']] == ['raster:render.shading=gouraud', 'whitted', 'path:render.spp=4', 'radiosity']
+# Each technique named as the lecture names it (the registry's technique_name), the column's
+# title on the sheets.
+assert [t['name'] for t in m['techniques']] == ['Gouraud shading, ray-traced shadows', 'Whitted ray tracing', 'path tracing', 'radiosity'], [t['name'] for t in m['techniques']]
 for t in m['techniques']:
     assert set(['spec', 'engine', 'seconds', 'mae', 'rmse', 'relmse', 'flip']) <= set(t), t
     assert 0 < t['flip'] < 1 and t['rmse'] > 0 and t['mae'] <= t['rmse'], t
@@ -168,6 +171,19 @@ assert '<svg' in text
 assert text.count('<circle') == 4, text.count('<circle')
 "
 check "the PNG sheet" test "$(head -c 4 "$work/sheet.png" | tail -c 3)" = PNG
+# The names of the lecture's techniques, as the sheets title them.
+check "compare names the techniques" "$svetlo" compare "$scenes/cornell_radiosity.json" -W 16 -H 12 \
+    -T raster:render.shadows=volume:render.shadow_volume.count=zfail \
+    -T raster:render.shadows=map:render.shadow_map.filter=pcss \
+    -T raster:render.shading=flat:render.visibility=painter:render.shadows=none \
+    -T path:render.guiding=true -T radiosity:render.radiosity.solver=gauss_seidel:render.radiosity.element_size=0.5 \
+    --reference path:render.spp=4 --json "$work/names.json" -q
+check "the techniques' names" python3 -c "
+import json
+names = [t['name'] for t in json.load(open('$work/names.json'))['techniques']]
+assert names == ['shadow volume, z-fail', 'shadow map, PCSS', \"flat shading, painter's algorithm, no shadows\",
+                 'path tracing, guided', 'radiosity, Gauss-Seidel'], names
+"
 expect_error "compare: unknown engine" "-T phong: engine 'phong' is not available" 1 compare "$cornell" -T phong --json "$work/x.json"
 expect_error "compare: a film unlike the reference's" "-T whitted:film.width=41: its film is 41 x 32; the reference's is 40 x 32" 1 compare "$cornell" -T whitted:film.width=41 --reference "$work/full_whitted.pfm" "${size[@]}" --json "$work/x.json"
 expect_error "compare: an unwritable JSON, before any render" "--json: cannot write" 1 compare "$cornell" -T whitted "${size[@]}" --json "$work/no/such/folder/m.json"

@@ -70,6 +70,81 @@ std::string engines_with(const std::function<bool(const Capabilities&)>& what) {
     return either(names);
 }
 
+namespace {
+
+/// The rasterizer's technique: its shading (unless Phong, its own), its visibility (unless the
+/// z-buffer) and its shadows.
+std::string raster_technique(const RenderSettings& r) {
+    std::vector<std::string> parts;
+    switch (r.shading) {
+        case ShadingMode::Flat:
+            parts.push_back("flat shading");
+            break;
+        case ShadingMode::Gouraud:
+            parts.push_back("Gouraud shading");
+            break;
+        case ShadingMode::Phong:
+            break;
+        case ShadingMode::Depth:
+        case ShadingMode::Normal:
+        case ShadingMode::Overdraw:  // a view of the buffers: no light, no shadows
+            return std::string(name_of(kShadingModes, r.shading)) + " view";
+    }
+    if (r.raster.visibility == VisibilityMethod::Painter) parts.push_back("painter's algorithm");
+    switch (r.shadows) {
+        case ShadowTechnique::None:
+            parts.push_back("no shadows");
+            break;
+        case ShadowTechnique::Planar:
+            parts.push_back("planar shadows");
+            break;
+        case ShadowTechnique::Volume:
+            parts.push_back(
+                r.shadow_teaching.volume_count == VolumeCount::ZFail   ? "shadow volume, z-fail"
+                : r.shadow_teaching.volume_count == VolumeCount::ZPass ? "shadow volume, z-pass"
+                                                                       : "shadow volume");
+            break;
+        case ShadowTechnique::Map:
+            parts.push_back(r.shadow_map.filter == ShadowFilter::Pcss  ? "shadow map, PCSS"
+                            : r.shadow_map.filter == ShadowFilter::Pcf ? "shadow map, PCF"
+                                                                       : "shadow map");
+            break;
+        case ShadowTechnique::Raytraced:
+            parts.push_back("ray-traced shadows");
+            break;
+    }
+    std::string out;
+    for (const std::string& p : parts) out += (out.empty() ? "" : ", ") + p;
+    return out;
+}
+
+}  // namespace
+
+std::string technique_name(const RenderSettings& r) {
+    if (r.engine == "raster") return raster_technique(r);
+    if (r.engine == "whitted") return "Whitted ray tracing";
+    if (r.engine == "path") {
+        std::string out = "path tracing";
+        if (r.guiding) out += ", guided";
+        if (r.mis == MisMode::LightOnly) out += ", light sampling alone";
+        if (r.mis == MisMode::BsdfOnly) out += ", BSDF sampling alone";
+        if (r.caustics == CausticMode::Photons) out += ", photons";
+        return out;
+    }
+    if (r.engine == "radiosity") {
+        const RadiositySettings& s = r.radiosity;
+        std::string out = s.solver == RadiositySolver::Progressive    ? "progressive radiosity"
+                          : s.solver == RadiositySolver::Jacobi       ? "radiosity, Jacobi"
+                          : s.solver == RadiositySolver::GaussSeidel  ? "radiosity, Gauss-Seidel"
+                          : s.solver == RadiositySolver::Hierarchical ? "hierarchical radiosity"
+                                                                      : "radiosity";
+        if (s.form_factors == FormFactorMethod::Hemicube) out += ", hemicubes";
+        if (s.form_factors == FormFactorMethod::Raycast) out += ", ray-cast form factors";
+        return out;
+    }
+    return r.engine;
+}
+
 std::string debug_aov_refusal(const Scene& scene, const std::string& name) {
     const std::vector<std::string> known = debug_aov_names();
     if (std::find(known.begin(), known.end(), name) == known.end()) return {};

@@ -23,6 +23,12 @@ const Capabilities& capabilities_of(const std::string& name, const std::string& 
 /// The engines that have `what`, as a reader says it: "path", "raster or radiosity".
 std::string engines_with(const std::function<bool(const Capabilities&)>& what);
 
+/// The technique a render's settings choose, named as the lecture names it: "Gouraud shading,
+/// shadow volume, z-fail", "shadow map, PCSS" (Phong shading is the rasterizer's own),
+/// "Whitted ray tracing", "path tracing, guided", "radiosity, Gauss-Seidel". The compare
+/// sheets title their columns with it (docs/compare.md).
+std::string technique_name(const RenderSettings& render);
+
 /// Why `scene` cannot make debug AOV `name` ("needs render.engine raster with render.shadows
 /// map"); empty when it can, or when `name` is not a debug AOV.
 std::string debug_aov_refusal(const Scene& scene, const std::string& name);
