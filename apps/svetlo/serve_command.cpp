@@ -180,6 +180,7 @@ void stream_passes(RenderJob& job, RendererPool& renderers, const FileScope& sco
                   : encode_jpeg(image, PixelMeaning::Radiance, exposure, 90);
         write(nlohmann::json{{"spp", spp},
                              {"seconds", seconds},
+                             {"technique", technique_name(job.scene.render)},
                              {"final", final},
                              {"type", final ? "image/png" : "image/jpeg"}}
                   .dump());
@@ -325,6 +326,7 @@ void serve_render(Server& server, const httplib::Request& request, httplib::Resp
         res.set_header("X-Svetlo-Seconds", std::to_string(result.stats.seconds));
         res.set_header("X-Svetlo-Encode-Seconds", std::to_string(encode));
         res.set_header("X-Svetlo-Spp", std::to_string(reached_spp(job, result)));
+        res.set_header("X-Svetlo-Technique", technique_name(job.scene.render));
         res.set_header("Cache-Control", "no-store");
         res.set_content(std::string(bytes.begin(), bytes.end()), jpeg ? "image/jpeg" : "image/png");
     } catch (const Error& e) {

@@ -287,7 +287,7 @@ def main():
         seen, end = [], time.time() + 120 * SLOW
         while time.time() < end:
             text = tab.eval("document.getElementById('status').textContent")
-            m = re.match(r"path, (\d+) spp, .*(refining|done)", text or "")
+            m = re.match(r"path tracing, (\d+) spp, .*(refining|done)", text or "")
             if m and (not seen or seen[-1] != (int(m.group(1)), m.group(2))):
                 seen.append((int(m.group(1)), m.group(2)))
             if m and m.group(2) == "done" and not tab.eval("window.svetloBusy()"):
