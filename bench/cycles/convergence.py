@@ -45,6 +45,20 @@ def svetlo_level(svetlo, scene, spp, width, height, threads, tmp, sets):
             "mean": images[0].mean(axis=(0, 1)).tolist()}
 
 
+def print_equal_error(cycles, svetlo):
+    """Fits Cycles' RMSE = c t^b over its levels (log-log least squares) and prints both
+    ladders, each svetlo level with the time Cycles needs for its RMSE. A level is a dict of
+    spp, seconds and rmse."""
+    b, log_c = np.polyfit(np.log([l["seconds"] for l in cycles]), np.log([l["rmse"] for l in cycles]), 1)
+    print(f"Cycles: RMSE = {math.exp(log_c):.4g} t^{b:.3f}")
+    for l in cycles:
+        print(f"  Cycles {l['spp']:5d} spp {l['seconds']:8.2f} s  RMSE {l['rmse']:.5f}")
+    for s in svetlo:
+        t_cycles = math.exp((math.log(s["rmse"]) - log_c) / b)
+        print(f"  svetlo {s['spp']:5d} spp {s['seconds']:8.2f} s  RMSE {s['rmse']:.5f}  "
+              f"Cycles needs {t_cycles:8.2f} s: svetlo is x{t_cycles / s['seconds']:.2f} as fast")
+
+
 def svg_plot(path, series, title):
     """series: [(label, colour, [(seconds, rmse)])] on log-log axes."""
     W, H, L, R, T, B = 640, 420, 70, 20, 40, 50
@@ -82,21 +96,14 @@ def main():
     sets = sys.argv[6:]  # more --set overrides for svetlo
     ladder = json.load(open(os.path.join(ladder_dir, "ladder.json")))
     width, height = ladder["width"], ladder["height"]
-    levels = [l for l in ladder["levels"] if l["spp"] >= 16]
-    cyc = [(l["seconds"], l.get("rmse", l.get("rmse_pair"))) for l in levels]
-    # Cycles' RMSE = c t^b over its levels: log-log least squares.
-    b, log_c = np.polyfit(np.log([t for t, _ in cyc]), np.log([e for _, e in cyc]), 1)
+    levels = [{"spp": l["spp"], "seconds": l["seconds"], "rmse": l.get("rmse", l.get("rmse_pair"))}
+              for l in ladder["levels"] if l["spp"] >= 16]
+    cyc = [(l["seconds"], l["rmse"]) for l in levels]
     tmp = tempfile.mkdtemp(prefix="svetlo_convergence_")
     sv = [svetlo_level(svetlo, scene, spp, width, height, threads, tmp, sets)
           for spp in (4, 16, 64, 256)]
-    print(f"Cycles {width}x{height}, {ladder.get('threads', '?')} threads: "
-          f"RMSE = {math.exp(log_c):.4g} t^{b:.3f}")
-    for l in levels:
-        print(f"  Cycles {l['spp']:5d} spp {l['seconds']:8.2f} s  RMSE {l.get('rmse', l.get('rmse_pair')):.5f}")
-    for s in sv:
-        t_cycles = math.exp((math.log(s["rmse"]) - log_c) / b)
-        print(f"  svetlo {s['spp']:5d} spp {s['seconds']:8.2f} s  RMSE {s['rmse']:.5f}  "
-              f"Cycles needs {t_cycles:8.2f} s: svetlo is x{t_cycles / s['seconds']:.2f} as fast")
+    print(f"Cycles {width}x{height}, {ladder.get('threads', '?')} threads")
+    print_equal_error(levels, sv)
     svg_plot(svg, [("Cycles 3.4", "#c0392b", cyc),
                    ("svetlo path", "#2060c0", [(s["seconds"], s["rmse"]) for s in sv])],
              f"{os.path.basename(scene)}, {width}x{height}, {threads} threads")

@@ -23,7 +23,7 @@ import tempfile
 
 import numpy as np
 
-from convergence import read_pfm, svg_plot
+from convergence import print_equal_error, read_pfm, svg_plot
 
 
 def camera_of(svetlo, model):
@@ -109,14 +109,7 @@ def main():
         sv.append({"spp": spp, "seconds": float(np.mean(seconds)),
                    "rmse": pair_rmse(images[0], images[1], mask)})
 
-    b, log_c = np.polyfit(np.log([l["seconds"] for l in cyc]), np.log([l["rmse"] for l in cyc]), 1)
-    print(f"Cycles: RMSE = {math.exp(log_c):.4g} t^{b:.3f}")
-    for l in cyc:
-        print(f"  Cycles {l['spp']:5d} spp {l['seconds']:8.2f} s  RMSE {l['rmse']:.5f}")
-    for s in sv:
-        t_cycles = math.exp((math.log(s["rmse"]) - log_c) / b)
-        print(f"  svetlo {s['spp']:5d} spp {s['seconds']:8.2f} s  RMSE {s['rmse']:.5f}  "
-              f"Cycles needs {t_cycles:8.2f} s: svetlo is x{t_cycles / s['seconds']:.2f} as fast")
+    print_equal_error(cyc, sv)
     svg_plot(a.svg, [("Cycles 3.4", "#c0392b", [(l["seconds"], l["rmse"]) for l in cyc]),
                      ("svetlo path", "#2060c0", [(s["seconds"], s["rmse"]) for s in sv])],
              f"{os.path.basename(a.model)}, {os.path.basename(a.env)}, {a.size}x{a.size}, "
