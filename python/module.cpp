@@ -70,17 +70,10 @@ nlohmann::json with_overrides(const std::string& text, const std::string& path,
                               const Overrides& overrides, const Keywords& keywords = {}) {
     std::vector<Override> list;
     for (const auto& [key, value] : overrides) list.push_back({key, value});
-    RequestKeys keys;
-    for (const auto& [name, value] : keywords) {
-        std::string* field = name == "engine"   ? &keys.engine
-                             : name == "width"  ? &keys.width
-                             : name == "height" ? &keys.height
-                             : name == "spp"    ? &keys.spp
-                             : name == "seed"   ? &keys.seed
-                                                : nullptr;
-        if (!field) throw py::value_error("not a request key: " + name);
-        *field = value;
-    }
+    const RequestKeys keys = request_keys(kKeywordNames, [&](const char* name) {
+        const auto it = keywords.find(name);
+        return it == keywords.end() ? std::string() : it->second;
+    });
     add_key_overrides(path, keys, kKeywordNames, list);
     return scene_text_with_overrides(text, path, list);
 }

@@ -52,11 +52,10 @@ std::vector<Override> request_overrides(const nlohmann::json& options, const std
             throw Error(file, "set", "expected an object of KEY: value");
         }
     }
-    add_key_overrides(file,
-                      RequestKeys{option_text(options, "engine"), option_text(options, "width"),
-                                  option_text(options, "height"), option_text(options, "spp"),
-                                  option_text(options, "seed")},
-                      kKeywordNames, overrides);
+    add_key_overrides(
+        file,
+        request_keys(kKeywordNames, [&](const char* name) { return option_text(options, name); }),
+        kKeywordNames, overrides);
     return overrides;
 }
 

@@ -50,6 +50,14 @@ inline constexpr RequestKeyNames kFlagNames{"-e", "-W", "-H", "--spp", "--seed"}
 /// Python's keywords, the web page's options and the viewer's query parameters.
 inline constexpr RequestKeyNames kKeywordNames{"engine", "width", "height", "spp", "seed"};
 
+/// The request keys a caller gives by name, as `text(NAME)` finds them (empty: not given):
+/// Python's keywords, the web page's options.
+template <class Text>
+RequestKeys request_keys(const RequestKeyNames& names, Text&& text) {
+    return {text(names.engine), text(names.width), text(names.height), text(names.spp),
+            text(names.seed)};
+}
+
 /// Appends the given keys to `overrides`, checked (whole numbers in the scene keys' ranges,
 /// the film and samples within `limits`); throws Error(file, NAME, ...) naming the key as
 /// `names` says.

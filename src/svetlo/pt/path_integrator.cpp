@@ -156,7 +156,8 @@ Color PathIntegrator::environment_light(const Bsdf& bsdf, vec3 p, const ShadingF
     return c;
 }
 
-// Inlined into radiance(), its one caller: the path loop pays no call per vertex.
+// escaped, emitted and add_direct_light are inlined into radiance(), their one caller: the
+// path loop pays no call per vertex.
 [[gnu::always_inline]] inline Color PathIntegrator::escaped(const Ray& ray,
                                                             const PreviousVertex& prev,
                                                             Color beta) {
@@ -170,7 +171,6 @@ Color PathIntegrator::environment_light(const Bsdf& bsdf, vec3 p, const ShadingF
     return beta * Le * w;
 }
 
-// Inlined into radiance(), its one caller: the path loop pays no call per vertex.
 [[gnu::always_inline]] inline Color PathIntegrator::emitted(const Hit& hit, const SurfaceHit& sh,
                                                             const ShadingFrame& frame,
                                                             const Bsdf& bsdf,
@@ -189,7 +189,6 @@ Color PathIntegrator::environment_light(const Bsdf& bsdf, vec3 p, const ShadingF
     return beta * bsdf.emission * w;
 }
 
-// Inlined into radiance(), its one caller: the path loop pays no call per vertex.
 [[gnu::always_inline]] inline void PathIntegrator::add_direct_light(
     const Bsdf& bsdf, const SurfaceHit& sh, const ShadingFrame& frame, vec3 wo, int n,
     const std::array<vec2, 4>& u, SobolSampler& sampler, Guide guide, Color beta, Color& L) {
