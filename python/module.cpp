@@ -23,6 +23,7 @@
 #include "svetlo/geometry/scene_geometry.h"
 #include "svetlo/geometry/tessellate.h"
 #include "svetlo/geometry/triangle_list.h"
+#include "svetlo/job/engines.h"
 #include "svetlo/job/limits.h"
 #include "svetlo/job/overrides.h"
 #include "svetlo/job/render_job.h"
@@ -80,14 +81,16 @@ nlohmann::json with_overrides(const std::string& text, const std::string& path,
 
 /// The scene's JSON checked as a scene file is (throws Error, which becomes SceneError).
 void validate(const std::string& text, const std::string& path) {
-    (void)scene_from_json(parse(text, path), path);
+    const Scene scene = scene_from_json(parse(text, path), path);
+    capabilities_of(scene.render.engine, path);  // an unknown engine: one line
 }
 
 /// The JSON of the scene after `key` (dotted, as --set) is set to `value` (JSON text).
 std::string set_key(const std::string& text, const std::string& path, const std::string& key,
                     const std::string& value) {
     const nlohmann::json json = with_overrides(text, path, {{key, value}});
-    (void)scene_from_json(json, path);
+    const Scene scene = scene_from_json(json, path);
+    capabilities_of(scene.render.engine, path);
     return json.dump();
 }
 

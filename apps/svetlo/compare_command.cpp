@@ -86,6 +86,47 @@ RenderJob spec_job(const nlohmann::json& base, const std::string& file, const st
     }
 }
 
+/// Renders one technique's job and measures it against the reference (its curve of error
+/// against time too, when `curves`).
+SheetEntry render_entry(RenderJob& job, const std::string& spec, const Image& reference, bool ldr,
+                        int threads, bool curves, bool quiet) {
+    SheetEntry e;
+    e.spec = spec;
+    e.name = technique_name(job.scene.render);
+    e.engine = job.scene.render.engine;
+    e.exposure = job.scene.render.exposure;
+    if (curves) {
+        job.options.on_pass = [&](int passes, double seconds, const Image& image) {
+            PixelMetrics m =
+                pixel_metrics(ldr ? as_8bit_srgb(image, e.exposure) : image, reference);
+            e.curve.push_back({passes, seconds, m.rmse, m.relmse});
+        };
+    }
+    if (!quiet) std::fprintf(stderr, "svetlo compare: %s\n", e.spec.c_str());
+    job.options.progress = !quiet && stderr_is_terminal();
+    RenderResult r = run_job(job);
+    e.seconds = r.stats.seconds;
+    e.image = std::move(r.color);
+    for (const std::string& name : job.options.aovs)
+        e.buffers.emplace_back(name, aov_for_display(name, r.aovs.at(name)));
+    for (const std::string& name : job.options.debug_aovs)
+        e.buffers.emplace_back(name, aov_for_display(name, r.aovs.at(name)));
+    e.metrics =
+        compare_images(ldr ? as_8bit_srgb(e.image, e.exposure) : e.image, reference, ldr, threads);
+    // The last point of an engine that is not progressive (radiosity's snapshots came
+    // before it) or its only one.
+    if (curves && r.stats.passes == 0) {
+        e.curve.push_back(
+            {reached_spp(job, r), e.seconds, e.metrics.pixels.rmse, e.metrics.pixels.relmse});
+    }
+    if (!quiet) {
+        std::fprintf(stderr, "  %s: mae %.5g rmse %.5g relmse %.5g flip %.5f, %.3f s\n",
+                     e.spec.c_str(), e.metrics.pixels.mae, e.metrics.pixels.rmse,
+                     e.metrics.pixels.relmse, e.metrics.flip.mean, e.seconds);
+    }
+    return e;
+}
+
 }  // namespace
 
 Sheet compare_techniques(const nlohmann::json& base, const std::string& file,
@@ -134,42 +175,8 @@ Sheet compare_techniques(const nlohmann::json& base, const std::string& file,
         sheet.reference_exposure = reference_job->scene.render.exposure;
     }
     for (size_t k = 0; k < jobs.size(); ++k) {
-        RenderJob& job = jobs[k];
-        SheetEntry e;
-        e.spec = techniques[k];
-        e.name = technique_name(job.scene.render);
-        e.engine = job.scene.render.engine;
-        e.exposure = job.scene.render.exposure;
-        if (curves) {
-            job.options.on_pass = [&](int passes, double seconds, const Image& image) {
-                PixelMetrics m = pixel_metrics(ldr ? as_8bit_srgb(image, e.exposure) : image,
-                                               sheet.reference_image);
-                e.curve.push_back({passes, seconds, m.rmse, m.relmse});
-            };
-        }
-        if (!quiet) std::fprintf(stderr, "svetlo compare: %s\n", e.spec.c_str());
-        job.options.progress = !quiet && stderr_is_terminal();
-        RenderResult r = run_job(job);
-        e.seconds = r.stats.seconds;
-        e.image = std::move(r.color);
-        for (const std::string& name : job.options.aovs)
-            e.buffers.emplace_back(name, aov_for_display(name, r.aovs.at(name)));
-        for (const std::string& name : job.options.debug_aovs)
-            e.buffers.emplace_back(name, aov_for_display(name, r.aovs.at(name)));
-        e.metrics = compare_images(ldr ? as_8bit_srgb(e.image, e.exposure) : e.image,
-                                   sheet.reference_image, ldr, threads);
-        // The last point of an engine that is not progressive (radiosity's snapshots came
-        // before it) or its only one.
-        if (curves && r.stats.passes == 0) {
-            e.curve.push_back(
-                {reached_spp(job, r), e.seconds, e.metrics.pixels.rmse, e.metrics.pixels.relmse});
-        }
-        if (!quiet) {
-            std::fprintf(stderr, "  %s: mae %.5g rmse %.5g relmse %.5g flip %.5f, %.3f s\n",
-                         e.spec.c_str(), e.metrics.pixels.mae, e.metrics.pixels.rmse,
-                         e.metrics.pixels.relmse, e.metrics.flip.mean, e.seconds);
-        }
-        sheet.entries.push_back(std::move(e));
+        sheet.entries.push_back(render_entry(jobs[k], techniques[k], sheet.reference_image, ldr,
+                                             threads, curves, quiet));
     }
     if (!quiet) {
         std::fprintf(stderr, "svetlo compare: %d scene BVH%s built for the ray-traced renders\n",

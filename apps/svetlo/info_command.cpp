@@ -32,10 +32,44 @@ const char* material_name(const Material& m) {
     return names[m.model.index()];
 }
 
+/// The objects, one line each: name, shape, size, material.
+void print_objects(const Scene& scene) {
+    std::printf("objects    %zu\n", scene.objects.size());
+    for (const Object& o : scene.objects) {
+        std::printf("  %-14s %-8s", o.name.c_str(), shape_name(o.shape));
+        if (const auto* m = std::get_if<Mesh>(&o.shape)) {
+            std::printf(" %zu triangles, %zu vertices%s", m->triangle_count(), m->positions.size(),
+                        m->smooth ? ", smooth" : "");
+        }
+        if (o.material >= 0) std::printf(" material %s", scene.material_names[o.material].c_str());
+        std::printf("%s\n", o.transform.is_identity ? "" : " (transformed)");
+    }
+}
+
+/// The rasterizer's vertex stage: clip = projection * view * model * p (column vectors).
+void print_matrices(const Scene& scene) {
+    CameraMatrices m = raster_camera(scene);
+    auto print = [](const char* name, const mat4& a) {
+        for (int row = 0; row < 4; ++row) {
+            std::printf("%-10s %s[%10.5f %10.5f %10.5f %10.5f]\n", row == 0 ? name : "", "",
+                        a[0][row], a[1][row], a[2][row], a[3][row]);
+        }
+    };
+    std::printf("near, far  %g, %g\n", m.near, m.far);
+    print("view", m.view);
+    print("projection", m.projection);
+    for (const Object& o : scene.objects) {
+        if (!o.transform.is_identity) print((o.name + " model").c_str(), o.transform.matrix);
+    }
+    std::printf("viewport   x = (x_ndc + 1) / 2 * %d, y = (1 - y_ndc) / 2 * %d (pixels, y down)\n",
+                m.width, m.height);
+}
+
 }  // namespace
 
 int run_info(const InfoArgs& args) {
     Scene scene = load_scene(args.scene, parse_sets(args.sets, args.scene));
+    const Capabilities& engine = capabilities_of(scene.render.engine, args.scene);
     for (const std::string& w : scene.warnings)
         std::fprintf(stderr, "svetlo: warning: %s: %s\n", args.scene.c_str(), w.c_str());
     LightSet lights(scene);
@@ -53,16 +87,7 @@ int run_info(const InfoArgs& args) {
     std::printf("render     engine %s, spp %d, max_depth %d, seed %llu, accel %s\n",
                 scene.render.engine.c_str(), scene.render.spp, scene.render.max_depth,
                 static_cast<unsigned long long>(scene.render.seed), scene.render.accel.c_str());
-    std::printf("objects    %zu\n", scene.objects.size());
-    for (const Object& o : scene.objects) {
-        std::printf("  %-14s %-8s", o.name.c_str(), shape_name(o.shape));
-        if (const auto* m = std::get_if<Mesh>(&o.shape)) {
-            std::printf(" %zu triangles, %zu vertices%s", m->triangle_count(), m->positions.size(),
-                        m->smooth ? ", smooth" : "");
-        }
-        if (o.material >= 0) std::printf(" material %s", scene.material_names[o.material].c_str());
-        std::printf("%s\n", o.transform.is_identity ? "" : " (transformed)");
-    }
+    print_objects(scene);
     std::printf("triangles  %u\n", g.triangle_count());
     std::printf("shapes     %zu\n", g.shapes.size());
     std::printf("materials  %zu\n", scene.materials.size());
@@ -94,7 +119,7 @@ int run_info(const InfoArgs& args) {
         std::printf("bounds     (%g, %g, %g) - (%g, %g, %g)\n", bounds.min.x, bounds.min.y,
                     bounds.min.z, bounds.max.x, bounds.max.y, bounds.max.z);
     }
-    if (capabilities_of(scene.render.engine, args.scene).patch_mesh) {
+    if (engine.patch_mesh) {
         // The uniform patch mesh (adaptive and hierarchical subdivision come at render time).
         PatchMesh m(scene, 0);
         std::printf("patches    %llu of %g m from %zu triangles, %llu elements of %g m\n",
@@ -102,25 +127,7 @@ int run_info(const InfoArgs& args) {
                     m.list.triangle_count(), static_cast<unsigned long long>(m.element_count),
                     m.settings.element_size);
     }
-    if (args.matrices) {
-        // The rasterizer's vertex stage: clip = projection * view * model * p (column vectors).
-        CameraMatrices m = raster_camera(scene);
-        auto print = [](const char* name, const mat4& a) {
-            for (int row = 0; row < 4; ++row) {
-                std::printf("%-10s %s[%10.5f %10.5f %10.5f %10.5f]\n", row == 0 ? name : "", "",
-                            a[0][row], a[1][row], a[2][row], a[3][row]);
-            }
-        };
-        std::printf("near, far  %g, %g\n", m.near, m.far);
-        print("view", m.view);
-        print("projection", m.projection);
-        for (const Object& o : scene.objects) {
-            if (!o.transform.is_identity) print((o.name + " model").c_str(), o.transform.matrix);
-        }
-        std::printf(
-            "viewport   x = (x_ndc + 1) / 2 * %d, y = (1 - y_ndc) / 2 * %d (pixels, y down)\n",
-            m.width, m.height);
-    }
+    if (args.matrices) print_matrices(scene);
     return 0;
 }
 

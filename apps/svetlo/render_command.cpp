@@ -89,6 +89,33 @@ private:
     std::string path_, text_;
 };
 
+/// The summary's words on a render shared among `processes` (mpirun).
+std::string distributed_detail(const DistributedStats& distributed, int processes) {
+    char detail[200];
+    std::snprintf(detail, sizeof detail, "%d processes, %d tiles (%d on rank 0), %.1f MiB sent",
+                  processes, distributed.tiles, distributed.rank0_tiles,
+                  static_cast<double>(distributed.bytes) / (1 << 20));
+    if (distributed.exchanged > 0) {
+        const size_t used = std::strlen(detail);
+        std::snprintf(detail + used, sizeof detail - used, ", %.1f MiB exchanged in the setup",
+                      static_cast<double>(distributed.exchanged) / (1 << 20));
+    }
+    return detail;
+}
+
+/// Says on stderr where a render resumed from its checkpoint, if it did.
+void report_resumption(const std::string& path, const CheckpointFile* checkpoint, int resumed_tiles,
+                       const Capabilities& engine) {
+    if (checkpoint && resumed_tiles > 0) {
+        std::fprintf(stderr, "svetlo: resumed from %s with %d tiles done\n", path.c_str(),
+                     resumed_tiles);
+    } else if (checkpoint && checkpoint->resumed_passes() > 0) {
+        // The radiosity solve's passes are its shots.
+        std::fprintf(stderr, "svetlo: resumed from %s after %s %d\n", path.c_str(),
+                     engine.progressive ? "pass" : "shot", checkpoint->resumed_passes());
+    }
+}
+
 }  // namespace
 
 int run_render(const RenderArgs& args) {
@@ -158,17 +185,9 @@ int run_render(const RenderArgs& args) {
                                         : run_job(job);
     if (!speaker) return 0;
     if (processes > 1) {
-        char detail[200];
-        std::snprintf(detail, sizeof detail, "%d processes, %d tiles (%d on rank 0), %.1f MiB sent",
-                      processes, distributed.tiles, distributed.rank0_tiles,
-                      static_cast<double>(distributed.bytes) / (1 << 20));
-        if (distributed.exchanged > 0) {
-            const size_t used = std::strlen(detail);
-            std::snprintf(detail + used, sizeof detail - used, ", %.1f MiB exchanged in the setup",
-                          static_cast<double>(distributed.exchanged) / (1 << 20));
-        }
+        const std::string detail = distributed_detail(distributed, processes);
         result.stats.detail =
-            result.stats.detail.empty() ? std::string(detail) : result.stats.detail + ", " + detail;
+            result.stats.detail.empty() ? detail : result.stats.detail + ", " + detail;
     }
     if (mse.active() && result.stats.passes == 0)
         mse.log(reached_spp(job, result), result.stats.seconds, result.color);
@@ -176,13 +195,9 @@ int run_render(const RenderArgs& args) {
     write_job_outputs(job, result, args.output);
     mse.write();
     if (!args.quiet) print_summary(job, result, args.output);
-    if (checkpoint && distributed.resumed_tiles > 0 && !args.quiet) {
-        std::fprintf(stderr, "svetlo: resumed from %s with %d tiles done\n",
-                     args.checkpoint.c_str(), distributed.resumed_tiles);
-    } else if (checkpoint && checkpoint->resumed_passes() > 0 && !args.quiet) {
-        // The radiosity solve's passes are its shots.
-        std::fprintf(stderr, "svetlo: resumed from %s after %s %d\n", args.checkpoint.c_str(),
-                     engine.progressive ? "pass" : "shot", checkpoint->resumed_passes());
+    if (!args.quiet) {
+        report_resumption(args.checkpoint, checkpoint ? &*checkpoint : nullptr,
+                          distributed.resumed_tiles, engine);
     }
     if (job.run.interrupted && !args.quiet) {
         std::fprintf(stderr, "svetlo: interrupted: wrote the %d passes done to %s\n",

@@ -124,6 +124,11 @@ done
 # --- bad command lines ---
 "$svetlo" > /dev/null 2>&1 && fail "no subcommand" || pass
 expect_error "unknown engine" "render.engine" render "$work/good.json" -o "$work/keep.png" --engine foo
+# The scene file's own engine, checked by the same registry in every command.
+scene_with 'scene["render"]["engine"] = "magic"'
+magic="render.engine: engine 'magic' is not available in this version of svetlo \\(available: raster, whitted, path, radiosity\\)"
+expect_error "render: the scene's unknown engine" "$magic" render "$work/bad.json" -o "$work/keep.png"
+expect_error "info: the scene's unknown engine" "$magic" info "$work/bad.json"
 # --- radiosity ---
 "$svetlo" render "$work/good.json" --engine radiosity -o "$work/rad.png" -q -W 32 -H 32 \
     --set render.radiosity.tolerance=0.2 --set render.radiosity.adaptive=0 \

@@ -16,6 +16,7 @@ RenderJob make_job(nlohmann::json json, const std::filesystem::path& path, std::
                    MeshFileCache* meshes, const FileScope& files) {
     RenderJob job;
     job.scene = scene_from_json(json, path, meshes, files);
+    capabilities_of(job.scene.render.engine, path.string());  // an unknown engine: one line
     for (const std::string& w : job.scene.warnings)
         std::fprintf(stderr, "svetlo: warning: %s: %s\n", path.string().c_str(), w.c_str());
     job.run.scene_file = path;
