@@ -14,9 +14,6 @@
 #include <map>
 #include <optional>
 
-#include "commands.h"
-#include "interrupt.h"
-#include "sheet.h"
 #include "svetlo/core/error.h"
 #include "svetlo/core/image_io.h"
 #include "svetlo/core/sha256.h"
@@ -24,9 +21,12 @@
 #include "svetlo/geometry/tessellate.h"
 #include "svetlo/geometry/triangle_list.h"
 #include "svetlo/job/engines.h"
+#include "svetlo/job/interrupt.h"
 #include "svetlo/job/limits.h"
 #include "svetlo/job/overrides.h"
+#include "svetlo/job/pixel_trace_job.h"
 #include "svetlo/job/render_job.h"
+#include "svetlo/job/sheet.h"
 #include "svetlo/scene/instances.h"
 #include "svetlo/shading/light_set.h"
 

@@ -91,20 +91,8 @@ int run_compare(const CompareArgs& args);
 int run_trace(const TraceArgs& args);
 int run_serve(const ServeArgs& args);
 
-/// Writes `text` to `path` atomically (a temporary file, then a rename); throws Error naming
-/// `where`.
-void write_text_file(const std::string& path, const std::string& text, const std::string& where);
 /// svetlo info IMAGE: the provenance (--json: the raw object).
 int run_image_info(const std::string& image, bool json);
-
-/// The metrics of `test` against `reference` (docs/metrics.md): LDR-ꟻLIP when `ldr` (both
-/// images came from 8-bit sRGB files), HDR-ꟻLIP otherwise.
-struct ImageComparison {
-    PixelMetrics pixels;
-    FlipMap flip;
-    double value(const std::string& metric) const;  // mae, rmse, relmse or flip
-};
-ImageComparison compare_images(const Image& test, const Image& reference, bool ldr, int threads);
 
 struct RenderJob;
 struct RenderResult;
@@ -113,12 +101,6 @@ void print_summary(const RenderJob& job, const RenderResult& result, const std::
 
 /// svetlo trace's pixel sample, recorded by the scene's engine (engine: its name).
 PixelTrace trace_pixel(const TraceArgs& args, std::string& engine);
-/// Sample `sample` of pixel (x, y) of the job's scene, recorded by its engine, with `spp`
-/// samples per pixel (a path renders sample + 1 passes at least); throws Error naming
-/// --pixel or --sample for a pixel or sample that does not exist.
-PixelTrace trace_job(RenderJob& job, int x, int y, long long sample, long long spp);
-/// The trace as the JSON object of docs/trace.md.
-nlohmann::json trace_json(const PixelTrace& trace, const std::string& engine);
 
 int run_info(const InfoArgs& args);
 int run_bench(const BenchArgs& args);

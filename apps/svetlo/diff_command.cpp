@@ -9,6 +9,7 @@
 #include "svetlo/core/flip.h"
 #include "svetlo/core/image_io.h"
 #include "svetlo/core/image_metrics.h"
+#include "svetlo/job/compare.h"
 
 namespace svetlo {
 
@@ -20,21 +21,6 @@ const std::vector<std::string>& metric_names() {
 }
 
 }  // namespace
-
-ImageComparison compare_images(const Image& test, const Image& reference, bool ldr, int threads) {
-    ImageComparison c;
-    c.pixels = pixel_metrics(test, reference);
-    c.flip = ldr ? flip_ldr(reference, test, kFlipPixelsPerDegree, threads)
-                 : flip_hdr(reference, test, kFlipPixelsPerDegree, threads);
-    return c;
-}
-
-double ImageComparison::value(const std::string& metric) const {
-    if (metric == "mae") return pixels.mae;
-    if (metric == "rmse") return pixels.rmse;
-    if (metric == "relmse") return pixels.relmse;
-    return flip.mean;
-}
 
 int run_diff(const DiffArgs& args) {
     try {

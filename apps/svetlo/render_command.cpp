@@ -8,7 +8,6 @@
 
 #include "commands.h"
 #include "distributed.h"
-#include "interrupt.h"
 #include "svetlo/core/error.h"
 #include "svetlo/core/image_io.h"
 #include "svetlo/core/image_metrics.h"
@@ -17,6 +16,7 @@
 #include "svetlo/core/sha256.h"
 #include "svetlo/job/checkpoint.h"
 #include "svetlo/job/engines.h"
+#include "svetlo/job/interrupt.h"
 #include "svetlo/job/limits.h"
 #include "svetlo/job/overrides.h"
 #include "svetlo/job/render_job.h"
@@ -116,6 +116,27 @@ void report_resumption(const std::string& path, const CheckpointFile* checkpoint
     }
 }
 
+/// --checkpoint: read and checked before the render (one line for a file of another run).
+/// Every rank reads it; rank 0 (the `speaker`) alone writes it. Under mpirun the path
+/// tracer's tiles are saved as they come in (distributed.h), the radiosity solve by the
+/// engine. Returns whether the checkpoint holds tiles rather than the engine's state.
+bool open_checkpoint(const RenderArgs& args, RenderJob& job, const Capabilities& engine,
+                     bool speaker, std::optional<CheckpointFile>& checkpoint) {
+    if (args.checkpoint.empty()) return false;
+    if (!engine.checkpoints) {
+        throw Error(args.scene, "--checkpoint",
+                    "needs an engine that keeps one (" +
+                        engines_with([](const Capabilities& c) { return c.checkpoints; }) + "); " +
+                        engine.name + " does not");
+    }
+    const bool tiles = job.run.processes > 1 && !engine.whole_frame;
+    checkpoint.emplace(args.checkpoint, job,
+                       tiles ? CheckpointFile::Layout::Tiles : CheckpointFile::Layout::Engine,
+                       speaker);
+    if (!tiles) job.options.checkpoint = &checkpoint->callbacks();
+    return tiles;
+}
+
 }  // namespace
 
 int run_render(const RenderArgs& args) {
@@ -149,24 +170,8 @@ int run_render(const RenderArgs& args) {
             throw Error(args.scene, "--mse-log", "renders on one process only (not under mpirun)");
     }
     job.run.processes = processes;
-    // --checkpoint: read and checked before the render (one line for a file of another run).
-    // Every rank reads it; rank 0 alone writes it. Under mpirun the path tracer's tiles are
-    // saved as they come in (distributed.h), the radiosity solve by the engine.
     std::optional<CheckpointFile> checkpoint;
-    bool tiles = false;  // the checkpoint holds tiles, not the engine's state
-    if (!args.checkpoint.empty()) {
-        if (!engine.checkpoints) {
-            throw Error(args.scene, "--checkpoint",
-                        "needs an engine that keeps one (" +
-                            engines_with([](const Capabilities& c) { return c.checkpoints; }) +
-                            "); " + engine.name + " does not");
-        }
-        tiles = processes > 1 && !engine.whole_frame;
-        checkpoint.emplace(args.checkpoint, job,
-                           tiles ? CheckpointFile::Layout::Tiles : CheckpointFile::Layout::Engine,
-                           speaker);
-        if (!tiles) job.options.checkpoint = &checkpoint->callbacks();
-    }
+    const bool tiles = open_checkpoint(args, job, engine, speaker, checkpoint);
     RenderOptions& options = job.options;
     options.threads = threads;
     options.spp_caps_time = !args.spp.empty();  // the scene's spp does not cap --time

@@ -30,9 +30,7 @@
 #include <thread>
 
 #include "commands.h"
-#include "interrupt.h"
 #include "query.h"
-#include "sheet.h"
 #include "svetlo/core/error.h"
 #include "svetlo/core/image_io.h"
 #include "svetlo/core/image_metrics.h"
@@ -41,9 +39,12 @@
 #include "svetlo/geometry/occluder_cube.h"
 #include "svetlo/geometry/triangle_list_cache.h"
 #include "svetlo/job/engines.h"
+#include "svetlo/job/interrupt.h"
 #include "svetlo/job/limits.h"
 #include "svetlo/job/overrides.h"
+#include "svetlo/job/pixel_trace_job.h"
 #include "svetlo/job/render_job.h"
+#include "svetlo/job/sheet.h"
 #include "svetlo/scene/model_scene.h"
 
 namespace svetlo {

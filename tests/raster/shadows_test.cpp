@@ -501,9 +501,10 @@ TEST(RaytracedShadows, ManySamplesAtOnceAnswerAsOneByOne) {
     const TriangleList list = build_triangle_list(objects, tessellation_options(scene.render), 1);
     // Kept cubes, as svetlo serve keeps them: each point caster's rays culled by its cube.
     OccluderCubeCache cubes;
-    f.occluder_cubes = &cubes;
-    f.list_key = "the test's list";
-    const auto technique = raster::make_raytraced_shadows(scene, list, f, 2, nullptr);
+    raster::FrameCaches caches;
+    caches.occluder_cubes = &cubes;
+    caches.list_key = "the test's list";
+    const auto technique = raster::make_raytraced_shadows(scene, list, f, caches, 2, nullptr);
     ASSERT_EQ(technique->casters().size(), 3u + 4u);
     // One for the point and the spot (their rays end at one point), one a point of the area.
     EXPECT_EQ(cubes.builds(), 1 + 4);

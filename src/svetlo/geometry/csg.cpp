@@ -97,6 +97,52 @@ bool line_overlaps(const Bounds3& b, const Ray& ray, vec3 inv_d, float tmax) {
     return ray_box(b.min, b.max, ray.o, inv_d, tmax, t0, t1);
 }
 
+/// A closed mesh's spans along a ray from its crossings (an exit has flip set, cleared in
+/// the spans), those that lie in (0, tmax).
+template <class Crossings, class List>
+void spans_of_crossings(Crossings& crossings, float tmax, List& out) {
+    // Insertion sort: a ray crosses a closed mesh a handful of times.
+    for (size_t k = 1; k < crossings.size(); ++k) {
+        Boundary b = crossings[k];
+        size_t j = k;
+        while (j > 0 && crossings[j - 1].t > b.t) {
+            crossings[j] = crossings[j - 1];
+            --j;
+        }
+        crossings[j] = b;
+    }
+    // Nesting depth: entries raise it, exits lower it; the solid is where it is positive. A
+    // first crossing that is an exit means the origin is inside.
+    int depth = 0;
+    for (size_t k = 0; k < crossings.size(); ++k) {
+        if (crossings[k].flip) {
+            if (depth == 0 && out.empty() && k == 0) {
+                depth = 1;
+                Boundary open{-kInfinity, CsgShape::kNoLeaf, 0, 0.0f, 0.0f, false};
+                out.push_back(Span{open, open});
+            }
+            if (depth == 0) continue;  // an unmatched exit (open mesh): ignored
+            if (--depth == 0) {
+                out.back().out = crossings[k];
+                out.back().out.flip = false;
+            }
+        } else {
+            if (depth++ == 0) {
+                Boundary in = crossings[k];
+                out.push_back(Span{in, in});
+            }
+        }
+    }
+    if (depth > 0) out.back().out.t = kInfinity;  // an open mesh: the span never closes
+    // Keep what lies in (0, tmax).
+    Spans kept;
+    for (size_t k = 0; k < out.size(); ++k) {
+        if (out[k].out.t > 0.0f && out[k].in.t < tmax && out[k].in.t < out[k].out.t)
+            kept.push_back(out[k]);
+    }
+    out = kept;
+}
+
 }  // namespace
 
 CsgShape::CsgShape(const Csg& csg, const Transform& transform, uint32_t material) {
@@ -209,46 +255,7 @@ void CsgShape::leaf_spans(uint32_t index, const Ray& ray, float tmax, List& out)
             crossings.push_back(Boundary{h.t, index, static_cast<int>(h.prim), h.u, h.v, !entry});
         }
     }
-    // Insertion sort: a ray crosses a closed mesh a handful of times.
-    for (size_t k = 1; k < crossings.size(); ++k) {
-        Boundary b = crossings[k];
-        size_t j = k;
-        while (j > 0 && crossings[j - 1].t > b.t) {
-            crossings[j] = crossings[j - 1];
-            --j;
-        }
-        crossings[j] = b;
-    }
-    // Nesting depth: entries raise it, exits lower it; the solid is where it is positive. A
-    // first crossing that is an exit means the origin is inside.
-    int depth = 0;
-    for (size_t k = 0; k < crossings.size(); ++k) {
-        if (crossings[k].flip) {
-            if (depth == 0 && out.empty() && k == 0) {
-                depth = 1;
-                Boundary open{-kInfinity, kNoLeaf, 0, 0.0f, 0.0f, false};
-                out.push_back(Span{open, open});
-            }
-            if (depth == 0) continue;  // an unmatched exit (open mesh): ignored
-            if (--depth == 0) {
-                out.back().out = crossings[k];
-                out.back().out.flip = false;
-            }
-        } else {
-            if (depth++ == 0) {
-                Boundary in = crossings[k];
-                out.push_back(Span{in, in});
-            }
-        }
-    }
-    if (depth > 0) out.back().out.t = kInfinity;  // an open mesh: the span never closes
-    // Keep what lies in (0, tmax).
-    Spans kept;
-    for (size_t k = 0; k < out.size(); ++k) {
-        if (out[k].out.t > 0.0f && out[k].in.t < tmax && out[k].in.t < out[k].out.t)
-            kept.push_back(out[k]);
-    }
-    out = kept;
+    spans_of_crossings(crossings, tmax, out);
 }
 
 template <class List>

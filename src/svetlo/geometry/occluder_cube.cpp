@@ -61,6 +61,39 @@ int clip_to_face(const dvec3 (&corner)[3], int axis, double sign, double z0, dve
     return n;
 }
 
+/// The cells of a cube face of R x R cells (`axis`, `sign`) that may see triangle p
+/// (relative to the centre; none nearer than d > 0): [i0, i1] x [j0, j1], or false where the
+/// face sees none of it.
+bool seen_cells(const dvec3 (&p)[3], int axis, double sign, double d, int R, int& i0, int& i1,
+                int& j0, int& j1) {
+    const int u_axis = (axis + 1) % 3, v_axis = (axis + 2) % 3;
+    // The points of the triangle nearer the face's plane than d / 2 lie outside the
+    // face's pyramid (|u|, |v| <= z puts a point within sqrt(3) z of E), so the
+    // projection of the rest is all of it that the face sees.
+    dvec3 clipped[4];
+    const int n = clip_to_face(p, axis, sign, 0.5 * d, clipped);
+    if (n == 0) return false;
+    double u_lo = 1e300, u_hi = -1e300, v_lo = 1e300, v_hi = -1e300;
+    for (int k = 0; k < n; ++k) {
+        const double z = sign * clipped[k][axis];
+        const double u = clipped[k][u_axis] / z, v = clipped[k][v_axis] / z;
+        u_lo = std::min(u_lo, u);
+        u_hi = std::max(u_hi, u);
+        v_lo = std::min(v_lo, v);
+        v_hi = std::max(v_hi, v);
+    }
+    if (u_hi < -1.5 || u_lo > 1.5 || v_hi < -1.5 || v_lo > 1.5) return false;
+    // The cells, one more each way (clear's rounding), within the face.
+    auto cell = [&](double u) {
+        return static_cast<int>(std::floor((std::clamp(u, -2.0, 2.0) + 1.0) * 0.5 * R));
+    };
+    i0 = std::max(cell(u_lo) - 1, 0);
+    i1 = std::min(cell(u_hi) + 1, R - 1);
+    j0 = std::max(cell(v_lo) - 1, 0);
+    j1 = std::min(cell(v_hi) + 1, R - 1);
+    return true;
+}
+
 }  // namespace
 
 namespace {
@@ -169,32 +202,7 @@ void OccluderCube::add_triangle(Cell* cells, int face, const dvec3 (&p)[3], doub
     int i0 = 0, i1 = R - 1, j0 = 0, j1 = R - 1;  // the whole face, unless below
     const double z_most = std::max({sign * p[0][axis], sign * p[1][axis], sign * p[2][axis]});
     if (d > 0.0 && z_most < 0.5 * d) return;  // not seen by the face (below)
-    if (d > 0.0) {
-        // The points of the triangle nearer the face's plane than d / 2 lie outside the
-        // face's pyramid (|u|, |v| <= z puts a point within sqrt(3) z of E), so the
-        // projection of the rest is all of it that the face sees.
-        dvec3 clipped[4];
-        const int n = clip_to_face(p, axis, sign, 0.5 * d, clipped);
-        if (n == 0) return;
-        double u_lo = 1e300, u_hi = -1e300, v_lo = 1e300, v_hi = -1e300;
-        for (int k = 0; k < n; ++k) {
-            const double z = sign * clipped[k][axis];
-            const double u = clipped[k][u_axis] / z, v = clipped[k][v_axis] / z;
-            u_lo = std::min(u_lo, u);
-            u_hi = std::max(u_hi, u);
-            v_lo = std::min(v_lo, v);
-            v_hi = std::max(v_hi, v);
-        }
-        if (u_hi < -1.5 || u_lo > 1.5 || v_hi < -1.5 || v_lo > 1.5) return;
-        // The cells, one more each way (clear's rounding), within the face.
-        auto cell = [&](double u) {
-            return static_cast<int>(std::floor((std::clamp(u, -2.0, 2.0) + 1.0) * 0.5 * R));
-        };
-        i0 = std::max(cell(u_lo) - 1, 0);
-        i1 = std::min(cell(u_hi) + 1, R - 1);
-        j0 = std::max(cell(v_lo) - 1, 0);
-        j1 = std::min(cell(v_hi) + 1, R - 1);
-    }
+    if (d > 0.0 && !seen_cells(p, axis, sign, d, R, i0, i1, j0, j1)) return;
     // The triangle's plane n . x = h (h >= 0; relative to E), in the face's (u, v, 1):
     // along a direction w of the cell, the plane is h / (n . w) away, or never met
     // where n . w <= 0.

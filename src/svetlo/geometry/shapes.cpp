@@ -374,6 +374,34 @@ vec4 surface_tangent(vec3 n, vec3 dpdu, vec3 dpdv) {
     return vec4(t, glm::dot(glm::cross(n, t), dpdv) < 0.0f ? -1.0f : 1.0f);
 }
 
+/// A cylinder's or cone's surface at p (object space; moved onto a cap's plane for parts 1
+/// and 2): its normal, uv and the directions of dp/du and dp/dv.
+inline void quadric_surface(const AnalyticShape& s, int part, vec3& p, vec3& n, vec2& uv,
+                            vec3& dpdu, vec3& dpdv) {
+    vec3 q = s.frame.to_local(p - s.p0);
+    float phi = std::atan2(q.y, q.x);
+    if (part == 0) {
+        float z = std::clamp(q.z, 0.0f, s.height);
+        vec3 ln;
+        if (s.kind == ShapeKind::Cylinder) {
+            ln = vec3(q.x, q.y, 0.0f);
+        } else {
+            float k2 = square(s.radius / s.height);
+            ln = vec3(q.x, q.y, k2 * (s.height - z));
+        }
+        n = s.frame.to_world(glm::normalize(ln));
+        uv = vec2(0.5f + phi / (2.0f * kPi), z / s.height);
+        dpdu = s.frame.to_world(vec3(-q.y, q.x, 0.0f));
+        dpdv = s.frame.n;
+    } else {
+        n = part == 1 ? -s.frame.n : s.frame.n;
+        p = p - glm::dot(p - (part == 1 ? s.p0 : s.p0 + s.p1), s.frame.n) * s.frame.n;
+        uv = vec2(0.5f + 0.5f * q.x / s.radius, 0.5f + 0.5f * q.y / s.radius);
+        dpdu = s.frame.t;
+        dpdv = s.frame.b;
+    }
+}
+
 ShapeSurface analytic_surface(const AnalyticShape& s, const Ray& ray, float t, int part) {
     ShapeSurface out;
     vec3 pw = ray.o + t * ray.d;
@@ -420,31 +448,9 @@ ShapeSurface analytic_surface(const AnalyticShape& s, const Ray& ray, float t, i
             dpdv[b] = 1.0f;
             break;
         }
-        default: {  // cylinder, cone
-            vec3 q = s.frame.to_local(p - s.p0);
-            float phi = std::atan2(q.y, q.x);
-            if (part == 0) {
-                float z = std::clamp(q.z, 0.0f, s.height);
-                vec3 ln;
-                if (s.kind == ShapeKind::Cylinder) {
-                    ln = vec3(q.x, q.y, 0.0f);
-                } else {
-                    float k2 = square(s.radius / s.height);
-                    ln = vec3(q.x, q.y, k2 * (s.height - z));
-                }
-                n = s.frame.to_world(glm::normalize(ln));
-                out.uv = vec2(0.5f + phi / (2.0f * kPi), z / s.height);
-                dpdu = s.frame.to_world(vec3(-q.y, q.x, 0.0f));
-                dpdv = s.frame.n;
-            } else {
-                n = part == 1 ? -s.frame.n : s.frame.n;
-                p = p - glm::dot(p - (part == 1 ? s.p0 : s.p0 + s.p1), s.frame.n) * s.frame.n;
-                out.uv = vec2(0.5f + 0.5f * q.x / s.radius, 0.5f + 0.5f * q.y / s.radius);
-                dpdu = s.frame.t;
-                dpdv = s.frame.b;
-            }
+        default:  // cylinder, cone
+            quadric_surface(s, part, p, n, out.uv, dpdu, dpdv);
             break;
-        }
     }
     if (s.transformed) {
         out.p = vec3(s.to_world * vec4(p, 1.0f));

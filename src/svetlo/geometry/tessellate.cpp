@@ -130,43 +130,42 @@ void quadric(Mesh& m, vec3 base, vec3 axis, float r, bool cone, const Tessellati
     }
 }
 
-/// Surface nets over a grid covering `bounds`: `inside(p)` classifies the corners,
-/// `crossing(a, b, p, n, material)` finds where the segment from an inside corner to an
-/// outside one meets the surface, and `project(p, n)` may move a cell's vertex onto the
-/// surface (implicit surfaces) or leave it at the mean of its crossings (CSG).
-template <class Inside, class Crossing, class Project>
-void surface_nets(Mesh& m, Bounds3 bounds, int grid, Inside&& inside, Crossing&& crossing,
-                  Project&& project) {
-    vec3 extent = bounds.extent();
-    float cell = max_component(extent) / static_cast<float>(grid);
-    if (!(cell > 0.0f)) return;
-    // One cell of margin on each side, so the surface never touches the grid's border.
-    bounds.min -= vec3(cell);
+/// The grid of surface nets: cubic cells of side `cell` from `min`, n[a] cells along axis a;
+/// corners and cells indexed x fastest.
+struct NetGrid {
+    vec3 min;
+    float cell;
     int n[3];
-    for (int a = 0; a < 3; ++a)
-        n[a] = std::max(1, static_cast<int>(std::ceil(extent[a] / cell)) + 2);
-    auto corner = [&](int i, int j, int k) { return bounds.min + cell * vec3(i, j, k); };
-    auto cidx = [&](int i, int j, int k) {
+
+    vec3 corner(int i, int j, int k) const { return min + cell * vec3(i, j, k); }
+    size_t corner_index(int i, int j, int k) const {
         return (static_cast<size_t>(k) * (n[1] + 1) + j) * (n[0] + 1) + i;
-    };
-    std::vector<char> in((n[0] + 1) * static_cast<size_t>(n[1] + 1) * (n[2] + 1));
-    for (int k = 0; k <= n[2]; ++k)
-        for (int j = 0; j <= n[1]; ++j)
-            for (int i = 0; i <= n[0]; ++i) in[cidx(i, j, k)] = inside(corner(i, j, k)) ? 1 : 0;
-    // One vertex per crossed cell (every cell around a crossed edge is crossed).
-    auto base = static_cast<uint32_t>(m.positions.size());
-    std::vector<uint32_t> cell_vertex(static_cast<size_t>(n[0]) * n[1] * n[2], ~0u);
-    std::vector<int> vertex_material;
-    auto vidx = [&](int i, int j, int k) { return (static_cast<size_t>(k) * n[1] + j) * n[0] + i; };
+    }
+    size_t cell_index(int i, int j, int k) const {
+        return (static_cast<size_t>(k) * n[1] + j) * n[0] + i;
+    }
+    size_t corner_count() const { return (n[0] + 1) * static_cast<size_t>(n[1] + 1) * (n[2] + 1); }
+    size_t cell_count() const { return static_cast<size_t>(n[0]) * n[1] * n[2]; }
+};
+
+/// Surface nets' first step: one vertex in each cell that the surface crosses (every cell
+/// around a crossed edge is), at the mean of its edges' crossings, then `project`ed;
+/// cell_vertex[cell] is its index (~0u: none) and vertex_material its material.
+template <class Crossing, class Project>
+void place_cell_vertices(Mesh& m, const NetGrid& g, const std::vector<char>& in,
+                         Crossing&& crossing, Project&& project, std::vector<uint32_t>& cell_vertex,
+                         std::vector<int>& vertex_material) {
     static constexpr int kEdges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
                                           {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
-    for (int k = 0; k < n[2]; ++k) {
-        for (int j = 0; j < n[1]; ++j) {
-            for (int i = 0; i < n[0]; ++i) {
+    for (int k = 0; k < g.n[2]; ++k) {
+        for (int j = 0; j < g.n[1]; ++j) {
+            for (int i = 0; i < g.n[0]; ++i) {
                 bool c[8];
                 int count = 0;
                 for (int v = 0; v < 8; ++v) {
-                    c[v] = in[cidx(i + (v & 1), j + ((v >> 1) & 1), k + ((v >> 2) & 1))] != 0;
+                    c[v] =
+                        in[g.corner_index(i + (v & 1), j + ((v >> 1) & 1), k + ((v >> 2) & 1))] !=
+                        0;
                     count += c[v];
                 }
                 if (count == 0 || count == 8) continue;
@@ -175,8 +174,9 @@ void surface_nets(Mesh& m, Bounds3 bounds, int grid, Inside&& inside, Crossing&&
                 for (const auto& e : kEdges) {
                     if (c[e[0]] == c[e[1]]) continue;
                     int from = c[e[0]] ? e[0] : e[1], to = c[e[0]] ? e[1] : e[0];
-                    vec3 ca = corner(i + (from & 1), j + ((from >> 1) & 1), k + ((from >> 2) & 1));
-                    vec3 cb = corner(i + (to & 1), j + ((to >> 1) & 1), k + ((to >> 2) & 1));
+                    vec3 ca =
+                        g.corner(i + (from & 1), j + ((from >> 1) & 1), k + ((from >> 2) & 1));
+                    vec3 cb = g.corner(i + (to & 1), j + ((to >> 1) & 1), k + ((to >> 2) & 1));
                     vec3 p, nn;
                     crossing(ca, cb, p, nn, material);
                     sum += p;
@@ -186,14 +186,21 @@ void surface_nets(Mesh& m, Bounds3 bounds, int grid, Inside&& inside, Crossing&&
                 vec3 p = sum / static_cast<float>(crossings);
                 vec3 nn = glm::length(nsum) > 0.0f ? glm::normalize(nsum) : vec3(0, 1, 0);
                 project(p, nn);
-                cell_vertex[vidx(i, j, k)] = vertex(m, p, nn, vec2(0.0f));
+                cell_vertex[g.cell_index(i, j, k)] = vertex(m, p, nn, vec2(0.0f));
                 vertex_material.push_back(material);
             }
         }
     }
-    // One quad per crossed grid edge, joining the four cells around it; wound so that its
-    // normal points from the inside corner to the outside one. Edges on the grid's border
-    // have fewer than four cells, but the margin keeps the surface away from them.
+}
+
+/// Surface nets' second step: one quad per crossed grid edge, joining the four cells around
+/// it; wound so that its normal points from the inside corner to the outside one. Edges on
+/// the grid's border have fewer than four cells, but the margin keeps the surface away from
+/// them. `base` is the index of the first cell vertex.
+void join_cell_vertices(Mesh& m, const NetGrid& g, const std::vector<char>& in,
+                        const std::vector<uint32_t>& cell_vertex,
+                        const std::vector<int>& vertex_material, uint32_t base) {
+    const int* n = g.n;
     for (int axis = 0; axis < 3; ++axis) {
         int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
         int p[3];
@@ -205,7 +212,8 @@ void surface_nets(Mesh& m, Bounds3 bounds, int grid, Inside&& inside, Crossing&&
                         continue;
                     int q[3] = {p[0], p[1], p[2]};
                     q[axis] += 1;
-                    bool s0 = in[cidx(p[0], p[1], p[2])] != 0, s1 = in[cidx(q[0], q[1], q[2])] != 0;
+                    bool s0 = in[g.corner_index(p[0], p[1], p[2])] != 0;
+                    bool s1 = in[g.corner_index(q[0], q[1], q[2])] != 0;
                     if (s0 == s1) continue;
                     // The cells at offsets (-1,-1), (0,-1), (0,0), (-1,0) along (a1, a2): a loop
                     // turning about +axis, since (a1, a2, axis) is right-handed.
@@ -215,7 +223,7 @@ void surface_nets(Mesh& m, Bounds3 bounds, int grid, Inside&& inside, Crossing&&
                         int r[3] = {p[0], p[1], p[2]};
                         r[a1] += kOff[c][0];
                         r[a2] += kOff[c][1];
-                        v[c] = cell_vertex[vidx(r[0], r[1], r[2])];
+                        v[c] = cell_vertex[g.cell_index(r[0], r[1], r[2])];
                     }
                     int material = vertex_material[v[0] - base];
                     if (s0) {  // inside at the low end: outward is +axis
@@ -233,6 +241,32 @@ void surface_nets(Mesh& m, Bounds3 bounds, int grid, Inside&& inside, Crossing&&
     }
 }
 
+/// Surface nets over a grid covering `bounds`: `inside(p)` classifies the corners,
+/// `crossing(a, b, p, n, material)` finds where the segment from an inside corner to an
+/// outside one meets the surface, and `project(p, n)` may move a cell's vertex onto the
+/// surface (implicit surfaces) or leave it at the mean of its crossings (CSG).
+template <class Inside, class Crossing, class Project>
+void surface_nets(Mesh& m, Bounds3 bounds, int grid, Inside&& inside, Crossing&& crossing,
+                  Project&& project) {
+    vec3 extent = bounds.extent();
+    float cell = max_component(extent) / static_cast<float>(grid);
+    if (!(cell > 0.0f)) return;
+    // One cell of margin on each side, so the surface never touches the grid's border.
+    NetGrid g{bounds.min - vec3(cell), cell, {}};
+    for (int a = 0; a < 3; ++a)
+        g.n[a] = std::max(1, static_cast<int>(std::ceil(extent[a] / cell)) + 2);
+    std::vector<char> in(g.corner_count());
+    for (int k = 0; k <= g.n[2]; ++k)
+        for (int j = 0; j <= g.n[1]; ++j)
+            for (int i = 0; i <= g.n[0]; ++i)
+                in[g.corner_index(i, j, k)] = inside(g.corner(i, j, k)) ? 1 : 0;
+    auto base = static_cast<uint32_t>(m.positions.size());
+    std::vector<uint32_t> cell_vertex(g.cell_count(), ~0u);
+    std::vector<int> vertex_material;
+    place_cell_vertices(m, g, in, crossing, project, cell_vertex, vertex_material);
+    join_cell_vertices(m, g, in, cell_vertex, vertex_material, base);
+}
+
 void transform_mesh(Mesh& m, size_t first_vertex, const Transform& t) {
     if (t.is_identity) return;
     mat3 nm = normal_matrix(t.matrix);
@@ -247,6 +281,61 @@ void transform_mesh(Mesh& m, size_t first_vertex, const Transform& t) {
         for (size_t k = 0; k + 2 < m.indices.size(); k += 3)
             std::swap(m.indices[k + 1], m.indices[k + 2]);
     }
+}
+
+/// A CSG or implicit surface polygonised by surface nets, in world space (transforms are
+/// inside the shape), with face materials.
+Mesh polygonise(const Object& obj, const TessellationOptions& o) {
+    Mesh m;
+    m.smooth = true;
+    AnalyticShape shape = make_analytic_shape(obj.shape, obj.transform,
+                                              static_cast<uint32_t>(std::max(obj.material, 0)));
+    Bounds3 bounds = shape_bounds(shape);
+    if (!std::isfinite(bounds.min.x + bounds.min.y + bounds.min.z + bounds.max.x + bounds.max.y +
+                       bounds.max.z)) {
+        // An unbounded implicit surface (a plane in it): polygonise a cube about the origin.
+        bounds = Bounds3{vec3(-o.plane_extent), vec3(o.plane_extent)};
+    }
+    if (shape.kind == ShapeKind::Implicit) {
+        const SdfShape& sdf = *shape.sdf;
+        surface_nets(
+            m, bounds, o.grid, [&](vec3 p) { return sdf.eval(p) < 0.0f; },
+            [&](vec3 in, vec3 out, vec3& p, vec3& n, int& material) {
+                for (int k = 0; k < 24; ++k) {  // bisection
+                    vec3 mid = 0.5f * (in + out);
+                    (sdf.eval(mid) < 0.0f ? in : out) = mid;
+                }
+                p = 0.5f * (in + out);
+                n = sdf.normal(p);
+                material = obj.material;
+            },
+            [&](vec3& p, vec3& n) {
+                for (int k = 0; k < 4; ++k) p -= sdf.eval(p) * sdf.normal(p);  // onto the surface
+                n = sdf.normal(p);
+            });
+    } else {
+        const CsgShape& csg = *shape.csg;
+        surface_nets(
+            m, bounds, o.grid, [&](vec3 p) { return csg.contains(p); },
+            [&](vec3 in, vec3 out, vec3& p, vec3& n, int& material) {
+                // The exact crossing: a ray from the inside corner to the outside one.
+                // (A little past 1: the outside corner may lie on the surface itself.)
+                Ray ray{in, out - in, 1.001f};
+                ShapeHit h;
+                if (csg.intersect(ray, ray.tmax, h)) {
+                    ShapeSurface sf = csg.surface(ray, h);
+                    p = sf.p;
+                    n = sf.n;
+                    material = static_cast<int>(sf.material);
+                } else {
+                    p = 0.5f * (in + out);
+                    n = glm::normalize(out - in);
+                    material = obj.material;
+                }
+            },
+            [](vec3&, vec3&) {});
+    }
+    return m;
 }
 
 }  // namespace
@@ -313,57 +402,7 @@ Mesh tessellate(const Object& obj, const TessellationOptions& o) {
         }
         per_face_done = true;
     } else {
-        // CSG and implicit: polygonised in world space (transforms are inside the shape).
-        AnalyticShape shape = make_analytic_shape(obj.shape, obj.transform,
-                                                  static_cast<uint32_t>(std::max(obj.material, 0)));
-        Bounds3 bounds = shape_bounds(shape);
-        if (!std::isfinite(bounds.min.x + bounds.min.y + bounds.min.z + bounds.max.x +
-                           bounds.max.y + bounds.max.z)) {
-            // An unbounded implicit surface (a plane in it): polygonise a cube about the origin.
-            bounds = Bounds3{vec3(-o.plane_extent), vec3(o.plane_extent)};
-        }
-        if (shape.kind == ShapeKind::Implicit) {
-            const SdfShape& sdf = *shape.sdf;
-            surface_nets(
-                m, bounds, o.grid, [&](vec3 p) { return sdf.eval(p) < 0.0f; },
-                [&](vec3 in, vec3 out, vec3& p, vec3& n, int& material) {
-                    for (int k = 0; k < 24; ++k) {  // bisection
-                        vec3 mid = 0.5f * (in + out);
-                        (sdf.eval(mid) < 0.0f ? in : out) = mid;
-                    }
-                    p = 0.5f * (in + out);
-                    n = sdf.normal(p);
-                    material = obj.material;
-                },
-                [&](vec3& p, vec3& n) {
-                    for (int k = 0; k < 4; ++k)
-                        p -= sdf.eval(p) * sdf.normal(p);  // onto the surface
-                    n = sdf.normal(p);
-                });
-        } else {
-            const CsgShape& csg = *shape.csg;
-            surface_nets(
-                m, bounds, o.grid, [&](vec3 p) { return csg.contains(p); },
-                [&](vec3 in, vec3 out, vec3& p, vec3& n, int& material) {
-                    // The exact crossing: a ray from the inside corner to the outside one.
-                    // (A little past 1: the outside corner may lie on the surface itself.)
-                    Ray ray{in, out - in, 1.001f};
-                    ShapeHit h;
-                    if (csg.intersect(ray, ray.tmax, h)) {
-                        ShapeSurface sf = csg.surface(ray, h);
-                        p = sf.p;
-                        n = sf.n;
-                        material = static_cast<int>(sf.material);
-                    } else {
-                        p = 0.5f * (in + out);
-                        n = glm::normalize(out - in);
-                        material = obj.material;
-                    }
-                },
-                [](vec3&, vec3&) {});
-        }
-        per_face_done = true;
-        return m;  // already in world space, with face materials
+        return polygonise(obj, o);  // already in world space, with face materials
     }
     if (!per_face_done) m.face_material.assign(m.triangle_count(), obj.material);
     transform_mesh(m, 0, obj.transform);

@@ -59,6 +59,10 @@ RenderResult run_job(const RenderJob& job, RendererPool& pool);
 /// with its provenance.
 void write_job_outputs(const RenderJob& job, const RenderResult& result, const std::string& output);
 
+/// Writes `text` to `path` atomically (a temporary file, then a rename); throws Error naming
+/// `where`.
+void write_text_file(const std::string& path, const std::string& text, const std::string& where);
+
 /// The samples per pixel a result reached: the passes of a progressive engine, else the
 /// scene's spp.
 int reached_spp(const RenderJob& job, const RenderResult& result);

@@ -157,6 +157,46 @@ float CausticPhotons::aim_pdf(vec3 x, vec3 w) const {
     return pdf / static_cast<float>(targets_.size());
 }
 
+Ray CausticPhotons::punctual_photon(const Light& light, bool spot_cone, vec2 u1, float u_pick,
+                                    Color& power) const {
+    if (const auto* d = std::get_if<DirectionalLight>(&light)) {
+        // From a disc across a target's sphere, far up the light's direction.
+        size_t k = std::min(static_cast<size_t>(u_pick * static_cast<float>(targets_.size())),
+                            targets_.size() - 1);
+        Frame f = Frame::from_normal(d->direction);
+        vec2 disc = targets_[k].radius * sample_disk_concentric(u1);
+        vec3 on_plane = targets_[k].center + disc.x * f.t + disc.y * f.b;
+        float pdf_area = 0.0f;  // of the mixture of the targets' discs, per m^2
+        for (const Target& t : targets_) {
+            vec3 off = on_plane - t.center;
+            off -= glm::dot(off, d->direction) * d->direction;
+            if (glm::dot(off, off) <= t.radius * t.radius)
+                pdf_area += 1.0f / (kPi * t.radius * t.radius);
+        }
+        pdf_area /= static_cast<float>(targets_.size());
+        power = d->irradiance / pdf_area;
+        return Ray{on_plane - d->direction * (2.0f * diameter_), d->direction, kInfinity};
+    }
+    // A point or spot light.
+    vec3 x = std::holds_alternative<PointLight>(light) ? std::get<PointLight>(light).position
+                                                       : std::get<SpotLight>(light).position;
+    vec3 w;
+    float pdf;
+    if (spot_cone) {
+        const auto& spot = std::get<SpotLight>(light);
+        float omc = 1.0f - std::cos(radians(spot.outer_deg));
+        w = in_cone(spot.direction, omc, u1);
+        pdf = 1.0f / (2.0f * kPi * omc);
+    } else {
+        w = aim(x, u1, u_pick);
+        pdf = aim_pdf(x, w);
+    }
+    // I(w): the irradiance at unit distance along w.
+    Color intensity = sample_punctual(light, x + w).irradiance;
+    power = intensity / pdf;
+    return Ray{x, w, kInfinity};
+}
+
 void CausticPhotons::trace_photon(uint64_t index, int pass, int count, std::vector<Photon>& out,
                                   size_t cap, uint64_t& rays) const {
     const Scene& scene = rt_.scene();
@@ -178,44 +218,8 @@ void CausticPhotons::trace_photon(uint64_t index, int pass, int count, std::vect
     Ray ray;
     Color power(0.0f);
     if (source.delta) {
-        const Light& light = scene.lights[static_cast<size_t>(source.light_index)];
-        if (const auto* d = std::get_if<DirectionalLight>(&light)) {
-            // From a disc across a target's sphere, far up the light's direction.
-            size_t k = std::min(static_cast<size_t>(u_pick * static_cast<float>(targets_.size())),
-                                targets_.size() - 1);
-            Frame f = Frame::from_normal(d->direction);
-            vec2 disc = targets_[k].radius * sample_disk_concentric(u1);
-            vec3 on_plane = targets_[k].center + disc.x * f.t + disc.y * f.b;
-            float pdf_area = 0.0f;  // of the mixture of the targets' discs, per m^2
-            for (const Target& t : targets_) {
-                vec3 off = on_plane - t.center;
-                off -= glm::dot(off, d->direction) * d->direction;
-                if (glm::dot(off, off) <= t.radius * t.radius)
-                    pdf_area += 1.0f / (kPi * t.radius * t.radius);
-            }
-            pdf_area /= static_cast<float>(targets_.size());
-            ray = Ray{on_plane - d->direction * (2.0f * diameter_), d->direction, kInfinity};
-            power = d->irradiance / pdf_area;
-        } else {
-            vec3 x = std::holds_alternative<PointLight>(light)
-                         ? std::get<PointLight>(light).position
-                         : std::get<SpotLight>(light).position;
-            vec3 w;
-            float pdf;
-            if (emitters_[e].spot_cone) {
-                const auto& spot = std::get<SpotLight>(light);
-                float omc = 1.0f - std::cos(radians(spot.outer_deg));
-                w = in_cone(spot.direction, omc, u1);
-                pdf = 1.0f / (2.0f * kPi * omc);
-            } else {
-                w = aim(x, u1, u_pick);
-                pdf = aim_pdf(x, w);
-            }
-            // I(w): the irradiance at unit distance along w.
-            Color intensity = sample_punctual(light, x + w).irradiance;
-            ray = Ray{x, w, kInfinity};
-            power = intensity / pdf;
-        }
+        ray = punctual_photon(scene.lights[static_cast<size_t>(source.light_index)],
+                              emitters_[e].spot_cone, u1, u_pick, power);
     } else {
         AreaPoint a = lights.sample_area(source, u1, u_pick);
         vec3 w = aim(a.surface.p, u2, rng.next_float());

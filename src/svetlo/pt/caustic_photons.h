@@ -70,6 +70,11 @@ private:
     /// fewer than `cap`.
     void trace_photon(uint64_t index, int pass, int count, std::vector<Photon>& out, size_t cap,
                       uint64_t& rays) const;
+    /// The ray of a photon from a punctual light and its power (W, before the emitter's
+    /// probability and the pass's count): a directional light's from a disc across a target,
+    /// a point or spot light's aimed at the targets (or filling the spot's cone).
+    Ray punctual_photon(const Light& light, bool spot_cone, vec2 u1, float u_pick,
+                        Color& power) const;
     /// A direction from x toward a target, chosen uniformly among them, and the pdf of the
     /// mixture of their cones.
     vec3 aim(vec3 x, vec2 u, float u_pick) const;

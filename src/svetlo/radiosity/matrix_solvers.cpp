@@ -74,23 +74,15 @@ FormFactorMatrix form_factor_matrix(SolverInput& in, const std::vector<uint32_t>
     return m;
 }
 
-}  // namespace
-
-Solution solve_matrix(SolverInput& in, bool gauss_seidel) {
-    ElementTree& tree = in.tree;
-    const std::vector<uint32_t> leaves = tree.leaves();
+/// The light each leaf receives from the lights (`light`, L) and from the emitters directly
+/// (sol.direct); B starts at E^e + rho L. Returns B's power (W, over both sides).
+double start_solution(SolverInput& in, const std::vector<uint32_t>& leaves,
+                      const FormFactorMatrix& m, std::vector<Sides>& light, std::vector<Sides>& B,
+                      Solution& sol) {
+    const ElementTree& tree = in.tree;
     const size_t n = leaves.size();
-    Solution sol;
-    sol.E.assign(tree.nodes().size(), Sides{});
-    sol.direct.assign(tree.nodes().size(), Sides{});
-
-    const FormFactorMatrix m = form_factor_matrix(in, leaves);
     const std::vector<float>& F = m.F;
     const std::vector<uint8_t>& side = m.side;
-    sol.rays = m.rays;
-
-    // Lights first (L), then the emitters' direct light; B starts at E^e + rho L.
-    std::vector<Sides> light(n), B(n);
     parallel_ranges(
         n, in.threads,
         [&](size_t begin, size_t end) {
@@ -114,6 +106,27 @@ Solution solve_matrix(SolverInput& in, bool gauss_seidel) {
         }
         sol.direct[leaves[i]] = direct;
     }
+    return power;
+}
+
+}  // namespace
+
+Solution solve_matrix(SolverInput& in, bool gauss_seidel) {
+    ElementTree& tree = in.tree;
+    const std::vector<uint32_t> leaves = tree.leaves();
+    const size_t n = leaves.size();
+    Solution sol;
+    sol.E.assign(tree.nodes().size(), Sides{});
+    sol.direct.assign(tree.nodes().size(), Sides{});
+
+    const FormFactorMatrix m = form_factor_matrix(in, leaves);
+    const std::vector<float>& F = m.F;
+    const std::vector<uint8_t>& side = m.side;
+    sol.rays = m.rays;
+
+    // Lights first (L), then the emitters' direct light; B starts at E^e + rho L.
+    std::vector<Sides> light(n), B(n);
+    const double power = start_solution(in, leaves, m, light, B, sol);
 
     // The gather of one element from the current B: irradiance per side.
     auto gather = [&](size_t i) {

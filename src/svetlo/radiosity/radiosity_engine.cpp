@@ -228,6 +228,22 @@ void display_sample(const Display& d, int i, int j, int s, vec2 jitter, uint32_t
     }
 }
 
+/// The image and AOVs: the sums of `spp` samples per pixel, averaged.
+void write_means(RenderResult& result, const AovTargets& targets,
+                 const std::vector<glm::dvec3>& sums, const std::vector<AovSum>& aov_sums,
+                 int spp) {
+    const int width = result.color.width, height = result.color.height;
+    const float inv = 1.0f / static_cast<float>(spp);
+    for (int j = 0; j < height; ++j) {
+        for (int i = 0; i < width; ++i) {
+            const size_t pixel = static_cast<size_t>(j) * width + i;
+            Color c(sums[pixel] * static_cast<double>(inv));
+            result.color.at(i, j) = c;
+            if (targets.any) targets.write(i, j, aov_sums[pixel].mean(spp));
+        }
+    }
+}
+
 /// Step 3: one window of the display. spp item-buffer passes of the scene's triangles, each
 /// jittered within the pixel, and per sample L = L_e + rho / pi E from the field (display.h).
 /// The item buffer is drawn whole; only the window's pixels are gathered.
@@ -300,15 +316,7 @@ RenderResult display_window(const Scene& scene, const RenderOptions& options, co
             counters.nonfinite += local_nonfinite;
         });
     }
-    const float inv = 1.0f / static_cast<float>(spp);
-    for (int j = 0; j < height; ++j) {
-        for (int i = 0; i < width; ++i) {
-            const size_t pixel = static_cast<size_t>(j) * width + i;
-            Color c(sums[pixel] * static_cast<double>(inv));
-            result.color.at(i, j) = c;
-            if (targets.any) targets.write(i, j, aov_sums[pixel].mean(spp));
-        }
-    }
+    write_means(result, targets, sums, aov_sums, spp);
     if (patches_aov) result.aovs["patches"] = std::move(patches_image);
     cut_to_window(result, window, width, height);
     return result;

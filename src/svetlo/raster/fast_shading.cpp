@@ -25,7 +25,7 @@ void shade_tile_fast(const FrameState& f, const Tile& tile, const SamplePattern&
     size_t lane_of[ShadeBatch::kCapacity];
     Color lit[ShadeBatch::kCapacity];
     auto flush = [&] {
-        shade_batch(batch, f.simd_lights, f.cam.eye, f.cam.orthographic, f.cam.forward, ambient,
+        shade_batch(batch, f.fast.lights, f.cam.eye, f.cam.orthographic, f.cam.forward, ambient,
                     lit, vis);
         for (int k = 0; k < batch.count; ++k) buf.sample_color[lane_of[k]] = lit[k];
         batch.count = 0;
@@ -51,7 +51,7 @@ void shade_tile_fast(const FrameState& f, const Tile& tile, const SamplePattern&
     // The same at the `run` samples of a run, each colour's source evaluated for them all at
     // once (eval_colors), where the material's sources are known.
     auto colours_of_run = [&](uint32_t material, const SurfaceUv* at, int run, Color(*colours)[3]) {
-        const FrameShading::ColourSources& sources = f.colour_sources[material];
+        const FastShading::ColourSources& sources = f.fast.colour_sources[material];
         if (!sources.known) {
             for (int k = 0; k < run; ++k) colours_at(material, at[k], colours[k]);
             return;
@@ -92,7 +92,7 @@ void shade_tile_fast(const FrameState& f, const Tile& tile, const SamplePattern&
         lane_of[batch.count] = i;
         batch.add(w.b[0] * A.world + w.b[1] * B.world + w.b[2] * C.world,
                   w.b[0] * A.normal + w.b[1] * B.normal + w.b[2] * C.normal, face_cross(t, A, B, C),
-                  &f.simd_material[t.material], static_cast<uint32_t>(i),
+                  &f.fast.materials[t.material], static_cast<uint32_t>(i),
                   textured ? colours : nullptr);
         if (batch.count == batch_size) flush();
     };
@@ -105,7 +105,7 @@ void shade_tile_fast(const FrameState& f, const Tile& tile, const SamplePattern&
             buf.sample_color[i] = ibl.active() ? ibl.seen(f.cam, inverse, sx, sy) : background;
             return true;
         }
-        if (f.simd_ok[f.tri(tri).material]) return false;
+        if (f.fast.material_ok[f.tri(tri).material]) return false;
         buf.sample_color[i] = shade_one(f, tri, edges, sx, sy, vis, i);
         return true;
     };
@@ -171,9 +171,9 @@ void shade_tile_fast(const FrameState& f, const Tile& tile, const SamplePattern&
                     static_cast<float>(static_cast<double>(e.e[1].a * kSubpixel) * e.inv_area);
                 auto dl2 =
                     static_cast<float>(static_cast<double>(e.e[2].a * kSubpixel) * e.inv_area);
-                shade_run(q, dl1, dl2, (spans_end - px) / 4, f.simd_material[t.material],
+                shade_run(q, dl1, dl2, (spans_end - px) / 4, f.fast.materials[t.material],
                           face_cross(t, f.vertex(t.v[0]), f.vertex(t.v[1]), f.vertex(t.v[2])),
-                          f.simd_lights, f.cam.eye, f.cam.orthographic, f.cam.forward, ambient,
+                          f.fast.lights, f.cam.eye, f.cam.orthographic, f.cam.forward, ambient,
                           &buf.sample_color[i], 0, vis);
             }
             for (int x = spans_end; x < end; ++x) {

@@ -102,35 +102,24 @@ struct PassMemory::Buffers {
 namespace svetlo::raster {
 
 /// What the shading stages read (the vertex stage's lighting, flat faces, the fragments),
-/// made once per frame by prepare_shading (raster_engine.cpp): the materials as BSDFs and
-/// textures, and the lights. A pass without colour (depth, stencil) leaves it empty, with
-/// mode Depth.
+/// made once per frame by tessellate_scene and prepare_shading (raster_engine.cpp): the
+/// materials as BSDFs and textures, and the lights. A pass without colour (depth, stencil)
+/// leaves it empty, with mode Depth.
 struct FrameShading {
     const Scene* scene = nullptr;
     Mode mode = Mode::Depth;
-    std::vector<Material> materials;  // the light set's: the scene's, then the area lights'
-    std::vector<Bsdf> constant_bsdf;  // per material, when it has no texture
-    std::vector<char> textured;       // per material: some colour depends on uv
-    // Per material, the sources of its ambient, diffuse and specular colours (colour_sources),
-    // or none where `colour_sources` is false: the fast path evaluates a run's at once.
-    struct ColourSources {
-        const ColorSource* of[3] = {};
-        bool known = false;
-    };
-    std::vector<ColourSources> colour_sources;
-    std::vector<char> needs_footprint;            // per material: some texture is trilinear
+    std::vector<Material> materials;    // the light set's: the scene's, then the area lights'
+    std::vector<Bsdf> constant_bsdf;    // per material, when it has no texture
+    std::vector<char> textured;         // per material: some colour depends on uv
+    std::vector<char> needs_footprint;  // per material: some texture is trilinear
     const std::vector<MipChain>* mips = nullptr;  // per texture, when some material needs them
     // Flat and Gouraud shading modulate their light by the base colour's texture per sample, as
     // OpenGL's GL_MODULATE: per material, that texture (null: none), and the material with it
     // made white, which the vertices and faces are lit with.
     std::vector<const ColorSource*> modulate;
     std::vector<Material> lit_white;
-    std::optional<RasterLights> lights;       // made by tessellate_scene
-    int light0_source = -1;                   // the light set's index of Scene::lights[0]
-    SimdLights simd_lights;                   // the same lights for the fast path,
-    bool simd_lights_ok = false;              // when they are all point or directional
-    std::vector<SimdMaterial> simd_material;  // per material, and whether the fast path takes it
-    std::vector<char> simd_ok;
+    std::optional<RasterLights> lights;  // made by tessellate_scene
+    int light0_source = -1;              // the light set's index of Scene::lights[0]
     // Flat and Gouraud shading under a shadow technique light each face or vertex once per
     // light, so that each light's term can be multiplied by its mask per sample (as OpenGL's
     // one additive pass per light): the vertex colours and face colours then hold emission and
@@ -139,9 +128,33 @@ struct FrameShading {
     bool per_light = false;
     size_t sources = 0;
     const TriangleList* list = nullptr;
-    std::string list_key;          // the list's key in the command's caches (empty: none)
-    AccelCache* accels = nullptr;  // RenderOptions::accels: the raytraced shadows' BVH
-    OccluderCubeCache* occluder_cubes = nullptr;  // RenderOptions::occluder_cubes
+};
+
+/// What the SIMD fast path (fast_shading.cpp) reads besides FrameShading: the same lights and
+/// materials in its own layout, and whether it takes them (constant Lambert and Phong-family
+/// materials under point, spot and directional lights and VPLs). Made by prepare_fast_path
+/// (raster_engine.cpp); the general shading (fragment.cpp) never reads it.
+struct FastShading {
+    // Per material, the sources of its ambient, diffuse and specular colours (colour_sources),
+    // or none where `known` is false: the fast path evaluates a run's at once.
+    struct ColourSources {
+        const ColorSource* of[3] = {};
+        bool known = false;
+    };
+    std::vector<ColourSources> colour_sources;
+    SimdLights lights;                    // the frame's lights,
+    bool lights_ok = false;               // when the fast path takes them all
+    std::vector<SimdMaterial> materials;  // per material, and whether the fast path takes it
+    std::vector<char> material_ok;
+};
+
+/// What a frame borrows from its caller to reuse between renders (the viewer's frames, the
+/// compare command's techniques): the key of the frame's triangle list in those caches and
+/// the caches of the ray-traced shadows (RenderOptions::accels, occluder_cubes).
+struct FrameCaches {
+    std::string list_key;  // empty: none (a scene made in code)
+    AccelCache* accels = nullptr;
+    OccluderCubeCache* occluder_cubes = nullptr;
 };
 
 /// What the geometry stages make of one pass (stages 2 to 4: draw_pass.cpp, vertex_stage.cpp,
@@ -205,9 +218,12 @@ struct PassGeometry {
 };
 
 /// Everything the stages of a frame read: the shading, made once per frame, and the pass's
-/// geometry. Each stage is given the part it reads (FrameShading, PassGeometry) where it
-/// reads one only.
-struct FrameState : FrameShading, PassGeometry {};
+/// geometry, as the lecture's pipeline has them; then what the fast path and the caches add.
+/// Each stage is given the part it reads (FrameShading, PassGeometry) where it reads one only.
+struct FrameState : FrameShading, PassGeometry {
+    FastShading fast;
+    FrameCaches caches;
+};
 
 /// A face normal made unit, or +z for a face of no area.
 inline vec3 unit_or_z(vec3 n) {

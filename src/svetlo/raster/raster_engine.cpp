@@ -55,9 +55,9 @@ void split_vertices_by_material(TriangleList& list) {
 
 /// Stage 1: the scene-wide triangle list of every object, then the area lights as one-sided
 /// emissive quads (the ray tracer shows them too), taken from `cache` when an earlier render of
-/// the command made it (f.list_key). Makes the light set and its VPLs.
+/// the command made it (its key: `list_key`). Makes the light set and its VPLs.
 std::shared_ptr<const TriangleList> tessellate_scene(const Scene& scene, FrameShading& f,
-                                                     int threads,
+                                                     std::string& list_key, int threads,
                                                      TriangleListCache* cache = nullptr,
                                                      IblCache* ibl = nullptr) {
     const TessellationOptions options = tessellation_options(scene.render);
@@ -75,12 +75,12 @@ std::shared_ptr<const TriangleList> tessellate_scene(const Scene& scene, FrameSh
     // The key names all the list is made of: the shapes, area lights and materials' order
     // (Scene::geometry_key; a scene made in code has none), the tessellation, and the steps
     // below.
-    f.list_key.clear();
+    list_key.clear();
     if (!scene.geometry_key.empty()) {
-        f.list_key = scene.geometry_key + " raster " + std::to_string(options.segments) +
-                     (split ? " split" : "") + (adjacency ? " adjacency" : "");
+        list_key = scene.geometry_key + " raster " + std::to_string(options.segments) +
+                   (split ? " split" : "") + (adjacency ? " adjacency" : "");
     }
-    return shared_entry<TriangleList>(cache, f.list_key, [&](TriangleList& list) {
+    return shared_entry<TriangleList>(cache, list_key, [&](TriangleList& list) {
         // Instances are drawn as copies (scene/instances.h).
         const std::vector<Object> copies = instance_copies(scene);
         list = build_triangle_list(
@@ -148,9 +148,8 @@ private:
     std::vector<MipChain> chains_;
 };
 
-/// The shading state of the frame's colour pass: constant BRDFs made once, mip chains when a
-/// texture is filtered with them (`kept`'s), and what the SIMD fast path takes (constant
-/// Lambert and Phong-family materials under point, spot and directional lights only).
+/// The shading state of the frame's colour pass: constant BRDFs made once, and mip chains
+/// when a texture is filtered with them (`kept`'s).
 void prepare_shading(const Scene& scene, FrameShading& f, KeptMipChains& kept, int threads) {
     // GL_MODULATE for flat and Gouraud shading: the base colour's texture, if any.
     for (const Material& m : f.materials) {
@@ -168,22 +167,24 @@ void prepare_shading(const Scene& scene, FrameShading& f, KeptMipChains& kept, i
         f.needs_footprint.push_back(any_source(m, uses_mips) ? 1 : 0);
         any_mips |= f.needs_footprint.back() != 0;
         f.constant_bsdf.push_back(make_bsdf(m, vec2(0.0f), scene.textures));
-        FrameShading::ColourSources sources;
-        sources.known = colour_sources(m, sources.of);
-        f.colour_sources.push_back(sources);
     }
     if (any_mips) f.mips = &kept.of(scene.textures, threads);
-    // The fast path takes point, spot and directional lights and the VPLs of lights with area.
-    f.simd_lights_ok = true;
     const auto& sources = f.lights->set.sources();
     if (const LightSet::Source* s = f.lights->set.source_of_light(0))
         f.light0_source = static_cast<int>(s - sources.data());
+}
+
+/// The fast path's lights: point, spot and directional lights and the VPLs of lights with
+/// area (lights_ok is false when the frame has another kind).
+void prepare_fast_lights(const Scene& scene, const FrameShading& f, FastShading& fast) {
+    fast.lights_ok = true;
+    const auto& sources = f.lights->set.sources();
     for (uint32_t index = 0; index < sources.size(); ++index) {
         if (!sources[index].delta) {
             // The source's term is the mean of its n VPLs' (shading/direct_light.h).
             const auto& vpls = f.lights->vpls[index];
             for (const AreaPoint& a : vpls) {
-                f.simd_lights.vpls.push_back(
+                fast.lights.vpls.push_back(
                     {a.surface.p, a.surface.n,
                      a.radiance * (1.0f / (a.pdf_area * static_cast<float>(vpls.size()))),
                      f.lights->min_dist2[index], index});
@@ -192,22 +193,30 @@ void prepare_shading(const Scene& scene, FrameShading& f, KeptMipChains& kept, i
         }
         const Light* light = &scene.lights[static_cast<size_t>(sources[index].light_index)];
         if (const auto* pl = std::get_if<PointLight>(light)) {
-            f.simd_lights.points.push_back({pl->position, pl->intensity, index});
+            fast.lights.points.push_back({pl->position, pl->intensity, index});
         } else if (const auto* dl = std::get_if<DirectionalLight>(light)) {
-            f.simd_lights.directionals.push_back(
+            fast.lights.directionals.push_back(
                 {-glm::normalize(dl->direction), dl->irradiance, index});
         } else if (const auto* sl = std::get_if<SpotLight>(light)) {
             const float cos_inner = std::cos(radians(sl->inner_deg)),
                         cos_outer = std::cos(radians(sl->outer_deg));
             const float width = cos_inner - cos_outer;
-            f.simd_lights.spots.push_back({sl->position, glm::normalize(sl->direction),
-                                           sl->intensity, cos_outer,
-                                           width > 0.0f ? 1.0f / width : 1e30f, index});
+            fast.lights.spots.push_back({sl->position, glm::normalize(sl->direction), sl->intensity,
+                                         cos_outer, width > 0.0f ? 1.0f / width : 1e30f, index});
         } else {
-            f.simd_lights_ok = false;
+            fast.lights_ok = false;
         }
     }
+}
+
+/// What the SIMD fast path takes of the frame (FastShading): constant Lambert and
+/// Phong-family materials under point, spot and directional lights and VPLs.
+void prepare_fast_path(const Scene& scene, const FrameShading& f, FastShading& fast) {
+    prepare_fast_lights(scene, f, fast);
     for (size_t m = 0; m < f.materials.size(); ++m) {
+        FastShading::ColourSources sources;
+        sources.known = colour_sources(f.materials[m], sources.of);
+        fast.colour_sources.push_back(sources);
         const Bsdf& b = f.constant_bsdf[m];
         bool phong = b.model == Bsdf::Model::Phong || b.model == Bsdf::Model::BlinnPhong;
         // Textured colours too: the fast path evaluates them per sample (material_at). Not an
@@ -222,12 +231,12 @@ void prepare_shading(const Scene& scene, FrameShading& f, KeptMipChains& kept, i
         const bool ibl = f.lights->environment.active();
         const bool mapped = f.materials[m].normal_map.present();
         const bool varyings = any_source(f.materials[m], reads_more_than_uv);
-        f.simd_ok.push_back((phong || b.model == Bsdf::Model::Lambert) && !emits && !ibl &&
-                                    !mapped && !varyings && !shininess_mapped
-                                ? 1
-                                : 0);
-        f.simd_material.emplace_back(b.ambient, b.diffuse, b.specular, b.shininess,
-                                     b.model == Bsdf::Model::BlinnPhong, phong);
+        fast.material_ok.push_back((phong || b.model == Bsdf::Model::Lambert) && !emits && !ibl &&
+                                           !mapped && !varyings && !shininess_mapped
+                                       ? 1
+                                       : 0);
+        fast.materials.emplace_back(b.ambient, b.diffuse, b.specular, b.shininess,
+                                    b.model == Bsdf::Model::BlinnPhong, phong);
     }
 }
 
@@ -286,7 +295,7 @@ CameraMatrices frame_camera(const Scene& scene, const TriangleList& list, int th
 CameraMatrices raster_camera(const Scene& scene) {
     FrameState f;
     f.scene = &scene;
-    return frame_camera(scene, *tessellate_scene(scene, f, 0));
+    return frame_camera(scene, *tessellate_scene(scene, f, f.caches.list_key, 0));
 }
 
 struct RasterRenderer::Buffers {
@@ -403,6 +412,38 @@ RenderResult RasterRenderer::render_cut_into_windows(const Scene& scene,
     return total;
 }
 
+std::shared_ptr<const TriangleList> RasterRenderer::begin_frame(const Scene& scene,
+                                                                const RenderOptions& options,
+                                                                FrameState& f) {
+    f.vertices = std::move(buffers_->vertices);  // the last frame's memory, given back by end_frame
+    f.screen = std::move(buffers_->screen);
+    f.tris = std::move(buffers_->tris);
+    f.flat = std::move(buffers_->flat);
+    f.scene = &scene;
+    f.mode = scene.render.shading;
+    const std::shared_ptr<const TriangleList> shared_list = tessellate_scene(
+        scene, f, f.caches.list_key, options.threads, options.triangle_lists, &buffers_->ibl);
+    const TriangleList& list = *shared_list;
+    f.caches.accels = options.accels;
+    f.caches.occluder_cubes = options.occluder_cubes;
+    prepare_shading(scene, f, buffers_->mips, options.threads);
+    prepare_fast_path(scene, f, f.fast);
+    f.list = &list;
+    f.sources = f.lights->set.sources().size();
+    // Each light's term apart, for its mask (flat and Gouraud shading under a shadow
+    // technique); with no light there is no term to mask.
+    f.per_light = scene.render.shadows != ShadowTechnique::None && f.sources > 0 &&
+                  (f.mode == Mode::Flat || f.mode == Mode::Gouraud);
+    return shared_list;
+}
+
+void RasterRenderer::end_frame(FrameState& f) {
+    buffers_->vertices = std::move(f.vertices);
+    buffers_->screen = std::move(f.screen);
+    buffers_->tris = std::move(f.tris);
+    buffers_->flat = std::move(f.flat);
+}
+
 RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& options) {
     check_raster_request(scene, options);
     if (options.trace) return trace_raster_pixel(*this, scene, options);
@@ -412,25 +453,9 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     const int width = scene.film.width, height = scene.film.height, spp = scene.render.spp;
     const int threads = options.threads;
     FrameState f;
-    f.vertices = std::move(buffers_->vertices);  // the last frame's memory, given back below
-    f.screen = std::move(buffers_->screen);
-    f.tris = std::move(buffers_->tris);
-    f.flat = std::move(buffers_->flat);
-    f.scene = &scene;
-    f.mode = scene.render.shading;
-    const std::shared_ptr<const TriangleList> shared_list =
-        tessellate_scene(scene, f, threads, options.triangle_lists, &buffers_->ibl);
+    const std::shared_ptr<const TriangleList> shared_list = begin_frame(scene, options, f);
     const TriangleList& list = *shared_list;
-    f.accels = options.accels;
-    f.occluder_cubes = options.occluder_cubes;
-    prepare_shading(scene, f, buffers_->mips, threads);
     const CameraMatrices camera = frame_camera(scene, list, threads);
-    f.list = &list;
-    f.sources = f.lights->set.sources().size();
-    // Each light's term apart, for its mask (flat and Gouraud shading under a shadow
-    // technique); with no light there is no term to mask.
-    f.per_light = scene.render.shadows != ShadowTechnique::None && f.sources > 0 &&
-                  (f.mode == Mode::Flat || f.mode == Mode::Gouraud);
     // The frame's sample positions, pass by pass (the same in every pixel).
     std::vector<SamplePattern> passes;
     for (int first = 0; first < spp; first += kMaxSamplesPerPass)
@@ -472,7 +497,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
         targets,
         spp,
         msaa,
-        SVETLO_SIMD && f.mode == Mode::Phong && !msaa && !targets.any && f.simd_lights_ok,
+        SVETLO_SIMD && f.mode == Mode::Phong && !msaa && !targets.any && f.fast.lights_ok,
         !state.stencil.enabled};
     PerWorker<TileBuffers> buffers(threads);
     PerWorker<MaskScratch> mask_scratch(threads);
@@ -489,10 +514,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     result.stats.triangles = f.triangle_count;
     for (TileBuffers& buf : buffers) result.stats.nonfinite += buf.nonfinite;
     debug_aov_images(scene, options, shadows.get(), result);
-    buffers_->vertices = std::move(f.vertices);
-    buffers_->screen = std::move(f.screen);
-    buffers_->tris = std::move(f.tris);
-    buffers_->flat = std::move(f.flat);
+    end_frame(f);
     // A crop: the frame is drawn whole (its cost is the frame's setup) and cut.
     cut_to_window(result, film_window(scene, options), width, height);
     return result;

@@ -34,6 +34,10 @@
 
 namespace svetlo {
 
+namespace raster {
+struct FrameState;
+}
+
 /// Keeps its pipeline's large buffers (vertices, set-up triangles) from one frame to the next,
 /// as a GL context keeps its buffers: one frame at a time per renderer.
 class RasterRenderer final : public Renderer {
@@ -52,6 +56,12 @@ public:
 private:
     /// The frame drawn once, and each of options.windows cut from it.
     RenderResult render_cut_into_windows(const Scene& scene, const RenderOptions& options);
+    /// A frame's state made (stage 1 and the shading), in the buffers of the last frame;
+    /// returns its triangle list. end_frame keeps the buffers for the next.
+    std::shared_ptr<const TriangleList> begin_frame(const Scene& scene,
+                                                    const RenderOptions& options,
+                                                    raster::FrameState& f);
+    void end_frame(raster::FrameState& f);
 
     std::unique_ptr<Buffers> buffers_;
 };

@@ -17,7 +17,7 @@ std::unique_ptr<ShadowTechniqueState> make_shadow_technique(
         case ShadowTechnique::None:
             return nullptr;
         case ShadowTechnique::Raytraced:
-            return make_raytraced_shadows(scene, list, f, threads, memory);
+            return make_raytraced_shadows(scene, list, f, f.caches, threads, memory);
         case ShadowTechnique::Map:
             return make_shadow_maps(scene, list, f, threads, memory);
         case ShadowTechnique::Volume:

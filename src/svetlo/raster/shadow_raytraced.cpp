@@ -3,7 +3,7 @@
 // rasterizer drew (so that a sample never hits the surface it lies on), as hybrid real-time
 // renderers do. Lights with area cast from the rasterizer's own VPLs, so that V is the
 // fraction of the very points the shading sums that reach the sample. The BVH is the
-// command's (f.accels) when an earlier frame of the same triangle list built it.
+// command's (FrameCaches::accels) when an earlier frame of the same triangle list built it.
 #include <algorithm>
 #include <climits>
 #include <cmath>
@@ -68,7 +68,7 @@ struct PointRays {
 class RaytracedShadows final : public ShadowTechniqueState {
 public:
     RaytracedShadows(const Scene& scene, const TriangleList& list, const FrameShading& f,
-                     int threads)
+                     const FrameCaches& caches, int threads)
         : list_(list) {
         casters_ = shadow_casters(scene, f.lights->set, f.lights->vpls);
         // Each caster's end of its rays: a point on an emitter moved off its own surface to
@@ -78,8 +78,8 @@ public:
                                    ? offset_ray_origin(c.position, c.normal, c.normal)
                                    : c.position);
         }
-        const std::string key = f.list_key.empty() ? "" : f.list_key + " shadow bvh";
-        built_ = shared_entry<BuiltGeometry>(f.accels, key, [&](BuiltGeometry& b) {
+        const std::string key = caches.list_key.empty() ? "" : caches.list_key + " shadow bvh";
+        built_ = shared_entry<BuiltGeometry>(caches.accels, key, [&](BuiltGeometry& b) {
             b.geometry = triangle_geometry(list);
             b.accel = make_accel("bvh", b.geometry, threads);
         });
@@ -99,7 +99,7 @@ public:
         cubes_.resize(casters_.size());
         const double samples = static_cast<double>(scene.film.width) * scene.film.height *
                                std::max(scene.render.spp, 1);
-        const bool kept = f.occluder_cubes && !f.list_key.empty();
+        const bool kept = caches.occluder_cubes && !caches.list_key.empty();
         if (casters_.size() > OccluderCubeCache::kMostPerFrame ||
             (!kept && samples < kSamplesPerTriangle * static_cast<double>(list.triangle_count())))
             return;
@@ -109,7 +109,7 @@ public:
             std::snprintf(end, sizeof end, " occluders %a %a %a", targets_[k].x, targets_[k].y,
                           targets_[k].z);
             cubes_[k] = shared_entry<OccluderCube>(
-                f.occluder_cubes, f.list_key.empty() ? "" : f.list_key + end,
+                caches.occluder_cubes, caches.list_key.empty() ? "" : caches.list_key + end,
                 [&](OccluderCube& cube) { cube = OccluderCube(list, targets_[k], threads); });
         }
     }
@@ -252,9 +252,10 @@ private:
 
 std::unique_ptr<ShadowTechniqueState> make_raytraced_shadows(const Scene& scene,
                                                              const TriangleList& list,
-                                                             const FrameShading& f, int threads,
+                                                             const FrameShading& f,
+                                                             const FrameCaches& caches, int threads,
                                                              PassMemory*) {
-    return std::make_unique<RaytracedShadows>(scene, list, f, threads);
+    return std::make_unique<RaytracedShadows>(scene, list, f, caches, threads);
 }
 
 }  // namespace svetlo::raster

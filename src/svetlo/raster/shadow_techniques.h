@@ -9,10 +9,12 @@
 
 namespace svetlo::raster {
 
-/// Shadow rays from each sample to each caster (the VPLs of lights with area).
+/// Shadow rays from each sample to each caster (the VPLs of lights with area), through the
+/// BVH and occluder cubes of `caches` when an earlier frame made them.
 std::unique_ptr<ShadowTechniqueState> make_raytraced_shadows(const Scene& scene,
                                                              const TriangleList& list,
-                                                             const FrameShading& f, int threads,
+                                                             const FrameShading& f,
+                                                             const FrameCaches& caches, int threads,
                                                              PassMemory* memory);
 /// Depth maps from each caster, made now (one depth pass per map).
 std::unique_ptr<ShadowTechniqueState> make_shadow_maps(const Scene& scene, const TriangleList& list,

@@ -36,6 +36,48 @@ namespace svetlo::raster {
 
 namespace {
 
+/// The depth and stencil passes' camera: the frame's, or for an orthographic one the same
+/// view with its depth range around the finite volumes (`diameter`: the scene's).
+CameraMatrices volume_camera(const CameraMatrices& frame, float diameter) {
+    CameraMatrices cam = frame;
+    if (cam.orthographic) {
+        float reach = 5.0f * diameter;
+        cam.near -= reach;
+        cam.far += reach;
+        const float sx = 1.0f / cam.projection[0][0], sy = 1.0f / cam.projection[1][1];
+        const float cx = -cam.projection[3][0] * sx, cy = -cam.projection[3][1] * sy;
+        cam.projection = glm::ortho(cx - sx, cx + sx, cy - sy, cy + sy, cam.near, cam.far);
+    }
+    return cam;
+}
+
+/// The pipeline state that draws the volumes into the stencil. z-fail (Carmack's reverse):
+/// back faces count up and front faces down where the depth test fails; z-pass (Heidmann):
+/// front faces up and back faces down where it passes. Both give the same count unless the
+/// camera's near plane cuts a volume, where only z-fail is right; z-pass draws far fewer
+/// samples when the volumes stretch far behind the scene (every sample a side covers behind
+/// the floor counts in z-fail), so each caster gets z-pass where its volumes cannot reach the
+/// near plane.
+PipelineState counting_state(VolumeCount count) {
+    PipelineState s;
+    s.depth_write = false;
+    s.write_items = false;
+    s.depth_bias = 1.0f / 65536.0f;  // an open surface's own cap lies behind it
+    s.stencil.enabled = true;
+    if (count == VolumeCount::ZPass) {
+        s.stencil.front = {StencilFunc::Always, StencilOp::Keep, StencilOp::Keep,
+                           StencilOp::IncrWrap};
+        s.stencil.back = {StencilFunc::Always, StencilOp::Keep, StencilOp::Keep,
+                          StencilOp::DecrWrap};
+    } else {
+        s.stencil.back = {StencilFunc::Always, StencilOp::Keep, StencilOp::IncrWrap,
+                          StencilOp::Keep};
+        s.stencil.front = {StencilFunc::Always, StencilOp::Keep, StencilOp::DecrWrap,
+                           StencilOp::Keep};
+    }
+    return s;
+}
+
 class ShadowVolumes final : public StencilMasks {
 public:
     ShadowVolumes(const Scene& scene, const TriangleList& list, const FrameState& f,
@@ -55,39 +97,11 @@ public:
                     object_bounds_[o].extend(list.positions[list.indices[3 * t + k]]);
             }
         }
-        // The depth and stencil passes' camera: the frame's, or for an orthographic one the
-        // same view with its depth range around the finite volumes.
-        CameraMatrices cam = f.cam;
-        if (cam.orthographic) {
-            float reach = 5.0f * diameter_;
-            cam.near -= reach;
-            cam.far += reach;
-            const float sx = 1.0f / cam.projection[0][0], sy = 1.0f / cam.projection[1][1];
-            const float cx = -cam.projection[3][0] * sx, cy = -cam.projection[3][1] * sy;
-            cam.projection = glm::ortho(cx - sx, cx + sx, cy - sy, cy + sy, cam.near, cam.far);
-        }
+        const CameraMatrices cam = volume_camera(f.cam, diameter_);
         PipelineState depth_state;
         depth_state.cull = f.cull;
-        // z-fail (Carmack's reverse): back faces count up and front faces down where the
-        // depth test fails; z-pass (Heidmann): front faces up and back faces down where it
-        // passes. Both give the same count unless the camera's near plane cuts a volume,
-        // where only z-fail is right; z-pass draws far fewer samples when the volumes
-        // stretch far behind the scene (every sample a side covers behind the floor counts in
-        // z-fail), so each caster gets z-pass where its volumes cannot reach the near plane.
-        PipelineState zfail;
-        zfail.depth_write = false;
-        zfail.write_items = false;
-        zfail.depth_bias = 1.0f / 65536.0f;  // an open surface's own cap lies behind it
-        zfail.stencil.enabled = true;
-        zfail.stencil.back = {StencilFunc::Always, StencilOp::Keep, StencilOp::IncrWrap,
-                              StencilOp::Keep};
-        zfail.stencil.front = {StencilFunc::Always, StencilOp::Keep, StencilOp::DecrWrap,
-                               StencilOp::Keep};
-        PipelineState zpass = zfail;
-        zpass.stencil.front = {StencilFunc::Always, StencilOp::Keep, StencilOp::Keep,
-                               StencilOp::IncrWrap};
-        zpass.stencil.back = {StencilFunc::Always, StencilOp::Keep, StencilOp::Keep,
-                              StencilOp::DecrWrap};
+        const PipelineState zfail = counting_state(VolumeCount::ZFail);
+        const PipelineState zpass = counting_state(VolumeCount::ZPass);
         std::vector<std::pair<TriangleList, TriangleList>> volumes;
         for (const ShadowCaster& c : casters_) {
             const VolumeCount count = scene.render.shadow_teaching.volume_count;

@@ -186,6 +186,64 @@ private:
     bool want_visibility_;
 };
 
+/// What every pixel of a window reads and writes.
+struct WindowContext {
+    const Scene& scene;
+    const RtScene& rt;
+    const CameraRays& camera;
+    const RenderOptions& options;
+    const AovTargets& targets;
+    Image* cost_image;  // the bvh_cost AOV, when asked for
+    const Crop& window;
+    RenderResult& result;  // the window's pixels
+};
+
+/// Pixel (i, j) of the film: its samples traced and their mean written.
+void render_pixel(const WindowContext& c, Tracer& tracer, int i, int j) {
+    const int width = c.scene.film.width, height = c.scene.film.height, spp = c.scene.render.spp;
+    const CameraRays& camera = c.camera;
+    const AovTargets& targets = c.targets;
+    uint64_t pixel = static_cast<uint64_t>(j) * width + i;
+    Rng rng = pixel_rng(c.scene.render.seed, pixel);
+    Rng aov_rng = pixel_rng(c.scene.render.seed ^ 0xa0a0a0a0ULL, pixel);
+    tracer.aov_rng = &aov_rng;
+    glm::dvec3 sum(0.0);
+    AovSum aov_sum;
+    Color cost(0.0f);
+    for (int s = 0; s < spp; ++s) {
+        vec2 offset = spp == 1 ? vec2(0.5f) : stratified_sample(s, spp, rng.next_2d());
+        const float x = (static_cast<float>(i) + offset.x) / width;
+        const float y = (static_cast<float>(j) + offset.y) / height;
+        Ray ray = camera.thin_lens() ? camera.generate(x, y, rng.next_2d()) : camera.generate(x, y);
+        if (c.cost_image) cost += c.rt.camera_ray_cost(ray);
+        AovSample aov;
+        PixelTrace* log = c.options.trace;
+        std::optional<WhittedTraceLog> traced;
+        if (log && log->at(i, j) && log->sample == s) {
+            traced.emplace(*log, c.scene.material_names);
+            tracer.observer = &*traced;
+        }
+        Color radiance = tracer.trace(ray, 0, 1.0f, rng, targets.any ? &aov : nullptr);
+        // A sample that is not finite never reaches the pixel: it is
+        // dropped (black) and counted.
+        const bool finite = is_finite(radiance) && is_finite(aov.normal) && is_finite(aov.albedo) &&
+                            std::isfinite(aov.depth);
+        if (traced) record_total(*log, radiance, finite);
+        tracer.observer = nullptr;
+        if (!finite) {
+            ++tracer.nonfinite;
+            continue;
+        }
+        sum += glm::dvec3(radiance);
+        if (targets.any) aov_sum.add(aov);
+    }
+    float inv = 1.0f / static_cast<float>(spp);
+    const int x = i - c.window.x0, y = j - c.window.y0;
+    c.result.color.at(x, y) = Color(sum / static_cast<double>(spp));
+    if (targets.any) targets.write(x, y, aov_sum.mean(spp));
+    if (c.cost_image) c.cost_image->at(x, y) = cost * inv;
+}
+
 }  // namespace
 
 RenderResult WhittedRenderer::render(const Scene& scene, const RenderOptions& options) {
@@ -194,7 +252,7 @@ RenderResult WhittedRenderer::render(const Scene& scene, const RenderOptions& op
     RtScene rt(scene, scene.render.accel, options.threads, options.accels);
     auto t1 = Clock::now();
 
-    const int width = scene.film.width, height = scene.film.height, spp = scene.render.spp;
+    const int width = scene.film.width, height = scene.film.height;
     // The debug AOV: the camera rays' cost, cast again (the image does not change).
     const bool want_cost = wants_debug_aov(options, "bvh_cost");
     if (want_cost) rt.check_counts_cost();
@@ -215,6 +273,8 @@ RenderResult WhittedRenderer::render(const Scene& scene, const RenderOptions& op
             std::atomic<uint64_t> rays{0}, nonfinite{0};
             Progress progress("whitted", static_cast<int64_t>(window.width()) * window.height(),
                               options.progress);
+            const WindowContext context{scene,   rt,         camera, options,
+                                        targets, cost_image, window, result};
 
             parallel_tiles(
                 window.width(), window.height(), options.threads,
@@ -222,49 +282,7 @@ RenderResult WhittedRenderer::render(const Scene& scene, const RenderOptions& op
                     Tracer tracer(rt, want_visibility);
                     for (int j = window.y0 + tile.y0; j < window.y0 + tile.y1; ++j) {
                         for (int i = window.x0 + tile.x0; i < window.x0 + tile.x1; ++i) {
-                            uint64_t pixel = static_cast<uint64_t>(j) * width + i;
-                            Rng rng = pixel_rng(scene.render.seed, pixel);
-                            Rng aov_rng = pixel_rng(scene.render.seed ^ 0xa0a0a0a0ULL, pixel);
-                            tracer.aov_rng = &aov_rng;
-                            glm::dvec3 sum(0.0);
-                            AovSum aov_sum;
-                            Color cost(0.0f);
-                            for (int s = 0; s < spp; ++s) {
-                                vec2 offset = spp == 1 ? vec2(0.5f)
-                                                       : stratified_sample(s, spp, rng.next_2d());
-                                const float x = (static_cast<float>(i) + offset.x) / width;
-                                const float y = (static_cast<float>(j) + offset.y) / height;
-                                Ray ray = camera.thin_lens() ? camera.generate(x, y, rng.next_2d())
-                                                             : camera.generate(x, y);
-                                if (cost_image) cost += rt.camera_ray_cost(ray);
-                                AovSample aov;
-                                PixelTrace* log = options.trace;
-                                std::optional<WhittedTraceLog> traced;
-                                if (log && log->at(i, j) && log->sample == s) {
-                                    traced.emplace(*log, scene.material_names);
-                                    tracer.observer = &*traced;
-                                }
-                                Color c =
-                                    tracer.trace(ray, 0, 1.0f, rng, targets.any ? &aov : nullptr);
-                                // A sample that is not finite never reaches the pixel: it is
-                                // dropped (black) and counted.
-                                const bool finite = is_finite(c) && is_finite(aov.normal) &&
-                                                    is_finite(aov.albedo) &&
-                                                    std::isfinite(aov.depth);
-                                if (traced) record_total(*log, c, finite);
-                                tracer.observer = nullptr;
-                                if (!finite) {
-                                    ++tracer.nonfinite;
-                                    continue;
-                                }
-                                sum += glm::dvec3(c);
-                                if (targets.any) aov_sum.add(aov);
-                            }
-                            float inv = 1.0f / static_cast<float>(spp);
-                            const int x = i - window.x0, y = j - window.y0;
-                            result.color.at(x, y) = Color(sum / static_cast<double>(spp));
-                            if (targets.any) targets.write(x, y, aov_sum.mean(spp));
-                            if (cost_image) cost_image->at(x, y) = cost * inv;
+                            render_pixel(context, tracer, i, j);
                         }
                     }
                     rays += tracer.rays;

@@ -272,11 +272,63 @@ struct Flattener {
         if (prim.material >= 0) colored_materials.insert(prim.material);
     }
 
+    /// NORMAL and TANGENT of `prim`, its `count` vertices from `base` on, into world space.
+    void add_normals_and_tangents(const tinygltf::Primitive& prim, size_t count, size_t base,
+                                  const mat4& world) {
+        Mesh& mesh = *target;
+        const mat3 nm = normal_matrix(world);
+        auto nor = prim.attributes.find("NORMAL");
+        if (nor != prim.attributes.end()) {
+            AccessorView normals(model, nor->second, 3);
+            if (normals.count() != count) throw std::runtime_error("NORMAL count");
+            mesh.normals.resize(base);
+            for (size_t k = 0; k < normals.count(); ++k) {
+                vec3 n(normals.component(k, 0), normals.component(k, 1), normals.component(k, 2));
+                mesh.normals.push_back(glm::normalize(nm * n));
+            }
+        }
+        auto tan = prim.attributes.find("TANGENT");
+        if (tan != prim.attributes.end()) {
+            AccessorView tangents(model, tan->second, 4);
+            if (tangents.count() != count) throw std::runtime_error("TANGENT count");
+            mesh.tangents.resize(base);
+            const Transform to_world{world, false};
+            for (size_t k = 0; k < tangents.count(); ++k) {
+                // glTF's v runs down the image and svetlo's up, but glTF's bitangent
+                // (w cross(n, t)) is the map's +y, up the image: the sign stays.
+                const vec4 t(tangents.component(k, 0), tangents.component(k, 1),
+                             tangents.component(k, 2), tangents.component(k, 3));
+                mesh.tangents.push_back(transform_tangent(to_world, t));
+            }
+        }
+    }
+
+    /// The triangles of `prim` (its indices, or its vertices in order), whose `count`
+    /// vertices start at `base`.
+    void add_indices(const tinygltf::Primitive& prim, size_t count, uint32_t base) {
+        Mesh& mesh = *target;
+        size_t first = mesh.indices.size();
+        if (prim.indices >= 0) {
+            AccessorView indices(model, prim.indices, 1);
+            for (size_t k = 0; k < indices.count(); ++k) {
+                double i = indices.component(k, 0);
+                if (i < 0 || i >= static_cast<double>(count)) {
+                    throw std::runtime_error("index out of range");
+                }
+                mesh.indices.push_back(base + static_cast<uint32_t>(i));
+            }
+        } else {
+            for (size_t k = 0; k < count; ++k) {
+                mesh.indices.push_back(base + static_cast<uint32_t>(k));
+            }
+        }
+        if ((mesh.indices.size() - first) % 3 != 0) throw std::runtime_error("index count");
+    }
+
     void add_mesh(int mesh_index, const mat4& world) {
         if (static_cast<size_t>(mesh_index) >= model.meshes.size()) {
             throw std::runtime_error("mesh " + std::to_string(mesh_index) + " missing");
         }
-        mat3 nm = normal_matrix(world);
         Mesh& mesh = *target;
         for (const tinygltf::Primitive& prim : model.meshes[mesh_index].primitives) {
             if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != -1) continue;
@@ -290,32 +342,7 @@ struct Flattener {
                        positions.component(k, 2));
                 mesh.positions.push_back(vec3(world * vec4(p, 1.0f)));
             }
-            auto nor = prim.attributes.find("NORMAL");
-            if (nor != prim.attributes.end()) {
-                AccessorView normals(model, nor->second, 3);
-                if (normals.count() != positions.count()) throw std::runtime_error("NORMAL count");
-                mesh.normals.resize(base);
-                for (size_t k = 0; k < normals.count(); ++k) {
-                    vec3 n(normals.component(k, 0), normals.component(k, 1),
-                           normals.component(k, 2));
-                    mesh.normals.push_back(glm::normalize(nm * n));
-                }
-            }
-            auto tan = prim.attributes.find("TANGENT");
-            if (tan != prim.attributes.end()) {
-                AccessorView tangents(model, tan->second, 4);
-                if (tangents.count() != positions.count())
-                    throw std::runtime_error("TANGENT count");
-                mesh.tangents.resize(base);
-                const Transform to_world{world, false};
-                for (size_t k = 0; k < tangents.count(); ++k) {
-                    // glTF's v runs down the image and svetlo's up, but glTF's bitangent
-                    // (w cross(n, t)) is the map's +y, up the image: the sign stays.
-                    const vec4 t(tangents.component(k, 0), tangents.component(k, 1),
-                                 tangents.component(k, 2), tangents.component(k, 3));
-                    mesh.tangents.push_back(transform_tangent(to_world, t));
-                }
-            }
+            add_normals_and_tangents(prim, positions.count(), base, world);
             if (std::vector<vec2> uvs = texture_coordinates(prim, "TEXCOORD_0", positions.count());
                 !uvs.empty()) {
                 mesh.uvs.resize(base);
@@ -331,22 +358,7 @@ struct Flattener {
             // is white.
             if (!mesh.uvs1.empty()) fill_second_set(mesh.positions.size());
             if (!mesh.colors.empty()) mesh.colors.resize(mesh.positions.size(), vec4(1.0f));
-            size_t first = mesh.indices.size();
-            if (prim.indices >= 0) {
-                AccessorView indices(model, prim.indices, 1);
-                for (size_t k = 0; k < indices.count(); ++k) {
-                    double i = indices.component(k, 0);
-                    if (i < 0 || i >= static_cast<double>(positions.count())) {
-                        throw std::runtime_error("index out of range");
-                    }
-                    mesh.indices.push_back(base + static_cast<uint32_t>(i));
-                }
-            } else {
-                for (size_t k = 0; k < positions.count(); ++k) {
-                    mesh.indices.push_back(base + static_cast<uint32_t>(k));
-                }
-            }
-            if ((mesh.indices.size() - first) % 3 != 0) throw std::runtime_error("index count");
+            add_indices(prim, positions.count(), base);
             int material =
                 prim.material >= 0 && static_cast<size_t>(prim.material) < file.materials.size()
                     ? prim.material

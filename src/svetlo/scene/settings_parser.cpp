@@ -51,6 +51,8 @@ Film parse_film(const JsonNode& node) {
     return f;
 }
 
+namespace {
+
 RadiositySettings parse_radiosity(const JsonNode& node) {
     node.expect_object({"patch_size", "element_size", "form_factors", "samples", "hemicube",
                         "solver", "tolerance", "max_iterations", "adaptive", "max_subdivision",
@@ -85,6 +87,34 @@ RadiositySettings parse_radiosity(const JsonNode& node) {
             .fail("the hierarchical solver needs analytic or raycast form factors");
     return s;
 }
+
+ShadowMapSettings parse_shadow_map(const JsonNode& sm) {
+    sm.expect_object(
+        {"resolution", "bias", "normal_offset", "slope_bias", "filter", "kernel", "cascades"});
+    ShadowMapSettings m;
+    if (auto n = sm.find("resolution")) m.resolution = static_cast<int>(n->as_integer(1, 16384));
+    if (auto n = sm.find("bias")) m.bias = n->as_non_negative();
+    if (auto n = sm.find("normal_offset")) m.normal_offset = n->as_non_negative();
+    if (auto n = sm.find("slope_bias")) m.slope_bias = n->as_non_negative();
+    if (auto n = sm.find("filter")) m.filter = n->as_enum(kShadowFilters);
+    if (auto n = sm.find("kernel")) m.kernel = static_cast<int>(n->as_integer(1, 64));
+    if (auto n = sm.find("cascades")) m.cascades = static_cast<int>(n->as_integer(1, 8));
+    return m;
+}
+
+PhotonSettings parse_photons(const JsonNode& ph) {
+    ph.expect_object({"count", "radius", "alpha"});
+    PhotonSettings p;
+    if (auto n = ph.find("count")) p.count = static_cast<int>(n->as_integer(1, kMaxPhotons));
+    if (auto n = ph.find("radius")) p.radius = n->as_positive();
+    if (auto n = ph.find("alpha")) {
+        p.alpha = n->as_in_range(0.0, 1.0);
+        if (!(p.alpha > 0.0f && p.alpha < 1.0f)) n->fail("must lie in (0, 1)");
+    }
+    return p;
+}
+
+}  // namespace
 
 RenderSettings parse_render(const JsonNode& node) {
     node.expect_object({"engine",
@@ -122,21 +152,7 @@ RenderSettings parse_render(const JsonNode& node) {
     if (auto n = node.find("seed")) r.seed = static_cast<uint64_t>(n->as_integer(0, kMaxSeed));
     if (auto n = node.find("shading")) r.shading = n->as_enum(kShadingModes);
     if (auto n = node.find("shadows")) r.shadows = n->as_enum(kShadowTechniques);
-    if (auto sm = node.find("shadow_map")) {
-        sm->expect_object(
-            {"resolution", "bias", "normal_offset", "slope_bias", "filter", "kernel", "cascades"});
-        if (auto n = sm->find("resolution")) {
-            r.shadow_map.resolution = static_cast<int>(n->as_integer(1, 16384));
-        }
-        if (auto n = sm->find("bias")) r.shadow_map.bias = n->as_non_negative();
-        if (auto n = sm->find("normal_offset")) r.shadow_map.normal_offset = n->as_non_negative();
-        if (auto n = sm->find("slope_bias")) r.shadow_map.slope_bias = n->as_non_negative();
-        if (auto n = sm->find("filter")) r.shadow_map.filter = n->as_enum(kShadowFilters);
-        if (auto n = sm->find("kernel"))
-            r.shadow_map.kernel = static_cast<int>(n->as_integer(1, 64));
-        if (auto n = sm->find("cascades"))
-            r.shadow_map.cascades = static_cast<int>(n->as_integer(1, 8));
-    }
+    if (auto sm = node.find("shadow_map")) r.shadow_map = parse_shadow_map(*sm);
     if (auto n = node.find("ambient")) r.ambient = n->as_color();
     if (auto n = node.find("background")) r.background = n->as_color();
     if (auto n = node.find("exposure")) r.exposure = n->as_non_negative();
@@ -169,16 +185,7 @@ RenderSettings parse_render(const JsonNode& node) {
     if (auto n = node.find("mis")) r.mis = n->as_enum(kMisModes);
     if (auto n = node.find("guiding")) r.guiding = n->as_bool();
     if (auto n = node.find("caustics")) r.caustics = n->as_enum(kCausticModes);
-    if (auto ph = node.find("photons")) {
-        ph->expect_object({"count", "radius", "alpha"});
-        if (auto n = ph->find("count"))
-            r.photons.count = static_cast<int>(n->as_integer(1, kMaxPhotons));
-        if (auto n = ph->find("radius")) r.photons.radius = n->as_positive();
-        if (auto n = ph->find("alpha")) {
-            r.photons.alpha = n->as_in_range(0.0, 1.0);
-            if (!(r.photons.alpha > 0.0f && r.photons.alpha < 1.0f)) n->fail("must lie in (0, 1)");
-        }
-    }
+    if (auto ph = node.find("photons")) r.photons = parse_photons(*ph);
     if (auto rad = node.find("radiosity")) r.radiosity = parse_radiosity(*rad);
     return r;
 }

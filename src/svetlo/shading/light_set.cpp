@@ -102,6 +102,33 @@ bool finish_source(LightSet::Source& s, const Geometry& g) {
     return true;
 }
 
+/// Whether an object is one of the light set's emitters: some material of it emits, and it
+/// is neither CSG nor implicit (they glow but are no lights; see the header). Throws for the
+/// emitters that cannot be sampled: a plane, a shape scaled unevenly.
+bool is_light(const Object& obj, const std::vector<Material>& materials, const Scene& scene) {
+    bool any = false;
+    if (const auto* mesh = std::get_if<Mesh>(&obj.shape); mesh && obj.material < 0) {
+        for (int m : mesh->face_material) any = any || emits(materials[static_cast<size_t>(m)]);
+    } else if (obj.material >= 0) {
+        any = emits(materials[static_cast<size_t>(obj.material)]);
+    }
+    if (!any || std::holds_alternative<Csg>(obj.shape) ||
+        std::holds_alternative<Implicit>(obj.shape)) {
+        return false;
+    }
+    if (std::holds_alternative<Plane>(obj.shape)) {
+        throw Error(scene.path.string(), obj.name,
+                    "an emissive plane is infinite and cannot be a light; use a quad");
+    }
+    // Meshes and quads are baked into world space; the other shapes are sampled in their own.
+    bool baked = std::holds_alternative<Mesh>(obj.shape) || std::holds_alternative<Quad>(obj.shape);
+    if (!baked && !obj.transform.is_identity && !is_similarity(obj.transform.matrix)) {
+        throw Error(scene.path.string(), obj.name + ".transform",
+                    "an emissive shape needs a uniform scale to be sampled as a light");
+    }
+    return true;
+}
+
 }  // namespace
 
 LightSet::LightSet(const Scene& scene) : scene_(scene), materials_(scene.materials) {
@@ -122,28 +149,7 @@ LightSet::LightSet(const Scene& scene) : scene_(scene), materials_(scene.materia
     std::vector<const Object*> emitters;
     std::vector<int> emitter_object;  // per emitter, its index among objects and quads
     for (const Object& obj : scene.objects) {
-        bool any = false;
-        if (const auto* mesh = std::get_if<Mesh>(&obj.shape); mesh && obj.material < 0) {
-            for (int m : mesh->face_material)
-                any = any || emits(materials_[static_cast<size_t>(m)]);
-        } else if (obj.material >= 0) {
-            any = emits(materials_[static_cast<size_t>(obj.material)]);
-        }
-        if (!any || std::holds_alternative<Csg>(obj.shape) ||
-            std::holds_alternative<Implicit>(obj.shape)) {
-            continue;  // CSG and implicit surfaces glow but are no lights (see the header)
-        }
-        if (std::holds_alternative<Plane>(obj.shape)) {
-            throw Error(scene.path.string(), obj.name,
-                        "an emissive plane is infinite and cannot be a light; use a quad");
-        }
-        // Meshes and quads are baked into world space; the other shapes are sampled in their own.
-        bool baked =
-            std::holds_alternative<Mesh>(obj.shape) || std::holds_alternative<Quad>(obj.shape);
-        if (!baked && !obj.transform.is_identity && !is_similarity(obj.transform.matrix)) {
-            throw Error(scene.path.string(), obj.name + ".transform",
-                        "an emissive shape needs a uniform scale to be sampled as a light");
-        }
+        if (!is_light(obj, materials_, scene)) continue;
         emitters.push_back(&obj);
         emitter_object.push_back(static_cast<int>(&obj - scene.objects.data()));
     }

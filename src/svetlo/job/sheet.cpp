@@ -1,4 +1,4 @@
-#include "sheet.h"
+#include "svetlo/job/sheet.h"
 
 #include <stb_easy_font.h>
 
@@ -310,6 +310,33 @@ Image sheet_png(const Sheet& sheet) {
     }
     draw_text(out, gap + 450 + 262, ly, "1", ink);
     return out;
+}
+
+nlohmann::ordered_json sheet_json(const Sheet& sheet) {
+    // The keys of docs/compare.md, in their order.
+    nlohmann::ordered_json j = {{"scene", sheet.scene}, {"reference", sheet.reference}};
+    j["techniques"] = nlohmann::ordered_json::array();
+    for (const SheetEntry& e : sheet.entries) {
+        nlohmann::ordered_json t = {{"spec", e.spec},
+                                    {"name", e.name},
+                                    {"engine", e.engine},
+                                    {"seconds", e.seconds},
+                                    {"mae", e.metrics.pixels.mae},
+                                    {"rmse", e.metrics.pixels.rmse},
+                                    {"relmse", e.metrics.pixels.relmse},
+                                    {"flip", e.metrics.flip.mean}};
+        for (const auto& [name, image] : e.buffers) t["aovs"].push_back(name);
+        if (!e.curve.empty()) {
+            t["curve"] = nlohmann::ordered_json::array();
+            for (const CurvePoint& p : e.curve)
+                t["curve"].push_back({{"spp", p.spp},
+                                      {"seconds", p.seconds},
+                                      {"rmse", p.rmse},
+                                      {"relmse", p.relmse}});
+        }
+        j["techniques"].push_back(t);
+    }
+    return j;
 }
 
 }  // namespace svetlo

@@ -1,4 +1,4 @@
-#include "interrupt.h"
+#include "svetlo/job/interrupt.h"
 
 #include <csignal>
 
