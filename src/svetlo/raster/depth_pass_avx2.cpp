@@ -93,6 +93,77 @@ __m128i words(int l0, int l1, int l2, int l3, int l4, int l5, int l6, int l7) {
     return _mm_load_si128(reinterpret_cast<const __m128i*>(b));
 }
 
+/// The screen vertices of eight triangles (24 indices, three to a triangle), transposed: per
+/// corner c, the eight triangles' x, y, depth key and inside flag.
+[[gnu::always_inline]] inline void load8(const ScreenVertex* screen, const uint32_t* indices,
+                                         __m256i X[3], __m256i Y[3], __m256 Z[3], __m256i IN[3]) {
+    for (int c = 0; c < 3; ++c) {
+        __m256i rows[4], cols[4];
+        for (int k = 0; k < 4; ++k) {
+            rows[k] = _mm256_loadu2_m128i(
+                reinterpret_cast<const __m128i*>(&screen[indices[3 * (k + 4) + c]]),
+                reinterpret_cast<const __m128i*>(&screen[indices[3 * k + c]]));
+        }
+        transpose4(rows, cols);
+        X[c] = cols[0];
+        Y[c] = cols[1];
+        Z[c] = _mm256_castsi256_ps(cols[2]);
+        IN[c] = cols[3];
+    }
+}
+
+/// The eight triangles' DepthTriangle records from their corners, signed areas, facing and
+/// pixel bounds [x0, x1) x [y0, y1), stored from out[n] on; `n` moves on for the lanes of
+/// fast_bits only. Returns it.
+[[gnu::always_inline]] inline size_t write_records(const __m256i X[3], const __m256i Y[3],
+                                                   const __m256 Z[3], __m256i area, __m256i front,
+                                                   __m256i x0, __m256i y0, __m256i x1, __m256i y1,
+                                                   glm::ivec2 lo, unsigned fast_bits,
+                                                   DepthTriangle* out, size_t n) {
+    // Wound so that the area is positive: vertices 1 and 2 swapped where it is negative.
+    const __m256i X1 = _mm256_blendv_epi8(X[1], X[2], front),
+                  X2 = _mm256_blendv_epi8(X[2], X[1], front);
+    const __m256i Y1 = _mm256_blendv_epi8(Y[1], Y[2], front),
+                  Y2 = _mm256_blendv_epi8(Y[2], Y[1], front);
+    const __m256 fz = _mm256_castsi256_ps(front);
+    const __m256 Z1 = _mm256_blendv_ps(Z[1], Z[2], fz), Z2 = _mm256_blendv_ps(Z[2], Z[1], fz);
+    // Relative to the sample of the corner pixel (DepthTriangle; a depth-only pass's one
+    // sample is at sample_bounds.lo).
+    const __m256i lo_x = _mm256_set1_epi32(lo.x), lo_y = _mm256_set1_epi32(lo.y);
+    const __m256i sx = _mm256_add_epi32(_mm256_slli_epi32(x0, kSubpixelBits), lo_x);
+    const __m256i sy = _mm256_add_epi32(_mm256_slli_epi32(y0, kSubpixelBits), lo_y);
+    const __m256i rx0 = _mm256_sub_epi32(X[0], sx), rx1 = _mm256_sub_epi32(X1, sx),
+                  rx2 = _mm256_sub_epi32(X2, sx);
+    const __m256i ry0 = _mm256_sub_epi32(Y[0], sy), ry1 = _mm256_sub_epi32(Y1, sy),
+                  ry2 = _mm256_sub_epi32(Y2, sy);
+    const __m256 inv_area =
+        _mm256_div_ps(_mm256_set1_ps(1.0f), _mm256_cvtepi32_ps(_mm256_abs_epi32(area)));
+    const __m256 dz1 = _mm256_sub_ps(Z1, Z[0]), dz2 = _mm256_sub_ps(Z2, Z[0]);
+    __m128 dzdx[2], dzdy[2];
+    for (int h = 0; h < 2; ++h) {
+        gradients4(half(rx0, h), half(rx1, h), half(rx2, h), half(ry0, h), half(ry1, h),
+                   half(ry2, h), half(dz1, h), half(dz2, h), half(inv_area, h), dzdx[h], dzdy[h]);
+    }
+    const __m256i cols[8] = {lo16_hi16(x0, y0),
+                             lo16_hi16(_mm256_sub_epi32(x1, _mm256_set1_epi32(1)),
+                                       _mm256_sub_epi32(y1, _mm256_set1_epi32(1))),
+                             lo16_hi16(rx0, rx1),
+                             lo16_hi16(rx2, ry0),
+                             lo16_hi16(ry1, ry2),
+                             _mm256_castps_si256(Z[0]),
+                             join(dzdx[0], dzdx[1]),
+                             join(dzdy[0], dzdy[1])};
+    __m256i rows[8];
+    transpose8(cols, rows);
+    // Every lane stored, the next record's place moved on for the fast ones only: the
+    // others are overwritten (a place within the chunk's: n <= t + k).
+    for (int k = 0; k < 8; ++k) {
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + n), rows[k]);
+        n += (fast_bits >> k) & 1u;
+    }
+    return n;
+}
+
 }  // namespace
 
 size_t setup_depth_avx2(const PassGeometry& f, const uint32_t* indices, size_t count,
@@ -112,19 +183,7 @@ size_t setup_depth_avx2(const PassGeometry& f, const uint32_t* indices, size_t c
         // The three vertices' fields, eight triangles to a register.
         __m256i X[3], Y[3], IN[3];
         __m256 Z[3];
-        for (int c = 0; c < 3; ++c) {
-            __m256i rows[4], cols[4];
-            for (int k = 0; k < 4; ++k) {
-                rows[k] = _mm256_loadu2_m128i(
-                    reinterpret_cast<const __m128i*>(&screen[indices[3 * (k + 4) + c]]),
-                    reinterpret_cast<const __m128i*>(&screen[indices[3 * k + c]]));
-            }
-            transpose4(rows, cols);
-            X[c] = cols[0];
-            Y[c] = cols[1];
-            Z[c] = _mm256_castsi256_ps(cols[2]);
-            IN[c] = cols[3];
-        }
+        load8(screen, indices, X, Y, Z, IN);
         const __m256i inside =
             _mm256_cmpgt_epi32(_mm256_and_si256(_mm256_and_si256(IN[0], IN[1]), IN[2]), zero);
         const __m256i xmin = _mm256_min_epi32(X[0], _mm256_min_epi32(X[1], X[2]));
@@ -169,47 +228,7 @@ size_t setup_depth_avx2(const PassGeometry& f, const uint32_t* indices, size_t c
         const unsigned fast_bits =
             static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(fast)));
         if (fast_bits == 0) continue;
-        // Wound so that the area is positive: vertices 1 and 2 swapped where it is negative.
-        const __m256i X1 = _mm256_blendv_epi8(X[1], X[2], front),
-                      X2 = _mm256_blendv_epi8(X[2], X[1], front);
-        const __m256i Y1 = _mm256_blendv_epi8(Y[1], Y[2], front),
-                      Y2 = _mm256_blendv_epi8(Y[2], Y[1], front);
-        const __m256 fz = _mm256_castsi256_ps(front);
-        const __m256 Z1 = _mm256_blendv_ps(Z[1], Z[2], fz), Z2 = _mm256_blendv_ps(Z[2], Z[1], fz);
-        // Relative to the sample of the corner pixel (DepthTriangle; a depth-only pass's one
-        // sample is at sample_bounds.lo).
-        const __m256i sx = _mm256_add_epi32(_mm256_slli_epi32(x0, kSubpixelBits), lo_x);
-        const __m256i sy = _mm256_add_epi32(_mm256_slli_epi32(y0, kSubpixelBits), lo_y);
-        const __m256i rx0 = _mm256_sub_epi32(X[0], sx), rx1 = _mm256_sub_epi32(X1, sx),
-                      rx2 = _mm256_sub_epi32(X2, sx);
-        const __m256i ry0 = _mm256_sub_epi32(Y[0], sy), ry1 = _mm256_sub_epi32(Y1, sy),
-                      ry2 = _mm256_sub_epi32(Y2, sy);
-        const __m256 inv_area =
-            _mm256_div_ps(_mm256_set1_ps(1.0f), _mm256_cvtepi32_ps(_mm256_abs_epi32(area)));
-        const __m256 dz1 = _mm256_sub_ps(Z1, Z[0]), dz2 = _mm256_sub_ps(Z2, Z[0]);
-        __m128 dzdx[2], dzdy[2];
-        for (int h = 0; h < 2; ++h) {
-            gradients4(half(rx0, h), half(rx1, h), half(rx2, h), half(ry0, h), half(ry1, h),
-                       half(ry2, h), half(dz1, h), half(dz2, h), half(inv_area, h), dzdx[h],
-                       dzdy[h]);
-        }
-        const __m256i cols[8] = {lo16_hi16(x0, y0),
-                                 lo16_hi16(_mm256_sub_epi32(x1, _mm256_set1_epi32(1)),
-                                           _mm256_sub_epi32(y1, _mm256_set1_epi32(1))),
-                                 lo16_hi16(rx0, rx1),
-                                 lo16_hi16(rx2, ry0),
-                                 lo16_hi16(ry1, ry2),
-                                 _mm256_castps_si256(Z[0]),
-                                 join(dzdx[0], dzdx[1]),
-                                 join(dzdy[0], dzdy[1])};
-        __m256i rows[8];
-        transpose8(cols, rows);
-        // Every lane stored, the next record's place moved on for the fast ones only: the
-        // others are overwritten (a place within the chunk's: n <= t + k).
-        for (int k = 0; k < 8; ++k) {
-            _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + n), rows[k]);
-            n += (fast_bits >> k) & 1u;
-        }
+        n = write_records(X, Y, Z, area, front, x0, y0, x1, y1, b.lo, fast_bits, out, n);
     }
     return n;
 }
