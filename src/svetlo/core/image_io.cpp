@@ -162,8 +162,7 @@ public:
         // The pixels' floats and the bytes as plain arrays, read and written through locals:
         // a write through unsigned char may alias anything, so bytes written through the
         // vector made the compiler load the image, the exposure and the table's address again
-        // for each byte (a 960 x 540 JPEG took 2.8 ms with them, 2.35 without:
-        // bench/image_bench.cpp).
+        // for each byte (bench/image_bench.cpp; docs/performance.md).
         static_assert(sizeof(Color) == 3 * sizeof(float));
         static const Srgb8Encoder srgb8;
         const Srgb8Encoder& encode = srgb8;
@@ -185,8 +184,7 @@ public:
     }
 
     /// Every row, in parallel: each byte depends on its own value only (the viewer encodes a
-    /// frame per request; at 960 x 540 this was most of the JPEG encoder's time, which fell
-    /// from 19 to 10 ms on two cores, and to 3.3 ms with Srgb8Encoder's table).
+    /// frame per request, and this was most of the JPEG encoder's time: docs/performance.md).
     void convert_all() {
         const auto bands = static_cast<size_t>((image_.height + 15) / 16);
         parallel_for_each(bands, [&](size_t b) {

@@ -22,10 +22,10 @@ namespace svetlo {
 
 /// What image-based lighting makes of a map (its SH coefficients, its prefiltered levels, the
 /// split-sum table), kept from one frame to the next as a GL context keeps a texture: the
-/// viewer loads the scene again each frame, and making them took 100 ms of each frame on two
-/// threads (royal_esplanade_1k.hdr), kept 0.7 ms (the texels compared). Made again when the
-/// map's texels, its rotation or its scale change; a map over kKeptBytes is not kept (a copy
-/// would double it).
+/// viewer loads the scene again each frame, and making them is most of a frame's setup
+/// (docs/performance.md, "Costs the code's choices rest on"); keeping them costs a compare
+/// of the texels. Made again when the map's texels, its rotation or its scale change; a map
+/// over kKeptBytes is not kept (a copy would double it).
 class IblCache {
 public:
     static constexpr size_t kKeptBytes = size_t{64} << 20;

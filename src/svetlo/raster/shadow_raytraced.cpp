@@ -92,10 +92,10 @@ public:
         }
         // The point casters' occluder cubes, where there are few casters (a frame's point
         // lights, or a preview's lights with area from one point each). A cube costs a pass
-        // over the triangles (10-16 ms for raster.json's 63,000 on one thread) and spares
-        // the rays of most lit samples: a command that keeps them (svetlo serve, svetlo
-        // compare) builds each once for all its frames, another only for a frame of many
-        // samples a triangle.
+        // over the triangles (docs/performance.md, "Costs the code's choices rest on") and
+        // spares the rays of most lit samples: a command that keeps them (svetlo serve,
+        // svetlo compare) builds each once for all its frames, another only for a frame of
+        // many samples a triangle.
         cubes_.resize(casters_.size());
         const double samples = static_cast<double>(scene.film.width) * scene.film.height *
                                std::max(scene.render.spp, 1);
