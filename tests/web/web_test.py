@@ -10,6 +10,8 @@ cross-origin isolation:
     its pixels are the same;
   - a bad scene rejects svetlo.render with the one-line error, and the page renders after it;
   - a link's bare set= value is read as --set reads it;
+  - the visitor's own files: a glTF given to svetlo.addFiles renders the native program's
+    image; an OBJ and its MTL chosen in the page's file input render in #view;
   - the page makes no request outside its own origin, and logs no error.
 
     web_test.py SVETLO WEB_DIR SCENES_DIR
@@ -149,6 +151,42 @@ def main():
         after = tab.eval(RENDER % (json.dumps("cornell.json"),
                                    json.dumps({"engine": "raster", "width": 32, "height": 32})))
         check("the page renders after an error", after and "b64" in after, after)
+
+        # The visitor's own files: a glTF through svetlo.addFiles, against the native program.
+        data = os.path.join(HERE, "..", "data")
+        model = os.path.join(data, "triangle.gltf")
+        with open(model, "rb") as f:
+            b64 = base64.b64encode(f.read()).decode()
+        names = tab.eval("svetlo.addFiles([{name: 'models/../triangle.gltf', bytes: "
+                         "Uint8Array.from(atob(%s), c => c.charCodeAt(0))}])"
+                         ".then(n => n, e => ({error: e.message}))" % json.dumps(b64))
+        check("svetlo.addFiles keeps a file's own name, without folders",
+              names == ["triangle.gltf"], names)
+        opts = {"engine": "raster", "width": 64, "height": 48, "spp": 4, "seed": 3}
+        r = tab.eval(RENDER % (json.dumps("visitor/triangle.gltf"), json.dumps(opts)))
+        native_file = os.path.join(work, "visitor.pfm")
+        subprocess.run([svetlo, "render", model, "-e", "raster", "-W", "64", "-H", "48", "--spp",
+                        "4", "--seed", "3", "-q", "-o", native_file], check=True)
+        w, h, native = read_pfm(native_file)
+        ok = bool(r) and "b64" in r and (r["width"], r["height"]) == (w, h)
+        diff = relative_difference(floats(r), native) if ok else None
+        check("a visitor's glTF: the native program's image (relative RMS difference %s)" %
+              ("%.2e" % diff if ok else "-"), ok and diff <= 1e-6, r and r.get("error"))
+        # An OBJ and its MTL as a visitor chooses them in the page's file input.
+        element = tab.call("Runtime.evaluate", expression="document.getElementById('file')")
+        tab.call("DOM.setFileInputFiles", objectId=element["result"]["objectId"],
+                 files=[os.path.abspath(os.path.join(scenes, "models", name))
+                        for name in ("CornellBox-Original.obj", "CornellBox-Original.mtl")])
+        chosen, lit = None, None
+        end = time.time() + 120
+        while time.time() < end and not (chosen == "visitor/CornellBox-Original.obj" and lit):
+            time.sleep(0.1)
+            chosen = tab.eval("document.getElementById('scene').value")
+            lit = tab.eval(VIEW)
+        check("a visitor's OBJ and MTL chosen in the page render in #view",
+              chosen == "visitor/CornellBox-Original.obj" and bool(lit) and
+              tab.eval("document.getElementById('error').textContent") == "",
+              (chosen, lit, tab.eval("document.getElementById('error').textContent")))
 
         # The same page from a server without the headers: one thread, the same pixels.
         plain = subprocess.Popen([sys.executable, os.path.join(HERE, "static_server.py"), web,

@@ -1,8 +1,8 @@
 // The worker that holds svetlo's WebAssembly module (docs/web.md): a render blocks it, not
 // the page. In a cross-origin isolated page the module has threads (svetlo.js, its threads
 // the module's own workers); elsewhere it is the single-threaded one (svetlo-st.js). Messages
-// in: {id, scene, isText, options}; out: {ready} once, then {id, width, height, seconds,
-// pixels} or {id, error}.
+// in: {id, scene, isText, options} or {id, files: [{name, bytes}]}; out: {ready} once, then
+// {id, width, height, seconds, pixels}, {id, names} or {id, error}.
 const script = self.crossOriginIsolated ? 'svetlo.js' : 'svetlo-st.js';
 importScripts(script);
 
@@ -18,7 +18,28 @@ createSvetlo({
     const scenes = module.FS.readdir('/scenes').filter((name) => name.endsWith('.json')).sort();
     self.postMessage({ready: true, scenes, engines: JSON.parse(module.engines()),
                       cores: self.crossOriginIsolated ? navigator.hardwareConcurrency || 1 : 1});
+    // The visitor's files, under /scenes/visitor: each under its own name, without folders
+    // (a name that would leave the folder, or is empty, is refused with the one-line error).
+    const addFiles = (id, files) => {
+        const folder = '/scenes/visitor';
+        if (!module.FS.analyzePath(folder).exists) module.FS.mkdir(folder);
+        const names = [];
+        for (const f of files) {
+            const name = f.name.split(/[\\/]/).pop();
+            if (!name || name === '.' || name === '..') {
+                self.postMessage({id, error: `svetlo: error: ${f.name}: not a file's name`});
+                return;
+            }
+            module.FS.writeFile(folder + '/' + name, new Uint8Array(f.bytes));
+            names.push(name);
+        }
+        self.postMessage({id, names});
+    };
     self.onmessage = (event) => {
+        if (event.data.files !== undefined) {
+            addFiles(event.data.id, event.data.files);
+            return;
+        }
         const {id, scene, isText, options} = event.data;
         let out;
         try {

@@ -2,9 +2,10 @@
 //   await svetlo.ready;
 //   const {width, height, seconds, pixels} = await svetlo.render(SCENE, {engine, width,
 //       height, spp, seed, threads, set});
-// SCENE is a bundled scene's name ("cornell.json") or a scene object; pixels is a
-// Float32Array of linear RGB, top row first. A bad scene rejects with an Error whose message
-// is the one-line error. Renders run one at a time in a worker (render_worker.js), in order.
+// SCENE is a bundled scene's name ("cornell.json"), a visitor's file put there by
+// svetlo.addFiles ("visitor/model.glb"), or a scene object; pixels is a Float32Array of linear
+// RGB, top row first. A bad scene rejects with an Error whose message is the one-line error.
+// Renders run one at a time in a worker (render_worker.js), in order.
 (function () {
     'use strict';
     const worker = new Worker(new URL('render_worker.js', document.currentScript.src));
@@ -31,6 +32,7 @@
         if (!call) return;
         waiting.delete(data.id);
         if (data.error !== undefined) call.reject(new Error(data.error));
+        else if (data.names !== undefined) call.resolve(data.names);
         else call.resolve({width: data.width, height: data.height, seconds: data.seconds,
                            pixels: data.pixels});
     };
@@ -60,9 +62,27 @@
         }));
     }
 
+    /// The visitor's own files (File objects, or {name, bytes} with bytes an ArrayBuffer or a
+    /// typed array), put under visitor/ beside the bundled scenes, each under its own name
+    /// without folders: a scene or a model and the files it names (an OBJ's MTL and textures,
+    /// a glTF's buffers). Resolves to the names given; svetlo.render('visitor/NAME') renders.
+    function addFiles(files) {
+        return ready.then(() => Promise.all(Array.from(files, async (f) => {
+            const bytes = f instanceof Blob ? await f.arrayBuffer() : f.bytes;
+            const copy = bytes instanceof ArrayBuffer ? bytes.slice(0)
+                : bytes.buffer.slice(bytes.byteOffset, bytes.byteOffset + bytes.byteLength);
+            return {name: String(f.name), bytes: copy};
+        }))).then((list) => new Promise((resolve, reject) => {
+            const id = nextId++;
+            waiting.set(id, {resolve, reject});
+            worker.postMessage({id, files: list}, list.map((f) => f.bytes));
+        }));
+    }
+
     self.svetlo = {
         ready,
         render,
+        addFiles,
         get scenes() { return info.scenes.slice(); },
         get engines() { return info.engines.map((e) => e.name); },
         get threads() { return self.crossOriginIsolated ? info.cores : 1; },
