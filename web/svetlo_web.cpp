@@ -7,6 +7,7 @@
 #include <emscripten/bind.h>
 #include <emscripten/val.h>
 
+#include <atomic>
 #include <chrono>
 #include <exception>
 #include <string>
@@ -70,7 +71,21 @@ nlohmann::json effective_json(const std::string& scene, bool is_text,
     return scene_text_with_overrides(scene, file, overrides);
 }
 
-val render_scene(const std::string& scene, bool is_text, const std::string& options_text) {
+/// An image as a Float32Array of linear RGB, top row first (a copy, in JavaScript's memory).
+val pixels_of(const Image& image) {
+    const size_t floats = image.pixels.size() * 3;
+    val pixels = val::global("Float32Array").new_(floats);
+    pixels.call<void>("set", val(emscripten::typed_memory_view(
+                                 floats, reinterpret_cast<const float*>(image.pixels.data()))));
+    return pixels;
+}
+
+/// A render of the page. `cancel_at` is the address of a flag in the module's memory
+/// (cancel_flag) that the page sets to end a progressive render after the pass in progress
+/// (0: none); `on_pass`, when a function, is called after each pass of a progressive engine
+/// with {passes, seconds, width, height, pixels}.
+val render_scene(const std::string& scene, bool is_text, const std::string& options_text,
+                 uintptr_t cancel_at, val on_pass) {
     val out = val::object();
     try {
         const std::string file = is_text ? kSceneText : scene;
@@ -88,19 +103,29 @@ val render_scene(const std::string& scene, bool is_text, const std::string& opti
             threads.empty()
                 ? 0
                 : static_cast<int>(flag_integer(file, "threads", threads, 0, kMaxThreads));
+        if (cancel_at != 0) job.options.cancel = reinterpret_cast<std::atomic<bool>*>(cancel_at);
+        if (on_pass.typeOf().as<std::string>() == "function") {
+            job.options.on_pass = [&on_pass](int passes, double seconds, const Image& image) {
+                val pass = val::object();
+                pass.set("passes", passes);
+                pass.set("seconds", seconds);
+                pass.set("width", image.width);
+                pass.set("height", image.height);
+                pass.set("pixels", pixels_of(image));
+                on_pass(pass);
+            };
+        }
         const auto t0 = std::chrono::steady_clock::now();
         const RenderResult result = run_job(job);
         const double seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         const Image& image = result.color;
-        const size_t floats = image.pixels.size() * 3;
-        val pixels = val::global("Float32Array").new_(floats);
-        pixels.call<void>("set", val(emscripten::typed_memory_view(
-                                     floats, reinterpret_cast<const float*>(image.pixels.data()))));
         out.set("width", image.width);
         out.set("height", image.height);
         out.set("seconds", seconds);
-        out.set("pixels", pixels);
+        out.set("passes", reached_spp(job, result));
+        out.set("cancelled", job.options.cancel != nullptr && job.options.cancel->load());
+        out.set("pixels", pixels_of(image));
     } catch (const std::exception& e) {
         out.set("error", std::string(e.what()));
     }
@@ -115,9 +140,19 @@ std::string engines_json() {
     return list.dump();
 }
 
+/// The address of a new flag in the module's memory, cleared, for render_scene's cancel_at:
+/// the page holds the memory (a SharedArrayBuffer where the module has threads) and sets the
+/// flag's byte to end a render after its pass. Made once per worker; never freed.
+uintptr_t cancel_flag() { return reinterpret_cast<uintptr_t>(new std::atomic<bool>(false)); }
+
+/// Clears the flag before a render.
+void clear_cancel_flag(uintptr_t at) { reinterpret_cast<std::atomic<bool>*>(at)->store(false); }
+
 }  // namespace
 
 EMSCRIPTEN_BINDINGS(svetlo) {
     emscripten::function("render", &render_scene);
     emscripten::function("engines", &engines_json);
+    emscripten::function("cancelFlag", &cancel_flag);
+    emscripten::function("clearCancelFlag", &clear_cancel_flag);
 }

@@ -10,6 +10,8 @@ cross-origin isolation:
     its pixels are the same;
   - a bad scene rejects svetlo.render with the one-line error, and the page renders after it;
   - a link's bare set= value is read as --set reads it;
+  - a progressive render reports each pass; svetlo.cancel and any change of the page's controls
+    end a render after its pass;
   - the visitor's own files: a glTF given to svetlo.addFiles renders the native program's
     image; an OBJ and its MTL chosen in the page's file input render in #view;
   - the page makes no request outside its own origin, and logs no error.
@@ -109,6 +111,23 @@ def main():
             time.sleep(0.05)
         print("first image in #view %.2f s after opening" % (time.time() - start))
         check("#view shows an image", bool(lit), lit)
+        # A change of the controls during a long render ends it after its pass: the page's
+        # path render of a million samples gives way to the raster render asked next.
+        tab.eval("""(() => { const $ = (id) => document.getElementById(id);
+            $('engine').value = 'path'; $('spp').value = '1000000';
+            $('spp').dispatchEvent(new Event('change')); return true; })()""")
+        time.sleep(1.0)
+        changed = time.time()
+        tab.eval("""(() => { const $ = (id) => document.getElementById(id);
+            $('engine').value = 'raster'; $('spp').value = '1';
+            $('engine').dispatchEvent(new Event('change')); return true; })()""")
+        done = None
+        while time.time() - changed < 30 and not done:
+            done = tab.eval("!window.svetloBusy() && document.getElementById('status')"
+                            ".textContent.includes(' s') ? true : null")
+            time.sleep(0.05)
+        check("a change ends the render in progress (%.2f s)" % (time.time() - changed),
+              bool(done) and time.time() - changed < 10)
         check("the link's bare set= value renders (no error shown)",
               tab.eval("document.getElementById('error').textContent") == "")
 
@@ -151,6 +170,24 @@ def main():
         after = tab.eval(RENDER % (json.dumps("cornell.json"),
                                    json.dumps({"engine": "raster", "width": 32, "height": 32})))
         check("the page renders after an error", after and "b64" in after, after)
+
+        # Each pass as it comes, and a render ended after its pass.
+        passes = tab.eval("""(() => { let n = 0; return svetlo.render('cornell.json',
+            {engine: 'path', width: 32, height: 24, spp: 6, onPass: () => n++})
+            .then(r => ({n, passes: r.passes, cancelled: r.cancelled}),
+                  e => ({error: e.message})); })()""")
+        check("onPass is called after each pass of the path tracer",
+              passes == {"n": 6, "passes": 6, "cancelled": False}, passes)
+        ended = tab.eval("""new Promise(resolve => { let first = null;
+            svetlo.render('cornell.json', {engine: 'path', width: 64, height: 48, spp: 1000000,
+                onPass: () => { if (first === null) { first = performance.now();
+                                                      svetlo.cancel(); } }})
+            .then(r => resolve({passes: r.passes, cancelled: r.cancelled,
+                                ms: performance.now() - first}),
+                  e => resolve({error: e.message})); })""")
+        check("svetlo.cancel ends a render after its pass (%s)" % ended,
+              bool(ended) and ended.get("cancelled") is True and ended.get("passes", 1e9) <= 3
+              and ended.get("ms", 1e9) < 5000, ended)
 
         # The visitor's own files: a glTF through svetlo.addFiles, against the native program.
         data = os.path.join(HERE, "..", "data")

@@ -1,8 +1,11 @@
 // The worker that holds svetlo's WebAssembly module (docs/web.md): a render blocks it, not
 // the page. In a cross-origin isolated page the module has threads (svetlo.js, its threads
 // the module's own workers); elsewhere it is the single-threaded one (svetlo-st.js). Messages
-// in: {id, scene, isText, options} or {id, files: [{name, bytes}]}; out: {ready} once, then
-// {id, width, height, seconds, pixels}, {id, names} or {id, error}.
+// in: {id, scene, isText, options} or {id, files: [{name, bytes}]}; out: {ready, memory,
+// cancelAt} once, then {id, pass} after each pass of a progressive engine, and {id, width,
+// height, seconds, passes, cancelled, pixels}, {id, names} or {id, error}. Where the module has
+// threads its memory is shared with the page, which ends a render after its pass by setting
+// the byte at cancelAt.
 const script = self.crossOriginIsolated ? 'svetlo.js' : 'svetlo-st.js';
 importScripts(script);
 
@@ -15,9 +18,13 @@ createSvetlo({
     printErr: (text) => console.warn(text),
 }).then((module) => {
     module.FS.chdir('/scenes');
+    const cancelAt = module.cancelFlag();
+    const shared = typeof SharedArrayBuffer !== 'undefined' &&
+                   module.HEAP8.buffer instanceof SharedArrayBuffer;
     const scenes = module.FS.readdir('/scenes').filter((name) => name.endsWith('.json')).sort();
     self.postMessage({ready: true, scenes, engines: JSON.parse(module.engines()),
-                      cores: self.crossOriginIsolated ? navigator.hardwareConcurrency || 1 : 1});
+                      cores: self.crossOriginIsolated ? navigator.hardwareConcurrency || 1 : 1,
+                      memory: shared ? module.HEAP8.buffer : null, cancelAt});
     // The visitor's files, under /scenes/visitor: each under its own name, without folders
     // (a name that would leave the folder, or is empty, is refused with the one-line error).
     const addFiles = (id, files) => {
@@ -40,10 +47,13 @@ createSvetlo({
             addFiles(event.data.id, event.data.files);
             return;
         }
-        const {id, scene, isText, options} = event.data;
+        const {id, scene, isText, options, passes} = event.data;
+        const onPass = (pass) => self.postMessage({id, pass}, [pass.pixels.buffer]);
         let out;
         try {
-            out = module.render(scene, isText, JSON.stringify(options || {}));
+            module.clearCancelFlag(cancelAt);
+            out = module.render(scene, isText, JSON.stringify(options || {}), cancelAt,
+                                passes ? onPass : null);
         } catch (error) {  // the module itself failed (out of memory, an abort): say so
             self.postMessage({id, error: 'svetlo: the render failed: ' + error});
             return;
@@ -53,6 +63,7 @@ createSvetlo({
             return;
         }
         self.postMessage({id, width: out.width, height: out.height, seconds: out.seconds,
-                          pixels: out.pixels}, [out.pixels.buffer]);
+                          passes: out.passes, cancelled: out.cancelled, pixels: out.pixels},
+                         [out.pixels.buffer]);
     };
 }, (error) => self.postMessage({failed: String(error)}));

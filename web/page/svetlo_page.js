@@ -5,13 +5,16 @@
 // SCENE is a bundled scene's name ("cornell.json"), a visitor's file put there by
 // svetlo.addFiles ("visitor/model.glb"), or a scene object; pixels is a Float32Array of linear
 // RGB, top row first. A bad scene rejects with an Error whose message is the one-line error.
-// Renders run one at a time in a worker (render_worker.js), in order.
+// Renders run one at a time in a worker (render_worker.js), in order. An `onPass(pass)` option
+// is called with each pass of a progressive engine ({passes, seconds, width, height, pixels});
+// svetlo.cancel() ends the render in progress after its pass (a cross-origin isolated page:
+// svetlo.canCancel), which then resolves with the passes done and `cancelled` true.
 (function () {
     'use strict';
     const worker = new Worker(new URL('render_worker.js', document.currentScript.src));
     const waiting = new Map();  // id -> {resolve, reject}
     let nextId = 1;
-    let info = {scenes: [], engines: [], cores: 1};
+    let info = {scenes: [], engines: [], cores: 1, memory: null, cancelAt: 0};
     let readyResolve, readyReject;
     const ready = new Promise((resolve, reject) => {
         readyResolve = resolve;
@@ -30,11 +33,15 @@
         }
         const call = waiting.get(data.id);
         if (!call) return;
+        if (data.pass !== undefined) {  // a pass of the render in progress
+            if (call.onPass) call.onPass(data.pass);
+            return;
+        }
         waiting.delete(data.id);
         if (data.error !== undefined) call.reject(new Error(data.error));
         else if (data.names !== undefined) call.resolve(data.names);
         else call.resolve({width: data.width, height: data.height, seconds: data.seconds,
-                           pixels: data.pixels});
+                           passes: data.passes, cancelled: data.cancelled, pixels: data.pixels});
     };
     // The worker failed: the start, and every render waiting, end with its message.
     worker.onerror = (event) => {
@@ -53,12 +60,14 @@
     function render(scene, options) {
         return ready.then(() => new Promise((resolve, reject) => {
             const id = nextId++;
-            waiting.set(id, {resolve, reject});
             const opts = Object.assign({}, options || {});
+            const onPass = typeof opts.onPass === 'function' ? opts.onPass : null;
+            delete opts.onPass;  // (a function does not cross to the worker)
+            waiting.set(id, {resolve, reject, onPass});
             opts.threads = threadsFor(opts.threads);
             const isText = typeof scene !== 'string';
             worker.postMessage({id, scene: isText ? JSON.stringify(scene) : scene, isText,
-                                options: opts});
+                                options: opts, passes: onPass !== null});
         }));
     }
 
@@ -79,10 +88,20 @@
         }));
     }
 
+    /// Ends the render in progress after its pass; false where the page cannot (its module
+    /// has no memory shared with the page: not cross-origin isolated).
+    function cancel() {
+        if (!info.memory) return false;
+        Atomics.store(new Int8Array(info.memory), info.cancelAt, 1);
+        return true;
+    }
+
     self.svetlo = {
         ready,
         render,
         addFiles,
+        cancel,
+        get canCancel() { return info.memory !== null; },
         get scenes() { return info.scenes.slice(); },
         get engines() { return info.engines.map((e) => e.name); },
         get threads() { return self.crossOriginIsolated ? info.cores : 1; },
