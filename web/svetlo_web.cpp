@@ -5,10 +5,13 @@
 // folder) or a scene's JSON text; every option becomes an override by the job layer's rules
 // (job/overrides.h), as the command line's flags and Python's keywords do.
 #include <emscripten/bind.h>
+#include <emscripten/heap.h>
 #include <emscripten/val.h>
+#include <malloc.h>
 
 #include <atomic>
 #include <chrono>
+#include <cstdio>
 #include <exception>
 #include <string>
 #include <vector>
@@ -71,6 +74,25 @@ nlohmann::json effective_json(const std::string& scene, bool is_text,
     return scene_text_with_overrides(scene, file, overrides);
 }
 
+/// Refuses, with the one-line error naming the film, a render that would take more memory
+/// than the module has left below its WebAssembly memory's limit (the tab would crash).
+void check_memory(const RenderJob& job, const std::string& file) {
+    const uint64_t limit = emscripten_get_heap_max();
+    const uint64_t used = static_cast<uint64_t>(mallinfo().uordblks);
+    const uint64_t left = limit > used ? limit - used : 0;
+    const uint64_t needs = estimated_render_bytes(job);
+    if (needs <= left) return;
+    char why[256];
+    std::snprintf(why, sizeof why,
+                  "a %d x %d render in %s needs about %llu MiB; the page has %llu MiB left "
+                  "(its WebAssembly memory's limit is %llu MiB): ask for a smaller film",
+                  job.scene.film.width, job.scene.film.height, job.scene.render.engine.c_str(),
+                  static_cast<unsigned long long>(needs >> 20),
+                  static_cast<unsigned long long>(left >> 20),
+                  static_cast<unsigned long long>(limit >> 20));
+    throw Error(file, "film", why);
+}
+
 /// An image as a Float32Array of linear RGB, top row first (a copy, in JavaScript's memory).
 val pixels_of(const Image& image) {
     const size_t floats = image.pixels.size() * 3;
@@ -103,6 +125,7 @@ val render_scene(const std::string& scene, bool is_text, const std::string& opti
             threads.empty()
                 ? 0
                 : static_cast<int>(flag_integer(file, "threads", threads, 0, kMaxThreads));
+        check_memory(job, file);
         if (cancel_at != 0) job.options.cancel = reinterpret_cast<std::atomic<bool>*>(cancel_at);
         if (on_pass.typeOf().as<std::string>() == "function") {
             job.options.on_pass = [&on_pass](int passes, double seconds, const Image& image) {

@@ -9,6 +9,7 @@ cross-origin isolation:
   - served without the headers of isolation, the page runs its single-threaded module, and
     its pixels are the same;
   - a bad scene rejects svetlo.render with the one-line error, and the page renders after it;
+  - a film past the WebAssembly memory's limit is refused with the one-line error;
   - a link's bare set= value is read as --set reads it;
   - a progressive render reports each pass; svetlo.cancel and any change of the page's controls
     end a render after its pass;
@@ -167,6 +168,15 @@ def main():
               bad)
         bad_key = tab.eval(RENDER % (json.dumps("cornell.json"), json.dumps({"spp": 0})))
         check("a bad option names its key", bad_key and "spp" in bad_key.get("error", ""), bad_key)
+        # A film past the WebAssembly memory's limit: refused with the one-line error, and the
+        # page goes on (the same request would crash the tab).
+        huge = tab.eval(RENDER % (json.dumps("cornell.json"),
+                                  json.dumps({"engine": "path", "width": 8192, "height": 8192,
+                                              "spp": 1})))
+        check("a render past the memory limit is refused with the one-line error",
+              huge and "\n" not in huge.get("error", "\n") and
+              "cornell.json: film: a 8192 x 8192 render in path needs about" in huge["error"],
+              huge)
         after = tab.eval(RENDER % (json.dumps("cornell.json"),
                                    json.dumps({"engine": "raster", "width": 32, "height": 32})))
         check("the page renders after an error", after and "b64" in after, after)

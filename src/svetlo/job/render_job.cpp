@@ -189,6 +189,15 @@ void write_job_outputs(const RenderJob& job, const RenderResult& result,
     }
 }
 
+uint64_t estimated_render_bytes(const RenderJob& job) {
+    const Crop window = film_window(job.scene, job.options);
+    const uint64_t pixels = static_cast<uint64_t>(window.width()) * window.height();
+    const Capabilities& engine =
+        capabilities_of(job.scene.render.engine, job.run.scene_file.string());
+    const uint64_t aovs = job.options.aovs.size() + job.options.debug_aovs.size();
+    return pixels * (static_cast<uint64_t>(engine.film_bytes_per_pixel) + aovs * kAovBytesPerPixel);
+}
+
 void write_text_file(const std::string& path, const std::string& text, const std::string& where) {
     try {
         write_file_atomically(path, text);

@@ -59,6 +59,13 @@ RenderResult run_job(const RenderJob& job, RendererPool& pool);
 /// with its provenance.
 void write_job_outputs(const RenderJob& job, const RenderResult& result, const std::string& output);
 
+/// The memory a render of the job takes beyond its scene, bytes: its film (or crop) times
+/// the engine's Capabilities::film_bytes_per_pixel and kAovBytesPerPixel per AOV asked for.
+/// A caller with a hard limit (the web page's WebAssembly memory) refuses a job above it.
+uint64_t estimated_render_bytes(const RenderJob& job);
+/// What each AOV asked for adds per pixel (its image and its sums), bytes.
+inline constexpr uint64_t kAovBytesPerPixel = 40;
+
 /// Writes `text` to `path` atomically (a temporary file, then a rename); throws Error naming
 /// `where`.
 void write_text_file(const std::string& path, const std::string& text, const std::string& where);

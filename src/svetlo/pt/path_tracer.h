@@ -17,7 +17,8 @@ public:
                 .shows_passes = true,
                 .checkpoints = true,
                 .traces_samples = true,
-                .debug_aovs = {"bvh_cost", "path_depth"}};
+                .debug_aovs = {"bvh_cost", "path_depth"},
+                .film_bytes_per_pixel = 40};
     }
     RenderResult render(const Scene& scene, const RenderOptions& options) override;
 };

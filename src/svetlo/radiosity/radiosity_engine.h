@@ -18,7 +18,8 @@ public:
                 .checkpoints = true,   // the progressive solve's
                 .whole_frame = true,
                 .patch_mesh = true,
-                .debug_aovs = {"patches"}};
+                .debug_aovs = {"patches"},
+                .film_bytes_per_pixel = 48};
     }
     RenderResult render(const Scene& scene, const RenderOptions& options) override;
 };

@@ -66,6 +66,8 @@ struct Capabilities {
                                           // else its trace is of the whole pixel
     bool patch_mesh = false;              // solves on a mesh of patches (svetlo info shows it)
     std::vector<std::string> debug_aovs;  // the teaching buffers it makes
+    int film_bytes_per_pixel = 16;        // its memory per film pixel, before AOVs (measured
+                                          // as the peak's growth with the film: docs/web.md)
 };
 
 /// A window of the film: the pixels x0 <= i < x1, y0 <= j < y1 (docs/cli.md: --crop). A render
