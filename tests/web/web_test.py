@@ -209,6 +209,10 @@ def main():
                          ".then(n => n, e => ({error: e.message}))" % json.dumps(b64))
         check("svetlo.addFiles keeps a file's own name, without folders",
               names == ["triangle.gltf"], names)
+        refused = tab.eval("svetlo.addFiles([{name: 'models/..', bytes: new Uint8Array(4)}])"
+                           ".then(n => n, e => ({error: e.message}))")
+        check("svetlo.addFiles refuses a name that is no file's with the one-line error",
+              refused == {"error": "models/..: addFiles: not a file's name"}, refused)
         opts = {"engine": "raster", "width": 64, "height": 48, "spp": 4, "seed": 3}
         r = tab.eval(RENDER % (json.dumps("visitor/triangle.gltf"), json.dumps(opts)))
         native_file = os.path.join(work, "visitor.pfm")

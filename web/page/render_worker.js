@@ -34,7 +34,7 @@ createSvetlo({
         for (const f of files) {
             const name = f.name.split(/[\\/]/).pop();
             if (!name || name === '.' || name === '..') {
-                self.postMessage({id, error: `svetlo: error: ${f.name}: not a file's name`});
+                self.postMessage({id, error: `${f.name}: addFiles: not a file's name`});
                 return;
             }
             module.FS.writeFile(folder + '/' + name, new Uint8Array(f.bytes));
