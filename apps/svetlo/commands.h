@@ -5,8 +5,6 @@
 #include <string>
 #include <vector>
 
-#include "svetlo/core/flip.h"
-#include "svetlo/core/image_metrics.h"
 #include "svetlo/job/overrides.h"
 #include "svetlo/scene/pixel_trace.h"
 #include "svetlo/scene/scene_loader.h"

@@ -1,11 +1,11 @@
 // The worker that holds svetlo's WebAssembly module (docs/web.md): a render blocks it, not
 // the page. In a cross-origin isolated page the module has threads (svetlo.js, its threads
-// the module's own workers); elsewhere it is the single-threaded one (svetlo-st.js). Messages
-// in: {id, scene, isText, options} or {id, files: [{name, bytes}]}; out: {ready, memory,
-// cancelAt} once, then {id, pass} after each pass of a progressive engine, and {id, width,
-// height, seconds, passes, cancelled, pixels}, {id, names} or {id, error}. Where the module has
-// threads its memory is shared with the page, which ends a render after its pass by setting
-// the byte at cancelAt.
+// the module's own workers); elsewhere it is the single-threaded one (svetlo-st.js).
+// Messages in: {id, scene, isText, options, wantsPasses} or {id, files: [{name, bytes}]}; out:
+// {ready, memory, cancelAt} once, then {id, pass} after each pass of a progressive engine, and
+// {id, width, height, seconds, passes, cancelled, pixels}, {id, names} or {id, error}. Where
+// the module has threads its memory is shared with the page, which ends a render after its
+// pass by setting the byte at cancelAt.
 const script = self.crossOriginIsolated ? 'svetlo.js' : 'svetlo-st.js';
 importScripts(script);
 
@@ -47,13 +47,13 @@ createSvetlo({
             addFiles(event.data.id, event.data.files);
             return;
         }
-        const {id, scene, isText, options, passes} = event.data;
+        const {id, scene, isText, options, wantsPasses} = event.data;
         const onPass = (pass) => self.postMessage({id, pass}, [pass.pixels.buffer]);
         let out;
         try {
             module.clearCancelFlag(cancelAt);
             out = module.render(scene, isText, JSON.stringify(options || {}), cancelAt,
-                                passes ? onPass : null);
+                                wantsPasses ? onPass : null);
         } catch (error) {  // the module itself failed (out of memory, an abort): say so
             self.postMessage({id, error: 'svetlo: the render failed: ' + error});
             return;

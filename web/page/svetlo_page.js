@@ -67,7 +67,7 @@
             opts.threads = threadsFor(opts.threads);
             const isText = typeof scene !== 'string';
             worker.postMessage({id, scene: isText ? JSON.stringify(scene) : scene, isText,
-                                options: opts, passes: onPass !== null});
+                                options: opts, wantsPasses: onPass !== null});
         }));
     }
 

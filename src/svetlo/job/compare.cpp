@@ -116,6 +116,7 @@ SheetEntry render_entry(RenderJob& job, const std::string& spec, const Image& re
     if (!quiet) std::fprintf(stderr, "svetlo compare: %s\n", e.spec.c_str());
     job.options.progress = !quiet && stderr_is_terminal();
     RenderResult r = run_job(job);
+    job.options.on_pass = nullptr;  // (it points at this entry, returned below)
     e.seconds = r.stats.seconds;
     e.image = std::move(r.color);
     for (const std::string& name : job.options.aovs)
