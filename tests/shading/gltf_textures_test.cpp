@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "svetlo/core/image_io.h"
 #include "svetlo/scene/mesh_file.h"
@@ -303,6 +304,70 @@ TEST_F(GltfTextures, AMissingOrUndecodableImageNamesTheMaterial) {
             std::string::npos)
             << e.what();
     }
+}
+
+/// RFC 4648's base64 digits.
+const std::string kBase64 = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+
+/// RFC 4648 base64 of `bytes`.
+std::string base64(const std::string& bytes) {
+    std::string out;
+    for (size_t k = 0; k < bytes.size(); k += 3) {
+        const size_t n = std::min<size_t>(3, bytes.size() - k);
+        uint32_t v = 0;
+        for (size_t b = 0; b < 3; ++b)
+            v = (v << 8) | (b < n ? static_cast<unsigned char>(bytes[k + b]) : 0u);
+        for (size_t d = 0; d < 4; ++d) out += d <= n ? kBase64[(v >> (18 - 6 * d)) & 63] : '=';
+    }
+    return out;
+}
+
+std::string file_bytes(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream bytes;
+    bytes << in.rdbuf();
+    return bytes.str();
+}
+
+// An image file is read by the thread that decodes it, not by tinygltf (gltf_reader.cpp):
+// its texels are those of the same image written into the glTF.
+TEST_F(GltfTextures, AnImageFileGivesTheTexelsOfTheSameImageInADataUri) {
+    const json material = {{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}};
+    const MeshFile from_file = read(material);
+    const std::string uri = "data:image/png;base64," + base64(file_bytes(dir / "tex.png"));
+    const MeshFile from_uri = read(material, {{"images", {{{"uri", uri}}}}});
+    ASSERT_EQ(from_file.textures.size(), 1u);
+    ASSERT_EQ(from_uri.textures.size(), 1u);
+    EXPECT_TRUE(from_file.textures[0].same_texels(from_uri.textures[0]));
+    EXPECT_EQ(from_file.textures[0].width(), 2);
+}
+
+// A buffer whose file begins as a PNG does (legal, if odd) is read as the buffer it is, and
+// the model's image files still decode.
+TEST_F(GltfTextures, ABufferFileThatBeginsAsAnImageIsReadAsABuffer) {
+    std::ifstream in(fs::path(SVETLO_TEST_DATA) / "triangle.gltf");
+    const json triangle = json::parse(in);
+    const std::string data = triangle["buffers"][0]["uri"];
+    std::string buffer = file_bytes(dir / "tex.png").substr(0, 8);  // the PNG signature
+    // The triangle's 44 bytes, decoded from its data URI.
+    uint32_t bits = 0;
+    int count = 0;
+    for (char c : data.substr(data.find(',') + 1)) {
+        if (c == '=') break;
+        bits = (bits << 6) | static_cast<uint32_t>(kBase64.find(c));
+        if ((count += 6) >= 8) buffer += static_cast<char>((bits >> (count -= 8)) & 0xFF);
+    }
+    ASSERT_EQ(buffer.size(), 8u + 44u);
+    std::ofstream(dir / "geometry.png", std::ios::binary) << buffer;
+    const MeshFile f = read({{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}},
+                            {{"buffers", {{{"uri", "geometry.png"}, {"byteLength", 52}}}},
+                             {"bufferViews",
+                              {{{"buffer", 0}, {"byteOffset", 8}, {"byteLength", 36}},
+                               {{"buffer", 0}, {"byteOffset", 44}, {"byteLength", 6}}}}});
+    ASSERT_EQ(f.mesh.positions.size(), 3u);
+    EXPECT_EQ(f.mesh.positions[1], vec3(1.0f, 0.0f, -1.0f));  // node 0 moves it to z = -1
+    ASSERT_EQ(f.textures.size(), 1u);
+    EXPECT_EQ(f.textures[0].width(), 2);
 }
 
 }  // namespace

@@ -1,6 +1,11 @@
 #include "svetlo/core/input_file.h"
 
+#include <cerrno>
+#include <cstring>
+#include <fstream>
 #include <stdexcept>
+
+#include "svetlo/core/large_array.h"
 
 namespace svetlo {
 
@@ -24,6 +29,15 @@ std::string input_file_problem(const fs::path& path, uintmax_t max_bytes) {
 void require_input_file(const fs::path& path, uintmax_t max_bytes) {
     std::string problem = input_file_problem(path, max_bytes);
     if (!problem.empty()) throw std::runtime_error(problem);
+}
+
+std::vector<unsigned char> read_input_file(const fs::path& path, uintmax_t max_bytes) {
+    require_input_file(path, max_bytes);
+    std::ifstream in(path, std::ios::binary);
+    std::vector<unsigned char> bytes = large_buffer(fs::file_size(path));
+    in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    if (!in) throw std::runtime_error(std::string("cannot read it: ") + std::strerror(errno));
+    return bytes;
 }
 
 }  // namespace svetlo

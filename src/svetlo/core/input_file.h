@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace svetlo {
 
@@ -21,5 +22,9 @@ std::string input_file_problem(const std::filesystem::path& path,
 
 /// Throws std::runtime_error(input_file_problem) when there is one.
 void require_input_file(const std::filesystem::path& path, uintmax_t max_bytes = kMaxInputBytes);
+
+/// The file's bytes, read whole after require_input_file; std::runtime_error when it cannot.
+std::vector<unsigned char> read_input_file(const std::filesystem::path& path,
+                                           uintmax_t max_bytes = kMaxInputBytes);
 
 }  // namespace svetlo

@@ -1,21 +1,51 @@
-// Uninitialised arrays for the large, short-lived buffers of acceleration-structure builds.
-// Arrays of 2 MiB or more are aligned to 2 MiB and advised to use transparent huge pages on
-// Linux: a build touches every page once, and one fault per 2 MiB instead of per 4 KiB is
-// the difference between a page-fault-bound and a compute-bound build.
+// Uninitialised arrays for the large, short-lived buffers of acceleration-structure builds,
+// and byte buffers for large files and textures. Arrays of 2 MiB or more are aligned to 2 MiB
+// and advised to use transparent huge pages on Linux: a build touches every page once, and one
+// fault per 2 MiB instead of per 4 KiB is the difference between a page-fault-bound and a
+// compute-bound build (and, for a model's textures, most of their first touch:
+// docs/performance.md, "Loading a model").
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <cstdlib>
 #include <memory>
 #include <new>
 #include <type_traits>
 #include <utility>
+#include <vector>
 
 #if defined(__linux__)
 #include <sys/mman.h>
 #endif
 
 namespace svetlo {
+
+/// The size of a transparent huge page on x86-64 and on ARM64 with 4 KiB pages.
+inline constexpr size_t kHugePageBytes = size_t{2} << 20;
+
+/// Asks Linux to back the whole huge pages within [p, p + bytes) with transparent huge pages,
+/// before they are first touched. Elsewhere, and where the kernel says no, nothing changes.
+inline void advise_huge_pages(void* p, size_t bytes) {
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    const auto at = reinterpret_cast<uintptr_t>(p);
+    const uintptr_t begin = (at + kHugePageBytes - 1) & ~uintptr_t{kHugePageBytes - 1};
+    const uintptr_t end = (at + bytes) & ~uintptr_t{kHugePageBytes - 1};
+    if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+#else
+    (void)p, (void)bytes;
+#endif
+}
+
+/// `n` zero bytes in a vector whose whole huge pages are advised as above: for a file read
+/// whole and for a texture's decoded texels, each written once right after it is made.
+inline std::vector<unsigned char> large_buffer(size_t n) {
+    std::vector<unsigned char> buffer;
+    buffer.reserve(n);  // allocated, not yet touched
+    advise_huge_pages(buffer.data(), n);
+    buffer.resize(n);
+    return buffer;
+}
 
 template <class T>
 class LargeArray {
@@ -27,17 +57,14 @@ public:
     /// 2 MiB page touched would be cleared whole.
     explicit LargeArray(size_t count, bool huge_pages = true) : size_(count), capacity_(count) {
         if (count == 0) return;
-        constexpr size_t kHuge = size_t{2} << 20;
         size_t bytes = count * sizeof(T);
-        size_t align = bytes >= kHuge && huge_pages     ? kHuge
-                       : alignof(std::max_align_t) < 64 ? 64
-                                                        : alignof(std::max_align_t);
+        size_t align = bytes >= kHugePageBytes && huge_pages ? kHugePageBytes
+                       : alignof(std::max_align_t) < 64      ? 64
+                                                             : alignof(std::max_align_t);
         bytes = (bytes + align - 1) / align * align;
         void* p = std::aligned_alloc(align, bytes);
         if (!p) throw std::bad_alloc();
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-        if (align == kHuge) madvise(p, bytes, MADV_HUGEPAGE);
-#endif
+        if (align == kHugePageBytes) advise_huge_pages(p, bytes);
         data_.reset(static_cast<T*>(p));
     }
 

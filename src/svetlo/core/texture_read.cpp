@@ -1,5 +1,6 @@
-// Reading textures: PFM, OpenEXR, stb's 8-bit and HDR formats and WebP (libwebp, where the
-// build has it) into TextureImage, each size checked from its header before anything is
+// Reading textures: PFM, OpenEXR, stb's 8-bit and HDR formats, WebP (libwebp, where the
+// build has it), and PNG and JPEG colours through libspng and libjpeg-turbo where it has them
+// (rgb8_decode.h) into TextureImage, each size checked from its header before anything is
 // decoded; colour, data or coverage texels (image_io.h, read_texture). The writing of images
 // and the reading of films and their metadata stay in image_io.cpp.
 #ifdef SVETLO_HAS_OPENEXR
@@ -20,7 +21,9 @@
 
 #include "svetlo/core/error.h"
 #include "svetlo/core/image_io.h"
+#include "svetlo/core/image_signature.h"
 #include "svetlo/core/input_file.h"
+#include "svetlo/core/rgb8_decode.h"
 
 namespace svetlo {
 namespace fs = std::filesystem;
@@ -118,12 +121,6 @@ bool reads_webp() {
 
 namespace {
 
-/// Whether the bytes are a WebP file (RIFF, then WEBP).
-bool is_webp(const unsigned char* bytes, size_t size) {
-    return size >= 12 && std::memcmp(bytes, "RIFF", 4) == 0 &&
-           std::memcmp(bytes + 8, "WEBP", 4) == 0;
-}
-
 /// Refuses a header that declares more texels than any compression packs into `size` bytes:
 /// a truncated or forged file, which a decoder would pad to the full size (a 23-byte TGA of
 /// 30463 x 4120 texels took 1.3 s and 740 MB, found by fuzzing). No format read here packs
@@ -183,6 +180,8 @@ TextureImage decode_texture(const unsigned char* bytes, size_t size, TexelMeanin
         throw std::runtime_error(size == 0 ? "no data" : stbi_failure_reason());
     check_texture_size(w, h, 3, max_bytes);
     check_texels_per_byte(w, h, size);
+    if (std::vector<unsigned char> codes; !coverage && decode_rgb8(bytes, size, w, h, codes))
+        return TextureImage(w, h, std::move(codes), srgb);
     std::unique_ptr<unsigned char, void (*)(void*)> data(
         stbi_load_from_memory(bytes, length, &w, &h, &n, coverage ? 0 : 3), stbi_image_free);
     if (!data) throw std::runtime_error(stbi_failure_reason());
@@ -191,32 +190,24 @@ TextureImage decode_texture(const unsigned char* bytes, size_t size, TexelMeanin
 
 namespace {
 
-TextureImage read_webp(const fs::path& path, TexelMeaning meaning, size_t max_bytes) {
-    std::ifstream in(path, std::ios::binary);
-    std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
-                                     std::istreambuf_iterator<char>());
-    if (!in && !in.eof()) throw std::runtime_error("cannot read the file");
+/// An 8-bit image file (PNG, JPEG, WebP, TGA, BMP...) read whole, then decoded from memory.
+TextureImage read_bytes(const fs::path& path, TexelMeaning meaning, size_t max_bytes) {
+    const std::vector<unsigned char> bytes = read_input_file(path);
     return decode_texture(bytes.data(), bytes.size(), meaning, max_bytes);
 }
 
-TextureImage read_stb(const fs::path& path, bool srgb, size_t max_bytes, bool coverage) {
+TextureImage read_stb(const fs::path& path, TexelMeaning meaning, size_t max_bytes) {
+    if (!stbi_is_hdr(path.c_str())) return read_bytes(path, meaning, max_bytes);
     int w = 0, h = 0, n = 0;
     if (!stbi_info(path.c_str(), &w, &h, &n)) throw std::runtime_error(stbi_failure_reason());
-    bool hdr = stbi_is_hdr(path.c_str()) != 0;
-    check_texture_size(w, h, hdr ? sizeof(Color) : 3, max_bytes);
+    check_texture_size(w, h, sizeof(Color), max_bytes);
     check_texels_per_byte(w, h, fs::file_size(path));
-    if (hdr) {
-        std::unique_ptr<float, void (*)(void*)> data(stbi_loadf(path.c_str(), &w, &h, &n, 3),
-                                                     stbi_image_free);
-        if (!data) throw std::runtime_error(stbi_failure_reason());
-        Image image(w, h);
-        std::memcpy(image.pixels.data(), data.get(), image.pixels.size() * sizeof(Color));
-        return TextureImage(std::move(image));
-    }
-    std::unique_ptr<unsigned char, void (*)(void*)> data(
-        stbi_load(path.c_str(), &w, &h, &n, coverage ? 0 : 3), stbi_image_free);
+    std::unique_ptr<float, void (*)(void*)> data(stbi_loadf(path.c_str(), &w, &h, &n, 3),
+                                                 stbi_image_free);
     if (!data) throw std::runtime_error(stbi_failure_reason());
-    return texture_of_codes(data.get(), w, h, coverage ? n : 3, srgb, coverage);
+    Image image(w, h);
+    std::memcpy(image.pixels.data(), data.get(), image.pixels.size() * sizeof(Color));
+    return TextureImage(std::move(image));
 }
 
 }  // namespace
@@ -229,16 +220,14 @@ TextureImage read_texture(const fs::path& path, bool srgb, size_t max_bytes,
 
 TextureImage read_texture(const fs::path& path, TexelMeaning meaning, size_t max_bytes,
                           const std::string& where, NegativeTexels negative) {
-    const bool srgb = meaning == TexelMeaning::Srgb, coverage = meaning == TexelMeaning::Coverage;
     std::string problem = input_file_problem(path);
     if (!problem.empty()) throw Error(path.string(), where, problem);
     TextureImage texture;
     try {
         std::string ext = lower_extension(path);
-        texture = ext == ".pfm"    ? read_pfm(path, max_bytes)
-                  : ext == ".exr"  ? read_exr(path, max_bytes)
-                  : ext == ".webp" ? read_webp(path, meaning, max_bytes)
-                                   : read_stb(path, srgb, max_bytes, coverage);
+        texture = ext == ".pfm"   ? read_pfm(path, max_bytes)
+                  : ext == ".exr" ? read_exr(path, max_bytes)
+                                  : read_stb(path, meaning, max_bytes);
     } catch (const std::exception& e) {
         throw Error(path.string(), where, std::string("cannot read image: ") + e.what());
     }

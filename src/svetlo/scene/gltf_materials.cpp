@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "svetlo/core/image_io.h"
+#include "svetlo/core/input_file.h"
 #include "svetlo/core/parallel.h"
 
 namespace svetlo {
@@ -19,7 +20,8 @@ namespace {
 /// texture's sampler and KHR_texture_transform.
 class GltfTextures {
 public:
-    GltfTextures(const tinygltf::Model& model, MeshFile& file) : model_(model), file_(file) {}
+    GltfTextures(const tinygltf::Model& model, const GltfImageFiles& image_files, MeshFile& file)
+        : model_(model), image_files_(image_files), file_(file) {}
 
     /// The ColorSource of a material's texture reference, times `factor`; throws for a
     /// texture or image that is missing or does not decode.
@@ -123,7 +125,9 @@ private:
         if (names_network(im.uri)) throw std::runtime_error(what + ": " + name + " " + kNetwork);
         file_.textures.emplace_back();
         const int made = static_cast<int>(file_.textures.size()) - 1;
-        pending_.push_back({&im, meaning, static_cast<size_t>(made), what + ": " + name});
+        const auto file = image_files_.find(index);
+        pending_.push_back({&im, file == image_files_.end() ? std::string() : file->second, meaning,
+                            static_cast<size_t>(made), what + ": " + name});
         made_[key] = made;
         return made;
     }
@@ -137,8 +141,11 @@ public:
         parallel_indices(pending_.size(), 0, [&](size_t k) {
             const Pending& p = pending_[k];
             try {
-                file_.textures[p.slot] = decode_texture(
-                    p.image->image.data(), p.image->image.size(), p.meaning, kMaxTextureBytes);
+                std::vector<unsigned char> read;
+                if (!p.file.empty()) read = read_input_file(p.file);
+                const std::vector<unsigned char>& bytes = p.file.empty() ? p.image->image : read;
+                file_.textures[p.slot] =
+                    decode_texture(bytes.data(), bytes.size(), p.meaning, kMaxTextureBytes);
             } catch (const std::exception& e) {
                 errors[k] = p.label + " does not decode: " + e.what();
             }
@@ -149,10 +156,12 @@ public:
 
 private:
     const tinygltf::Model& model_;
+    const GltfImageFiles& image_files_;
     MeshFile& file_;
     std::map<std::pair<int, TexelMeaning>, int> made_;
     struct Pending {
         const tinygltf::Image* image;
+        std::string file;  // read before decoding; empty: the image holds its bytes
         TexelMeaning meaning;
         size_t slot;        // in file_.textures
         std::string label;  // "material 2 baseColorTexture: image 0 'a.png'"
@@ -311,8 +320,9 @@ Material material_from_gltf(const tinygltf::Material& m, GltfTextures& textures)
 
 }  // namespace
 
-void read_gltf_materials(const tinygltf::Model& model, MeshFile& file) {
-    GltfTextures textures(model, file);
+void read_gltf_materials(const tinygltf::Model& model, const GltfImageFiles& image_files,
+                         MeshFile& file) {
+    GltfTextures textures(model, image_files, file);
     for (const tinygltf::Material& m : model.materials) {
         file.materials.push_back(material_from_gltf(m, textures));
         file.material_names.push_back(m.name);

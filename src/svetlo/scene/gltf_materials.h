@@ -4,6 +4,7 @@
 // _transmission, _volume, _clearcoat and _emissive_strength; EXT_texture_webp's images.
 #pragma once
 
+#include <map>
 #include <string>
 
 #include "svetlo/scene/mesh_file.h"
@@ -20,9 +21,16 @@ inline bool names_network(const std::string& uri) { return uri.find("://") != st
 inline constexpr const char* kNetwork =
     "names a network resource (svetlo reads local files and data: URIs only)";
 
+/// The images whose files the glTF reader left for the threads that decode them: image index
+/// -> the file (checked already: inside the model's folder, a regular file of bounded size).
+/// The other images hold their encoded bytes.
+using GltfImageFiles = std::map<int, std::string>;
+
 /// Every material of `model` into file.materials and file.material_names, the images they
-/// use decoded into file.textures (once per colour space). Throws std::runtime_error naming
-/// the material, the slot and the texture or image that is missing, bad or does not decode.
-void read_gltf_materials(const tinygltf::Model& model, MeshFile& file);
+/// use read (`image_files`) and decoded into file.textures (once per colour space), on all
+/// cores. Throws std::runtime_error naming the material, the slot and the texture or image
+/// that is missing, bad or does not decode.
+void read_gltf_materials(const tinygltf::Model& model, const GltfImageFiles& image_files,
+                         MeshFile& file);
 
 }  // namespace svetlo

@@ -6,14 +6,18 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include <memory>
+#include <optional>
 #include <set>
 #include <stdexcept>
+#include <string>
 #include <string_view>
 
 #include "svetlo/core/image_io.h"
+#include "svetlo/core/image_signature.h"
 #include "svetlo/core/input_file.h"
 #include "svetlo/scene/gltf_compression.h"
 #include "svetlo/scene/gltf_materials.h"
@@ -368,29 +372,39 @@ struct Flattener {
     }
 };
 
-/// tinygltf's image callback: the encoded bytes kept as they are, for GltfTextures to decode
-/// the images a material uses, once per colour space.
-bool keep_encoded(tinygltf::Image* image, int, std::string*, std::string*, int, int,
-                  const unsigned char* bytes, int size, void*) {
-    image->image.assign(bytes, bytes + size);
-    image->width = image->height = image->component = image->bits = 0;
-    return true;
-}
-
-/// What tinygltf's file callbacks know: the folder the files must lie in, and the model file
-/// itself as tinygltf can load it (tinygltf_loadable; empty: the file as it is).
+/// What tinygltf's file callbacks know: the folder the files must lie in, the model file
+/// itself as tinygltf can load it (tinygltf_loadable; empty: the file as it is), and the image
+/// files left for the threads that decode them (GltfImageFiles).
 struct GltfFiles {
     const FileScope* scope;
     std::string model;
     std::vector<unsigned char> loadable;
+    bool defer_images = true;
+    std::vector<std::string> deferred;  // the files read_checked_file handed over as markers
+    GltfImageFiles image_files;         // image index -> its file, as keep_encoded found them
 };
+
+/// What tinygltf is handed in place of an image file left for later: this, then the index
+/// of the file in GltfFiles::deferred.
+constexpr std::string_view kDeferredImage = "svetlo: an image file read later, #";
+
+/// Whether the file begins as a PNG, JPEG or WebP image does (its first bytes).
+bool starts_as_image(const std::string& path) {
+    unsigned char head[kImageSignatureBytes] = {};
+    std::ifstream in(path, std::ios::binary);
+    in.read(reinterpret_cast<char*>(head), sizeof head);
+    const auto n = static_cast<size_t>(in.gcount());
+    return is_png(head, n) || is_jpeg(head, n) || is_webp(head, n);
+}
 
 /// tinygltf's file reading with every file checked first (buffers and images a glTF names),
 /// as svetlo checks every input file, and inside the FileScope of the GltfFiles that
-/// `user_data` points to.
+/// `user_data` points to. An image file is not read here: tinygltf gets a marker in its place
+/// (kDeferredImage), and the file is read by the thread that decodes it (a model's textures
+/// are most of its bytes; read here, each would be read, then copied, on one thread).
 bool read_checked_file(std::vector<unsigned char>* out, std::string* err, const std::string& path,
                        void* user_data) {
-    const auto* files = static_cast<const GltfFiles*>(user_data);
+    auto* files = static_cast<GltfFiles*>(user_data);
     if (path == files->model && !files->loadable.empty()) {
         *out = files->loadable;
         return true;
@@ -410,7 +424,37 @@ bool read_checked_file(std::vector<unsigned char>* out, std::string* err, const 
         if (err) *err += "'" + path + "' " + problem + "\n";
         return false;
     }
+    if (files->defer_images && path != files->model && starts_as_image(path)) {
+        const std::string marker =
+            std::string(kDeferredImage) + std::to_string(files->deferred.size());
+        files->deferred.push_back(path);
+        out->assign(marker.begin(), marker.end());
+        return true;
+    }
     return tinygltf::ReadWholeFile(out, err, path, nullptr);
+}
+
+/// Whether `bytes` are a marker of read_checked_file's; its index into GltfFiles::deferred.
+std::optional<size_t> deferred_index(const unsigned char* bytes, size_t size) {
+    const std::string_view text(reinterpret_cast<const char*>(bytes), size);
+    if (text.substr(0, kDeferredImage.size()) != kDeferredImage) return std::nullopt;
+    return static_cast<size_t>(std::stoul(std::string(text.substr(kDeferredImage.size()))));
+}
+
+/// tinygltf's image callback: the encoded bytes kept as they are, for GltfTextures to decode
+/// the images a material uses, once per colour space; or, for a file left for later, its
+/// name under the image's index.
+bool keep_encoded(tinygltf::Image* image, int index, std::string*, std::string*, int, int,
+                  const unsigned char* bytes, int size, void* user_data) {
+    auto* files = static_cast<GltfFiles*>(user_data);
+    image->width = image->height = image->component = image->bits = 0;
+    if (const auto k = deferred_index(bytes, static_cast<size_t>(size))) {
+        files->image_files[index] = files->deferred.at(*k);
+        image->image.clear();
+        return true;
+    }
+    image->image.assign(bytes, bytes + size);
+    return true;
 }
 
 /// The extensions svetlo reads (docs/scene-format.md, "Mesh files"), those of the libraries
@@ -448,16 +492,34 @@ bool exists_or_network(const std::string& path, void* user_data) {
 }  // namespace
 
 MeshFile read_gltf(const std::filesystem::path& path, const FileScope& files) {
-    tinygltf::TinyGLTF loader;
     const bool binary = path.extension() == ".glb" || path.extension() == ".GLB";
-    GltfFiles reading{&files, path.string(), tinygltf_loadable(path, binary)};
-    loader.SetFsCallbacks({&exists_or_network, &tinygltf::ExpandFilePath, &read_checked_file,
-                           &tinygltf::WriteWholeFile, &reading});
-    loader.SetImageLoader(&keep_encoded, nullptr);
+    GltfFiles reading{&files, path.string(), tinygltf_loadable(path, binary), true, {}, {}};
     tinygltf::Model model;
     std::string err, warn;
-    bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path.string())
-                     : loader.LoadASCIIFromFile(&model, &err, &warn, path.string());
+    const auto load = [&] {
+        tinygltf::TinyGLTF loader;
+        loader.SetFsCallbacks({&exists_or_network, &tinygltf::ExpandFilePath, &read_checked_file,
+                               &tinygltf::WriteWholeFile, &reading});
+        loader.SetImageLoader(&keep_encoded, &reading);
+        return binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path.string())
+                      : loader.LoadASCIIFromFile(&model, &err, &warn, path.string());
+    };
+    bool ok = load();
+    // A file that begins as an image and that the glTF names as a buffer (legal, if rare)
+    // got a marker in its place: the whole file is read again, every file read by tinygltf.
+    const auto marker = [](const tinygltf::Buffer& b) {
+        return deferred_index(b.data.data(), b.data.size()).has_value();
+    };
+    if (!reading.deferred.empty() &&
+        (!ok || std::any_of(model.buffers.begin(), model.buffers.end(), marker))) {
+        reading.defer_images = false;
+        reading.deferred.clear();
+        reading.image_files.clear();
+        model = tinygltf::Model();
+        err.clear();
+        warn.clear();
+        ok = load();
+    }
     if (!ok) {
         // tinygltf may say several things, a line each: one line, joined.
         while (!err.empty() && (err.back() == '\n' || err.back() == '\r')) err.pop_back();
@@ -468,7 +530,7 @@ MeshFile read_gltf(const std::filesystem::path& path, const FileScope& files) {
     MeshFile file;
     check_extensions(model, file);
     decompress_geometry(model);
-    read_gltf_materials(model, file);
+    read_gltf_materials(model, reading.image_files, file);
     Flattener flattener{model, file, 0, {}};
     int scene = model.defaultScene >= 0 ? model.defaultScene : 0;
     if (static_cast<size_t>(scene) < model.scenes.size()) {
