@@ -19,6 +19,9 @@ struct AccelEntry {
     std::string_view name;
     std::function<std::string()> description;
     std::function<std::unique_ptr<Accel>(const Geometry&, int threads)> make;
+    /// Whether `make` builds the placements itself (Embree's own instances); otherwise each
+    /// prototype gets a structure of its own under an InstancedAccel.
+    bool places_instances = false;
 };
 
 const std::vector<AccelEntry>& accel_table() {
@@ -49,7 +52,7 @@ const std::vector<AccelEntry>& accel_table() {
          },
          [](const Geometry& g, int threads) { return std::make_unique<WideBvh>(g, threads, 16); }},
         {"embree", [] { return std::string("Embree"); },
-         [](const Geometry& g, int threads) { return make_embree_accel(g, threads); }},
+         [](const Geometry& g, int threads) { return make_embree_accel(g, threads); }, true},
     };
     return table;
 }
@@ -78,6 +81,7 @@ std::string accel_description(std::string_view name) {
 std::unique_ptr<Accel> make_accel(std::string_view name, const Geometry& geometry, int threads) {
     const AccelEntry* e = find_accel(name);
     if (!e) return nullptr;
+    if (e->places_instances) return e->make(geometry, threads);
     return make_instanced_accel(geometry, [&](const Geometry& g) { return e->make(g, threads); });
 }
 
