@@ -434,11 +434,22 @@ bool read_checked_file(std::vector<unsigned char>* out, std::string* err, const 
     return tinygltf::ReadWholeFile(out, err, path, nullptr);
 }
 
-/// Whether `bytes` are a marker of read_checked_file's; its index into GltfFiles::deferred.
-std::optional<size_t> deferred_index(const unsigned char* bytes, size_t size) {
+/// Whether `bytes` are one of the markers read_checked_file handed out; its index into
+/// `files.deferred`. (An image written into the file that reads as a marker can only name one
+/// of the model's own image files.)
+std::optional<size_t> deferred_index(const GltfFiles& files, const unsigned char* bytes,
+                                     size_t size) {
     const std::string_view text(reinterpret_cast<const char*>(bytes), size);
     if (text.substr(0, kDeferredImage.size()) != kDeferredImage) return std::nullopt;
-    return static_cast<size_t>(std::stoul(std::string(text.substr(kDeferredImage.size()))));
+    const std::string_view digits = text.substr(kDeferredImage.size());
+    if (digits.empty() || digits.size() > 9) return std::nullopt;
+    size_t k = 0;
+    for (char c : digits) {
+        if (c < '0' || c > '9') return std::nullopt;
+        k = 10 * k + static_cast<size_t>(c - '0');
+    }
+    if (k >= files.deferred.size()) return std::nullopt;
+    return k;
 }
 
 /// tinygltf's image callback: the encoded bytes kept as they are, for GltfTextures to decode
@@ -448,8 +459,8 @@ bool keep_encoded(tinygltf::Image* image, int index, std::string*, std::string*,
                   const unsigned char* bytes, int size, void* user_data) {
     auto* files = static_cast<GltfFiles*>(user_data);
     image->width = image->height = image->component = image->bits = 0;
-    if (const auto k = deferred_index(bytes, static_cast<size_t>(size))) {
-        files->image_files[index] = files->deferred.at(*k);
+    if (const auto k = deferred_index(*files, bytes, static_cast<size_t>(size))) {
+        files->image_files[index] = files->deferred[*k];
         image->image.clear();
         return true;
     }
@@ -507,8 +518,8 @@ MeshFile read_gltf(const std::filesystem::path& path, const FileScope& files) {
     bool ok = load();
     // A file that begins as an image and that the glTF names as a buffer (legal, if rare)
     // got a marker in its place: the whole file is read again, every file read by tinygltf.
-    const auto marker = [](const tinygltf::Buffer& b) {
-        return deferred_index(b.data.data(), b.data.size()).has_value();
+    const auto marker = [&reading](const tinygltf::Buffer& b) {
+        return deferred_index(reading, b.data.data(), b.data.size()).has_value();
     };
     if (!reading.deferred.empty() &&
         (!ok || std::any_of(model.buffers.begin(), model.buffers.end(), marker))) {
