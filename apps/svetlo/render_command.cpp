@@ -148,7 +148,7 @@ int run_render(const RenderArgs& args) {
     check_writable(args.output, "-o");
     // The scene first: reading it checks the file (a device, a folder) before it is hashed.
     // A model file is read once: for its framing, then for the render.
-    MeshFileCache meshes;
+    FileCache meshes;
     nlohmann::json json = effective_scene_json(args.scene, overrides, &meshes);
     RenderJob job = make_job(std::move(json), args.scene, sha256_file(args.scene), &meshes);
     const Scene& scene = job.scene;

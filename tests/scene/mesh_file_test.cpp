@@ -7,6 +7,9 @@
 #include <filesystem>
 #include <fstream>
 
+#include "svetlo/core/error.h"
+#include "svetlo/scene/file_cache.h"
+
 namespace svetlo {
 namespace {
 
@@ -78,7 +81,7 @@ TEST(MeshFiles, TheCacheReadsAFileOnceUntilItChanges) {
     fs::create_directories(dir);
     const fs::path obj = dir / "tri.obj";
     { std::ofstream(obj) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"; }
-    MeshFileCache cache;
+    FileCache cache;
     const auto first = cache.read(obj);
     EXPECT_EQ(cache.read(dir / "." / "tri.obj"), first);  // the same file, another spelling
     EXPECT_EQ(first->mesh.positions.size(), 3u);
@@ -91,6 +94,36 @@ TEST(MeshFiles, TheCacheReadsAFileOnceUntilItChanges) {
     EXPECT_EQ(first->mesh.indices.size(), 3u);  // what a render holds stays as it was read
     fs::remove(obj);
     EXPECT_THROW(cache.read(obj), std::runtime_error);  // gone: not the old copy
+    fs::remove_all(dir);
+}
+
+// svetlo serve reads a scene's environment once, not at every request.
+TEST(MeshFiles, TheCacheReadsAnImageOnceUntilItChanges) {
+    namespace fs = std::filesystem;
+    const fs::path dir =
+        fs::temp_directory_path() / ("svetlo_images_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const fs::path pfm = dir / "sky.pfm";
+    Image sky(4, 2, Color(0.5f));
+    write_image(pfm, sky, PixelMeaning::Radiance, 1.0f, "test");
+    FileCache cache;
+    const auto read = [&] {
+        return cache.read_texture(pfm, TexelMeaning::Linear, kMaxTextureBytes, "environment",
+                                  NegativeTexels::ClampToZero);
+    };
+    const fs::file_time_type time = fs::last_write_time(pfm);
+    EXPECT_EQ(read().texel(0, 0), Color(0.5f));
+    // The same size and time, other texels: the copy read before is what the cache holds.
+    write_image(pfm, Image(4, 2, Color(2.0f)), PixelMeaning::Radiance, 1.0f, "test");
+    fs::last_write_time(pfm, time);
+    EXPECT_EQ(read().texel(0, 0), Color(0.5f));
+    // A later time: read again.
+    fs::last_write_time(pfm, time + std::chrono::seconds(2));
+    EXPECT_EQ(read().texel(0, 0), Color(2.0f));
+    // Less memory left than the texture takes: refused as read_texture refuses it.
+    EXPECT_THROW(cache.read_texture(pfm, TexelMeaning::Linear, 16, "environment",
+                                    NegativeTexels::ClampToZero),
+                 Error);
     fs::remove_all(dir);
 }
 

@@ -30,7 +30,7 @@ TEST(ModelScene, ModelExtensionsInAnyCase) {
 }
 
 TEST(ModelScene, AModelWithoutCameraIsFramedFromTheFrontWithTheDefaultLight) {
-    MeshFileCache meshes;
+    FileCache meshes;
     const fs::path model = data("tetra_part.obj");
     const nlohmann::json j = model_scene_json(model, meshes);
     // The bounds' centre straight ahead down -z, the bounding sphere inside the 40 degree fov.
@@ -76,7 +76,7 @@ TEST(ModelScene, AGltfBringsItsOwnCameraAndLights) {
     g["nodes"].push_back({{"camera", 0}, {"translation", {0, 0, 3}}, {"rotation", {0, s, 0, s}}});
     g["scenes"][0]["nodes"].push_back(g["nodes"].size() - 1);
     std::ofstream(dir / "camera.gltf") << g.dump();
-    MeshFileCache meshes;
+    FileCache meshes;
     const nlohmann::json j = model_scene_json(dir / "camera.gltf", meshes);
     EXPECT_NEAR(j["camera"]["fov"].get<float>(), 0.5f * 180.0f / kPi, 1e-4f);
     EXPECT_NEAR(glm::distance(v3(j["camera"]["position"]), vec3(0, 0, 3)), 0.0f, 1e-5f);
@@ -88,7 +88,7 @@ TEST(ModelScene, AGltfBringsItsOwnCameraAndLights) {
 }
 
 TEST(ModelScene, AModelThatCannotBeReadNamesItsFile) {
-    MeshFileCache meshes;
+    FileCache meshes;
     try {
         model_scene_json(data("broken.gltf"), meshes);
         ADD_FAILURE() << "read";

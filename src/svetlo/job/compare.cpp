@@ -70,7 +70,7 @@ std::vector<Override> spec_overrides(const std::string& spec, const std::string&
 /// What the jobs of one sheet share: the mesh files read, and one BVH for the techniques and
 /// the reference whose shapes are the same (docs/compare.md, "One scene, one BVH").
 struct SharedSetup {
-    MeshFileCache meshes;
+    FileCache meshes;
     AccelCache accels;
     TriangleListCache triangle_lists;
     OccluderCubeCache occluder_cubes;

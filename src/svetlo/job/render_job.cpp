@@ -13,7 +13,7 @@
 namespace svetlo {
 
 RenderJob make_job(nlohmann::json json, const std::filesystem::path& path, std::string sha256,
-                   MeshFileCache* meshes, const FileScope& files) {
+                   FileCache* meshes, const FileScope& files) {
     RenderJob job;
     job.scene = scene_from_json(json, path, meshes, files);
     capabilities_of(job.scene.render.engine, path.string());  // an unknown engine: one line

@@ -8,6 +8,7 @@
 
 #include "svetlo/job/provenance.h"
 #include "svetlo/job/renderer_pool.h"
+#include "svetlo/scene/file_cache.h"
 #include "svetlo/scene/renderer.h"
 #include "svetlo/scene/scene_loader.h"
 
@@ -25,7 +26,7 @@ struct RenderJob {
 /// Mesh files come through `meshes` when given (the jobs of one command share them).
 /// Every file the scene names must lie in `files`.
 RenderJob make_job(nlohmann::json json, const std::filesystem::path& path, std::string sha256,
-                   MeshFileCache* meshes = nullptr, const FileScope& files = {});
+                   FileCache* meshes = nullptr, const FileScope& files = {});
 
 /// Gives the job a time budget of `seconds` (> 0, at most a week): the command line's --time
 /// and Python's `time`, named `key` in the errors. Throws Error for a number out of range or

@@ -242,7 +242,7 @@ ColorSource parse_image_source(const JsonNode& node, Scene& scene, TexelMeaning 
     return s;
 }
 
-void parse_environment(const JsonNode& node, Scene& scene) {
+void parse_environment(const JsonNode& node, Scene& scene, FileCache& files) {
     node.expect_object({"file", "scale", "rotate"});
     const JsonNode file = node.at("file");
     const std::filesystem::path path = named_file(file, scene);
@@ -256,8 +256,9 @@ void parse_environment(const JsonNode& node, Scene& scene) {
     try {
         // A texel that is not finite is refused by read_texture, naming it; one below zero
         // (lossy EXR compression's) is made 0.
-        scene.textures.push_back(read_texture(path, false, std::min(kMaxTextureBytes, left),
-                                              file.path(), NegativeTexels::ClampToZero));
+        scene.textures.push_back(files.read_texture(path, TexelMeaning::Linear,
+                                                    std::min(kMaxTextureBytes, left), file.path(),
+                                                    NegativeTexels::ClampToZero));
     } catch (const Error& err) {
         file.fail("cannot read environment '" + file.as_string() + "': " + err.message());
     }

@@ -39,26 +39,6 @@ Bounds3 file_bounds(const MeshFile& file) {
     return b;
 }
 
-std::string file_stamp(const fs::path& path) {
-    std::error_code size_error, time_error;
-    const auto size = fs::file_size(path, size_error);
-    const auto time = fs::last_write_time(path, time_error);
-    if (size_error || time_error) return "";
-    return std::to_string(size) + " " +
-           std::to_string(static_cast<long long>(time.time_since_epoch().count()));
-}
-
-std::shared_ptr<const MeshFile> MeshFileCache::read(const fs::path& path, const FileScope& files) {
-    const std::string stamp = file_stamp(path);
-    std::lock_guard<std::mutex> lock(mutex_);
-    Entry& entry = files_[path.lexically_normal().string()];
-    if (!entry.file || entry.stamp != stamp || stamp.empty()) {
-        entry.file = std::make_shared<const MeshFile>(read_mesh_file(path, files));
-        entry.stamp = stamp;
-    }
-    return entry.file;
-}
-
 Color file_color(double r, double g, double b, const std::string& what) {
     const double max = std::numeric_limits<float>::max();
     for (double c : {r, g, b}) {

@@ -53,29 +53,6 @@ Bounds3 file_bounds(const MeshFile& file);
 /// glTF's buffers and images) must lie in `files`.
 MeshFile read_mesh_file(const std::filesystem::path& path, const FileScope& files = {});
 
-/// A file's size and modification time, as text ("" where it cannot be read): what tells
-/// that a mesh file has changed since it was read.
-std::string file_stamp(const std::filesystem::path& path);
-
-/// Mesh files read once: a scene that names a file twice, and the renders of one command
-/// (svetlo compare, svetlo serve), share what it holds. A file whose size or time has
-/// changed since is read again.
-class MeshFileCache {
-public:
-    /// read_mesh_file(path), or what it returned before for the file as it is now. Safe to
-    /// call from several threads.
-    std::shared_ptr<const MeshFile> read(const std::filesystem::path& path,
-                                         const FileScope& files = {});
-
-private:
-    struct Entry {
-        std::string stamp;  // size and time
-        std::shared_ptr<const MeshFile> file;
-    };
-    std::mutex mutex_;
-    std::map<std::string, Entry> files_;  // by path: one entry per file
-};
-
 MeshFile read_obj(const std::filesystem::path& path, const FileScope& files = {});
 MeshFile read_ply(const std::filesystem::path& path);
 MeshFile read_gltf(const std::filesystem::path& path, const FileScope& files = {});

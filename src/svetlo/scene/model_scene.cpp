@@ -60,8 +60,7 @@ nlohmann::json default_model_light(const Camera& camera) {
         {"_comment", "svetlo's default light of a model without lights (docs/scene-format.md)"}};
 }
 
-nlohmann::json model_scene_json(const fs::path& path, MeshFileCache& meshes,
-                                const FileScope& files) {
+nlohmann::json model_scene_json(const fs::path& path, FileCache& meshes, const FileScope& files) {
     std::shared_ptr<const MeshFile> model;
     try {
         model = meshes.read(path, files);

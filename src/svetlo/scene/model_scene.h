@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "svetlo/scene/file_cache.h"
 #include "svetlo/scene/mesh_file.h"
 
 namespace svetlo {
@@ -18,7 +19,7 @@ bool is_model_file(const std::filesystem::path& path);
 
 /// The scene of the model `path` (read through `meshes`, which the render then shares).
 /// Throws Error naming the file for one that cannot be read.
-nlohmann::json model_scene_json(const std::filesystem::path& path, MeshFileCache& meshes,
+nlohmann::json model_scene_json(const std::filesystem::path& path, FileCache& meshes,
                                 const FileScope& files = {});
 
 /// The default light of a model without lights of its own: a directional light from above

@@ -127,7 +127,7 @@ void finish_mesh(Mesh& mesh, const JsonNode& node, Scene& scene, int material, i
 /// A glTF mesh that several nodes place becomes a prototype of the scene, and its places go
 /// to `shared`; where `shared` is null (a CSG child, which must be one mesh) such a file is
 /// refused.
-Mesh parse_mesh(const JsonNode& node, Scene& scene, MeshFileCache& meshes, int material,
+Mesh parse_mesh(const JsonNode& node, Scene& scene, FileCache& meshes, int material,
                 const Transform& transform, std::vector<SharedPlaces>* shared) {
     Mesh mesh;
     int offset = 0;
@@ -281,11 +281,11 @@ constexpr int kMaxTreeDepth = 64;  // CSG and SDF nesting: deeper trees are refu
 
 /// One object (not an instance); a mesh file's shared meshes placed into `placed` (where
 /// null, as for a CSG child, such a file is refused).
-Object parse_object_node(const JsonNode& node, Scene& scene, MeshFileCache& meshes,
+Object parse_object_node(const JsonNode& node, Scene& scene, FileCache& meshes,
                          int inherited_material, int depth, std::vector<Instance>* placed);
 
 /// The children of a CSG node, which must be closed shapes.
-Csg parse_csg(const JsonNode& node, Scene& scene, MeshFileCache& meshes, int material, int depth) {
+Csg parse_csg(const JsonNode& node, Scene& scene, FileCache& meshes, int material, int depth) {
     Csg csg;
     std::string op = node.at("op").as_choice({"union", "intersection", "difference"});
     csg.op = op == "union"          ? CsgOp::Union
@@ -373,7 +373,7 @@ SdfNode parse_sdf(const JsonNode& node, int depth) {
     return n;
 }
 
-Object parse_object_node(const JsonNode& node, Scene& scene, MeshFileCache& meshes,
+Object parse_object_node(const JsonNode& node, Scene& scene, FileCache& meshes,
                          int inherited_material, int depth, std::vector<Instance>* placed) {
     if (!node.is_object()) node.fail("must be an object");
     if (depth > kMaxTreeDepth)
@@ -487,7 +487,7 @@ Prototypes::Prototypes(std::optional<JsonNode> section) : section_(std::move(sec
 }
 
 const Prototypes::Parts& Prototypes::get(const JsonNode& name_node, Scene& scene,
-                                         MeshFileCache& meshes) {
+                                         FileCache& meshes) {
     const std::string name = name_node.as_string();
     if (auto it = parsed_.find(name); it != parsed_.end()) return it->second;
     if (!section_ || !section_->has(name)) {
@@ -527,7 +527,7 @@ const Prototypes::Parts& Prototypes::get(const JsonNode& name_node, Scene& scene
     return parsed_.emplace(name, std::move(parts)).first->second;
 }
 
-void parse_object(const JsonNode& node, Scene& scene, MeshFileCache& meshes, Prototypes& prototypes,
+void parse_object(const JsonNode& node, Scene& scene, FileCache& meshes, Prototypes& prototypes,
                   std::vector<Object>& out, std::vector<Instance>& placed) {
     if (!node.is_object() || !node.has("type") || !node.at("type").is_string() ||
         node.at("type").as_string() != "instance") {

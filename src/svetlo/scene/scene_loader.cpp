@@ -119,8 +119,8 @@ void apply_override(nlohmann::json& root, const Override& o, const std::string& 
 }
 
 nlohmann::json effective_scene_json(const fs::path& path, const std::vector<Override>& overrides,
-                                    MeshFileCache* meshes, const FileScope& files) {
-    MeshFileCache own;
+                                    FileCache* meshes, const FileScope& files) {
+    FileCache own;
     nlohmann::json root = is_model_file(path)
                               ? model_scene_json(path, meshes ? *meshes : own, files)
                               : read_scene_json(path);
@@ -130,7 +130,7 @@ nlohmann::json effective_scene_json(const fs::path& path, const std::vector<Over
 
 Scene load_scene(const fs::path& path, const std::vector<Override>& overrides) {
     // One cache for both steps: a model file is read once, for its framing and its triangles.
-    MeshFileCache meshes;
+    FileCache meshes;
     return scene_from_json(effective_scene_json(path, overrides, &meshes), path, &meshes);
 }
 
@@ -176,9 +176,9 @@ std::string geometry_key(const nlohmann::json& root, const Scene& scene) {
 
 }  // namespace
 
-Scene scene_from_json(const nlohmann::json& root, const fs::path& path, MeshFileCache* meshes,
+Scene scene_from_json(const nlohmann::json& root, const fs::path& path, FileCache* meshes,
                       const FileScope& files) {
-    MeshFileCache own;
+    FileCache own;
     Scene scene;
     scene.path = path;
     scene.files = files;
@@ -193,13 +193,13 @@ Scene scene_from_json(const nlohmann::json& root, const fs::path& path, MeshFile
         for (size_t k = 0; k < lights->size(); ++k)
             scene.lights.push_back(parse_light(lights->at(k)));
     }
-    if (auto environment = top.find("environment")) parse_environment(*environment, scene);
+    FileCache& cache = meshes ? *meshes : own;
+    if (auto environment = top.find("environment")) parse_environment(*environment, scene, cache);
     Prototypes prototypes(top.find("prototypes"));
     std::vector<Instance> placed;
     if (auto objects = top.find("objects")) {
         for (size_t k = 0; k < objects->size(); ++k)
-            parse_object(objects->at(k), scene, meshes ? *meshes : own, prototypes, scene.objects,
-                         placed);
+            parse_object(objects->at(k), scene, cache, prototypes, scene.objects, placed);
     }
     settle_instances(std::move(placed), scene);
     add_missing_tangents(scene);

@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "svetlo/scene/file_cache.h"
 #include "svetlo/scene/mesh_file.h"
 #include "svetlo/scene/scene.h"
 
@@ -41,14 +42,15 @@ Scene load_scene(const std::filesystem::path& path, const std::vector<Override>&
 /// when given, within `files`.
 nlohmann::json effective_scene_json(const std::filesystem::path& path,
                                     const std::vector<Override>& overrides,
-                                    MeshFileCache* meshes = nullptr, const FileScope& files = {});
+                                    FileCache* meshes = nullptr, const FileScope& files = {});
 
 /// Builds a Scene from JSON already in memory; `path` names it in messages and anchors
-/// relative paths. Mesh files are read through `meshes` when given (the renders of one
-/// command share them), else each once for this scene. Every file the scene names must lie
+/// relative paths. Mesh files and the environment's image are read through `meshes` (a
+/// FileCache) when given (the renders of one command share them), else each once for this
+/// scene. Every file the scene names must lie
 /// in `files` (svetlo serve: the served folder).
 Scene scene_from_json(const nlohmann::json& root, const std::filesystem::path& path,
-                      MeshFileCache* meshes = nullptr, const FileScope& files = {});
+                      FileCache* meshes = nullptr, const FileScope& files = {});
 
 /// Parses a scene file, reporting syntax errors with line and column.
 nlohmann::json read_scene_json(const std::filesystem::path& path);

@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "svetlo/core/image_io.h"
+#include "svetlo/scene/file_cache.h"
 #include "svetlo/scene/json_node.h"
 #include "svetlo/scene/mesh_file.h"
 #include "svetlo/scene/scene.h"
@@ -31,7 +32,7 @@ ColorSource parse_image_source(const JsonNode& node, Scene& scene, TexelMeaning 
 Material parse_material(const JsonNode& node, Scene& scene);
 Light parse_light(const JsonNode& node);
 /// The top-level `environment`: the map read into the scene's textures.
-void parse_environment(const JsonNode& node, Scene& scene);
+void parse_environment(const JsonNode& node, Scene& scene, FileCache& files);
 Transform parse_transform(const JsonNode& node);
 
 /// The top-level `prototypes` (docs/scene-format.md, "Instances"): each parsed the first
@@ -48,7 +49,7 @@ public:
         std::vector<Light> lights;
     };
     /// The parts of the prototype that `name` (an instance's "prototype" key) names.
-    const Parts& get(const JsonNode& name, Scene& scene, MeshFileCache& meshes);
+    const Parts& get(const JsonNode& name, Scene& scene, FileCache& meshes);
 
     /// Placements made so far (bounded: docs/scene-format.md, "Instances").
     size_t placed = 0;
@@ -61,7 +62,7 @@ private:
 
 /// An entry of `objects` (or of a prototype's): its object appended to `out`, or an
 /// instance's placements (nested prototypes resolved) to `placed`.
-void parse_object(const JsonNode& node, Scene& scene, MeshFileCache& meshes, Prototypes& prototypes,
+void parse_object(const JsonNode& node, Scene& scene, FileCache& meshes, Prototypes& prototypes,
                   std::vector<Object>& out, std::vector<Instance>& placed);
 
 /// The top level's placements into the scene: each into Scene::instances, or written into

@@ -107,11 +107,13 @@ Color Environment::radiance(vec3 d) const {
     const float fx = uv.x * width_ - 0.5f, fy = (1.0f - uv.y) * height_ - 0.5f;
     const int i0 = static_cast<int>(std::floor(fx)), j0 = static_cast<int>(std::floor(fy));
     const float ax = fx - i0, ay = fy - j0;
-    auto texel = [&](int i, int j) {
-        return map_->texel((i % width_ + width_) % width_, std::clamp(j, 0, height_ - 1));
-    };
-    const Color c = (1.0f - ay) * ((1.0f - ax) * texel(i0, j0) + ax * texel(i0 + 1, j0)) +
-                    ay * ((1.0f - ax) * texel(i0, j0 + 1) + ax * texel(i0 + 1, j0 + 1));
+    // The columns wrap around, the rows stop at the poles; each index found once (the
+    // background of every raster frame reads the map here, a division a texel was a third
+    // of its time).
+    const int a = (i0 % width_ + width_) % width_, b = a + 1 == width_ ? 0 : a + 1;
+    const int r0 = std::clamp(j0, 0, height_ - 1), r1 = std::clamp(j0 + 1, 0, height_ - 1);
+    const Color c = (1.0f - ay) * ((1.0f - ax) * map_->texel(a, r0) + ax * map_->texel(b, r0)) +
+                    ay * ((1.0f - ax) * map_->texel(a, r1) + ax * map_->texel(b, r1));
     return c * scale_;
 }
 
