@@ -92,7 +92,10 @@ bool CutoutAccel::intersect(const Ray& ray, Hit& hit) const {
 }
 
 bool CutoutAccel::occluded(const Ray& ray) const {
-    if (!cutouts_.any()) return inner_.occluded(ray);
+    // A ray that meets nothing meets nothing solid: the any-hit query first, which is all a
+    // lit point's shadow ray asks; holes are looked for only where it meets something.
+    if (!inner_.occluded(ray)) return false;
+    if (!cutouts_.any()) return true;
     Hit hit;
     return intersect(ray, hit);
 }
