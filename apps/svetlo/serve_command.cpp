@@ -78,8 +78,8 @@ struct Server {
     std::string default_scene;
     std::mutex mutex;                                                   // guards `current`
     std::map<std::string, std::shared_ptr<std::atomic<bool>>> current;  // per client: its render
-    FileCache meshes;   // each mesh file and environment read once (again when it changes)
-    AccelCache accels;  // a slider that moves no shape reuses the scene's BVH
+    FileCache meshes;                  // each mesh file and image read once (again when it changes)
+    AccelCache accels;                 // a slider that moves no shape reuses the scene's BVH
     TriangleListCache triangle_lists;  // and the rasterizer's triangles
     OccluderCubeCache occluder_cubes;  // and its shadow rays' occluders
     RendererPool renderers{kThreads};  // a drag's frames draw into the last one's buffers

@@ -6,9 +6,11 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "svetlo/core/error.h"
 #include "svetlo/scene/file_cache.h"
+#include "svetlo/scene/scene_loader.h"
 
 namespace svetlo {
 namespace {
@@ -124,6 +126,41 @@ TEST(MeshFiles, TheCacheReadsAnImageOnceUntilItChanges) {
     EXPECT_THROW(cache.read_texture(pfm, TexelMeaning::Linear, 16, "environment",
                                     NegativeTexels::ClampToZero),
                  Error);
+    fs::remove_all(dir);
+}
+
+// The scenes of one command (svetlo serve's requests) read a material's texture and the
+// environment once, through the cache they are given.
+TEST(MeshFiles, ScenesReadTheirTexturesAndEnvironmentThroughTheCache) {
+    namespace fs = std::filesystem;
+    const fs::path dir =
+        fs::temp_directory_path() / ("svetlo_scene_images_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const nlohmann::json j = {
+        {"camera", {{"position", {0, 0, 3}}, {"look_at", {0, 0, 0}}}},
+        {"materials", {{"m", {{"type", "lambert"}, {"albedo", {{"texture", "wood.pfm"}}}}}}},
+        {"environment", {{"file", "sky.pfm"}}},
+        {"objects",
+         {{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1}, {"material", "m"}}}}};
+    for (const char* name : {"wood.pfm", "sky.pfm"})
+        write_image(dir / name, Image(4, 2, Color(0.5f)), PixelMeaning::Radiance, 1.0f, "test");
+    FileCache cache;
+    const auto texels = [&] {
+        const Scene scene = scene_from_json(j, dir / "s.json", &cache);
+        EXPECT_EQ(scene.textures.size(), 2u);
+        return std::pair{scene.textures[0].texel(0, 0).r, scene.textures[1].texel(0, 0).r};
+    };
+    EXPECT_EQ(texels(), std::pair(0.5f, 0.5f));
+    // Other texels with the same size and time: the cache's copies are what the scene gets.
+    for (const char* name : {"wood.pfm", "sky.pfm"}) {
+        const fs::file_time_type time = fs::last_write_time(dir / name);
+        write_image(dir / name, Image(4, 2, Color(2.0f)), PixelMeaning::Radiance, 1.0f, "test");
+        fs::last_write_time(dir / name, time);
+    }
+    EXPECT_EQ(texels(), std::pair(0.5f, 0.5f));
+    for (const char* name : {"wood.pfm", "sky.pfm"})
+        fs::last_write_time(dir / name, fs::last_write_time(dir / name) + std::chrono::seconds(2));
+    EXPECT_EQ(texels(), std::pair(2.0f, 2.0f));  // changed files are read again
     fs::remove_all(dir);
 }
 

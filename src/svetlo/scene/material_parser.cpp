@@ -9,9 +9,10 @@ namespace svetlo {
 
 namespace {
 
-ColorSource optional_color(const JsonNode& node, const char* key, Color fallback, Scene& scene) {
+ColorSource optional_color(const JsonNode& node, const char* key, Color fallback, Scene& scene,
+                           FileCache& files) {
     auto n = node.find(key);
-    return n ? parse_color_source(*n, scene) : ColorSource::constant(fallback);
+    return n ? parse_color_source(*n, scene, files) : ColorSource::constant(fallback);
 }
 
 float roughness_like(const JsonNode& node, const char* key, float fallback) {
@@ -19,16 +20,16 @@ float roughness_like(const JsonNode& node, const char* key, float fallback) {
     return n ? n->as_in_range(0.0, 1.0) : fallback;
 }
 
-PhongMaterial parse_phong(const JsonNode& node, Scene& scene, bool blinn) {
+PhongMaterial parse_phong(const JsonNode& node, Scene& scene, FileCache& files, bool blinn) {
     node.expect_object({"type", "ka", "kd", "ks", "shininess", "reflect", "transmit", "ior"});
     PhongMaterial m;
     m.blinn = blinn;
-    m.ka = optional_color(node, "ka", Color(0.0f), scene);
-    m.kd = optional_color(node, "kd", Color(0.8f), scene);
-    m.ks = optional_color(node, "ks", Color(0.0f), scene);
+    m.ka = optional_color(node, "ka", Color(0.0f), scene, files);
+    m.kd = optional_color(node, "kd", Color(0.8f), scene, files);
+    m.ks = optional_color(node, "ks", Color(0.0f), scene, files);
     if (auto n = node.find("shininess")) m.shininess = n->as_non_negative();
-    m.reflect = optional_color(node, "reflect", Color(0.0f), scene);
-    m.transmit = optional_color(node, "transmit", Color(0.0f), scene);
+    m.reflect = optional_color(node, "reflect", Color(0.0f), scene, files);
+    m.transmit = optional_color(node, "transmit", Color(0.0f), scene, files);
     if (auto n = node.find("ior")) m.ior = n->as_positive();
     return m;
 }
@@ -62,20 +63,20 @@ void parse_dispersion(const JsonNode& node, bool has_ior, DielectricMaterial& m)
     if (m.abbe < 1.0f) c.fail("disperses more than an Abbe number of 1 allows");
 }
 
-MaterialModel parse_model(const JsonNode& node, Scene& scene) {
+MaterialModel parse_model(const JsonNode& node, Scene& scene, FileCache& files) {
     std::string type =
         node.at("type").as_choice({"lambert", "phong", "blinn_phong", "oren_nayar", "cook_torrance",
                                    "mirror", "dielectric", "emissive"});
     if (type == "lambert") {
         node.expect_object({"type", "albedo"});
-        return LambertMaterial{optional_color(node, "albedo", Color(0.8f), scene)};
+        return LambertMaterial{optional_color(node, "albedo", Color(0.8f), scene, files)};
     }
     if (type == "phong" || type == "blinn_phong")
-        return parse_phong(node, scene, type == "blinn_phong");
+        return parse_phong(node, scene, files, type == "blinn_phong");
     if (type == "oren_nayar") {
         node.expect_object({"type", "albedo", "sigma"});
         OrenNayarMaterial m;
-        m.albedo = optional_color(node, "albedo", Color(0.8f), scene);
+        m.albedo = optional_color(node, "albedo", Color(0.8f), scene, files);
         if (auto n = node.find("sigma")) m.sigma_deg = n->as_in_range(0.0, 90.0);
         return m;
     }
@@ -85,31 +86,32 @@ MaterialModel parse_model(const JsonNode& node, Scene& scene) {
                             "attenuation_color", "attenuation_distance", "clearcoat",
                             "clearcoat_roughness"});
         CookTorranceMaterial m;
-        m.base_color = optional_color(node, "base_color", Color(0.8f), scene);
+        m.base_color = optional_color(node, "base_color", Color(0.8f), scene, files);
         m.roughness = roughness_like(node, "roughness", 0.5f);
         m.metallic = roughness_like(node, "metallic", 0.0f);
         if (auto n = node.find("metallic_roughness"))  // data, not colour: linear unless told
-            m.metallic_roughness = parse_color_source(*n, scene, /*srgb=*/false);
+            m.metallic_roughness = parse_color_source(*n, scene, files, /*srgb=*/false);
         if (auto n = node.find("occlusion"))  // data too: its red channel read
-            m.occlusion = parse_color_source(*n, scene, /*srgb=*/false);
+            m.occlusion = parse_color_source(*n, scene, files, /*srgb=*/false);
         m.occlusion_strength = roughness_like(node, "occlusion_strength", 1.0f);
         if (auto n = node.find("ior")) m.ior = static_cast<float>(n->as_in_range(1.0, 10.0));
         if (auto n = node.find("transmission"))  // a share: linear, its red channel read
-            m.transmission = parse_color_source(*n, scene, /*srgb=*/false);
+            m.transmission = parse_color_source(*n, scene, files, /*srgb=*/false);
         if (auto n = node.find("attenuation_color")) {
             m.attenuation_color = n->as_color();
             if (max_component(m.attenuation_color) > 1.0f) n->fail("must lie in [0, 1]");
         }
         if (auto n = node.find("attenuation_distance")) m.attenuation_distance = n->as_positive();
         // The coat's strength (red) and roughness (green): shares, linear unless told.
-        if (auto n = node.find("clearcoat")) m.clearcoat = parse_color_source(*n, scene, false);
+        if (auto n = node.find("clearcoat"))
+            m.clearcoat = parse_color_source(*n, scene, files, false);
         if (auto n = node.find("clearcoat_roughness"))
-            m.clearcoat_roughness = parse_color_source(*n, scene, false);
+            m.clearcoat_roughness = parse_color_source(*n, scene, files, false);
         return m;
     }
     if (type == "mirror") {
         node.expect_object({"type", "reflectance"});
-        return MirrorMaterial{optional_color(node, "reflectance", Color(1.0f), scene)};
+        return MirrorMaterial{optional_color(node, "reflectance", Color(1.0f), scene, files)};
     }
     if (type == "dielectric") {
         node.expect_object({"type", "ior", "abbe", "dispersion"});
@@ -121,32 +123,32 @@ MaterialModel parse_model(const JsonNode& node, Scene& scene) {
     }
     node.expect_object({"type", "radiance", "albedo"});
     EmissiveMaterial m;
-    m.radiance = optional_color(node, "radiance", Color(1.0f), scene);
-    m.albedo = optional_color(node, "albedo", Color(0.0f), scene);
+    m.radiance = optional_color(node, "radiance", Color(1.0f), scene, files);
+    m.albedo = optional_color(node, "albedo", Color(0.0f), scene, files);
     return m;
 }
 
 /// "normal_map": {"texture": IMAGE, "scale": s, and a texture's filter and wrap}; the image is
 /// data, linear unless told.
-NormalMap parse_normal_map(const JsonNode& node, Scene& scene) {
+NormalMap parse_normal_map(const JsonNode& node, Scene& scene, FileCache& files) {
     if (!node.is_object() || !node.has("texture")) node.fail("expected {\"texture\": IMAGE}");
     node.expect_object({"texture", "scale", "filter", "wrap", "srgb", "max_anisotropy"});
     NormalMap map;
     if (auto n = node.find("scale")) map.scale = n->as_float();
     nlohmann::json texture = node.raw();
     texture.erase("scale");
-    map.texture =
-        parse_color_source(JsonNode(texture, node.file(), node.path()), scene, /*srgb=*/false);
+    map.texture = parse_color_source(JsonNode(texture, node.file(), node.path()), scene, files,
+                                     /*srgb=*/false);
     return map;
 }
 
 /// A material's `alpha` (a number in [0, 1], or a texture read as coverage), `alpha_mode`
 /// ("mask" when alpha is given, else "opaque") and `alpha_cutoff`.
-Alpha parse_alpha(const JsonNode& material, Scene& scene) {
+Alpha parse_alpha(const JsonNode& material, Scene& scene, FileCache& files) {
     Alpha a;
     if (auto n = material.find("alpha")) {
         a.mode = AlphaMode::Mask;
-        a.coverage = n->is_object() ? parse_image_source(*n, scene, TexelMeaning::Coverage)
+        a.coverage = n->is_object() ? parse_image_source(*n, scene, files, TexelMeaning::Coverage)
                                     : ColorSource::constant(Color(n->as_in_range(0.0, 1.0)));
     }
     if (auto n = material.find("alpha_mode")) {
@@ -172,21 +174,22 @@ size_t texture_bytes_left(const Scene& scene) {
     return kMaxSceneTextureBytes - std::min(used, kMaxSceneTextureBytes);
 }
 
-Material parse_material(const JsonNode& node, Scene& scene) {
+Material parse_material(const JsonNode& node, Scene& scene, FileCache& files) {
     if (!node.is_object()) node.fail("must be an object");
     // The keys every model takes (docs/scene-format.md, "Keys of every material"), read here
     // once; the rest by the model's own reader.
     nlohmann::json model = node.raw();
     for (const char* key : {"emission", "normal_map", "alpha", "alpha_mode", "alpha_cutoff"})
         model.erase(key);
-    Material m = parse_model(JsonNode(model, node.file(), node.path()), scene);
-    if (auto e = node.find("emission")) m.emission = parse_color_source(*e, scene);
-    if (auto n = node.find("normal_map")) m.normal_map = parse_normal_map(*n, scene);
-    m.alpha = parse_alpha(node, scene);
+    Material m = parse_model(JsonNode(model, node.file(), node.path()), scene, files);
+    if (auto e = node.find("emission")) m.emission = parse_color_source(*e, scene, files);
+    if (auto n = node.find("normal_map")) m.normal_map = parse_normal_map(*n, scene, files);
+    m.alpha = parse_alpha(node, scene, files);
     return m;
 }
 
-ColorSource parse_color_source(const JsonNode& node, Scene& scene, bool srgb_default) {
+ColorSource parse_color_source(const JsonNode& node, Scene& scene, FileCache& files,
+                               bool srgb_default) {
     if (!node.is_object()) return ColorSource::constant(node.as_color());
     ColorSource s;
     if (node.has("checker")) {
@@ -201,10 +204,11 @@ ColorSource parse_color_source(const JsonNode& node, Scene& scene, bool srgb_def
     }
     bool srgb = srgb_default;
     if (auto n = node.find("srgb")) srgb = n->as_bool();
-    return parse_image_source(node, scene, srgb ? TexelMeaning::Srgb : TexelMeaning::Linear);
+    return parse_image_source(node, scene, files, srgb ? TexelMeaning::Srgb : TexelMeaning::Linear);
 }
 
-ColorSource parse_image_source(const JsonNode& node, Scene& scene, TexelMeaning meaning) {
+ColorSource parse_image_source(const JsonNode& node, Scene& scene, FileCache& files,
+                               TexelMeaning meaning) {
     if (meaning == TexelMeaning::Coverage)
         node.expect_object({"texture", "filter", "wrap", "max_anisotropy"});
     else
@@ -233,7 +237,7 @@ ColorSource parse_image_source(const JsonNode& node, Scene& scene, TexelMeaning 
     const size_t left = texture_bytes_left(scene);
     try {
         scene.textures.push_back(
-            read_texture(file, meaning, std::min(kMaxTextureBytes, left), tex.path()));
+            files.read_texture(file, meaning, std::min(kMaxTextureBytes, left), tex.path()));
     } catch (const Error& e) {
         tex.fail("cannot read texture '" + tex.as_string() + "': " + e.message());
     }
@@ -267,12 +271,12 @@ void parse_environment(const JsonNode& node, Scene& scene, FileCache& files) {
     scene.environment = e;
 }
 
-void parse_materials(const JsonNode& node, Scene& scene) {
+void parse_materials(const JsonNode& node, Scene& scene, FileCache& files) {
     if (!node.is_object()) node.fail("must be an object mapping names to materials");
     for (const auto& [name, value] : node.raw().items()) {
         if (!name.empty() && name[0] == '_') continue;
         JsonNode m(value, node.file(), node.path() + "." + name);
-        scene.materials.push_back(parse_material(m, scene));
+        scene.materials.push_back(parse_material(m, scene, files));
         scene.material_names.push_back(name);
     }
 }

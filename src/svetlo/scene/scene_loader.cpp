@@ -185,15 +185,15 @@ Scene scene_from_json(const nlohmann::json& root, const fs::path& path, FileCach
     JsonNode top(root, path.string(), "");
     top.expect_object({"camera", "film", "render", "materials", "lights", "objects", "environment",
                        "prototypes"});
+    FileCache& cache = meshes ? *meshes : own;
     scene.camera = parse_camera(top.at("camera"));
     if (auto film = top.find("film")) scene.film = parse_film(*film);
     if (auto render = top.find("render")) scene.render = parse_render(*render);
-    if (auto materials = top.find("materials")) parse_materials(*materials, scene);
+    if (auto materials = top.find("materials")) parse_materials(*materials, scene, cache);
     if (auto lights = top.find("lights")) {
         for (size_t k = 0; k < lights->size(); ++k)
             scene.lights.push_back(parse_light(lights->at(k)));
     }
-    FileCache& cache = meshes ? *meshes : own;
     if (auto environment = top.find("environment")) parse_environment(*environment, scene, cache);
     Prototypes prototypes(top.find("prototypes"));
     std::vector<Instance> placed;

@@ -45,10 +45,9 @@ nlohmann::json effective_scene_json(const std::filesystem::path& path,
                                     FileCache* meshes = nullptr, const FileScope& files = {});
 
 /// Builds a Scene from JSON already in memory; `path` names it in messages and anchors
-/// relative paths. Mesh files and the environment's image are read through `meshes` (a
-/// FileCache) when given (the renders of one command share them), else each once for this
-/// scene. Every file the scene names must lie
-/// in `files` (svetlo serve: the served folder).
+/// relative paths. Mesh files and images (textures, the environment) are read through
+/// `meshes` (a FileCache) when given (the renders of one command share them), else each once for
+/// this scene. Every file the scene names must lie in `files` (svetlo serve: the served folder).
 Scene scene_from_json(const nlohmann::json& root, const std::filesystem::path& path,
                       FileCache* meshes = nullptr, const FileScope& files = {});
 

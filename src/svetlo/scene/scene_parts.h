@@ -15,7 +15,7 @@ namespace svetlo {
 Camera parse_camera(const JsonNode& node);
 Film parse_film(const JsonNode& node);
 RenderSettings parse_render(const JsonNode& node);
-void parse_materials(const JsonNode& node, Scene& scene);
+void parse_materials(const JsonNode& node, Scene& scene, FileCache& files);
 /// The file that `node` (a string) names, from the scene file's folder and inside the scene's
 /// FileScope; fails naming the node otherwise.
 std::filesystem::path named_file(const JsonNode& node, const Scene& scene);
@@ -25,11 +25,13 @@ size_t texture_bytes_left(const Scene& scene);
 /// A material colour (constant, texture or checker); textures are loaded into the scene.
 /// A material colour (constant, texture or checker); an image is sRGB unless `srgb_default` is
 /// false or the texture says otherwise ("srgb": false).
-ColorSource parse_color_source(const JsonNode& node, Scene& scene, bool srgb_default = true);
+ColorSource parse_color_source(const JsonNode& node, Scene& scene, FileCache& files,
+                               bool srgb_default = true);
 /// An image texture {"texture": IMAGE, "filter", "wrap", ...} read as `meaning` says.
-ColorSource parse_image_source(const JsonNode& node, Scene& scene, TexelMeaning meaning);
+ColorSource parse_image_source(const JsonNode& node, Scene& scene, FileCache& files,
+                               TexelMeaning meaning);
 /// One material: its model's keys, and the keys of every material (emission).
-Material parse_material(const JsonNode& node, Scene& scene);
+Material parse_material(const JsonNode& node, Scene& scene, FileCache& files);
 Light parse_light(const JsonNode& node);
 /// The top-level `environment`: the map read into the scene's textures.
 void parse_environment(const JsonNode& node, Scene& scene, FileCache& files);
