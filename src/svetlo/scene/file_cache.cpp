@@ -32,7 +32,7 @@ TextureImage FileCache::read_texture(const fs::path& path, TexelMeaning meaning,
     // than the texture takes (read_texture then refuses it, as it would have).
     if (entry.texture.bytes() == 0 || entry.stamp != stamp || stamp.empty() ||
         entry.texture.bytes() > max_bytes) {
-        entry.texture = TextureImage();
+        entry.texture = TextureImage();  // the old texels freed first; none kept if this throws
         entry.texture = svetlo::read_texture(path, meaning, max_bytes, where, negative);
         entry.stamp = stamp;
     }

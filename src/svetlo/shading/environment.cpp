@@ -107,9 +107,8 @@ Color Environment::radiance(vec3 d) const {
     const float fx = uv.x * width_ - 0.5f, fy = (1.0f - uv.y) * height_ - 0.5f;
     const int i0 = static_cast<int>(std::floor(fx)), j0 = static_cast<int>(std::floor(fy));
     const float ax = fx - i0, ay = fy - j0;
-    // The columns wrap around, the rows stop at the poles; each index found once (the
-    // background of every raster frame reads the map here, a division a texel was a third
-    // of its time).
+    // The columns wrap around, the rows stop at the poles; each index found once, not once
+    // per texel read (the background of every raster frame reads the map here).
     const int a = (i0 % width_ + width_) % width_, b = a + 1 == width_ ? 0 : a + 1;
     const int r0 = std::clamp(j0, 0, height_ - 1), r1 = std::clamp(j0 + 1, 0, height_ - 1);
     const Color c = (1.0f - ay) * ((1.0f - ax) * map_->texel(a, r0) + ax * map_->texel(b, r0)) +
