@@ -1,4 +1,4 @@
-#include "query.h"
+#include "svetlo/job/query.h"
 
 namespace svetlo {
 
