@@ -72,7 +72,8 @@ test-arm64:
 
 # The page (docs/web.md): every engine compiled to WebAssembly by Debian's emscripten
 # (scripts/setup web installs it; its tools find Debian's JavaScript packages through
-# NODE_PATH), in build/web/ with the page's files and the demo scenes: two modules, one with
+# NODE_PATH), in build/web/ with the page's files (the viewer of svetlo serve, apps/svetlo/viewer/,
+# with the backend that hands its requests to the module) and the demo scenes: two modules, one with
 # threads for cross-origin isolated pages, one without for the others. test-web, which .ci/run
 # runs after make test, builds it and drives the page in headless chromium.
 EMENV := NODE_PATH=/usr/share/nodejs
@@ -84,7 +85,8 @@ web:
 	$(EMENV) emcmake cmake -S . -B $(WEB_BUILD)-st -DCMAKE_BUILD_TYPE=Release \
 	    -DSVETLO_WEB_THREADS=OFF -DSVETLO_WEB_OUT=$(CURDIR)/$(WEB) > /dev/null
 	$(EMENV) cmake --build $(WEB_BUILD)-st -j $(JOBS)
-	cp web/page/index.html web/page/svetlo_page.js web/page/render_worker.js $(WEB)/
+	cp apps/svetlo/viewer/index.html apps/svetlo/viewer/viewer.js web/page/backend.js \
+	    web/page/render_worker.js $(WEB)/
 	@du -sh $(WEB) | sed 's/^/make web: /'
 test-web: build web
 	/usr/bin/python3 tests/web/web_test.py $(SVETLO) $(WEB) scenes

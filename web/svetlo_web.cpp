@@ -1,9 +1,13 @@
 // svetlo in the browser (docs/web.md): the job layer bound to JavaScript with embind. The
-// page's script (web/page/svetlo.js) calls these in a worker of its own, and makes of them the
-// `svetlo` object of the contract: svetlo.render(SCENE, {engine, width, height, spp, seed,
-// threads, set}). A scene is a bundled file's name (under /scenes, the module's working
-// folder) or a scene's JSON text; every option becomes an override by the job layer's rules
-// (job/overrides.h), as the command line's flags and Python's keywords do.
+// page's script (web/page/backend.js) calls these in a worker of its own
+// (web/page/render_worker.js), and makes of them
+//   - the `svetlo` object of the contract: svetlo.render(SCENE, {engine, width, height, spp,
+//     seed, threads, set}). A scene is a file's name in /scenes (the module's working folder:
+//     the bundled scenes and the visitor's files) or a scene's JSON text; every option becomes
+//     an override by the job layer's rules (job/overrides.h), as the command line's flags and
+//     Python's keywords do;
+//   - the viewer's requests (`Viewer`): the job layer's ViewerApi over /scenes, the one that
+//     answers svetlo serve's page, so that the page is svetlo serve's viewer.
 #include <emscripten/bind.h>
 #include <emscripten/heap.h>
 #include <emscripten/val.h>
@@ -14,6 +18,7 @@
 #include <cstdio>
 #include <exception>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "svetlo/core/error.h"
@@ -21,6 +26,7 @@
 #include "svetlo/job/limits.h"
 #include "svetlo/job/overrides.h"
 #include "svetlo/job/render_job.h"
+#include "svetlo/job/viewer_api.h"
 
 using emscripten::val;
 using namespace svetlo;
@@ -155,6 +161,58 @@ val render_scene(const std::string& scene, bool is_text, const std::string& opti
     return out;
 }
 
+/// A viewer's answer as JavaScript reads it: {status, type, headers: {NAME: VALUE}, body: a
+/// Uint8Array (a copy)}.
+val response_of(const ViewerResponse& r) {
+    val out = val::object();
+    out.set("status", r.status);
+    out.set("type", r.type);
+    val headers = val::object();
+    for (const auto& [name, value] : r.headers) headers.set(name, value);
+    out.set("headers", headers);
+    val body = val::global("Uint8Array").new_(r.body.size());
+    body.call<void>("set", val(emscripten::typed_memory_view(
+                               r.body.size(), reinterpret_cast<const uint8_t*>(r.body.data()))));
+    out.set("body", body);
+    return out;
+}
+
+/// The viewer's requests in the page (docs/web.md, "The viewer"): svetlo serve's API answered
+/// by the same ViewerApi over the module's scene folder, its renders checked against the
+/// module's memory. `cancel_at` is the page's flag (cancel_flag), which ends a render after its
+/// pass.
+class Viewer {
+public:
+    explicit Viewer(const std::string& target) : api_(target) {
+        api_.set_job_check([](const RenderJob& job) { check_memory(job, job.run.scene_file.string()); });
+    }
+
+    val get(const std::string& target, uintptr_t cancel_at) {
+        return response_of(api_.get(target, flag_at(cancel_at)));
+    }
+
+    /// /api/progressive: its bytes handed to `on_bytes` (a Uint8Array each) as they come;
+    /// then the answer, whose body is empty unless the request was refused.
+    val stream(const std::string& target, uintptr_t cancel_at, val on_bytes) {
+        ProgressiveRender render = api_.start_progressive(target, flag_at(cancel_at));
+        if (!render.job) return response_of(render.failed);
+        api_.run_progressive(render, [&on_bytes](std::string_view bytes) {
+            val chunk = val::global("Uint8Array").new_(bytes.size());
+            chunk.call<void>("set", val(emscripten::typed_memory_view(
+                                        bytes.size(), reinterpret_cast<const uint8_t*>(bytes.data()))));
+            on_bytes(chunk);
+            return true;
+        });
+        return response_of({200, "application/octet-stream", {}, {}});
+    }
+
+private:
+    static const std::atomic<bool>* flag_at(uintptr_t at) {
+        return at == 0 ? nullptr : reinterpret_cast<const std::atomic<bool>*>(at);
+    }
+    ViewerApi api_;
+};
+
 /// The engines and what each can do, as the page's controls need them (JSON text).
 std::string engines_json() {
     nlohmann::json list = nlohmann::json::array();
@@ -178,4 +236,8 @@ EMSCRIPTEN_BINDINGS(svetlo) {
     emscripten::function("engines", &engines_json);
     emscripten::function("cancelFlag", &cancel_flag);
     emscripten::function("clearCancelFlag", &clear_cancel_flag);
+    emscripten::class_<Viewer>("Viewer")
+        .constructor<std::string>()
+        .function("get", &Viewer::get)
+        .function("stream", &Viewer::stream);
 }

@@ -1,7 +1,9 @@
 """svetlo's web page (make web, docs/web.md) in Debian's headless chromium, driven through its
 DevTools protocol as the viewer's test is, served by a static server with the headers of
-cross-origin isolation:
-  - the page loads, `svetlo.ready` settles, and #view shows an image;
+cross-origin isolation. The page is svetlo serve's viewer (apps/svetlo/viewer/), its requests
+answered in the page by the module:
+  - the page loads, `svetlo.ready` settles, and #view shows an image; then one for each engine;
+  - a shared link restores its view: the engine, the shading, the samples and the other keys;
   - each engine renders a bundled scene in the page, and its pixels are the native program's
     (`svetlo render` of the same scene, seed and spp) up to the last bits of the maths
     libraries (a relative RMS difference of at most 1e-6);
@@ -15,6 +17,7 @@ cross-origin isolation:
     end a render after its pass;
   - the visitor's own files: a glTF given to svetlo.addFiles renders the native program's
     image; an OBJ and its MTL chosen in the page's file input render in #view;
+  - a scene that the viewer cannot render shows its one-line error, and the page goes on;
   - the page makes no request outside its own origin, and logs no error.
 
     web_test.py SVETLO WEB_DIR SCENES_DIR
@@ -35,6 +38,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "app"))
 
 from devtools import Tab, check, failures, first_page, start_chromium  # noqa: E402
+from viewer_page import VIEW, set_control, settle  # noqa: E402
 
 
 # svetlo.render's result as {width, height, seconds, b64 (the float32 pixels)}, or {error}.
@@ -44,17 +48,6 @@ RENDER = """svetlo.render(%s, %s).then(r => {
     s += String.fromCharCode.apply(null, bytes.subarray(i, i + 8192));
   return {width: r.width, height: r.height, seconds: r.seconds, b64: btoa(s)};
 }, e => ({error: e.message}))"""
-
-# The count of lit pixels of #view once the page has stopped rendering, else null.
-VIEW = """(() => {
-  if (window.svetloBusy && window.svetloBusy()) return null;
-  const c = document.getElementById('view');
-  const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
-  let lit = 0;
-  for (let i = 0; i < d.length; i += 4) if (d[i] + d[i + 1] + d[i + 2] > 30) lit++;
-  return lit;
-})()"""
-
 
 def floats(result):
     data = base64.b64decode(result["b64"])
@@ -86,7 +79,8 @@ def main():
     port = int(re.search(r"serving on (\d+)", server.stdout.readline()).group(1))
     origin = "http://127.0.0.1:%d/" % port
     profile = tempfile.mkdtemp(prefix="svetlo_chromium_")
-    url = origin + "index.html?scene=cornell.json&engine=raster&size=64&spp=1&set=render.shading=phong"
+    url = origin + ("index.html?scene=cornell.json&engine=raster&spp=1&set=render.shading=phong"
+                    "&set=camera.fov=45")
     browser, devtools = start_chromium(profile, "about:blank", window="1000,700")
     try:
         check("chromium's DevTools", devtools is not None)
@@ -106,31 +100,55 @@ def main():
             print("\n".join(tab.console + tab.errors))
             return 1
         check("the page is cross-origin isolated", tab.eval("self.crossOriginIsolated") is True)
-        lit = None
-        while time.time() - start < 120 and not lit:
-            lit = tab.eval(VIEW)
+        first = None
+        while time.time() - start < 120 and not first:
+            first = tab.eval(VIEW)
             time.sleep(0.05)
         print("first image in #view %.2f s after opening" % (time.time() - start))
-        check("#view shows an image", bool(lit), lit)
-        # A change of the controls during a long render ends it after its pass: the page's
-        # path render of a million samples gives way to the raster render asked next.
-        tab.eval("""(() => { const $ = (id) => document.getElementById(id);
-            $('engine').value = 'path'; $('spp').value = '1000000';
-            $('spp').dispatchEvent(new Event('change')); return true; })()""")
-        time.sleep(1.0)
+        check("#view shows an image", bool(first) and first[1] > 100, first)
+        # The link's view: its engine and shading in their menus, its other keys as --set
+        # reads them, and no error.
+        restored = tab.eval("""(() => { const $ = (id) => document.getElementById(id);
+            return [$('engine').value, $('shading').value, $('sets').value, $('error').textContent];
+            })()""")
+        check("the link restores its view (engine, shading, other keys; no error)",
+              restored == ["raster", "phong", "camera.fov=45", ""], restored)
+        check("the page says it renders on the machine's threads",
+              "threads" in (tab.eval("document.getElementById('threads').textContent") or ""))
+
+        # #view shows an image for each engine, chosen in the page's menu.
+        for engine in ("whitted", "path", "radiosity", "raster"):
+            set_control(tab, "engine", engine)
+            v = settle(tab)
+            error = tab.eval("document.getElementById('error').textContent")
+            check("#view shows %s's image" % engine, bool(v) and v[1] > 100 and error == "",
+                  (v and v[1], error))
+
+        # A change of the controls during a long render ends it within a pass: the path
+        # tracer's 256 samples a pixel give way to one.
+        set_control(tab, "engine", "path")
+        set_control(tab, "spp", "8", "input")
+        refining, end = None, time.time() + 60
+        while time.time() < end and not refining:
+            refining = re.search(r"(\d+) spp, ([\d.]+) s, refining",
+                                 tab.eval("document.getElementById('status').textContent") or "")
+            time.sleep(0.02)
+        check("the path tracer shows its passes as they come", bool(refining))
         changed = time.time()
-        tab.eval("""(() => { const $ = (id) => document.getElementById(id);
-            $('engine').value = 'raster'; $('spp').value = '1';
-            $('engine').dispatchEvent(new Event('change')); return true; })()""")
+        set_control(tab, "spp", "0", "input")
         done = None
-        while time.time() - changed < 30 and not done:
-            done = tab.eval("!window.svetloBusy() && document.getElementById('status')"
-                            ".textContent.includes(' s') ? true : null")
-            time.sleep(0.05)
-        check("a change ends the render in progress (%.2f s)" % (time.time() - changed),
-              bool(done) and time.time() - changed < 10)
-        check("the link's bare set= value renders (no error shown)",
-              tab.eval("document.getElementById('error').textContent") == "")
+        while time.time() - changed < 60 and not done:
+            done = tab.eval("!window.svetloBusy() && !document.getElementById('status')"
+                            ".textContent.includes('refining') ? true : null")
+            time.sleep(0.02)
+        took = time.time() - changed
+        if refining:
+            per_pass = float(refining.group(2)) / int(refining.group(1))
+            check("a change ends the render in progress within a pass (%.2f s; a pass %.2f s, "
+                  "the whole render about %.0f s)" % (took, per_pass, 256 * per_pass),
+                  bool(done) and took < 1.0 + 3 * per_pass and 256 * per_pass > 4 * took)
+        set_control(tab, "engine", "raster")
+        settle(tab)
 
         # Each engine against the native program.
         # Measured: 1e-8 to 1e-7 (raster 7.4e-9, whitted 1.9e-8, path 9.6e-8, radiosity 5.9e-8).
@@ -214,7 +232,7 @@ def main():
         check("svetlo.addFiles refuses a name that is no file's with the one-line error",
               refused == {"error": "models/..: addFiles: not a file's name"}, refused)
         opts = {"engine": "raster", "width": 64, "height": 48, "spp": 4, "seed": 3}
-        r = tab.eval(RENDER % (json.dumps("visitor/triangle.gltf"), json.dumps(opts)))
+        r = tab.eval(RENDER % (json.dumps("triangle.gltf"), json.dumps(opts)))
         native_file = os.path.join(work, "visitor.pfm")
         subprocess.run([svetlo, "render", model, "-e", "raster", "-W", "64", "-H", "48", "--spp",
                         "4", "--seed", "3", "-q", "-o", native_file], check=True)
@@ -230,12 +248,12 @@ def main():
                         for name in ("CornellBox-Original.obj", "CornellBox-Original.mtl")])
         chosen, lit = None, None
         end = time.time() + 120
-        while time.time() < end and not (chosen == "visitor/CornellBox-Original.obj" and lit):
+        while time.time() < end and not (chosen == "CornellBox-Original.obj" and lit):
             time.sleep(0.1)
             chosen = tab.eval("document.getElementById('scene').value")
-            lit = tab.eval(VIEW)
+            lit = settle(tab)
         check("a visitor's OBJ and MTL chosen in the page render in #view",
-              chosen == "visitor/CornellBox-Original.obj" and bool(lit) and
+              chosen == "CornellBox-Original.obj" and bool(lit) and lit[1] > 100 and
               tab.eval("document.getElementById('error').textContent") == "",
               (chosen, lit, tab.eval("document.getElementById('error').textContent")))
 
@@ -246,16 +264,34 @@ def main():
         try:
             plain_port = int(re.search(r"serving on (\d+)", plain.stdout.readline()).group(1))
             plain_origin = "http://127.0.0.1:%d/" % plain_port
-            tab.call("Page.navigate", url=plain_origin + "index.html?scene=cornell.json&engine=raster&size=32")
-            ready = None
-            end = time.time() + 120
-            while time.time() < end and ready is None:
-                ready = tab.eval("typeof svetlo !== 'undefined' ? svetlo.ready.then(() => true, e => e.message) : null")
+            def open_page(query):
+                tab.call("Page.navigate", url=plain_origin + "index.html?" + query)
+                ready, end = None, time.time() + 120
+                while time.time() < end and ready is None:
+                    time.sleep(0.1)
+                    ready = tab.eval("typeof svetlo !== 'undefined' && "
+                                     "location.search.includes(%s) ? "
+                                     "svetlo.ready.then(() => true, e => e.message) : null"
+                                     % json.dumps(query.split("&")[0]))
+                return ready
+
+            # A link to a scene that is not there: its one-line error in the page, no image.
+            open_page("scene=nonesuch.json&engine=raster")
+            error, end = "", time.time() + 60
+            while time.time() < end and not error:
                 time.sleep(0.1)
+                error = tab.eval("document.getElementById('error').textContent") or ""
+            check("a link to a scene that is not there shows its one-line error",
+                  error.startswith("nonesuch.json: scene:") and "\n" not in error, error)
+            ready = open_page("scene=cornell.json&engine=whitted&set=render.shading=flat")
             check("without isolation: svetlo.ready settles", ready is True, ready)
             check("without isolation: the page is not isolated and says so",
                   tab.eval("self.crossOriginIsolated") is False and
                   "one thread" in (tab.eval("document.getElementById('threads').textContent") or ""))
+            v = settle(tab)
+            check("without isolation: the link's view renders on one thread",
+                  bool(v) and v[1] > 100 and tab.eval("document.getElementById('engine').value")
+                  == "whitted", v and v[1])
             for engine in ("raster", "path"):
                 if engine not in isolated_pixels:
                     continue

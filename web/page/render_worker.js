@@ -1,9 +1,11 @@
 // The worker that holds svetlo's WebAssembly module (docs/web.md): a render blocks it, not
 // the page. In a cross-origin isolated page the module has threads (svetlo.js, its threads
 // the module's own workers); elsewhere it is the single-threaded one (svetlo-st.js).
-// Messages in: {id, scene, isText, options, wantsPasses} or {id, files: [{name, bytes}]}; out:
-// {ready, memory, cancelAt} once, then {id, pass} after each pass of a progressive engine, and
-// {id, width, height, seconds, passes, cancelled, pixels}, {id, names} or {id, error}. Where
+// Messages in: {id, scene, isText, options, wantsPasses}, {id, files: [{name, bytes}]}, or a
+// viewer's request {id, api: TARGET} or {id, stream: TARGET} (/api/progressive); out:
+// {ready, memory, cancelAt} once, then {id, pass} after each pass of a progressive engine,
+// {id, chunk} with a stream's bytes, and {id, width, height, seconds, passes, cancelled,
+// pixels}, {id, names}, {id, response: {status, type, headers, body}} or {id, error}. Where
 // the module has threads its memory is shared with the page, which ends a render after its
 // pass by setting the byte at cancelAt.
 const script = self.crossOriginIsolated ? 'svetlo.js' : 'svetlo-st.js';
@@ -18,6 +20,8 @@ createSvetlo({
     printErr: (text) => console.warn(text),
 }).then((module) => {
     module.FS.chdir('/scenes');
+    // The viewer's requests, answered as svetlo serve answers them; cornell.json its first view.
+    const viewer = new module.Viewer('/scenes/cornell.json');
     const cancelAt = module.cancelFlag();
     const shared = typeof SharedArrayBuffer !== 'undefined' &&
                    module.HEAP8.buffer instanceof SharedArrayBuffer;
@@ -25,11 +29,11 @@ createSvetlo({
     self.postMessage({ready: true, scenes, engines: JSON.parse(module.engines()),
                       cores: self.crossOriginIsolated ? navigator.hardwareConcurrency || 1 : 1,
                       memory: shared ? module.HEAP8.buffer : null, cancelAt});
-    // The visitor's files, under /scenes/visitor: each under its own name, without folders
-    // (a name that would leave the folder, or is empty, is refused with the one-line error).
+    // The visitor's files, in /scenes beside the bundled scenes: each under its own name,
+    // without folders (a name that would leave the folder, or is empty, is refused with the
+    // one-line error).
     const addFiles = (id, files) => {
-        const folder = '/scenes/visitor';
-        if (!module.FS.analyzePath(folder).exists) module.FS.mkdir(folder);
+        const folder = '/scenes';
         const names = [];
         for (const f of files) {
             const name = f.name.split(/[\\/]/).pop();
@@ -45,6 +49,22 @@ createSvetlo({
     self.onmessage = (event) => {
         if (event.data.files !== undefined) {
             addFiles(event.data.id, event.data.files);
+            return;
+        }
+        if (event.data.api !== undefined || event.data.stream !== undefined) {
+            const id = event.data.id;
+            module.clearCancelFlag(cancelAt);
+            let response;
+            try {
+                response = event.data.api !== undefined
+                    ? viewer.get(event.data.api, cancelAt)
+                    : viewer.stream(event.data.stream, cancelAt,
+                                    (chunk) => self.postMessage({id, chunk}, [chunk.buffer]));
+            } catch (error) {  // the module itself failed (out of memory, an abort)
+                response = {status: 500, type: 'text/plain', headers: {},
+                            body: new TextEncoder().encode('svetlo: the request failed: ' + error)};
+            }
+            self.postMessage({id, response}, [response.body.buffer]);
             return;
         }
         const {id, scene, isText, options, wantsPasses} = event.data;

@@ -540,7 +540,7 @@ const choose = (id, value) => {  // selects `value` in the menu `id`, when it is
     }
     await loadScene(false);
     if (position && camera) camera.position = position;
-    render();
+    move();  // the first image as a moving view's (fast), then the still one
   } catch (e) {
     $("error").textContent = "svetlo: error: the page could not start: " + e;
   }
