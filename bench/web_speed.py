@@ -29,7 +29,7 @@ def main():
     browser, port_devtools = devtools.start_chromium(profile, "about:blank")
     try:
         tab = devtools.Tab(devtools.first_page(port_devtools), timeout=300)
-        tab.call("Page.navigate", url="http://127.0.0.1:%d/index.html?engine=raster&size=16" % port)
+        tab.call("Page.navigate", url="http://127.0.0.1:%d/index.html?engine=raster&spp=1" % port)
         while tab.eval("typeof svetlo !== 'undefined' ? svetlo.ready.then(() => true) : null") is not True:
             time.sleep(0.1)
         rows = []

@@ -3,8 +3,15 @@
 // wide_bvh_packets.inc are their SSE forms.
 #include "svetlo/geometry/wide_bvh.h"
 
-#if SVETLO_SIMD
+// The four-wide SSE kernels run on x86-64 (SVETLO_SIMD) and in the browser, where emscripten
+// compiles SSE's intrinsics to WebAssembly's 128-bit SIMD, one instruction for each here, with
+// SSE's own answers for NaNs (its min and max are a compare and a select), so that the page's
+// images stay the native program's (docs/web.md, "Speed and size").
+#if SVETLO_SIMD || defined(__wasm_simd128__)
+#define SVETLO_SSE_KERNELS 1
 #include <immintrin.h>
+#else
+#define SVETLO_SSE_KERNELS 0
 #endif
 
 #include <algorithm>
@@ -23,7 +30,7 @@ namespace svetlo {
 
 namespace {
 
-#if SVETLO_SIMD
+#if SVETLO_SSE_KERNELS
 #include "svetlo/geometry/wide_bvh_packets.inc"
 #endif
 #include "svetlo/geometry/wide_bvh_traversal.inc"
@@ -33,7 +40,7 @@ float half_area(const BvhNode& n) {
     return e.x * e.y + e.y * e.z + e.z * e.x;
 }
 
-#if SVETLO_SIMD
+#if SVETLO_SSE_KERNELS
 /// A ray against the four boxes of a node (SSE): returns the mask of children hit and their
 /// entry distances. Its twin: wide::ScalarBoxes<4> (wide_bvh_reference.h).
 struct RayBoxes4 {
