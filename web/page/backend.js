@@ -8,59 +8,77 @@
 //     svetlo.addFiles, or a scene object; pixels is a Float32Array of linear RGB, top row
 //     first. A bad scene rejects with an Error whose message is the one-line error. An
 //     `onPass(pass)` option is called with each pass of a progressive engine ({passes,
-//     seconds, width, height, pixels}); svetlo.cancel() ends the render in progress after its
-//     pass (a cross-origin isolated page: svetlo.canCancel), which then resolves with the
-//     passes done and `cancelled` true;
+//     seconds, width, height, pixels}); svetlo.cancel() ends the render in progress, which
+//     then resolves with `cancelled` true: after its pass with the passes done where the page
+//     is cross-origin isolated, elsewhere at once with the last pass onPass was given;
 //   - `svetloViewer`, which carries the viewer's requests (the page is svetlo serve's viewer,
 //     apps/svetlo/viewer/, whose own backend.js says what it asks): each "/api/..." request
 //     answered in the worker by the job layer's ViewerApi, as svetlo serve answers it.
 // Requests and renders run one at a time in the worker, in order.
 (function () {
     'use strict';
-    const worker = new Worker(new URL('render_worker.js', document.currentScript.src));
-    const waiting = new Map();  // id -> {resolve, reject}
+    const script = new URL('render_worker.js', document.currentScript.src);
+    const waiting = new Map();  // id -> the call: {resolve, reject, onPass, onChunk, ended}
     let nextId = 1;
     let info = {scenes: [], engines: [], cores: 1, memory: null, cancelAt: 0};
-    let readyResolve, readyReject;
-    const ready = new Promise((resolve, reject) => {
-        readyResolve = resolve;
-        readyReject = reject;
-    });
-    worker.onmessage = (event) => {
-        const data = event.data;
-        if (data.ready) {
-            info = data;
-            readyResolve();
-            return;
-        }
-        if (data.failed !== undefined) {
-            readyReject(new Error('svetlo: the WebAssembly module did not start: ' + data.failed));
-            return;
-        }
-        const call = waiting.get(data.id);
-        if (!call) return;
-        if (data.pass !== undefined) {  // a pass of the render in progress
-            if (call.onPass) call.onPass(data.pass);
-            return;
-        }
-        if (data.chunk !== undefined) {  // bytes of a viewer's stream
-            call.onChunk(data.chunk);
-            return;
-        }
-        waiting.delete(data.id);
-        if (data.response !== undefined) call.resolve(data.response);
-        else if (data.error !== undefined) call.reject(new Error(data.error));
-        else if (data.names !== undefined) call.resolve(data.names);
-        else call.resolve({width: data.width, height: data.height, seconds: data.seconds,
-                           passes: data.passes, cancelled: data.cancelled, pixels: data.pixels});
-    };
-    // The worker failed: the start, and every render waiting, end with its message.
-    worker.onerror = (event) => {
-        const error = new Error('svetlo: ' + event.message);
-        readyReject(error);
-        for (const call of waiting.values()) call.reject(error);
-        waiting.clear();
-    };
+    let worker = null;
+    let started = null;  // the current worker's start
+    const kept = [];     // the visitor's files, given again to a worker started anew
+
+    /// A worker with the module; resolves once it can take requests. Its messages settle
+    /// the calls waiting on it.
+    function startWorker() {
+        worker = new Worker(script);
+        return new Promise((resolve, reject) => {
+            worker.onmessage = (event) => {
+                const data = event.data;
+                if (data.ready) {
+                    info = data;
+                    resolve();
+                    return;
+                }
+                if (data.failed !== undefined) {
+                    reject(new Error('svetlo: the WebAssembly module did not start: ' + data.failed));
+                    return;
+                }
+                const call = waiting.get(data.id);
+                if (!call) return;
+                if (data.pass !== undefined) {  // a pass of the render in progress
+                    call.lastPass = data.pass;
+                    if (call.onPass) call.onPass(data.pass);
+                    return;
+                }
+                if (data.chunk !== undefined) {  // bytes of a viewer's stream
+                    call.onChunk(data.chunk);
+                    return;
+                }
+                waiting.delete(data.id);
+                if (data.response !== undefined) call.resolve(data.response);
+                else if (data.error !== undefined) call.reject(new Error(data.error));
+                else if (data.names !== undefined) call.resolve(data.names);
+                else call.resolve({width: data.width, height: data.height, seconds: data.seconds,
+                                   passes: data.passes, cancelled: data.cancelled,
+                                   pixels: data.pixels});
+            };
+            // The worker failed: the start, and every call waiting, end with its message.
+            worker.onerror = (event) => {
+                const error = new Error('svetlo: ' + event.message);
+                reject(error);
+                for (const call of waiting.values()) call.reject(error);
+                waiting.clear();
+            };
+        });
+    }
+    const ready = started = startWorker();
+
+    /// Posts a message to the worker once it has started; `call` waits for its answer.
+    function post(call, message, transfer) {
+        return started.then(() => new Promise((resolve, reject) => {
+            const id = nextId++;
+            waiting.set(id, Object.assign(call, {resolve, reject}));
+            worker.postMessage(Object.assign({id}, message), transfer || []);
+        }));
+    }
 
     /// Threads above one need a cross-origin isolated page (COOP and COEP headers).
     function threadsFor(asked) {
@@ -69,17 +87,21 @@
     }
 
     function render(scene, options) {
-        return ready.then(() => new Promise((resolve, reject) => {
-            const id = nextId++;
-            const opts = Object.assign({}, options || {});
-            const onPass = typeof opts.onPass === 'function' ? opts.onPass : null;
-            delete opts.onPass;  // (a function does not cross to the worker)
-            waiting.set(id, {resolve, reject, onPass});
-            opts.threads = threadsFor(opts.threads);
-            const isText = typeof scene !== 'string';
-            worker.postMessage({id, scene: isText ? JSON.stringify(scene) : scene, isText,
-                                options: opts, wantsPasses: onPass !== null});
-        }));
+        const opts = Object.assign({}, options || {});
+        const onPass = typeof opts.onPass === 'function' ? opts.onPass : null;
+        delete opts.onPass;  // (a function does not cross to the worker)
+        opts.threads = threadsFor(opts.threads);
+        const isText = typeof scene !== 'string';
+        // Ended by a worker's restart (cancel, below): the last pass that came, if onPass
+        // asked for them, else an empty image.
+        const call = {onPass, ended: () => {
+            const p = call.lastPass;
+            call.resolve({width: p ? p.width : 0, height: p ? p.height : 0,
+                          seconds: p ? p.seconds : 0, passes: p ? p.passes : 0, cancelled: true,
+                          pixels: p ? p.pixels : new Float32Array(0)});
+        }};
+        return post(call, {scene: isText ? JSON.stringify(scene) : scene, isText, options: opts,
+                           wantsPasses: onPass !== null});
     }
 
     /// The visitor's own files (File objects, or {name, bytes} with bytes an ArrayBuffer or a
@@ -88,34 +110,47 @@
     /// the files it names (an OBJ's MTL and textures, a glTF's buffers). Resolves to the names
     /// given; svetlo.render('NAME') renders, and the viewer lists it.
     function addFiles(files) {
-        return ready.then(() => Promise.all(Array.from(files, async (f) => {
+        return Promise.all(Array.from(files, async (f) => {
             const bytes = f instanceof Blob ? await f.arrayBuffer() : f.bytes;
             const copy = bytes instanceof ArrayBuffer ? bytes.slice(0)
                 : bytes.buffer.slice(bytes.byteOffset, bytes.byteOffset + bytes.byteLength);
             return {name: String(f.name), bytes: copy};
-        }))).then((list) => new Promise((resolve, reject) => {
-            const id = nextId++;
-            waiting.set(id, {resolve, reject});
-            worker.postMessage({id, files: list}, list.map((f) => f.bytes));
-        }));
+        })).then((list) => {
+            const call = {ended: () => call.resolve(list.map((f) => f.name))};
+            kept.push(...list);  // (posted as copies: the page keeps its own)
+            const answer = post(call, {files: list});
+            answer.catch(() => { for (const f of list) kept.splice(kept.indexOf(f), 1); });
+            return answer;
+        });
     }
 
-    /// Ends the render in progress after its pass; false where the page cannot (its module
-    /// has no memory shared with the page: not cross-origin isolated).
+    /// Ends the render in progress. Where the module's memory is shared with the page (a
+    /// cross-origin isolated page), it sets the module's flag: the render ends after its pass,
+    /// and resolves with the passes done. Elsewhere the page cannot reach into the module
+    /// while it renders: the worker is ended and a new one started (its module loaded again,
+    /// the visitor's files given again), and the render resolves at once with the last pass
+    /// that came (`cancelled` true); a viewer's request in progress rejects as aborted.
     function cancel() {
-        if (!info.memory) return false;
-        Atomics.store(new Int8Array(info.memory), info.cancelAt, 1);
+        if (info.memory) {
+            Atomics.store(new Int8Array(info.memory), info.cancelAt, 1);
+            return true;
+        }
+        if (waiting.size === 0) return true;  // nothing in progress
+        worker.terminate();
+        const calls = [...waiting.values()];
+        waiting.clear();
+        started = startWorker().then(() => {
+            if (kept.length > 0) worker.postMessage({id: 0, files: kept});
+        });
+        for (const call of calls) call.ended();
         return true;
     }
 
     /// A viewer's request ("/api/render?..."), answered by the worker: {status, type,
     /// headers, body}; for a stream (/api/progressive) its bytes go to onChunk first.
     function request(target, onChunk) {
-        return ready.then(() => new Promise((resolve, reject) => {
-            const id = nextId++;
-            waiting.set(id, {resolve, reject, onChunk});
-            worker.postMessage(onChunk ? {id, stream: target} : {id, api: target});
-        }));
+        const call = {onChunk, ended: () => call.reject(new DOMException('aborted', 'AbortError'))};
+        return post(call, onChunk ? {stream: target} : {api: target});
     }
 
     /// The viewer's fetch: a Response as the browser's fetch would give it from svetlo serve.
@@ -173,7 +208,7 @@
         render,
         addFiles,
         cancel,
-        get canCancel() { return info.memory !== null; },
+        canCancel: true,
         get scenes() { return info.scenes.slice(); },
         get engines() { return info.engines.map((e) => e.name); },
         get threads() { return self.crossOriginIsolated ? info.cores : 1; },
