@@ -184,7 +184,8 @@ val response_of(const ViewerResponse& r) {
 class Viewer {
 public:
     explicit Viewer(const std::string& target) : api_(target) {
-        api_.set_job_check([](const RenderJob& job) { check_memory(job, job.run.scene_file.string()); });
+        api_.set_job_check(
+            [](const RenderJob& job) { check_memory(job, job.run.scene_file.string()); });
     }
 
     val get(const std::string& target, uintptr_t cancel_at) {
@@ -198,8 +199,9 @@ public:
         if (!render.job) return response_of(render.failed);
         api_.run_progressive(render, [&on_bytes](std::string_view bytes) {
             val chunk = val::global("Uint8Array").new_(bytes.size());
-            chunk.call<void>("set", val(emscripten::typed_memory_view(
-                                        bytes.size(), reinterpret_cast<const uint8_t*>(bytes.data()))));
+            chunk.call<void>("set",
+                             val(emscripten::typed_memory_view(
+                                 bytes.size(), reinterpret_cast<const uint8_t*>(bytes.data()))));
             on_bytes(chunk);
             return true;
         });

@@ -34,7 +34,7 @@ public:
           vis_(light_visibility(buf, count_)),
           batch_size_(simd_lanes()),
           ibl_(f.lights->environment),
-          inverse_(ibl_.active() ? glm::inverse(f.cam.view_projection()) : mat4(1.0f)) {
+          rays_(f.cam) {
         buf_.sample_color.resize(count_);
     }
 
@@ -94,7 +94,7 @@ private:
     const SetupTriangle* gradients_of_ = nullptr;  // the triangle whose uv gradients these are
     UvGradients gradients_;
     const ImageBasedLighting& ibl_;
-    const mat4 inverse_;  // the camera's inverse view-projection, for the map behind
+    const FilmRays rays_;  // the camera's rays, for the map behind
     Color run_colours_[kTile][3];
 };
 
@@ -145,7 +145,7 @@ inline void FastTile::add_to_batch(size_t i, vec2 l, const SetupTriangle& t) {
 /// alone). True when it is done.
 inline bool FastTile::shade_apart(size_t i, uint32_t tri, int64_t sx, int64_t sy) {
     if (tri == kNone) {  // the background, or the map along the sample's ray
-        buf_.sample_color[i] = ibl_.active() ? ibl_.seen(f_.cam, inverse_, sx, sy) : background_;
+        buf_.sample_color[i] = ibl_.active() ? ibl_.seen(rays_, sx, sy) : background_;
         return true;
     }
     if (f_.fast.material_ok[f_.tri(tri).material]) return false;

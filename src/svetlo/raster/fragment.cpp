@@ -285,7 +285,7 @@ void shade_tile(const FrameState& f, const Tile& tile, const SamplePattern& sp, 
     const size_t pixels = static_cast<size_t>(tile.x1 - tile.x0) * (tile.y1 - tile.y0);
     const Color background = f.scene->render.background;
     const ImageBasedLighting& ibl = f.lights->environment;
-    const mat4 inverse = ibl.active() ? glm::inverse(f.cam.view_projection()) : mat4(1.0f);
+    const FilmRays rays(f.cam);
     EdgeCache edges(f);
     const LightVisibility vis = light_visibility(buf, pixels * static_cast<size_t>(S));
     auto shade = [&](uint32_t tri, size_t pixel, int s, bool want_aovs) {
@@ -310,7 +310,7 @@ void shade_tile(const FrameState& f, const Tile& tile, const SamplePattern& sp, 
                 continue;
             }
             if (tri == kNone) {  // the background, or the map along the sample's ray
-                sum += ibl.active() ? ibl.seen(f.cam, inverse, sample_x(tile, pixel, sp, s),
+                sum += ibl.active() ? ibl.seen(rays, sample_x(tile, pixel, sp, s),
                                                sample_y(tile, pixel, sp, s))
                                     : background;
                 continue;

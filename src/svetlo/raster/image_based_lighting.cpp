@@ -84,18 +84,29 @@ Color ImageBasedLighting::irradiance(vec3 n) const {
     return glm::max(E, Color(0.0f));  // order 2 can ring below zero behind a sun
 }
 
-Color ImageBasedLighting::seen(const CameraMatrices& cam, const mat4& inverse, int64_t sx,
-                               int64_t sy) const {
-    const float px = static_cast<float>(sx) / kSubpixel, py = static_cast<float>(sy) / kSubpixel;
-    const vec2 ndc(2.0f * px / cam.width - 1.0f, 1.0f - 2.0f * py / cam.height);
-    // Two points on the sample's ray, in front of the camera: their difference is its direction.
-    auto unproject = [&](float z) {
-        const vec4 p = inverse * vec4(ndc, z, 1.0f);
-        return vec3(p) / p.w;
+FilmRays::FilmRays(const CameraMatrices& cam) : orthographic_(cam.orthographic) {
+    if (orthographic_) {
+        c_ = cam.forward;
+        return;
+    }
+    const mat4 inverse = glm::inverse(cam.view_projection());
+    // The ray through NDC (x, y): two points on it, in front of the camera, give its direction,
+    // scaled to reach the plane one unit ahead of the eye (dot(p, forward) = 1), on which the
+    // rays' points are affine in x and y.
+    auto on_plane = [&](float x, float y) {
+        auto unproject = [&](float z) {
+            const vec4 p = inverse * vec4(x, y, z, 1.0f);
+            return vec3(p) / p.w;
+        };
+        const vec3 d = glm::normalize(unproject(0.5f) - unproject(0.0f));
+        return d / glm::dot(d, cam.forward);
     };
-    const vec3 d =
-        cam.orthographic ? cam.forward : glm::normalize(unproject(0.5f) - unproject(0.0f));
-    return environment_.radiance(d);
+    const vec3 centre = on_plane(0.0f, 0.0f);
+    const vec3 right = on_plane(1.0f, 0.0f) - centre, up = on_plane(0.0f, 1.0f) - centre;
+    // NDC from pixels: x = 2 px / width - 1, y = 1 - 2 py / height.
+    a_ = right * (2.0f / static_cast<float>(cam.width));
+    b_ = up * (-2.0f / static_cast<float>(cam.height));
+    c_ = centre - right + up;
 }
 
 }  // namespace svetlo

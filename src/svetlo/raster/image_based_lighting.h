@@ -14,6 +14,7 @@
 #include <memory>
 
 #include "svetlo/raster/camera_matrices.h"
+#include "svetlo/raster/edge_function.h"
 #include "svetlo/raster/split_sum.h"
 #include "svetlo/scene/scene.h"
 #include "svetlo/shading/environment.h"
@@ -43,6 +44,27 @@ private:
     Made made_;
 };
 
+/// The directions of a camera's rays through its film, for the map behind the scene: a
+/// perspective camera's ray through the pixel point (px, py) points along c + px a + py b
+/// (world space; the film is a plane in front of the eye), found once a frame from the inverse
+/// view-projection, so that each background sample costs a multiply-add and a normalisation;
+/// an orthographic camera's rays all point along its forward direction.
+class FilmRays {
+public:
+    explicit FilmRays(const CameraMatrices& cam);
+    /// The unit direction through the sample at (sx, sy) (pixels times kSubpixel).
+    vec3 direction(int64_t sx, int64_t sy) const {
+        if (orthographic_) return c_;
+        const float px = static_cast<float>(sx) / kSubpixel,
+                    py = static_cast<float>(sy) / kSubpixel;
+        return glm::normalize(c_ + px * a_ + py * b_);
+    }
+
+private:
+    vec3 c_{0.0f}, a_{0.0f}, b_{0.0f};
+    bool orthographic_ = false;
+};
+
 class ImageBasedLighting {
 public:
     /// The SH projection, and the prefiltered levels and table made on `threads` threads, or
@@ -60,8 +82,10 @@ public:
     Color glossy(vec3 r, float n_dot_v, float roughness, Color f0) const;
 
     /// The map seen along the camera ray through the sample at (sx, sy) (pixels times
-    /// kSubpixel), for the camera `cam` whose inverse view-projection is `inverse`.
-    Color seen(const CameraMatrices& cam, const mat4& inverse, int64_t sx, int64_t sy) const;
+    /// kSubpixel) of the film `rays` describe.
+    Color seen(const FilmRays& rays, int64_t sx, int64_t sy) const {
+        return environment_.radiance(rays.direction(sx, sy));
+    }
 
 private:
     Environment environment_;

@@ -109,7 +109,10 @@ Color Environment::radiance(vec3 d) const {
     const float ax = fx - i0, ay = fy - j0;
     // The columns wrap around, the rows stop at the poles; each index found once, not once
     // per texel read (the background of every raster frame reads the map here).
-    const int a = (i0 % width_ + width_) % width_, b = a + 1 == width_ ? 0 : a + 1;
+    const int a = static_cast<unsigned>(i0) < static_cast<unsigned>(width_)
+                      ? i0  // one compare; the division only left of the first texel's centre (-1)
+                      : (i0 % width_ + width_) % width_;
+    const int b = a + 1 == width_ ? 0 : a + 1;
     const int r0 = std::clamp(j0, 0, height_ - 1), r1 = std::clamp(j0 + 1, 0, height_ - 1);
     const Color c = (1.0f - ay) * ((1.0f - ax) * map_->texel(a, r0) + ax * map_->texel(b, r0)) +
                     ay * ((1.0f - ax) * map_->texel(a, r1) + ax * map_->texel(b, r1));
