@@ -71,13 +71,18 @@
     }
     const ready = started = startWorker();
 
-    /// Posts a message to the worker once it has started; `call` waits for its answer.
+    /// Posts a message to the worker once it has started; `call` waits for its answer. A
+    /// worker started anew meanwhile (cancel) gets it once that one has started.
     function post(call, message, transfer) {
-        return started.then(() => new Promise((resolve, reject) => {
-            const id = nextId++;
-            waiting.set(id, Object.assign(call, {resolve, reject}));
-            worker.postMessage(Object.assign({id}, message), transfer || []);
-        }));
+        const start = started;
+        return start.then(() => {
+            if (start !== started) return post(call, message, transfer);
+            return new Promise((resolve, reject) => {
+                const id = nextId++;
+                waiting.set(id, Object.assign(call, {resolve, reject}));
+                worker.postMessage(Object.assign({id}, message), transfer || []);
+            });
+        });
     }
 
     /// Threads above one need a cross-origin isolated page (COOP and COEP headers).
@@ -119,7 +124,9 @@
             const call = {ended: () => call.resolve(list.map((f) => f.name))};
             kept.push(...list);  // (posted as copies: the page keeps its own)
             const answer = post(call, {files: list});
-            answer.catch(() => { for (const f of list) kept.splice(kept.indexOf(f), 1); });
+            answer.catch(() => {
+                for (const f of list) if (kept.includes(f)) kept.splice(kept.indexOf(f), 1);
+            });
             return answer;
         });
     }
