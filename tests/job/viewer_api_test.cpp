@@ -75,6 +75,16 @@ TEST_F(ViewerApiTest, ListsTheScenesAndTheEngines) {
     const auto list = nlohmann::json::parse(scenes.body);
     EXPECT_EQ(list["scenes"], nlohmann::json::array({"ball.json"}));
     EXPECT_EQ(list["default"], "ball.json");
+    // Environment maps in the folder or below, those this build reads: an EXR only with
+    // OpenEXR (the browser's build has none).
+    EXPECT_EQ(list["environments"], nlohmann::json::array());
+    fs::create_directories(root_ / "scenes" / "maps");
+    for (const char* name : {"maps/sky.pfm", "maps/studio.exr", "maps/sun.hdr", "maps/photo.png"})
+        std::ofstream(root_ / "scenes" / name) << "x";
+    nlohmann::json maps = {"maps/sky.pfm"};
+    if (reads_exr()) maps.push_back("maps/studio.exr");
+    maps.push_back("maps/sun.hdr");
+    EXPECT_EQ(nlohmann::json::parse(api.get("/api/scenes").body)["environments"], maps);
     const auto engines = nlohmann::json::parse(api.get("/api/engines").body);
     std::vector<std::string> names;
     for (const auto& e : engines) names.push_back(e["name"]);

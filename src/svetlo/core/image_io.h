@@ -99,6 +99,8 @@ TextureImage decode_texture(const unsigned char* bytes, size_t size, TexelMeanin
                             size_t max_bytes);
 /// Whether this build reads WebP (libwebp, Debian's libwebp-dev).
 bool reads_webp();
+/// Whether this build reads OpenEXR files (not in the browser's: docs/web.md).
+bool reads_exr();
 
 /// The most memory one texture's texels may take: a 16384² 8-bit texture (3 bytes a texel)
 /// or an 8192² float one (12 bytes a texel). The rasterizer's mipmaps add a third.

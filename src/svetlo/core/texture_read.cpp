@@ -119,6 +119,14 @@ bool reads_webp() {
 #endif
 }
 
+bool reads_exr() {
+#ifdef SVETLO_HAS_OPENEXR
+    return true;
+#else
+    return false;
+#endif
+}
+
 namespace {
 
 /// Refuses a header that declares more texels than any compression packs into `size` bytes:

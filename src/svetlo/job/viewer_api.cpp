@@ -164,7 +164,7 @@ ViewerResponse ViewerApi::get(std::string_view target, const std::atomic<bool>* 
 }
 
 /// /api/scenes: the folder's scene and model files, the one given, and the environment
-/// maps in the folder or two folders down (the page's menus).
+/// maps in the folder or two folders down that this build reads (the page's menus).
 ViewerResponse ViewerApi::scenes() {
     std::error_code ec;  // an unreadable entry is left out
     std::vector<std::string> names;
@@ -182,7 +182,7 @@ ViewerResponse ViewerApi::scenes() {
         const fs::path& p = it->path();
         const std::string ext = lower_extension(p);
         if (it->is_regular_file() && p.filename().string()[0] != '.' &&
-            (ext == ".hdr" || ext == ".exr" || ext == ".pfm"))
+            (ext == ".hdr" || ext == ".pfm" || (ext == ".exr" && reads_exr())))
             environments.push_back(p.lexically_relative(folder_).generic_string());
     }
     std::sort(environments.begin(), environments.end());
