@@ -3,7 +3,8 @@
 // request is a target as a browser writes it ("/api/render?scene=cornell.json&engine=raster&
 // set=render.shading=phong"); the answer is a status, a content type, headers and a body:
 //   /api/scenes                  the scene and model files of the folder, the default one,
-//                                and the environment maps in it (two folders down)
+//                                and the environment maps in it (two folders down) that
+//                                this build reads
 //   /api/engines                 the engines and their capabilities (the page's menus)
 //   /api/scene?scene=NAME        a scene's effective JSON (the page orbits its camera)
 //   /api/link?QUERY              a shared link read as a request is: its scene, engine and
@@ -52,7 +53,7 @@ struct ViewerResponse {
 };
 
 /// A progressive render read from its request (ViewerApi::start_progressive): `failed` holds
-/// the answer to a bad request (status 400); else `run` renders it.
+/// the answer to a bad request (status 400); else ViewerApi::run_progressive renders it.
 struct ProgressiveRender {
     ViewerResponse failed;
     std::shared_ptr<RenderJob> job;
