@@ -33,8 +33,6 @@ private:
     };
     /// The node over order_[begin, end); returns its index.
     uint32_t build(uint32_t begin, uint32_t end, const std::vector<Bounds3>& boxes);
-    /// The placements whose boxes the ray enters before `tmax`, nearest node first: f(index)
-    /// for each, until it returns false; tmax re-read after each call.
     /// The placements whose boxes the ray enters before `tmax`, nearer nodes first: f(index)
     /// for each until it returns false (tmax is read again after each). Counts the nodes it
     /// visits into `visited` when given.
