@@ -14,7 +14,8 @@ answered in the page by the module:
   - a film past the WebAssembly memory's limit is refused with the one-line error;
   - a link's bare set= value is read as --set reads it;
   - a progressive render reports each pass; svetlo.cancel and any change of the page's controls
-    end a render after its pass, and without isolation at once (a new worker);
+    end a render after its pass, and without isolation at once (a new worker); a render that
+    reads no flag for a second is ended by a new worker, and the render asked after it follows;
   - the visitor's own files: a glTF given to svetlo.addFiles renders the native program's
     image; an OBJ and its MTL chosen in the page's file input render in #view;
   - a scene that the viewer cannot render shows its one-line error, and the page goes on;
@@ -235,6 +236,23 @@ def main():
         check("svetlo.cancel ends a render after its pass (%s)" % ended,
               bool(ended) and ended.get("cancelled") is True and ended.get("passes", 1e9) <= 3
               and ended.get("ms", 1e9) < 5000, ended)
+
+        # A render that never reads the flag (one long pass of the rasterizer: 256 samples a
+        # pixel at 480 x 270, minutes in the page) ends within the grace of a second, by a new
+        # worker; the render asked after it is rendered by that one.
+        grace = tab.eval("""new Promise(resolve => { const t0 = performance.now();
+            const a = svetlo.render('cornell.json', {engine: 'raster', width: 480, height: 270,
+                                                     spp: 256});
+            const b = svetlo.render('cornell.json', {engine: 'raster', width: 32, height: 32});
+            setTimeout(() => svetlo.cancel(), 300);
+            Promise.all([a, b]).then(([x, y]) => resolve({cancelled: x.cancelled,
+                ms: performance.now() - t0, after: y.pixels.length, after_cancelled: y.cancelled}),
+                e => resolve({error: e.message})); })""")
+        check("svetlo.cancel ends a long raster pass within its grace, and the next render "
+              "follows (%s)" % grace,
+              bool(grace) and grace.get("cancelled") is True and grace.get("ms", 1e9) < 3000
+              and grace.get("after") == 32 * 32 * 3 and grace.get("after_cancelled") is False,
+              grace)
 
         # The visitor's own files: a glTF through svetlo.addFiles, against the native program.
         data = os.path.join(HERE, "..", "data")

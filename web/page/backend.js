@@ -10,7 +10,8 @@
 //     `onPass(pass)` option is called with each pass of a progressive engine ({passes,
 //     seconds, width, height, pixels}); svetlo.cancel() ends the render in progress, which
 //     then resolves with `cancelled` true: after its pass with the passes done where the page
-//     is cross-origin isolated, elsewhere at once with the last pass onPass was given;
+//     is cross-origin isolated (within a second, else as elsewhere), elsewhere at once with
+//     the last pass onPass was given;
 //   - `svetloViewer`, which carries the viewer's requests (the page is svetlo serve's viewer,
 //     apps/svetlo/viewer/, whose own backend.js says what it asks): each "/api/..." request
 //     answered in the worker by the job layer's ViewerApi, as svetlo serve answers it.
@@ -73,16 +74,19 @@
 
     /// Posts a message to the worker once it has started; `call` waits for its answer. A
     /// worker started anew meanwhile (cancel) gets it once that one has started.
-    function post(call, message, transfer) {
+    function post(call, message) {
         const start = started;
         return start.then(() => {
-            if (start !== started) return post(call, message, transfer);
+            if (start !== started) return post(call, message);
             return new Promise((resolve, reject) => {
-                const id = nextId++;
-                waiting.set(id, Object.assign(call, {resolve, reject}));
-                worker.postMessage(Object.assign({id}, message), transfer || []);
+                Object.assign(call, {resolve, reject, message});
+                send(nextId++, call);
             });
         });
+    }
+    function send(id, call) {
+        waiting.set(id, call);
+        worker.postMessage(Object.assign({id}, call.message));
     }
 
     /// Threads above one need a cross-origin isolated page (COOP and COEP headers).
@@ -131,26 +135,42 @@
         });
     }
 
+    /// How long a render in a cross-origin isolated page has to end after its flag is set,
+    /// before its worker is ended as elsewhere: a long setup, or one long pass of the
+    /// rasterizer or Whitted, does not read the flag.
+    const kCancelGrace = 1000;  // ms
+
     /// Ends the render in progress. Where the module's memory is shared with the page (a
     /// cross-origin isolated page), it sets the module's flag: the render ends after its pass,
-    /// and resolves with the passes done. Elsewhere the page cannot reach into the module
-    /// while it renders: the worker is ended and a new one started (its module loaded again,
-    /// the visitor's files given again), and the render resolves at once with the last pass
-    /// that came (`cancelled` true); a viewer's request in progress rejects as aborted.
+    /// and resolves with the passes done; one still running a second later is ended as
+    /// elsewhere. Elsewhere the page cannot reach into the module while it renders: the
+    /// worker is ended and a new one started (restart).
     function cancel() {
+        const [first] = waiting.keys();  // the worker takes its calls in order
         if (info.memory) {
             Atomics.store(new Int8Array(info.memory), info.cancelAt, 1);
+            if (first !== undefined)
+                setTimeout(() => { if (waiting.keys().next().value === first) restart(); },
+                           kCancelGrace);
             return true;
         }
-        if (waiting.size === 0) return true;  // nothing in progress
+        if (first !== undefined) restart();
+        return true;
+    }
+
+    /// Ends the worker and starts a new one, its module loaded again and the visitor's files
+    /// given again. The call in progress ends at once: a render resolves with the last pass
+    /// that came to onPass (`cancelled` true), a viewer's request rejects as aborted. The
+    /// calls after it go to the new worker, in their order.
+    function restart() {
         worker.terminate();
-        const calls = [...waiting.values()];
-        waiting.clear();
+        const [[first, call], ...after] = waiting.entries();
+        waiting.delete(first);
         started = startWorker().then(() => {
             if (kept.length > 0) worker.postMessage({id: 0, files: kept});
+            for (const [id, queued] of after) if (waiting.get(id) === queued) send(id, queued);
         });
-        for (const call of calls) call.ended();
-        return true;
+        call.ended();
     }
 
     /// A viewer's request ("/api/render?..."), answered by the worker: {status, type,
