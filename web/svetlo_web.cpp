@@ -22,7 +22,6 @@
 #include <vector>
 
 #include "svetlo/core/error.h"
-#include "svetlo/job/engines.h"
 #include "svetlo/job/limits.h"
 #include "svetlo/job/overrides.h"
 #include "svetlo/job/render_job.h"
@@ -161,6 +160,14 @@ val render_scene(const std::string& scene, bool is_text, const std::string& opti
     return out;
 }
 
+/// `size` bytes as a Uint8Array (a copy, in JavaScript's memory).
+val bytes_of(const char* data, size_t size) {
+    val bytes = val::global("Uint8Array").new_(size);
+    bytes.call<void>(
+        "set", val(emscripten::typed_memory_view(size, reinterpret_cast<const uint8_t*>(data))));
+    return bytes;
+}
+
 /// A viewer's answer as JavaScript reads it: {status, type, headers: {NAME: VALUE}, body: a
 /// Uint8Array (a copy)}.
 val response_of(const ViewerResponse& r) {
@@ -170,10 +177,7 @@ val response_of(const ViewerResponse& r) {
     val headers = val::object();
     for (const auto& [name, value] : r.headers) headers.set(name, value);
     out.set("headers", headers);
-    val body = val::global("Uint8Array").new_(r.body.size());
-    body.call<void>("set", val(emscripten::typed_memory_view(
-                               r.body.size(), reinterpret_cast<const uint8_t*>(r.body.data()))));
-    out.set("body", body);
+    out.set("body", bytes_of(r.body.data(), r.body.size()));
     return out;
 }
 
@@ -198,11 +202,7 @@ public:
         ProgressiveRender render = api_.start_progressive(target, flag_at(cancel_at));
         if (!render.job) return response_of(render.failed);
         api_.run_progressive(render, [&on_bytes](std::string_view bytes) {
-            val chunk = val::global("Uint8Array").new_(bytes.size());
-            chunk.call<void>("set",
-                             val(emscripten::typed_memory_view(
-                                 bytes.size(), reinterpret_cast<const uint8_t*>(bytes.data()))));
-            on_bytes(chunk);
+            on_bytes(bytes_of(bytes.data(), bytes.size()));
             return true;
         });
         return response_of({200, "application/octet-stream", {}, {}});
@@ -214,14 +214,6 @@ private:
     }
     ViewerApi api_;
 };
-
-/// The engines and what each can do, as the page's controls need them (JSON text).
-std::string engines_json() {
-    nlohmann::json list = nlohmann::json::array();
-    for (const Capabilities& c : engine_capabilities())
-        list.push_back({{"name", c.name}, {"progressive", c.progressive}});
-    return list.dump();
-}
 
 /// The address of a new flag in the module's memory, cleared, for render_scene's cancel_at:
 /// the page holds the memory (a SharedArrayBuffer where the module has threads) and sets the
@@ -235,7 +227,6 @@ void clear_cancel_flag(uintptr_t at) { reinterpret_cast<std::atomic<bool>*>(at)-
 
 EMSCRIPTEN_BINDINGS(svetlo) {
     emscripten::function("render", &render_scene);
-    emscripten::function("engines", &engines_json);
     emscripten::function("cancelFlag", &cancel_flag);
     emscripten::function("clearCancelFlag", &clear_cancel_flag);
     emscripten::class_<Viewer>("Viewer")

@@ -26,7 +26,9 @@ createSvetlo({
     const shared = typeof SharedArrayBuffer !== 'undefined' &&
                    module.HEAP8.buffer instanceof SharedArrayBuffer;
     const scenes = module.FS.readdir('/scenes').filter((name) => name.endsWith('.json')).sort();
-    self.postMessage({ready: true, scenes, engines: JSON.parse(module.engines()),
+    // The engines as the viewer's /api/engines lists them (the job layer's registry).
+    const engines = JSON.parse(new TextDecoder().decode(viewer.get('/api/engines', 0).body));
+    self.postMessage({ready: true, scenes, engines,
                       cores: self.crossOriginIsolated ? navigator.hardwareConcurrency || 1 : 1,
                       memory: shared ? module.HEAP8.buffer : null, cancelAt});
     // The visitor's files, in /scenes beside the bundled scenes: each under its own name,

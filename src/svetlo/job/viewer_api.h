@@ -83,7 +83,8 @@ public:
     /// /api/progressive in two steps, so that a bad request is answered before the stream
     /// starts: the request read, then `run_progressive` hands the stream's bytes to `write` as
     /// they come (docs/viewer.md, "Progressive display"); `write` returning false (the reader
-    /// is gone) ends the render after its pass.
+    /// is gone) ends the render after its pass, unless an outer flag was given, which alone
+    /// then ends it (the web page's worker, whose writes do not fail).
     ProgressiveRender start_progressive(std::string_view target,
                                         const std::atomic<bool>* cancel = nullptr);
     void run_progressive(ProgressiveRender& render,
