@@ -71,17 +71,18 @@ PrefilteredEnvironment::PrefilteredEnvironment(const Environment& environment, i
     }
 }
 
-Color PrefilteredEnvironment::level_radiance(int level, vec3 r) const {
-    if (level == 0) return environment_.radiance(r);
-    return equirect_lookup(levels_[static_cast<size_t>(level - 1)], environment_.uv_of(r));
+Color PrefilteredEnvironment::level_radiance(int level, vec2 uv) const {
+    if (level == 0) return environment_.radiance_at(uv);
+    return equirect_lookup(levels_[static_cast<size_t>(level - 1)], uv);
 }
 
 Color PrefilteredEnvironment::radiance(vec3 r, float roughness) const {
     const float t = std::clamp(roughness, 0.0f, 1.0f) * (kLevels - 1);
     const int lo = std::min(static_cast<int>(t), kLevels - 2);
     const float f = t - static_cast<float>(lo);
-    if (f <= 0.0f) return level_radiance(lo, r);
-    return (1.0f - f) * level_radiance(lo, r) + f * level_radiance(lo + 1, r);
+    const vec2 uv = environment_.uv_of(r);  // one place in every level
+    if (f <= 0.0f) return level_radiance(lo, uv);
+    return (1.0f - f) * level_radiance(lo, uv) + f * level_radiance(lo + 1, uv);
 }
 
 SplitSumTable::SplitSumTable(int threads) : table_(kSize * kSize) {

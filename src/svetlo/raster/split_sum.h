@@ -30,7 +30,7 @@ public:
     Color radiance(vec3 r, float roughness) const;
 
 private:
-    Color level_radiance(int level, vec3 r) const;
+    Color level_radiance(int level, vec2 uv) const;  // uv as Environment::uv_of
 
     Environment environment_;    // a copy (without its sampling tables): the map's lookup
     std::vector<Image> levels_;  // levels 1 to 4, equirectangular as the map

@@ -88,8 +88,10 @@ vec2 Environment::uv_of(vec3 d) const {
     // Into the map's frame: turned by -rotate about +y.
     const float x = cos_rot_ * d.x - sin_rot_ * d.z;
     const float z = sin_rot_ * d.x + cos_rot_ * d.z;
-    const float u = 0.5f + std::atan2(x, -z) * (0.5f * kInvPi);
-    const float v = 0.5f + std::asin(std::clamp(d.y, -1.0f, 1.0f)) * kInvPi;
+    // The latitude as atan2 of the height over the horizontal length: asin(y) for a unit d,
+    // and as exact for one a rounding off unit length.
+    const float u = 0.5f + atan2_approx(x, -z) * (0.5f * kInvPi);
+    const float v = 0.5f + atan2_approx(d.y, std::sqrt(x * x + z * z)) * kInvPi;
     return vec2(u - std::floor(u), v);
 }
 
@@ -100,9 +102,10 @@ vec3 Environment::direction_of(vec2 uv) const {
     return vec3(cos_rot_ * x + sin_rot_ * z, std::sin(lat), -sin_rot_ * x + cos_rot_ * z);
 }
 
-Color Environment::radiance(vec3 d) const {
+Color Environment::radiance(vec3 d) const { return map_ ? radiance_at(uv_of(d)) : uniform_; }
+
+Color Environment::radiance_at(vec2 uv) const {
     if (!map_) return uniform_;
-    const vec2 uv = uv_of(d);
     // Bilinear between texel centres; rows from the top (v = 0 the bottom row).
     const float fx = uv.x * width_ - 0.5f, fy = (1.0f - uv.y) * height_ - 0.5f;
     const int i0 = static_cast<int>(std::floor(fx)), j0 = static_cast<int>(std::floor(fy));

@@ -5,7 +5,8 @@
 //
 // A unit direction d = (x, y, z), y up, turned by -rotate about +y into the map's frame, reads
 // the map at u = 0.5 + atan2(x, -z) / 2pi, v = 0.5 + asin(y) / pi (v = 0 the bottom row),
-// bilinear between texel centres, wrapping in u.
+// bilinear between texel centres, wrapping in u. The angles come from atan2_approx
+// (core/math.h: within 3e-7 rad, a 2,000th of a 4096-texel map's texel).
 //
 // Importance sampling (pbrt-v4's ImageInfiniteLight, Pharr et al. 2023, 12.5.2): a piecewise-
 // constant density over the texels, each texel's weight its luminance times sin(theta) (the
@@ -45,6 +46,9 @@ public:
 
     /// The radiance arriving along -d from far away (d a unit direction leaving the scene).
     Color radiance(vec3 d) const;
+    /// The map's radiance at (u, v) = uv_of(d) (without a map the uniform one): for a caller that
+    /// reads other maps of the same layout at the same place (the rasterizer's prefiltered levels).
+    Color radiance_at(vec2 uv) const;
 
     /// A direction by importance (map only), u in [0,1)^2.
     EnvironmentSample sample(vec2 u) const;
