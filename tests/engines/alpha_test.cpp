@@ -84,9 +84,28 @@ TEST(Alpha, CameraRaysSeeThroughAMasksHolesInEveryEngine) {
 /// lit by a directional light of irradiance pi travelling (1, -1, 0) / sqrt 2: the hole's
 /// light falls on the floor at x in [-1, 0], the solid half's shadow at [0, 1]. The camera
 /// looks straight down at x in [-0.5, 1.5] (the occluder out of its view).
-json shadow_scene(bool up, const char* engine, const char* shadows) {
+/// As a quad (an analytic shape) or, `mesh`, as its two triangles with the quad's (u, v): the
+/// ray tracers' shadow rays then ask the structure's filtered any-hit query
+/// (Cutouts::occluded_solid), the quad the closest-hit loop.
+json shadow_scene(bool up, const char* engine, const char* shadows, bool mesh = false) {
     json corner = up ? json{-3, 2, 1} : json{-3, 2, -1};
     json edge_v = up ? json{0, 0, -2} : json{0, 0, 2};
+    json occluder = {{"type", "quad"},
+                     {"corner", corner},
+                     {"edge_u", {2, 0, 0}},
+                     {"edge_v", edge_v},
+                     {"material", "occluder"}};
+    if (mesh) {
+        const vec3 c(corner[0], corner[1], corner[2]), v(edge_v[0], edge_v[1], edge_v[2]);
+        const vec3 u(2, 0, 0);
+        json positions = json::array();
+        for (const vec3 p : {c, c + u, c + u + v, c + v}) positions.push_back({p.x, p.y, p.z});
+        occluder = {{"type", "mesh"},
+                    {"positions", positions},
+                    {"uvs", {{0, 0}, {1, 0}, {1, 1}, {0, 1}}},
+                    {"indices", {0, 1, 2, 0, 2, 3}},
+                    {"material", "occluder"}};
+    }
     return {{"camera",
              {{"position", {0.5, 10, 0}},
               {"look_at", {0.5, 0, 0}},
@@ -99,11 +118,7 @@ json shadow_scene(bool up, const char* engine, const char* shadows) {
               {"floor", {{"type", "lambert"}, {"albedo", 0.5}}}}},
             {"lights", {{{"type", "directional"}, {"direction", {1, -1, 0}}, {"irradiance", kPi}}}},
             {"objects",
-             {{{"type", "quad"},
-               {"corner", corner},
-               {"edge_u", {2, 0, 0}},
-               {"edge_v", edge_v},
-               {"material", "occluder"}},
+             {occluder,
               {{"type", "quad"},
                {"corner", {-4, 0, 2}},
                {"edge_u", {8, 0, 0}},
@@ -112,10 +127,11 @@ json shadow_scene(bool up, const char* engine, const char* shadows) {
 }
 
 template <class Engine>
-void expect_shadow(const char* engine, const char* shadows, bool geometric, double tolerance) {
+void expect_shadow(const char* engine, const char* shadows, bool geometric, double tolerance,
+                   bool mesh = false) {
     const double lit = 0.5 * std::sqrt(0.5);  // albedo / pi * pi cos 45
     for (bool up : {true, false}) {
-        const RenderResult r = render_json<Engine>(shadow_scene(up, engine, shadows));
+        const RenderResult r = render_json<Engine>(shadow_scene(up, engine, shadows, mesh));
         // Pixel column i sees x = -0.5 + (i + 1/2) / 16: the hole's light at columns 2-6
         // (x in [-0.375, -0.0625]), the shadow at 13-22 (x in [0.3125, 0.9375]).
         EXPECT_NEAR(mean(r.color, 2, 8, 7, 24, 0), geometric ? 0.0 : lit, tolerance)
@@ -135,13 +151,22 @@ TEST(Alpha, LightPassesAMasksHolesInEveryShadowTechnique) {
     expect_shadow<PathRenderer>("path", "raytraced", false, 2e-3);
 }
 
+TEST(Alpha, LightPassesAMaskedMeshsHolesInEveryShadowTechnique) {
+    expect_shadow<RasterRenderer>("raster", "map", false, 2e-3, true);
+    expect_shadow<RasterRenderer>("raster", "planar", false, 2e-3, true);
+    expect_shadow<RasterRenderer>("raster", "raytraced", false, 2e-3, true);
+    expect_shadow<RasterRenderer>("raster", "volume", true, 2e-3, true);
+    expect_shadow<WhittedRenderer>("whitted", "raytraced", false, 2e-3, true);
+    expect_shadow<PathRenderer>("path", "raytraced", false, 2e-3, true);
+}
+
 TEST(Alpha, RadiositysVisibilitySeesThroughAMasksHoles) {
     // Gathered at each pixel (the direct light's visibility exact), and solved on elements of
     // 1/8 (the light through the hole is the floor's elements' own, to the half element its
     // edges blur: the regions measured keep a whole element away from them).
     for (const char* display : {"gather", "gouraud"}) {
         for (bool up : {true, false}) {
-            json scene = shadow_scene(up, "radiosity", "raytraced");
+            json scene = shadow_scene(up, "radiosity", "raytraced", !up);  // a mesh facing down
             scene["render"]["radiosity"] = {{"display", display}, {"element_size", 0.125}};
             const RenderResult r = render_json<RadiosityRenderer>(scene);
             const double lit = 0.5 * std::sqrt(0.5);

@@ -114,6 +114,56 @@ TEST_P(EveryAccel, SameHitsAsBruteForceOnRandomRays) {
     EXPECT_GT(hits, 2000);  // the test exercises real hits
 }
 
+// The filtered any-hit query (Accel::occluded_if, the cutouts' shadow rays): blocked exactly
+// when brute force finds a triangle the filter counts (here those whose id is not a multiple of
+// three) or a shape before tmax; each hit the filter is asked about is that triangle's own hit.
+TEST_P(EveryAccel, FilteredAnyHitCountsWhatTheFilterCounts) {
+    Geometry g = random_geometry(3000, 200, 43);
+    std::unique_ptr<Accel> accel = make_accel(GetParam(), g, 2);
+    ASSERT_TRUE(accel);
+    if (!accel->filters_hits()) GTEST_SKIP() << GetParam() << " has no filtered query";
+    struct Asked {
+        const Geometry* g;
+        int mismatches = 0, asked = 0;
+    } asked{&g};
+    const auto counts = [](const void* context, const Ray& ray, const Hit& hit) {
+        auto* a = static_cast<Asked*>(const_cast<void*>(context));
+        ++a->asked;
+        Hit own;
+        own.t = ray.tmax;
+        const RayPrecomputed pre(ray);
+        if (!a->g->is_triangle(hit.prim) || !a->g->intersect(&hit.prim, 1, ray, pre, own) ||
+            own.t != hit.t || own.u != hit.u || own.v != hit.v)
+            ++a->mismatches;
+        return hit.prim % 3 != 0;
+    };
+    Rng rng(8, 8);
+    int blocked = 0, passed_a_hit = 0;
+    for (int k = 0; k < 20000; ++k) {
+        const vec3 o(rng.next_float() * 1.4f - 0.2f, rng.next_float() * 1.4f - 0.2f,
+                     rng.next_float() * 1.4f - 0.2f);
+        const vec3 d(rng.next_float() - 0.5f, rng.next_float() - 0.5f, rng.next_float() - 0.5f);
+        if (glm::length(d) == 0.0f) continue;
+        const Ray ray{o, glm::normalize(d), k % 5 == 0 ? 0.3f : kInfinity};
+        const RayPrecomputed pre(ray);
+        bool expected = false, any = false;
+        for (uint32_t id = 0; id < g.primitive_count(); ++id) {
+            Hit h;
+            h.t = ray.tmax;
+            if (!g.intersect(&id, 1, ray, pre, h)) continue;
+            any = true;
+            expected = expected || !g.is_triangle(id) || id % 3 != 0;
+        }
+        const bool got = accel->occluded_if(ray, HitFilter{counts, &asked});
+        ASSERT_EQ(got, expected) << "ray " << k;
+        blocked += got;
+        passed_a_hit += any && !got;
+    }
+    EXPECT_EQ(asked.mismatches, 0);
+    EXPECT_GT(blocked, 2000);
+    EXPECT_GT(passed_a_hit, 100);  // rays that met only triangles the filter let through
+}
+
 /// The twelve triangles of the cube [lo, lo + 1]^3.
 Geometry cube_at(float lo) {
     Geometry g;

@@ -104,7 +104,7 @@ TEST(WideBvhKernels, Avx512BoxTestIsTheScalarOneBitForBit) {
 
 TEST(WideBvhKernels, SsePacketsHitWhatTheScalarTestHits) {
     Rng rng(11, 4);
-    int hits = 0;
+    int hits = 0, several = 0;
     for (int trial = 0; trial < 5000; ++trial) {
         // Two packets; neighbours share vertices (edges and corners the rays may cross), a
         // lane may be unused.
@@ -141,9 +141,27 @@ TEST(WideBvhKernels, SsePacketsHitWhatTheScalarTestHits) {
         ASSERT_EQ(wide::ScalarPackets(ray, pre).any(packets, 2),
                   wide::packets_any_sse(ray, packets, 2))
             << "trial " << trial;
+        // The filtered any-hit query: every hit before tmax asked of the filter, the same hits
+        // (bit for bit) in the same order.
+        std::vector<Hit> plain_asked, fast_asked;
+        EXPECT_FALSE(wide::ScalarPackets(ray, pre).any_if(packets, 2, [&](const Hit& h) {
+            plain_asked.push_back(h);
+            return false;
+        }));
+        wide::packets_hits_sse(ray, packets, 2, fast_asked);
+        ASSERT_EQ(plain_asked.size(), fast_asked.size()) << "trial " << trial;
+        ASSERT_EQ(plain_asked.empty(), !a) << "trial " << trial;
+        for (size_t k = 0; k < plain_asked.size(); ++k) {
+            ASSERT_EQ(plain_asked[k].prim, fast_asked[k].prim) << "trial " << trial;
+            ASSERT_EQ(std::memcmp(&plain_asked[k].t, &fast_asked[k].t, 4), 0) << "trial " << trial;
+            ASSERT_EQ(std::memcmp(&plain_asked[k].u, &fast_asked[k].u, 4), 0) << "trial " << trial;
+            ASSERT_EQ(std::memcmp(&plain_asked[k].v, &fast_asked[k].v, 4), 0) << "trial " << trial;
+        }
         hits += a;
+        several += plain_asked.size() > 1;
     }
     EXPECT_GT(hits, 1000);
+    EXPECT_GT(several, 100);  // rays through stacked triangles: each of them asked
 }
 #endif
 

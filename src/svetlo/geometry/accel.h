@@ -17,6 +17,14 @@ struct TraversalCost {
     uint32_t nodes = 0, primitives = 0;
 };
 
+/// What an any-hit query asks of each triangle it meets before it counts it (the alpha's
+/// holes, shading/cutouts.h): a function and its context, so that no query allocates.
+struct HitFilter {
+    bool (*counts)(const void* context, const Ray& ray, const Hit& hit) = nullptr;
+    const void* context = nullptr;
+    bool operator()(const Ray& ray, const Hit& hit) const { return counts(context, ray, hit); }
+};
+
 class Accel {
 public:
     virtual ~Accel() = default;
@@ -31,6 +39,15 @@ public:
     virtual bool counts_cost() const { return false; }
     /// True when anything lies on the ray at 0 < t < ray.tmax.
     virtual bool occluded(const Ray& ray) const = 0;
+    /// Whether the structure answers occluded_if (WideBvh's bvh4 and bvh).
+    virtual bool filters_hits() const { return false; }
+    /// True when the ray meets, at 0 < t < ray.tmax, a triangle whose hit (t, prim, u, v, in
+    /// the structure's space) `counts` says counts, or any other primitive (an analytic shape
+    /// is not asked: its first hit may hide a second). Called only where filters_hits().
+    virtual bool occluded_if(const Ray& ray, HitFilter counts) const {
+        (void)counts;
+        return occluded(ray);
+    }
     /// occluded(rays[k]) into blocked[k] for `count` rays that end at one point: each ray's
     /// segment, o + t d for t in [0, tmax], ends at `end` (to a few ulps), as shadow rays toward
     /// a point light do. A structure may test them together (WideBvh does); the answers are

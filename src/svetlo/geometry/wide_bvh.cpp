@@ -94,6 +94,15 @@ bool wide::packets_any_sse(const Ray& ray, const TrianglePacket* packets, uint32
     const RayPrecomputed pre(ray);
     return SsePackets(ray, pre).any(packets, count);
 }
+
+void wide::packets_hits_sse(const Ray& ray, const TrianglePacket* packets, uint32_t count,
+                            std::vector<Hit>& asked) {
+    const RayPrecomputed pre(ray);
+    SsePackets(ray, pre).any_if(packets, count, [&](const Hit& hit) {
+        asked.push_back(hit);
+        return false;
+    });
+}
 #endif
 
 bool WideBvh::eight_wide_available() { return avx2_available(); }
@@ -292,6 +301,18 @@ bool WideBvh::occluded(const Ray& ray) const {
     });
 }
 
+bool WideBvh::occluded_if(const Ray& ray, HitFilter counts) const {
+    if (empty_) return false;
+    if (width_ == 8) return occluded8_if(ray, counts);
+    const RayPrecomputed pre(ray);
+    const Packets test(ray, pre);
+    const auto counted = [&](const Hit& hit) { return counts(ray, hit); };
+    return traverse_any<Boxes4>(nodes4_.data(), ray, [&](uint32_t leaf) {
+        return leaf_any_if(leaves_[leaf], packets_.data(), shapes_.data(), geometry_, test,
+                           counted);
+    });
+}
+
 void WideBvh::occluded_toward(vec3 end, const Ray* rays, size_t count, bool* blocked,
                               const PrimitiveRange* skip) const {
     if (empty_ || width_ == 16) {
@@ -319,6 +340,7 @@ void WideBvh::occluded_toward(vec3 end, const Ray* rays, size_t count, bool* blo
 // Never called: width_ is 8 only where eight_wide_available().
 bool WideBvh::intersect8(const Ray&, Hit&, TraversalCost*) const { return false; }
 bool WideBvh::occluded8(const Ray&) const { return false; }
+bool WideBvh::occluded8_if(const Ray&, HitFilter) const { return false; }
 uint64_t WideBvh::occluded_toward8(vec3, const Ray*, size_t, const PrimitiveRange*) const {
     return 0;
 }

@@ -40,6 +40,9 @@ public:
     explicit WideBvh(const Geometry& geometry, int threads = 0, int width = 0);
     bool intersect(const Ray& ray, Hit& hit) const override;
     bool occluded(const Ray& ray) const override;
+    /// Four and eight wide; the sixteen-wide traversal has no filtered query.
+    bool filters_hits() const override { return width_ != 16; }
+    bool occluded_if(const Ray& ray, HitFilter counts) const override;
     /// Up to 64 rays at a time, cut into packets that sweep narrow shafts, each traversed once
     /// (occluded_shafts, wide_bvh_traversal.inc); the leaves ray by ray. 16 lanes: ray by ray.
     void occluded_toward(vec3 end, const Ray* rays, size_t count, bool* blocked,
@@ -80,6 +83,7 @@ private:
     // The eight-wide traversal (wide_bvh_avx2.cpp); with `cost`, counting its work.
     bool intersect8(const Ray& ray, Hit& hit, TraversalCost* cost = nullptr) const;
     bool occluded8(const Ray& ray) const;
+    bool occluded8_if(const Ray& ray, HitFilter counts) const;
     /// The rays (bits) of a packet of at most 64 toward `end` that something blocks.
     uint64_t occluded_toward8(vec3 end, const Ray* rays, size_t count,
                               const PrimitiveRange* skip) const;

@@ -90,6 +90,16 @@ bool WideBvh::occluded8(const Ray& ray) const {
     });
 }
 
+bool WideBvh::occluded8_if(const Ray& ray, HitFilter counts) const {
+    const RayPrecomputed pre(ray);
+    const SsePackets test(ray, pre);
+    const auto counted = [&](const Hit& hit) { return counts(ray, hit); };
+    return traverse_any<RayBoxes8>(nodes8_.data(), ray, [&](uint32_t leaf) {
+        return leaf_any_if(leaves_[leaf], packets_.data(), shapes_.data(), geometry_, test,
+                           counted);
+    });
+}
+
 uint64_t WideBvh::occluded_toward8(vec3 end, const Ray* rays, size_t count,
                                    const PrimitiveRange* skip) const {
     return occluded_packet<8, SsePackets>(nodes8_.data(), leaves_.data(), packets_.data(),

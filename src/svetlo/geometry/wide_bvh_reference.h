@@ -12,6 +12,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include "svetlo/geometry/geometry.h"
 #include "svetlo/geometry/ray.h"
@@ -104,6 +105,23 @@ struct ScalarPackets {
         }
         return false;
     }
+
+    /// Whether a triangle of `count` packets is hit before ray.tmax where `counts(hit)` says
+    /// the hit (t, prim, u, v) counts (Accel::occluded_if); asked in the packets' order.
+    template <class Counts>
+    bool any_if(const TrianglePacket* packets, uint32_t count, const Counts& counts) const {
+        for (uint32_t j = 0; j < count; ++j) {
+            for (int k = 0; k < 4; ++k) {
+                Hit hit;
+                if (packets[j].id[k] == ~0u ||
+                    !lane(packets[j], k, ray, pre, ray.tmax, hit.t, hit.u, hit.v))
+                    continue;
+                hit.prim = packets[j].id[k];
+                if (counts(hit)) return true;
+            }
+        }
+        return false;
+    }
 };
 
 #if SVETLO_SIMD
@@ -115,6 +133,10 @@ int boxes_avx2(const Ray& ray, const WideBvhNode<8>& node, float tmax, float* t_
 int boxes_avx512(const Ray& ray, const WideBvhNode<16>& node, float tmax, float* t_enter);
 bool packets_closest_sse(const Ray& ray, const TrianglePacket* packets, uint32_t count, Hit& hit);
 bool packets_any_sse(const Ray& ray, const TrianglePacket* packets, uint32_t count);
+/// SsePackets::any_if with a filter that keeps each hit it is asked about in `asked` and
+/// counts none: every hit before ray.tmax, in the order the kernel meets them.
+void packets_hits_sse(const Ray& ray, const TrianglePacket* packets, uint32_t count,
+                      std::vector<Hit>& asked);
 #endif
 
 }  // namespace svetlo::wide

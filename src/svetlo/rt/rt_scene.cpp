@@ -109,15 +109,16 @@ Color RtScene::camera_ray_cost(const Ray& ray) const {
 
 bool RtScene::occluded(const Ray& ray) const {
     if (!traceable(ray)) return false;
-    if (cutouts_->any()) {
-        Hit hit;
+    if (cutouts_->any() && !cutouts_->holes_on_triangles_only()) {
+        Hit hit;  // a shape can be a hole: closest hits in turn (Cutouts::closest_solid)
         return intersect(ray, hit);
     }
+    // The unbounded shapes are no holes here.
     if (!unbounded_.empty() &&
         geometry().occludes(unbounded_.data(), unbounded_.size(), ray, RayPrecomputed(ray))) {
         return true;
     }
-    return built_->accel->occluded(ray);
+    return cutouts_->occluded_solid(ray, *built_->accel);
 }
 
 }  // namespace svetlo

@@ -61,6 +61,14 @@ Cutouts::Cutouts(const Geometry& geometry, const std::vector<Material>& material
         active_.push_back(m.alpha.active() ? 1 : 0);
         any_ = any_ || m.alpha.active();
     }
+    // A CSG shape's leaves have materials of their own; an instance's primitives are the
+    // prototypes' (the placed structure asks each prototype's: counted as shapes here).
+    for (const AnalyticShape& shape : geometry.shapes) {
+        if (shape.kind == ShapeKind::Csg || shape.material >= active_.size() ||
+            active_[shape.material])
+            holes_on_triangles_only_ = false;
+    }
+    if (!geometry.placements.empty()) holes_on_triangles_only_ = false;
 }
 
 bool Cutouts::hole(const Ray& ray, const Hit& hit) const {
@@ -91,13 +99,20 @@ bool CutoutAccel::intersect(const Ray& ray, Hit& hit) const {
                                   [&](const Ray& r, Hit& h) { return inner_.intersect(r, h); });
 }
 
-bool CutoutAccel::occluded(const Ray& ray) const {
-    // A ray that meets nothing meets nothing solid: the any-hit query first, which is all a
-    // lit point's shadow ray asks; holes are looked for only where it meets something.
-    if (!inner_.occluded(ray)) return false;
-    if (!cutouts_.any()) return true;
+bool Cutouts::occluded_solid(const Ray& ray, const Accel& accel) const {
+    if (!any_) return accel.occluded(ray);
+    if (holes_on_triangles_only_ && accel.filters_hits()) {
+        const auto solid = [](const void* self, const Ray& r, const Hit& h) {
+            return !static_cast<const Cutouts*>(self)->hole(r, h);
+        };
+        return accel.occluded_if(ray, HitFilter{solid, this});
+    }
+    // A ray that meets nothing meets nothing solid: holes are looked for only where it does.
+    if (!accel.occluded(ray)) return false;
     Hit hit;
-    return intersect(ray, hit);
+    return closest_solid(ray, hit, [&](const Ray& r, Hit& h) { return accel.intersect(r, h); });
 }
+
+bool CutoutAccel::occluded(const Ray& ray) const { return cutouts_.occluded_solid(ray, inner_); }
 
 }  // namespace svetlo

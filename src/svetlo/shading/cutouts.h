@@ -60,6 +60,15 @@ public:
         return false;
     }
 
+    /// Whether something solid lies on `ray` at 0 < t < ray.tmax in `accel` (over this
+    /// geometry): its any-hit query asking hole() of each triangle it meets, where the
+    /// structure has one (Accel::occluded_if) and only triangles can be holes; else its any-hit
+    /// query, and where that meets something its closest hit that is not a hole.
+    bool occluded_solid(const Ray& ray, const Accel& accel) const;
+    /// Whether every primitive that can be a hole is a triangle (no shape of a material with
+    /// alpha): the condition of the any-hit path above.
+    bool holes_on_triangles_only() const { return holes_on_triangles_only_; }
+
     static constexpr int kMaxLayers = 256;
 
 private:
@@ -76,6 +85,7 @@ private:
     const std::vector<TextureImage>& textures_;
     std::vector<char> active_;  // per material: a mask or a blend
     bool any_ = false;
+    bool holes_on_triangles_only_ = true;
 };
 
 /// A structure whose queries see through the cutouts of `cutouts` (radiosity's visibility,
