@@ -8,12 +8,14 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <filesystem>
 
 #include "image_means.h"
 #include "render_json.h"
 #include "svetlo/core/image_io.h"
 #include "svetlo/core/rng.h"
+#include "svetlo/core/sampling.h"
 #include "svetlo/pt/path_tracer.h"
 #include "svetlo/radiosity/radiosity_engine.h"
 #include "svetlo/raster/raster_engine.h"
@@ -218,6 +220,48 @@ TEST(Environment, TheDensityFollowsTheMeanRadianceOfEachCell) {
         own += i == si && j == sj;
     }
     EXPECT_NEAR(static_cast<double>(own) / n, 0.5625, 0.02);
+}
+
+// The rasterizer's background reads the map many directions at a time (radiance_many, whose
+// angles the compiler vectorizes): the same radiance as one by one, bit for bit, on a turned
+// map, at the poles, along the seam behind (u = 0 and 1) and all around; and the lookup's u
+// and v within a ten-thousandth of a texel of the exact angles' (atan2_approx's error).
+TEST(Environment, ManyDirectionsAtOnceReadTheMapAsOneByOne) {
+    const int w = 64, h = 32;
+    const std::string map = write_map("many", w, h, [&](int i, int j) {
+        return Color(static_cast<float>(i), static_cast<float>(j), static_cast<float>(i * j % 7));
+    });
+    Scene scene;
+    scene.textures.push_back(read_texture(map, false, kMaxTextureBytes, "map"));
+    for (const float rotate : {0.0f, 73.0f}) {
+        scene.environment = EnvironmentSettings{0, Color(1.0f, 2.0f, 0.5f), rotate};
+        const Environment env(scene, false);
+        Rng rng(5, 1);
+        std::vector<vec3> d;
+        for (int k = 0; k < 1000; ++k) d.push_back(sample_uniform_sphere(rng.next_2d()));
+        for (const vec3 pole : {vec3(0, 1, 0), vec3(0, -1, 0), vec3(0, 0, 1), vec3(0, 0, -1),
+                                vec3(1e-8f, 0, 1), vec3(-1e-8f, 0, 1), vec3(1, 0, 0)})
+            d.push_back(pole);
+        std::vector<Color> many(d.size());
+        env.radiance_many(d.data(), d.size(), many.data());
+        const float turn = radians(rotate);
+        for (size_t k = 0; k < d.size(); ++k) {
+            const Color one = env.radiance(d[k]);
+            ASSERT_EQ(std::memcmp(&one, &many[k], sizeof(Color)), 0) << k;
+            // The exact angles, in the map's frame.
+            const double x = std::cos(turn) * d[k].x - std::sin(turn) * d[k].z;
+            const double z = std::sin(turn) * d[k].x + std::cos(turn) * d[k].z;
+            if (std::hypot(x, z) < 1e-6) continue;  // u means nothing at a pole
+            double u = 0.5 + std::atan2(x, -z) / (2.0 * M_PI);
+            const double v = 0.5 + std::asin(std::clamp<double>(d[k].y, -1, 1)) / M_PI;
+            const vec2 uv = env.uv_of(d[k]);
+            const double du = std::abs(uv.x - u);
+            EXPECT_LT(std::min(du, 1.0 - du) * w, 1e-4) << k;
+            EXPECT_LT(std::abs(uv.y - v) * h, 1e-4) << k;
+            EXPECT_GE(uv.x, 0.0f);
+            EXPECT_LT(uv.x, 1.0f);
+        }
+    }
 }
 
 }  // namespace

@@ -74,9 +74,10 @@ inline float atan2_approx(float y, float x) {
     p = p * s + 0.1994656622f;
     p = p * s - 0.3332985938f;
     p = p * s + 0.9999993443f;
+    // Selects, not branches: a loop over many directions vectorizes (Environment::radiance_many).
     float r = a * p;
-    if (ay > ax) r = 0.5f * kPi - r;
-    if (x < 0.0f) r = kPi - r;
+    r = ay > ax ? 0.5f * kPi - r : r;
+    r = x < 0.0f ? kPi - r : r;
     return std::copysign(r, y);
 }
 

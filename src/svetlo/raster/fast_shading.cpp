@@ -55,6 +55,13 @@ private:
         for (int k = 0; k < batch_.count; ++k) buf_.sample_color[lane_of_[k]] = lit_[k];
         batch_.count = 0;
     }
+    /// The map behind the scene at the samples gathered, read many at a time.
+    void flush_behind() {
+        ibl_.environment().radiance_many(behind_dir_, static_cast<size_t>(behind_count_),
+                                         behind_lit_);
+        for (int k = 0; k < behind_count_; ++k) buf_.sample_color[behind_of_[k]] = behind_lit_[k];
+        behind_count_ = 0;
+    }
     /// A textured triangle's uv gradients, made once for its samples.
     const UvGradients& gradients_for(const SetupTriangle& t) {
         if (gradients_of_ != &t) {
@@ -95,6 +102,11 @@ private:
     UvGradients gradients_;
     const ImageBasedLighting& ibl_;
     const FilmRays rays_;  // the camera's rays, for the map behind
+    static constexpr int kBehind = 64;
+    int behind_count_ = 0;  // samples that see the map, waiting in behind_of_
+    size_t behind_of_[kBehind];
+    vec3 behind_dir_[kBehind];  // their rays' unit directions
+    Color behind_lit_[kBehind];
     Color run_colours_[kTile][3];
 };
 
@@ -145,7 +157,13 @@ inline void FastTile::add_to_batch(size_t i, vec2 l, const SetupTriangle& t) {
 /// alone). True when it is done.
 inline bool FastTile::shade_apart(size_t i, uint32_t tri, int64_t sx, int64_t sy) {
     if (tri == kNone) {  // the background, or the map along the sample's ray
-        buf_.sample_color[i] = ibl_.active() ? ibl_.seen(rays_, sx, sy) : background_;
+        if (!ibl_.active()) {
+            buf_.sample_color[i] = background_;
+            return true;
+        }
+        behind_of_[behind_count_] = i;
+        behind_dir_[behind_count_] = rays_.direction(sx, sy);
+        if (++behind_count_ == kBehind) flush_behind();
         return true;
     }
     if (f_.fast.material_ok[f_.tri(tri).material]) return false;
@@ -240,6 +258,7 @@ void FastTile::shade_samples() {
 
 void FastTile::finish() {
     if (batch_.count > 0) flush();
+    if (behind_count_ > 0) flush_behind();
     // A sample that is not finite never reaches the pixel: dropped (black) and counted.
     for (size_t i = 0; i < count_; ++i) {
         if (is_finite(buf_.sample_color[i])) continue;

@@ -84,16 +84,30 @@ Environment::Environment(const Scene& scene, bool importance) {
     row_cdf_[static_cast<size_t>(height_)] = 1.0f;
 }
 
-vec2 Environment::uv_of(vec3 d) const {
+namespace {
+
+/// Environment::uv_of with the map's turn (cos, sin): inlined into radiance_many's loop.
+[[gnu::always_inline]] inline vec2 map_uv(vec3 d, float cos_rot, float sin_rot) {
     // Into the map's frame: turned by -rotate about +y.
-    const float x = cos_rot_ * d.x - sin_rot_ * d.z;
-    const float z = sin_rot_ * d.x + cos_rot_ * d.z;
+    const float x = cos_rot * d.x - sin_rot * d.z;
+    const float z = sin_rot * d.x + cos_rot * d.z;
     // The latitude as atan2 of the height over the horizontal length: asin(y) for a unit d,
     // and as exact for one a rounding off unit length.
     const float u = 0.5f + atan2_approx(x, -z) * (0.5f * kInvPi);
     const float v = 0.5f + atan2_approx(d.y, std::sqrt(x * x + z * z)) * kInvPi;
-    return vec2(u - std::floor(u), v);
+    // u - floor(u) for u in [-1, 2), as selects (floor does not vectorize without SSE4.1).
+    return vec2(u >= 1.0f ? u - 1.0f : (u < 0.0f ? u + 1.0f : u), v);
 }
+
+/// floor(x) as an int, for |x| < 2^31, without SSE4.1's rounding (so that it vectorizes).
+[[gnu::always_inline]] inline int floor_int(float x) {
+    const int t = static_cast<int>(x);  // toward zero
+    return t - (x < static_cast<float>(t) ? 1 : 0);
+}
+
+}  // namespace
+
+vec2 Environment::uv_of(vec3 d) const { return map_uv(d, cos_rot_, sin_rot_); }
 
 vec3 Environment::direction_of(vec2 uv) const {
     const float phi = 2.0f * kPi * (uv.x - 0.5f), lat = kPi * (uv.y - 0.5f);
@@ -104,12 +118,46 @@ vec3 Environment::direction_of(vec2 uv) const {
 
 Color Environment::radiance(vec3 d) const { return map_ ? radiance_at(uv_of(d)) : uniform_; }
 
+void Environment::radiance_many(const vec3* d, size_t count, Color* out) const {
+    if (!map_) {
+        std::fill(out, out + count, uniform_);
+        return;
+    }
+    constexpr size_t kChunk = 64;
+    const float w = static_cast<float>(width_), h = static_cast<float>(height_);
+    for (size_t first = 0; first < count; first += kChunk) {
+        const size_t n = std::min(kChunk, count - first);
+        alignas(32) float x[kChunk], y[kChunk], z[kChunk], ax[kChunk], ay[kChunk];
+        alignas(32) int i0[kChunk], j0[kChunk];
+        for (size_t k = 0; k < n; ++k) {
+            x[k] = d[first + k].x;
+            y[k] = d[first + k].y;
+            z[k] = d[first + k].z;
+        }
+        // uv_of and the texel places lane by lane without a branch: the compiler runs them
+        // four at a time; then the texels, one direction at a time.
+        for (size_t k = 0; k < n; ++k) {
+            const vec2 uv = map_uv(vec3(x[k], y[k], z[k]), cos_rot_, sin_rot_);
+            const float fx = uv.x * w - 0.5f, fy = (1.0f - uv.y) * h - 0.5f;
+            i0[k] = floor_int(fx);
+            j0[k] = floor_int(fy);
+            ax[k] = fx - static_cast<float>(i0[k]);
+            ay[k] = fy - static_cast<float>(j0[k]);
+        }
+        for (size_t k = 0; k < n; ++k) out[first + k] = bilinear(i0[k], j0[k], ax[k], ay[k]);
+    }
+}
+
 Color Environment::radiance_at(vec2 uv) const {
     if (!map_) return uniform_;
-    // Bilinear between texel centres; rows from the top (v = 0 the bottom row).
-    const float fx = uv.x * width_ - 0.5f, fy = (1.0f - uv.y) * height_ - 0.5f;
-    const int i0 = static_cast<int>(std::floor(fx)), j0 = static_cast<int>(std::floor(fy));
-    const float ax = fx - i0, ay = fy - j0;
+    // Between texel centres; rows from the top (v = 0 the bottom row).
+    const float fx = uv.x * static_cast<float>(width_) - 0.5f,
+                fy = (1.0f - uv.y) * static_cast<float>(height_) - 0.5f;
+    const int i0 = floor_int(fx), j0 = floor_int(fy);
+    return bilinear(i0, j0, fx - static_cast<float>(i0), fy - static_cast<float>(j0));
+}
+
+Color Environment::bilinear(int i0, int j0, float ax, float ay) const {
     // The columns wrap around, the rows stop at the poles; each index found once, not once
     // per texel read (the background of every raster frame reads the map here).
     const int a = static_cast<unsigned>(i0) < static_cast<unsigned>(width_)

@@ -46,6 +46,9 @@ public:
 
     /// The radiance arriving along -d from far away (d a unit direction leaving the scene).
     Color radiance(vec3 d) const;
+    /// radiance(d[k]) into out[k] for `count` directions, bit for bit, the angles of many at
+    /// once (the rasterizer's background).
+    void radiance_many(const vec3* d, size_t count, Color* out) const;
     /// The map's radiance at (u, v) = uv_of(d) (without a map the uniform one): for a caller that
     /// reads other maps of the same layout at the same place (the rasterizer's prefiltered levels).
     Color radiance_at(vec2 uv) const;
@@ -61,6 +64,10 @@ public:
     vec2 uv_of(vec3 d) const;
 
 private:
+    /// Bilinear between the texels (i0, j0) and (i0 + 1, j0 + 1) of the map (columns wrapped,
+    /// rows clamped), at (ax, ay) in [0, 1) past the first, times the scale.
+    Color bilinear(int i0, int j0, float ax, float ay) const;
+
     const TextureImage* map_ = nullptr;
     Color scale_{1.0f}, uniform_{0.0f};
     float cos_rot_ = 1.0f, sin_rot_ = 0.0f;
