@@ -12,6 +12,7 @@
 #include "svetlo/core/image_io.h"
 #include "svetlo/scene/mesh_file.h"
 #include "svetlo/shading/bsdf.h"
+#include "svetlo/shading/normal_map.h"
 #include "svetlo/shading/texture.h"
 
 namespace svetlo {
@@ -237,6 +238,36 @@ TEST_F(GltfTextures, IorTransmissionVolumeAndClearcoatAreRead) {
     EXPECT_NEAR(b.coat, 0.8f, 1e-6f);
     // The roughness texture's green (128/255, linear) times its factor, squared.
     EXPECT_NEAR(b.coat_alpha, square(0.5f * 128.0f / 255.0f), 1e-6f);
+    // No normal map of its own here.
+    EXPECT_FALSE(std::get<CookTorranceMaterial>(f.materials[0].model).clearcoat_normal.present());
+}
+
+TEST_F(GltfTextures, TheClearcoatsNormalTextureIsItsOwnLinearWithItsScale) {
+    const json ext = {
+        {"KHR_materials_clearcoat",
+         {{"clearcoatFactor", 1.0}, {"clearcoatNormalTexture", {{"index", 0}, {"scale", 0.25}}}}}};
+    const MeshFile f = read({{"extensions", ext}, {"normalTexture", {{"index", 0}}}},
+                            {{"extensionsUsed", {"KHR_materials_clearcoat"}}});
+    const auto& ct = std::get<CookTorranceMaterial>(f.materials[0].model);
+    ASSERT_TRUE(ct.clearcoat_normal.present());
+    EXPECT_EQ(ct.clearcoat_normal.scale, 0.25f);
+    EXPECT_NEAR(at(ct.clearcoat_normal.texture, vec2(0.75f, 0.5f), f).g, 128.0f / 255.0f,
+                1e-6f);  // linear
+    // The coat's normal from its own map, the base's from the base's: with scale 0.25 the
+    // coat's is bent less; without a map of its own the coat takes the unmapped normal.
+    const vec3 ns(0, 0, 1), ng(0, 0, 1);
+    const vec4 tangent(1, 0, 0, 1);
+    const Color texel(1.0f, 0.5f, 1.0f);  // a normal tilted toward +x
+    const vec3 coat = coat_shading_normal(f.materials[0], texel, ns, ng, tangent);
+    const vec3 base = mapped_normal(f.materials[0].normal_map, texel, ns, ng, tangent);
+    EXPECT_GT(coat.z, base.z);
+    EXPECT_GT(coat.x, 0.0f);
+    Material no_own = f.materials[0];
+    std::get<CookTorranceMaterial>(no_own.model).clearcoat_normal = NormalMap{};
+    EXPECT_EQ(coat_shading_normal(no_own, texel, ns, ng, tangent), ns);
+    Material no_maps = no_own;
+    no_maps.normal_map = NormalMap{};
+    EXPECT_EQ(coat_shading_normal(no_maps, texel, ns, ng, tangent), vec3(0.0f));  // takes ns
 }
 
 TEST_F(GltfTextures, ANetworkUriIsRefusedByName) {

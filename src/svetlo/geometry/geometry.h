@@ -25,6 +25,9 @@ struct SurfaceHit {
     // The front side's unit tangent along increasing u, orthogonal to ns, and the bitangent's
     // side in w (Mesh::tangents); zero where the surface has none (no uvs, CSG, implicit).
     vec4 tangent{0.0f};
+    // A clear coat's own shading normal, or zero: the coat takes ns (RtScene::surface sets it,
+    // shading/normal_map.h's coat_shading_normal).
+    vec3 coat_ns{0.0f};
     uint32_t material = 0;
 
     /// What the material's colours read here.

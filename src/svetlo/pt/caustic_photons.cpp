@@ -241,6 +241,7 @@ void CausticPhotons::trace_photon(uint64_t index, int pass, int count, std::vect
         Bsdf bsdf = rt_.bsdf(sh.material, sh.varyings());
         const vec3 wo = -glm::normalize(ray.d);
         const ShadingFrame frame = make_shading_frame(sh.ng, sh.ns, wo);
+        bsdf.coat_normal = seen_coat_normal(sh.coat_ns, frame, wo);
         if (bsdf.has_lobes() && delta_bounces > 0 && out.size() < cap)
             out.push_back({sh.p, wo, frame.ng, power});
         if (bsdf.model == Bsdf::Model::Dielectric && bsdf.abbe > 0.0f) {

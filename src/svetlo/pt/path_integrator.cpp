@@ -225,6 +225,7 @@ Color PathIntegrator::radiance(Ray ray, SobolSampler& sampler, AovSample* aov, R
         Bsdf bsdf = rt_.bsdf(sh.material, sh.varyings());
         const vec3 wo = -ray.d;
         const ShadingFrame frame = make_shading_frame(sh.ng, sh.ns, wo);
+        bsdf.coat_normal = seen_coat_normal(sh.coat_ns, frame, wo);
         if (observer) observer->vertex(sh, frame, depth, beta);
         if (aov && depth == 0) {
             aov->depth = hit.t;

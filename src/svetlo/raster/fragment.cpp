@@ -192,13 +192,24 @@ ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& 
     ns = glm::length(ns) > 0.0f ? glm::normalize(ns) : ng;
     vec3 wo = view_direction(f, p);
     const SurfaceUv at = surface_uv(f, t, A, B, C, w);
-    if (const NormalMap& map = f.materials[t.material].normal_map; map.present()) {
+    const Material& material = f.materials[t.material];
+    const auto* coated = std::get_if<CookTorranceMaterial>(&material.model);
+    const NormalMap* coat_map = coated && coated->has_coat() && coated->clearcoat_normal.present()
+                                    ? &coated->clearcoat_normal
+                                    : nullptr;
+    vec3 coat_ns(0.0f);  // the clear coat's own normal (coat_shading_normal), or none
+    if (const NormalMap& map = material.normal_map; map.present() || coat_map) {
         if (glm::dot(ns, ng) < 0.0f) ns = -ns;  // onto the front side, as the ray tracers'
         const vec4 tangent = orthogonal_tangent(
             vec4(b0 * vec3(A.tangent) + b1 * vec3(B.tangent) + b2 * vec3(C.tangent), A.tangent.w),
             ns);
-        ns = mapped_normal(map, eval_color(map.texture, at.varyings(), at.lookup(f)), ns, ng,
-                           tangent);
+        coat_ns = coat_shading_normal(
+            material,
+            coat_map ? eval_color(coat_map->texture, at.varyings(), at.lookup(f)) : Color(0.0f), ns,
+            ng, tangent);
+        if (map.present())
+            ns = mapped_normal(map, eval_color(map.texture, at.varyings(), at.lookup(f)), ns, ng,
+                               tangent);
     }
     if (want_aovs || f.mode == Mode::Normal || f.mode == Mode::Depth) {
         r.distance = f.cam.orthographic ? glm::dot(p - f.cam.eye, f.cam.forward)
@@ -257,7 +268,14 @@ ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& 
         case Mode::Phong: {
             Bsdf scratch;
             const Bsdf& bsdf = material_at(f, t.material, at, scratch);
-            r.color = light_point(f, bsdf, p, wo, ng, ns, vis, sample);
+            if (glm::dot(coat_ns, coat_ns) > 0.0f) {  // the coat's own normal, on a copy
+                Bsdf with_coat = bsdf;
+                with_coat.coat_normal =
+                    seen_coat_normal(coat_ns, make_shading_frame(ng, ns, wo), wo);
+                r.color = light_point(f, with_coat, p, wo, ng, ns, vis, sample);
+            } else {
+                r.color = light_point(f, bsdf, p, wo, ng, ns, vis, sample);
+            }
             if (want_aovs) r.albedo = albedo_of(bsdf);
             return r;
         }

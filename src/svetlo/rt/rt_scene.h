@@ -39,9 +39,11 @@ public:
     /// The surface at a hit, its shading normal bent by its material's normal map.
     SurfaceHit surface(const Ray& ray, const Hit& hit) const {
         SurfaceHit s = geometry().surface(ray, hit);
-        const NormalMap& map = materials()[s.material].normal_map;
-        if (map.present())
-            s.ns = mapped_normal(map, s.varyings(), s.ns, s.ng, s.tangent, scene_.textures);
+        const Material& m = materials()[s.material];
+        s.coat_ns = coat_shading_normal(m, s.varyings(), s.ns, s.ng, s.tangent, scene_.textures);
+        if (m.normal_map.present())
+            s.ns =
+                mapped_normal(m.normal_map, s.varyings(), s.ns, s.ng, s.tangent, scene_.textures);
         return s;
     }
     /// The BSDF of material `material` at a point with varyings `at`: made once for a

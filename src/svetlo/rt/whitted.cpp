@@ -72,6 +72,7 @@ private:
         Bsdf bsdf = rt_.bsdf(sh.material, sh.varyings());
         vec3 wo = -glm::normalize(ray.d);
         const ShadingFrame frame = make_shading_frame(sh.ng, sh.ns, wo);
+        bsdf.coat_normal = seen_coat_normal(sh.coat_ns, frame, wo);
         const bool front = frame.front;
         const vec3 ng = frame.ng, ns = frame.ns;
         if (observer) observer->hit(self, sh, ns, front);

@@ -218,7 +218,7 @@ ColorSource factor_texture(const tinygltf::Value& ext, Color factor, const char*
 }
 
 /// KHR_materials_ior, _transmission (its texture's red channel), _clearcoat (strength red,
-/// roughness green; its own normal map is not read: the coat takes the surface's normal) and
+/// roughness green, and its own normal map: without one the coat is not normal-mapped) and
 /// _volume (the inside's absorption; its thickness, for rasterizers that fake the inside, is
 /// not needed: the ray tracers trace it).
 void read_extensions(const tinygltf::Material& m, GltfTextures& textures, const std::string& name,
@@ -240,6 +240,17 @@ void read_extensions(const tinygltf::Material& m, GltfTextures& textures, const 
                                       "clearcoatTexture", textures, name);
         ct.clearcoat_roughness = factor_texture(v, unit_factor(v, "clearcoatRoughnessFactor", name),
                                                 "clearcoatRoughnessTexture", textures, name);
+        if (v.Has("clearcoatNormalTexture")) {  // linear, its scale as normalTexture's
+            const tinygltf::Value& t = v.Get("clearcoatNormalTexture");
+            ct.clearcoat_normal.texture =
+                textures.source(t, Color(1.0f), name + " clearcoatNormalTexture");
+            if (t.Has("scale")) {
+                const double scale = t.Get("scale").GetNumberAsDouble();
+                if (!std::isfinite(scale))
+                    throw std::runtime_error(name + " clearcoatNormalTexture scale: not finite");
+                ct.clearcoat_normal.scale = static_cast<float>(scale);
+            }
+        }
     }
     if (auto vol = m.extensions.find("KHR_materials_volume"); vol != m.extensions.end()) {
         const tinygltf::Value& v = vol->second;

@@ -63,6 +63,20 @@ void parse_dispersion(const JsonNode& node, bool has_ior, DielectricMaterial& m)
     if (m.abbe < 1.0f) c.fail("disperses more than an Abbe number of 1 allows");
 }
 
+/// "normal_map": {"texture": IMAGE, "scale": s, and a texture's filter and wrap}; the image is
+/// data, linear unless told.
+NormalMap parse_normal_map(const JsonNode& node, Scene& scene, FileCache& files) {
+    if (!node.is_object() || !node.has("texture")) node.fail("expected {\"texture\": IMAGE}");
+    node.expect_object({"texture", "scale", "filter", "wrap", "srgb", "max_anisotropy"});
+    NormalMap map;
+    if (auto n = node.find("scale")) map.scale = n->as_float();
+    nlohmann::json texture = node.raw();
+    texture.erase("scale");
+    map.texture = parse_color_source(JsonNode(texture, node.file(), node.path()), scene, files,
+                                     /*srgb=*/false);
+    return map;
+}
+
 MaterialModel parse_model(const JsonNode& node, Scene& scene, FileCache& files) {
     std::string type =
         node.at("type").as_choice({"lambert", "phong", "blinn_phong", "oren_nayar", "cook_torrance",
@@ -84,7 +98,7 @@ MaterialModel parse_model(const JsonNode& node, Scene& scene, FileCache& files) 
         node.expect_object({"type", "base_color", "roughness", "metallic", "metallic_roughness",
                             "occlusion", "occlusion_strength", "ior", "transmission",
                             "attenuation_color", "attenuation_distance", "clearcoat",
-                            "clearcoat_roughness"});
+                            "clearcoat_roughness", "clearcoat_normal_map"});
         CookTorranceMaterial m;
         m.base_color = optional_color(node, "base_color", Color(0.8f), scene, files);
         m.roughness = roughness_like(node, "roughness", 0.5f);
@@ -107,6 +121,8 @@ MaterialModel parse_model(const JsonNode& node, Scene& scene, FileCache& files) 
             m.clearcoat = parse_color_source(*n, scene, files, false);
         if (auto n = node.find("clearcoat_roughness"))
             m.clearcoat_roughness = parse_color_source(*n, scene, files, false);
+        if (auto n = node.find("clearcoat_normal_map"))  // the coat's own, as normal_map
+            m.clearcoat_normal = parse_normal_map(*n, scene, files);
         return m;
     }
     if (type == "mirror") {
@@ -126,20 +142,6 @@ MaterialModel parse_model(const JsonNode& node, Scene& scene, FileCache& files) 
     m.radiance = optional_color(node, "radiance", Color(1.0f), scene, files);
     m.albedo = optional_color(node, "albedo", Color(0.0f), scene, files);
     return m;
-}
-
-/// "normal_map": {"texture": IMAGE, "scale": s, and a texture's filter and wrap}; the image is
-/// data, linear unless told.
-NormalMap parse_normal_map(const JsonNode& node, Scene& scene, FileCache& files) {
-    if (!node.is_object() || !node.has("texture")) node.fail("expected {\"texture\": IMAGE}");
-    node.expect_object({"texture", "scale", "filter", "wrap", "srgb", "max_anisotropy"});
-    NormalMap map;
-    if (auto n = node.find("scale")) map.scale = n->as_float();
-    nlohmann::json texture = node.raw();
-    texture.erase("scale");
-    map.texture = parse_color_source(JsonNode(texture, node.file(), node.path()), scene, files,
-                                     /*srgb=*/false);
-    return map;
 }
 
 /// A material's `alpha` (a number in [0, 1], or a texture read as coverage), `alpha_mode`

@@ -26,7 +26,8 @@ bool any_source(M& m, F&& f) {
                        f(mat.shininess_map);
             } else if constexpr (std::is_same_v<T, CookTorranceMaterial>) {
                 return f(mat.base_color) || f(mat.metallic_roughness) || f(mat.occlusion) ||
-                       f(mat.transmission) || f(mat.clearcoat) || f(mat.clearcoat_roughness);
+                       f(mat.transmission) || f(mat.clearcoat) || f(mat.clearcoat_roughness) ||
+                       f(mat.clearcoat_normal.texture);
             } else if constexpr (std::is_same_v<T, MirrorMaterial>) {
                 return f(mat.reflectance);
             } else if constexpr (std::is_same_v<T, EmissiveMaterial>) {

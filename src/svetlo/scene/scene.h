@@ -92,6 +92,15 @@ struct OrenNayarMaterial {
     ColorSource albedo = ColorSource::constant(Color(0.8f));
     float sigma_deg = 20.0f;  // roughness: standard deviation of the facet slope angle
 };
+/// A tangent-space normal map (docs/scene-format.md, "Keys of every material"): a linear
+/// texture whose texel c gives the normal (2c - 1) * (scale, scale, 1), normalised, in the
+/// frame of the surface's tangent, bitangent and shading normal (glTF's and OpenGL's +y).
+struct NormalMap {
+    ColorSource texture;  // an image, or a constant (no map)
+    float scale = 1.0f;
+    bool present() const { return texture.kind == ColorSource::Kind::Image; }
+};
+
 struct CookTorranceMaterial {
     ColorSource base_color = ColorSource::constant(Color(0.8f));
     float roughness = 0.5f;  // perceptual; GGX alpha = roughness^2
@@ -118,6 +127,10 @@ struct CookTorranceMaterial {
     // and its perceptual roughness (green channel, GGX alpha = roughness^2), F0 0.04.
     ColorSource clearcoat = ColorSource::constant(Color(0.0f));
     ColorSource clearcoat_roughness = ColorSource::constant(Color(0.0f));
+    // The coat's own normal map (clearcoatNormalTexture); without one the coat takes the
+    // interpolated normal, not the base's map (shading/normal_map.h, coat_shading_normal).
+    NormalMap clearcoat_normal;
+    bool has_coat() const { return clearcoat.varies() || clearcoat.value.r > 0.0f; }
 };
 struct MirrorMaterial {
     ColorSource reflectance = ColorSource::constant(Color(1.0f));
@@ -135,15 +148,6 @@ struct EmissiveMaterial {
 using MaterialModel =
     std::variant<LambertMaterial, PhongMaterial, OrenNayarMaterial, CookTorranceMaterial,
                  MirrorMaterial, DielectricMaterial, EmissiveMaterial>;
-
-/// A tangent-space normal map (docs/scene-format.md, "Keys of every material"): a linear
-/// texture whose texel c gives the normal (2c - 1) * (scale, scale, 1), normalised, in the
-/// frame of the surface's tangent, bitangent and shading normal (glTF's and OpenGL's +y).
-struct NormalMap {
-    ColorSource texture;  // an image, or a constant (no map)
-    float scale = 1.0f;
-    bool present() const { return texture.kind == ColorSource::Kind::Image; }
-};
 
 /// How much of a surface is there (docs/scene-format.md, "Keys of every material"): opaque;
 /// a mask, a hole wherever the coverage is below the cutoff, for every ray and every shadow

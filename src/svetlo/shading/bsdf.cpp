@@ -64,7 +64,7 @@ struct BsdfMaker {
                     -std::log(std::max(m.attenuation_color[k], 1e-30f)) / m.attenuation_distance;
         const float f0 = square((m.ior - 1.0f) / (m.ior + 1.0f));  // 0.04 at ior 1.5
         b.specular = glm::mix(Color(f0), base, metallic);
-        if (m.clearcoat.varies() || m.clearcoat.value.r > 0.0f) {
+        if (m.has_coat()) {
             b.coat = std::clamp(c(m.clearcoat).r, 0.0f, 1.0f);
             b.coat_alpha =
                 std::max(square(std::clamp(c(m.clearcoat_roughness).g, 0.0f, 1.0f)), kSmoothAlpha);
@@ -205,9 +205,15 @@ Color eval_bsdf(const Bsdf& b, vec3 n, vec3 wo, vec3 wi) {
                                f * ggx_specular(nh, cos_i, cos_o, b.alpha);
             if (b.coat <= 0.0f) return base;
             // The coat (glTF's KHR_materials_clearcoat): the base seen through it, less what
-            // it reflects at the viewer's angle, plus its own GGX lobe of F0 0.04.
-            return base * under_coat(b, cos_o) +
-                   Color(b.coat * coat_fresnel(vh) * ggx_specular(nh, cos_i, cos_o, b.coat_alpha));
+            // it reflects at the viewer's angle, plus its own GGX lobe of F0 0.04, about the
+            // coat's own normal where it has one (both angles then measured from it).
+            const vec3 nc = has_coat_normal(b) ? b.coat_normal : n;
+            const float cos_oc = glm::dot(nc, wo), cos_ic = glm::dot(nc, wi);
+            const Color seen = base * under_coat(b, std::clamp(cos_oc, 0.0f, 1.0f));
+            if (cos_oc <= 0.0f || cos_ic <= 0.0f) return seen;
+            const float nhc = std::max(0.0f, glm::dot(nc, h));
+            return seen + Color(b.coat * coat_fresnel(vh) *
+                                ggx_specular(nhc, cos_ic, cos_oc, b.coat_alpha));
         }
         case Bsdf::Model::Mirror:
         case Bsdf::Model::Dielectric:

@@ -66,6 +66,10 @@ struct Bsdf {
     Color absorption{0.0f};
     // Cook-Torrance's clear coat: its strength and GGX alpha (0: none).
     float coat = 0.0f, coat_alpha = 0.0f;
+    // The coat's own shading normal (world space, unit, turned toward the viewer as the
+    // shading normal is: shading_frame.h), or zero: the coat takes the shading normal n.
+    // Set by the engine that knows the point (coat_shading_normal, normal_map.h).
+    vec3 coat_normal{0.0f};
 
     /// True when the BRDF has a non-delta part that direct lighting must evaluate.
     bool has_lobes() const;
@@ -96,6 +100,11 @@ inline Color albedo_of(const Bsdf& b) {
 inline Color fresnel_schlick(Color f0, float cos_theta) {
     const float m = std::clamp(1.0f - cos_theta, 0.0f, 1.0f);
     return f0 + (Color(1.0f) - f0) * (m * m * m * m * m);
+}
+
+/// Whether the coat has a normal of its own (else it takes the shading normal).
+inline bool has_coat_normal(const Bsdf& b) {
+    return b.coat > 0.0f && glm::dot(b.coat_normal, b.coat_normal) > 0.0f;
 }
 
 /// The clear coat's Fresnel reflectance seen at cos_o = n.wo: its F0 is 0.04 (ior 1.5).

@@ -131,11 +131,33 @@ float glossy_pdf(const Bsdf& b, vec3 wo, vec3 wi) {
     }
 }
 
+/// The clear coat's frame within the local frame of n, where it has a normal of its own.
+struct CoatFrame {
+    bool own = false;
+    Frame frame{vec3(1, 0, 0), vec3(0, 1, 0), vec3(0, 0, 1)};
+};
+
+CoatFrame coat_frame(const Bsdf& b, const Frame& frame) {
+    CoatFrame c;
+    if (has_coat_normal(b)) {
+        c.own = true;
+        c.frame = Frame::from_normal(glm::normalize(frame.to_local(b.coat_normal)));
+    }
+    return c;
+}
+
+/// The coat lobe's pdf (local space): GGX's visible normals about the coat's normal.
+float coat_pdf(const Bsdf& b, const CoatFrame& cf, vec3 wo, vec3 wi) {
+    if (!cf.own) return ggx_reflection_pdf(wo, wi, b.coat_alpha);
+    const vec3 oc = cf.frame.to_local(wo);
+    return oc.z > 0.0f ? ggx_reflection_pdf(oc, cf.frame.to_local(wi), b.coat_alpha) : 0.0f;
+}
+
 /// The non-delta pdf in local space.
-float local_pdf(const Bsdf& b, const LobeChoice& c, vec3 wo, vec3 wi) {
+float local_pdf(const Bsdf& b, const LobeChoice& c, const CoatFrame& cf, vec3 wo, vec3 wi) {
     if (wo.z <= 0.0f || wi.z <= 0.0f) return 0.0f;
     float pdf = c.diffuse * wi.z * kInvPi;
-    if (c.coat > 0.0f) pdf += c.coat * ggx_reflection_pdf(wo, wi, b.coat_alpha);
+    if (c.coat > 0.0f) pdf += c.coat * coat_pdf(b, cf, wo, wi);
     return c.glossy > 0.0f ? pdf + c.glossy * glossy_pdf(b, wo, wi) : pdf;
 }
 
@@ -246,7 +268,7 @@ float pdf_bsdf(const Bsdf& b, vec3 n, vec3 wo, vec3 wi) {
         return glm::dot(n, wo) > 0.0f ? std::max(0.0f, glm::dot(n, wi)) * kInvPi : 0.0f;
     Frame frame = Frame::from_normal(n);
     vec3 lo = frame.to_local(wo);
-    return local_pdf(b, lobe_choice(b, lo.z), lo, frame.to_local(wi));
+    return local_pdf(b, lobe_choice(b, lo.z), coat_frame(b, frame), lo, frame.to_local(wi));
 }
 
 BsdfSample sample_bsdf(const Bsdf& b, vec3 n, vec3 wo, bool front, vec2 u, float u_lobe) {
@@ -265,6 +287,7 @@ BsdfSample sample_bsdf(const Bsdf& b, vec3 n, vec3 wo, bool front, vec2 u, float
     vec3 lo = frame.to_local(wo);
     if (lo.z <= 0.0f) return s;
     LobeChoice c = lobe_choice(b, lo.z);
+    const CoatFrame cf = coat_frame(b, frame);
     auto delta = [&](vec3 wi, Color weight, float probability) {
         s.wi = wi;
         s.delta = true;
@@ -300,7 +323,13 @@ BsdfSample sample_bsdf(const Bsdf& b, vec3 n, vec3 wo, bool front, vec2 u, float
     if (x < c.diffuse) {
         li = sample_cosine_hemisphere(u);
     } else if (x >= before_coat && c.coat > 0.0f) {
-        li = glm::reflect(-lo, sample_ggx_visible(lo, b.coat_alpha, u));
+        if (!cf.own) {
+            li = glm::reflect(-lo, sample_ggx_visible(lo, b.coat_alpha, u));
+        } else {  // about the coat's own normal
+            const vec3 oc = cf.frame.to_local(lo);
+            if (oc.z <= 0.0f) return s;
+            li = cf.frame.to_world(glm::reflect(-oc, sample_ggx_visible(oc, b.coat_alpha, u)));
+        }
     } else if (c.glossy > 0.0f) {
         if (b.model == Bsdf::Model::CookTorrance) {
             li = glm::reflect(-lo, sample_ggx_visible(lo, b.alpha, u));
@@ -315,7 +344,7 @@ BsdfSample sample_bsdf(const Bsdf& b, vec3 n, vec3 wo, bool front, vec2 u, float
     }
     if (li.z <= 0.0f) return s;  // below the surface: f = 0
     s.wi = frame.to_world(li);
-    s.pdf = local_pdf(b, c, lo, li);
+    s.pdf = local_pdf(b, c, cf, lo, li);
     if (!(s.pdf > 0.0f)) return BsdfSample{};
     s.f = eval_bsdf(b, n, wo, s.wi);
     s.weight = s.f * (std::abs(glm::dot(n, s.wi)) / s.pdf);

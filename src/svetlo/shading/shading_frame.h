@@ -20,15 +20,26 @@ struct ShadingFrame {
 
 /// ng: unit geometric normal of the front side; ns: the shading normal, unit or zero (none);
 /// wo: unit direction from the surface to the viewer (world space).
+/// A shading normal n (unit, or zero: none) turned to the side the viewer sees, whose
+/// geometric normal is ng_seen: onto that side, and ng_seen itself where n faces away from wo.
+inline vec3 turned_normal(vec3 n, vec3 ng_seen, vec3 wo) {
+    if (glm::dot(n, n) == 0.0f) return ng_seen;    // no shading normal
+    if (glm::dot(n, ng_seen) < 0.0f) n = -n;       // onto the seen side
+    return glm::dot(n, wo) <= 0.0f ? ng_seen : n;  // interpolated past the silhouette
+}
+
 inline ShadingFrame make_shading_frame(vec3 ng, vec3 ns, vec3 wo) {
     ShadingFrame f;
     f.front = glm::dot(ng, wo) > 0.0f;
     f.ng = f.front ? ng : -ng;
-    f.ns = ns;
-    if (glm::dot(ns, ns) == 0.0f) f.ns = f.ng;      // no shading normal
-    if (glm::dot(f.ns, f.ng) < 0.0f) f.ns = -f.ns;  // onto the seen side
-    if (glm::dot(f.ns, wo) <= 0.0f) f.ns = f.ng;    // interpolated past the silhouette
+    f.ns = turned_normal(ns, f.ng, wo);
     return f;
+}
+
+/// A clear coat's own normal (coat_shading_normal: zero for none) turned as f's shading
+/// normal is, for Bsdf::coat_normal (zero stays zero: the coat takes f.ns).
+inline vec3 seen_coat_normal(vec3 coat_ns, const ShadingFrame& f, vec3 wo) {
+    return glm::dot(coat_ns, coat_ns) == 0.0f ? vec3(0.0f) : turned_normal(coat_ns, f.ng, wo);
 }
 
 }  // namespace svetlo
