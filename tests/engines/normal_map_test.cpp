@@ -15,6 +15,7 @@
 #include "svetlo/pt/path_tracer.h"
 #include "svetlo/raster/raster_engine.h"
 #include "svetlo/rt/whitted.h"
+#include "svetlo/shading/bsdf.h"
 
 namespace svetlo {
 namespace {
@@ -105,6 +106,53 @@ TEST(NormalMap, TiltsTheShadingNormalAlongTangentAndBitangentInEveryPointShading
     expect_mapped_radiance<RasterRenderer>("raster");
     expect_mapped_radiance<WhittedRenderer>("whitted");
     expect_mapped_radiance<PathRenderer>("path");
+}
+
+/// A clear-coated square facing the camera (+z; as a quad or a mesh), its base black and
+/// rough, its coat of roughness 0.3 with a map of its own that tilts the coat's normal 20
+/// degrees toward +x (no base map), lit by a directional light of irradiance pi from
+/// to_light. Each engine's radiance at the middle 4 x 4 pixels against eval_bsdf there with
+/// that coat normal: f (n, wo, wi) pi cos, wo toward each pixel's centre on the square.
+template <class Engine>
+void expect_coat_normal(const char* engine) {
+    const float tilt = radians(20.0f);
+    const vec3 local(std::sin(tilt), 0.0f, std::cos(tilt));
+    const std::string map = write_normal_map("coat", local);
+    CookTorranceMaterial m;
+    m.base_color = ColorSource::constant(Color(0.0f));
+    m.roughness = 1.0f;
+    m.clearcoat = ColorSource::constant(Color(1.0f));
+    m.clearcoat_roughness = ColorSource::constant(Color(0.3f));
+    Bsdf b = make_bsdf(Material(m), vec2(0.5f), std::vector<TextureImage>{});
+    b.coat_normal = local;  // the square's tangent is +x, its normal +z
+    const float s = std::sqrt(0.5f);
+    const Square sq{vec3(-1, -1, 0), vec3(2, 0, 0), vec3(0, 2, 0)};
+    for (const vec3 to_light : {vec3(s, 0, s), vec3(-s, 0, s)}) {
+        double expected = 0.0;  // the mean over the middle pixels' centres
+        const float half = std::tan(radians(10.0f)) * 4.0f;  // the film's half side at z = 0
+        for (int j = 6; j < 10; ++j)
+            for (int i = 6; i < 10; ++i) {
+                const vec3 p((i + 0.5f - 8.0f) / 8.0f * half, (8.0f - j - 0.5f) / 8.0f * half, 0);
+                const vec3 wo = glm::normalize(vec3(0, 0, 4) - p);
+                expected += eval_bsdf(b, vec3(0, 0, 1), wo, to_light).g * kPi * to_light.z / 16.0;
+            }
+        for (bool as_mesh : {false, true}) {
+            json scene = scene_of(sq, as_mesh, map, -to_light, engine);
+            scene["materials"]["mapped"] = {
+                {"type", "cook_torrance"},    {"base_color", 0.0},
+                {"roughness", 1.0},           {"clearcoat", 1.0},
+                {"clearcoat_roughness", 0.3}, {"clearcoat_normal_map", {{"texture", map}}}};
+            const RenderResult r = render_json<Engine>(scene);
+            EXPECT_NEAR(mean(r.color, 6, 6, 10, 10, 1), expected, 0.03 * expected)
+                << engine << (as_mesh ? " mesh" : " quad") << " light x " << to_light.x;
+        }
+    }
+}
+
+TEST(NormalMap, AClearCoatReflectsAboutItsOwnMappedNormalInEveryPointShadingEngine) {
+    expect_coat_normal<RasterRenderer>("raster");
+    expect_coat_normal<WhittedRenderer>("whitted");
+    expect_coat_normal<PathRenderer>("path");
 }
 
 }  // namespace

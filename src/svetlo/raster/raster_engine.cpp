@@ -229,7 +229,7 @@ void prepare_fast_path(const Scene& scene, const FrameShading& f, FastShading& f
         const auto* phong_material = std::get_if<PhongMaterial>(&f.materials[m].model);
         const bool shininess_mapped = phong_material && phong_material->shininess_map.varies();
         const bool ibl = f.lights->environment.active();
-        const bool mapped = f.materials[m].normal_map.present();
+        const bool mapped = f.materials[m].has_normal_map();
         const bool varyings = any_source(f.materials[m], reads_more_than_uv);
         fast.material_ok.push_back((phong || b.model == Bsdf::Model::Lambert) && !emits && !ibl &&
                                            !mapped && !varyings && !shininess_mapped

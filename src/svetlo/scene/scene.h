@@ -169,6 +169,13 @@ struct Material {
     NormalMap normal_map;
     Alpha alpha;
 
+    /// Whether a normal map bends one of its normals: its own, or its clear coat's (the
+    /// surface then needs tangents).
+    bool has_normal_map() const {
+        const auto* ct = std::get_if<CookTorranceMaterial>(&model);
+        return normal_map.present() || (ct && ct->clearcoat_normal.present());
+    }
+
     Material() = default;
     template <class M>
     requires std::is_constructible_v<MaterialModel, M&&> &&

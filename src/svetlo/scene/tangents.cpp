@@ -67,7 +67,7 @@ std::vector<vec4> mesh_tangents(const Mesh& mesh) {
 void add_missing_tangents(Scene& scene) {
     auto mapped = [&](int m) {
         return m >= 0 && static_cast<size_t>(m) < scene.materials.size() &&
-               scene.materials[static_cast<size_t>(m)].normal_map.present();
+               scene.materials[static_cast<size_t>(m)].has_normal_map();
     };
     // `also`: a material that replaces the object's somewhere (an instance's) has a normal map.
     auto add = [&](Object& obj, bool also) {
