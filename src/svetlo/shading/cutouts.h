@@ -3,7 +3,8 @@
 // rasterizer's ray-traced shadows, radiosity's visibility). A hit on a masked material whose
 // coverage is below its cutoff, or on a blended one where a hash of the ray falls above its
 // coverage, is not a hit: the ray goes on from just past it. The structures themselves (the
-// BVHs, the grid, the octree, Embree) stay geometric; the queries loop over them.
+// BVHs, the grid, the octree, Embree) stay geometric; the queries loop over them, or ask the
+// wide BVH's filtered any-hit query (Accel::occluded_if) to ask hole() at each triangle.
 #pragma once
 
 #include <memory>

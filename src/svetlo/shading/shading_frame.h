@@ -18,8 +18,6 @@ struct ShadingFrame {
     bool front = false;  // the viewer sees the front side
 };
 
-/// ng: unit geometric normal of the front side; ns: the shading normal, unit or zero (none);
-/// wo: unit direction from the surface to the viewer (world space).
 /// A shading normal n (unit, or zero: none) turned to the side the viewer sees, whose
 /// geometric normal is ng_seen: onto that side, and ng_seen itself where n faces away from wo.
 inline vec3 turned_normal(vec3 n, vec3 ng_seen, vec3 wo) {
@@ -28,6 +26,8 @@ inline vec3 turned_normal(vec3 n, vec3 ng_seen, vec3 wo) {
     return glm::dot(n, wo) <= 0.0f ? ng_seen : n;  // interpolated past the silhouette
 }
 
+/// ng: unit geometric normal of the front side; ns: the shading normal, unit or zero (none);
+/// wo: unit direction from the surface to the viewer (world space).
 inline ShadingFrame make_shading_frame(vec3 ng, vec3 ns, vec3 wo) {
     ShadingFrame f;
     f.front = glm::dot(ng, wo) > 0.0f;
