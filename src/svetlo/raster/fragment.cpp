@@ -172,6 +172,31 @@ struct ShadeResult {
 
 /// Stage 6: the colour of a visible sample of triangle `ti` with screen barycentrics (l1, l2).
 /// `vis` and `sample`: the lights' visibility at this sample of the tile.
+/// The material's normal maps at a sample (normal_map.h): ns bent by the surface's map, and
+/// coat_ns set to the clear coat's own normal; both untouched where neither has a map.
+void bend_normals(const FrameState& f, const SetupTriangle& t, const Weights& w,
+                  const SurfaceUv& at, vec3 ng, vec3& ns, vec3& coat_ns) {
+    const Material& material = f.materials[t.material];
+    const NormalMap& map = material.normal_map;
+    const NormalMap* coat_map = coat_normal_map(material);
+    if (!map.present() && !coat_map) return;
+    const ClipVertex& A = f.vertex(t.v[0]);
+    const ClipVertex& B = f.vertex(t.v[1]);
+    const ClipVertex& C = f.vertex(t.v[2]);
+    if (glm::dot(ns, ng) < 0.0f) ns = -ns;  // onto the front side, as the ray tracers'
+    const vec4 tangent = orthogonal_tangent(
+        vec4(w.b[0] * vec3(A.tangent) + w.b[1] * vec3(B.tangent) + w.b[2] * vec3(C.tangent),
+             A.tangent.w),
+        ns);
+    coat_ns = coat_shading_normal(
+        material,
+        coat_map ? eval_color(coat_map->texture, at.varyings(), at.lookup(f)) : Color(0.0f), ns, ng,
+        tangent);
+    if (map.present())
+        ns = mapped_normal(map, eval_color(map.texture, at.varyings(), at.lookup(f)), ns, ng,
+                           tangent);
+}
+
 ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& edges, int64_t sx,
                          int64_t sy, bool want_aovs, const LightVisibility& vis, size_t sample) {
     const SetupTriangle& t = f.tri(ti);
@@ -192,25 +217,8 @@ ShadeResult shade_sample(const FrameState& f, uint32_t ti, const TriangleEdges& 
     ns = glm::length(ns) > 0.0f ? glm::normalize(ns) : ng;
     vec3 wo = view_direction(f, p);
     const SurfaceUv at = surface_uv(f, t, A, B, C, w);
-    const Material& material = f.materials[t.material];
-    const auto* coated = std::get_if<CookTorranceMaterial>(&material.model);
-    const NormalMap* coat_map = coated && coated->has_coat() && coated->clearcoat_normal.present()
-                                    ? &coated->clearcoat_normal
-                                    : nullptr;
     vec3 coat_ns(0.0f);  // the clear coat's own normal (coat_shading_normal), or none
-    if (const NormalMap& map = material.normal_map; map.present() || coat_map) {
-        if (glm::dot(ns, ng) < 0.0f) ns = -ns;  // onto the front side, as the ray tracers'
-        const vec4 tangent = orthogonal_tangent(
-            vec4(b0 * vec3(A.tangent) + b1 * vec3(B.tangent) + b2 * vec3(C.tangent), A.tangent.w),
-            ns);
-        coat_ns = coat_shading_normal(
-            material,
-            coat_map ? eval_color(coat_map->texture, at.varyings(), at.lookup(f)) : Color(0.0f), ns,
-            ng, tangent);
-        if (map.present())
-            ns = mapped_normal(map, eval_color(map.texture, at.varyings(), at.lookup(f)), ns, ng,
-                               tangent);
-    }
+    bend_normals(f, t, w, at, ng, ns, coat_ns);
     if (want_aovs || f.mode == Mode::Normal || f.mode == Mode::Depth) {
         r.distance = f.cam.orthographic ? glm::dot(p - f.cam.eye, f.cam.forward)
                                         : glm::length(p - f.cam.eye);

@@ -26,6 +26,12 @@ inline vec3 mapped_normal(const NormalMap& map, const Varyings& at, vec3 ns, vec
     return mapped_normal(map, eval_color(map.texture, at, textures), ns, ng, tangent);
 }
 
+/// The clear coat's own normal map, where `material` has a coat with one (else null).
+inline const NormalMap* coat_normal_map(const Material& material) {
+    const auto* ct = std::get_if<CookTorranceMaterial>(&material.model);
+    return ct && ct->has_coat() && ct->clearcoat_normal.present() ? &ct->clearcoat_normal : nullptr;
+}
+
 /// The clear coat's own shading normal at a point of `material` whose interpolated normal is
 /// ns (front side, before any map): its own map's (glTF's clearcoatNormalTexture, `texel` that
 /// map's texel), or ns itself where it has none but the base has a map (glTF: the coat takes
@@ -35,19 +41,17 @@ inline vec3 coat_shading_normal(const Material& material, Color texel, vec3 ns, 
                                 vec4 tangent) {
     const auto* ct = std::get_if<CookTorranceMaterial>(&material.model);
     if (!ct || !ct->has_coat()) return vec3(0.0f);
-    if (ct->clearcoat_normal.present())
-        return tangent.w == 0.0f ? ns : mapped_normal(ct->clearcoat_normal, texel, ns, ng, tangent);
+    if (const NormalMap* map = coat_normal_map(material))
+        return tangent.w == 0.0f ? ns : mapped_normal(*map, texel, ns, ng, tangent);
     return material.normal_map.present() ? ns : vec3(0.0f);
 }
 
 /// The coat's map read at `at` in `textures` (the ray tracers), or nothing to read.
 inline vec3 coat_shading_normal(const Material& material, const Varyings& at, vec3 ns, vec3 ng,
                                 vec4 tangent, const std::vector<TextureImage>& textures) {
-    const auto* ct = std::get_if<CookTorranceMaterial>(&material.model);
-    const bool read = ct && ct->has_coat() && ct->clearcoat_normal.present();
-    return coat_shading_normal(
-        material, read ? eval_color(ct->clearcoat_normal.texture, at, textures) : Color(0.0f), ns,
-        ng, tangent);
+    const NormalMap* map = coat_normal_map(material);
+    return coat_shading_normal(material, map ? eval_color(map->texture, at, textures) : Color(0.0f),
+                               ns, ng, tangent);
 }
 
 }  // namespace svetlo
