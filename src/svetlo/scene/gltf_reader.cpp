@@ -27,52 +27,39 @@ namespace svetlo {
 
 namespace {
 
-/// Reads element `index` of a float accessor (or a normalised integer one) into `out[0..n)`.
-class AccessorView {
+/// The elements of accessors with a buffer view (or of a sparse accessor's indices and values):
+/// `components` numbers of `component_type` each, `stride` bytes apart.
+class StridedView {
 public:
-    AccessorView(const tinygltf::Model& model, int accessor_index, int components) {
-        if (accessor_index < 0 || static_cast<size_t>(accessor_index) >= model.accessors.size()) {
-            throw std::runtime_error("accessor " + std::to_string(accessor_index) + " missing");
-        }
-        const tinygltf::Accessor& a = model.accessors[accessor_index];
-        if (a.bufferView < 0 || static_cast<size_t>(a.bufferView) >= model.bufferViews.size()) {
-            throw std::runtime_error("accessor without a buffer view (sparse is not supported)");
-        }
-        const tinygltf::BufferView& view = model.bufferViews[a.bufferView];
-        if (view.buffer < 0 || static_cast<size_t>(view.buffer) >= model.buffers.size()) {
+    StridedView() = default;
+    /// Checks that `count` elements from `byte_offset` into buffer view `view_index` lie
+    /// inside that view and its buffer.
+    StridedView(const tinygltf::Model& model, int view_index, size_t byte_offset, size_t count,
+                int components, int component_type, bool normalized) {
+        if (view_index < 0 || static_cast<size_t>(view_index) >= model.bufferViews.size())
+            throw std::runtime_error("buffer view " + std::to_string(view_index) + " missing");
+        const tinygltf::BufferView& view = model.bufferViews[static_cast<size_t>(view_index)];
+        if (view.buffer < 0 || static_cast<size_t>(view.buffer) >= model.buffers.size())
             throw std::runtime_error("buffer view without a buffer");
-        }
-        const tinygltf::Buffer& buffer = model.buffers[view.buffer];
-        int n = tinygltf::GetNumComponentsInType(static_cast<uint32_t>(a.type));
-        component_type_ = a.componentType;
-        int size = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(a.componentType));
-        if (n != components || size <= 0) throw std::runtime_error("unexpected accessor type");
-        components_ = n;
-        component_size_ = size;
-        normalized_ = a.normalized;
-        count_ = a.count;
-        stride_ = view.byteStride > 0 ? view.byteStride : static_cast<size_t>(n * size);
-        size_t offset = view.byteOffset + a.byteOffset;
-        size_t need = count_ == 0 ? 0 : offset + stride_ * (count_ - 1) + n * size;
-        if (need > buffer.data.size() || a.byteOffset + n * size > view.byteLength + stride_) {
+        const tinygltf::Buffer& buffer = model.buffers[static_cast<size_t>(view.buffer)];
+        const int size = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(component_type));
+        if (size <= 0) throw std::runtime_error("unsupported component type");
+        type_ = component_type;
+        size_ = static_cast<size_t>(size);
+        normalized_ = normalized;
+        const size_t element = static_cast<size_t>(components) * size_;
+        stride_ = view.byteStride > 0 ? view.byteStride : element;
+        // Every element inside the buffer; the first inside its view.
+        const size_t need = count == 0 ? 0 : byte_offset + stride_ * (count - 1) + element;
+        if (view.byteOffset + need > buffer.data.size() ||
+            byte_offset + element > view.byteLength + stride_)
             throw std::runtime_error("accessor runs past its buffer");
-        }
-        data_ = buffer.data.data() + offset;
-    }
-
-    size_t count() const { return count_; }
-
-    /// The number of components of accessor `index`'s type (3 for VEC3, ...), 0 when there
-    /// is no such accessor.
-    static int components_of(const tinygltf::Model& model, int index) {
-        if (index < 0 || static_cast<size_t>(index) >= model.accessors.size()) return 0;
-        return tinygltf::GetNumComponentsInType(
-            static_cast<uint32_t>(model.accessors[static_cast<size_t>(index)].type));
+        data_ = buffer.data.data() + view.byteOffset + byte_offset;
     }
 
     double component(size_t index, int c) const {
-        const unsigned char* p = data_ + index * stride_ + static_cast<size_t>(c) * component_size_;
-        switch (component_type_) {
+        const unsigned char* p = data_ + index * stride_ + static_cast<size_t>(c) * size_;
+        switch (type_) {
             case TINYGLTF_COMPONENT_TYPE_FLOAT:
                 return load<float>(p);
             case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
@@ -99,9 +86,92 @@ private:
         return static_cast<double>(v);
     }
     const unsigned char* data_ = nullptr;
-    size_t count_ = 0, stride_ = 0;
-    int components_ = 0, component_size_ = 0, component_type_ = 0;
+    size_t stride_ = 0, size_ = 0;
+    int type_ = 0;
     bool normalized_ = false;
+};
+
+/// The most elements an accessor without a buffer view of its own (all zeros, or sparse
+/// values on zeros) may have: such an accessor's count is not bounded by any buffer.
+constexpr size_t kMaxDenseElements = size_t{1} << 24;
+
+/// Reads element `index` of a float accessor (or a normalised integer one) into `out[0..n)`.
+/// A sparse accessor (glTF 2.0, 3.6.2.3) is its buffer view's elements, or zeros without
+/// one, with the sparse values written over the elements its indices name.
+class AccessorView {
+public:
+    AccessorView(const tinygltf::Model& model, int accessor_index, int components) {
+        if (accessor_index < 0 || static_cast<size_t>(accessor_index) >= model.accessors.size()) {
+            throw std::runtime_error("accessor " + std::to_string(accessor_index) + " missing");
+        }
+        const tinygltf::Accessor& a = model.accessors[static_cast<size_t>(accessor_index)];
+        const int n = tinygltf::GetNumComponentsInType(static_cast<uint32_t>(a.type));
+        if (n != components) throw std::runtime_error("unexpected accessor type");
+        components_ = n;
+        count_ = a.count;
+        if (a.bufferView >= 0)
+            view_ = StridedView(model, a.bufferView, a.byteOffset, a.count, n, a.componentType,
+                                a.normalized);
+        if (a.bufferView < 0 || a.sparse.isSparse) densify(model, a, accessor_index);
+    }
+
+    size_t count() const { return count_; }
+
+    /// The number of components of accessor `index`'s type (3 for VEC3, ...), 0 when there
+    /// is no such accessor.
+    static int components_of(const tinygltf::Model& model, int index) {
+        if (index < 0 || static_cast<size_t>(index) >= model.accessors.size()) return 0;
+        return tinygltf::GetNumComponentsInType(
+            static_cast<uint32_t>(model.accessors[static_cast<size_t>(index)].type));
+    }
+
+    double component(size_t index, int c) const {
+        if (!dense_.empty()) return dense_[index * static_cast<size_t>(components_) + c];
+        return view_.component(index, c);
+    }
+
+private:
+    /// The accessor's elements, its sparse values written over them, into dense_.
+    void densify(const tinygltf::Model& model, const tinygltf::Accessor& a, int index) {
+        const std::string name = "accessor " + std::to_string(index);
+        if (count_ > kMaxDenseElements)
+            throw std::runtime_error(name + ": " + std::to_string(count_) +
+                                     " elements without a buffer view of their own (at most " +
+                                     std::to_string(kMaxDenseElements) + ")");
+        const auto n = static_cast<size_t>(components_);
+        dense_.assign(count_ * n, 0.0);
+        if (a.bufferView >= 0)
+            for (size_t k = 0; k < count_; ++k)
+                for (size_t c = 0; c < n; ++c) dense_[k * n + c] = view_.component(k, int(c));
+        if (!a.sparse.isSparse) return;
+        const int type = a.sparse.indices.componentType;
+        if (a.sparse.count < 1 || static_cast<size_t>(a.sparse.count) > count_ ||
+            a.sparse.indices.byteOffset < 0 || a.sparse.values.byteOffset < 0 ||
+            (type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+             type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+             type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT))
+            throw std::runtime_error(name + ": sparse count, offsets or index type wrong");
+        const auto m = static_cast<size_t>(a.sparse.count);
+        // Sparse views are tightly packed (glTF 2.0: their buffer views have no byteStride).
+        const StridedView indices(model, a.sparse.indices.bufferView,
+                                  static_cast<size_t>(a.sparse.indices.byteOffset), m, 1, type,
+                                  false);
+        const StridedView values(model, a.sparse.values.bufferView,
+                                 static_cast<size_t>(a.sparse.values.byteOffset), m, components_,
+                                 a.componentType, a.normalized);
+        for (size_t k = 0; k < m; ++k) {
+            const double at = indices.component(k, 0);
+            if (!(at < static_cast<double>(count_)))
+                throw std::runtime_error(name + ": sparse index out of range");
+            for (size_t c = 0; c < n; ++c)
+                dense_[static_cast<size_t>(at) * n + c] = values.component(k, int(c));
+        }
+    }
+
+    StridedView view_;
+    std::vector<double> dense_;  // every element, where the accessor is sparse or has no view
+    size_t count_ = 0;
+    int components_ = 0;
 };
 
 mat4 node_matrix(const tinygltf::Node& node) {
@@ -130,28 +200,37 @@ struct Flattener {
     const tinygltf::Model& model;
     MeshFile& file;
     int depth_guard = 0;
-    std::set<int> colored_materials;           // the materials of primitives with COLOR_0
-    Mesh* target = &file.mesh;                 // the mesh add_mesh appends to
-    std::vector<std::pair<int, mat4>> uses{};  // each node's mesh and its place in the file
+    std::set<int> colored_materials;  // the materials of primitives with COLOR_0
+    Mesh* target = &file.mesh;        // the mesh add_mesh appends to
+    /// A node's mesh, its place in the file and its morph targets' weights.
+    struct Use {
+        int mesh;
+        mat4 world;
+        const std::vector<double>* weights;
+        bool own_weights;  // the node's weights, not the mesh's
+    };
+    std::vector<Use> uses{};
 
     /// The meshes the nodes visited place: baked into file.mesh where one node places a
-    /// mesh, kept in their own space (MeshFile::shared) where several do.
+    /// mesh (or gives it weights of its own), kept in their own space (MeshFile::shared)
+    /// where several do.
     void place_meshes() {
         std::map<int, int> count, shared;  // per mesh index: its nodes; its MeshFile::shared
-        for (const auto& [mesh, world] : uses) ++count[mesh];
-        for (const auto& [mesh, world] : uses) {
-            if (count[mesh] < 2) {
-                add_mesh(mesh, world);
+        for (const Use& use : uses)
+            if (!use.own_weights) ++count[use.mesh];
+        for (const Use& use : uses) {
+            if (use.own_weights || count[use.mesh] < 2) {
+                add_mesh(use.mesh, use.world, *use.weights);
                 continue;
             }
-            auto [at, made] = shared.try_emplace(mesh, static_cast<int>(file.shared.size()));
+            auto [at, made] = shared.try_emplace(use.mesh, static_cast<int>(file.shared.size()));
             if (made) {
                 file.shared.emplace_back();
                 target = &file.shared.back().mesh;
-                add_mesh(mesh, mat4(1.0f));
+                add_mesh(use.mesh, mat4(1.0f), *use.weights);
                 target = &file.mesh;
             }
-            file.shared[static_cast<size_t>(at->second)].places.push_back(world);
+            file.shared[static_cast<size_t>(at->second)].places.push_back(use.world);
         }
     }
 
@@ -170,7 +249,14 @@ struct Flattener {
         if (++depth_guard > 10000) throw std::runtime_error("node hierarchy too deep or cyclic");
         const tinygltf::Node& node = model.nodes[node_index];
         mat4 world = parent * node_matrix(node);
-        if (node.mesh >= 0) uses.emplace_back(node.mesh, world);
+        if (node.mesh >= 0) {
+            if (static_cast<size_t>(node.mesh) >= model.meshes.size())
+                throw std::runtime_error("mesh " + std::to_string(node.mesh) + " missing");
+            const std::vector<double>& defaults =
+                model.meshes[static_cast<size_t>(node.mesh)].weights;
+            const bool own = !node.weights.empty() && node.weights != defaults;
+            uses.push_back({node.mesh, world, own ? &node.weights : &defaults, own});
+        }
         add_light(node, world);
         if (node.camera >= 0 && !file.camera) add_camera(node.camera, world);
         for (int child : node.children) visit(child, world);
@@ -276,77 +362,131 @@ struct Flattener {
         if (prim.material >= 0) colored_materials.insert(prim.material);
     }
 
-    /// NORMAL and TANGENT of `prim`, its `count` vertices from `base` on, into world space.
+    /// The sum over `prim`'s morph targets of weight times the target's `attribute` (glTF
+    /// 2.0, 3.7.2.2), one per vertex; empty where no target with a weight moves it.
+    std::vector<vec3> morph_offsets(const tinygltf::Primitive& prim,
+                                    const std::vector<double>& weights, const char* attribute,
+                                    size_t count) const {
+        std::vector<vec3> out;
+        for (size_t i = 0; i < prim.targets.size() && i < weights.size(); ++i) {
+            const auto it = prim.targets[i].find(attribute);
+            if (it == prim.targets[i].end() || weights[i] == 0.0) continue;
+            if (!std::isfinite(weights[i])) throw std::runtime_error("morph weight not finite");
+            AccessorView offsets(model, it->second, 3);
+            if (offsets.count() != count)
+                throw std::runtime_error(std::string("morph target ") + attribute + " count");
+            out.resize(count, vec3(0.0f));
+            for (size_t k = 0; k < count; ++k)
+                out[k] +=
+                    static_cast<float>(weights[i]) *
+                    vec3(offsets.component(k, 0), offsets.component(k, 1), offsets.component(k, 2));
+        }
+        return out;
+    }
+
+    /// NORMAL and TANGENT of `prim` (moved by its morph targets' `weights`), its `count`
+    /// vertices from `base` on, into world space. A primitive without NORMAL is flat (glTF
+    /// 2.0, 3.7.2.1): its vertices' normals are zero, which every engine reads as the
+    /// triangle's own.
     void add_normals_and_tangents(const tinygltf::Primitive& prim, size_t count, size_t base,
-                                  const mat4& world) {
+                                  const mat4& world, const std::vector<double>& weights) {
         Mesh& mesh = *target;
         const mat3 nm = normal_matrix(world);
+        mesh.normals.resize(base, vec3(0.0f));
         auto nor = prim.attributes.find("NORMAL");
         if (nor != prim.attributes.end()) {
             AccessorView normals(model, nor->second, 3);
             if (normals.count() != count) throw std::runtime_error("NORMAL count");
-            mesh.normals.resize(base);
+            const std::vector<vec3> moved = morph_offsets(prim, weights, "NORMAL", count);
             for (size_t k = 0; k < normals.count(); ++k) {
                 vec3 n(normals.component(k, 0), normals.component(k, 1), normals.component(k, 2));
-                mesh.normals.push_back(glm::normalize(nm * n));
+                if (!moved.empty()) n += moved[k];
+                n = nm * n;
+                const float len = glm::length(n);
+                mesh.normals.push_back(len > 0.0f && std::isfinite(len) ? n / len : vec3(0.0f));
             }
+        } else {
+            mesh.normals.resize(base + count, vec3(0.0f));
         }
         auto tan = prim.attributes.find("TANGENT");
         if (tan != prim.attributes.end()) {
             AccessorView tangents(model, tan->second, 4);
             if (tangents.count() != count) throw std::runtime_error("TANGENT count");
+            const std::vector<vec3> moved = morph_offsets(prim, weights, "TANGENT", count);
             mesh.tangents.resize(base);
             const Transform to_world{world, false};
             for (size_t k = 0; k < tangents.count(); ++k) {
                 // glTF's v runs down the image and svetlo's up, but glTF's bitangent
                 // (w cross(n, t)) is the map's +y, up the image: the sign stays.
-                const vec4 t(tangents.component(k, 0), tangents.component(k, 1),
-                             tangents.component(k, 2), tangents.component(k, 3));
+                vec4 t(tangents.component(k, 0), tangents.component(k, 1), tangents.component(k, 2),
+                       tangents.component(k, 3));
+                if (!moved.empty()) t += vec4(moved[k], 0.0f);
                 mesh.tangents.push_back(transform_tangent(to_world, t));
             }
         }
     }
 
-    /// The triangles of `prim` (its indices, or its vertices in order), whose `count`
-    /// vertices start at `base`.
+    /// The triangles of `prim`, whose `count` vertices start at `base`: its vertices (its
+    /// indices, or the vertices in order) as a list, a strip or a fan (glTF 2.0, 3.7.2.1:
+    /// strip triangle i is v_i, v_(i + 1 + i % 2), v_(i + 2 - i % 2); fan triangle i is
+    /// v_(i + 1), v_(i + 2), v_0).
     void add_indices(const tinygltf::Primitive& prim, size_t count, uint32_t base) {
-        Mesh& mesh = *target;
-        size_t first = mesh.indices.size();
+        std::vector<uint32_t> v;
         if (prim.indices >= 0) {
             AccessorView indices(model, prim.indices, 1);
+            v.reserve(indices.count());
             for (size_t k = 0; k < indices.count(); ++k) {
                 double i = indices.component(k, 0);
                 if (i < 0 || i >= static_cast<double>(count)) {
                     throw std::runtime_error("index out of range");
                 }
-                mesh.indices.push_back(base + static_cast<uint32_t>(i));
+                v.push_back(base + static_cast<uint32_t>(i));
             }
         } else {
-            for (size_t k = 0; k < count; ++k) {
-                mesh.indices.push_back(base + static_cast<uint32_t>(k));
-            }
+            v.resize(count);
+            for (size_t k = 0; k < count; ++k) v[k] = base + static_cast<uint32_t>(k);
         }
-        if ((mesh.indices.size() - first) % 3 != 0) throw std::runtime_error("index count");
+        std::vector<uint32_t>& out = target->indices;
+        if (prim.mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+            for (size_t i = 0; i + 2 < v.size(); ++i)
+                out.insert(out.end(), {v[i], v[i + 1 + i % 2], v[i + 2 - i % 2]});
+        } else if (prim.mode == TINYGLTF_MODE_TRIANGLE_FAN) {
+            for (size_t i = 0; i + 2 < v.size(); ++i)
+                out.insert(out.end(), {v[i + 1], v[i + 2], v[0]});
+        } else {
+            if (v.size() % 3 != 0) throw std::runtime_error("index count");
+            out.insert(out.end(), v.begin(), v.end());
+        }
     }
 
-    void add_mesh(int mesh_index, const mat4& world) {
+    static bool is_triangles(const tinygltf::Primitive& prim) {
+        return prim.mode == -1 || prim.mode == TINYGLTF_MODE_TRIANGLES ||
+               prim.mode == TINYGLTF_MODE_TRIANGLE_STRIP || prim.mode == TINYGLTF_MODE_TRIANGLE_FAN;
+    }
+
+    /// Mesh `mesh_index`'s triangle primitives, their morph targets moved by `weights`,
+    /// placed by `world`.
+    void add_mesh(int mesh_index, const mat4& world, const std::vector<double>& weights) {
         if (static_cast<size_t>(mesh_index) >= model.meshes.size()) {
             throw std::runtime_error("mesh " + std::to_string(mesh_index) + " missing");
         }
         Mesh& mesh = *target;
         for (const tinygltf::Primitive& prim : model.meshes[mesh_index].primitives) {
-            if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != -1) continue;
+            if (!is_triangles(prim)) continue;
             auto pos = prim.attributes.find("POSITION");
             if (pos == prim.attributes.end())
                 throw std::runtime_error("primitive without POSITION");
             AccessorView positions(model, pos->second, 3);
             auto base = static_cast<uint32_t>(mesh.positions.size());
+            const std::vector<vec3> moved =
+                morph_offsets(prim, weights, "POSITION", positions.count());
             for (size_t k = 0; k < positions.count(); ++k) {
                 vec3 p(positions.component(k, 0), positions.component(k, 1),
                        positions.component(k, 2));
+                if (!moved.empty()) p += moved[k];
                 mesh.positions.push_back(vec3(world * vec4(p, 1.0f)));
             }
-            add_normals_and_tangents(prim, positions.count(), base, world);
+            add_normals_and_tangents(prim, positions.count(), base, world, weights);
             if (std::vector<vec2> uvs = texture_coordinates(prim, "TEXCOORD_0", positions.count());
                 !uvs.empty()) {
                 mesh.uvs.resize(base);

@@ -101,11 +101,9 @@ void finish_mesh(Mesh& mesh, const JsonNode& node, Scene& scene, int material, i
     if (auto n = node.find("smooth")) mesh.smooth = n->as_bool();
     if (!mesh.smooth) {
         mesh.normals.clear();
-    } else {
-        bool usable = !mesh.normals.empty();
-        for (const vec3& n : mesh.normals) usable = usable && glm::length(n) > 0.0f;
-        if (!usable) compute_vertex_normals(mesh);
-    }
+    } else if (mesh.normals.empty()) {
+        compute_vertex_normals(mesh);
+    }  // a zero vertex normal (a glTF primitive without NORMAL) stays: the triangle's own
     if (material >= 0 || mesh.indices.empty()) {
         mesh.face_material.clear();
     } else if (mesh.face_material.empty()) {

@@ -19,7 +19,11 @@ std::vector<vec4> mesh_tangents(const Mesh& mesh) {
     const size_t n = mesh.positions.size();
     if (mesh.uvs.size() != n) return {};
     std::vector<vec3> tangent(n, vec3(0.0f)), bitangent(n, vec3(0.0f)), normal(n, vec3(0.0f));
-    const bool has_normals = mesh.normals.size() == n;
+    // A vertex without a normal (none given, or zero: a flat glTF primitive) takes the
+    // angle-weighted normal of its triangles.
+    const auto given = [&](size_t v) {
+        return mesh.normals.size() == n && glm::dot(mesh.normals[v], mesh.normals[v]) > 0.0f;
+    };
     for (size_t t = 0; t < mesh.triangle_count(); ++t) {
         const uint32_t* v = &mesh.indices[3 * t];
         const vec3 p[3] = {mesh.positions[v[0]], mesh.positions[v[1]], mesh.positions[v[2]]};
@@ -38,7 +42,7 @@ std::vector<vec4> mesh_tangents(const Mesh& mesh) {
         const vec3 unit_face_n = glm::normalize(face_n);
         for (int k = 0; k < 3; ++k) {
             const float angle = corner_angle(p[k], p[(k + 1) % 3], p[(k + 2) % 3]);
-            const vec3 nv = has_normals ? mesh.normals[v[k]] : unit_face_n;
+            const vec3 nv = given(v[k]) ? mesh.normals[v[k]] : unit_face_n;
             // Each gradient's part in the vertex's tangent plane, unit, weighted by the angle.
             auto in_plane = [&](vec3 d) {
                 const vec3 q = d - nv * glm::dot(nv, d);
@@ -47,12 +51,12 @@ std::vector<vec4> mesh_tangents(const Mesh& mesh) {
             };
             tangent[v[k]] += in_plane(dpdu);
             bitangent[v[k]] += in_plane(dpdv);
-            if (!has_normals) normal[v[k]] += angle * unit_face_n;
+            normal[v[k]] += angle * unit_face_n;
         }
     }
     std::vector<vec4> out(n, vec4(0.0f));
     for (size_t k = 0; k < n; ++k) {
-        vec3 nv = has_normals ? mesh.normals[k] : normal[k];
+        vec3 nv = given(k) ? mesh.normals[k] : normal[k];
         const float len = glm::length(nv);
         if (!(len > 0.0f)) continue;
         nv /= len;
