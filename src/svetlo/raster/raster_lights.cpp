@@ -1,5 +1,6 @@
 #include "svetlo/raster/raster_lights.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "svetlo/core/sampling.h"
@@ -52,11 +53,25 @@ Color unlit_point(const Bsdf& bsdf, const ShadingFrame& frame, vec3 wo, Color am
                   Color background, const ImageBasedLighting& environment) {
     Color L = emitted_and_ambient(bsdf, frame, ambient);
     if (environment.active()) {  // image-based lighting (image_based_lighting.h)
+        // A clear coat (bsdf.cpp's layering): its own lobe of F0 0.04 about its own normal,
+        // by the split sum too, and the base's light seen through it, times 1 - coat F_c at
+        // the viewer's angle.
+        float through = 1.0f;
+        if (bsdf.model == Bsdf::Model::CookTorrance && bsdf.coat > 0.0f) {
+            const vec3 nc = has_coat_normal(bsdf) ? bsdf.coat_normal : frame.ns;
+            const float cos_oc = std::clamp(glm::dot(nc, wo), 0.0f, 1.0f);
+            through = under_coat(bsdf, cos_oc);
+            L += bsdf.occlusion * bsdf.coat *
+                 environment.glossy(reflect(wo, nc), cos_oc, std::sqrt(bsdf.coat_alpha),
+                                    Color(0.04f));
+        }
         if (bsdf.has_lobes())
-            L += bsdf.diffuse * kInvPi * bsdf.occlusion * environment.irradiance(frame.ns);
+            L +=
+                through * bsdf.diffuse * kInvPi * bsdf.occlusion * environment.irradiance(frame.ns);
         if (bsdf.model == Bsdf::Model::CookTorrance)  // the glossy part: split sum
-            L += bsdf.occlusion * environment.glossy(reflect(wo, frame.ns), glm::dot(frame.ns, wo),
-                                                     std::sqrt(bsdf.alpha), bsdf.specular);
+            L += through * bsdf.occlusion *
+                 environment.glossy(reflect(wo, frame.ns), glm::dot(frame.ns, wo),
+                                    std::sqrt(bsdf.alpha), bsdf.specular);
         if (bsdf.model == Bsdf::Model::Mirror)
             L += bsdf.reflect * environment.environment().radiance(reflect(wo, frame.ns));
         if (bsdf.model == Bsdf::Model::Dielectric) L += environment.environment().radiance(-wo);
