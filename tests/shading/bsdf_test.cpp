@@ -159,6 +159,32 @@ TEST(CookTorrance, DielectricDiffuseAtNormalIncidenceAndEnergyBound) {
 
 // colour_sources names where make_bsdf takes a lambert or phong material's three colours
 // (the rasterizer's runs evaluate them at once), and declines the other materials.
+TEST(CookTorrance, GgxsPeakKeepsItsDigitsAtTheSmoothestAlpha) {
+    // Half vectors within a few alpha of the normal, in float as a renderer has them, for the
+    // smoothest alpha svetlo draws: D from the cosine and the squared sine across the normal
+    // against the double-precision closed form. (From 1 - cos^2 it was off by tens of
+    // percent here, and the path tracer's smooth reflections 11 % too bright.)
+    const float alpha = kSmoothAlpha;
+    for (int k = 0; k <= 40; ++k) {
+        const double theta = 0.1 * k * alpha;
+        const vec3 h = glm::normalize(vec3(std::sin(theta), 0.0, std::cos(theta)));
+        const double c = std::cos(theta), s2 = square(std::sin(theta)), a2 = double(alpha) * alpha;
+        const double exact = a2 / (kPi * square(a2 * c * c + s2));
+        EXPECT_NEAR(ggx_d(h.z, h.x * h.x + h.y * h.y, alpha) / exact, 1.0, 1e-3) << theta;
+        // eval_bsdf's lobe, whose half vector is made from wo and wi: wo straight up, wi its
+        // mirror about h; against D V F with the same exact D.
+        Bsdf b;
+        b.model = Bsdf::Model::CookTorrance;
+        b.specular = Color(1.0f);  // F = 1 at every angle
+        b.alpha = alpha;
+        const vec3 wo(0.0f, 0.0f, 1.0f), wi = reflect(wo, h);
+        const double ci = wi.z, co = 1.0;
+        const double vis = 0.5 / (ci * std::sqrt(co * co * (1 - a2) + a2) +
+                                  co * std::sqrt(ci * ci * (1 - a2) + a2));
+        EXPECT_NEAR(eval_bsdf(b, kN, wo, wi).r / (exact * vis), 1.0, 2e-3) << theta;
+    }
+}
+
 TEST(Bsdf, ColourSourcesAreWhereMakeBsdfTakesItsColours) {
     ColorSource checker;
     checker.kind = ColorSource::Kind::Checker;

@@ -242,6 +242,38 @@ TEST_F(GltfTextures, IorTransmissionVolumeAndClearcoatAreRead) {
     EXPECT_FALSE(std::get<CookTorranceMaterial>(f.materials[0].model).clearcoat_normal.present());
 }
 
+TEST_F(GltfTextures, SpecularStrengthIsTheTexturesAlphaAndItsColourTintsF0InSrgb) {
+    // RGBA texels: left (255, 0, 0) alpha 0, right (0, 128, 255) alpha 200.
+    const unsigned char texels[8] = {255, 0, 0, 0, 0, 128, 255, 200};
+    ASSERT_NE(stbi_write_png((dir / "tex.png").c_str(), 2, 1, 4, texels, 8), 0);
+    const json ext = {{"KHR_materials_specular",
+                       {{"specularFactor", 0.5},
+                        {"specularTexture", {{"index", 0}}},
+                        {"specularColorFactor", {2.0, 1.0, 1.0}},
+                        {"specularColorTexture", {{"index", 0}}}}}};
+    const MeshFile f =
+        read({{"extensions", ext}, {"pbrMetallicRoughness", {{"metallicFactor", 0}}}},
+             {{"extensionsUsed", {"KHR_materials_specular"}}});
+    EXPECT_TRUE(f.warnings.empty());
+    // Right texel: strength 0.5 x 200/255; tint (2 x 0, 128 in sRGB, 1); F0 = 0.04 tint x
+    // strength; F90 = strength.
+    const Bsdf b = make_bsdf(f.materials[0], vec2(0.75f, 0.5f), f.textures);
+    const float s = 0.5f * 200.0f / 255.0f;
+    EXPECT_NEAR(b.f90, s, 1e-6f);
+    EXPECT_NEAR(b.specular.r, 0.0f, 1e-7f);
+    EXPECT_NEAR(b.specular.g, 0.04f * 0.2158605f * s, 1e-6f);
+    EXPECT_NEAR(b.specular.b, 0.04f * s, 1e-6f);
+    // Left texel: alpha 0, no specular at all: F = 0 at every angle, the diffuse part whole.
+    const Bsdf left = make_bsdf(f.materials[0], vec2(0.25f, 0.5f), f.textures);
+    EXPECT_EQ(left.f90, 0.0f);
+    EXPECT_EQ(specular_fresnel(left, 0.1f), Color(0.0f));
+    // Without the extension: F0 0.04, F90 1.
+    const MeshFile dielectric = read({{"pbrMetallicRoughness", {{"metallicFactor", 0}}}});
+    const Bsdf plain = make_bsdf(dielectric.materials[0], vec2(0.5f), dielectric.textures);
+    EXPECT_NEAR(plain.specular.g, 0.04f, 1e-7f);
+    EXPECT_EQ(plain.f90, 1.0f);
+}
+
 TEST_F(GltfTextures, TheClearcoatsNormalTextureIsItsOwnLinearWithItsScale) {
     const json ext = {
         {"KHR_materials_clearcoat",

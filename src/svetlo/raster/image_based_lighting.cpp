@@ -72,9 +72,10 @@ ImageBasedLighting::ImageBasedLighting(const Scene& scene, int threads, IblCache
     made_ = cache ? cache->of(scene, threads) : make_image_based_lighting(scene, threads);
 }
 
-Color ImageBasedLighting::glossy(vec3 r, float n_dot_v, float roughness, Color f0) const {
+Color ImageBasedLighting::glossy(vec3 r, float n_dot_v, float roughness, Color f0,
+                                 float f90) const {
     const vec2 ab = made_.table->at(n_dot_v, roughness);
-    return made_.prefiltered->radiance(r, roughness) * (f0 * ab.x + Color(ab.y));
+    return made_.prefiltered->radiance(r, roughness) * (f0 * ab.x + Color(f90 * ab.y));
 }
 
 Color ImageBasedLighting::irradiance(vec3 n) const {

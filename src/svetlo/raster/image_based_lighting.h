@@ -77,9 +77,9 @@ public:
     /// The irradiance (W/m^2) on a surface of unit normal n, from the SH coefficients.
     Color irradiance(vec3 n) const;
     /// The glossy radiance a Cook-Torrance lobe of perceptual `roughness` and Fresnel F0
-    /// `f0` reflects toward the viewer: the prefiltered map about the mirror direction r
-    /// times F0 A + B at n.v (split_sum.h).
-    Color glossy(vec3 r, float n_dot_v, float roughness, Color f0) const;
+    /// `f0` (F90 `f90`) reflects toward the viewer: the prefiltered map about the mirror
+    /// direction r times F0 A + F90 B at n.v (split_sum.h).
+    Color glossy(vec3 r, float n_dot_v, float roughness, Color f0, float f90 = 1.0f) const;
 
     /// The map seen along the camera ray through the sample at (sx, sy) (pixels times
     /// kSubpixel) of the film `rays` describe.

@@ -71,7 +71,7 @@ Color unlit_point(const Bsdf& bsdf, const ShadingFrame& frame, vec3 wo, Color am
         if (bsdf.model == Bsdf::Model::CookTorrance)  // the glossy part: split sum
             L += through * bsdf.occlusion *
                  environment.glossy(reflect(wo, frame.ns), glm::dot(frame.ns, wo),
-                                    std::sqrt(bsdf.alpha), bsdf.specular);
+                                    std::sqrt(bsdf.alpha), bsdf.specular, bsdf.f90);
         if (bsdf.model == Bsdf::Model::Mirror)
             L += bsdf.reflect * environment.environment().radiance(reflect(wo, frame.ns));
         if (bsdf.model == Bsdf::Model::Dielectric) L += environment.environment().radiance(-wo);

@@ -57,15 +57,16 @@ public:
     }
 
     /// The same for a texture reference inside an extension (a JSON object with `index`,
-    /// `texCoord` and KHR_texture_transform), linear data.
-    ColorSource source(const tinygltf::Value& ref, Color factor, const std::string& what) {
+    /// `texCoord` and KHR_texture_transform), linear data unless `meaning` says otherwise.
+    ColorSource source(const tinygltf::Value& ref, Color factor, const std::string& what,
+                       TexelMeaning meaning = TexelMeaning::Linear) {
         const int index = ref.Has("index") ? ref.Get("index").GetNumberAsInt() : -1;
         const int set = ref.Has("texCoord") ? ref.Get("texCoord").GetNumberAsInt() : 0;
         tinygltf::ExtensionMap extensions;
         if (ref.Has("extensions") && ref.Get("extensions").Has("KHR_texture_transform"))
             extensions["KHR_texture_transform"] =
                 ref.Get("extensions").Get("KHR_texture_transform");
-        return source(index, set, extensions, factor, TexelMeaning::Linear, what);
+        return source(index, set, extensions, factor, meaning, what);
     }
 
 private:
@@ -217,6 +218,31 @@ ColorSource factor_texture(const tinygltf::Value& ext, Color factor, const char*
     return textures.source(ext.Get(texture_key), factor, name + " " + texture_key);
 }
 
+/// KHR_materials_specular: `specularFactor` (1) times `specularTexture`'s alpha channel, the
+/// dielectric's specular strength; `specularColorFactor` (white, each channel >= 0) times
+/// `specularColorTexture` (sRGB), its F0's tint.
+void read_specular(const tinygltf::Value& ext, GltfTextures& textures, const std::string& name,
+                   CookTorranceMaterial& ct) {
+    const Color strength =
+        ext.Has("specularFactor") ? unit_factor(ext, "specularFactor", name) : Color(1.0f);
+    ct.specular = ColorSource::constant(strength);
+    if (ext.Has("specularTexture") && !is_black(strength))
+        ct.specular = textures.source(ext.Get("specularTexture"), strength,
+                                      name + " specularTexture", TexelMeaning::Coverage);
+    Color tint(1.0f);
+    if (ext.Has("specularColorFactor")) {
+        const tinygltf::Value& c = ext.Get("specularColorFactor");
+        if (!c.IsArray() || c.ArrayLen() != 3)
+            throw std::runtime_error(name + " specularColorFactor must be 3 numbers");
+        tint = file_color(c.Get(0).GetNumberAsDouble(), c.Get(1).GetNumberAsDouble(),
+                          c.Get(2).GetNumberAsDouble(), name + " specularColorFactor");
+    }
+    ct.specular_color = ColorSource::constant(tint);
+    if (ext.Has("specularColorTexture") && !is_black(tint))
+        ct.specular_color = textures.source(ext.Get("specularColorTexture"), tint,
+                                            name + " specularColorTexture", TexelMeaning::Srgb);
+}
+
 /// KHR_materials_ior, _transmission (its texture's red channel), _clearcoat (strength red,
 /// roughness green, and its own normal map: without one the coat is not normal-mapped) and
 /// _volume (the inside's absorption; its thickness, for rasterizers that fake the inside, is
@@ -268,6 +294,8 @@ void read_extensions(const tinygltf::Material& m, GltfTextures& textures, const 
                 throw std::runtime_error(name + " attenuationColor must lie in [0, 1]");
         }
     }
+    if (auto sp = m.extensions.find("KHR_materials_specular"); sp != m.extensions.end())
+        read_specular(sp->second, textures, name, ct);
 }
 
 /// Emission on the metallic-roughness surface (the material's `emission`): emissiveFactor

@@ -98,7 +98,8 @@ MaterialModel parse_model(const JsonNode& node, Scene& scene, FileCache& files) 
         node.expect_object({"type", "base_color", "roughness", "metallic", "metallic_roughness",
                             "occlusion", "occlusion_strength", "ior", "transmission",
                             "attenuation_color", "attenuation_distance", "clearcoat",
-                            "clearcoat_roughness", "clearcoat_normal_map"});
+                            "clearcoat_roughness", "clearcoat_normal_map", "specular",
+                            "specular_color"});
         CookTorranceMaterial m;
         m.base_color = optional_color(node, "base_color", Color(0.8f), scene, files);
         m.roughness = roughness_like(node, "roughness", 0.5f);
@@ -123,6 +124,15 @@ MaterialModel parse_model(const JsonNode& node, Scene& scene, FileCache& files) 
             m.clearcoat_roughness = parse_color_source(*n, scene, files, false);
         if (auto n = node.find("clearcoat_normal_map"))  // the coat's own, as normal_map
             m.clearcoat_normal = parse_normal_map(*n, scene, files);
+        // The specular strength: a share, or a texture read as coverage (its alpha channel,
+        // else its one channel: glTF's specularTexture); its F0 tint a colour (sRGB).
+        if (auto n = node.find("specular")) {
+            m.specular = n->is_object()
+                             ? parse_image_source(*n, scene, files, TexelMeaning::Coverage)
+                             : ColorSource::constant(Color(n->as_in_range(0.0, 1.0)));
+        }
+        if (auto n = node.find("specular_color"))
+            m.specular_color = parse_color_source(*n, scene, files);
         return m;
     }
     if (type == "mirror") {

@@ -115,6 +115,10 @@ struct CookTorranceMaterial {
     // glTF's KHR_materials_ior: the dielectric's index of refraction, which sets its F0,
     // ((ior - 1) / (ior + 1))^2 (0.04 at 1.5), and the refraction of its transmission.
     float ior = 1.5f;
+    // KHR_materials_specular: the dielectric's specular strength (red channel; it scales
+    // F0 and sets F90) and its F0's tint (F0 = min(F0(ior) tint, 1) strength).
+    ColorSource specular = ColorSource::constant(Color(1.0f));
+    ColorSource specular_color = ColorSource::constant(Color(1.0f));
     // KHR_materials_transmission: the share of the dielectric's diffuse part that is
     // transmitted instead, as ideal refraction through a smooth interface (its red channel).
     ColorSource transmission = ColorSource::constant(Color(0.0f));

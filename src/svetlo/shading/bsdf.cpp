@@ -63,7 +63,17 @@ struct BsdfMaker {
                 b.absorption[k] =
                     -std::log(std::max(m.attenuation_color[k], 1e-30f)) / m.attenuation_distance;
         const float f0 = square((m.ior - 1.0f) / (m.ior + 1.0f));  // 0.04 at ior 1.5
-        b.specular = glm::mix(Color(f0), base, metallic);
+        // KHR_materials_specular: the dielectric's F0 tinted (at most 1) and scaled by its
+        // strength s, which is also its F90; a metal's F0 is its base colour, its F90 1.
+        Color dielectric_f0(f0);
+        float strength = 1.0f;
+        if (m.specular.varies() || m.specular.value.r != 1.0f)
+            strength = std::clamp(c(m.specular).r, 0.0f, 1.0f);
+        if (m.specular_color.varies() || m.specular_color.value != Color(1.0f))
+            dielectric_f0 =
+                glm::min(dielectric_f0 * glm::max(c(m.specular_color), Color(0.0f)), Color(1.0f));
+        b.specular = glm::mix(dielectric_f0 * strength, base, metallic);
+        b.f90 = glm::mix(strength, 1.0f, metallic);
         if (m.has_coat()) {
             b.coat = std::clamp(c(m.clearcoat).r, 0.0f, 1.0f);
             b.coat_alpha =
@@ -147,10 +157,11 @@ Bsdf make_bsdf(const Material& material, const Varyings& at, const TextureLookup
 namespace {
 
 /// GGX D times the height-correlated Smith visibility, D V (the specular lobe without its
-/// Fresnel), for n.h, n.wi and n.wo.
-float ggx_specular(float nh, float cos_i, float cos_o, float alpha) {
+/// Fresnel), for the unit normal n and half vector h, n.wi and n.wo.
+float ggx_specular(vec3 n, vec3 h, float cos_i, float cos_o, float alpha) {
     const float a2 = alpha * alpha;
-    const float d = a2 / (kPi * square(nh * nh * (a2 - 1.0f) + 1.0f));
+    const vec3 across = glm::cross(n, h);
+    const float d = ggx_d(std::max(0.0f, glm::dot(n, h)), glm::dot(across, across), alpha);
     const float vis = 0.5f / (cos_i * std::sqrt(cos_o * cos_o * (1.0f - a2) + a2) +
                               cos_o * std::sqrt(cos_i * cos_i * (1.0f - a2) + a2));
     return d * vis;
@@ -198,11 +209,10 @@ Color eval_bsdf(const Bsdf& b, vec3 n, vec3 wo, vec3 wi) {
         }
         case Bsdf::Model::CookTorrance: {
             vec3 h = glm::normalize(wi + wo);
-            float nh = std::max(0.0f, glm::dot(n, h));
             float vh = std::max(0.0f, glm::dot(wo, h));
-            Color f = fresnel_schlick(b.specular, vh);
+            Color f = specular_fresnel(b, vh);
             const Color base = (Color(1.0f) - f) * b.diffuse * kInvPi +
-                               f * ggx_specular(nh, cos_i, cos_o, b.alpha);
+                               f * ggx_specular(n, h, cos_i, cos_o, b.alpha);
             if (b.coat <= 0.0f) return base;
             // The coat (glTF's KHR_materials_clearcoat): the base seen through it, less what
             // it reflects at the viewer's angle, plus its own GGX lobe of F0 0.04, about the
@@ -211,9 +221,8 @@ Color eval_bsdf(const Bsdf& b, vec3 n, vec3 wo, vec3 wi) {
             const float cos_oc = glm::dot(nc, wo), cos_ic = glm::dot(nc, wi);
             const Color seen = base * under_coat(b, std::clamp(cos_oc, 0.0f, 1.0f));
             if (cos_oc <= 0.0f || cos_ic <= 0.0f) return seen;
-            const float nhc = std::max(0.0f, glm::dot(nc, h));
             return seen + Color(b.coat * coat_fresnel(vh) *
-                                ggx_specular(nhc, cos_ic, cos_oc, b.coat_alpha));
+                                ggx_specular(nc, h, cos_ic, cos_oc, b.coat_alpha));
         }
         case Bsdf::Model::Mirror:
         case Bsdf::Model::Dielectric:

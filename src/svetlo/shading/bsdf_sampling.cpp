@@ -32,7 +32,7 @@ LobeChoice lobe_choice(const Bsdf& b, float cos_o) {
             break;
         case Bsdf::Model::CookTorrance: {
             // The specular share at this angle (Schlick's Fresnel), against the diffuse.
-            Color f = fresnel_schlick(b.specular, cos_o);
+            Color f = specular_fresnel(b, cos_o);
             const float under = under_coat(b, cos_o);
             c.glossy = luminance(f) * under;
             c.diffuse = luminance((Color(1.0f) - f) * b.diffuse) * under;
@@ -69,11 +69,7 @@ float power_cosine_pdf(float cos_t, float n) {
     return cos_t <= 0.0f ? 0.0f : (n + 1.0f) / (2.0f * kPi) * std::pow(cos_t, n);
 }
 
-/// GGX: the distribution D(h) and Smith's G1 for a direction with cosine `c` to the normal.
-float ggx_d(float cos_h, float alpha) {
-    float a2 = alpha * alpha;
-    return a2 / (kPi * square(cos_h * cos_h * (a2 - 1.0f) + 1.0f));
-}
+/// GGX: Smith's G1 for a direction with cosine `c` to the normal (D is ggx_d, bsdf.h).
 float ggx_g1(float c, float alpha) {
     float a2 = alpha * alpha;
     return 2.0f * c / (c + std::sqrt(a2 + (1.0f - a2) * c * c));
@@ -111,7 +107,7 @@ vec3 sample_ggx_visible(vec3 wo, float alpha, vec2 u) {
 float ggx_reflection_pdf(vec3 wo, vec3 wi, float alpha) {
     vec3 h = glm::normalize(wo + wi);
     if (h.z <= 0.0f || glm::dot(wo, h) <= 0.0f) return 0.0f;
-    return ggx_g1(wo.z, alpha) * ggx_d(h.z, alpha) / (4.0f * wo.z);
+    return ggx_g1(wo.z, alpha) * ggx_d(h.z, h.x * h.x + h.y * h.y, alpha) / (4.0f * wo.z);
 }
 
 /// pdf per steradian of the glossy lobe drawing wi (local space, both above the surface).
@@ -198,9 +194,9 @@ void transmitted_local(const Bsdf& b, vec3 lo, vec3 li, float eta, float chosen,
     const TransmittedPath p = transmitted_path(lo, li, eta);
     if (!p.valid || lo.z <= 0.0f || li.z == 0.0f) return;
     const float om = glm::dot(lo, p.m), im = std::abs(glm::dot(li, p.m));
-    const float d = ggx_d(p.m.z, b.alpha), g = ggx_g2(lo.z, li.z, b.alpha);
-    const Color t =
-        b.transmit * (Color(1.0f) - fresnel_schlick(b.specular, om)) * under_coat(b, lo.z);
+    const float d = ggx_d(p.m.z, p.m.x * p.m.x + p.m.y * p.m.y, b.alpha),
+                g = ggx_g2(lo.z, li.z, b.alpha);
+    const Color t = b.transmit * (Color(1.0f) - specular_fresnel(b, om)) * under_coat(b, lo.z);
     const float visible = ggx_g1(lo.z, b.alpha) * d * om / lo.z;  // visible normals' density
     if (p.refracted) {
         const float denom = square(glm::dot(li, p.m) + om / eta);
@@ -230,8 +226,7 @@ BsdfSample sample_rough_transmission(const Bsdf& b, const Frame& frame, vec3 lo,
     if (refracted ? li.z >= 0.0f : li.z <= 0.0f) return s;  // a microfacet sends it back: lost
     const float om = glm::dot(lo, m);
     if (!(om > 0.0f)) return s;
-    const Color t =
-        b.transmit * (Color(1.0f) - fresnel_schlick(b.specular, om)) * under_coat(b, lo.z);
+    const Color t = b.transmit * (Color(1.0f) - specular_fresnel(b, om)) * under_coat(b, lo.z);
     s.wi = frame.to_world(li);
     s.weight = t * (ggx_g2(lo.z, li.z, b.alpha) / (ggx_g1(lo.z, b.alpha) * chosen));
     transmitted_local(b, lo, li, eta, chosen, s.f, s.pdf);
