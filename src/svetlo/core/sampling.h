@@ -74,4 +74,21 @@ inline vec2 stratified_sample(int index, int count, vec2 u) {
     return vec2((static_cast<float>(index) + u.x) / static_cast<float>(count), u.y);
 }
 
+/// Multiple importance sampling (Veach and Guibas 1995): the power heuristic (beta = 2) for a
+/// sample of the strategy with pdf `a` against the other's `b`, pdfs already multiplied by their
+/// strategies' sample counts: a^2 / (a^2 + b^2), computed from the ratio of the smaller to the
+/// larger, so that pdfs past 1e19 (a point at the horizon of an infinite plane sampling a light
+/// edge-on) do not overflow to inf / inf.
+inline float power_heuristic(float a, float b) {
+    if (!(a > 0.0f)) return 0.0f;
+    if (!(b > 0.0f)) return 1.0f;
+    if (a == b) return 0.5f;  // infinite pdfs included
+    if (a > b) {
+        float r = b / a;
+        return 1.0f / (1.0f + r * r);
+    }
+    float r = a / b;
+    return r * r / (1.0f + r * r);
+}
+
 }  // namespace svetlo

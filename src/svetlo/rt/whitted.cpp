@@ -163,21 +163,35 @@ private:
 
 private:
     /// The environment map as a light (docs/whitted.md): render.light_samples directions drawn
-    /// by the map's importance, stratified, each with its shadow ray; f L cos / pdf averaged.
+    /// by the map's importance and as many by the BSDF, stratified, each with its shadow ray,
+    /// combined by the power heuristic (Veach and Guibas 1995): the map's importance finds its
+    /// bright texels, the BSDF's a glossy lobe's narrow peak, which the map's alone found
+    /// once in many thousand draws (a smooth surface's reflection was fireflies).
     Color environment_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame, vec3 wo,
                             Rng& rng) {
         const Environment& env = rt_.environment();
         const int n = std::max(1, scene_.render.light_samples);
+        // Whether the map is seen toward wi: above both normals and not shadowed.
+        const auto reaches = [&](vec3 wi) {
+            if (glm::dot(frame.ns, wi) <= 0.0f || glm::dot(frame.ng, wi) <= 0.0f) return false;
+            ++rays;
+            return !rt_.occluded(Ray{offset_ray_origin(p, frame.ng, wi), wi, kInfinity});
+        };
         Color sum(0.0f);
         for (int k = 0; k < n; ++k) {
             const EnvironmentSample s = env.sample(stratified_sample(k, n, rng.next_2d()));
-            const float cos_theta = glm::dot(frame.ns, s.wi);
-            if (!(s.pdf > 0.0f) || cos_theta <= 0.0f || glm::dot(frame.ng, s.wi) <= 0.0f) continue;
-            const Color f = eval_bsdf(bsdf, frame.ns, wo, s.wi);
-            if (is_black(f)) continue;
-            ++rays;
-            if (rt_.occluded(Ray{offset_ray_origin(p, frame.ng, s.wi), s.wi, kInfinity})) continue;
-            sum += f * s.radiance * (cos_theta / s.pdf);
+            if (s.pdf > 0.0f) {
+                const Color f = eval_bsdf(bsdf, frame.ns, wo, s.wi);
+                if (!is_black(f) && reaches(s.wi))
+                    sum += f * s.radiance *
+                           (glm::dot(frame.ns, s.wi) / s.pdf *
+                            power_heuristic(s.pdf, pdf_bsdf(bsdf, frame.ns, wo, s.wi)));
+            }
+            // The ideal parts (mirror, refraction) are the recursion's: only the lobes here.
+            const vec2 u = stratified_sample(k, n, rng.next_2d());
+            const BsdfSample b = sample_bsdf(bsdf, frame.ns, wo, frame.front, u, rng.next_float());
+            if (b.valid() && !b.delta && reaches(b.wi))
+                sum += b.weight * env.radiance(b.wi) * power_heuristic(b.pdf, env.pdf(b.wi));
         }
         return sum / static_cast<float>(n);
     }
