@@ -309,6 +309,77 @@ TEST(Environment, TheSamplersDensityIntegratesToOneAndMatchesItsDraws) {
     EXPECT_GT(sun, 400);  // the sun's share of the power, drawn as often
 }
 
+TEST(Environment, TheCompensatedDensityDrawsOnlyWhereTheMapIsAboveItsMean) {
+    // A sky of 2 above a horizon band and 0.1 below, the band's rows (j < 12) bright: the
+    // compensated density integrates to 1 over the sphere, is zero where the map lies below its
+    // mean and matches each draw; every draw lands above the mean (the importance density draws
+    // the dim rows too). A uniform map keeps the importance density.
+    const int w = 64, h = 32;
+    const std::string map =
+        write_map("step", w, h, [&](int, int j) { return Color(j < 12 ? 2.0f : 0.1f); });
+    Scene scene;
+    scene.textures.push_back(read_texture(map, false, kMaxTextureBytes, "map"));
+    scene.environment = EnvironmentSettings{0, Color(1.0f), 0.0f};
+    const Environment env(scene);
+    const EnvironmentDensity c = EnvironmentDensity::Compensated;
+    double integral = 0.0;
+    const int n = 400;
+    for (int a = 0; a < n; ++a) {
+        for (int b = 0; b < 2 * n; ++b) {
+            const float lat = kPi * ((a + 0.5f) / n - 0.5f), phi = 2 * kPi * (b + 0.5f) / (2 * n);
+            const vec3 d(std::cos(lat) * std::sin(phi), std::sin(lat),
+                         std::cos(lat) * std::cos(phi));
+            integral += env.pdf(d, c) * std::cos(lat) * (kPi / n) * (kPi / n);
+            if (lat < -0.2f) EXPECT_EQ(env.pdf(d, c), 0.0f) << lat;  // well below the band
+        }
+    }
+    EXPECT_NEAR(integral, 1.0, 0.01);
+    Rng rng(5, 0);
+    int dim = 0, dim_by_importance = 0;
+    for (int k = 0; k < 2000; ++k) {
+        const vec2 u = rng.next_2d();
+        const EnvironmentSample s = env.sample(u, c);
+        ASSERT_GT(s.pdf, 0.0f);
+        EXPECT_NEAR(s.pdf, env.pdf(s.wi, c), 1e-3f * s.pdf);
+        dim += max_component(s.radiance) < 1.0f;
+        dim_by_importance += max_component(env.sample(u).radiance) < 1.0f;
+    }
+    EXPECT_EQ(dim, 0);
+    EXPECT_GT(dim_by_importance, 10);
+    const std::string flat = write_map("flat", w, h, [](int, int) { return Color(1.0f); });
+    scene.textures[0] = read_texture(flat, false, kMaxTextureBytes, "map");
+    const Environment uniform(scene);
+    const vec3 d = glm::normalize(vec3(0.3f, 0.4f, -0.5f));
+    EXPECT_GT(uniform.pdf(d), 0.0f);
+    EXPECT_EQ(uniform.pdf(d, c), uniform.pdf(d));
+}
+
+TEST(Environment, CompensatedMisAgreesWithTheMapsImportanceAlone) {
+    // A diffuse sphere under a sky bright above 22.5 degrees of elevation and dim below: the
+    // path tracer's MIS (the map's compensated density beside the BSDF's draws, zero below the
+    // mean) and its light samples alone (the importance density) estimate the same radiance,
+    // at the top and on the side; Whitted's MIS too.
+    const std::string map =
+        write_map("step_sphere", 32, 16, [&](int, int j) { return Color(j < 6 ? 2.0f : 0.1f); });
+    json j =
+        scene_with(map, "path",
+                   {{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1}, {"material", "m"}}},
+                   {{"position", {0, 0, 5}}, {"look_at", {0, 0, 0}}, {"fov", 30}});
+    j["render"]["spp"] = 2048;
+    const Image mis = render<PathRenderer>(j);
+    j["render"]["mis"] = "light";
+    const Image alone = render<PathRenderer>(j);
+    j["render"].erase("mis");
+    j["render"]["engine"] = "whitted";
+    j["render"]["spp"] = 256;
+    const Image whitted = render<WhittedRenderer>(j);
+    for (const auto& [x0, y0] : {std::pair{10, 4}, std::pair{10, 10}, std::pair{4, 10}}) {
+        const double a = mean(alone, x0, y0, x0 + 4, y0 + 3);
+        EXPECT_NEAR(mean(mis, x0, y0, x0 + 4, y0 + 3), a, 0.01 * a) << x0 << ", " << y0;
+        EXPECT_NEAR(mean(whitted, x0, y0, x0 + 4, y0 + 3), a, 0.01 * a) << x0 << ", " << y0;
+    }
+}
+
 TEST(Environment, TheDensityFollowsTheMeanRadianceOfEachCell) {
     // One bright texel on black: a draw lands in the texel's own cell, where the bilinear
     // radiance is highest, with the cell's share of the mean radiance, (3/4)^2 = 0.5625 of the

@@ -66,7 +66,9 @@ PathIntegrator::PathIntegrator(const RtScene& rt, const LightSelection& selectio
       scene_(rt.scene()),
       wavelengths_(wavelengths),
       photons_(photons),
-      environment_(!rt.environment().is_black()) {}
+      environment_(!rt.environment().is_black()),
+      env_density_(rt.scene().render.mis == MisMode::Power ? EnvironmentDensity::Compensated
+                                                           : EnvironmentDensity::Importance) {}
 
 float PathIntegrator::emitter_weight(const Hit& hit, vec3 from, float pdf_bsdf, int light_samples,
                                      vec3 p, vec3 ng) const {
@@ -134,7 +136,7 @@ Color PathIntegrator::environment_light(const Bsdf& bsdf, vec3 p, const ShadingF
     float pdf;
     Color Le = scene_.render.background;
     if (env.is_map()) {
-        const EnvironmentSample s = env.sample(u);
+        const EnvironmentSample s = env.sample(u, env_density_);
         wi = s.wi;
         pdf = glm::dot(frame.ng, wi) > 0.0f ? s.pdf : 0.0f;
         Le = s.radiance;
@@ -164,8 +166,8 @@ Color PathIntegrator::environment_light(const Bsdf& bsdf, vec3 p, const ShadingF
     if (!environment_) return Color(0.0f);
     const Environment& env = rt_.environment();
     const Color Le = env.radiance(ray.d);
-    float pdf_env =
-        env.is_map() ? env.pdf(ray.d) : std::max(0.0f, glm::dot(prev.ng, ray.d)) * kInvPi;
+    float pdf_env = env.is_map() ? env.pdf(ray.d, env_density_)
+                                 : std::max(0.0f, glm::dot(prev.ng, ray.d)) * kInvPi;
     float w = prev.delta ? 1.0f : bsdf_weight(scene_.render.mis, prev.pdf, pdf_env);
     if (observer) observer->background(beta * Le * w, w);
     return beta * Le * w;

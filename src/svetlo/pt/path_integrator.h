@@ -95,6 +95,9 @@ private:
     const WavelengthWeights& wavelengths_;
     const CausticPhotons* photons_;
     bool environment_;  // the background is not black: it is a light
+    // The map's density for its light samples: compensated where MIS pairs them with the
+    // BSDF's draws (environment.h), its importance where they are alone.
+    EnvironmentDensity env_density_;
     GuidingField* guide_ = nullptr;
     bool train_ = false;
 

@@ -163,8 +163,9 @@ private:
 
 private:
     /// The environment map as a light (docs/whitted.md): render.light_samples directions drawn
-    /// by the map's importance and as many by the BSDF, stratified, each with its shadow ray,
-    /// combined by the power heuristic (Veach and Guibas 1995): the map's importance finds its
+    /// by the map's compensated importance (environment.h) and as many by the BSDF, stratified,
+    /// each with its shadow ray, combined by the power heuristic (Veach and Guibas 1995): the
+    /// map's importance finds its
     /// bright texels, the BSDF's a glossy lobe's narrow peak, which the map's alone found
     /// once in many thousand draws (a smooth surface's reflection was fireflies).
     Color environment_light(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame, vec3 wo,
@@ -179,7 +180,8 @@ private:
         };
         Color sum(0.0f);
         for (int k = 0; k < n; ++k) {
-            const EnvironmentSample s = env.sample(stratified_sample(k, n, rng.next_2d()));
+            const EnvironmentSample s =
+                env.sample(stratified_sample(k, n, rng.next_2d()), EnvironmentDensity::Compensated);
             if (s.pdf > 0.0f) {
                 const Color f = eval_bsdf(bsdf, frame.ns, wo, s.wi);
                 if (!is_black(f) && reaches(s.wi))
@@ -191,7 +193,8 @@ private:
             const vec2 u = stratified_sample(k, n, rng.next_2d());
             const BsdfSample b = sample_bsdf(bsdf, frame.ns, wo, frame.front, u, rng.next_float());
             if (b.valid() && !b.delta && reaches(b.wi))
-                sum += b.weight * env.radiance(b.wi) * power_heuristic(b.pdf, env.pdf(b.wi));
+                sum += b.weight * env.radiance(b.wi) *
+                       power_heuristic(b.pdf, env.pdf(b.wi, EnvironmentDensity::Compensated));
         }
         return sum / static_cast<float>(n);
     }

@@ -40,10 +40,11 @@ Environment::Environment(const Scene& scene, bool importance) {
         for (int i = 0; i < width_; ++i)
             lum[static_cast<size_t>(j) * width_ + i] = luminance(map_->texel(i, j) * scale_);
     constexpr float kTent[3] = {0.125f, 0.75f, 0.125f};
-    std::vector<double> weight(lum.size());
-    double total = 0.0;
+    std::vector<double> mean(lum.size()), sines(static_cast<size_t>(height_));
+    double total = 0.0, solid = 0.0;
     for (int j = 0; j < height_; ++j) {
         const double sin_theta = std::sin(kPi * (j + 0.5) / height_);
+        sines[static_cast<size_t>(j)] = sin_theta;
         for (int i = 0; i < width_; ++i) {
             float m = 0.0f;
             for (int dj = -1; dj <= 1; ++dj) {
@@ -53,35 +54,56 @@ Environment::Environment(const Scene& scene, bool importance) {
                     m += kTent[dj + 1] * kTent[di + 1] * lum[static_cast<size_t>(jj) * width_ + ii];
                 }
             }
-            weight[static_cast<size_t>(j) * width_ + i] = m * sin_theta;
+            mean[static_cast<size_t>(j) * width_ + i] = m;
             total += m * sin_theta;
+            solid += sin_theta;
         }
     }
     black_ = !(total > 0.0);
-    const double floor = total > 0.0 ? 1e-3 * total / static_cast<double>(weight.size()) : 1.0;
-    total = 0.0;
-    for (double& w : weight) total += (w += floor);
-    // p over [0,1]^2: a texel's probability times the texel count; the CDFs.
-    density_.resize(weight.size());
-    row_cdf_.assign(static_cast<size_t>(height_) + 1, 0.0f);
-    texel_cdf_.assign(static_cast<size_t>(height_) * (width_ + 1), 0.0f);
+    // The importance: each cell's mean luminance times sin(theta), plus a floor of 1e-3 of the
+    // mean weight.
+    const double floor = total > 0.0 ? 1e-3 * total / static_cast<double>(mean.size()) : 1.0;
+    std::vector<double> weight(mean.size());
+    for (size_t k = 0; k < mean.size(); ++k)
+        weight[k] = mean[k] * sines[k / static_cast<size_t>(width_)] + floor;
+    importance_ = Tables(weight, width_, height_);
+    // Compensated: the same less the luminance's mean over the sphere, clamped at zero.
+    const double average = total / solid;
+    double above = 0.0;
+    for (size_t k = 0; k < mean.size(); ++k) {
+        weight[k] = std::max(0.0, mean[k] - average) * sines[k / static_cast<size_t>(width_)];
+        above += weight[k];
+    }
+    compensated_ = above > 0.0 ? Tables(weight, width_, height_) : importance_;
+}
+
+Environment::Tables::Tables(const std::vector<double>& weight, int width, int height) {
+    double total = 0.0;
+    for (double w : weight) total += w;
+    // p over [0,1]^2: a texel's probability times the texel count; the CDFs. A row of no
+    // weight keeps an even CDF (never drawn: the row CDF gives it no width).
+    density.assign(weight.size(), 0.0f);
+    row_cdf.assign(static_cast<size_t>(height) + 1, 0.0f);
+    texel_cdf.assign(static_cast<size_t>(height) * (width + 1), 0.0f);
     double rows = 0.0;
-    for (int j = 0; j < height_; ++j) {
+    for (int j = 0; j < height; ++j) {
         double row = 0.0;
-        float* cdf = &texel_cdf_[static_cast<size_t>(j) * (width_ + 1)];
-        for (int i = 0; i < width_; ++i) {
-            const double w = weight[static_cast<size_t>(j) * width_ + i];
-            density_[static_cast<size_t>(j) * width_ + i] =
+        float* cdf = &texel_cdf[static_cast<size_t>(j) * (width + 1)];
+        for (int i = 0; i < width; ++i) {
+            const double w = weight[static_cast<size_t>(j) * width + i];
+            density[static_cast<size_t>(j) * width + i] =
                 static_cast<float>(w / total * static_cast<double>(weight.size()));
             row += w;
             cdf[i + 1] = static_cast<float>(row);
         }
-        for (int i = 1; i <= width_; ++i) cdf[i] = static_cast<float>(cdf[i] / row);
-        cdf[width_] = 1.0f;
+        for (int i = 1; i <= width; ++i)
+            cdf[i] = row > 0.0 ? static_cast<float>(cdf[i] / row)
+                               : static_cast<float>(i) / static_cast<float>(width);
+        cdf[width] = 1.0f;
         rows += row;
-        row_cdf_[static_cast<size_t>(j) + 1] = static_cast<float>(rows / total);
+        row_cdf[static_cast<size_t>(j) + 1] = static_cast<float>(rows / total);
     }
-    row_cdf_[static_cast<size_t>(height_)] = 1.0f;
+    row_cdf[static_cast<size_t>(height)] = 1.0f;
 }
 
 namespace {
@@ -170,13 +192,14 @@ Color Environment::bilinear(int i0, int j0, float ax, float ay) const {
     return c * scale_;
 }
 
-EnvironmentSample Environment::sample(vec2 u) const {
+EnvironmentSample Environment::sample(vec2 u, EnvironmentDensity which) const {
     EnvironmentSample s;
     if (!map_) return s;
-    const int j = find_cell(row_cdf_.data(), height_, u.y);
-    const float r0 = row_cdf_[static_cast<size_t>(j)], r1 = row_cdf_[static_cast<size_t>(j) + 1];
+    const Tables& t = tables(which);
+    const int j = find_cell(t.row_cdf.data(), height_, u.y);
+    const float r0 = t.row_cdf[static_cast<size_t>(j)], r1 = t.row_cdf[static_cast<size_t>(j) + 1];
     const float fy = r1 > r0 ? std::clamp((u.y - r0) / (r1 - r0), 0.0f, 0.99999994f) : 0.5f;
-    const float* cdf = &texel_cdf_[static_cast<size_t>(j) * (width_ + 1)];
+    const float* cdf = &t.texel_cdf[static_cast<size_t>(j) * (width_ + 1)];
     const int i = find_cell(cdf, width_, u.x);
     const float fx = cdf[i + 1] > cdf[i]
                          ? std::clamp((u.x - cdf[i]) / (cdf[i + 1] - cdf[i]), 0.0f, 0.99999994f)
@@ -185,19 +208,20 @@ EnvironmentSample Environment::sample(vec2 u) const {
     const float cos_lat = std::cos(kPi * (uv.y - 0.5f));
     if (!(cos_lat > 0.0f)) return s;
     s.wi = direction_of(uv);
-    s.pdf = density_[static_cast<size_t>(j) * width_ + i] / (2.0f * kPi * kPi * cos_lat);
+    s.pdf = t.density[static_cast<size_t>(j) * width_ + i] / (2.0f * kPi * kPi * cos_lat);
     s.radiance = radiance(s.wi);
     return s;
 }
 
-float Environment::pdf(vec3 d) const {
+float Environment::pdf(vec3 d, EnvironmentDensity which) const {
     if (!map_) return 0.0f;
     const vec2 uv = uv_of(d);
     const float cos_lat = std::cos(kPi * (uv.y - 0.5f));
     if (!(cos_lat > 0.0f)) return 0.0f;
     const int i = std::clamp(static_cast<int>(uv.x * width_), 0, width_ - 1);
     const int j = std::clamp(static_cast<int>((1.0f - uv.y) * height_), 0, height_ - 1);
-    return density_[static_cast<size_t>(j) * width_ + i] / (2.0f * kPi * kPi * cos_lat);
+    return tables(which).density[static_cast<size_t>(j) * width_ + i] /
+           (2.0f * kPi * kPi * cos_lat);
 }
 
 }  // namespace svetlo

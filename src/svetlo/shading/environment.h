@@ -15,6 +15,13 @@
 // (so that no direction with radiance has density zero), plus 1e-3 of the mean (no texel
 // has density zero). Drawn as a marginal over rows, then a conditional over the row's
 // texels; the density per steradian is p(u, v) / (2 pi^2 cos(latitude)).
+//
+// A strategy that multiple importance sampling pairs with the BSDF's draws from a second
+// density, the same weights less their mean over the sphere, clamped at zero (MIS
+// compensation: Karlik et al., "MIS Compensation: Optimizing Sampling Techniques in Multiple
+// Importance Sampling", SIGGRAPH Asia 2019; pbrt-v4's ImageInfiniteLight): where the map is
+// dimmer than its mean the BSDF's draws do well, and the map's are spent where it is bright.
+// A map with nothing above its mean (a uniform one) keeps the first density.
 #pragma once
 
 #include <vector>
@@ -23,6 +30,11 @@
 #include "svetlo/scene/scene.h"
 
 namespace svetlo {
+
+/// Which of the map's densities sample() and pdf() use: its importance, or the compensated
+/// one, for a strategy that MIS pairs with the BSDF's (zero where the map is dimmer than its
+/// mean: never alone).
+enum class EnvironmentDensity { Importance, Compensated };
 
 /// A direction drawn from the environment: its radiance and density per steradian.
 struct EnvironmentSample {
@@ -53,10 +65,11 @@ public:
     /// reads other maps of the same layout at the same place (the rasterizer's prefiltered levels).
     Color radiance_at(vec2 uv) const;
 
-    /// A direction by importance (map only), u in [0,1)^2.
-    EnvironmentSample sample(vec2 u) const;
-    /// The density per steradian with which sample() draws the unit direction d.
-    float pdf(vec3 d) const;
+    /// A direction by importance (map only), u in [0,1)^2, from the density `which`.
+    EnvironmentSample sample(vec2 u,
+                             EnvironmentDensity which = EnvironmentDensity::Importance) const;
+    /// The density per steradian with which sample(u, which) draws the unit direction d.
+    float pdf(vec3 d, EnvironmentDensity which = EnvironmentDensity::Importance) const;
 
     /// The world direction that reads the map at (u, v) (rotate applied), unit.
     vec3 direction_of(vec2 uv) const;
@@ -68,14 +81,25 @@ private:
     /// rows clamped), at (ax, ay) in [0, 1) past the first, times the scale.
     Color bilinear(int i0, int j0, float ax, float ay) const;
 
+    /// A piecewise-constant density over the texels, from one weight per texel (rows from
+    /// the top).
+    struct Tables {
+        std::vector<float> row_cdf;    // height + 1 entries, rows from the top
+        std::vector<float> texel_cdf;  // height x (width + 1)
+        std::vector<float> density;    // per texel: its probability x texel count (over [0,1]^2)
+        Tables() = default;
+        Tables(const std::vector<double>& weight, int width, int height);
+    };
+    const Tables& tables(EnvironmentDensity which) const {
+        return which == EnvironmentDensity::Compensated ? compensated_ : importance_;
+    }
+
     const TextureImage* map_ = nullptr;
     Color scale_{1.0f}, uniform_{0.0f};
     float cos_rot_ = 1.0f, sin_rot_ = 0.0f;
     bool black_ = true;
     int width_ = 0, height_ = 0;
-    std::vector<float> row_cdf_;    // height_ + 1 entries, rows from the top
-    std::vector<float> texel_cdf_;  // height_ x (width_ + 1)
-    std::vector<float> density_;    // per texel: its probability x texel count (p over [0,1]^2)
+    Tables importance_, compensated_;
 };
 
 }  // namespace svetlo
