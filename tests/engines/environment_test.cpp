@@ -72,6 +72,18 @@ void in_every_engine(json j, Check check) {
     check("radiosity", render<RadiosityRenderer>(j));
 }
 
+/// A unit sphere of material "m" seen head-on from 5 units with a 20 degree field, under a
+/// uniform map of radiance 2 written as `name`, `spp` samples a pixel.
+json sphere_under_uniform_map(const std::string& name, int spp) {
+    const std::string map = write_map(name, 16, 8, [](int, int) { return Color(2.0f); });
+    json j =
+        scene_with(map, "path",
+                   {{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1}, {"material", "m"}}},
+                   {{"position", {0, 0, 5}}, {"look_at", {0, 0, 0}}, {"fov", 20}});
+    j["render"]["spp"] = spp;
+    return j;
+}
+
 TEST(Environment, ADiffuseSphereUnderAUniformMapShowsAlbedoTimesL) {
     const std::string map = write_map("uniform", 16, 8, [](int, int) { return Color(2.0f); });
     const json j =
@@ -89,17 +101,12 @@ TEST(Environment, TheRastersSplitSumGivesAGlossyMetalThePathTracersRadiance) {
     // A metal sphere (F0 = base = 1) under a uniform map of 2: every point reflects 2 E(n.v),
     // E the GGX lobe's directional albedo; the path tracer integrates it (the sphere is
     // convex: every reflected ray leaves), the rasterizer reads it from its split-sum table.
-    const std::string map = write_map("uniform_metal", 16, 8, [](int, int) { return Color(2.0f); });
     for (double roughness : {0.2, 0.5, 0.9}) {
-        json j = scene_with(
-            map, "path",
-            {{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1}, {"material", "m"}}},
-            {{"position", {0, 0, 5}}, {"look_at", {0, 0, 0}}, {"fov", 20}});
+        json j = sphere_under_uniform_map("uniform_metal", 256);
         j["materials"]["m"] = {{"type", "cook_torrance"},
                                {"base_color", 1.0},
                                {"metallic", 1.0},
                                {"roughness", roughness}};
-        j["render"]["spp"] = 256;
         const Image path = render<PathRenderer>(j);
         j["render"]["engine"] = "raster";
         const Image raster = render<RasterRenderer>(j);
@@ -118,18 +125,13 @@ TEST(Environment, TheRastersClearCoatReflectsTheMapAsThePathTracersDoes) {
     // own sharp one, each about as bright as the other. The path tracer integrates the
     // layered BSDF; the rasterizer takes each lobe from its split-sum table. Without the
     // coat's lobe the rasterizer's sphere was half as bright or less.
-    const std::string map = write_map("uniform_coat", 16, 8, [](int, int) { return Color(2.0f); });
     for (double coat : {1.0, 0.5}) {
         for (double coat_roughness : {0.1, 0.4}) {
-            json j = scene_with(
-                map, "path",
-                {{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1}, {"material", "m"}}},
-                {{"position", {0, 0, 5}}, {"look_at", {0, 0, 0}}, {"fov", 20}});
+            json j = sphere_under_uniform_map("uniform_coat", 1024);
             j["materials"]["m"] = {
                 {"type", "cook_torrance"}, {"base_color", 0.0},
                 {"metallic", 0.0},         {"roughness", 0.8},
                 {"clearcoat", coat},       {"clearcoat_roughness", coat_roughness}};
-            j["render"]["spp"] = 1024;
             const Image path = render<PathRenderer>(j);
             j["render"]["engine"] = "raster";
             const Image raster = render<RasterRenderer>(j);
@@ -150,13 +152,7 @@ TEST(Environment, ASmoothGlossySphereReflectsF0OfTheMapInThePathTracerAndWhitted
     // black base (its 0.04 plus what the base keeps under it). The path tracer's smooth lobes
     // were 11 % (roughness 0) and 1.3 % (0.05) too bright: GGX's D from 1 - cos^2. Whitted
     // too.
-    const std::string map =
-        write_map("uniform_smooth", 16, 8, [](int, int) { return Color(2.0f); });
-    json j =
-        scene_with(map, "path",
-                   {{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1}, {"material", "m"}}},
-                   {{"position", {0, 0, 5}}, {"look_at", {0, 0, 0}}, {"fov", 20}});
-    j["render"]["spp"] = 1024;
+    json j = sphere_under_uniform_map("uniform_smooth", 1024);
     for (double roughness : {0.0, 0.05}) {
         j["materials"]["m"] = {
             {"type", "cook_torrance"}, {"base_color", 0.0}, {"roughness", roughness}};
@@ -189,13 +185,7 @@ TEST(Environment, ASmoothGlossySphereReflectsF0OfTheMapInThePathTracerAndWhitted
 TEST(Environment, SpecularStrengthAndColourSetF0AndF90InThePathTracerAndTheRasterizer) {
     // A black dielectric sphere with KHR_materials_specular's strength s = 0.5 and tint
     // (2, 1, 0.25) under a uniform map of 2.
-    const std::string map =
-        write_map("uniform_specular", 16, 8, [](int, int) { return Color(2.0f); });
-    json j =
-        scene_with(map, "path",
-                   {{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1}, {"material", "m"}}},
-                   {{"position", {0, 0, 5}}, {"look_at", {0, 0, 0}}, {"fov", 20}});
-    j["render"]["spp"] = 1024;
+    json j = sphere_under_uniform_map("uniform_specular", 1024);
     // Smooth: seen head-on the sphere reflects F0 of the map, 2 min(0.04 tint, 1) s.
     j["materials"]["m"] = {{"type", "cook_torrance"},
                            {"base_color", 0.0},

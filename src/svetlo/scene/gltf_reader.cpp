@@ -95,8 +95,8 @@ private:
 /// values on zeros) may have: such an accessor's count is not bounded by any buffer.
 constexpr size_t kMaxDenseElements = size_t{1} << 24;
 
-/// Reads element `index` of a float accessor (or a normalised integer one) into `out[0..n)`.
-/// A sparse accessor (glTF 2.0, 3.6.2.3) is its buffer view's elements, or zeros without
+/// The components of a float accessor's elements (or a normalised or plain integer one's), as
+/// numbers. A sparse accessor (glTF 2.0, 3.6.2.3) is its buffer view's elements, or zeros without
 /// one, with the sparse values written over the elements its indices name.
 class AccessorView {
 public:
@@ -134,7 +134,7 @@ private:
     /// The accessor's elements, its sparse values written over them, into dense_.
     void densify(const tinygltf::Model& model, const tinygltf::Accessor& a, int index) {
         const std::string name = "accessor " + std::to_string(index);
-        if (count_ > kMaxDenseElements)
+        if (a.bufferView < 0 && count_ > kMaxDenseElements)
             throw std::runtime_error(name + ": " + std::to_string(count_) +
                                      " elements without a buffer view of their own (at most " +
                                      std::to_string(kMaxDenseElements) + ")");
