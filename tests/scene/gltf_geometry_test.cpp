@@ -1,11 +1,12 @@
 // glTF geometry as the specification lays it out (docs/scene-format.md, "Mesh files"): sparse
-// accessors, triangle strips and fans, morph targets at their default weights, and flat
-// primitives (without NORMAL) beside smooth ones.
+// accessors, triangle strips and fans, morph targets at their default weights,
+// EXT_mesh_gpu_instancing, and flat primitives (without NORMAL) beside smooth ones.
 #include <gtest/gtest.h>
 
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "svetlo/core/error.h"
@@ -261,6 +262,84 @@ TEST(GltfGeometry, ANodesOwnWeightsMorphItsMeshApartFromTheOthers) {
     EXPECT_EQ(f.shared[0].mesh.positions[2], vec3(1, 1, 0));
     ASSERT_EQ(f.mesh.positions.size(), 4u);
     EXPECT_EQ(f.mesh.positions[2], vec3(11, 1, 1));
+}
+
+/// A triangle (0,0,0) (1,0,0) (0,1,0) placed by a node at z = -1 with EXT_mesh_gpu_instancing's
+/// `attributes` (accessor fields by name), written as NAME.
+fs::path gpu_instanced(const std::string& name, const std::map<std::string, json>& fields,
+                       GltfWriter& w, int pos) {
+    json attributes = json::object();
+    for (const auto& [key, f] : fields) attributes[key] = w.accessor(f);
+    return w.write(
+        name, {{"meshes", one_mesh({{"POSITION", pos}})},
+               {"extensionsUsed", {"EXT_mesh_gpu_instancing"}},
+               {"nodes",
+                {{{"mesh", 0},
+                  {"translation", {0, 0, -1}},
+                  {"extensions", {{"EXT_mesh_gpu_instancing", {{"attributes", attributes}}}}}}}}});
+}
+
+/// A VEC3 or VEC4 float accessor of `values` in a view of its own, as accessor fields.
+json floats(GltfWriter& w, const std::vector<float>& values, int n) {
+    return {{"bufferView", w.view(values)},
+            {"componentType", 5126},
+            {"count", values.size() / static_cast<size_t>(n)},
+            {"type", n == 3 ? "VEC3" : "VEC4"}};
+}
+
+TEST(GltfGeometry, GpuInstancingPlacesTheNodesMeshOnceAnElementTimesTRS) {
+    GltfWriter w;
+    const int pos = w.vec3s({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    const float h = std::sqrt(0.5f);  // a quarter turn about z: (0, 0, sin 45, cos 45)
+    const MeshFile f = read_mesh_file(
+        gpu_instanced("gpu",
+                      {{"TRANSLATION", floats(w, {1, 0, 0, 2, 0, 0, 3, 0, 0}, 3)},
+                       {"ROTATION", floats(w, {0, 0, 0, 1, 0, 0, h, h, 0, 0, 0, 1}, 4)},
+                       {"SCALE", floats(w, {1, 1, 1, 1, 1, 1, 2, 2, 2}, 3)}},
+                      w, pos));
+    EXPECT_TRUE(f.warnings.empty());
+    EXPECT_TRUE(f.mesh.indices.empty());
+    ASSERT_EQ(f.shared.size(), 1u);
+    ASSERT_EQ(f.shared[0].places.size(), 3u);
+    // Vertex (1, 0, 0) of each: moved by the node (z = -1) after T R S.
+    const auto at = [&](size_t k) { return vec3(f.shared[0].places[k] * vec4(1, 0, 0, 1)); };
+    EXPECT_NEAR(glm::distance(at(0), vec3(2, 0, -1)), 0.0f, 1e-6f);
+    EXPECT_NEAR(glm::distance(at(1), vec3(2, 1, -1)), 0.0f, 1e-6f);  // turned onto +y
+    EXPECT_NEAR(glm::distance(at(2), vec3(5, 0, -1)), 0.0f, 1e-6f);  // scaled by 2
+    // One element: the mesh baked in its place; a zero scale among several: baked (no
+    // instance without an inverse), the others instances.
+    GltfWriter one;
+    const int pos1 = one.vec3s({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    const MeshFile single = read_mesh_file(
+        gpu_instanced("gpu_one", {{"TRANSLATION", floats(one, {4, 0, 0}, 3)}}, one, pos1));
+    EXPECT_TRUE(single.shared.empty());
+    ASSERT_EQ(single.mesh.positions.size(), 3u);
+    EXPECT_EQ(single.mesh.positions[1], vec3(5, 0, -1));
+    GltfWriter flat;
+    const int pos2 = flat.vec3s({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    const MeshFile zero = read_mesh_file(gpu_instanced(
+        "gpu_zero", {{"SCALE", floats(flat, {1, 1, 1, 1, 1, 0, 1, 1, 1}, 3)}}, flat, pos2));
+    ASSERT_EQ(zero.shared.size(), 1u);
+    EXPECT_EQ(zero.shared[0].places.size(), 2u);
+    EXPECT_EQ(zero.mesh.triangle_count(), 1u);
+}
+
+TEST(GltfGeometry, GpuInstancingsAttributesMustAgreeInCount) {
+    GltfWriter w;
+    const int pos = w.vec3s({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    const fs::path file = gpu_instanced(
+        "gpu_counts",
+        {{"TRANSLATION", floats(w, {1, 0, 0, 2, 0, 0}, 3)}, {"SCALE", floats(w, {1, 1, 1}, 3)}}, w,
+        pos);
+    try {
+        read_mesh_file(file);
+        ADD_FAILURE() << "read";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("node 0 EXT_mesh_gpu_instancing: its attributes' "
+                                             "counts differ"),
+                  std::string::npos)
+            << e.what();
+    }
 }
 
 /// Two squares side by side: the left without NORMAL, the right with normals tilted away

@@ -174,6 +174,10 @@ private:
     int components_ = 0;
 };
 
+/// The most placements EXT_mesh_gpu_instancing may make in one file (as many as a scene's
+/// `instance` objects may: docs/scene-format.md, "Instances").
+constexpr size_t kMaxGpuInstances = size_t{1} << 20;
+
 mat4 node_matrix(const tinygltf::Node& node) {
     if (node.matrix.size() == 16) {
         mat4 m;
@@ -212,14 +216,18 @@ struct Flattener {
     std::vector<Use> uses{};
 
     /// The meshes the nodes visited place: baked into file.mesh where one node places a
-    /// mesh (or gives it weights of its own), kept in their own space (MeshFile::shared)
-    /// where several do.
+    /// mesh (or gives it weights of its own, or a transform without an inverse: a scale of
+    /// zero along an axis), kept in their own space (MeshFile::shared) where several do.
     void place_meshes() {
+        const auto instanced = [](const Use& use) {
+            const float det = glm::determinant(mat3(use.world));
+            return !use.own_weights && std::isfinite(det) && std::abs(det) >= 1e-12f;
+        };
         std::map<int, int> count, shared;  // per mesh index: its nodes; its MeshFile::shared
         for (const Use& use : uses)
-            if (!use.own_weights) ++count[use.mesh];
+            if (instanced(use)) ++count[use.mesh];
         for (const Use& use : uses) {
-            if (use.own_weights || count[use.mesh] < 2) {
+            if (!instanced(use) || count[use.mesh] < 2) {
                 add_mesh(use.mesh, use.world, *use.weights);
                 continue;
             }
@@ -255,12 +263,71 @@ struct Flattener {
             const std::vector<double>& defaults =
                 model.meshes[static_cast<size_t>(node.mesh)].weights;
             const bool own = !node.weights.empty() && node.weights != defaults;
-            uses.push_back({node.mesh, world, own ? &node.weights : &defaults, own});
+            const auto gpu = node.extensions.find("EXT_mesh_gpu_instancing");
+            if (gpu != node.extensions.end() && gpu->second.Has("attributes")) {
+                for (const mat4& local : gpu_instances(gpu->second.Get("attributes"), node_index))
+                    uses.push_back(
+                        {node.mesh, world * local, own ? &node.weights : &defaults, own});
+            } else {
+                uses.push_back({node.mesh, world, own ? &node.weights : &defaults, own});
+            }
         }
         add_light(node, world);
         if (node.camera >= 0 && !file.camera) add_camera(node.camera, world);
         for (int child : node.children) visit(child, world);
         --depth_guard;
+    }
+
+    size_t gpu_placed = 0;  // the placements EXT_mesh_gpu_instancing made so far
+
+    /// EXT_mesh_gpu_instancing's placements of node `node_index`'s mesh, within the node's
+    /// space: one a element of its TRANSLATION (VEC3), ROTATION (VEC4, a unit quaternion
+    /// x, y, z, w; float or normalised) and SCALE (VEC3) accessors, each T R S, as a node's own
+    /// transform; an attribute not given is the identity's.
+    std::vector<mat4> gpu_instances(const tinygltf::Value& attributes, int node_index) {
+        const std::string name = "node " + std::to_string(node_index) + " EXT_mesh_gpu_instancing";
+        std::optional<AccessorView> t, r, s;
+        const auto view = [&](const char* key, int components, std::optional<AccessorView>& out) {
+            if (!attributes.Has(key)) return;
+            const tinygltf::Value& v = attributes.Get(key);
+            if (!v.IsInt() && !v.IsNumber()) throw std::runtime_error(name + ": " + key);
+            out.emplace(model, v.GetNumberAsInt(), components);
+        };
+        view("TRANSLATION", 3, t);
+        view("ROTATION", 4, r);
+        view("SCALE", 3, s);
+        size_t count = 0;
+        for (const auto* a : {&t, &r, &s})
+            if (*a) {
+                if (count != 0 && (*a)->count() != count)
+                    throw std::runtime_error(name + ": its attributes' counts differ");
+                count = (*a)->count();
+            }
+        gpu_placed += count;
+        if (gpu_placed > kMaxGpuInstances)
+            throw std::runtime_error(name + ": more than " + std::to_string(kMaxGpuInstances) +
+                                     " instances in the file");
+        std::vector<mat4> out(count, mat4(1.0f));
+        for (size_t k = 0; k < count; ++k) {
+            mat4 m(1.0f);
+            if (t)
+                m = glm::translate(
+                    m, vec3(t->component(k, 0), t->component(k, 1), t->component(k, 2)));
+            if (r) {
+                const glm::quat q(
+                    static_cast<float>(r->component(k, 3)), static_cast<float>(r->component(k, 0)),
+                    static_cast<float>(r->component(k, 1)), static_cast<float>(r->component(k, 2)));
+                const float len = glm::length(q);
+                if (!(len > 0.0f) || !std::isfinite(len))
+                    throw std::runtime_error(name + ": rotation " + std::to_string(k) +
+                                             " is not a quaternion");
+                m = m * glm::mat4_cast(q / len);
+            }
+            if (s)
+                m = glm::scale(m, vec3(s->component(k, 0), s->component(k, 1), s->component(k, 2)));
+            out[k] = m;
+        }
+        return out;
     }
 
     /// glTF's camera looks down its node's -z with +y up (glTF 2.0, 3.10); yfov is the full
@@ -612,11 +679,11 @@ bool keep_encoded(tinygltf::Image* image, int index, std::string*, std::string*,
 /// a build may lack (libwebp) where it has them.
 bool reads_extension(const std::string& name) {
     constexpr std::string_view always[] = {
-        "KHR_lights_punctual",   "KHR_materials_emissive_strength",
-        "KHR_materials_ior",     "KHR_materials_transmission",
-        "KHR_materials_volume",  "KHR_materials_clearcoat",
-        "KHR_mesh_quantization", "KHR_texture_transform",
-        "KHR_materials_specular"};
+        "KHR_lights_punctual",    "KHR_materials_emissive_strength",
+        "KHR_materials_ior",      "KHR_materials_transmission",
+        "KHR_materials_volume",   "KHR_materials_clearcoat",
+        "KHR_mesh_quantization",  "KHR_texture_transform",
+        "KHR_materials_specular", "EXT_mesh_gpu_instancing"};
     if (name == "EXT_texture_webp") return reads_webp();
     if (decodes_compression(name)) return true;
     return std::find(std::begin(always), std::end(always), name) != std::end(always);
