@@ -1,6 +1,7 @@
 // glTF geometry as the specification lays it out (docs/scene-format.md, "Mesh files"): sparse
-// accessors, triangle strips and fans, morph targets at their default weights,
-// EXT_mesh_gpu_instancing, and flat primitives (without NORMAL) beside smooth ones.
+// accessors, triangle strips and fans, morph targets at their default weights, skins at the
+// nodes' pose, EXT_mesh_gpu_instancing, the node trees, and flat primitives (without NORMAL)
+// beside smooth ones.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -340,6 +341,84 @@ TEST(GltfGeometry, GpuInstancingsAttributesMustAgreeInCount) {
                   std::string::npos)
             << e.what();
     }
+}
+
+TEST(GltfGeometry, ASkinPlacesItsVerticesByItsJointsAtTheNodesPose) {
+    // Three vertices: the first bound to joint 0 (at the origin), the second to joint 1 (moved
+    // up by 2 and turned a quarter about z, its bind pose at (1, 0, 0)), the third half to
+    // each. The mesh node's own place (x + 100) is ignored, as glTF says.
+    GltfWriter w;
+    const int pos = w.vec3s({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    const int nor = w.vec3s({0, 0, 1, 1, 0, 0, 0, 0, 1});
+    const int joints = w.accessor(
+        {{"bufferView", w.view(std::vector<uint8_t>{0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0})},
+         {"componentType", 5121},
+         {"count", 3},
+         {"type", "VEC4"}});
+    const int weights = w.accessor(
+        {{"bufferView", w.view(std::vector<float>{1, 0, 0, 0, 1, 0, 0, 0, 0.5f, 0.5f, 0, 0})},
+         {"componentType", 5126},
+         {"count", 3},
+         {"type", "VEC4"}});
+    // Joint 1's inverse bind matrix: a translation by (-1, 0, 0) (its bind pose at x = 1).
+    std::vector<float> ibm(32, 0.0f);
+    for (int k : {0, 5, 10, 15, 16, 21, 26, 31}) ibm[static_cast<size_t>(k)] = 1.0f;
+    ibm[28] = -1.0f;
+    const int inverse = w.accessor(
+        {{"bufferView", w.view(ibm)}, {"componentType", 5126}, {"count", 2}, {"type", "MAT4"}});
+    const float h = std::sqrt(0.5f);
+    const MeshFile f = read_mesh_file(w.write(
+        "skin",
+        {{"meshes",
+          one_mesh(
+              {{"POSITION", pos}, {"NORMAL", nor}, {"JOINTS_0", joints}, {"WEIGHTS_0", weights}})},
+         {"skins", {{{"joints", {1, 2}}, {"inverseBindMatrices", inverse}}}},
+         {"nodes",
+          {{{"mesh", 0}, {"skin", 0}, {"translation", {100, 0, 0}}},
+           {{"children", {2}}},
+           {{"translation", {1, 2, 0}}, {"rotation", {0, 0, h, h}}}}}},
+        {0, 1}));
+    ASSERT_EQ(f.mesh.positions.size(), 3u);
+    EXPECT_NEAR(glm::distance(f.mesh.positions[0], vec3(0, 0, 0)), 0.0f, 1e-6f);
+    // (1, 0, 0) in joint 1's bind space is its origin: placed at the joint, (1, 2, 0).
+    EXPECT_NEAR(glm::distance(f.mesh.positions[1], vec3(1, 2, 0)), 0.0f, 1e-6f);
+    // (0, 1, 0): half at itself, half at joint 1 turned: (-1, 1, 0) about z -> (-1, -1, 0),
+    // plus (1, 2, 0) -> (0, 1, 0); the mean (0, 1, 0).
+    EXPECT_NEAR(glm::distance(f.mesh.positions[2], vec3(0, 1, 0)), 0.0f, 1e-6f);
+    // The second vertex's normal (1, 0, 0) turned with its joint onto +y.
+    EXPECT_NEAR(glm::distance(f.mesh.normals[1], vec3(0, 1, 0)), 0.0f, 1e-6f);
+    EXPECT_NEAR(glm::distance(f.mesh.normals[0], vec3(0, 0, 1)), 0.0f, 1e-6f);
+}
+
+TEST(GltfGeometry, NodesThatAreNotTreesAreRefusedAndWithoutASceneEachTreeIsPlacedOnce) {
+    GltfWriter w;
+    const int pos = w.vec3s({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    // Node 2 the child of both 0 and 1: refused (it would be placed twice, and a chain of
+    // such nodes doubles at each level).
+    try {
+        read_mesh_file(
+            w.write("two_parents",
+                    {{"meshes", one_mesh({{"POSITION", pos}})},
+                     {"nodes", {{{"children", {2}}}, {{"children", {2}}}, {{"mesh", 0}}}}},
+                    {0, 1}));
+        ADD_FAILURE() << "read";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("node 2 is the child of two nodes"), std::string::npos)
+            << e.what();
+    }
+    // No scene: each tree from its root, so a child's mesh once, under its parent's place.
+    GltfWriter v;
+    const int pos2 = v.vec3s({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    const fs::path file = v.write(
+        "no_scene", {{"meshes", one_mesh({{"POSITION", pos2}})},
+                     {"nodes", {{{"children", {1}}, {"translation", {0, 0, 5}}}, {{"mesh", 0}}}}});
+    json j = json::parse(std::ifstream(file));
+    j.erase("scene");
+    j.erase("scenes");
+    std::ofstream(file) << j.dump();
+    const MeshFile f = read_mesh_file(file);
+    ASSERT_EQ(f.mesh.positions.size(), 3u);  // was 6: the child also placed as a root
+    EXPECT_EQ(f.mesh.positions[1], vec3(1, 0, 5));
 }
 
 /// Two squares side by side: the left without NORMAL, the right with normals tilted away

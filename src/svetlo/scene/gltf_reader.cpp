@@ -19,186 +19,19 @@
 #include "svetlo/core/image_io.h"
 #include "svetlo/core/image_signature.h"
 #include "svetlo/core/input_file.h"
+#include "svetlo/scene/gltf_accessors.h"
 #include "svetlo/scene/gltf_compression.h"
 #include "svetlo/scene/gltf_materials.h"
+#include "svetlo/scene/gltf_nodes.h"
 #include "svetlo/scene/mesh_file.h"
 
 namespace svetlo {
 
 namespace {
 
-/// The elements of accessors with a buffer view (or of a sparse accessor's indices and values):
-/// `components` numbers of `component_type` each, `stride` bytes apart.
-class StridedView {
-public:
-    StridedView() = default;
-    /// Checks that `count` elements from `byte_offset` into buffer view `view_index` lie
-    /// inside that view and its buffer.
-    StridedView(const tinygltf::Model& model, int view_index, size_t byte_offset, size_t count,
-                int components, int component_type, bool normalized) {
-        if (view_index < 0 || static_cast<size_t>(view_index) >= model.bufferViews.size())
-            throw std::runtime_error("buffer view " + std::to_string(view_index) + " missing");
-        const tinygltf::BufferView& view = model.bufferViews[static_cast<size_t>(view_index)];
-        if (view.buffer < 0 || static_cast<size_t>(view.buffer) >= model.buffers.size())
-            throw std::runtime_error("buffer view without a buffer");
-        const tinygltf::Buffer& buffer = model.buffers[static_cast<size_t>(view.buffer)];
-        const int size = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(component_type));
-        if (size <= 0) throw std::runtime_error("unsupported component type");
-        type_ = component_type;
-        size_ = static_cast<size_t>(size);
-        normalized_ = normalized;
-        const size_t element = static_cast<size_t>(components) * size_;
-        stride_ = view.byteStride > 0 ? view.byteStride : element;
-        // Every element inside the buffer; the first inside its view.
-        const size_t need = count == 0 ? 0 : byte_offset + stride_ * (count - 1) + element;
-        if (view.byteOffset + need > buffer.data.size() ||
-            byte_offset + element > view.byteLength + stride_)
-            throw std::runtime_error("accessor runs past its buffer");
-        data_ = buffer.data.data() + view.byteOffset + byte_offset;
-    }
-
-    double component(size_t index, int c) const {
-        const unsigned char* p = data_ + index * stride_ + static_cast<size_t>(c) * size_;
-        switch (type_) {
-            case TINYGLTF_COMPONENT_TYPE_FLOAT:
-                return load<float>(p);
-            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
-                return normalized_ ? load<uint8_t>(p) / 255.0 : load<uint8_t>(p);
-            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
-                return normalized_ ? load<uint16_t>(p) / 65535.0 : load<uint16_t>(p);
-            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
-                return load<uint32_t>(p);
-            // Signed normalised: max(c / (2^(b-1) - 1), -1) (glTF 2.0, 3.11).
-            case TINYGLTF_COMPONENT_TYPE_BYTE:
-                return normalized_ ? std::max(load<int8_t>(p) / 127.0, -1.0) : load<int8_t>(p);
-            case TINYGLTF_COMPONENT_TYPE_SHORT:
-                return normalized_ ? std::max(load<int16_t>(p) / 32767.0, -1.0) : load<int16_t>(p);
-            default:
-                throw std::runtime_error("unsupported component type");
-        }
-    }
-
-private:
-    template <typename T>
-    static double load(const unsigned char* p) {
-        T v;
-        std::memcpy(&v, p, sizeof(T));
-        return static_cast<double>(v);
-    }
-    const unsigned char* data_ = nullptr;
-    size_t stride_ = 0, size_ = 0;
-    int type_ = 0;
-    bool normalized_ = false;
-};
-
-/// The most elements an accessor without a buffer view of its own (all zeros, or sparse
-/// values on zeros) may have: such an accessor's count is not bounded by any buffer.
-constexpr size_t kMaxDenseElements = size_t{1} << 24;
-
-/// The components of a float accessor's elements (or a normalised or plain integer one's), as
-/// numbers. A sparse accessor (glTF 2.0, 3.6.2.3) is its buffer view's elements, or zeros without
-/// one, with the sparse values written over the elements its indices name.
-class AccessorView {
-public:
-    AccessorView(const tinygltf::Model& model, int accessor_index, int components) {
-        if (accessor_index < 0 || static_cast<size_t>(accessor_index) >= model.accessors.size()) {
-            throw std::runtime_error("accessor " + std::to_string(accessor_index) + " missing");
-        }
-        const tinygltf::Accessor& a = model.accessors[static_cast<size_t>(accessor_index)];
-        const int n = tinygltf::GetNumComponentsInType(static_cast<uint32_t>(a.type));
-        if (n != components) throw std::runtime_error("unexpected accessor type");
-        components_ = n;
-        count_ = a.count;
-        if (a.bufferView >= 0)
-            view_ = StridedView(model, a.bufferView, a.byteOffset, a.count, n, a.componentType,
-                                a.normalized);
-        if (a.bufferView < 0 || a.sparse.isSparse) densify(model, a, accessor_index);
-    }
-
-    size_t count() const { return count_; }
-
-    /// The number of components of accessor `index`'s type (3 for VEC3, ...), 0 when there
-    /// is no such accessor.
-    static int components_of(const tinygltf::Model& model, int index) {
-        if (index < 0 || static_cast<size_t>(index) >= model.accessors.size()) return 0;
-        return tinygltf::GetNumComponentsInType(
-            static_cast<uint32_t>(model.accessors[static_cast<size_t>(index)].type));
-    }
-
-    double component(size_t index, int c) const {
-        if (!dense_.empty()) return dense_[index * static_cast<size_t>(components_) + c];
-        return view_.component(index, c);
-    }
-
-private:
-    /// The accessor's elements, its sparse values written over them, into dense_.
-    void densify(const tinygltf::Model& model, const tinygltf::Accessor& a, int index) {
-        const std::string name = "accessor " + std::to_string(index);
-        if (a.bufferView < 0 && count_ > kMaxDenseElements)
-            throw std::runtime_error(name + ": " + std::to_string(count_) +
-                                     " elements without a buffer view of their own (at most " +
-                                     std::to_string(kMaxDenseElements) + ")");
-        const auto n = static_cast<size_t>(components_);
-        dense_.assign(count_ * n, 0.0);
-        if (a.bufferView >= 0)
-            for (size_t k = 0; k < count_; ++k)
-                for (size_t c = 0; c < n; ++c) dense_[k * n + c] = view_.component(k, int(c));
-        if (!a.sparse.isSparse) return;
-        const int type = a.sparse.indices.componentType;
-        if (a.sparse.count < 1 || static_cast<size_t>(a.sparse.count) > count_ ||
-            a.sparse.indices.byteOffset < 0 || a.sparse.values.byteOffset < 0 ||
-            (type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
-             type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
-             type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT))
-            throw std::runtime_error(name + ": sparse count, offsets or index type wrong");
-        const auto m = static_cast<size_t>(a.sparse.count);
-        // Sparse views are tightly packed (glTF 2.0: their buffer views have no byteStride).
-        const StridedView indices(model, a.sparse.indices.bufferView,
-                                  static_cast<size_t>(a.sparse.indices.byteOffset), m, 1, type,
-                                  false);
-        const StridedView values(model, a.sparse.values.bufferView,
-                                 static_cast<size_t>(a.sparse.values.byteOffset), m, components_,
-                                 a.componentType, a.normalized);
-        for (size_t k = 0; k < m; ++k) {
-            const double at = indices.component(k, 0);
-            if (!(at < static_cast<double>(count_)))
-                throw std::runtime_error(name + ": sparse index out of range");
-            for (size_t c = 0; c < n; ++c)
-                dense_[static_cast<size_t>(at) * n + c] = values.component(k, int(c));
-        }
-    }
-
-    StridedView view_;
-    std::vector<double> dense_;  // every element, where the accessor is sparse or has no view
-    size_t count_ = 0;
-    int components_ = 0;
-};
-
 /// The most placements EXT_mesh_gpu_instancing may make in one file (as many as a scene's
 /// `instance` objects may: docs/scene-format.md, "Instances").
 constexpr size_t kMaxGpuInstances = size_t{1} << 20;
-
-mat4 node_matrix(const tinygltf::Node& node) {
-    if (node.matrix.size() == 16) {
-        mat4 m;
-        for (int k = 0; k < 16; ++k) glm::value_ptr(m)[k] = static_cast<float>(node.matrix[k]);
-        return m;  // glTF stores column-major, as glm does
-    }
-    mat4 t(1.0f), r(1.0f), s(1.0f);
-    if (node.translation.size() == 3) {
-        t = glm::translate(mat4(1.0f),
-                           vec3(node.translation[0], node.translation[1], node.translation[2]));
-    }
-    if (node.rotation.size() == 4) {
-        glm::quat q(static_cast<float>(node.rotation[3]), static_cast<float>(node.rotation[0]),
-                    static_cast<float>(node.rotation[1]), static_cast<float>(node.rotation[2]));
-        r = glm::mat4_cast(q);
-    }
-    if (node.scale.size() == 3) {
-        s = glm::scale(mat4(1.0f), vec3(node.scale[0], node.scale[1], node.scale[2]));
-    }
-    return t * r * s;
-}
 
 struct Flattener {
     const tinygltf::Model& model;
@@ -206,12 +39,14 @@ struct Flattener {
     int depth_guard = 0;
     std::set<int> colored_materials;  // the materials of primitives with COLOR_0
     Mesh* target = &file.mesh;        // the mesh add_mesh appends to
-    /// A node's mesh, its place in the file and its morph targets' weights.
+    std::vector<mat4> node_world{};   // every node's transform to the file's world
+    /// A node's mesh, its place in the file, its morph targets' weights and its skin.
     struct Use {
         int mesh;
         mat4 world;
         const std::vector<double>* weights;
         bool own_weights;  // the node's weights, not the mesh's
+        int skin = -1;     // placed by the skin's joints (gltf_nodes.h), the node's place ignored
     };
     std::vector<Use> uses{};
 
@@ -221,21 +56,22 @@ struct Flattener {
     void place_meshes() {
         const auto instanced = [](const Use& use) {
             const float det = glm::determinant(mat3(use.world));
-            return !use.own_weights && std::isfinite(det) && std::abs(det) >= 1e-12f;
+            return !use.own_weights && use.skin < 0 && std::isfinite(det) &&
+                   std::abs(det) >= 1e-12f;
         };
         std::map<int, int> count, shared;  // per mesh index: its nodes; its MeshFile::shared
         for (const Use& use : uses)
             if (instanced(use)) ++count[use.mesh];
         for (const Use& use : uses) {
             if (!instanced(use) || count[use.mesh] < 2) {
-                add_mesh(use.mesh, use.world, *use.weights);
+                add_mesh(use.mesh, use.world, *use.weights, use.skin);
                 continue;
             }
             auto [at, made] = shared.try_emplace(use.mesh, static_cast<int>(file.shared.size()));
             if (made) {
                 file.shared.emplace_back();
                 target = &file.shared.back().mesh;
-                add_mesh(use.mesh, mat4(1.0f), *use.weights);
+                add_mesh(use.mesh, mat4(1.0f), *use.weights, -1);
                 target = &file.mesh;
             }
             file.shared[static_cast<size_t>(at->second)].places.push_back(use.world);
@@ -269,7 +105,7 @@ struct Flattener {
                     uses.push_back(
                         {node.mesh, world * local, own ? &node.weights : &defaults, own});
             } else {
-                uses.push_back({node.mesh, world, own ? &node.weights : &defaults, own});
+                uses.push_back({node.mesh, world, own ? &node.weights : &defaults, own, node.skin});
             }
         }
         add_light(node, world);
@@ -456,9 +292,11 @@ struct Flattener {
     /// 2.0, 3.7.2.1): its vertices' normals are zero, which every engine reads as the
     /// triangle's own.
     void add_normals_and_tangents(const tinygltf::Primitive& prim, size_t count, size_t base,
-                                  const mat4& world, const std::vector<double>& weights) {
+                                  const mat4& world, const std::vector<double>& weights,
+                                  const std::vector<mat4>& skinned) {
         Mesh& mesh = *target;
         const mat3 nm = normal_matrix(world);
+        const auto at = [&](size_t k) { return skinned.empty() ? world : skinned[k]; };
         mesh.normals.resize(base, vec3(0.0f));
         auto nor = prim.attributes.find("NORMAL");
         if (nor != prim.attributes.end()) {
@@ -468,7 +306,7 @@ struct Flattener {
             for (size_t k = 0; k < normals.count(); ++k) {
                 vec3 n(normals.component(k, 0), normals.component(k, 1), normals.component(k, 2));
                 if (!moved.empty()) n += moved[k];
-                n = nm * n;
+                n = skinned.empty() ? nm * n : normal_matrix(skinned[k]) * n;
                 const float len = glm::length(n);
                 mesh.normals.push_back(len > 0.0f && std::isfinite(len) ? n / len : vec3(0.0f));
             }
@@ -481,14 +319,13 @@ struct Flattener {
             if (tangents.count() != count) throw std::runtime_error("TANGENT count");
             const std::vector<vec3> moved = morph_offsets(prim, weights, "TANGENT", count);
             mesh.tangents.resize(base);
-            const Transform to_world{world, false};
             for (size_t k = 0; k < tangents.count(); ++k) {
                 // glTF's v runs down the image and svetlo's up, but glTF's bitangent
                 // (w cross(n, t)) is the map's +y, up the image: the sign stays.
                 vec4 t(tangents.component(k, 0), tangents.component(k, 1), tangents.component(k, 2),
                        tangents.component(k, 3));
                 if (!moved.empty()) t += vec4(moved[k], 0.0f);
-                mesh.tangents.push_back(transform_tangent(to_world, t));
+                mesh.tangents.push_back(transform_tangent(Transform{at(k), false}, t));
             }
         }
     }
@@ -532,8 +369,9 @@ struct Flattener {
     }
 
     /// Mesh `mesh_index`'s triangle primitives, their morph targets moved by `weights`,
-    /// placed by `world`.
-    void add_mesh(int mesh_index, const mat4& world, const std::vector<double>& weights) {
+    /// placed by `world`, or by skin `skin`'s joints where it is one (>= 0) and the
+    /// primitive has JOINTS_0.
+    void add_mesh(int mesh_index, const mat4& world, const std::vector<double>& weights, int skin) {
         if (static_cast<size_t>(mesh_index) >= model.meshes.size()) {
             throw std::runtime_error("mesh " + std::to_string(mesh_index) + " missing");
         }
@@ -547,13 +385,17 @@ struct Flattener {
             auto base = static_cast<uint32_t>(mesh.positions.size());
             const std::vector<vec3> moved =
                 morph_offsets(prim, weights, "POSITION", positions.count());
+            const std::vector<mat4> skinned =
+                skin >= 0 ? skinning_matrices(model, skin, prim, positions.count(), node_world)
+                          : std::vector<mat4>{};
             for (size_t k = 0; k < positions.count(); ++k) {
                 vec3 p(positions.component(k, 0), positions.component(k, 1),
                        positions.component(k, 2));
                 if (!moved.empty()) p += moved[k];
-                mesh.positions.push_back(vec3(world * vec4(p, 1.0f)));
+                mesh.positions.push_back(
+                    vec3((skinned.empty() ? world : skinned[k]) * vec4(p, 1.0f)));
             }
-            add_normals_and_tangents(prim, positions.count(), base, world, weights);
+            add_normals_and_tangents(prim, positions.count(), base, world, weights, skinned);
             if (std::vector<vec2> uvs = texture_coordinates(prim, "TEXCOORD_0", positions.count());
                 !uvs.empty()) {
                 mesh.uvs.resize(base);
@@ -751,12 +593,16 @@ MeshFile read_gltf(const std::filesystem::path& path, const FileScope& files) {
     decompress_geometry(model);
     read_gltf_materials(model, reading.image_files, file);
     Flattener flattener{model, file, 0, {}};
+    flattener.node_world = node_world_matrices(model);  // also checks that the nodes are trees
     int scene = model.defaultScene >= 0 ? model.defaultScene : 0;
     if (static_cast<size_t>(scene) < model.scenes.size()) {
         for (int node : model.scenes[scene].nodes) flattener.visit(node, mat4(1.0f));
-    } else {
+    } else {  // no scene: every tree of nodes, from its root
+        std::vector<char> child(model.nodes.size(), 0);
+        for (const tinygltf::Node& node : model.nodes)
+            for (int c : node.children) child[static_cast<size_t>(c)] = 1;
         for (size_t n = 0; n < model.nodes.size(); ++n)
-            flattener.visit(static_cast<int>(n), mat4(1.0f));
+            if (!child[n]) flattener.visit(static_cast<int>(n), mat4(1.0f));
     }
     flattener.place_meshes();
     // COLOR_0 multiplies the base colour and its alpha (glTF 2.0, 3.9.2), in the materials of
