@@ -104,7 +104,7 @@ inline Color albedo_of(const Bsdf& b) {
 /// peak's float noise made the path tracer's smooth reflections 11 % too bright.
 inline float ggx_d(float cos_h, float sin2_h, float alpha) {
     const float a2 = alpha * alpha, q = a2 * cos_h * cos_h + sin2_h;
-    return a2 / (kPi * q * q);
+    return q > 0.0f ? a2 / (kPi * q * q) : 0.0f;  // q = 0: h along -n (clamped), or no h
 }
 
 /// Schlick's Fresnel: F0 + (F90 - F0) (1 - cos)^5 (F90 is 1 but for KHR_materials_specular).
