@@ -265,6 +265,20 @@ TEST(Environment, ABrightSpotAtMinusZIsSeenStraightAheadAndRotateTurnsIt) {
     });
 }
 
+/// Calls visit(d, latitude, solid angle) at the centres of an n x 2n grid of cells in
+/// latitude and longitude over the sphere (their solid angles sum to about 4 pi).
+template <class Visit>
+void over_sphere(int n, Visit visit) {
+    for (int a = 0; a < n; ++a) {
+        for (int b = 0; b < 2 * n; ++b) {
+            const float lat = kPi * ((a + 0.5f) / n - 0.5f), phi = 2 * kPi * (b + 0.5f) / (2 * n);
+            const vec3 d(std::cos(lat) * std::sin(phi), std::sin(lat),
+                         std::cos(lat) * std::cos(phi));
+            visit(d, lat, std::cos(lat) * (kPi / n) * (kPi / n));
+        }
+    }
+}
+
 TEST(Environment, TheSamplersDensityIntegratesToOneAndMatchesItsDraws) {
     // A map with a sun: the density over the sphere integrates to 1, and each draw's density
     // is the one pdf() gives for its direction.
@@ -277,15 +291,8 @@ TEST(Environment, TheSamplersDensityIntegratesToOneAndMatchesItsDraws) {
     scene.environment = EnvironmentSettings{0, Color(1.0f), 30.0f};
     const Environment env(scene);
     double integral = 0.0;
-    const int n = 400;
-    for (int a = 0; a < n; ++a) {
-        for (int b = 0; b < 2 * n; ++b) {
-            const float lat = kPi * ((a + 0.5f) / n - 0.5f), phi = 2 * kPi * (b + 0.5f) / (2 * n);
-            const vec3 d(std::cos(lat) * std::sin(phi), std::sin(lat),
-                         std::cos(lat) * std::cos(phi));
-            integral += env.pdf(d) * std::cos(lat) * (kPi / n) * (kPi / n);
-        }
-    }
+    over_sphere(400,
+                [&](vec3 d, float, double solid_angle) { integral += env.pdf(d) * solid_angle; });
     EXPECT_NEAR(integral, 1.0, 0.01);
     Rng rng(7, 0);
     int sun = 0;
@@ -313,16 +320,10 @@ TEST(Environment, TheCompensatedDensityDrawsOnlyWhereTheMapIsAboveItsMean) {
     const Environment env(scene);
     const EnvironmentDensity c = EnvironmentDensity::Compensated;
     double integral = 0.0;
-    const int n = 400;
-    for (int a = 0; a < n; ++a) {
-        for (int b = 0; b < 2 * n; ++b) {
-            const float lat = kPi * ((a + 0.5f) / n - 0.5f), phi = 2 * kPi * (b + 0.5f) / (2 * n);
-            const vec3 d(std::cos(lat) * std::sin(phi), std::sin(lat),
-                         std::cos(lat) * std::cos(phi));
-            integral += env.pdf(d, c) * std::cos(lat) * (kPi / n) * (kPi / n);
-            if (lat < -0.2f) EXPECT_EQ(env.pdf(d, c), 0.0f) << lat;  // well below the band
-        }
-    }
+    over_sphere(400, [&](vec3 d, float lat, double solid_angle) {
+        integral += env.pdf(d, c) * solid_angle;
+        if (lat < -0.2f) EXPECT_EQ(env.pdf(d, c), 0.0f) << lat;  // well below the band
+    });
     EXPECT_NEAR(integral, 1.0, 0.01);
     Rng rng(5, 0);
     int dim = 0, dim_by_importance = 0;
