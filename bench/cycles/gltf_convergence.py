@@ -13,7 +13,7 @@ neighbours (where the camera sees the environment itself, both renderers only ji
 pixel, and the silhouette's pixels mix the two). Cycles runs the harness's cycles_gltf.py
 (Blender's own importer, the materials rewired to the glTF BRDF) with --repeat 2; its times
 are the render calls', svetlo's its "render R s". A power law fitted to Cycles' levels gives the
-time Cycles needs for each svetlo level's error. Needs numpy and Blender."""
+time Cycles needs for each svetlo level's error. Needs numpy and Blender (`scripts/setup cycles`)."""
 import argparse
 import math
 import os

@@ -7,7 +7,7 @@ with Cycles' own seed-to-seed floor, as a Markdown table.
 
 A model marked `:principled` keeps the importer's Principled BSDF in Cycles (the harness's
 rewiring to the glTF BRDF leaves transmission out). Each model is seen from the camera svetlo
-frames it with, lit by ENV alone. Needs numpy and Blender."""
+frames it with, lit by ENV alone. Needs numpy and Blender (`scripts/setup cycles`)."""
 import argparse
 import os
 import re
