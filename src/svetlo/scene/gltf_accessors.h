@@ -6,10 +6,11 @@
 #include <tiny_gltf.h>
 
 #include <algorithm>
-#include <cstring>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "svetlo/core/bytes.h"
 
 namespace svetlo {
 
@@ -67,9 +68,7 @@ public:
 private:
     template <typename T>
     static double load(const unsigned char* p) {
-        T v;
-        std::memcpy(&v, p, sizeof(T));
-        return static_cast<double>(v);
+        return static_cast<double>(load_bytes<T>(p));
     }
     const unsigned char* data_ = nullptr;
     size_t stride_ = 0, size_ = 0;

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "svetlo/core/bytes.h"
 #include "svetlo/scene/mesh_file.h"
 
 namespace svetlo {
@@ -80,9 +81,7 @@ public:
 private:
     template <typename T>
     static double load(const unsigned char* b) {
-        T v;
-        std::memcpy(&v, b, sizeof(T));
-        return static_cast<double>(v);
+        return static_cast<double>(load_bytes<T>(b));
     }
     std::ifstream& in_;
     Format format_;

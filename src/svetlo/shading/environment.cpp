@@ -40,7 +40,8 @@ Environment::Environment(const Scene& scene, bool importance) {
         for (int i = 0; i < width_; ++i)
             lum[static_cast<size_t>(j) * width_ + i] = luminance(map_->texel(i, j) * scale_);
     constexpr float kTent[3] = {0.125f, 0.75f, 0.125f};
-    std::vector<double> mean(lum.size()), sines(static_cast<size_t>(height_));
+    // Each cell's mean luminance, and each row's sin(theta).
+    std::vector<double> cell(lum.size()), sines(static_cast<size_t>(height_));
     double total = 0.0, solid = 0.0;
     for (int j = 0; j < height_; ++j) {
         const double sin_theta = std::sin(kPi * (j + 0.5) / height_);
@@ -54,24 +55,24 @@ Environment::Environment(const Scene& scene, bool importance) {
                     m += kTent[dj + 1] * kTent[di + 1] * lum[static_cast<size_t>(jj) * width_ + ii];
                 }
             }
-            mean[static_cast<size_t>(j) * width_ + i] = m;
+            cell[static_cast<size_t>(j) * width_ + i] = m;
             total += m * sin_theta;
             solid += sin_theta;
         }
     }
     black_ = !(total > 0.0);
-    // The importance: each cell's mean luminance times sin(theta), plus a floor of 1e-3 of the
-    // mean weight.
-    const double floor = total > 0.0 ? 1e-3 * total / static_cast<double>(mean.size()) : 1.0;
-    std::vector<double> weight(mean.size());
-    for (size_t k = 0; k < mean.size(); ++k)
-        weight[k] = mean[k] * sines[k / static_cast<size_t>(width_)] + floor;
+    // The importance: each cell's mean luminance times sin(theta), plus a floor of 1e-3 of
+    // the mean weight.
+    const double floor = total > 0.0 ? 1e-3 * total / static_cast<double>(cell.size()) : 1.0;
+    std::vector<double> weight(cell.size());
+    for (size_t k = 0; k < cell.size(); ++k)
+        weight[k] = cell[k] * sines[k / static_cast<size_t>(width_)] + floor;
     importance_ = Tables(weight, width_, height_);
     // Compensated: the same less the luminance's mean over the sphere, clamped at zero.
     const double average = total / solid;
     double above = 0.0;
-    for (size_t k = 0; k < mean.size(); ++k) {
-        weight[k] = std::max(0.0, mean[k] - average) * sines[k / static_cast<size_t>(width_)];
+    for (size_t k = 0; k < cell.size(); ++k) {
+        weight[k] = std::max(0.0, cell[k] - average) * sines[k / static_cast<size_t>(width_)];
         above += weight[k];
     }
     compensated_ = above > 0.0 ? Tables(weight, width_, height_) : importance_;
