@@ -21,6 +21,7 @@
 
 #include "svetlo/core/parallel.h"
 #include "svetlo/geometry/avx2.h"
+#include "svetlo/geometry/box_tree.h"
 #include "svetlo/geometry/bvh.h"
 #include "svetlo/geometry/ray_box.h"
 #include "svetlo/geometry/triangle.h"
@@ -121,7 +122,7 @@ WideBvh::WideBvh(const Geometry& geometry, int threads, int width) : geometry_(g
     // inner nodes.
     size_t inner = 0, leaves = 0;
     for (const BvhNode& n : bin.nodes()) (n.count == 0 ? inner : leaves)++;
-    if (leaves >= kLeaf) throw std::runtime_error("the wide BVH holds at most 2^31 leaves");
+    if (leaves >= kWideLeaf) throw std::runtime_error("the wide BVH holds at most 2^31 leaves");
     leaves_ = LargeArray<Leaf>(leaves);
     leaf_prims_.reserve(leaves);
     if (width_ == 16) {
@@ -152,7 +153,7 @@ void WideBvh::build(const Bvh& bin, LargeArray<WideBvhNode<W>>& nodes, size_t in
                 node.box[a][k] = k == 0 ? root.min[a] : kInfinity;
                 node.box[a + 3][k] = k == 0 ? root.max[a] : -kInfinity;
             }
-            node.child[k] = kEmpty;
+            node.child[k] = kWideEmpty;
         }
         node.child[0] = add_leaf(bin.primitives().subspan(root.first, root.count));
         nodes[0] = node;
@@ -176,7 +177,7 @@ uint32_t WideBvh::add_leaf(std::span<const uint32_t> prims) {
     packet_count_ += (triangles + 3) / 4;
     shape_count_ += count - triangles;
     leaf_prims_.push_back(prims);
-    return kLeaf | static_cast<uint32_t>(leaf_count_++);
+    return kWideLeaf | static_cast<uint32_t>(leaf_count_++);
 }
 
 void WideBvh::fill_leaf(size_t index) {
@@ -244,7 +245,7 @@ void WideBvh::collapse(std::span<const BvhNode> bin, std::span<const uint32_t> p
             node.box[a][k] = k < n ? bin[kids[k]].min[a] : kInfinity;
             node.box[a + 3][k] = k < n ? bin[kids[k]].max[a] : -kInfinity;
         }
-        node.child[k] = kEmpty;
+        node.child[k] = kWideEmpty;
     }
     for (int k = 0; k < n; ++k) {
         const BvhNode& c = bin[kids[k]];
@@ -336,8 +337,25 @@ void WideBvh::occluded_toward(vec3 end, const Ray* rays, size_t count, bool* blo
     }
 }
 
+bool wide::boxes_closest4(const WideBvhNode<4>* nodes, const Ray& ray, Hit& hit, BoxLeafTest leaf,
+                          uint32_t* visited) {
+    const auto test = [&](uint32_t box) { return leaf.test(leaf.context, box, hit); };
+    if (visited) return traverse_closest<Boxes4>(nodes, ray, hit, test, NodeCount{visited});
+    return traverse_closest<Boxes4>(nodes, ray, hit, test);
+}
+
+bool wide::boxes_any4(const WideBvhNode<4>* nodes, const Ray& ray, BoxLeafTest leaf) {
+    Hit unread;
+    return traverse_any<Boxes4>(nodes, ray,
+                                [&](uint32_t box) { return leaf.test(leaf.context, box, unread); });
+}
+
 #ifndef SVETLO_HAS_AVX2_BVH
 // Never called: width_ is 8 only where eight_wide_available().
+bool wide::boxes_closest8(const WideBvhNode<8>*, const Ray&, Hit&, BoxLeafTest, uint32_t*) {
+    return false;
+}
+bool wide::boxes_any8(const WideBvhNode<8>*, const Ray&, BoxLeafTest) { return false; }
 bool WideBvh::intersect8(const Ray&, Hit&, TraversalCost*) const { return false; }
 bool WideBvh::occluded8(const Ray&) const { return false; }
 bool WideBvh::occluded8_if(const Ray&, HitFilter) const { return false; }

@@ -21,10 +21,15 @@
 
 namespace svetlo {
 
+/// A child reference of a wide node: a node index, or (bit 31 set) an index into the leaves;
+/// kWideEmpty in a lane without a child (its box is +inf..-inf, which no ray enters).
+inline constexpr uint32_t kWideLeaf = 1u << 31;
+inline constexpr uint32_t kWideEmpty = ~0u;
+
 template <int W>
 struct alignas(64) WideBvhNode {
     float box[6][W];    // per child lane: min x, min y, min z, max x, max y, max z
-    uint32_t child[W];  // a node index, a leaf (kLeaf bit, see wide_bvh.cpp) or kEmpty
+    uint32_t child[W];  // a node index, a leaf (kWideLeaf | index) or kWideEmpty
 };
 
 /// Four triangles side by side: vertex j's component c of lane k is v[3 j + c][k].

@@ -10,6 +10,7 @@
 #include <cstring>
 #include <optional>
 
+#include "svetlo/geometry/box_tree.h"
 #include "svetlo/geometry/ray_box.h"
 #include "svetlo/geometry/triangle.h"
 #include "svetlo/geometry/wide_bvh.h"
@@ -105,6 +106,19 @@ uint64_t WideBvh::occluded_toward8(vec3 end, const Ray* rays, size_t count,
     return occluded_packet<8, SsePackets>(nodes8_.data(), leaves_.data(), packets_.data(),
                                           shapes_.data(), geometry_, end, rays, count, skip,
                                           [&](int m) { return occluded8(rays[m]); });
+}
+
+bool wide::boxes_closest8(const WideBvhNode<8>* nodes, const Ray& ray, Hit& hit, BoxLeafTest leaf,
+                          uint32_t* visited) {
+    const auto test = [&](uint32_t box) { return leaf.test(leaf.context, box, hit); };
+    if (visited) return traverse_closest<RayBoxes8>(nodes, ray, hit, test, NodeCount{visited});
+    return traverse_closest<RayBoxes8>(nodes, ray, hit, test);
+}
+
+bool wide::boxes_any8(const WideBvhNode<8>* nodes, const Ray& ray, BoxLeafTest leaf) {
+    Hit unread;
+    return traverse_any<RayBoxes8>(
+        nodes, ray, [&](uint32_t box) { return leaf.test(leaf.context, box, unread); });
 }
 
 }  // namespace svetlo
