@@ -2,7 +2,8 @@
 // (docs/real-scenes.md, "What a point reads") in every engine: a quad whose base colour is
 // COLOR_0 renders as the quad whose factor is that colour; a texture read at TEXCOORD_1 (or
 // moved there by KHR_texture_transform's texCoord) as the same texel read at TEXCOORD_0; and
-// the occlusion texture darkens the ambient term by 1 + strength (r - 1). Both windings.
+// the occlusion texture darkens the ambient term by 1 + strength (r - 1); an unlit material
+// shows its base colour. Both windings.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -196,6 +197,40 @@ void expect_second_set(const char* engine) {
         expect_same_image<Engine>(moved, first, engine,
                                   "KHR_texture_transform's texCoord, " + side);
     }
+}
+
+template <class Engine>
+void expect_unlit_base_colour(const char* engine) {
+    // The blue texel (0, 0, 1) times the factor (1, 1, 0.5) times COLOR_0 (1, 1, 0.5): the
+    // front shows radiance 0.25 in blue whatever the lights and the ambient term (a black
+    // surface that emits its base colour), the back nothing (emission leaves the front).
+    const std::vector<vec2> blue(4, vec2(0.75f, 0.5f));
+    const vec4 c(1.0f, 1.0f, 0.5f, 1.0f);
+    for (bool front : {true, false}) {
+        const fs::path quad = write_quad(
+            "unlit", {blue, {}, {c, c, c, c}},
+            {{"pbrMetallicRoughness",
+              {{"baseColorTexture", {{"index", 0}}}, {"baseColorFactor", {1, 1, 0.5, 1}}}},
+             {"extensions", {{"KHR_materials_unlit", json::object()}}}},
+            front);
+        const RenderResult r = render_json<Engine>(scene_with(quad, engine));
+        const std::string what = std::string(engine) + (front ? ", front" : ", back");
+        for (int y = 0; y < r.color.height; ++y) {
+            for (int x = 0; x < r.color.width; ++x) {
+                const Color p = r.color.at(x, y);
+                ASSERT_NEAR(p.b, front ? 0.25f : 0.0f, 1e-5f) << what << " at " << x << ", " << y;
+                ASSERT_NEAR(p.r, 0.0f, 1e-5f) << what << " at " << x << ", " << y;
+                ASSERT_NEAR(p.g, 0.0f, 1e-5f) << what << " at " << x << ", " << y;
+            }
+        }
+    }
+}
+
+TEST(Varyings, AnUnlitMaterialShowsItsBaseColourTimesTheVertexColourInEveryEngine) {
+    expect_unlit_base_colour<RasterRenderer>("raster");
+    expect_unlit_base_colour<WhittedRenderer>("whitted");
+    expect_unlit_base_colour<PathRenderer>("path");
+    expect_unlit_base_colour<RadiosityRenderer>("radiosity");
 }
 
 TEST(Varyings, ATextureReadsTheSetItNamesInEveryEngine) {

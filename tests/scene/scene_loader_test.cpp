@@ -101,6 +101,14 @@ TEST(SceneLoader, ErrorsNameTheJsonPath) {
         {"texture", "t.png"}, {"filter", "anisotropic"}, {"max_anisotropy", 0}};
     EXPECT_EQ(error_of(j), "materials.white.albedo.max_anisotropy: must be in [1, 64] (is 0)");
     j = minimal();
+    j["materials"]["white"]["albedo"] = {{"texture", "t.png"}, {"wrap", {"mirror"}}};
+    EXPECT_EQ(error_of(j),
+              "materials.white.albedo.wrap: expected one wrap mode, or two: [along u, along v]");
+    j = minimal();
+    j["materials"]["white"]["albedo"] = {{"texture", "t.png"}, {"wrap", {"mirror", "spiral"}}};
+    EXPECT_NE(error_of(j).find("materials.white.albedo.wrap[1]: unknown value 'spiral'"),
+              std::string::npos);
+    j = minimal();
     j["objects"][0]["material"] = "gold";
     EXPECT_EQ(error_of(j), "objects[0].material: unknown material 'gold'");
     j = minimal();

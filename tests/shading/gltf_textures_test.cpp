@@ -74,6 +74,20 @@ TEST_F(GltfTextures, BaseColourIsSrgbTimesItsFactor) {
     EXPECT_NEAR(right.b, 1.0f, 1e-6f);
 }
 
+TEST_F(GltfTextures, EachAxisWrapsAsItsSamplerSays) {
+    // wrapS mirrored repeat, wrapT clamp (BoxTextured's sampler); then repeat and mirrored.
+    const json base = {{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}};
+    const MeshFile f = read(base, {{"samplers", {{{"wrapS", 33648}, {"wrapT", 33071}}}}});
+    const auto& s = std::get<CookTorranceMaterial>(f.materials[0].model).base_color;
+    EXPECT_EQ(s.wrap, TextureWraps(TextureWrap::Mirror, TextureWrap::Clamp));
+    // The left texel (red) at u = 0.25, read backward at 1.75; clamped in v.
+    EXPECT_NEAR(at(s, vec2(1.75f, 3.5f), f).r, 1.0f, 1e-6f);
+    EXPECT_NEAR(at(s, vec2(1.25f, 3.5f), f).b, 1.0f, 1e-6f);
+    const MeshFile g = read(base, {{"samplers", {{{"wrapS", 10497}, {"wrapT", 33648}}}}});
+    EXPECT_EQ(std::get<CookTorranceMaterial>(g.materials[0].model).base_color.wrap,
+              TextureWraps(TextureWrap::Repeat, TextureWrap::Mirror));
+}
+
 TEST_F(GltfTextures, MetallicRoughnessIsLinearDataScalingTheFactors) {
     const MeshFile f = read({{"pbrMetallicRoughness",
                               {{"metallicRoughnessTexture", {{"index", 0}}},
@@ -102,6 +116,25 @@ TEST_F(GltfTextures, EmissionIsTheTextureTimesFactorAndStrengthOnAnyMaterial) {
     // No emissive factor: no emission, whatever the texture (glTF's default factor is 0).
     const MeshFile off = read({{"emissiveTexture", {{"index", 0}}}});
     EXPECT_TRUE(off.materials[0].emission.is_black());
+}
+
+TEST_F(GltfTextures, UnlitIsABlackSurfaceEmittingItsBaseColourWithItsAlpha) {
+    const MeshFile f =
+        read({{"pbrMetallicRoughness",
+               {{"baseColorTexture", {{"index", 0}}}, {"baseColorFactor", {0.5, 1, 1, 0.4}}}},
+              {"alphaMode", "BLEND"},
+              {"extensions", {{"KHR_materials_unlit", json::object()}}}},
+             {{"extensionsUsed", {"KHR_materials_unlit"}}});
+    EXPECT_TRUE(f.warnings.empty());
+    const Material& m = f.materials[0];
+    const Bsdf left = make_bsdf(m, vec2(0.25f, 0.5f), f.textures);
+    EXPECT_EQ(left.diffuse, Color(0.0f));
+    EXPECT_EQ(left.specular, Color(0.0f));
+    EXPECT_NEAR(left.emission.r, 0.5f, 1e-6f);  // code 255 in sRGB, times 0.5
+    const Bsdf right = make_bsdf(m, vec2(0.75f, 0.5f), f.textures);
+    EXPECT_NEAR(right.emission.g, 0.2158605f, 1e-4f);  // code 128 decoded as sRGB
+    EXPECT_EQ(m.alpha.mode, AlphaMode::Blend);
+    EXPECT_NEAR(at(m.alpha.coverage, vec2(0.25f, 0.5f), f).r, 0.4f, 1e-6f);
 }
 
 TEST_F(GltfTextures, NormalTextureIsLinearWithItsScale) {

@@ -40,6 +40,51 @@ TEST(Texture, BilinearMatchesTheFormula) {
     EXPECT_NEAR(sample_bilinear(image, vec2(1.0f, 0.25f), TextureWrap::Repeat).r, 1.5f, 1e-5f);
 }
 
+// Mirror reads the texture forward on [0, 1] and backward on [1, 2] and [-1, 0], the edge
+// texel twice at each seam (GL's and glTF's MIRRORED_REPEAT), for every size, below 0 and past
+// the end: column i of a one-row texture holds i.
+TEST(Texture, MirrorReadsEveryOtherPeriodBackward) {
+    for (int n = 1; n <= 9; ++n) {
+        Image row(n, 1);
+        for (int i = 0; i < n; ++i) row.at(i, 0) = Color(static_cast<float>(i));
+        const TextureImage image(std::move(row));
+        const auto mirrored = [n](int i) {
+            const int m = ((i % (2 * n)) + 2 * n) % (2 * n);
+            return m < n ? m : 2 * n - 1 - m;
+        };
+        for (int i = -3 * n - 1; i <= 3 * n + 1; ++i) {
+            const float u = (static_cast<float>(i) + 0.5f) / static_cast<float>(n);
+            EXPECT_EQ(sample_nearest(image, vec2(u, 0.5f), TextureWrap::Mirror).r,
+                      static_cast<float>(mirrored(i)))
+                << "n " << n << ", i " << i;
+            const float between =
+                sample_bilinear(image,
+                                vec2((static_cast<float>(i) + 1.0f) / static_cast<float>(n), 0.5f),
+                                TextureWrap::Mirror)
+                    .r;
+            EXPECT_FLOAT_EQ(between, 0.5f * static_cast<float>(mirrored(i) + mirrored(i + 1)))
+                << "n " << n << ", i " << i;
+        }
+    }
+    // Texel 3 of 4 at u = 0.875, read backward at 1.125 and at -0.875.
+    const TextureImage image = ramp();
+    EXPECT_EQ(sample_nearest(image, vec2(1.125f, 0.25f), TextureWrap::Mirror), Color(3, 0, 0));
+    EXPECT_EQ(sample_nearest(image, vec2(-0.875f, 0.25f), TextureWrap::Mirror), Color(3, 0, 0));
+    // At the seam u = 1 bilinear filtering blends the last texel with itself, not with the first.
+    EXPECT_EQ(sample_bilinear(image, vec2(1.0f, 0.25f), TextureWrap::Mirror), Color(3, 0, 0));
+}
+
+TEST(Texture, EachAxisWrapsByItsOwnMode) {
+    const TextureImage image = ramp();
+    // u mirrored, v clamped; u repeated, v mirrored.
+    const TextureWraps mirror_clamp(TextureWrap::Mirror, TextureWrap::Clamp);
+    EXPECT_EQ(sample_nearest(image, vec2(1.125f, 1.75f), mirror_clamp), Color(3, 1, 0));
+    EXPECT_EQ(sample_nearest(image, vec2(1.125f, -0.75f), mirror_clamp), Color(3, 0, 0));
+    const TextureWraps repeat_mirror(TextureWrap::Repeat, TextureWrap::Mirror);
+    EXPECT_EQ(sample_nearest(image, vec2(1.125f, 1.25f), repeat_mirror), Color(0, 1, 0));
+    EXPECT_EQ(sample_nearest(image, vec2(1.125f, 1.75f), repeat_mirror), Color(0, 0, 0));
+}
+
 // Repeat wraps texel indices modulo the size, below 0 and past the end alike, for sizes that
 // are powers of two and sizes that are not: column i of a one-row texture holds i.
 TEST(Texture, RepeatWrapsEveryIndexModuloTheSize) {
@@ -220,7 +265,9 @@ TEST(Texture, ColoursOfManyPointsAreTheColoursOneByOne) {
     for (int texture : {0, 1}) {
         for (TextureFilter filter : {TextureFilter::Nearest, TextureFilter::Bilinear,
                                      TextureFilter::Trilinear, TextureFilter::Anisotropic}) {
-            for (TextureWrap wrap : {TextureWrap::Repeat, TextureWrap::Clamp}) {
+            for (TextureWraps wrap :
+                 {TextureWraps(TextureWrap::Repeat), TextureWraps(TextureWrap::Clamp),
+                  TextureWraps(TextureWrap::Mirror, TextureWrap::Clamp)}) {
                 ColorSource s;
                 s.kind = ColorSource::Kind::Image;
                 s.texture = texture;

@@ -430,6 +430,8 @@ void place_gltf_nodes(const tinygltf::Model& model, MeshFile& file) {
         Material& material = file.materials[static_cast<size_t>(m)];
         if (auto* ct = std::get_if<CookTorranceMaterial>(&material.model))
             ct->base_color.vertex_color = VertexColor::Rgb;
+        else  // KHR_materials_unlit: its base colour is its emission (gltf_materials.cpp)
+            material.emission.vertex_color = VertexColor::Rgb;
         if (material.alpha.active()) material.alpha.coverage.vertex_color = VertexColor::Alpha;
     }
     if (file.mesh.indices.empty() && file.shared.empty())

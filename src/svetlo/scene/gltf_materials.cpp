@@ -44,12 +44,14 @@ public:
             const tinygltf::Sampler& sampler = model_.samplers[static_cast<size_t>(t.sampler)];
             if (sampler.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST)
                 s.filter = TextureFilter::Nearest;
-            // One wrap mode for both axes (svetlo's textures have one): clamp when both clamp,
-            // else repeat (mirrored repeat repeats). BoxTextured's u runs to 6 under mirrored
-            // repeat, with v clamped in [0, 1].
-            if (sampler.wrapS == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE &&
-                sampler.wrapT == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE)
-                s.wrap = TextureWrap::Clamp;
+            // wrapS along u, wrapT along v (BoxTextured's u runs to 6 under mirrored repeat,
+            // with v clamped in [0, 1]); an unknown code repeats, glTF's default.
+            const auto wrap = [](int code) {
+                return code == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE     ? TextureWrap::Clamp
+                       : code == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT ? TextureWrap::Mirror
+                                                                       : TextureWrap::Repeat;
+            };
+            s.wrap = TextureWraps(wrap(sampler.wrapS), wrap(sampler.wrapT));
         }
         if (auto ext = extensions.find("KHR_texture_transform"); ext != extensions.end())
             transform(ext->second, s);
@@ -344,6 +346,16 @@ Alpha alpha_of(const tinygltf::Material& m, GltfTextures& textures, const std::s
 Material material_from_gltf(const tinygltf::Material& m, GltfTextures& textures) {
     const std::string name = "material '" + m.name + "'";
     CookTorranceMaterial ct = metallic_roughness(m, textures, name);
+    if (m.extensions.count("KHR_materials_unlit")) {
+        // KHR_materials_unlit: the surface shows its base colour whatever the light, which in
+        // radiometric terms is a black surface that emits it (docs/scene-format.md, "Mesh
+        // files"): the base colour (sRGB, times its factor and COLOR_0) as emitted radiance,
+        // with its alpha; the other textures are not read.
+        Material out = LambertMaterial{ColorSource::constant(Color(0.0f))};
+        out.emission = ct.base_color;
+        out.alpha = alpha_of(m, textures, name);
+        return out;
+    }
     read_extensions(m, textures, name, ct);
     Material out = ct;
     out.emission = emission_of(m, textures, name);

@@ -127,7 +127,8 @@ bool reads_extension(const std::string& name) {
         "KHR_materials_ior",      "KHR_materials_transmission",
         "KHR_materials_volume",   "KHR_materials_clearcoat",
         "KHR_mesh_quantization",  "KHR_texture_transform",
-        "KHR_materials_specular", "EXT_mesh_gpu_instancing"};
+        "KHR_materials_specular", "KHR_materials_unlit",
+        "EXT_mesh_gpu_instancing"};
     if (name == "EXT_texture_webp") return reads_webp();
     if (decodes_compression(name)) return true;
     return std::find(std::begin(always), std::end(always), name) != std::end(always);

@@ -232,7 +232,14 @@ ColorSource parse_image_source(const JsonNode& node, Scene& scene, FileCache& fi
     if (auto n = node.find("filter")) s.filter = n->as_enum(kTextureFilters);
     if (auto n = node.find("max_anisotropy"))
         s.max_anisotropy = static_cast<int>(n->as_integer(1, 64));
-    if (auto n = node.find("wrap")) s.wrap = n->as_enum(kTextureWraps);
+    if (auto n = node.find("wrap")) {  // one mode, or [along u, along v]
+        if (n->is_array()) {
+            if (n->size() != 2) n->fail("expected one wrap mode, or two: [along u, along v]");
+            s.wrap = TextureWraps(n->at(0).as_enum(kTextureWraps), n->at(1).as_enum(kTextureWraps));
+        } else {
+            s.wrap = n->as_enum(kTextureWraps);
+        }
+    }
     // One read per file and colour space, however many materials use it.
     std::error_code ec;
     std::string source = std::filesystem::weakly_canonical(file, ec).string() +

@@ -24,7 +24,17 @@ namespace svetlo {
 // ---- colours and textures -----------------------------------------------------------------
 
 enum class TextureFilter { Nearest, Bilinear, Trilinear, Anisotropic };
-enum class TextureWrap { Repeat, Clamp };
+/// What a texture coordinate outside [0, 1] reads: the texture repeated, its edge texels, or
+/// the texture repeated mirrored every other time (GL's and glTF's MIRRORED_REPEAT).
+enum class TextureWrap { Repeat, Clamp, Mirror };
+/// The wrap along u and along v (glTF's wrapS and wrapT); one mode converts to both.
+struct TextureWraps {
+    TextureWrap u = TextureWrap::Repeat, v = TextureWrap::Repeat;
+    constexpr TextureWraps() = default;
+    constexpr TextureWraps(TextureWrap both) : u(both), v(both) {}  // NOLINT: both axes
+    constexpr TextureWraps(TextureWrap along_u, TextureWrap along_v) : u(along_u), v(along_v) {}
+    bool operator==(const TextureWraps&) const = default;
+};
 
 /// What a surface point hands its material's colours besides its position: its two texture
 /// coordinate sets (glTF's TEXCOORD_0 and TEXCOORD_1; a surface with one set gives it as
@@ -57,7 +67,7 @@ struct ColorSource {
     bool transformed = false;
     TextureFilter filter = TextureFilter::Bilinear;
     int max_anisotropy = 16;  // Anisotropic: trilinear probes along the footprint, at most
-    TextureWrap wrap = TextureWrap::Repeat;
+    TextureWraps wrap;
     Color a{0.0f}, b{1.0f};  // Checker: a where floor(scale*u) + floor(scale*v) is even
     float scale = 1.0f;
     int uv_set = 0;  // Image, Checker: the texture coordinate set read (Varyings::uv)
@@ -383,7 +393,8 @@ inline constexpr EnumName<TextureFilter> kTextureFilters[] = {
 inline constexpr EnumName<AlphaMode> kAlphaModes[] = {
     {"opaque", AlphaMode::Opaque}, {"mask", AlphaMode::Mask}, {"blend", AlphaMode::Blend}};
 inline constexpr EnumName<TextureWrap> kTextureWraps[] = {{"repeat", TextureWrap::Repeat},
-                                                          {"clamp", TextureWrap::Clamp}};
+                                                          {"clamp", TextureWrap::Clamp},
+                                                          {"mirror", TextureWrap::Mirror}};
 
 /// render.shading (raster): how fragments are coloured, or a debug view.
 enum class ShadingMode { Flat, Gouraud, Phong, Depth, Normal, Overdraw };

@@ -43,7 +43,7 @@ float mip_level(const MipChain& chain, vec2 duv_dx, vec2 duv_dy) {
     return std::log2(rho);
 }
 
-Color sample_trilinear(const MipChain& chain, vec2 uv, float lod, TextureWrap wrap) {
+Color sample_trilinear(const MipChain& chain, vec2 uv, float lod, TextureWraps wrap) {
     int last = chain.count() - 1;
     lod = std::clamp(lod, 0.0f, static_cast<float>(last));
     int l0 = static_cast<int>(std::floor(lod));
@@ -55,7 +55,7 @@ Color sample_trilinear(const MipChain& chain, vec2 uv, float lod, TextureWrap wr
 }
 
 Color sample_anisotropic(const MipChain& chain, vec2 uv, vec2 duv_dx, vec2 duv_dy, int max_probes,
-                         TextureWrap wrap) {
+                         TextureWraps wrap) {
     const TextureImage& base = chain.level(0);
     vec2 size(static_cast<float>(base.width()), static_cast<float>(base.height()));
     float px = glm::length(duv_dx * size), py = glm::length(duv_dy * size);  // texels

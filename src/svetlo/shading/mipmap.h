@@ -35,7 +35,7 @@ MipChain build_mip_chain(const TextureImage&& texture) = delete;  // it would da
 float mip_level(const MipChain& chain, vec2 duv_dx, vec2 duv_dy);
 
 /// Bilinear lookups in the two levels around `lod`, blended linearly.
-Color sample_trilinear(const MipChain& chain, vec2 uv, float lod, TextureWrap wrap);
+Color sample_trilinear(const MipChain& chain, vec2 uv, float lod, TextureWraps wrap);
 
 /// Anisotropic filtering (in the manner of EXT_texture_filter_anisotropic): a footprint
 /// longer in one direction than the other is covered by N = ceil(major / minor) trilinear
@@ -44,7 +44,7 @@ Color sample_trilinear(const MipChain& chain, vec2 uv, float lod, TextureWrap wr
 /// trilinear blurs a grazing texture to the level of its longer axis, this keeps the detail
 /// of the shorter one.
 Color sample_anisotropic(const MipChain& chain, vec2 uv, vec2 duv_dx, vec2 duv_dy, int max_probes,
-                         TextureWrap wrap);
+                         TextureWraps wrap);
 
 /// Where a texture lookup happens: its uv footprint across one pixel (zero without one, as
 /// for rays) and the scene's mip chains (one per Scene::textures entry; empty for engines

@@ -10,6 +10,13 @@ namespace {
 
 int wrap_index(int i, int n, TextureWrap wrap) {
     if (wrap == TextureWrap::Clamp) return std::clamp(i, 0, n - 1);
+    if (wrap == TextureWrap::Mirror) {
+        // Period 2n: the texels in order, then in reverse (the edge texel twice, as GL does).
+        const int period = 2 * n;
+        int m = i % period;
+        if (m < 0) m += period;
+        return m < n ? m : period - 1 - m;
+    }
     // A power of two (most textures, every mip level of one): the low bits, which two's
     // complement makes i mod n for negative i too; no division.
     if ((n & (n - 1)) == 0) return i & (n - 1);
@@ -18,9 +25,9 @@ int wrap_index(int i, int n, TextureWrap wrap) {
 }
 
 /// Texel (i, j) with j counted from the bottom row.
-Color texel(const TextureImage& image, int i, int j, TextureWrap wrap) {
-    int x = wrap_index(i, image.width(), wrap);
-    int y = wrap_index(j, image.height(), wrap);
+Color texel(const TextureImage& image, int i, int j, TextureWraps wrap) {
+    int x = wrap_index(i, image.width(), wrap.u);
+    int y = wrap_index(j, image.height(), wrap.v);
     return image.texel(x, image.height() - 1 - y);
 }
 
@@ -31,29 +38,31 @@ float tame(float x) {
     return std::isfinite(x) ? std::fmod(x, 1.0e6f) : 0.0f;
 }
 
-/// Along an axis of n texels: texel i and the next, wrapped (one division for the two).
+/// Along an axis of n texels: texel i and the next, wrapped (one division for the two where
+/// the texture repeats).
 std::pair<int, int> wrap_pair(int i, int n, TextureWrap wrap) {
     if (wrap == TextureWrap::Clamp) return {std::clamp(i, 0, n - 1), std::clamp(i + 1, 0, n - 1)};
+    if (wrap == TextureWrap::Mirror) return {wrap_index(i, n, wrap), wrap_index(i + 1, n, wrap)};
     const int a = wrap_index(i, n, wrap);
     return {a, a + 1 == n ? 0 : a + 1};
 }
 
 }  // namespace
 
-Color sample_nearest(const TextureImage& image, vec2 uv, TextureWrap wrap) {
+Color sample_nearest(const TextureImage& image, vec2 uv, TextureWraps wrap) {
     float x = tame(uv.x) * static_cast<float>(image.width());
     float y = tame(uv.y) * static_cast<float>(image.height());
     return texel(image, static_cast<int>(std::floor(x)), static_cast<int>(std::floor(y)), wrap);
 }
 
-Color sample_bilinear(const TextureImage& image, vec2 uv, TextureWrap wrap) {
+Color sample_bilinear(const TextureImage& image, vec2 uv, TextureWraps wrap) {
     float x = tame(uv.x) * static_cast<float>(image.width()) - 0.5f;
     float y = tame(uv.y) * static_cast<float>(image.height()) - 0.5f;
     float x0 = std::floor(x), y0 = std::floor(y);
     float fx = x - x0, fy = y - y0;
     // The four texels around (x, y), as texel() finds them, rows counted from the bottom.
-    const auto [i0, i1] = wrap_pair(static_cast<int>(x0), image.width(), wrap);
-    const auto [j0, j1] = wrap_pair(static_cast<int>(y0), image.height(), wrap);
+    const auto [i0, i1] = wrap_pair(static_cast<int>(x0), image.width(), wrap.u);
+    const auto [j0, j1] = wrap_pair(static_cast<int>(y0), image.height(), wrap.v);
     const int top = image.height() - 1;
     return (1.0f - fx) * (1.0f - fy) * image.texel(i0, top - j0) +
            fx * (1.0f - fy) * image.texel(i1, top - j0) +

@@ -10,9 +10,9 @@
 namespace svetlo {
 
 /// Nearest texel: the value of the texel that contains (u, v).
-Color sample_nearest(const TextureImage& image, vec2 uv, TextureWrap wrap);
+Color sample_nearest(const TextureImage& image, vec2 uv, TextureWraps wrap);
 /// Bilinear interpolation between the four texel centres around (u, v).
-Color sample_bilinear(const TextureImage& image, vec2 uv, TextureWrap wrap);
+Color sample_bilinear(const TextureImage& image, vec2 uv, TextureWraps wrap);
 
 /// The colour of `source` at a point: read at the point's texture coordinate set
 /// `source.uv_set`, times its vertex colour where `source.vertex_color` says so. Ray-traced
