@@ -74,6 +74,22 @@ TEST(Texture, MirrorReadsEveryOtherPeriodBackward) {
     EXPECT_EQ(sample_bilinear(image, vec2(1.0f, 0.25f), TextureWrap::Mirror), Color(3, 0, 0));
 }
 
+// A coordinate far outside [0, 1] reads the texel it wraps to: 300000.125 texture widths on a
+// texture 8192 wide is texel 1024 repeated, backward (8191 - 1024) mirrored, the last
+// clamped. Times the width it is past the range of int, where the index was undefined.
+TEST(Texture, FarCoordinatesReadTheTexelTheyWrapTo) {
+    Image row(8192, 1);
+    for (int i = 0; i < 8192; ++i) row.at(i, 0) = Color(static_cast<float>(i));
+    const TextureImage image(std::move(row));
+    const vec2 far(300000.125f + 0.5f / 8192.0f, 0.5f);
+    EXPECT_EQ(sample_nearest(image, far, TextureWrap::Repeat).r, 1024.0f);
+    EXPECT_EQ(sample_nearest(image, far, TextureWrap::Mirror).r, 1024.0f);
+    EXPECT_EQ(sample_nearest(image, far + vec2(1.0f, 0.0f), TextureWrap::Mirror).r,
+              8191.0f - 1024.0f);
+    EXPECT_EQ(sample_nearest(image, far, TextureWrap::Clamp).r, 8191.0f);
+    EXPECT_EQ(sample_nearest(image, -far, TextureWrap::Clamp).r, 0.0f);
+}
+
 TEST(Texture, EachAxisWrapsByItsOwnMode) {
     const TextureImage image = ramp();
     // u mirrored, v clamped; u repeated, v mirrored.

@@ -31,11 +31,13 @@ Color texel(const TextureImage& image, int i, int j, TextureWraps wrap) {
     return image.texel(x, image.height() - 1 - y);
 }
 
-/// Keeps huge texture coordinates from overflowing int when converted to texel indices
+/// Keeps huge texture coordinates from overflowing int when converted to texel indices: under
+/// 1024 in magnitude, times at most 65536 texels a side (image_io.h), they stay below 2^26.
+/// fmod is exact and 1024 an even number of periods, so every wrap mode reads the same texel
 /// (fmod only where it changes x: it is a library call, and this runs per lookup).
 float tame(float x) {
-    if (std::abs(x) < 1.0e6f) return x;
-    return std::isfinite(x) ? std::fmod(x, 1.0e6f) : 0.0f;
+    if (std::abs(x) < 1024.0f) return x;
+    return std::isfinite(x) ? std::fmod(x, 1024.0f) : 0.0f;
 }
 
 /// Along an axis of n texels: texel i and the next, wrapped (one division for the two where
