@@ -1,6 +1,7 @@
 """svetlo's path tracer and Cycles side by side on glTF models under an environment: the
 docs' picture (each pair svetlo left, Cycles right, two pairs a row) and the FLIP of each pair
-with Cycles' own seed-to-seed floor, as a Markdown table.
+with Cycles' own seed-to-seed floor, the mean luminance of the model's pixels (where svetlo's
+depth AOV is not 0) in each and the median of their ratio there, as a Markdown table.
 
     /usr/bin/python3 bench/cycles/gltf_pairs.py SVETLO ENV OUT.png MODEL[:principled]...
         [--size 160] [--spp 256] [--threads 2] [--bounces 16]
@@ -36,6 +37,11 @@ def write_png(path, rgb):
                 chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b""))
 
 
+def luminance(rgb):
+    """Rec. 709 luminance of linear RGB."""
+    return rgb @ np.array([0.2126, 0.7152, 0.0722])
+
+
 def flip(svetlo, a, b):
     out = subprocess.run([svetlo, "diff", a, b], capture_output=True, text=True).stdout
     return float(re.search(r"flip ([0-9.eE+-]+)", out).group(1))
@@ -60,9 +66,11 @@ def main():
         model, _, mode = spec.partition(":")
         camera = camera_of(a.svetlo, model)
         sv = os.path.join(tmp, f"sv_{k}.pfm")
+        depth = os.path.join(tmp, f"depth_{k}.pfm")
         subprocess.run([a.svetlo, "render"] + svetlo_args(model, a.env, camera, a.size, a.threads,
                                                           a.bounces) +
-                       ["--spp", str(a.spp), "-o", sv, "-q"], check=True)
+                       ["--spp", str(a.spp), "-o", sv, "--aov", f"depth={depth}", "-q"],
+                       check=True)
         cy = os.path.join(tmp, f"cy_{k}.pfm")
         subprocess.run(["blender", "-b", "--factory-startup", "--python",
                         os.path.join(a.harness, "cycles_gltf.py"), "--", "--model",
@@ -73,9 +81,17 @@ def main():
                        (["--principled"] if mode == "principled" else []),
                        capture_output=True, check=True)
         floor = flip(a.svetlo, cy, cy.replace(".pfm", "_1.pfm"))
+        sv_rgb, cy_rgb = read_pfm(sv), read_pfm(cy)
+        # The model's pixels: where svetlo's depth AOV is not 0 (a camera ray meets the model).
+        on = read_pfm(depth)[..., 0] > 0.0
+        lum_sv, lum_cy = luminance(sv_rgb)[on], luminance(cy_rgb)[on]
+        # Per pixel, the middle of svetlo's luminance over Cycles': a systematic difference,
+        # which Cycles' fireflies (they move the mean and the FLIP) do not move.
+        ratio = np.median(lum_sv / np.maximum(lum_cy, 1e-6))
         rows.append(f"| {os.path.basename(model)}{' (Principled)' if mode else ''} | "
-                    f"{floor:.3f} | {flip(a.svetlo, sv, cy):.3f} |")
-        tiles.append((read_pfm(sv)[::-1], read_pfm(cy)[::-1]))  # PFM rows run bottom up
+                    f"{floor:.3f} | {flip(a.svetlo, sv, cy):.3f} | {lum_sv.mean():.4f} / "
+                    f"{lum_cy.mean():.4f} | {ratio:.3f} |")
+        tiles.append((sv_rgb[::-1], cy_rgb[::-1]))  # PFM rows run bottom up
     gap = 4
     s = a.size
     cols = 2
@@ -86,8 +102,9 @@ def main():
             y, x = (k // cols) * (s + gap), ((k % cols) * 2 + j) * (s + gap)
             out[y:y + s, x:x + s] = im
     write_png(a.png, out)
-    print("| model | FLIP, Cycles seed 0 vs seed 1 | FLIP, svetlo vs Cycles |")
-    print("| --- | --- | --- |")
+    print("| model | FLIP, Cycles seed 0 vs seed 1 | FLIP, svetlo vs Cycles | the model's mean "
+          "luminance, svetlo / Cycles | median of svetlo ÷ Cycles over its pixels |")
+    print("| --- | --- | --- | --- | --- |")
     print("\n".join(rows))
 
 

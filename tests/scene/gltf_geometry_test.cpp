@@ -1,7 +1,7 @@
 // glTF geometry as the specification lays it out (docs/scene-format.md, "Mesh files"): sparse
 // accessors, triangle strips and fans, morph targets at their default weights, skins at the
-// nodes' pose, EXT_mesh_gpu_instancing, the node trees, and flat primitives (without NORMAL)
-// beside smooth ones.
+// nodes' pose, the first animation's first keys, EXT_mesh_gpu_instancing, the node trees, and
+// flat primitives (without NORMAL) beside smooth ones.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -340,6 +340,139 @@ TEST(GltfGeometry, GpuInstancingsAttributesMustAgreeInCount) {
                                              "counts differ"),
                   std::string::npos)
             << e.what();
+    }
+}
+
+/// A SCALAR float accessor of `values` in a view of its own.
+int scalars(GltfWriter& w, const std::vector<float>& values) {
+    return w.accessor({{"bufferView", w.view(values)},
+                       {"componentType", 5126},
+                       {"count", values.size()},
+                       {"type", "SCALAR"}});
+}
+
+TEST(GltfGeometry, TheFirstAnimationPosesItsNodesAtItsFirstKeys) {
+    // The triangle (0,0,0) (1,0,0) (0,1,0) under a node at (9, 9, 9) turned about z: the
+    // animation's first keys (its times given out of order, the earliest second) move it to
+    // (1, 2, 3), scale it by 2 and, by a CUBICSPLINE rotation (in-tangent, value, out-tangent),
+    // turn it a quarter about z. A second animation is not read.
+    GltfWriter w;
+    const int pos = w.vec3s({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    const int times = scalars(w, {2, 1});
+    const int one_time = scalars(w, {0});
+    const int moves = w.accessor(floats(w, {7, 7, 7, 1, 2, 3}, 3));
+    const int scales = w.accessor(floats(w, {2, 2, 2}, 3));
+    const float h = std::sqrt(0.5f);
+    const int turns = w.accessor(floats(w, {9, 9, 9, 9, 0, 0, h, h, 9, 9, 9, 9}, 4));
+    const int elsewhere = w.accessor(floats(w, {50, 50, 50}, 3));
+    const json animations = {
+        {{"samplers",
+          {{{"input", times}, {"output", moves}},
+           {{"input", one_time}, {"output", scales}, {"interpolation", "STEP"}},
+           {{"input", one_time}, {"output", turns}, {"interpolation", "CUBICSPLINE"}}}},
+         {"channels",
+          {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "translation"}}}},
+           {{"sampler", 1}, {"target", {{"node", 0}, {"path", "scale"}}}},
+           {{"sampler", 2}, {"target", {{"node", 0}, {"path", "rotation"}}}}}}},
+        {{"samplers", {{{"input", one_time}, {"output", elsewhere}}}},
+         {"channels", {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "translation"}}}}}}}};
+    const MeshFile f = read_mesh_file(
+        w.write("animated",
+                {{"meshes", one_mesh({{"POSITION", pos}})},
+                 {"nodes", {{{"mesh", 0}, {"translation", {9, 9, 9}}, {"rotation", {0, 0, 1, 0}}}}},
+                 {"animations", animations}}));
+    ASSERT_EQ(f.mesh.positions.size(), 3u);
+    EXPECT_NEAR(glm::distance(f.mesh.positions[0], vec3(1, 2, 3)), 0.0f, 1e-5f);
+    EXPECT_NEAR(glm::distance(f.mesh.positions[1], vec3(1, 4, 3)), 0.0f, 1e-5f);   // x -> y
+    EXPECT_NEAR(glm::distance(f.mesh.positions[2], vec3(-1, 2, 3)), 0.0f, 1e-5f);  // y -> -x
+}
+
+TEST(GltfGeometry, AnimatedMorphWeightsAreTheFirstKeys) {
+    // The morphed square's mesh weight 0.5, animated to 1 (then 0).
+    const fs::path plain = morphed_square("plain_weights", {0.5}, {{{"mesh", 0}}});
+    json gltf;
+    std::ifstream(plain) >> gltf;
+    // Append the keys to the square's buffer: a new .bin holding both.
+    std::ifstream in(plain.parent_path() / "plain_weights.bin", std::ios::binary);
+    std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), {});
+    const auto append = [&](const std::vector<float>& v) {
+        while (bytes.size() % 4 != 0) bytes.push_back(0);
+        const size_t offset = bytes.size();
+        bytes.resize(offset + 4 * v.size());
+        std::memcpy(bytes.data() + offset, v.data(), 4 * v.size());
+        gltf["bufferViews"].push_back(
+            {{"buffer", 0}, {"byteOffset", offset}, {"byteLength", 4 * v.size()}});
+        gltf["accessors"].push_back({{"bufferView", gltf["bufferViews"].size() - 1},
+                                     {"componentType", 5126},
+                                     {"count", v.size()},
+                                     {"type", "SCALAR"}});
+        return static_cast<int>(gltf["accessors"].size()) - 1;
+    };
+    const int times = append({0, 1}), weights = append({1, 0});
+    gltf["buffers"][0] = {{"uri", "animated_weights.bin"}, {"byteLength", bytes.size()}};
+    gltf["animations"] = {
+        {{"samplers", {{{"input", times}, {"output", weights}}}},
+         {"channels", {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "weights"}}}}}}}};
+    std::ofstream(plain.parent_path() / "animated_weights.bin", std::ios::binary)
+        .write(reinterpret_cast<const char*>(bytes.data()),
+               static_cast<std::streamsize>(bytes.size()));
+    std::ofstream(plain.parent_path() / "animated_weights.gltf") << gltf.dump();
+    const MeshFile f = read_mesh_file(plain.parent_path() / "animated_weights.gltf");
+    ASSERT_EQ(f.mesh.positions.size(), 4u);
+    EXPECT_EQ(f.mesh.positions[2], vec3(1, 1, 1));
+}
+
+TEST(GltfGeometry, BadAnimationChannelsAreRefusedWithOneLine) {
+    struct Case {
+        const char* name;
+        json channel;
+        json node;
+        const char* says;
+    };
+    const std::vector<Case> cases = {
+        {"anim_node",
+         {{"sampler", 0}, {"target", {{"node", 3}, {"path", "translation"}}}},
+         {{"mesh", 0}},
+         "animation 0, channel 0: node 3 missing"},
+        {"anim_sampler",
+         {{"sampler", 4}, {"target", {{"node", 0}, {"path", "translation"}}}},
+         {{"mesh", 0}},
+         "animation 0, channel 0: sampler 4 missing"},
+        {"anim_matrix",
+         {{"sampler", 0}, {"target", {{"node", 0}, {"path", "translation"}}}},
+         {{"mesh", 0}, {"matrix", {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}}},
+         "is given by a matrix and cannot be animated"},
+        {"anim_short",
+         {{"sampler", 1}, {"target", {{"node", 0}, {"path", "translation"}}}},
+         {{"mesh", 0}},
+         "fewer outputs than keys"},
+        {"anim_weights",
+         {{"sampler", 0}, {"target", {{"node", 0}, {"path", "weights"}}}},
+         {{"translation", {0, 0, 0}}, {"children", {1}}},
+         "weights of a node without a mesh"},
+    };
+    for (const Case& c : cases) {
+        GltfWriter w;
+        const int pos = w.vec3s({0, 0, 0, 1, 0, 0, 0, 1, 0});
+        const int times = scalars(w, {1, 0});  // the earliest key is the second
+        const int moves = w.accessor(floats(w, {1, 2, 3, 4, 5, 6}, 3));
+        const int one = w.accessor(floats(w, {1, 2, 3}, 3));
+        const json animations = {
+            {{"samplers",
+              {{{"input", times}, {"output", moves}}, {{"input", times}, {"output", one}}}},
+             {"channels", {c.channel}}}};
+        json nodes = {c.node, {{"mesh", 0}}};
+        const fs::path file = w.write(c.name, {{"meshes", one_mesh({{"POSITION", pos}})},
+                                               {"nodes", nodes},
+                                               {"animations", animations}});
+        try {
+            read_mesh_file(file);
+            ADD_FAILURE() << c.name << " was read";
+        } catch (const std::runtime_error& e) {
+            const std::string what = e.what();
+            EXPECT_NE(what.find(c.says), std::string::npos) << c.name << ": " << what;
+            EXPECT_EQ(what.find('\n'), std::string::npos) << c.name << ": " << what;
+        }
     }
 }
 

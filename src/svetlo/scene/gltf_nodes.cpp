@@ -33,6 +33,69 @@ mat4 node_matrix(const tinygltf::Node& node) {
     return t * r * s;
 }
 
+void pose_first_keys(tinygltf::Model& model) {
+    if (model.animations.empty()) return;
+    const tinygltf::Animation& animation = model.animations[0];
+    for (size_t k = 0; k < animation.channels.size(); ++k) {
+        const tinygltf::AnimationChannel& channel = animation.channels[k];
+        const std::string name = "animation 0, channel " + std::to_string(k);
+        const std::string& path = channel.target_path;
+        const bool trs = path == "translation" || path == "rotation" || path == "scale";
+        if (!trs && path != "weights") continue;  // KHR_animation_pointer's, and unknown ones
+        if (channel.target_node < 0 ||
+            static_cast<size_t>(channel.target_node) >= model.nodes.size())
+            throw std::runtime_error(name + ": node " + std::to_string(channel.target_node) +
+                                     " missing");
+        if (channel.sampler < 0 ||
+            static_cast<size_t>(channel.sampler) >= animation.samplers.size())
+            throw std::runtime_error(name + ": sampler " + std::to_string(channel.sampler) +
+                                     " missing");
+        const tinygltf::AnimationSampler& sampler =
+            animation.samplers[static_cast<size_t>(channel.sampler)];
+        tinygltf::Node& node = model.nodes[static_cast<size_t>(channel.target_node)];
+        // The earliest key (the inputs increase, but a file may not keep to it).
+        const AccessorView input(model, sampler.input, 1);
+        if (input.count() == 0) throw std::runtime_error(name + ": no keys");
+        size_t first = 0;
+        for (size_t i = 1; i < input.count(); ++i)
+            if (input.component(i, 0) < input.component(first, 0)) first = i;
+        const size_t key = sampler.interpolation == "CUBICSPLINE" ? 3 * first + 1 : first;
+        if (trs) {
+            if (node.matrix.size() == 16)
+                throw std::runtime_error(name + ": node " + std::to_string(channel.target_node) +
+                                         " is given by a matrix and cannot be animated");
+            const int n = path == "rotation" ? 4 : 3;
+            const AccessorView output(model, sampler.output, n);
+            if (key >= output.count()) throw std::runtime_error(name + ": fewer outputs than keys");
+            std::vector<double> v(static_cast<size_t>(n));
+            for (int c = 0; c < n; ++c) {
+                v[static_cast<size_t>(c)] = output.component(key, c);
+                if (!std::isfinite(v[static_cast<size_t>(c)]))
+                    throw std::runtime_error(name + ": an output is not finite");
+            }
+            (path == "translation" ? node.translation
+             : path == "rotation"  ? node.rotation
+                                   : node.scale) = v;
+        } else {
+            // One weight per morph target of the node's mesh, each key's weights in a row.
+            if (node.mesh < 0 || static_cast<size_t>(node.mesh) >= model.meshes.size() ||
+                model.meshes[static_cast<size_t>(node.mesh)].primitives.empty())
+                throw std::runtime_error(name + ": weights of a node without a mesh");
+            const size_t targets =
+                model.meshes[static_cast<size_t>(node.mesh)].primitives[0].targets.size();
+            const AccessorView output(model, sampler.output, 1);
+            if ((key + 1) * targets > output.count())
+                throw std::runtime_error(name + ": fewer outputs than keys");
+            node.weights.resize(targets);
+            for (size_t t = 0; t < targets; ++t) {
+                node.weights[t] = output.component(key * targets + t, 0);
+                if (!std::isfinite(node.weights[t]))
+                    throw std::runtime_error(name + ": an output is not finite");
+            }
+        }
+    }
+}
+
 std::vector<mat4> node_world_matrices(const tinygltf::Model& model) {
     const size_t n = model.nodes.size();
     std::vector<int> parent(n, -1);

@@ -1,6 +1,6 @@
-// glTF's node hierarchy and skins (glTF 2.0, 3.5 and 3.7.3): each node's transform to the
-// file's world, and the matrices a skin places its mesh's vertices with, at the pose the
-// nodes' transforms give (linear blend skinning; animations are not read).
+// glTF's node hierarchy, skins and animations (glTF 2.0, 3.5, 3.7.3 and 3.11): the pose of the
+// first animation's first keys, each node's transform to the file's world, and the matrices a
+// skin places its mesh's vertices with at that pose (linear blend skinning).
 #pragma once
 
 #include <tiny_gltf.h>
@@ -10,6 +10,14 @@
 #include "svetlo/core/math.h"
 
 namespace svetlo {
+
+/// Poses the nodes as the file's first animation begins (near what Blender's importer shows,
+/// the pose 1/24 s in: docs/scene-format.md): each of its channels sets its node's translation,
+/// rotation, scale or morph weights to its sampler's output at the earliest input time
+/// (CUBICSPLINE's value, the middle of its triple). Channels of other paths are passed by. Throws
+/// on a channel whose node, sampler or accessors are missing or do not fit, and on an animated node
+/// given by a matrix.
+void pose_first_keys(tinygltf::Model& model);
 
 /// A node's own transform: its matrix, or T R S.
 mat4 node_matrix(const tinygltf::Node& node);

@@ -17,6 +17,7 @@
 #include "svetlo/scene/gltf_compression.h"
 #include "svetlo/scene/gltf_flatten.h"
 #include "svetlo/scene/gltf_materials.h"
+#include "svetlo/scene/gltf_nodes.h"
 #include "svetlo/scene/mesh_file.h"
 
 namespace svetlo {
@@ -195,6 +196,7 @@ MeshFile read_gltf(const std::filesystem::path& path, const FileScope& files) {
     check_extensions(model, file);
     decompress_geometry(model);
     read_gltf_materials(model, reading.image_files, file);
+    pose_first_keys(model);
     place_gltf_nodes(model, file);
     return file;
 }
