@@ -387,6 +387,30 @@ TEST(GltfGeometry, TheFirstAnimationPosesItsNodesAtItsFirstKeys) {
     EXPECT_NEAR(glm::distance(f.mesh.positions[2], vec3(-1, 2, 3)), 0.0f, 1e-5f);  // y -> -x
 }
 
+TEST(GltfGeometry, AQuantisedRotationTurnsWithoutScaling) {
+    // A quarter turn about z as normalised signed bytes (glTF 2.0, 3.11: 91 / 127 = 0.7165 for
+    // sqrt(1/2), a quaternion 1.3 % long): the triangle turns and keeps its size.
+    GltfWriter w;
+    const int pos = w.vec3s({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    const int time = scalars(w, {0});
+    const int turn = w.accessor({{"bufferView", w.view(std::vector<int8_t>{0, 0, 91, 91})},
+                                 {"componentType", 5120},
+                                 {"normalized", true},
+                                 {"count", 1},
+                                 {"type", "VEC4"}});
+    const json animations = {
+        {{"samplers", {{{"input", time}, {"output", turn}}}},
+         {"channels", {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "rotation"}}}}}}}};
+    const MeshFile f =
+        read_mesh_file(w.write("quantised_turn", {{"meshes", one_mesh({{"POSITION", pos}})},
+                                                  {"extensionsUsed", {"KHR_mesh_quantization"}},
+                                                  {"nodes", {{{"mesh", 0}}}},
+                                                  {"animations", animations}}));
+    ASSERT_EQ(f.mesh.positions.size(), 3u);
+    EXPECT_NEAR(glm::distance(f.mesh.positions[1], vec3(0, 1, 0)), 0.0f, 1e-6f);
+    EXPECT_NEAR(glm::distance(f.mesh.positions[2], vec3(-1, 0, 0)), 0.0f, 1e-6f);
+}
+
 TEST(GltfGeometry, AnimatedMorphWeightsAreTheFirstKeys) {
     // The morphed square's mesh weight 0.5, animated to 1 (then 0).
     const fs::path plain = morphed_square("plain_weights", {0.5}, {{{"mesh", 0}}});

@@ -25,7 +25,11 @@ mat4 node_matrix(const tinygltf::Node& node) {
     if (node.rotation.size() == 4) {
         glm::quat q(static_cast<float>(node.rotation[3]), static_cast<float>(node.rotation[0]),
                     static_cast<float>(node.rotation[1]), static_cast<float>(node.rotation[2]));
-        r = glm::mat4_cast(q);
+        // A unit quaternion, as glTF stores it up to rounding: a quantised one (an animation's
+        // normalised bytes or shorts, KHR_mesh_quantization) is a few parts in a thousand off,
+        // and would scale the node by the square of its length. A zero one turns nothing.
+        const float length = glm::length(q);
+        r = length > 0.0f && std::isfinite(length) ? glm::mat4_cast(q / length) : mat4(1.0f);
     }
     if (node.scale.size() == 3) {
         s = glm::scale(mat4(1.0f), vec3(node.scale[0], node.scale[1], node.scale[2]));
