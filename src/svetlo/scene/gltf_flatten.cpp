@@ -136,14 +136,12 @@ struct Flattener {
                 m = glm::translate(
                     m, vec3(t->component(k, 0), t->component(k, 1), t->component(k, 2)));
             if (r) {
-                const glm::quat q(
-                    static_cast<float>(r->component(k, 3)), static_cast<float>(r->component(k, 0)),
-                    static_cast<float>(r->component(k, 1)), static_cast<float>(r->component(k, 2)));
-                const float len = glm::length(q);
-                if (!(len > 0.0f) || !std::isfinite(len))
+                const std::optional<mat4> turn = unit_rotation(
+                    r->component(k, 0), r->component(k, 1), r->component(k, 2), r->component(k, 3));
+                if (!turn)
                     throw std::runtime_error(name + ": rotation " + std::to_string(k) +
                                              " is not a quaternion");
-                m = m * glm::mat4_cast(q / len);
+                m = m * *turn;
             }
             if (s)
                 m = glm::scale(m, vec3(s->component(k, 0), s->component(k, 1), s->component(k, 2)));

@@ -11,6 +11,14 @@
 
 namespace svetlo {
 
+std::optional<mat4> unit_rotation(double x, double y, double z, double w) {
+    const glm::quat q(static_cast<float>(w), static_cast<float>(x), static_cast<float>(y),
+                      static_cast<float>(z));
+    const float length = glm::length(q);
+    if (!(length > 0.0f) || !std::isfinite(length)) return std::nullopt;
+    return glm::mat4_cast(q / length);
+}
+
 mat4 node_matrix(const tinygltf::Node& node) {
     if (node.matrix.size() == 16) {
         mat4 m;
@@ -23,13 +31,8 @@ mat4 node_matrix(const tinygltf::Node& node) {
                            vec3(node.translation[0], node.translation[1], node.translation[2]));
     }
     if (node.rotation.size() == 4) {
-        glm::quat q(static_cast<float>(node.rotation[3]), static_cast<float>(node.rotation[0]),
-                    static_cast<float>(node.rotation[1]), static_cast<float>(node.rotation[2]));
-        // A unit quaternion, as glTF stores it up to rounding: a quantised one (an animation's
-        // normalised bytes or shorts, KHR_mesh_quantization) is a few parts in a thousand off,
-        // and would scale the node by the square of its length. A zero one turns nothing.
-        const float length = glm::length(q);
-        r = length > 0.0f && std::isfinite(length) ? glm::mat4_cast(q / length) : mat4(1.0f);
+        r = unit_rotation(node.rotation[0], node.rotation[1], node.rotation[2], node.rotation[3])
+                .value_or(mat4(1.0f));
     }
     if (node.scale.size() == 3) {
         s = glm::scale(mat4(1.0f), vec3(node.scale[0], node.scale[1], node.scale[2]));

@@ -5,6 +5,7 @@
 
 #include <tiny_gltf.h>
 
+#include <optional>
 #include <vector>
 
 #include "svetlo/core/math.h"
@@ -19,7 +20,12 @@ namespace svetlo {
 /// given by a matrix.
 void pose_first_keys(tinygltf::Model& model);
 
-/// A node's own transform: its matrix, or T R S.
+/// The rotation of quaternion (x, y, z, w) made unit length, as glTF stores it up to rounding
+/// (a quantised one, normalised bytes or shorts, is a few parts in a thousand off and would
+/// scale by the square of its length); none where it has no length or is not finite.
+std::optional<mat4> unit_rotation(double x, double y, double z, double w);
+
+/// A node's own transform: its matrix, or T R S (a rotation without a length turns nothing).
 mat4 node_matrix(const tinygltf::Node& node);
 
 /// Every node's transform to the file's world: its parents' times its own. Throws where the
