@@ -1,7 +1,6 @@
 #include "svetlo/scene/gltf_flatten.h"
 
 #include <cmath>
-#include <glm/gtc/quaternion.hpp>
 #include <map>
 #include <optional>
 #include <set>
