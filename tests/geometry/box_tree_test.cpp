@@ -165,6 +165,30 @@ TEST_P(BoxTreeWidth, ARayAlongABoxsFaceEntersIt) {
     EXPECT_EQ(offered, std::vector<uint32_t>{0u});
 }
 
+TEST_P(BoxTreeWidth, BoxesReachingInfinityAreBuiltAndTraversed) {
+    // Boxes flat in y = 0 and reaching x = inf (placements whose transforms overflow): the box
+    // of any two of them has area NaN (inf times 0), which must not stop the build from
+    // splitting them (it recursed into the same boxes without end).
+    std::vector<Bounds3> boxes;
+    for (int k = 0; k < 20; ++k) {
+        Bounds3 b;
+        b.extend(vec3(0.0f, 0.0f, static_cast<float>(k)));
+        b.extend(vec3(kInfinity, 0.0f, static_cast<float>(k) + 1.0f));
+        boxes.push_back(b);
+    }
+    Bounds3 unit;
+    unit.extend(vec3(-3.0f, 0.0f, -1.0f));
+    unit.extend(vec3(-2.0f, 1.0f, 0.0f));
+    boxes.push_back(unit);
+    const BoxTree tree(boxes, GetParam());
+    const Ray ray{vec3(-2.5f, 5.0f, -0.5f), vec3(0.0f, -1.0f, 0.0f), kInfinity};
+    Hit hit;
+    hit.t = ray.tmax;
+    uint32_t calls = 0;
+    ASSERT_TRUE(tree.closest(ray, hit, EnterBox{boxes, ray, &calls}));
+    EXPECT_EQ(hit.prim, 20u);
+}
+
 INSTANTIATE_TEST_SUITE_P(Widths, BoxTreeWidth, ::testing::Values(4, 8));
 
 }  // namespace

@@ -114,12 +114,16 @@ uint32_t BoxTree::build(std::span<uint32_t> order, std::span<const Bounds3> boxe
     Bounds3 part_box[W] = {bounds_of(order, boxes)};
     int n = 1;
     while (n < W) {
+        // (Any part that can be split is taken, whatever its area: a box reaching infinity
+        // has area NaN (inf times 0), and a node of one unsplit part would never end.)
         int largest = -1;
-        float largest_area = -1.0f;
+        float largest_area = 0.0f;
         for (int k = 0; k < n; ++k) {
-            if (parts[k].size() > 1 && half_area(part_box[k]) > largest_area) {
+            if (parts[k].size() < 2) continue;
+            const float area = half_area(part_box[k]);
+            if (largest < 0 || area > largest_area) {
                 largest = k;
-                largest_area = half_area(part_box[k]);
+                largest_area = area;
             }
         }
         if (largest < 0) break;
