@@ -126,6 +126,46 @@ TEST(Transmission, ARoughSheetPassesAndReflectsItsAlbedoOfTheBackground) {
     }
 }
 
+/// The same integral over the directions below the surface and the transmitted part alone
+/// (eval_transmitted: what passes, and the share that microfacets reflect totally above).
+double transmitted_albedo_along_normal(const Bsdf& b, bool front) {
+    constexpr int kTheta = 20000;
+    const vec3 n(0.0f, 0.0f, 1.0f);
+    double sum = 0.0;
+    for (int i = 0; i < kTheta; ++i) {
+        const double theta = kPi * (i + 0.5) / kTheta;
+        const vec3 wi(static_cast<float>(std::sin(theta)), 0.0f,
+                      static_cast<float>(std::cos(theta)));
+        const Color f = eval_transmitted(b, n, n, wi, front);
+        sum += f.g * std::abs(std::cos(theta)) * std::sin(theta) * (kPi / kTheta) * 2.0 * kPi;
+    }
+    return sum;
+}
+
+TEST(Transmission, WhittedPassesARoughSheetsTransmittedAlbedoOfTheBackground) {
+    // A sheet of roughness 1 in Whitted: the background is no light, so what Whitted sees is
+    // what the transmitted lobe passes, B times its albedo (the quadrature of
+    // eval_transmitted), drawn through the same microfacets as the path tracer's; the ideal
+    // refraction it took before passed (1 - F0) B. Both sides.
+    for (bool front : {true, false}) {
+        json scene = sheet(front, 1.0, 1.5, "whitted");
+        scene["materials"]["clear"]["roughness"] = 1.0;
+        scene["render"]["spp"] = 1024;
+        CookTorranceMaterial m;
+        m.base_color = ColorSource::constant(Color(1.0f));
+        m.roughness = 1.0f;
+        m.ior = 1.5f;
+        m.transmission = ColorSource::constant(Color(1.0f));
+        const double albedo =
+            transmitted_albedo_along_normal(make_bsdf(Material(m), vec2(0.0f), {}), front);
+        // Less than the ideal refraction's 1 - F0 = 0.96: 0.89 entering, 0.42 leaving (where
+        // most microfacets reflect totally).
+        EXPECT_LT(albedo, 0.9);
+        EXPECT_NEAR(mean(render_json<WhittedRenderer>(scene).color, 1), albedo * kB, 3e-3 * kB)
+            << (front ? "front" : "back");
+    }
+}
+
 /// A box of side 1 along the view (z from -1 to 0), of ior 1 (no reflection, no bending),
 /// fully transmitting, whose inside keeps `keep` over `distance`: the background behind it is
 /// seen through 1 unit of it, keep^(1 / distance) of B. Seen from +z, then from -z.

@@ -151,9 +151,20 @@ private:
                 if (!is_black(bsdf.transmit)) L += transmit(bsdf.transmit);
                 break;
             }
-            case Bsdf::Model::CookTorrance:  // KHR_materials_transmission, smooth
-                if (!is_black(bsdf.transmit))
+            case Bsdf::Model::CookTorrance:  // KHR_materials_transmission
+                if (rough_transmission(bsdf)) {
+                    // Rough: one direction drawn from the BSDF, followed where it passes through
+                    // the transmitted lobe (a refraction through a GGX microfacet, Walter et al.
+                    // 2007, or its share reflected totally), by its weight f |cos| / pdf, the
+                    // lobe's probability in it; the reflecting lobes are the direct light's.
+                    const BsdfSample b =
+                        sample_bsdf(bsdf, ns, wo, front, rng.next_2d(), rng.next_float());
+                    if (b.valid() && b.delta)
+                        L += follow(b.weight, b.wi,
+                                    glm::dot(b.wi, ng) < 0.0f ? "refract" : "reflect", -1.0f);
+                } else if (!is_black(bsdf.transmit)) {
                     L += transmit(transmitted_weight(bsdf, glm::dot(ns, wo)));
+                }
                 break;
             default:
                 break;
