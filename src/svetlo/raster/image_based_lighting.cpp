@@ -78,6 +78,10 @@ Color ImageBasedLighting::glossy(vec3 r, float n_dot_v, float roughness, Color f
     return made_.prefiltered->radiance(r, roughness) * (f0 * ab.x + Color(f90 * ab.y));
 }
 
+Color ImageBasedLighting::blurred(vec3 d, float roughness) const {
+    return made_.prefiltered->radiance(d, roughness);
+}
+
 Color ImageBasedLighting::irradiance(vec3 n) const {
     const std::array<float, 9> y = sh_basis(n);
     Color E(0.0f);

@@ -80,6 +80,9 @@ public:
     /// `f0` (F90 `f90`) reflects toward the viewer: the prefiltered map about the mirror
     /// direction r times F0 A + F90 B at n.v (split_sum.h).
     Color glossy(vec3 r, float n_dot_v, float roughness, Color f0, float f90 = 1.0f) const;
+    /// The map about the unit direction d prefiltered for a lobe of perceptual `roughness`
+    /// (the glossy part's levels, without its Fresnel terms).
+    Color blurred(vec3 d, float roughness) const;
 
     /// The map seen along the camera ray through the sample at (sx, sy) (pixels times
     /// kSubpixel) of the film `rays` describe.

@@ -49,6 +49,19 @@ RasterLights::RasterLights(const Scene& scene, int threads, IblCache* ibl)
     }
 }
 
+namespace {
+
+/// The perceptual roughness of the prefiltered levels that blur the map as a rough
+/// transmission of GGX alpha spreads what lies behind it (eta = n_t / n_i): a microfacet
+/// tilted by theta turns a refracted ray by about |1 - 1/eta| theta where it turns a reflected
+/// one by 2 theta (small angles), so the reflection's levels at alpha |1 - 1/eta| / 2.
+float transmitted_roughness(const Bsdf& b, bool front) {
+    const float eta = front ? b.ior : 1.0f / b.ior;
+    return std::sqrt(b.alpha * std::abs(1.0f - 1.0f / eta) * 0.5f);
+}
+
+}  // namespace
+
 Color unlit_point(const Bsdf& bsdf, const ShadingFrame& frame, vec3 wo, Color ambient,
                   Color background, const ImageBasedLighting& environment) {
     Color L = emitted_and_ambient(bsdf, frame, ambient);
@@ -75,10 +88,15 @@ Color unlit_point(const Bsdf& bsdf, const ShadingFrame& frame, vec3 wo, Color am
         if (bsdf.model == Bsdf::Model::Mirror)
             L += bsdf.reflect * environment.environment().radiance(reflect(wo, frame.ns));
         if (bsdf.model == Bsdf::Model::Dielectric) L += environment.environment().radiance(-wo);
-        // A Cook-Torrance surface's transmission: what lies behind is the map, unrefracted.
-        if (bsdf.model == Bsdf::Model::CookTorrance && !is_black(bsdf.transmit))
-            L += transmitted_weight(bsdf, glm::dot(frame.ns, wo)) *
-                 environment.environment().radiance(-wo);
+        // A Cook-Torrance surface's transmission: what lies behind is the map, unrefracted;
+        // through a rough one, blurred by the prefiltered levels (docs/raster.md).
+        if (bsdf.model == Bsdf::Model::CookTorrance && !is_black(bsdf.transmit)) {
+            const Color behind =
+                rough_transmission(bsdf)
+                    ? environment.blurred(-wo, transmitted_roughness(bsdf, frame.front))
+                    : environment.environment().radiance(-wo);
+            L += transmitted_weight(bsdf, glm::dot(frame.ns, wo)) * behind;
+        }
         return L;
     }
     // Ideal mirrors and glass see the uniform environment (the background) only: a
