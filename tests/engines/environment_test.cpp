@@ -316,6 +316,19 @@ TEST(Environment, TheRastersRoughTransmissionBlursTheMapBehindAsThePathTracersDo
     const double raster = centre(1.0, Raster{}), path = centre(1.0, Path{});
     EXPECT_GT(raster, path);
     EXPECT_LT(raster, 0.5 * 9.6);
+    // Seen from behind (wound the other way: the ray leaves the glass, eta 1/1.5, and the
+    // levels are those of alpha / 4).
+    j["objects"][0]["corner"] = {-2, 2, -1};
+    j["objects"][0]["edge_v"] = {0, -4, 0};
+    // Measured, raster against path: 7.57 / 7.31 at roughness 0.45, 6.30 / 5.08 at 0.6, 4.22 /
+    // 2.70 at 0.8 (leaving, microfacets reflect much of the light back totally, which the
+    // rasterizer's 1 - F does not count).
+    EXPECT_NEAR(centre(0.0, Raster{}), 9.6, 0.01);
+    const double back = centre(0.45, Path{});
+    EXPECT_NEAR(centre(0.45, Raster{}), back, 0.1 * back);
+    const double back_raster = centre(0.6, Raster{}), back_path = centre(0.6, Path{});
+    EXPECT_GT(back_raster, back_path);
+    EXPECT_LT(back_raster, 0.7 * 9.6);
 }
 
 /// Calls visit(d, latitude, solid angle) at the centres of an n x 2n grid of cells in
