@@ -85,11 +85,12 @@ TEST(Transmission, ThePathTracerPassesAndReflectsTheWholeBackground) {
     EXPECT_NEAR(mean(render_json<PathRenderer>(opaque).color, 1), f0(1.5) * kB, 2e-3 * kB);
 }
 
-/// The directional albedo of a BSDF seen along its normal, reflection and transmission: the
-/// integral of (f + f_t) |cos| over the sphere by the midpoint rule in theta (fine at the
-/// poles, where the transmitted lobe narrows), which needs no sampler. Seen along the normal
-/// the integrand does not depend on phi.
-double albedo_along_normal(const Bsdf& b, bool front) {
+/// The directional albedo of a BSDF seen along its normal, reflection and transmission (or,
+/// `reflection` false, the transmitted part alone: what passes, and the share that microfacets
+/// reflect totally above): the integral of (f + f_t) |cos| over the sphere by the midpoint rule
+/// in theta (fine at the poles, where the transmitted lobe narrows), which needs no sampler.
+/// Seen along the normal the integrand does not depend on phi.
+double albedo_along_normal(const Bsdf& b, bool front, bool reflection = true) {
     constexpr int kTheta = 20000;
     const vec3 n(0.0f, 0.0f, 1.0f);
     double sum = 0.0;
@@ -97,10 +98,28 @@ double albedo_along_normal(const Bsdf& b, bool front) {
         const double theta = kPi * (i + 0.5) / kTheta;
         const vec3 wi(static_cast<float>(std::sin(theta)), 0.0f,
                       static_cast<float>(std::cos(theta)));
-        const Color f = eval_bsdf(b, n, n, wi) + eval_transmitted(b, n, n, wi, front);
+        Color f = eval_transmitted(b, n, n, wi, front);
+        if (reflection) f += eval_bsdf(b, n, n, wi);
         sum += f.g * std::abs(std::cos(theta)) * std::sin(theta) * (kPi / kTheta) * 2.0 * kPi;
     }
     return sum;
+}
+
+/// The clear sheet of ior 1.5 at `roughness`, `spp` samples a pixel.
+json rough_sheet(bool front, double roughness, int spp, const char* engine) {
+    json scene = sheet(front, 1.0, 1.5, engine);
+    scene["materials"]["clear"]["roughness"] = roughness;
+    scene["render"]["spp"] = spp;
+    return scene;
+}
+/// The BSDF of that sheet.
+Bsdf rough_sheet_bsdf(float roughness) {
+    CookTorranceMaterial m;
+    m.base_color = ColorSource::constant(Color(1.0f));
+    m.roughness = roughness;
+    m.ior = 1.5f;
+    m.transmission = ColorSource::constant(Color(1.0f));
+    return make_bsdf(Material(m), vec2(0.0f), {});
 }
 
 TEST(Transmission, ARoughSheetPassesAndReflectsItsAlbedoOfTheBackground) {
@@ -110,36 +129,13 @@ TEST(Transmission, ARoughSheetPassesAndReflectsItsAlbedoOfTheBackground) {
     // leaving, where microfacets reflect totally). A smooth sheet's albedo is 1; the rough
     // one's is less by what masking takes.
     for (bool front : {true, false}) {
-        json scene = sheet(front, 1.0, 1.5, "path");
-        scene["materials"]["clear"]["roughness"] = 0.5;
-        scene["render"]["spp"] = 256;
-        CookTorranceMaterial m;
-        m.base_color = ColorSource::constant(Color(1.0f));
-        m.roughness = 0.5f;
-        m.ior = 1.5f;
-        m.transmission = ColorSource::constant(Color(1.0f));
-        const double albedo = albedo_along_normal(make_bsdf(Material(m), vec2(0.0f), {}), front);
+        const double albedo = albedo_along_normal(rough_sheet_bsdf(0.5f), front);
         EXPECT_LT(albedo, 0.998);
         EXPECT_GT(albedo, 0.85);
-        EXPECT_NEAR(mean(render_json<PathRenderer>(scene).color, 1), albedo * kB, 3e-3 * kB)
+        EXPECT_NEAR(mean(render_json<PathRenderer>(rough_sheet(front, 0.5, 256, "path")).color, 1),
+                    albedo * kB, 3e-3 * kB)
             << (front ? "front" : "back");
     }
-}
-
-/// The same integral over the directions below the surface and the transmitted part alone
-/// (eval_transmitted: what passes, and the share that microfacets reflect totally above).
-double transmitted_albedo_along_normal(const Bsdf& b, bool front) {
-    constexpr int kTheta = 20000;
-    const vec3 n(0.0f, 0.0f, 1.0f);
-    double sum = 0.0;
-    for (int i = 0; i < kTheta; ++i) {
-        const double theta = kPi * (i + 0.5) / kTheta;
-        const vec3 wi(static_cast<float>(std::sin(theta)), 0.0f,
-                      static_cast<float>(std::cos(theta)));
-        const Color f = eval_transmitted(b, n, n, wi, front);
-        sum += f.g * std::abs(std::cos(theta)) * std::sin(theta) * (kPi / kTheta) * 2.0 * kPi;
-    }
-    return sum;
 }
 
 TEST(Transmission, WhittedPassesARoughSheetsTransmittedAlbedoOfTheBackground) {
@@ -148,20 +144,13 @@ TEST(Transmission, WhittedPassesARoughSheetsTransmittedAlbedoOfTheBackground) {
     // eval_transmitted), drawn through the same microfacets as the path tracer's; the ideal
     // refraction it took before passed (1 - F0) B. Both sides.
     for (bool front : {true, false}) {
-        json scene = sheet(front, 1.0, 1.5, "whitted");
-        scene["materials"]["clear"]["roughness"] = 1.0;
-        scene["render"]["spp"] = 1024;
-        CookTorranceMaterial m;
-        m.base_color = ColorSource::constant(Color(1.0f));
-        m.roughness = 1.0f;
-        m.ior = 1.5f;
-        m.transmission = ColorSource::constant(Color(1.0f));
-        const double albedo =
-            transmitted_albedo_along_normal(make_bsdf(Material(m), vec2(0.0f), {}), front);
+        const double albedo = albedo_along_normal(rough_sheet_bsdf(1.0f), front, false);
         // Less than the ideal refraction's 1 - F0 = 0.96: 0.89 entering, 0.42 leaving (where
         // most microfacets reflect totally).
         EXPECT_LT(albedo, 0.9);
-        EXPECT_NEAR(mean(render_json<WhittedRenderer>(scene).color, 1), albedo * kB, 3e-3 * kB)
+        EXPECT_NEAR(
+            mean(render_json<WhittedRenderer>(rough_sheet(front, 1.0, 1024, "whitted")).color, 1),
+            albedo * kB, 3e-3 * kB)
             << (front ? "front" : "back");
     }
 }
