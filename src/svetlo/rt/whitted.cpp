@@ -107,11 +107,21 @@ private:
         if (rt_.environment().is_map() && bsdf.has_lobes())
             L += bsdf.occlusion * environment_light(bsdf, sh.p, frame, wo, rng);
         if (depth >= scene_.render.max_depth) return L;
+        return L + recurse(bsdf, sh.p, frame, wo, self, depth, weight, rng, branch);
+    }
 
+    /// The rays the surface sends on (the recursion's part of L): mirrors, glass, Phong's
+    /// `reflect` and `transmit`, and a Cook-Torrance surface's transmission, each traced with
+    /// its weight.
+    Color recurse(const Bsdf& bsdf, vec3 p, const ShadingFrame& frame, vec3 wo, int self, int depth,
+                  float weight, Rng& rng, const Branch& branch) {
+        const bool front = frame.front;
+        const vec3 ng = frame.ng, ns = frame.ns;
+        Color L(0.0f);
         auto follow = [&](Color scale, vec3 dir, const char* kind, float fresnel) {
             float w = weight * max_component(scale);
             if (w < kMinBranchWeight) return Color(0.0f);
-            Ray next{offset_ray_origin(sh.p, ng, dir), dir, kInfinity};
+            Ray next{offset_ray_origin(p, ng, dir), dir, kInfinity};
             // Through the surface, the ray enters (or leaves) the object's medium.
             const bool through = glm::dot(dir, ng) < 0.0f;
             const Branch next_branch{kind, self, branch.to_pixel * scale,
