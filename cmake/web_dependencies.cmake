@@ -22,8 +22,11 @@ svetlo_web_headers(nlohmann_json::nlohmann_json ${SVETLO_WEB_INCLUDE})
 svetlo_web_headers(TinyGLTF::TinyGLTF ${SVETLO_WEB_INCLUDE} ${SVETLO_WEB_INCLUDE}/stb)
 svetlo_web_headers(tinyobjloader::tinyobjloader ${SVETLO_WEB_INCLUDE})
 # svetlo decodes glTF's images itself: tinygltf without stb, in every file that includes it.
+# It still reads image files (no TINYGLTF_NO_EXTERNAL_IMAGE, which Debian's host library does
+# not define either): without them a visitor's glTF with its textures beside it was refused,
+# every image "does not decode: no data".
 target_compile_definitions(TinyGLTF::TinyGLTF INTERFACE TINYGLTF_NO_STB_IMAGE
-                           TINYGLTF_NO_STB_IMAGE_WRITE TINYGLTF_NO_EXTERNAL_IMAGE)
+                           TINYGLTF_NO_STB_IMAGE_WRITE)
 add_library(svetlo_stb INTERFACE)
 target_include_directories(svetlo_stb SYSTEM INTERFACE ${SVETLO_WEB_INCLUDE}/stb)
 

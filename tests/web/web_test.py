@@ -34,6 +34,7 @@ import subprocess
 import sys
 import tempfile
 import time
+import zlib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "app"))
@@ -294,6 +295,44 @@ def main():
               chosen == "CornellBox-Original.obj" and bool(lit) and lit[1] > 100 and
               tab.eval("document.getElementById('error').textContent") == "",
               (chosen, lit, tab.eval("document.getElementById('error').textContent")))
+
+        # A visitor's glTF whose base colour is an image file beside it, both through
+        # svetlo.addFiles: the native program's image (the page read no image files before).
+        with open(model) as f:
+            textured = json.load(f)
+        textured["materials"] = [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]
+        textured["textures"] = [{"source": 0}]
+        textured["images"] = [{"uri": "red_texture.png"}]
+        for mesh in textured["meshes"]:
+            for prim in mesh["primitives"]:
+                prim["material"] = 0
+        textured_file = os.path.join(work, "textured.gltf")
+        with open(textured_file, "w") as f:
+            json.dump(textured, f)
+        red = b"\x00\xd0\x20\x20" * 2  # two rows of one RGB texel each, filter 0
+        chunk = lambda t, d: (struct.pack(">I", len(d)) + t + d +
+                              struct.pack(">I", zlib.crc32(t + d) & 0xFFFFFFFF))
+        png = (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", 1, 2, 8, 2, 0, 0, 0)) +
+               chunk(b"IDAT", zlib.compress(red)) + chunk(b"IEND", b""))
+        with open(os.path.join(work, "red_texture.png"), "wb") as f:
+            f.write(png)
+        added = tab.eval("svetlo.addFiles([{name: 'textured.gltf', bytes: Uint8Array.from(atob(%s), "
+                         "c => c.charCodeAt(0))}, {name: 'red_texture.png', bytes: "
+                         "Uint8Array.from(atob(%s), c => c.charCodeAt(0))}])"
+                         ".then(n => n, e => ({error: e.message}))"
+                         % (json.dumps(base64.b64encode(json.dumps(textured).encode()).decode()),
+                            json.dumps(base64.b64encode(png).decode())))
+        r = tab.eval(RENDER % (json.dumps("textured.gltf"), json.dumps(opts)))
+        native_file = os.path.join(work, "textured.pfm")
+        subprocess.run([svetlo, "render", textured_file, "-e", "raster", "-W", "64", "-H", "48",
+                        "--spp", "4", "--seed", "3", "-q", "-o", native_file], check=True)
+        w, h, native = read_pfm(native_file)
+        ok = bool(r) and "b64" in r and (r["width"], r["height"]) == (w, h)
+        diff = relative_difference(floats(r), native) if ok else None
+        check("a visitor's glTF with its texture beside it: the native program's image "
+              "(relative RMS difference %s)" % ("%.2e" % diff if ok else "-"),
+              added == ["textured.gltf", "red_texture.png"] and ok and diff <= 1e-6,
+              (added, r and r.get("error")))
 
         # The same page from a server without the headers: one thread, the same pixels.
         plain = subprocess.Popen([sys.executable, os.path.join(HERE, "static_server.py"), web,
