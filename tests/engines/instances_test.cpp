@@ -106,6 +106,72 @@ TEST(Instances, RenderAsTheirObjectsWrittenOutInEveryEngine) {
     expect_same_as_written_out<PathRenderer>("path", 1);
 }
 
+/// The rasterizer draws instances in place (raster/placed_draws.h): a visibility pass of every
+/// placement, then the colour pass of the triangles it found. The frame is the objects written
+/// out, bit for bit, in every shading mode and shadow technique (shadow volumes and planar
+/// shadows, which draw copies, included), over two sample passes (20 spp), on one thread and
+/// two. (The placements here are translations, whose boxes are the triangles' own: shadow maps,
+/// fitted to the placements' boxes, are then the same maps.)
+TEST(Instances, TheRasterizerDrawsThemAsTheObjectsWrittenOut) {
+    for (const char* shading : {"flat", "gouraud", "phong"}) {
+        for (const char* shadows : {"none", "raytraced", "map", "volume", "planar"}) {
+            for (int spp : {1, 20}) {
+                json placed = forest("raster", true), written = forest("raster", false);
+                for (json* j : {&placed, &written}) {
+                    (*j)["render"]["shading"] = shading;
+                    (*j)["render"]["shadows"] = shadows;
+                    (*j)["render"]["spp"] = spp;
+                }
+                const std::string what =
+                    std::string(shading) + " " + shadows + " " + std::to_string(spp) + " spp";
+                expect_same<RasterRenderer>(placed, written, what.c_str(), 0);
+            }
+        }
+    }
+    const RenderResult one = render_json<RasterRenderer>(forest("raster", true), 1);
+    const RenderResult two = render_json<RasterRenderer>(forest("raster", true), 2);
+    EXPECT_EQ(one.color.pixels, two.color.pixels);
+}
+
+/// A row of spheres placed far past what the rasterizer's list holds (2^25 triangles; 40 M
+/// here), the camera seeing three of them: drawn in place, the frame is the one of those three
+/// placed alone, bit for bit (a placement out of view is left out, one across the film's
+/// edge is not). Past 2^32 - 1 triangles the item buffer cannot number them: refused naming
+/// `objects`.
+TEST(Instances, TheRasterizerDrawsMoreThanItsListHolds) {
+    auto row = [](int count, int first) {
+        json j = base("raster");
+        j["camera"] = {{"position", {0, 0, 4}}, {"look_at", {0, 0, 0}}, {"fov", 40}};
+        j["render"]["tessellation"] = 256;  // 2 x 256 x 128 triangles a sphere
+        j["render"]["shadows"] = "none";
+        j["prototypes"] = {{"ball",
+                            {{"objects",
+                              {{{"type", "sphere"},
+                                {"center", {0, 0, 0}},
+                                {"radius", 0.6},
+                                {"material", "red"}}}}}}};
+        j["objects"] = json::array();
+        for (int k = first; k < first + count; ++k)
+            j["objects"].push_back({{"type", "instance"},
+                                    {"prototype", "ball"},
+                                    {"transform", translate(1.5f * static_cast<float>(k), 0)}});
+        return j;
+    };
+    // Spheres at x = -1.5, 0, 1.5 cross the film (its edges at x = +-1.46 in their plane).
+    const RenderResult many = render_json<RasterRenderer>(row(610, -1));
+    const RenderResult three = render_json<RasterRenderer>(row(3, -1));
+    EXPECT_EQ(many.color.pixels, three.color.pixels);
+    EXPECT_GT(max_component(many.color.at(12, 8)), 0.0f);
+    try {
+        render_json<RasterRenderer>(row(65600, -1));
+        ADD_FAILURE() << "4.3 G triangles were drawn";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.where(), "objects");
+        EXPECT_NE(e.message().find("the rasterizer numbers at most 4294967294"), std::string::npos)
+            << e.message();
+    }
+}
+
 /// Where a glTF's nodes place its one triangle: moved, turned, mirrored. The last node places
 /// a second mesh (the same triangle), which one node alone places.
 const std::vector<mat4>& triangle_places() {

@@ -75,6 +75,28 @@ Geometry build_geometry(const std::vector<const Object*>& objects,
     return g;
 }
 
+Placement make_placement(uint32_t prototype, const Transform& to_world, int material,
+                         const Bounds3& prototype_bounds) {
+    Placement p;
+    p.prototype = prototype;
+    p.to_world = to_world;
+    p.to_prototype = glm::inverse(to_world.matrix);
+    p.normal_to_world = normal_matrix(to_world.matrix);
+    p.mirrors = glm::determinant(mat3(to_world.matrix)) < 0.0f;
+    p.material = material;
+    // The corners of the prototype's box carried out, then widened by a few ulps of the box's
+    // size: a point the local ray meets lies inside it despite the rounding of both transforms.
+    p.bounds = transformed_bounds(prototype_bounds, to_world.matrix);
+    if (!p.bounds.empty()) {
+        const vec3 pad =
+            1e-5f * (glm::abs(p.bounds.min) + glm::abs(p.bounds.max) + p.bounds.extent()) +
+            vec3(1e-30f);
+        p.bounds.min -= pad;
+        p.bounds.max += pad;
+    }
+    return p;
+}
+
 void place_instances(const Scene& scene, Geometry& g) {
     std::vector<int> built(scene.prototypes.size(), -1);  // index in g.prototypes
     std::vector<Bounds3> bounds;                          // per built prototype, its own space
@@ -87,25 +109,8 @@ void place_instances(const Scene& scene, Geometry& g) {
             index = static_cast<int>(g.prototypes.size());
             g.prototypes.push_back(std::move(prototype));
         }
-        Placement p;
-        p.prototype = static_cast<uint32_t>(index);
-        p.to_world = instance.transform;
-        p.to_prototype = glm::inverse(instance.transform.matrix);
-        p.normal_to_world = normal_matrix(instance.transform.matrix);
-        p.mirrors = glm::determinant(mat3(instance.transform.matrix)) < 0.0f;
-        p.material = instance.material;
-        // The corners of the prototype's box carried out, then widened by a few ulps of the
-        // box's size: a point the local ray meets lies inside it despite the rounding of both
-        // transforms.
-        p.bounds =
-            transformed_bounds(bounds[static_cast<size_t>(index)], instance.transform.matrix);
-        if (!p.bounds.empty()) {
-            const vec3 pad =
-                1e-5f * (glm::abs(p.bounds.min) + glm::abs(p.bounds.max) + p.bounds.extent()) +
-                vec3(1e-30f);
-            p.bounds.min -= pad;
-            p.bounds.max += pad;
-        }
+        Placement p = make_placement(static_cast<uint32_t>(index), instance.transform,
+                                     instance.material, bounds[static_cast<size_t>(index)]);
         g.placements.push_back(p);
     }
 }

@@ -18,6 +18,12 @@ Geometry build_geometry(const std::vector<const Object*>& objects,
 /// space, and one Placement per instance (geometry.h).
 void place_instances(const Scene& scene, Geometry& g);
 
+/// The placement of prototype `prototype` (of box `prototype_bounds` in its own space) by
+/// `to_world`, its materials replaced by `material` where that is >= 0: the inverse, the
+/// normals' matrix, whether it mirrors, and its box in the world, widened by a few ulps.
+Placement make_placement(uint32_t prototype, const Transform& to_world, int material,
+                         const Bounds3& prototype_bounds);
+
 /// Pointers to every object of `objects`, then of `more` and `last` (for build_geometry).
 std::vector<const Object*> object_pointers(const std::vector<Object>& objects,
                                            const std::vector<Object>& more = {},

@@ -8,8 +8,8 @@
 
 namespace svetlo {
 
-TriangleList build_triangle_list(const std::vector<const Object*>& objects,
-                                 const TessellationOptions& options, int threads) {
+std::vector<Mesh> local_meshes(const std::vector<const Object*>& objects,
+                               const TessellationOptions& options, int threads) {
     std::vector<Mesh> meshes(objects.size());
     parallel_indices(objects.size(), threads, [&](size_t k) {
         Object local = *objects[k];
@@ -20,6 +20,39 @@ TriangleList build_triangle_list(const std::vector<const Object*>& objects,
         if (!std::holds_alternative<Mesh>(local.shape) && meshes[k].tangents.empty())
             meshes[k].tangents = mesh_tangents(meshes[k]);
     });
+    return meshes;
+}
+
+void size_list(TriangleList& list, size_t vertices, size_t triangles, bool second_set,
+               bool colored) {
+    list.positions.resize(vertices);
+    list.normals.resize(vertices);
+    list.uvs.resize(vertices);
+    list.uvs1.resize(second_set ? vertices : 0);
+    list.colors.resize(colored ? vertices : 0);
+    list.tangents.resize(vertices);
+    list.indices.resize(3 * triangles);
+    list.material.resize(triangles);
+}
+
+void place_mesh(const Mesh& m, const Transform& transform, int material, TriangleList& list,
+                size_t first_vertex, size_t first_triangle) {
+    const mat3 nm = normal_matrix(transform.matrix);
+    for (size_t v = 0; v < m.positions.size(); ++v)
+        place_vertex(m, v, transform, nm, list, first_vertex + v);
+    for (size_t t = 0; t < m.triangle_count(); ++t) {
+        for (int c = 0; c < 3; ++c) {
+            list.indices[3 * (first_triangle + t) + c] =
+                static_cast<uint32_t>(first_vertex + m.indices[3 * t + c]);
+        }
+        list.material[first_triangle + t] =
+            static_cast<uint32_t>(material >= 0 ? material : m.face_material[t]);
+    }
+}
+
+TriangleList build_triangle_list(const std::vector<const Object*>& objects,
+                                 const TessellationOptions& options, int threads) {
+    const std::vector<Mesh> meshes = local_meshes(objects, options, threads);
     TriangleList list;
     size_t vertices = 0, triangles = 0;
     bool second_set = false, colored = false;
@@ -29,14 +62,7 @@ TriangleList build_triangle_list(const std::vector<const Object*>& objects,
         second_set = second_set || !m.uvs1.empty();
         colored = colored || !m.colors.empty();
     }
-    list.positions.resize(vertices);
-    list.normals.resize(vertices);
-    list.uvs.resize(vertices);
-    if (second_set) list.uvs1.resize(vertices);
-    if (colored) list.colors.resize(vertices);
-    list.tangents.resize(vertices);
-    list.indices.resize(3 * triangles);
-    list.material.resize(triangles);
+    size_list(list, vertices, triangles, second_set, colored);
     list.objects.resize(objects.size());
     list.convex.resize(objects.size());
     list.centroid.resize(objects.size());
@@ -52,29 +78,7 @@ TriangleList build_triangle_list(const std::vector<const Object*>& objects,
     }
     parallel_indices(objects.size(), threads, [&](size_t k) {
         const Mesh& m = meshes[k];
-        const mat4& model = objects[k]->transform.matrix;
-        const mat3 nm = normal_matrix(model);
-        const size_t base = first_vertex[k];
-        for (size_t v = 0; v < m.positions.size(); ++v) {
-            list.positions[base + v] = vec3(model * vec4(m.positions[v], 1.0f));
-            vec3 n = nm * (v < m.normals.size() ? m.normals[v] : vec3(0.0f));
-            float len2 = glm::dot(n, n);
-            list.normals[base + v] = len2 > 0.0f ? n * (1.0f / std::sqrt(len2)) : vec3(0.0f);
-            list.uvs[base + v] = v < m.uvs.size() ? m.uvs[v] : vec2(0.0f);
-            if (second_set)
-                list.uvs1[base + v] = v < m.uvs1.size() ? m.uvs1[v] : list.uvs[base + v];
-            if (colored) list.colors[base + v] = v < m.colors.size() ? m.colors[v] : vec4(1.0f);
-            list.tangents[base + v] = v < m.tangents.size()
-                                          ? transform_tangent(objects[k]->transform, m.tangents[v])
-                                          : vec4(0.0f);
-        }
-        for (size_t t = 0; t < m.triangle_count(); ++t) {
-            for (int c = 0; c < 3; ++c) {
-                list.indices[3 * (first_triangle[k] + t) + c] =
-                    static_cast<uint32_t>(base + m.indices[3 * t + c]);
-            }
-            list.material[first_triangle[k] + t] = static_cast<uint32_t>(m.face_material[t]);
-        }
+        place_mesh(m, objects[k]->transform, -1, list, first_vertex[k], first_triangle[k]);
         glm::dvec3 sum(0.0);
         for (size_t v = 3 * first_triangle[k]; v < 3 * (first_triangle[k] + m.triangle_count());
              ++v)

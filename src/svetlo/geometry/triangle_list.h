@@ -4,6 +4,7 @@
 // the ray tracer and the rasterizer see the same surfaces.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -70,6 +71,38 @@ inline Geometry triangle_geometry(const TriangleList& list) {
     g.triangle_material = list.material;
     return g;
 }
+
+/// Every object tessellated in its own space (its transform not applied), `threads` objects in
+/// parallel; a shape's tessellation is given tangents from its uvs. place_mesh places them.
+std::vector<Mesh> local_meshes(const std::vector<const Object*>& objects,
+                               const TessellationOptions& options, int threads);
+
+/// Sizes every per-vertex and per-triangle array of `list` (uvs1 and colors only when asked).
+void size_list(TriangleList& list, size_t vertices, size_t triangles, bool second_set,
+               bool colored);
+
+/// Vertex v of mesh `m` placed by `transform` (`nm`: normal_matrix of its matrix) into vertex
+/// `to` of `list`, as place_mesh places every vertex.
+inline void place_vertex(const Mesh& m, size_t v, const Transform& transform, const mat3& nm,
+                         TriangleList& list, size_t to) {
+    list.positions[to] = vec3(transform.matrix * vec4(m.positions[v], 1.0f));
+    const vec3 n = nm * (v < m.normals.size() ? m.normals[v] : vec3(0.0f));
+    const float len2 = glm::dot(n, n);
+    list.normals[to] = len2 > 0.0f ? n * (1.0f / std::sqrt(len2)) : vec3(0.0f);
+    list.uvs[to] = v < m.uvs.size() ? m.uvs[v] : vec2(0.0f);
+    if (!list.uvs1.empty()) list.uvs1[to] = v < m.uvs1.size() ? m.uvs1[v] : list.uvs[to];
+    if (!list.colors.empty()) list.colors[to] = v < m.colors.size() ? m.colors[v] : vec4(1.0f);
+    list.tangents[to] =
+        v < m.tangents.size() ? transform_tangent(transform, m.tangents[v]) : vec4(0.0f);
+}
+
+/// Writes mesh `m` (one of local_meshes's), placed by `transform`, into `list` (sized by
+/// size_list) from vertex `first_vertex` and triangle `first_triangle`: positions by the
+/// transform, normals by its inverse transpose made unit, tangents as vectors of the surface;
+/// uvs1 and colours where the list has them (uvs and white where the mesh has none). Each
+/// triangle's material is `material`, or the mesh's own where it is negative.
+void place_mesh(const Mesh& m, const Transform& transform, int material, TriangleList& list,
+                size_t first_vertex, size_t first_triangle);
 
 /// Tessellates and places every object, in order (one range each in `objects`); `threads`
 /// tessellate objects in parallel. Normals are carried by the inverse transpose and made unit.

@@ -124,7 +124,9 @@ void draw_samples(const TriangleList& list, const CameraMatrices& camera,
                     std::copy_n(buf.stencil.begin() + from, row, targets.stencil.begin() + to);
                 for (size_t k = 0; k < row && items; ++k) {
                     uint32_t id = buf.tri[from + k];
-                    if (id != kNone) targets.primitive[to + k] = f.source(id);
+                    if (id == kNone) continue;
+                    const uint32_t t = f.source(id);
+                    targets.primitive[to + k] = state.items ? state.items[t] : state.first_item + t;
                 }
             }
         },

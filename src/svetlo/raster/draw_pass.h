@@ -35,6 +35,11 @@ struct PipelineState {
     // for the visibility buffer; a pass that writes neither it nor depth may skip samples that
     // would only pass.
     bool write_items = true;
+    // The item buffer's number for the list's triangle t: first_item + t, or items[t] where
+    // `items` is given (a frame drawn as several lists, instances drawn in place,
+    // placed_draws.h, numbers every list's triangles apart).
+    uint32_t first_item = 0;
+    const uint32_t* items = nullptr;
     // Alpha's holes (alpha_test.h): a masked or blended triangle's samples are tested; null:
     // every covered sample is drawn.
     const raster::AlphaTest* alpha = nullptr;

@@ -13,6 +13,7 @@
 //   fast_shading.cpp    stage 6's SIMD fast path (simd_kernel.inc)
 //   resolve.cpp         stage 7: the mean of the samples, the AOVs, and the wireframe
 //   draw_pass.cpp       the entry point: a draw list through a camera, a state, into targets
+//   placed_draws.cpp    instances drawn in place: placements in batches, the visibility pass
 //
 // raster_engine.cpp (stage 1, tessellation, and the frame as a sequence of passes) and the
 // passes of the shadow techniques build on these. Not a public interface: include
@@ -21,6 +22,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -38,6 +40,8 @@
 #include "svetlo/shading/mipmap.h"
 
 namespace svetlo::raster {
+
+class PlacedDraws;
 
 constexpr int kTile = 64;                // pixels per side of a binning tile
 constexpr int kMaxSamplesPerPass = 16;   // samples per pixel held at once; more take passes
@@ -127,7 +131,11 @@ struct FrameShading {
     // per vertex or triangle of the list.
     bool per_light = false;
     size_t sources = 0;
-    const TriangleList* list = nullptr;
+    const TriangleList* list = nullptr;  // the list the colour pass draws
+    // The scene's instances when the frame draws them in place (placed_draws.h; null: as
+    // copies in the scene's list). `list` is then the triangles the camera sees, and the
+    // shadow techniques draw and trace the scene's list and these.
+    std::shared_ptr<const PlacedDraws> placed;
 };
 
 /// What the SIMD fast path (fast_shading.cpp) reads besides FrameShading: the same lights and

@@ -13,6 +13,7 @@
 #include "svetlo/geometry/triangle_list_cache.h"
 #include "svetlo/raster/fragment.h"
 #include "svetlo/raster/pipeline.h"
+#include "svetlo/raster/placed_draws.h"
 #include "svetlo/raster/raster_trace.h"
 #include "svetlo/raster/shadow_masks.h"
 #include "svetlo/scene/instances.h"
@@ -53,6 +54,25 @@ void split_vertices_by_material(TriangleList& list) {
     }
 }
 
+/// Whether the frame draws the scene's instances in place (placed_draws.h) rather than as
+/// copies in its list: every frame with instances but those whose passes need every triangle
+/// in the one list: the overdraw count, the painter's algorithm and the wireframe (every
+/// triangle's fragments or edges, hidden or not), shadow volumes' silhouettes and planar
+/// projections, blended alpha (its coin is a triangle's index in the list drawn), and
+/// Gouraud shading (a vertex is lit once, on the side of the first face that uses it, which
+/// the camera need not see).
+bool draws_in_place(const Scene& scene) {
+    const bool blended =
+        std::any_of(scene.materials.begin(), scene.materials.end(),
+                    [](const Material& m) { return m.alpha.mode == AlphaMode::Blend; });
+    return !scene.instances.empty() && scene.render.shading != ShadingMode::Overdraw &&
+           scene.render.shading != ShadingMode::Gouraud &&
+           scene.render.raster.visibility != VisibilityMethod::Painter &&
+           scene.render.raster.wireframe == WireframeMode::None &&
+           scene.render.shadows != ShadowTechnique::Volume &&
+           scene.render.shadows != ShadowTechnique::Planar && !blended;
+}
+
 /// Stage 1: the scene-wide triangle list of every object, then the area lights as one-sided
 /// emissive quads (the ray tracer shows them too), taken from `cache` when an earlier render of
 /// the command made it (its key: `list_key`). Makes the light set and its VPLs.
@@ -61,8 +81,19 @@ std::shared_ptr<const TriangleList> tessellate_scene(const Scene& scene, FrameSh
                                                      TriangleListCache* cache = nullptr,
                                                      IblCache* ibl = nullptr) {
     const TessellationOptions options = tessellation_options(scene.render);
-    // Refuse what would not fit in memory before making it (a fine tessellation of many shapes).
-    const uint64_t total = tessellated_triangles(scene, options);
+    const bool in_place = draws_in_place(scene);
+    // Refuse what would not fit in memory before making it (a fine tessellation of many shapes):
+    // drawn in place, each prototype counts once.
+    uint64_t total = tessellated_triangles(scene, options);
+    if (in_place) {
+        total -= sum_over_instances(
+            scene, [&](const Object& o) { return tessellated_triangles(o, options); });
+        std::vector<char> placed(scene.prototypes.size(), 0);
+        for (const Instance& i : scene.instances) placed[i.prototype] = 1;
+        for (size_t p = 0; p < scene.prototypes.size(); ++p)
+            for (const Object& o : scene.prototypes[p].objects)
+                total += placed[p] ? tessellated_triangles(o, options) : 0;
+    }
     if (total > kMaxTriangles) {
         throw Error(scene.path.string(), "render.tessellation",
                     "the scene would make " + std::to_string(total) + " triangles (at most " +
@@ -78,17 +109,25 @@ std::shared_ptr<const TriangleList> tessellate_scene(const Scene& scene, FrameSh
     list_key.clear();
     if (!scene.geometry_key.empty()) {
         list_key = scene.geometry_key + " raster " + std::to_string(options.segments) +
-                   (split ? " split" : "") + (adjacency ? " adjacency" : "");
+                   (split ? " split" : "") + (adjacency ? " adjacency" : "") +
+                   (in_place ? " in place" : "");
     }
-    return shared_entry<TriangleList>(cache, list_key, [&](TriangleList& list) {
-        // Instances are drawn as copies (scene/instances.h).
-        const std::vector<Object> copies = instance_copies(scene);
-        list = build_triangle_list(
-            object_pointers(scene.objects, copies, f.lights->set.area_light_quads()), options,
-            threads);
-        if (split) split_vertices_by_material(list);
-        if (adjacency) build_adjacency(list);
-    });
+    std::shared_ptr<const TriangleList> list =
+        shared_entry<TriangleList>(cache, list_key, [&](TriangleList& made) {
+            // Instances are drawn in place, or else as copies (scene/instances.h).
+            const std::vector<Object> copies =
+                in_place ? std::vector<Object>{} : instance_copies(scene);
+            made = build_triangle_list(
+                object_pointers(scene.objects, copies, f.lights->set.area_light_quads()), options,
+                threads);
+            if (split) split_vertices_by_material(made);
+            if (adjacency) build_adjacency(made);
+        });
+    if (in_place) {
+        f.placed = std::make_shared<const PlacedDraws>(
+            scene, options, static_cast<uint32_t>(list->triangle_count()), threads);
+    }
+    return list;
 }
 
 /// The base colour that flat and Gouraud shading modulate their light by (null: none). Not
@@ -287,15 +326,25 @@ float nearest_depth(const TriangleList& list, const Camera& camera, int threads)
 
 }  // namespace
 
-CameraMatrices frame_camera(const Scene& scene, const TriangleList& list, int threads) {
-    return camera_matrices(scene.camera, scene.film.width, scene.film.height, list.bounds(),
-                           nearest_depth(list, scene.camera, threads));
+CameraMatrices frame_camera(const Scene& scene, const TriangleList& list, int threads,
+                            const PlacedDraws* placed) {
+    float nearest = nearest_depth(list, scene.camera, threads);
+    if (placed) {
+        const float of_placed = placed->nearest_depth(
+            scene.camera.position, glm::normalize(scene.camera.look_at - scene.camera.position),
+            threads);
+        if (std::isfinite(of_placed) && (nearest == 0.0f || of_placed < nearest))
+            nearest = of_placed;
+    }
+    return camera_matrices(scene.camera, scene.film.width, scene.film.height,
+                           SceneTriangles{list, placed}.bounds(), nearest);
 }
 
 CameraMatrices raster_camera(const Scene& scene) {
     FrameState f;
     f.scene = &scene;
-    return frame_camera(scene, *tessellate_scene(scene, f, f.caches.list_key, 0));
+    const auto list = tessellate_scene(scene, f, f.caches.list_key, 0);
+    return frame_camera(scene, *list, 0, f.placed.get());
 }
 
 struct RasterRenderer::Buffers {
@@ -455,7 +504,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     FrameState f;
     const std::shared_ptr<const TriangleList> shared_list = begin_frame(scene, options, f);
     const TriangleList& list = *shared_list;
-    const CameraMatrices camera = frame_camera(scene, list, threads);
+    const CameraMatrices camera = frame_camera(scene, list, threads, f.placed.get());
     // The frame's sample positions, pass by pass (the same in every pixel).
     std::vector<SamplePattern> passes;
     for (int first = 0; first < spp; first += kMaxSamplesPerPass)
@@ -475,7 +524,15 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     const AlphaTest alpha(f.materials, scene.textures);
     PipelineState state = colour_pass_state(scene);
     if (alpha.any()) state.alpha = &alpha;
-    prepare_pass(list, camera, state, f, threads);
+    // Instances drawn in place: the colour pass draws the triangles a visibility pass of the
+    // whole scene finds (placed_draws.h); the shadow techniques see the whole scene.
+    TriangleList visible;
+    if (f.placed) {
+        visible = visible_triangles(SceneTriangles{list, f.placed.get()}, camera, state, passes,
+                                    threads, &buffers_->passes);
+        f.list = &visible;
+    }
+    prepare_pass(*f.list, camera, state, f, threads);
     if (!state.depth_test) bin_back_to_front(f, threads);  // the painter's algorithm
     // The shadow technique's maps, volumes or stencil masks, before the colour pass reads them
     // (for the lit modes, and for the visibility AOV).

@@ -36,7 +36,8 @@ namespace svetlo {
 
 namespace raster {
 struct FrameState;
-}
+class PlacedDraws;
+}  // namespace raster
 
 /// Keeps its pipeline's large buffers (vertices, set-up triangles) from one frame to the next,
 /// as a GL context keeps its buffers: one frame at a time per renderer.
@@ -68,9 +69,11 @@ private:
 
 /// The camera matrices the rasterizer uses for `scene` (near and far around what it draws).
 CameraMatrices raster_camera(const Scene& scene);
-/// The same for the scene's triangle list `list`, already made: the near plane at half the
-/// distance from the eye to the nearest plane of a triangle not wholly behind it, found on
-/// `threads` threads (0: all cores).
-CameraMatrices frame_camera(const Scene& scene, const TriangleList& list, int threads = 0);
+/// The same for the scene's triangle list `list`, already made, and its instances drawn in
+/// place (`placed`, when there are: placed_draws.h): the near plane at half the distance from
+/// the eye to the nearest plane of a triangle not wholly behind it (or, for a placed part
+/// wholly in front, to its box), found on `threads` threads (0: all cores).
+CameraMatrices frame_camera(const Scene& scene, const TriangleList& list, int threads = 0,
+                            const raster::PlacedDraws* placed = nullptr);
 
 }  // namespace svetlo

@@ -33,6 +33,7 @@
 
 #include "svetlo/core/error.h"
 #include "svetlo/core/parallel.h"
+#include "svetlo/raster/placed_draws.h"
 #include "svetlo/raster/shadow_lookup.h"
 #include "svetlo/raster/shadow_map_filters.h"
 #include "svetlo/raster/shadow_techniques.h"
@@ -43,8 +44,9 @@ namespace {
 
 constexpr uint64_t kMaxShadowMapBytes = uint64_t{2} << 30;  // all maps of a frame together
 
-/// Renders `list`'s depth through `cam` (res x res) into a map.
-DepthMap render_map(const TriangleList& list, const CameraMatrices& cam, float tan_half,
+/// Renders the depth of `list` (the scene's triangles and its instances) through `cam` (res x res)
+/// into a map.
+DepthMap render_map(const SceneTriangles& list, const CameraMatrices& cam, float tan_half,
                     int threads, PassMemory* memory, const AlphaTest* alpha) {
     DepthMap m;
     m.cam = cam;
@@ -54,7 +56,7 @@ DepthMap render_map(const TriangleList& list, const CameraMatrices& cam, float t
     targets.clear(m.res, m.res);
     PipelineState state;  // depth test and write, both sides; alpha's holes let light through
     state.alpha = alpha;
-    draw_pass(list, cam, state, targets, threads, 0, memory);
+    list.draw(cam, state, targets, sample_pattern(1, 0, 0, 1), threads, memory);
     m.distance = std::move(targets.depth);  // converted in place, bands of rows in parallel
     const float inv = 1.0f / static_cast<float>(m.res);
     constexpr int kRows = 64;
@@ -141,7 +143,8 @@ public:
         : settings_(scene.render.shadow_map), camera_(f.cam), memory_(memory) {
         alpha_test_ = std::make_unique<AlphaTest>(f.materials, scene.textures);
         if (alpha_test_->any()) alpha_ = alpha_test_.get();
-        const Bounds3 bounds = list.bounds();
+        const SceneTriangles triangles{list, f.placed.get()};
+        const Bounds3 bounds = triangles.bounds();
         const float diameter = scene_diameter(bounds);
         const bool pcss = settings_.filter == ShadowFilter::Pcss;
         const int area_points = pcss ? 0 : scene.render.area_shadow_points;
@@ -166,7 +169,7 @@ public:
                             " MiB); lower the resolution or render.area_shadow_points");
         }
         for (const ShadowCaster& c : casters_)
-            maps_.push_back(make_maps(c, list, bounds, near, threads));
+            maps_.push_back(make_maps(c, triangles, bounds, near, threads));
     }
 
     float lit(size_t k, const ShadowSample& at) const override {
@@ -286,7 +289,7 @@ private:
         return r;
     }
 
-    CasterMaps make_maps(const ShadowCaster& c, const TriangleList& list, const Bounds3& bounds,
+    CasterMaps make_maps(const ShadowCaster& c, const SceneTriangles& list, const Bounds3& bounds,
                          float near, int threads) const {
         CasterMaps cm;
         const int res = resolution(c);
@@ -322,7 +325,7 @@ private:
     }
 
     /// Cascaded orthographic maps for a directional caster.
-    void make_cascades(const ShadowCaster& c, const TriangleList& list, const Bounds3& bounds,
+    void make_cascades(const ShadowCaster& c, const SceneTriangles& list, const Bounds3& bounds,
                        int res, int threads, CasterMaps& cm) const {
         const vec3 centre = bounds.center();
         const float radius = 0.5f * std::max(glm::length(bounds.extent()), 1e-6f);

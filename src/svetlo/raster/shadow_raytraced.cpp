@@ -13,6 +13,7 @@
 #include "svetlo/geometry/accel_cache.h"
 #include "svetlo/geometry/occluder_cube.h"
 #include "svetlo/geometry/ray.h"
+#include "svetlo/raster/placed_draws.h"
 #include "svetlo/raster/shadow_techniques.h"
 #include "svetlo/shading/cutouts.h"
 
@@ -69,7 +70,7 @@ class RaytracedShadows final : public ShadowTechniqueState {
 public:
     RaytracedShadows(const Scene& scene, const TriangleList& list, const FrameShading& f,
                      const FrameCaches& caches, int threads)
-        : list_(list) {
+        : list_(list), placed_(f.placed != nullptr) {
         casters_ = shadow_casters(scene, f.lights->set, f.lights->vpls);
         // Each caster's end of its rays: a point on an emitter moved off its own surface to
         // the front, the side of every sample it lights (lit() is called only for those).
@@ -81,6 +82,7 @@ public:
         const std::string key = caches.list_key.empty() ? "" : caches.list_key + " shadow bvh";
         built_ = shared_entry<BuiltGeometry>(caches.accels, key, [&](BuiltGeometry& b) {
             b.geometry = triangle_geometry(list);
+            if (f.placed) f.placed->add_to(b.geometry);  // instances placed, not copied
             b.accel = make_accel("bvh", b.geometry, threads);
         });
         accel_ = built_->accel.get();
@@ -100,7 +102,8 @@ public:
         const double samples = static_cast<double>(scene.film.width) * scene.film.height *
                                std::max(scene.render.spp, 1);
         const bool kept = caches.occluder_cubes && !caches.list_key.empty();
-        if (casters_.size() > OccluderCubeCache::kMostPerFrame ||
+        // (A cube is made of a list's triangles: not of instances drawn in place.)
+        if (placed_ || casters_.size() > OccluderCubeCache::kMostPerFrame ||
             (!kept && samples < kSamplesPerTriangle * static_cast<double>(list.triangle_count())))
             return;
         for (size_t k = 0; k < casters_.size(); ++k) {
@@ -209,6 +212,9 @@ private:
     /// in front of that side, shadow_origin). Else (the inside of a solid seen, or a sample of
     /// no known triangle), none.
     PrimitiveRange skip_for(const ShadowSample& at) const {
+        // Instances drawn in place: a sample's triangle is one of the visible list, whose
+        // numbers are not the BVH's.
+        if (placed_) return {};
         const std::vector<PrimitiveRange>& objects = list_.objects;
         // The object holding the triangle: the last that starts at or before it.
         const auto after = std::upper_bound(
@@ -246,6 +252,7 @@ private:
     std::unique_ptr<CutoutAccel> see_through_;
     const Accel* accel_ = nullptr;
     const TriangleList& list_;  // the frame's, which outlives its shadows
+    bool placed_;               // the frame draws instances in place (FrameShading::placed)
 };
 
 }  // namespace

@@ -1,0 +1,116 @@
+// Instances drawn where they stand (docs/real-scenes.md, "Instances"): the rasterizer keeps
+// each prototype tessellated once in its own space and draws it once per placement, a batch
+// of placements at a time into the same targets, as a GPU's instanced draw call does, instead
+// of a list of copies. The memory is the prototypes', the placements' and one batch's,
+// whatever the number of placements.
+//
+// The colour pass then draws only what the camera sees: a visibility pass of every triangle
+// (the list's, then the placements', in order) finds the triangles that hold a sample
+// (visible_triangles), and the colour pass draws those alone. The depth test keeps, at each
+// sample, the first drawn of the nearest, so the triangles that hold no sample change no
+// sample: the frame is the one the whole scene's list would give. The shadow techniques that
+// see the scene from elsewhere (shadow maps' depth passes, shadow rays) draw or trace every
+// placement.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "svetlo/geometry/geometry.h"
+#include "svetlo/geometry/triangle_list.h"
+#include "svetlo/raster/draw_pass.h"
+
+namespace svetlo::raster {
+
+struct SamplePattern;
+
+class PlacedDraws {
+public:
+    /// Most triangles written into one batch (a placement with more is a batch alone).
+    static constexpr uint64_t kBatchTriangles = uint64_t{1} << 20;
+
+    /// The scene's instances, each prototype tessellated once with `options`. Their triangles
+    /// are numbered after the frame's own list's `first_id` (ids [first_id, end_id())).
+    /// Refused (Error naming `objects`) when the ids would not fit in 32 bits.
+    PlacedDraws(const Scene& scene, const TessellationOptions& options, uint32_t first_id,
+                int threads);
+
+    uint32_t first_id() const { return static_cast<uint32_t>(first_.front()); }
+    uint64_t end_id() const { return first_.back(); }
+    uint64_t triangles() const { return end_id() - first_id(); }
+    /// A box around every placed triangle (each part's box carried into the world).
+    Bounds3 bounds() const;
+    /// The least distance from `eye` along `forward` of a placed point in front of the eye,
+    /// a lower bound: each part's box where it lies wholly in front, else the nearest plane
+    /// of its triangles not wholly behind (nearest_depth's rule). Infinity: none in front.
+    float nearest_depth(vec3 eye, vec3 forward, int threads) const;
+
+    /// Draws every placement through `camera` with `state` into `targets` (draw_pass, batch
+    /// by batch), the item buffer numbering triangles by their ids. A placement whose box
+    /// lies outside the camera's view is left out. `scratch` holds a batch.
+    void draw(const CameraMatrices& camera, const PipelineState& state, RenderTargets& targets,
+              const SamplePattern& pattern, int threads, PassMemory* memory,
+              TriangleList& scratch) const;
+
+    /// Writes triangle ids[i] of the placements, for i in [begin, end) (each id in
+    /// [first_id(), end_id())), into triangle i of `list` (sized) and its vertices 3 i to
+    /// 3 i + 2, as `draw` places them.
+    void write_triangles(const std::vector<uint32_t>& ids, size_t begin, size_t end,
+                         TriangleList& list) const;
+    /// Whether some prototype's mesh has a second uv set, or vertex colours.
+    bool second_set() const { return second_set_; }
+    bool colored() const { return colored_; }
+
+    /// The placements as ray-traceable instances of `g`: each part of a prototype a
+    /// prototype of its own, in its own space, placed once per instance.
+    void add_to(Geometry& g) const;
+
+private:
+    struct Part {
+        Mesh mesh;            // tessellated in its own space
+        Transform transform;  // the object's, within the prototype
+        Bounds3 bounds;       // of the mesh, in its own space
+    };
+    struct Prototype {
+        std::vector<Part> parts;
+        std::vector<uint64_t> first;  // per part, its first triangle; the count at the end
+    };
+    struct Placement {
+        uint32_t prototype;
+        Transform transform;  // the instance's
+        int material;         // replaces the prototype's where >= 0
+    };
+    /// Placement p's part k as the copies would place it (placed_object's product).
+    Transform part_transform(const Placement& p, const Part& part) const;
+    /// Placement p's triangles written into `list` (sized) from vertex v and triangle t.
+    void write(size_t p, TriangleList& list, size_t v, size_t t) const;
+    uint64_t vertices(size_t p) const;
+
+    std::vector<Prototype> prototypes_;
+    std::vector<Placement> placements_;
+    std::vector<Bounds3> boxes_;   // per placement, its parts' boxes carried into the world
+    std::vector<uint64_t> first_;  // per placement, its first triangle's id; end_id() at the end
+    bool second_set_ = false, colored_ = false;
+};
+
+/// The whole scene as the rasterizer draws it: its own list, and the placements drawn in
+/// place when there are (null: the list holds every triangle).
+struct SceneTriangles {
+    const TriangleList& list;
+    const PlacedDraws* placed = nullptr;
+
+    Bounds3 bounds() const;
+    /// draw_samples of the list, then of every placement (their items numbered on).
+    void draw(const CameraMatrices& camera, const PipelineState& state, RenderTargets& targets,
+              const SamplePattern& pattern, int threads, PassMemory* memory) const;
+};
+
+/// The triangles of `scene` that hold a sample of one of `passes` (each drawn with `state`
+/// through `camera`), in drawing order, three vertices of their own each: what the colour
+/// pass draws when instances are drawn in place. No objects (no convex shortcut for shadow
+/// rays).
+TriangleList visible_triangles(const SceneTriangles& scene, const CameraMatrices& camera,
+                               const PipelineState& state, const std::vector<SamplePattern>& passes,
+                               int threads, PassMemory* memory);
+
+}  // namespace svetlo::raster
