@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <mutex>
+#include <unordered_map>
 
 #include "svetlo/core/error.h"
 #include "svetlo/core/parallel.h"
@@ -9,6 +10,29 @@
 #include "svetlo/raster/pipeline.h"
 
 namespace svetlo::raster {
+
+namespace {
+
+/// A part's first faces (PlacedDraws::Part): of each vertex, and of each corner's vertex with
+/// its triangle's material.
+template <class Part>
+void first_faces(Part& part) {
+    const Mesh& m = part.mesh;
+    part.first_any.assign(m.positions.size(), ~0u);
+    part.first_same.assign(m.indices.size(), 0);
+    std::unordered_map<uint64_t, uint32_t> first;  // (vertex, material) -> face
+    for (size_t t = 0; t < m.triangle_count(); ++t) {
+        for (int c = 0; c < 3; ++c) {
+            const uint32_t v = m.indices[3 * t + c];
+            if (part.first_any[v] == ~0u) part.first_any[v] = static_cast<uint32_t>(t);
+            const uint64_t key = (uint64_t{v} << 32) | static_cast<uint32_t>(m.face_material[t]);
+            part.first_same[3 * t + c] =
+                first.try_emplace(key, static_cast<uint32_t>(t)).first->second;
+        }
+    }
+}
+
+}  // namespace
 
 PlacedDraws::PlacedDraws(const Scene& scene, const TessellationOptions& options, uint32_t first_id,
                          int threads) {
@@ -23,9 +47,12 @@ PlacedDraws::PlacedDraws(const Scene& scene, const TessellationOptions& options,
             std::vector<Mesh> meshes = local_meshes(pointers, options, threads);
             Prototype p;
             p.first.push_back(0);
+            p.first_vertex.push_back(0);
             for (size_t m = 0; m < meshes.size(); ++m) {
-                Part part{std::move(meshes[m]), objects[m].transform, {}};
+                Part part{std::move(meshes[m]), objects[m].transform, {}, {}, {}};
                 for (vec3 v : part.mesh.positions) part.bounds.extend(v);
+                first_faces(part);
+                p.first_vertex.push_back(p.first_vertex.back() + part.mesh.positions.size());
                 second_set_ = second_set_ || !part.mesh.uvs1.empty();
                 colored_ = colored_ || !part.mesh.colors.empty();
                 p.first.push_back(p.first.back() + part.mesh.triangle_count());
@@ -44,8 +71,11 @@ PlacedDraws::PlacedDraws(const Scene& scene, const TessellationOptions& options,
         boxes_.push_back(box);
     }
     first_.push_back(first_id);
-    for (const Placement& p : placements_)
-        first_.push_back(first_.back() + prototypes_[p.prototype].first.back());
+    first_vertex_.push_back(0);
+    for (size_t p = 0; p < placements_.size(); ++p) {
+        first_.push_back(first_.back() + prototypes_[placements_[p].prototype].first.back());
+        first_vertex_.push_back(first_vertex_.back() + vertices(p));
+    }
     // kNoPrimitive (~0) marks an empty sample in the item buffer.
     if (end_id() >= RenderTargets::kNoPrimitive) {
         throw Error(scene.path.string(), "objects",
@@ -60,13 +90,6 @@ Transform PlacedDraws::part_transform(const Placement& p, const Part& part) cons
     t.matrix = p.transform.matrix * part.transform.matrix;
     t.is_identity = p.transform.is_identity && part.transform.is_identity;
     return t;
-}
-
-uint64_t PlacedDraws::vertices(size_t p) const {
-    uint64_t n = 0;
-    for (const Part& part : prototypes_[placements_[p].prototype].parts)
-        n += part.mesh.positions.size();
-    return n;
 }
 
 void PlacedDraws::write(size_t p, TriangleList& list, size_t v, size_t t) const {
@@ -193,31 +216,46 @@ void PlacedDraws::draw(const CameraMatrices& camera, const PipelineState& state,
     }
 }
 
-void PlacedDraws::write_triangles(const std::vector<uint32_t>& ids, size_t begin, size_t end,
-                                  TriangleList& list) const {
-    for (size_t i = begin; i < end; ++i) {
-        const uint32_t id = ids[i];
-        const size_t p = static_cast<size_t>(std::upper_bound(first_.begin(), first_.end(), id) -
-                                             first_.begin()) -
-                         1;
-        const Placement& placement = placements_[p];
-        const Prototype& proto = prototypes_[placement.prototype];
-        const uint64_t local = id - first_[p];
-        const size_t k =
-            static_cast<size_t>(std::upper_bound(proto.first.begin(), proto.first.end(), local) -
-                                proto.first.begin()) -
-            1;
-        const Part& part = proto.parts[k];
-        const size_t tri = local - proto.first[k];
-        const Transform t = part_transform(placement, part);
-        const mat3 nm = normal_matrix(t.matrix);
-        for (int c = 0; c < 3; ++c) {
-            place_vertex(part.mesh, part.mesh.indices[3 * tri + c], t, nm, list, 3 * i + c);
-            list.indices[3 * i + c] = static_cast<uint32_t>(3 * i + c);
-        }
-        list.material[i] = static_cast<uint32_t>(
-            placement.material >= 0 ? placement.material : part.mesh.face_material[tri]);
+void PlacedDraws::corners(uint32_t id, Corner out[3]) const {
+    const auto p =
+        static_cast<size_t>(std::upper_bound(first_.begin(), first_.end(), id) - first_.begin()) -
+        1;
+    const Placement& placement = placements_[p];
+    const Prototype& proto = prototypes_[placement.prototype];
+    const uint64_t local = id - first_[p];
+    const auto k =
+        static_cast<size_t>(std::upper_bound(proto.first.begin(), proto.first.end(), local) -
+                            proto.first.begin()) -
+        1;
+    const Part& part = proto.parts[k];
+    const size_t t = local - proto.first[k];
+    const uint64_t part_first_id = first_[p] + proto.first[k];
+    const auto material = static_cast<uint32_t>(
+        placement.material >= 0 ? placement.material : part.mesh.face_material[t]);
+    for (int c = 0; c < 3; ++c) {
+        const uint32_t v = part.mesh.indices[3 * t + c];
+        // Under the instance's material every face has one material: the vertex's first.
+        const uint32_t first =
+            placement.material >= 0 ? part.first_any[v] : part.first_same[3 * t + c];
+        out[c] = {first_vertex_[p] + proto.first_vertex[k] + v, material,
+                  static_cast<uint32_t>(part_first_id + first)};
     }
+}
+
+void PlacedDraws::write_vertex(uint64_t vertex, TriangleList& list, size_t to) const {
+    const auto p =
+        static_cast<size_t>(std::upper_bound(first_vertex_.begin(), first_vertex_.end(), vertex) -
+                            first_vertex_.begin()) -
+        1;
+    const Prototype& proto = prototypes_[placements_[p].prototype];
+    const uint64_t local = vertex - first_vertex_[p];
+    const auto k = static_cast<size_t>(std::upper_bound(proto.first_vertex.begin(),
+                                                        proto.first_vertex.end(), local) -
+                                       proto.first_vertex.begin()) -
+                   1;
+    const Part& part = proto.parts[k];
+    const Transform t = part_transform(placements_[p], part);
+    place_vertex(part.mesh, local - proto.first_vertex[k], t, normal_matrix(t.matrix), list, to);
 }
 
 void PlacedDraws::add_to(Geometry& g) const {
@@ -260,7 +298,11 @@ void SceneTriangles::draw(const CameraMatrices& camera, const PipelineState& sta
 
 TriangleList visible_triangles(const SceneTriangles& scene, const CameraMatrices& camera,
                                const PipelineState& state, const std::vector<SamplePattern>& passes,
-                               int threads, PassMemory* memory) {
+                               bool first_faces, int threads, PassMemory* memory) {
+    const TriangleList& own = scene.list;
+    const PlacedDraws* placed = scene.placed;
+    const auto own_count = static_cast<uint32_t>(own.triangle_count());
+    // The triangles that hold a sample, in drawing order.
     std::vector<uint32_t> ids;
     RenderTargets targets;
     for (const SamplePattern& sp : passes) {
@@ -275,40 +317,92 @@ TriangleList visible_triangles(const SceneTriangles& scene, const CameraMatrices
     std::sort(ids.begin(), ids.end());
     ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
 
-    const TriangleList& own = scene.list;
-    const PlacedDraws* placed = scene.placed;
-    TriangleList out;
-    const bool second_set = !own.uvs1.empty() || (placed && placed->second_set());
-    const bool colored = !own.colors.empty() || (placed && placed->colored());
-    size_list(out, 3 * ids.size(), ids.size(), second_set, colored);
-    const size_t own_count = static_cast<size_t>(
-        std::lower_bound(ids.begin(), ids.end(), static_cast<uint32_t>(own.triangle_count())) -
-        ids.begin());
+    // Each triangle's corners: a vertex of the whole scene (the list's, then the placements'
+    // after them) and the triangle's material, and the vertex's first face.
+    std::vector<uint32_t> own_first;  // per vertex of the list, the first face that uses it
+    if (first_faces) {
+        own_first.assign(own.positions.size(), ~0u);
+        for (uint32_t t = own_count; t-- > 0;)
+            for (int c = 0; c < 3; ++c) own_first[own.indices[3 * size_t{t} + c]] = t;
+    }
+    auto corners = [&](uint32_t id, PlacedDraws::Corner out[3]) {
+        if (id >= own_count) {
+            placed->corners(id, out);
+            for (int c = 0; c < 3; ++c) out[c].vertex += own.positions.size();
+            return;
+        }
+        for (int c = 0; c < 3; ++c) {
+            const uint32_t v = own.indices[3 * size_t{id} + c];
+            out[c] = {v, own.material[id], first_faces ? own_first[v] : id};
+        }
+    };
+    if (first_faces) {  // (the list is split by material: a vertex has one)
+        const size_t held = ids.size();
+        for (size_t i = 0; i < held; ++i) {
+            PlacedDraws::Corner c[3];
+            corners(ids[i], c);
+            for (const auto& corner : c) ids.push_back(corner.first_face);
+        }
+        std::sort(ids.begin(), ids.end());
+        ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    }
+
+    // One vertex per (vertex, material), in the order of the keys.
+    struct Key {
+        uint64_t vertex;
+        uint32_t material;
+        uint32_t corner;  // 3 i + c
+    };
+    std::vector<Key> keys(3 * ids.size());
+    std::vector<uint32_t> material(ids.size());
     parallel_ranges(
         ids.size(), threads,
         [&](size_t begin, size_t end) {
-            // The list's own triangles: their vertices copied.
-            for (size_t i = begin; i < std::min(end, own_count); ++i) {
-                const uint32_t t = ids[i];
-                for (int c = 0; c < 3; ++c) {
-                    const uint32_t from = own.indices[3 * t + c];
-                    const size_t to = 3 * i + c;
-                    out.positions[to] = own.positions[from];
-                    out.normals[to] = own.normals[from];
-                    out.uvs[to] = own.uvs[from];
-                    if (second_set)
-                        out.uvs1[to] = own.uvs1.empty() ? own.uvs[from] : own.uvs1[from];
-                    if (colored)
-                        out.colors[to] = own.colors.empty() ? vec4(1.0f) : own.colors[from];
-                    out.tangents[to] = own.tangents[from];
-                    out.indices[to] = static_cast<uint32_t>(to);
-                }
-                out.material[i] = own.material[t];
+            for (size_t i = begin; i < end; ++i) {
+                PlacedDraws::Corner c[3];
+                corners(ids[i], c);
+                for (uint32_t k = 0; k < 3; ++k)
+                    keys[3 * i + k] = {c[k].vertex, c[k].material,
+                                       static_cast<uint32_t>(3 * i + k)};
+                material[i] = c[0].material;
             }
-            if (placed && end > own_count)
-                placed->write_triangles(ids, std::max(begin, own_count), end, out);
         },
         4096);
+    std::sort(keys.begin(), keys.end(), [](const Key& a, const Key& b) {
+        return a.vertex != b.vertex ? a.vertex < b.vertex : a.material < b.material;
+    });
+    std::vector<size_t> unique;  // the first key of each vertex
+    for (size_t k = 0; k < keys.size(); ++k)
+        if (k == 0 || keys[k].vertex != keys[k - 1].vertex ||
+            keys[k].material != keys[k - 1].material)
+            unique.push_back(k);
+
+    TriangleList out;
+    const bool second_set = !own.uvs1.empty() || (placed && placed->second_set());
+    const bool colored = !own.colors.empty() || (placed && placed->colored());
+    size_list(out, unique.size(), ids.size(), second_set, colored);
+    parallel_ranges(
+        unique.size(), threads,
+        [&](size_t begin, size_t end) {
+            for (size_t u = begin; u < end; ++u) {
+                const size_t last = u + 1 < unique.size() ? unique[u + 1] : keys.size();
+                for (size_t k = unique[u]; k < last; ++k)
+                    out.indices[keys[k].corner] = static_cast<uint32_t>(u);
+                const uint64_t v = keys[unique[u]].vertex;
+                if (v >= own.positions.size()) {
+                    placed->write_vertex(v - own.positions.size(), out, u);
+                    continue;
+                }
+                out.positions[u] = own.positions[v];
+                out.normals[u] = own.normals[v];
+                out.uvs[u] = own.uvs[v];
+                if (second_set) out.uvs1[u] = own.uvs1.empty() ? own.uvs[v] : own.uvs1[v];
+                if (colored) out.colors[u] = own.colors.empty() ? vec4(1.0f) : own.colors[v];
+                out.tangents[u] = own.tangents[v];
+            }
+        },
+        4096);
+    out.material = std::move(material);
     return out;
 }
 

@@ -1,5 +1,5 @@
-// Instances drawn where they stand (docs/real-scenes.md, "Instances"): the rasterizer keeps
-// each prototype tessellated once in its own space and draws it once per placement, a batch
+// Instances drawn where they stand (docs/raster.md, "Instances drawn in place"): the rasterizer
+// keeps each prototype tessellated once in its own space and draws it once per placement, a batch
 // of placements at a time into the same targets, as a GPU's instanced draw call does, instead
 // of a list of copies. The memory is the prototypes', the placements' and one batch's,
 // whatever the number of placements.
@@ -52,11 +52,20 @@ public:
               const SamplePattern& pattern, int threads, PassMemory* memory,
               TriangleList& scratch) const;
 
-    /// Writes triangle ids[i] of the placements, for i in [begin, end) (each id in
-    /// [first_id(), end_id())), into triangle i of `list` (sized) and its vertices 3 i to
-    /// 3 i + 2, as `draw` places them.
-    void write_triangles(const std::vector<uint32_t>& ids, size_t begin, size_t end,
-                         TriangleList& list) const;
+    /// A corner of a placed triangle, as the visible list shares its vertices: the vertex
+    /// (numbered placement by placement, part by part), the triangle's material, and the id of
+    /// the first of the placement's triangles that uses the vertex with that material (the
+    /// face Gouraud shading lights the vertex on, as the copies' split list has it).
+    struct Corner {
+        uint64_t vertex;
+        uint32_t material;
+        uint32_t first_face;
+    };
+    /// The corners of placed triangle `id` (in [first_id(), end_id())).
+    void corners(uint32_t id, Corner out[3]) const;
+    /// Writes placed vertex `vertex` (a Corner's) into vertex `to` of `list` (sized), as
+    /// `draw` places it.
+    void write_vertex(uint64_t vertex, TriangleList& list, size_t to) const;
     /// Whether some prototype's mesh has a second uv set, or vertex colours.
     bool second_set() const { return second_set_; }
     bool colored() const { return colored_; }
@@ -67,13 +76,17 @@ public:
 
 private:
     struct Part {
-        Mesh mesh;            // tessellated in its own space
-        Transform transform;  // the object's, within the prototype
-        Bounds3 bounds;       // of the mesh, in its own space
+        Mesh mesh;                         // tessellated in its own space
+        Transform transform;               // the object's, within the prototype
+        Bounds3 bounds;                    // of the mesh, in its own space
+        std::vector<uint32_t> first_any;   // per vertex, the first triangle that uses it
+        std::vector<uint32_t> first_same;  // per corner 3 t + c, the first triangle that uses
+                                           // its vertex with triangle t's material
     };
     struct Prototype {
         std::vector<Part> parts;
-        std::vector<uint64_t> first;  // per part, its first triangle; the count at the end
+        std::vector<uint64_t> first;         // per part, its first triangle; the count at the end
+        std::vector<uint64_t> first_vertex;  // per part, its first vertex; the count at the end
     };
     struct Placement {
         uint32_t prototype;
@@ -84,12 +97,15 @@ private:
     Transform part_transform(const Placement& p, const Part& part) const;
     /// Placement p's triangles written into `list` (sized) from vertex v and triangle t.
     void write(size_t p, TriangleList& list, size_t v, size_t t) const;
-    uint64_t vertices(size_t p) const;
+    uint64_t vertices(size_t p) const {
+        return prototypes_[placements_[p].prototype].first_vertex.back();
+    }
 
     std::vector<Prototype> prototypes_;
     std::vector<Placement> placements_;
     std::vector<Bounds3> boxes_;   // per placement, its parts' boxes carried into the world
     std::vector<uint64_t> first_;  // per placement, its first triangle's id; end_id() at the end
+    std::vector<uint64_t> first_vertex_;  // per placement, its first vertex; the count at the end
     bool second_set_ = false, colored_ = false;
 };
 
@@ -106,11 +122,13 @@ struct SceneTriangles {
 };
 
 /// The triangles of `scene` that hold a sample of one of `passes` (each drawn with `state`
-/// through `camera`), in drawing order, three vertices of their own each: what the colour
-/// pass draws when instances are drawn in place. No objects (no convex shortcut for shadow
-/// rays).
+/// through `camera`), in drawing order, with their vertices shared as the whole scene's list
+/// shares them (one per vertex and material): what the colour pass draws when instances are
+/// drawn in place. With `first_faces`, each vertex's first face comes too (the face Gouraud
+/// shading lights it on; it holds no sample, so it changes none). No objects (no convex
+/// shortcut for shadow rays).
 TriangleList visible_triangles(const SceneTriangles& scene, const CameraMatrices& camera,
                                const PipelineState& state, const std::vector<SamplePattern>& passes,
-                               int threads, PassMemory* memory);
+                               bool first_faces, int threads, PassMemory* memory);
 
 }  // namespace svetlo::raster

@@ -58,15 +58,12 @@ void split_vertices_by_material(TriangleList& list) {
 /// copies in its list: every frame with instances but those whose passes need every triangle
 /// in the one list: the overdraw count, the painter's algorithm and the wireframe (every
 /// triangle's fragments or edges, hidden or not), shadow volumes' silhouettes and planar
-/// projections, blended alpha (its coin is a triangle's index in the list drawn), and
-/// Gouraud shading (a vertex is lit once, on the side of the first face that uses it, which
-/// the camera need not see).
+/// projections, and blended alpha (its coin is a triangle's index in the list drawn).
 bool draws_in_place(const Scene& scene) {
     const bool blended =
         std::any_of(scene.materials.begin(), scene.materials.end(),
                     [](const Material& m) { return m.alpha.mode == AlphaMode::Blend; });
     return !scene.instances.empty() && scene.render.shading != ShadingMode::Overdraw &&
-           scene.render.shading != ShadingMode::Gouraud &&
            scene.render.raster.visibility != VisibilityMethod::Painter &&
            scene.render.raster.wireframe == WireframeMode::None &&
            scene.render.shadows != ShadowTechnique::Volume &&
@@ -529,7 +526,7 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     TriangleList visible;
     if (f.placed) {
         visible = visible_triangles(SceneTriangles{list, f.placed.get()}, camera, state, passes,
-                                    threads, &buffers_->passes);
+                                    f.mode == Mode::Gouraud, threads, &buffers_->passes);
         f.list = &visible;
     }
     prepare_pass(*f.list, camera, state, f, threads);
