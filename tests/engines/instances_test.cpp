@@ -108,10 +108,10 @@ TEST(Instances, RenderAsTheirObjectsWrittenOutInEveryEngine) {
 
 /// The rasterizer draws instances in place (raster/placed_draws.h): a visibility pass of every
 /// placement, then the colour pass of the triangles it found. The frame is the objects written
-/// out, bit for bit, in every shading mode and shadow technique (shadow volumes and planar
-/// shadows, which draw copies, included), over two sample passes (20 spp), on one thread and
-/// two. (The placements here are translations, whose boxes are the triangles' own: shadow maps,
-/// fitted to the placements' boxes, are then the same maps.)
+/// out, bit for bit, in every shading mode and shadow technique (planar shadows, which draw
+/// copies, included), over two sample passes (20 spp), on one thread and two. (The placements here
+/// are translations, whose boxes are the triangles' own: shadow maps, fitted to the placements'
+/// boxes, are then the same maps.)
 TEST(Instances, TheRasterizerDrawsThemAsTheObjectsWrittenOut) {
     for (const char* shading : {"flat", "gouraud", "phong"}) {
         for (const char* shadows : {"none", "raytraced", "map", "volume", "planar"}) {

@@ -35,7 +35,8 @@ void first_faces(Part& part) {
 }  // namespace
 
 PlacedDraws::PlacedDraws(const Scene& scene, const TessellationOptions& options, uint32_t first_id,
-                         int threads) {
+                         bool adjacency, int threads)
+    : adjacency_(adjacency) {
     // Each prototype an instance places, tessellated once.
     std::vector<int> index(scene.prototypes.size(), -1);
     for (const Instance& instance : scene.instances) {
@@ -49,9 +50,17 @@ PlacedDraws::PlacedDraws(const Scene& scene, const TessellationOptions& options,
             p.first.push_back(0);
             p.first_vertex.push_back(0);
             for (size_t m = 0; m < meshes.size(); ++m) {
-                Part part{std::move(meshes[m]), objects[m].transform, {}, {}, {}};
+                Part part{std::move(meshes[m]), objects[m].transform, {}, {}, {}, {}};
                 for (vec3 v : part.mesh.positions) part.bounds.extend(v);
                 first_faces(part);
+                if (adjacency) {  // the part's own, welded in its own space
+                    TriangleList local;
+                    size_list(local, part.mesh.positions.size(), part.mesh.triangle_count(), false,
+                              false);
+                    place_mesh(part.mesh, Transform{}, 0, local, 0, 0);
+                    build_adjacency(local);
+                    part.neighbour = std::move(local.neighbour);
+                }
                 p.first_vertex.push_back(p.first_vertex.back() + part.mesh.positions.size());
                 second_set_ = second_set_ || !part.mesh.uvs1.empty();
                 colored_ = colored_ || !part.mesh.colors.empty();
@@ -177,23 +186,24 @@ bool outside_view(const mat4& view_projection, const Bounds3& b) {
 
 }  // namespace
 
-void PlacedDraws::draw(const CameraMatrices& camera, const PipelineState& state,
-                       RenderTargets& targets, const SamplePattern& pattern, int threads,
-                       PassMemory* memory, TriangleList& scratch) const {
-    // The placements the camera may see.
-    const mat4 view_projection = camera.view_projection();
-    std::vector<char> seen(placements_.size());
-    parallel_indices(placements_.size(), threads, [&](size_t p) {
-        seen[p] = !boxes_[p].empty() && !outside_view(view_projection, boxes_[p]);
-    });
+void PlacedDraws::for_each_batch(const mat4* view_projection, int threads, TriangleList& scratch,
+                                 const BatchVisit& visit) const {
+    // The placements drawn: those a view may see, or all.
+    std::vector<char> seen(placements_.size(), 1);
+    if (view_projection) {
+        parallel_indices(placements_.size(), threads, [&](size_t p) {
+            seen[p] = !boxes_[p].empty() && !outside_view(*view_projection, boxes_[p]);
+        });
+    }
     std::vector<uint32_t> items;  // the batch's triangles' ids
     std::vector<size_t> batch;    // its placements
-    std::vector<uint64_t> first_vertex, first_triangle;
+    std::vector<uint64_t> first_vertex, first_triangle, first_object;
     for (size_t p = 0; p < placements_.size();) {
-        // A batch: placements seen while their triangles stay within kBatchTriangles.
+        // A batch: placements while their triangles stay within kBatchTriangles.
         batch.clear();
         first_vertex.assign(1, 0);
         first_triangle.assign(1, 0);
+        first_object.assign(1, 0);
         for (; p < placements_.size(); ++p) {
             if (!seen[p]) continue;
             const uint64_t count = first_[p + 1] - first_[p];
@@ -201,19 +211,44 @@ void PlacedDraws::draw(const CameraMatrices& camera, const PipelineState& state,
             batch.push_back(p);
             first_vertex.push_back(first_vertex.back() + vertices(p));
             first_triangle.push_back(first_triangle.back() + count);
+            first_object.push_back(first_object.back() +
+                                   prototypes_[placements_[p].prototype].parts.size());
         }
         if (batch.empty()) break;
         size_list(scratch, first_vertex.back(), first_triangle.back(), second_set_, colored_);
+        scratch.objects.resize(first_object.back());
+        scratch.neighbour.resize(adjacency_ ? 3 * first_triangle.back() : 0);
         items.resize(first_triangle.back());
         parallel_indices(batch.size(), threads, [&](size_t k) {
             write(batch[k], scratch, first_vertex[k], first_triangle[k]);
+            const Prototype& proto = prototypes_[placements_[batch[k]].prototype];
+            for (size_t part = 0; part < proto.parts.size(); ++part) {
+                const auto t0 = static_cast<uint32_t>(first_triangle[k] + proto.first[part]);
+                const auto t1 = static_cast<uint32_t>(first_triangle[k] + proto.first[part + 1]);
+                scratch.objects[first_object[k] + part] = {t0, t1};
+                if (!adjacency_) continue;
+                const std::vector<uint32_t>& nb = proto.parts[part].neighbour;
+                for (size_t e = 0; e < nb.size(); ++e)
+                    scratch.neighbour[3 * size_t{t0} + e] =
+                        nb[e] == TriangleList::kOpen ? TriangleList::kOpen : t0 + nb[e];
+            }
             for (uint64_t t = first_triangle[k]; t < first_triangle[k + 1]; ++t)
                 items[t] = static_cast<uint32_t>(first_[batch[k]] + (t - first_triangle[k]));
         });
-        PipelineState batch_state = state;
-        batch_state.items = items.data();
-        draw_samples(scratch, camera, batch_state, targets, threads, pattern, memory);
+        visit(scratch, items);
     }
+}
+
+void PlacedDraws::draw(const CameraMatrices& camera, const PipelineState& state,
+                       RenderTargets& targets, const SamplePattern& pattern, int threads,
+                       PassMemory* memory, TriangleList& scratch) const {
+    const mat4 view_projection = camera.view_projection();
+    for_each_batch(&view_projection, threads, scratch,
+                   [&](const TriangleList& batch, const std::vector<uint32_t>& items) {
+                       PipelineState batch_state = state;
+                       batch_state.items = items.data();
+                       draw_samples(batch, camera, batch_state, targets, threads, pattern, memory);
+                   });
 }
 
 void PlacedDraws::corners(uint32_t id, Corner out[3]) const {

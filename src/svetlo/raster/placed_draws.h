@@ -14,6 +14,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "svetlo/geometry/geometry.h"
@@ -29,11 +30,12 @@ public:
     /// Most triangles written into one batch (a placement with more is a batch alone).
     static constexpr uint64_t kBatchTriangles = uint64_t{1} << 20;
 
-    /// The scene's instances, each prototype tessellated once with `options`. Their triangles
-    /// are numbered after the frame's own list's `first_id` (ids [first_id, end_id())).
+    /// The scene's instances, each prototype tessellated once with `options` (and its parts'
+    /// edge adjacency found, with `adjacency`). Their triangles are numbered after the frame's
+    /// own list's `first_id` (ids [first_id, end_id())).
     /// Refused (Error naming `objects`) when the ids would not fit in 32 bits.
     PlacedDraws(const Scene& scene, const TessellationOptions& options, uint32_t first_id,
-                int threads);
+                bool adjacency, int threads);
 
     uint32_t first_id() const { return static_cast<uint32_t>(first_.front()); }
     uint64_t end_id() const { return first_.back(); }
@@ -44,6 +46,18 @@ public:
     /// a lower bound: each part's box where it lies wholly in front, else the nearest plane
     /// of its triangles not wholly behind (nearest_depth's rule). Infinity: none in front.
     float nearest_depth(vec3 eye, vec3 forward, int threads) const;
+
+    /// What for_each_batch calls with each batch: its triangles, placement by placement (one
+    /// object per part of each; the parts' adjacency when the draws have it), and each
+    /// triangle's id.
+    using BatchVisit =
+        std::function<void(const TriangleList& batch, const std::vector<uint32_t>& items)>;
+    /// Writes the placements into `scratch` in batches of about kBatchTriangles and visits
+    /// each; with `view_projection`, those whose box lies outside that view are left out.
+    void for_each_batch(const mat4* view_projection, int threads, TriangleList& scratch,
+                        const BatchVisit& visit) const;
+    /// Each placement's box in the world (its parts' boxes carried out).
+    const std::vector<Bounds3>& boxes() const { return boxes_; }
 
     /// Draws every placement through `camera` with `state` into `targets` (draw_pass, batch
     /// by batch), the item buffer numbering triangles by their ids. A placement whose box
@@ -82,6 +96,7 @@ private:
         std::vector<uint32_t> first_any;   // per vertex, the first triangle that uses it
         std::vector<uint32_t> first_same;  // per corner 3 t + c, the first triangle that uses
                                            // its vertex with triangle t's material
+        std::vector<uint32_t> neighbour;   // with adjacency: TriangleList::neighbour, its own
     };
     struct Prototype {
         std::vector<Part> parts;
@@ -107,6 +122,7 @@ private:
     std::vector<uint64_t> first_;  // per placement, its first triangle's id; end_id() at the end
     std::vector<uint64_t> first_vertex_;  // per placement, its first vertex; the count at the end
     bool second_set_ = false, colored_ = false;
+    bool adjacency_ = false;
 };
 
 /// The whole scene as the rasterizer draws it: its own list, and the placements drawn in

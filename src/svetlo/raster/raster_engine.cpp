@@ -57,8 +57,8 @@ void split_vertices_by_material(TriangleList& list) {
 /// Whether the frame draws the scene's instances in place (placed_draws.h) rather than as
 /// copies in its list: every frame with instances but those whose passes need every triangle
 /// in the one list: the overdraw count, the painter's algorithm and the wireframe (every
-/// triangle's fragments or edges, hidden or not), shadow volumes' silhouettes and planar
-/// projections, and blended alpha (its coin is a triangle's index in the list drawn).
+/// triangle's fragments or edges, hidden or not), planar projections, and blended alpha (its
+/// coin is a triangle's index in the list drawn).
 bool draws_in_place(const Scene& scene) {
     const bool blended =
         std::any_of(scene.materials.begin(), scene.materials.end(),
@@ -66,7 +66,6 @@ bool draws_in_place(const Scene& scene) {
     return !scene.instances.empty() && scene.render.shading != ShadingMode::Overdraw &&
            scene.render.raster.visibility != VisibilityMethod::Painter &&
            scene.render.raster.wireframe == WireframeMode::None &&
-           scene.render.shadows != ShadowTechnique::Volume &&
            scene.render.shadows != ShadowTechnique::Planar && !blended;
 }
 
@@ -122,7 +121,7 @@ std::shared_ptr<const TriangleList> tessellate_scene(const Scene& scene, FrameSh
         });
     if (in_place) {
         f.placed = std::make_shared<const PlacedDraws>(
-            scene, options, static_cast<uint32_t>(list->triangle_count()), threads);
+            scene, options, static_cast<uint32_t>(list->triangle_count()), adjacency, threads);
     }
     return list;
 }

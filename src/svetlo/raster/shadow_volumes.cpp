@@ -30,6 +30,7 @@
 // orthographic camera's volumes end instead at four scene diameters, and its depth and
 // stencil passes use a view whose near and far planes enclose them (as depth clamping would).
 #include "svetlo/core/error.h"
+#include "svetlo/raster/placed_draws.h"
 #include "svetlo/raster/shadow_techniques.h"
 
 namespace svetlo::raster {
@@ -78,31 +79,52 @@ PipelineState counting_state(VolumeCount count) {
     return s;
 }
 
+/// A list whose shadow volumes are made: its triangles, and per object whether it is closed
+/// (closed_objects), per triangle its object.
+struct Occluders {
+    const TriangleList& list;
+    std::vector<char> closed;
+    std::vector<uint32_t> object_of;
+
+    explicit Occluders(const TriangleList& l)
+        : list(l), closed(closed_objects(l)), object_of(l.triangle_count()) {
+        for (size_t o = 0; o < l.objects.size(); ++o)
+            for (uint32_t t = l.objects[o].first; t < l.objects[o].end; ++t)
+                object_of[t] = static_cast<uint32_t>(o);
+    }
+};
+
 class ShadowVolumes final : public StencilMasks {
 public:
     ShadowVolumes(const Scene& scene, const TriangleList& list, const FrameState& f,
                   const std::vector<SamplePattern>& passes, int threads, PassMemory* memory)
-        : diameter_(scene_diameter(list.bounds())) {
+        : diameter_(scene_diameter(SceneTriangles{list, f.placed.get()}.bounds())) {
+        // The scene's list, and its instances drawn in place (their volumes made batch by
+        // batch, each placement's parts with their own adjacency).
+        const SceneTriangles scene_triangles{list, f.placed.get()};
+        const PlacedDraws* placed = f.placed.get();
         casters_ = shadow_casters(scene, f.lights->set, scene.render.area_shadow_points,
                                   1e-4f * diameter_);
         // (The depth and stencil targets: 4 + 1 bytes per sample of a pass.)
         reserve(scene, f.cam.width, f.cam.height, passes, 5, "shadow volumes' masks");
-        closed_ = closed_objects(list);
-        object_of_.resize(list.triangle_count());
+        const Occluders own(list);
         object_bounds_.resize(list.objects.size());
         for (size_t o = 0; o < list.objects.size(); ++o) {
             for (uint32_t t = list.objects[o].first; t < list.objects[o].end; ++t) {
-                object_of_[t] = static_cast<uint32_t>(o);
                 for (int k = 0; k < 3; ++k)
                     object_bounds_[o].extend(list.positions[list.indices[3 * t + k]]);
             }
         }
+        if (placed)
+            object_bounds_.insert(object_bounds_.end(), placed->boxes().begin(),
+                                  placed->boxes().end());
         const CameraMatrices cam = volume_camera(f.cam, diameter_);
         PipelineState depth_state;
         depth_state.cull = f.cull;
         const PipelineState zfail = counting_state(VolumeCount::ZFail);
         const PipelineState zpass = counting_state(VolumeCount::ZPass);
-        std::vector<std::pair<TriangleList, TriangleList>> volumes;
+        std::vector<std::pair<TriangleList, TriangleList>> volumes;  // the list's, per caster
+        std::vector<char> caps;                                      // per caster
         for (const ShadowCaster& c : casters_) {
             const VolumeCount count = scene.render.shadow_teaching.volume_count;
             bool use_zfail = count == VolumeCount::ZFail ||
@@ -114,24 +136,36 @@ public:
             // lie at infinity. It draws the sides alone, unless the depth pass culled back
             // faces (an open mesh seen from behind is then not in the depth buffer, and its
             // caps count).
-            volumes.push_back(
-                volume(list, c, cam.orthographic, use_zfail || f.cull != CullMode::None));
+            caps.push_back(use_zfail || f.cull != CullMode::None ? 1 : 0);
+            volumes.push_back(volume(own, c, cam.orthographic, caps.back() != 0));
         }
+        TriangleList scratch;  // a batch of placements
         for (const SamplePattern& sp : passes) {
             RenderTargets targets;
             targets.clear(width_, height_, sp.count, true);
-            draw_samples(list, cam, depth_state, targets, threads, sp, memory);
+            scene_triangles.draw(cam, depth_state, targets, sp, threads, memory);
             for (size_t k = 0; k < casters_.size(); ++k) {
                 std::fill(targets.stencil.begin(), targets.stencil.end(), uint8_t{0});
                 const PipelineState& state = zfail_[k] ? zfail : zpass;
-                draw_samples(volumes[k].first, cam, state, targets, threads, sp, memory);
                 // The flipped near caps are drawn as the list's own triangles, in their own
                 // winding, with the faces' operations swapped: rasterized exactly as the
                 // depth pass drew them.
                 PipelineState flipped = state;
                 std::swap(flipped.stencil.front, flipped.stencil.back);
-                if (!volumes[k].second.indices.empty())
-                    draw_samples(volumes[k].second, cam, flipped, targets, threads, sp, memory);
+                auto draw = [&](const std::pair<TriangleList, TriangleList>& v) {
+                    draw_samples(v.first, cam, state, targets, threads, sp, memory);
+                    if (!v.second.indices.empty())
+                        draw_samples(v.second, cam, flipped, targets, threads, sp, memory);
+                };
+                draw(volumes[k]);
+                if (placed) {  // (a placement out of view may cast into it: all of them)
+                    placed->for_each_batch(
+                        nullptr, threads, scratch,
+                        [&](const TriangleList& batch, const std::vector<uint32_t>&) {
+                            draw(volume(Occluders(batch), casters_[k], cam.orthographic,
+                                        caps[k] != 0));
+                        });
+                }
                 std::vector<uint8_t> lit(targets.stencil.size());
                 for (size_t i = 0; i < lit.size(); ++i) lit[i] = targets.stencil[i] == 0 ? 1 : 0;
                 lit_[k].push_back(std::move(lit));
@@ -217,8 +251,9 @@ private:
 
     /// The triangles of `list` that bound a shadow region of caster c (`used`), and which of
     /// them face away from it and so are flipped (`flipped`).
-    void boundary_triangles(const TriangleList& list, const ShadowCaster& c,
-                            std::vector<char>& used, std::vector<char>& flipped) const {
+    void boundary_triangles(const Occluders& in, const ShadowCaster& c, std::vector<char>& used,
+                            std::vector<char>& flipped) const {
+        const TriangleList& list = in.list;
         const bool directional = c.kind == ShadowCaster::Kind::Directional;
         const size_t T = list.triangle_count();
         used.assign(T, 0);
@@ -234,7 +269,7 @@ private:
             bool facing = side > 0.0f;
             // A closed object's region is bounded by its faces away from the caster (the
             // lit faces are then on no volume's boundary, and no rounding can shadow them).
-            if (facing && closed_[object_of_[t]]) continue;
+            if (facing && in.closed[in.object_of[t]]) continue;
             used[t] = 1;
             flipped[t] = facing ? 0 : 1;
         }
@@ -248,9 +283,9 @@ private:
     /// of A (the fan's triangles are then the small spherical ones): a point or spot caster
     /// outside the object. Returns each object's apex, A as a vertex at infinity appended to
     /// `v`, or kOpen where it takes one far cap per triangle (and for finite volumes).
-    std::vector<uint32_t> far_cap_apexes(const TriangleList& list, const ShadowCaster& c,
-                                         bool finite, const std::vector<char>& used,
-                                         TriangleList& v) const {
+    std::vector<uint32_t> far_cap_apexes(const Occluders& in, const ShadowCaster& c, bool finite,
+                                         const std::vector<char>& used, TriangleList& v) const {
+        const TriangleList& list = in.list;
         std::vector<uint32_t> apex(list.objects.size(), TriangleList::kOpen);
         if (finite || c.kind == ShadowCaster::Kind::Directional) return apex;
         for (size_t o = 0; o < list.objects.size(); ++o) {
@@ -282,8 +317,9 @@ private:
     /// The shadow volume of caster c over every triangle of `list`: its sides, far caps and
     /// unflipped near caps, and apart the flipped near caps in the list's winding (with
     /// `caps` false, the sides alone).
-    std::pair<TriangleList, TriangleList> volume(const TriangleList& list, const ShadowCaster& c,
+    std::pair<TriangleList, TriangleList> volume(const Occluders& in, const ShadowCaster& c,
                                                  bool finite, bool caps) const {
+        const TriangleList& list = in.list;
         const size_t n = list.positions.size();
         const bool directional = c.kind == ShadowCaster::Kind::Directional;
         TriangleList v;
@@ -309,8 +345,8 @@ private:
         auto far = [&](uint32_t i) { return static_cast<uint32_t>(n + (one_direction ? 0 : i)); };
         const size_t T = list.triangle_count();
         std::vector<char> used, flipped;
-        boundary_triangles(list, c, used, flipped);
-        const std::vector<uint32_t> apex = far_cap_apexes(list, c, finite, used, v);
+        boundary_triangles(in, c, used, flipped);
+        const std::vector<uint32_t> apex = far_cap_apexes(in, c, finite, used, v);
         TriangleList flipped_caps;
         flipped_caps.positions = list.positions;
         auto add = [&](uint32_t a, uint32_t b, uint32_t cc) {
@@ -318,7 +354,7 @@ private:
         };
         for (size_t t = 0; t < T; ++t) {
             if (!used[t]) continue;
-            const uint32_t fan = apex[object_of_[t]];
+            const uint32_t fan = apex[in.object_of[t]];
             uint32_t o[3] = {list.indices[3 * t], list.indices[3 * t + 1], list.indices[3 * t + 2]};
             if (flipped[t]) {
                 if (caps) flipped_caps.indices.insert(flipped_caps.indices.end(), o, o + 3);
@@ -336,7 +372,7 @@ private:
                 // The fan closes this object's far caps alone: an edge it shares with another
                 // object (their sides cancel) is on its boundary all the same.
                 const bool fan_edge =
-                    fan != TriangleList::kOpen && (!cancels || object_of_[nb] != object_of_[t]);
+                    fan != TriangleList::kOpen && (!cancels || in.object_of[nb] != in.object_of[t]);
                 if (cancels && !fan_edge) continue;
                 uint32_t from = list.indices[3 * t + static_cast<size_t>(e)];
                 uint32_t to = list.indices[3 * t + static_cast<size_t>((e + 1) % 3)];
@@ -357,9 +393,7 @@ private:
     }
 
     float diameter_ = 1.0f;
-    std::vector<char> closed_;
-    std::vector<uint32_t> object_of_;
-    std::vector<Bounds3> object_bounds_;  // per object of the list
+    std::vector<Bounds3> object_bounds_;  // per object of the list, then per placement
     std::vector<char> zfail_;             // per caster: counted with z-fail
     std::vector<uint8_t> stencil_;        // caster 0's counts (the first sample pass)
     int stencil_samples_ = 0;             // its samples per pixel
