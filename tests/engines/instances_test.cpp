@@ -108,8 +108,8 @@ TEST(Instances, RenderAsTheirObjectsWrittenOutInEveryEngine) {
 
 /// The rasterizer draws instances in place (raster/placed_draws.h): a visibility pass of every
 /// placement, then the colour pass of the triangles it found. The frame is the objects written
-/// out, bit for bit, in every shading mode and shadow technique (planar shadows, which draw
-/// copies, included), over two sample passes (20 spp), on one thread and two. (The placements here
+/// out, bit for bit, in every shading mode and shadow technique, over two sample passes
+/// (20 spp), on one thread and two. (The placements here
 /// are translations, whose boxes are the triangles' own: shadow maps, fitted to the placements'
 /// boxes, are then the same maps.)
 TEST(Instances, TheRasterizerDrawsThemAsTheObjectsWrittenOut) {
@@ -131,6 +131,39 @@ TEST(Instances, TheRasterizerDrawsThemAsTheObjectsWrittenOut) {
     const RenderResult one = render_json<RasterRenderer>(forest("raster", true), 1);
     const RenderResult two = render_json<RasterRenderer>(forest("raster", true), 2);
     EXPECT_EQ(one.color.pixels, two.color.pixels);
+}
+
+/// Shadows cast and received by placements alone: a ground (a quad, placed turned and
+/// scaled) under two balls of one prototype, one mirrored. The rasterizer's frame in place is
+/// the objects written out, bit for bit, under every shadow technique: a placed quad is a
+/// planar receiver, a placed ball casts a volume from its own adjacency.
+TEST(Instances, TheRasterizerCastsAndReceivesShadowsOfPlacements) {
+    const json ball = {
+        {"type", "sphere"}, {"center", {0, 0.5, 0}}, {"radius", 0.5}, {"material", "red"}};
+    const json ground = {{"type", "quad"},
+                         {"corner", {-1, 0, 1}},
+                         {"edge_u", {2, 0, 0}},
+                         {"edge_v", {0, 0, -2}},
+                         {"material", "grey"}};
+    const json under = {{"rotate", {30, 0, 1, 0}}, {"scale", 3}, {"translate", {0, -0.6, 0}}};
+    const json left = {{"translate", {-1, -0.6, 0}}};
+    const json right = {{"scale", {-1, 1, 1}}, {"translate", {1, -0.6, 0.5}}};
+    for (const char* shadows : {"raytraced", "map", "volume", "planar"}) {
+        json placed = base("raster"), written = base("raster");
+        placed["prototypes"] = {{"ground", {{"objects", {ground}}}},
+                                {"ball", {{"objects", {ball}}}}};
+        placed["objects"] = {{{"type", "instance"}, {"prototype", "ground"}, {"transform", under}},
+                             {{"type", "instance"}, {"prototype", "ball"}, {"transform", left}},
+                             {{"type", "instance"}, {"prototype", "ball"}, {"transform", right}}};
+        written["objects"] = json::array();
+        for (const auto& [o, t] : {std::pair{ground, under}, {ball, left}, {ball, right}}) {
+            json object = o;
+            object["transform"] = t;
+            written["objects"].push_back(object);
+        }
+        for (json* j : {&placed, &written}) (*j)["render"]["shadows"] = shadows;
+        expect_same<RasterRenderer>(placed, written, shadows, 0);
+    }
 }
 
 /// A row of spheres placed far past what the rasterizer's list holds (2^25 triangles; 40 M

@@ -235,7 +235,7 @@ void PlacedDraws::for_each_batch(const mat4* view_projection, int threads, Trian
             for (uint64_t t = first_triangle[k]; t < first_triangle[k + 1]; ++t)
                 items[t] = static_cast<uint32_t>(first_[batch[k]] + (t - first_triangle[k]));
         });
-        visit(scratch, items);
+        visit(scratch, items, batch);
     }
 }
 
@@ -244,26 +244,32 @@ void PlacedDraws::draw(const CameraMatrices& camera, const PipelineState& state,
                        PassMemory* memory, TriangleList& scratch) const {
     const mat4 view_projection = camera.view_projection();
     for_each_batch(&view_projection, threads, scratch,
-                   [&](const TriangleList& batch, const std::vector<uint32_t>& items) {
+                   [&](const TriangleList& batch, const std::vector<uint32_t>& items,
+                       const std::vector<size_t>&) {
                        PipelineState batch_state = state;
                        batch_state.items = items.data();
                        draw_samples(batch, camera, batch_state, targets, threads, pattern, memory);
                    });
 }
 
-void PlacedDraws::corners(uint32_t id, Corner out[3]) const {
+PlacedDraws::Located PlacedDraws::locate(uint32_t id) const {
     const auto p =
         static_cast<size_t>(std::upper_bound(first_.begin(), first_.end(), id) - first_.begin()) -
         1;
-    const Placement& placement = placements_[p];
-    const Prototype& proto = prototypes_[placement.prototype];
+    const Prototype& proto = prototypes_[placements_[p].prototype];
     const uint64_t local = id - first_[p];
     const auto k =
         static_cast<size_t>(std::upper_bound(proto.first.begin(), proto.first.end(), local) -
                             proto.first.begin()) -
         1;
+    return {p, k, static_cast<size_t>(local - proto.first[k])};
+}
+
+void PlacedDraws::corners(uint32_t id, Corner out[3]) const {
+    const auto [p, k, t] = locate(id);
+    const Placement& placement = placements_[p];
+    const Prototype& proto = prototypes_[placement.prototype];
     const Part& part = proto.parts[k];
-    const size_t t = local - proto.first[k];
     const uint64_t part_first_id = first_[p] + proto.first[k];
     const auto material = static_cast<uint32_t>(
         placement.material >= 0 ? placement.material : part.mesh.face_material[t]);

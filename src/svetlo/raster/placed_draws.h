@@ -48,16 +48,35 @@ public:
     float nearest_depth(vec3 eye, vec3 forward, int threads) const;
 
     /// What for_each_batch calls with each batch: its triangles, placement by placement (one
-    /// object per part of each; the parts' adjacency when the draws have it), and each
-    /// triangle's id.
+    /// object per part of each, in order; the parts' adjacency when the draws have it), each
+    /// triangle's id, and the batch's placements.
     using BatchVisit =
-        std::function<void(const TriangleList& batch, const std::vector<uint32_t>& items)>;
+        std::function<void(const TriangleList& batch, const std::vector<uint32_t>& items,
+                           const std::vector<size_t>& placements)>;
     /// Writes the placements into `scratch` in batches of about kBatchTriangles and visits
     /// each; with `view_projection`, those whose box lies outside that view are left out.
     void for_each_batch(const mat4* view_projection, int threads, TriangleList& scratch,
                         const BatchVisit& visit) const;
     /// Each placement's box in the world (its parts' boxes carried out).
     const std::vector<Bounds3>& boxes() const { return boxes_; }
+
+    /// The placements as they are: how many, the prototype each places, each prototype's
+    /// parts (a mesh in its own space), and where placement p puts its part k.
+    size_t placement_count() const { return placements_.size(); }
+    uint32_t prototype_of(size_t p) const { return placements_[p].prototype; }
+    size_t part_count(uint32_t prototype) const { return prototypes_[prototype].parts.size(); }
+    const Mesh& part_mesh(uint32_t prototype, size_t k) const {
+        return prototypes_[prototype].parts[k].mesh;
+    }
+    Transform placed_transform(size_t p, size_t k) const {
+        return part_transform(placements_[p], prototypes_[placements_[p].prototype].parts[k]);
+    }
+    /// Where placed triangle `id` (in [first_id(), end_id())) lies: its placement, the part,
+    /// and the triangle in the part's mesh.
+    struct Located {
+        size_t placement, part, triangle;
+    };
+    Located locate(uint32_t id) const;
 
     /// Draws every placement through `camera` with `state` into `targets` (draw_pass, batch
     /// by batch), the item buffer numbering triangles by their ids. A placement whose box

@@ -16,6 +16,7 @@
 #include <array>
 
 #include "svetlo/core/error.h"
+#include "svetlo/raster/placed_draws.h"
 #include "svetlo/raster/shadow_techniques.h"
 
 namespace svetlo::raster {
@@ -105,8 +106,11 @@ int clip(const std::array<vec3, 8>& in, int count, std::array<vec3, 8>& out, Dis
 class PlanarShadows final : public StencilMasks {
 public:
     PlanarShadows(const Scene& scene, const TriangleList& list, const FrameState& f,
-                  const std::vector<SamplePattern>& passes, int threads, PassMemory* memory) {
-        const float diameter = scene_diameter(list.bounds());
+                  const std::vector<SamplePattern>& passes, int threads, PassMemory* memory)
+        : placed_(f.placed.get()) {
+        // The scene's list, and its instances drawn in place (placed_draws.h).
+        const SceneTriangles scene_triangles{list, placed_};
+        const float diameter = scene_diameter(scene_triangles.bounds());
         casters_ =
             shadow_casters(scene, f.lights->set, scene.render.area_shadow_points, 1e-4f * diameter);
         // (The depth, stencil and item targets and each sample's receiver: 13 bytes.)
@@ -117,6 +121,7 @@ public:
             for (uint32_t t : receivers_[r].triangles)
                 receiver_of_[t] = static_cast<uint32_t>(r + 1);
         }
+        if (placed_) place_receivers(diameter);
         // Alpha's holes (alpha_test.h): the receivers seen through them, and no shadow from
         // them (the projected triangles keep their casters' texture coordinates).
         alpha_test_ = std::make_unique<AlphaTest>(f.materials, scene.textures);
@@ -124,14 +129,15 @@ public:
         PipelineState item_state;
         item_state.cull = f.cull;
         item_state.alpha = alpha;
+        TriangleList scratch;  // a batch of placements
         for (const SamplePattern& sp : passes) {
             RenderTargets targets;
             targets.clear(width_, height_, sp.count, true, true);
-            draw_samples(list, f.cam, item_state, targets, threads, sp, memory);
+            scene_triangles.draw(f.cam, item_state, targets, sp, threads, memory);
             std::vector<uint32_t> receiver(targets.primitive.size(), 0);
             for (size_t i = 0; i < receiver.size(); ++i) {
                 uint32_t t = targets.primitive[i];
-                receiver[i] = t == RenderTargets::kNoPrimitive ? 0 : receiver_of_[t];
+                receiver[i] = t == RenderTargets::kNoPrimitive ? 0 : receiver_number(t);
             }
             for (size_t k = 0; k < casters_.size(); ++k) {
                 std::vector<uint8_t> lit(receiver.size(), 1);
@@ -144,9 +150,6 @@ public:
                             r > first && r <= last ? static_cast<uint8_t>(r - first) : uint8_t{0};
                     }
                     for (size_t r = first; r < last; ++r) {
-                        TriangleList shadow = projected(list, r, casters_[k], diameter,
-                                                        scene.render.shadow_teaching.planar_clip);
-                        if (shadow.indices.empty()) continue;
                         PipelineState state;
                         state.depth_test = false;
                         state.depth_write = false;
@@ -159,7 +162,22 @@ public:
                                                StencilOp::Replace};
                         state.stencil.back = state.stencil.front;
                         state.alpha = alpha;
-                        draw_samples(shadow, f.cam, state, targets, threads, sp, memory);
+                        const bool clip = scene.render.shadow_teaching.planar_clip;
+                        auto draw = [&](const TriangleList& occluders, auto&& own) {
+                            TriangleList shadow =
+                                projected(occluders, r, casters_[k], diameter, clip, own);
+                            if (!shadow.indices.empty())
+                                draw_samples(shadow, f.cam, state, targets, threads, sp, memory);
+                        };
+                        draw(list, [&](size_t t) { return receiver_of_[t] == r + 1; });
+                        if (!placed_) continue;
+                        placed_->for_each_batch(
+                            nullptr, threads, scratch,
+                            [&](const TriangleList& batch, const std::vector<uint32_t>& items,
+                                const std::vector<size_t>&) {
+                                draw(batch,
+                                     [&](size_t t) { return receiver_number(items[t]) == r + 1; });
+                            });
                     }
                     for (size_t i = 0; i < lit.size(); ++i) {
                         if (targets.stencil[i] & 0x80) lit[i] = 0;
@@ -171,10 +189,11 @@ public:
     }
 
 private:
-    /// Every triangle but the receiver's, clipped to the slab between the receiver's plane and
-    /// the caster, flattened onto the plane from the caster.
+    /// Every triangle of `list` but the receiver's (`own`), clipped to the slab between the
+    /// receiver's plane and the caster, flattened onto the plane from the caster.
+    template <class Own>
     TriangleList projected(const TriangleList& list, size_t receiver, const ShadowCaster& c,
-                           float diameter, bool clip_to_slab) const {
+                           float diameter, bool clip_to_slab, Own&& own) const {
         const Receiver& r = receivers_[receiver];
         TriangleList out;
         const bool directional = c.kind == ShadowCaster::Kind::Directional;
@@ -193,7 +212,7 @@ private:
         const mat4 project = planar_projection(n, d, light);
         const float epsilon = 1e-5f * diameter;
         for (size_t t = 0; t < list.triangle_count(); ++t) {
-            if (receiver_of_[t] == receiver + 1) continue;  // its own
+            if (own(t)) continue;  // the receiver's own
             std::array<vec3, 8> a{}, b{};
             for (int k = 0; k < 3; ++k)
                 a[static_cast<size_t>(k)] =
@@ -250,9 +269,75 @@ private:
         return out;
     }
 
+    /// The placements' receivers, after the list's: each prototype's part's found once in its
+    /// own space (find_receivers over the part alone), then placed, its plane that of its
+    /// first triangle placed (as find_receivers takes it).
+    void place_receivers(float diameter) {
+        const PlacedDraws& placed = *placed_;
+        std::vector<std::vector<PartReceivers>> parts;  // per prototype, per part
+        for (size_t p = 0; p < placed.placement_count(); ++p) {
+            const uint32_t proto = placed.prototype_of(p);
+            if (proto >= parts.size()) parts.resize(proto + 1);
+            if (!parts[proto].empty() || placed.part_count(proto) == 0) continue;
+            uint32_t offset = 0;
+            for (size_t k = 0; k < placed.part_count(proto); ++k) {
+                const Mesh& m = placed.part_mesh(proto, k);
+                TriangleList local;
+                size_list(local, m.positions.size(), m.triangle_count(), false, false);
+                place_mesh(m, Transform{}, 0, local, 0, 0);
+                local.objects = {{0, static_cast<uint32_t>(m.triangle_count())}};
+                PartReceivers pr;
+                pr.found = find_receivers(local, diameter);
+                pr.of.assign(m.triangle_count(), 0);
+                for (size_t j = 0; j < pr.found.size(); ++j)
+                    for (uint32_t t : pr.found[j].triangles)
+                        pr.of[t] = static_cast<uint32_t>(j + 1);
+                pr.first = offset;
+                offset += static_cast<uint32_t>(pr.found.size());
+                parts[proto].push_back(std::move(pr));
+            }
+        }
+        part_receivers_ = std::move(parts);
+        for (size_t p = 0; p < placed.placement_count(); ++p) {
+            first_receiver_.push_back(static_cast<uint32_t>(receivers_.size()));
+            const uint32_t proto = placed.prototype_of(p);
+            for (size_t k = 0; k < placed.part_count(proto); ++k) {
+                const Mesh& m = placed.part_mesh(proto, k);
+                const mat4 to_world = placed.placed_transform(p, k).matrix;
+                for (const Receiver& found : part_receivers_[proto][k].found) {
+                    const uint32_t t = found.triangles.front();
+                    vec3 v[3];
+                    for (int c = 0; c < 3; ++c)
+                        v[c] = vec3(to_world * vec4(m.positions[m.indices[3 * t + c]], 1.0f));
+                    const vec3 cr = glm::cross(v[1] - v[0], v[2] - v[0]);
+                    const float area = 0.5f * glm::length(cr);
+                    const vec3 n = area > 0.0f ? cr / (2.0f * area) : found.normal;
+                    receivers_.push_back({n, glm::dot(n, v[0]), found.area, {}});
+                }
+            }
+        }
+    }
+
+    /// The receiver triangle `id` of the scene lies in, plus 1 (0: none).
+    uint32_t receiver_number(uint32_t id) const {
+        if (id < receiver_of_.size()) return receiver_of_[id];
+        const auto [p, k, t] = placed_->locate(id);
+        const PartReceivers& pr = part_receivers_[placed_->prototype_of(p)][k];
+        return pr.of[t] == 0 ? 0 : first_receiver_[p] + pr.first + pr.of[t];
+    }
+
+    struct PartReceivers {
+        std::vector<Receiver> found;  // in the part's own space
+        std::vector<uint32_t> of;     // per triangle of the part: 0, or its receiver plus 1
+        uint32_t first = 0;           // its first receiver's place among its placement's
+    };
+
+    const PlacedDraws* placed_;  // the frame's instances drawn in place, or null
     std::unique_ptr<AlphaTest> alpha_test_;
-    std::vector<Receiver> receivers_;
-    std::vector<uint32_t> receiver_of_;  // per triangle: 0, or the receiver it is in, plus 1
+    std::vector<Receiver> receivers_;    // the list's, then the placements' in order
+    std::vector<uint32_t> receiver_of_;  // per triangle of the list: 0, or its receiver plus 1
+    std::vector<std::vector<PartReceivers>> part_receivers_;  // per prototype, per part
+    std::vector<uint32_t> first_receiver_;                    // per placement, its first receiver
 };
 
 }  // namespace

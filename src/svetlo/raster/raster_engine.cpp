@@ -57,16 +57,15 @@ void split_vertices_by_material(TriangleList& list) {
 /// Whether the frame draws the scene's instances in place (placed_draws.h) rather than as
 /// copies in its list: every frame with instances but those whose passes need every triangle
 /// in the one list: the overdraw count, the painter's algorithm and the wireframe (every
-/// triangle's fragments or edges, hidden or not), planar projections, and blended alpha (its
-/// coin is a triangle's index in the list drawn).
+/// triangle's fragments or edges, hidden or not), and blended alpha (its coin is a
+/// triangle's index in the list drawn).
 bool draws_in_place(const Scene& scene) {
     const bool blended =
         std::any_of(scene.materials.begin(), scene.materials.end(),
                     [](const Material& m) { return m.alpha.mode == AlphaMode::Blend; });
     return !scene.instances.empty() && scene.render.shading != ShadingMode::Overdraw &&
            scene.render.raster.visibility != VisibilityMethod::Painter &&
-           scene.render.raster.wireframe == WireframeMode::None &&
-           scene.render.shadows != ShadowTechnique::Planar && !blended;
+           scene.render.raster.wireframe == WireframeMode::None && !blended;
 }
 
 /// Stage 1: the scene-wide triangle list of every object, then the area lights as one-sided

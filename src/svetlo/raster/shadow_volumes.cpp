@@ -161,7 +161,8 @@ public:
                 if (placed) {  // (a placement out of view may cast into it: all of them)
                     placed->for_each_batch(
                         nullptr, threads, scratch,
-                        [&](const TriangleList& batch, const std::vector<uint32_t>&) {
+                        [&](const TriangleList& batch, const std::vector<uint32_t>&,
+                            const std::vector<size_t>&) {
                             draw(volume(Occluders(batch), casters_[k], cam.orthographic,
                                         caps[k] != 0));
                         });
