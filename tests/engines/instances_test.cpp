@@ -109,7 +109,7 @@ TEST(Instances, RenderAsTheirObjectsWrittenOutInEveryEngine) {
 /// The rasterizer draws instances in place (raster/placed_draws.h): a visibility pass of every
 /// placement, then the colour pass of the triangles it found. The frame is the objects written
 /// out, bit for bit, in every shading mode and shadow technique, over two sample passes
-/// (20 spp), on one thread and two. (The placements here
+/// (20 spp), with blended alpha, on one thread and two. (The placements here
 /// are translations, whose boxes are the triangles' own: shadow maps, fitted to the placements'
 /// boxes, are then the same maps.)
 TEST(Instances, TheRasterizerDrawsThemAsTheObjectsWrittenOut) {
@@ -127,6 +127,22 @@ TEST(Instances, TheRasterizerDrawsThemAsTheObjectsWrittenOut) {
                 expect_same<RasterRenderer>(placed, written, what.c_str(), 0);
             }
         }
+    }
+    // Blended alpha: a coin per sample and triangle, the triangle as the scene numbers it, so
+    // the colour pass keeps the samples the visibility pass kept. (Shadow rays toss coins of
+    // their own at a blended occluder, per primitive of the structure they trace, and a
+    // placement's primitives are its prototype's: under ray-traced shadows the frame is the
+    // copies' in the mean, its shadows' noise drawn anew.)
+    for (const char* shadows : {"raytraced", "map", "volume", "planar"}) {
+        json placed = forest("raster", true), written = forest("raster", false);
+        for (json* j : {&placed, &written}) {
+            (*j)["materials"]["red"]["alpha"] = 0.5;
+            (*j)["materials"]["red"]["alpha_mode"] = "blend";
+            (*j)["render"]["shadows"] = shadows;
+            (*j)["render"]["spp"] = 8;
+        }
+        expect_same<RasterRenderer>(placed, written, shadows,
+                                    std::string(shadows) == "raytraced" ? 5 : 0);
     }
     const RenderResult one = render_json<RasterRenderer>(forest("raster", true), 1);
     const RenderResult two = render_json<RasterRenderer>(forest("raster", true), 2);

@@ -37,7 +37,8 @@ struct PipelineState {
     bool write_items = true;
     // The item buffer's number for the list's triangle t: first_item + t, or items[t] where
     // `items` is given (a frame drawn as several lists, instances drawn in place,
-    // placed_draws.h, numbers every list's triangles apart).
+    // placed_draws.h, numbers every list's triangles apart). It is also the triangle in a
+    // blend's coin, which is then the same in every list that draws the triangle.
     uint32_t first_item = 0;
     const uint32_t* items = nullptr;
     // Alpha's holes (alpha_test.h): a masked or blended triangle's samples are tested; null:

@@ -517,7 +517,7 @@ void rasterize_tile_stencil(const PassGeometry& f, const Tile& tile, const Sampl
                             const PipelineState& state, TileBuffers& buf);
 /// Whether the sample at fixed-point (sx, sy) of triangle `id` (`t`, its edges `te`) falls in
 /// a hole of its material's alpha (alpha_test.h): its perspective-correct texture coordinates,
-/// and the pixel, sample and triangle as a blend's coin (rasterize.cpp).
+/// and the pixel, sample and triangle (its item number) as a blend's coin (rasterize.cpp).
 bool in_alpha_hole(const PassGeometry& f, uint32_t id, const SetupTriangle& t,
                    const TriangleEdges& te, int64_t sx, int64_t sy, const PipelineState& state);
 

@@ -337,9 +337,10 @@ void SceneTriangles::draw(const CameraMatrices& camera, const PipelineState& sta
     }
 }
 
-TriangleList visible_triangles(const SceneTriangles& scene, const CameraMatrices& camera,
-                               const PipelineState& state, const std::vector<SamplePattern>& passes,
-                               bool first_faces, int threads, PassMemory* memory) {
+VisibleTriangles visible_triangles(const SceneTriangles& scene, const CameraMatrices& camera,
+                                   const PipelineState& state,
+                                   const std::vector<SamplePattern>& passes, bool first_faces,
+                                   int threads, PassMemory* memory) {
     const TriangleList& own = scene.list;
     const PlacedDraws* placed = scene.placed;
     const auto own_count = static_cast<uint32_t>(own.triangle_count());
@@ -444,7 +445,7 @@ TriangleList visible_triangles(const SceneTriangles& scene, const CameraMatrices
         },
         4096);
     out.material = std::move(material);
-    return out;
+    return {std::move(out), std::move(ids)};
 }
 
 }  // namespace svetlo::raster

@@ -161,9 +161,15 @@ struct SceneTriangles {
 /// shares them (one per vertex and material): what the colour pass draws when instances are
 /// drawn in place. With `first_faces`, each vertex's first face comes too (the face Gouraud
 /// shading lights it on; it holds no sample, so it changes none). No objects (no convex
-/// shortcut for shadow rays).
-TriangleList visible_triangles(const SceneTriangles& scene, const CameraMatrices& camera,
-                               const PipelineState& state, const std::vector<SamplePattern>& passes,
-                               bool first_faces, int threads, PassMemory* memory);
+/// shortcut for shadow rays). The colour pass draws it with `items` (PipelineState::items),
+/// so that a blended triangle tosses the coins it tossed here.
+struct VisibleTriangles {
+    TriangleList list;
+    std::vector<uint32_t> items;  // per triangle of the list, its number in the scene
+};
+VisibleTriangles visible_triangles(const SceneTriangles& scene, const CameraMatrices& camera,
+                                   const PipelineState& state,
+                                   const std::vector<SamplePattern>& passes, bool first_faces,
+                                   int threads, PassMemory* memory);
 
 }  // namespace svetlo::raster

@@ -168,6 +168,8 @@ public:
                                 projected(occluders, r, casters_[k], diameter, clip, own);
                             if (!shadow.indices.empty())
                                 draw_samples(shadow, f.cam, state, targets, threads, sp, memory);
+                            // The next batch's shadow numbered on: a blend's coins of its own.
+                            state.first_item += static_cast<uint32_t>(shadow.triangle_count());
                         };
                         draw(list, [&](size_t t) { return receiver_of_[t] == r + 1; });
                         if (!placed_) continue;

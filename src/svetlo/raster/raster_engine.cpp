@@ -57,15 +57,11 @@ void split_vertices_by_material(TriangleList& list) {
 /// Whether the frame draws the scene's instances in place (placed_draws.h) rather than as
 /// copies in its list: every frame with instances but those whose passes need every triangle
 /// in the one list: the overdraw count, the painter's algorithm and the wireframe (every
-/// triangle's fragments or edges, hidden or not), and blended alpha (its coin is a
-/// triangle's index in the list drawn).
+/// triangle's fragments or edges, hidden or not).
 bool draws_in_place(const Scene& scene) {
-    const bool blended =
-        std::any_of(scene.materials.begin(), scene.materials.end(),
-                    [](const Material& m) { return m.alpha.mode == AlphaMode::Blend; });
     return !scene.instances.empty() && scene.render.shading != ShadingMode::Overdraw &&
            scene.render.raster.visibility != VisibilityMethod::Painter &&
-           scene.render.raster.wireframe == WireframeMode::None && !blended;
+           scene.render.raster.wireframe == WireframeMode::None;
 }
 
 /// Stage 1: the scene-wide triangle list of every object, then the area lights as one-sided
@@ -521,11 +517,12 @@ RenderResult RasterRenderer::render(const Scene& scene, const RenderOptions& opt
     if (alpha.any()) state.alpha = &alpha;
     // Instances drawn in place: the colour pass draws the triangles a visibility pass of the
     // whole scene finds (placed_draws.h); the shadow techniques see the whole scene.
-    TriangleList visible;
+    VisibleTriangles visible;
     if (f.placed) {
         visible = visible_triangles(SceneTriangles{list, f.placed.get()}, camera, state, passes,
                                     f.mode == Mode::Gouraud, threads, &buffers_->passes);
-        f.list = &visible;
+        f.list = &visible.list;
+        state.items = visible.items.data();  // (a blend's coins, as the visibility pass's)
     }
     prepare_pass(*f.list, camera, state, f, threads);
     if (!state.depth_test) bin_back_to_front(f, threads);  // the painter's algorithm

@@ -315,8 +315,12 @@ bool in_alpha_hole(const PassGeometry& f, uint32_t id, const SetupTriangle& t,
     const ClipVertex& C = f.vertex(t.v[2]);
     const Weights w = perspective_weights(te.weights(sx, sy), A, B, C);
     const Varyings at = varyings_at(A, B, C, w.b);
+    // The triangle as the item buffer numbers it (PipelineState::items): the same coin in
+    // every pass that draws it, whatever list holds it.
+    const uint32_t source = f.source(id);
+    const uint32_t item = state.items ? state.items[source] : state.first_item + source;
     const uint64_t key =
-        (static_cast<uint64_t>(sy) << 40) ^ (static_cast<uint64_t>(sx) << 20) ^ f.source(id);
+        (static_cast<uint64_t>(sy) << 40) ^ (static_cast<uint64_t>(sx) << 20) ^ item;
     return state.alpha->hole(t.material, at, key);
 }
 
