@@ -1,6 +1,7 @@
 #include "svetlo/raster/placed_draws.h"
 
 #include <algorithm>
+#include <functional>
 #include <mutex>
 #include <unordered_map>
 
@@ -20,6 +21,16 @@ void first_faces(Part& part) {
     const Mesh& m = part.mesh;
     part.first_any.assign(m.positions.size(), ~0u);
     part.first_same.assign(m.indices.size(), 0);
+    const bool one_material = std::adjacent_find(m.face_material.begin(), m.face_material.end(),
+                                                 std::not_equal_to<>()) == m.face_material.end();
+    if (one_material) {  // (the common case: a vertex's first face is its first with it)
+        for (size_t t = m.triangle_count(); t-- > 0;)
+            for (int c = 0; c < 3; ++c)
+                part.first_any[m.indices[3 * t + c]] = static_cast<uint32_t>(t);
+        for (size_t k = 0; k < m.indices.size(); ++k)
+            part.first_same[k] = part.first_any[m.indices[k]];
+        return;
+    }
     std::unordered_map<uint64_t, uint32_t> first;  // (vertex, material) -> face
     for (size_t t = 0; t < m.triangle_count(); ++t) {
         for (int c = 0; c < 3; ++c) {
