@@ -36,6 +36,15 @@ struct CameraMatrices {
 CameraMatrices camera_matrices(const Camera& camera, int width, int height, const Bounds3& bounds,
                                float nearest = 0.0f);
 
+/// The distance from `eye` to the plane of triangle (a, b, c), or infinity when the triangle
+/// lies wholly behind the eye (`forward`: the unit view direction): what bounds `nearest`.
+inline float nearest_plane(vec3 a, vec3 b, vec3 c, vec3 eye, vec3 forward) {
+    if (glm::dot(a - eye, forward) <= 0.0f && glm::dot(b - eye, forward) <= 0.0f &&
+        glm::dot(c - eye, forward) <= 0.0f)
+        return kInfinity;
+    return std::abs(glm::dot(triangle_normal(a, b, c), eye - a));
+}
+
 /// The matrices of a pass jittered within the pixel: the image moves by (0.5, 0.5) - `jitter`
 /// pixels, so that the centre of pixel (i, j) shows what the camera ray through (i + jitter.x,
 /// j + jitter.y) sees. An item buffer drawn with them at one sample a pixel (at its centre)

@@ -160,12 +160,7 @@ float PlacedDraws::nearest_depth(vec3 eye, vec3 forward, int threads) const {
                         vec3 c[3];
                         for (int j = 0; j < 3; ++j)
                             c[j] = vec3(t.matrix * vec4(m.positions[m.indices[3 * tri + j]], 1.0f));
-                        if (glm::dot(c[0] - eye, forward) <= 0.0f &&
-                            glm::dot(c[1] - eye, forward) <= 0.0f &&
-                            glm::dot(c[2] - eye, forward) <= 0.0f)
-                            continue;
-                        const vec3 n = triangle_normal(c[0], c[1], c[2]);
-                        least = std::min(least, std::abs(glm::dot(n, eye - c[0])));
+                        least = std::min(least, nearest_plane(c[0], c[1], c[2], eye, forward));
                     }
                 }
             }

@@ -302,11 +302,7 @@ float nearest_depth(const TriangleList& list, const Camera& camera, int threads)
                 const vec3 a = list.positions[list.indices[3 * t]],
                            b = list.positions[list.indices[3 * t + 1]],
                            c = list.positions[list.indices[3 * t + 2]];
-                if (glm::dot(a - eye, forward) <= 0.0f && glm::dot(b - eye, forward) <= 0.0f &&
-                    glm::dot(c - eye, forward) <= 0.0f)
-                    continue;  // behind the camera
-                vec3 n = triangle_normal(a, b, c);
-                chunk = std::min(chunk, std::abs(glm::dot(n, eye - a)));
+                chunk = std::min(chunk, nearest_plane(a, b, c, eye, forward));
             }
             std::lock_guard lock(mutex);
             nearest = std::min(nearest, chunk);
