@@ -182,6 +182,26 @@ TEST(Instances, TheRasterizerCastsAndReceivesShadowsOfPlacements) {
     }
 }
 
+/// A renderer keeps the last frame's placements for the next frame of the same scene (a drag
+/// in `svetlo serve`): a frame after another scene's is that scene's own, and the first scene
+/// drawn again is its first frame.
+TEST(Instances, TheRasterizerKeepsItsPlacementsForTheSameSceneAlone) {
+    const Scene first = scene_from_json(forest("raster", true), "s.json");
+    json moved_json = forest("raster", true);
+    moved_json["objects"][0]["transform"] = translate(-2.5f, 0.3f);
+    const Scene moved = scene_from_json(moved_json, "s.json");
+    ASSERT_NE(first.geometry_key, moved.geometry_key);
+    RenderOptions options;
+    options.threads = 2;
+    RasterRenderer renderer;
+    const RenderResult a = renderer.render(first, options);
+    const RenderResult b = renderer.render(moved, options);
+    const RenderResult again = renderer.render(first, options);
+    EXPECT_EQ(b.color.pixels, RasterRenderer().render(moved, options).color.pixels);
+    EXPECT_NE(a.color.pixels, b.color.pixels);
+    EXPECT_EQ(again.color.pixels, a.color.pixels);
+}
+
 /// A row of spheres placed far past what the rasterizer's list holds (2^25 triangles; 40 M
 /// here), the camera seeing three of them: drawn in place, the frame is the one of those three
 /// placed alone, bit for bit (a placement out of view is left out, one across the film's

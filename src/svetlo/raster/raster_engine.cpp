@@ -64,13 +64,23 @@ bool draws_in_place(const Scene& scene) {
            scene.render.raster.wireframe == WireframeMode::None;
 }
 
+/// The instances drawn in place of the last frame, and the key of its triangle list: a frame
+/// of the same list (a drag in `svetlo serve`) takes them again instead of tessellating the
+/// prototypes anew.
+struct KeptPlacedDraws {
+    std::string list_key;
+    std::shared_ptr<const PlacedDraws> placed;
+};
+
 /// Stage 1: the scene-wide triangle list of every object, then the area lights as one-sided
 /// emissive quads (the ray tracer shows them too), taken from `cache` when an earlier render of
-/// the command made it (its key: `list_key`). Makes the light set and its VPLs.
+/// the command made it (its key: `list_key`); and the instances drawn in place, taken from
+/// `kept` when the last frame's list was the same. Makes the light set and its VPLs.
 std::shared_ptr<const TriangleList> tessellate_scene(const Scene& scene, FrameShading& f,
                                                      std::string& list_key, int threads,
                                                      TriangleListCache* cache = nullptr,
-                                                     IblCache* ibl = nullptr) {
+                                                     IblCache* ibl = nullptr,
+                                                     KeptPlacedDraws* kept = nullptr) {
     const TessellationOptions options = tessellation_options(scene.render);
     const bool in_place = draws_in_place(scene);
     // Refuse what would not fit in memory before making it (a fine tessellation of many shapes):
@@ -114,9 +124,12 @@ std::shared_ptr<const TriangleList> tessellate_scene(const Scene& scene, FrameSh
             if (split) split_vertices_by_material(made);
             if (adjacency) build_adjacency(made);
         });
-    if (in_place) {
+    if (in_place && kept && !list_key.empty() && kept->list_key == list_key) {
+        f.placed = kept->placed;
+    } else if (in_place) {
         f.placed = std::make_shared<const PlacedDraws>(
             scene, options, static_cast<uint32_t>(list->triangle_count()), adjacency, threads);
+        if (kept) *kept = {list_key, f.placed};
     }
     return list;
 }
@@ -342,6 +355,7 @@ struct RasterRenderer::Buffers {
     PassMemory passes;  // the shadow techniques' passes
     KeptMipChains mips;
     IblCache ibl;
+    KeptPlacedDraws placed;
 };
 
 RasterRenderer::RasterRenderer() : buffers_(std::make_unique<Buffers>()) {}
@@ -457,8 +471,9 @@ std::shared_ptr<const TriangleList> RasterRenderer::begin_frame(const Scene& sce
     f.flat = std::move(buffers_->flat);
     f.scene = &scene;
     f.mode = scene.render.shading;
-    const std::shared_ptr<const TriangleList> shared_list = tessellate_scene(
-        scene, f, f.caches.list_key, options.threads, options.triangle_lists, &buffers_->ibl);
+    const std::shared_ptr<const TriangleList> shared_list =
+        tessellate_scene(scene, f, f.caches.list_key, options.threads, options.triangle_lists,
+                         &buffers_->ibl, &buffers_->placed);
     const TriangleList& list = *shared_list;
     f.caches.accels = options.accels;
     f.caches.occluder_cubes = options.occluder_cubes;
