@@ -206,7 +206,7 @@ TEST(Instances, TheRasterizerKeepsItsPlacementsForTheSameSceneAlone) {
 /// here), the camera seeing three of them: drawn in place, the frame is the one of those three
 /// placed alone, bit for bit (a placement out of view is left out, one across the film's
 /// edge is not). Past 2^32 - 1 triangles the item buffer cannot number them: refused naming
-/// `objects`.
+/// `objects`. The overdraw view, which draws copies, refuses the 40 M.
 TEST(Instances, TheRasterizerDrawsMoreThanItsListHolds) {
     auto row = [](int count, int first) {
         json j = base("raster");
@@ -231,6 +231,17 @@ TEST(Instances, TheRasterizerDrawsMoreThanItsListHolds) {
     const RenderResult three = render_json<RasterRenderer>(row(3, -1));
     EXPECT_EQ(many.color.pixels, three.color.pixels);
     EXPECT_GT(max_component(many.color.at(12, 8)), 0.0f);
+    // The views that draw copies refuse them past the list's bound, saying why.
+    json overdraw = row(610, -1);
+    overdraw["render"]["shading"] = "overdraw";
+    try {
+        render_json<RasterRenderer>(overdraw);
+        ADD_FAILURE() << "40 M triangles were copied";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.where(), "render.tessellation");
+        EXPECT_NE(e.message().find("instances are copies in the overdraw"), std::string::npos)
+            << e.message();
+    }
     try {
         render_json<RasterRenderer>(row(65600, -1));
         ADD_FAILURE() << "4.3 G triangles were drawn";

@@ -96,9 +96,14 @@ std::shared_ptr<const TriangleList> tessellate_scene(const Scene& scene, FrameSh
                 total += placed[p] ? tessellated_triangles(o, options) : 0;
     }
     if (total > kMaxTriangles) {
+        const std::string copies =
+            !in_place && !scene.instances.empty()
+                ? "; its instances are copies in the overdraw, painter and wireframe views, "
+                  "placed in every other"
+                : "";
         throw Error(scene.path.string(), "render.tessellation",
                     "the scene would make " + std::to_string(total) + " triangles (at most " +
-                        std::to_string(kMaxTriangles) + "); lower render.tessellation");
+                        std::to_string(kMaxTriangles) + "); lower render.tessellation" + copies);
     }
     f.lights.emplace(scene, threads, ibl);
     f.materials = f.lights->set.materials();
