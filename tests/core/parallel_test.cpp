@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <limits>
 #include <mutex>
 #include <set>
 #include <stdexcept>
@@ -80,6 +81,24 @@ TEST(Parallel, NestedLoopsTasksAndPerWorkerScratch) {
 }
 
 // An exception thrown by the body reaches the caller, on one thread and on two.
+TEST(Parallel, TheLeastOverChunksIsTheSameOnAnyThreadCount) {
+    // A value per index whose least lies in the middle of a chunk of the second half.
+    auto value = [](size_t i) { return i == 70001 ? -3.5f : static_cast<float>(i % 977); };
+    for (int threads : {1, 2}) {
+        EXPECT_EQ(parallel_min(
+                      100000, threads,
+                      [&](size_t begin, size_t end) {
+                          float m = std::numeric_limits<float>::infinity();
+                          for (size_t i = begin; i < end; ++i) m = std::min(m, value(i));
+                          return m;
+                      },
+                      1000),
+                  -3.5f);
+        EXPECT_EQ(parallel_min(0, threads, [](size_t, size_t) { return 0.0f; }),
+                  std::numeric_limits<float>::infinity());
+    }
+}
+
 TEST(Parallel, AnExceptionReachesTheCaller) {
     for (int threads : {1, 2}) {
         EXPECT_THROW(parallel_indices(100, threads,

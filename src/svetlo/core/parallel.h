@@ -5,8 +5,11 @@
 // its result depends only on its pixels, never on which thread ran it.
 #pragma once
 
+#include <algorithm>
 #include <functional>
+#include <limits>
 #include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <vector>
 
@@ -36,6 +39,23 @@ void parallel_indices(size_t count, int threads, const std::function<void(size_t
 /// (0 = all cores).
 void parallel_ranges(size_t count, int threads, const std::function<void(size_t, size_t)>& body,
                      size_t grain = 4096);
+
+/// The least of least(begin, end) over the chunks of parallel_ranges (infinity for none): the
+/// same on any thread count, whichever order the chunks come in.
+inline float parallel_min(size_t count, int threads,
+                          const std::function<float(size_t, size_t)>& least, size_t grain = 4096) {
+    std::mutex mutex;
+    float out = std::numeric_limits<float>::infinity();
+    parallel_ranges(
+        count, threads,
+        [&](size_t begin, size_t end) {
+            const float m = least(begin, end);
+            std::lock_guard lock(mutex);
+            out = std::min(out, m);
+        },
+        grain);
+    return out;
+}
 
 /// The number of threads that `threads` (0 = all cores) resolves to: at most the cores.
 int resolve_threads(int threads);

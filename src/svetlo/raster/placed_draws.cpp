@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <functional>
-#include <mutex>
 #include <unordered_map>
 
 #include "svetlo/core/error.h"
@@ -129,9 +128,7 @@ Bounds3 PlacedDraws::bounds() const {
 }
 
 float PlacedDraws::nearest_depth(vec3 eye, vec3 forward, int threads) const {
-    std::mutex mutex;
-    float nearest = kInfinity;
-    parallel_ranges(
+    return parallel_min(
         placements_.size(), threads,
         [&](size_t begin, size_t end) {
             float least = kInfinity;
@@ -164,11 +161,9 @@ float PlacedDraws::nearest_depth(vec3 eye, vec3 forward, int threads) const {
                     }
                 }
             }
-            std::lock_guard lock(mutex);
-            nearest = std::min(nearest, least);
+            return least;
         },
         64);
-    return nearest;
 }
 
 namespace {

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <memory>
-#include <mutex>
 #include <unordered_map>
 
 #include "svetlo/core/error.h"
@@ -310,9 +309,7 @@ PipelineState colour_pass_state(const Scene& scene) {
 /// order they come in.
 float nearest_depth(const TriangleList& list, const Camera& camera, int threads) {
     const vec3 eye = camera.position, forward = glm::normalize(camera.look_at - eye);
-    std::mutex mutex;
-    float nearest = kInfinity;
-    parallel_ranges(
+    const float nearest = parallel_min(
         list.triangle_count(), threads,
         [&](size_t begin, size_t end) {
             float chunk = kInfinity;
@@ -322,8 +319,7 @@ float nearest_depth(const TriangleList& list, const Camera& camera, int threads)
                            c = list.positions[list.indices[3 * t + 2]];
                 chunk = std::min(chunk, nearest_plane(a, b, c, eye, forward));
             }
-            std::lock_guard lock(mutex);
-            nearest = std::min(nearest, chunk);
+            return chunk;
         },
         8192);
     return std::isfinite(nearest) ? nearest : 0.0f;
