@@ -284,20 +284,33 @@ void PlacedDraws::corners(uint32_t id, Corner out[3]) const {
     }
 }
 
-void PlacedDraws::write_vertex(uint64_t vertex, TriangleList& list, size_t to) const {
-    const auto p =
-        static_cast<size_t>(std::upper_bound(first_vertex_.begin(), first_vertex_.end(), vertex) -
-                            first_vertex_.begin()) -
-        1;
-    const Prototype& proto = prototypes_[placements_[p].prototype];
-    const uint64_t local = vertex - first_vertex_[p];
-    const auto k = static_cast<size_t>(std::upper_bound(proto.first_vertex.begin(),
-                                                        proto.first_vertex.end(), local) -
-                                       proto.first_vertex.begin()) -
-                   1;
-    const Part& part = proto.parts[k];
-    const Transform t = part_transform(placements_[p], part);
-    place_vertex(part.mesh, local - proto.first_vertex[k], t, normal_matrix(t.matrix), list, to);
+void PlacedDraws::write_vertices(const uint64_t* vertices, size_t count, uint64_t base,
+                                 TriangleList& list, size_t first) const {
+    size_t p = 0, k = 0;
+    uint64_t part_first = 1, part_end = 0;  // the current part's vertices: none yet
+    Transform t;
+    mat3 nm(1.0f);
+    for (size_t j = 0; j < count; ++j) {
+        const uint64_t vertex = vertices[j] - base;
+        if (vertex < part_first || vertex >= part_end) {  // another part: found, and placed
+            p = static_cast<size_t>(
+                    std::upper_bound(first_vertex_.begin(), first_vertex_.end(), vertex) -
+                    first_vertex_.begin()) -
+                1;
+            const Prototype& proto = prototypes_[placements_[p].prototype];
+            const uint64_t local = vertex - first_vertex_[p];
+            k = static_cast<size_t>(
+                    std::upper_bound(proto.first_vertex.begin(), proto.first_vertex.end(), local) -
+                    proto.first_vertex.begin()) -
+                1;
+            part_first = first_vertex_[p] + proto.first_vertex[k];
+            part_end = first_vertex_[p] + proto.first_vertex[k + 1];
+            t = part_transform(placements_[p], proto.parts[k]);
+            nm = normal_matrix(t.matrix);
+        }
+        const Part& part = prototypes_[placements_[p].prototype].parts[k];
+        place_vertex(part.mesh, vertex - part_first, t, nm, list, first + j);
+    }
 }
 
 void PlacedDraws::add_to(Geometry& g) const {
@@ -332,20 +345,16 @@ void SceneTriangles::draw(const CameraMatrices& camera, const PipelineState& sta
                           RenderTargets& targets, const SamplePattern& pattern, int threads,
                           PassMemory* memory) const {
     draw_samples(list, camera, state, targets, threads, pattern, memory);
-    if (placed) {
-        TriangleList scratch;
-        placed->draw(camera, state, targets, pattern, threads, memory, scratch);
-    }
+    if (placed) placed->draw(camera, state, targets, pattern, threads, memory, scratch);
 }
 
-VisibleTriangles visible_triangles(const SceneTriangles& scene, const CameraMatrices& camera,
-                                   const PipelineState& state,
-                                   const std::vector<SamplePattern>& passes, bool first_faces,
-                                   int threads, PassMemory* memory) {
-    const TriangleList& own = scene.list;
-    const PlacedDraws* placed = scene.placed;
-    const auto own_count = static_cast<uint32_t>(own.triangle_count());
-    // The triangles that hold a sample, in drawing order.
+namespace {
+
+/// The triangles of `scene` that hold a sample of one of `passes`: their ids, in order.
+std::vector<uint32_t> held_triangles(const SceneTriangles& scene, const CameraMatrices& camera,
+                                     const PipelineState& state,
+                                     const std::vector<SamplePattern>& passes, int threads,
+                                     PassMemory* memory) {
     std::vector<uint32_t> ids;
     RenderTargets targets;
     for (const SamplePattern& sp : passes) {
@@ -359,38 +368,80 @@ VisibleTriangles visible_triangles(const SceneTriangles& scene, const CameraMatr
     }
     std::sort(ids.begin(), ids.end());
     ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    return ids;
+}
 
-    // Each triangle's corners: a vertex of the whole scene (the list's, then the placements'
-    // after them) and the triangle's material, and the vertex's first face.
-    std::vector<uint32_t> own_first;  // per vertex of the list, the first face that uses it
-    if (first_faces) {
-        own_first.assign(own.positions.size(), ~0u);
-        for (uint32_t t = own_count; t-- > 0;)
-            for (int c = 0; c < 3; ++c) own_first[own.indices[3 * size_t{t} + c]] = t;
+/// The corners of the scene's triangles (PlacedDraws::Corner): the list's vertices first,
+/// then the placements' after them. The list's first faces are found only when asked for
+/// (`first_faces`); the list is split by material under Gouraud, so a vertex has one.
+class SceneCorners {
+public:
+    SceneCorners(const SceneTriangles& scene, bool first_faces)
+        : own_(scene.list), placed_(scene.placed), first_faces_(first_faces) {
+        if (!first_faces) return;
+        own_first_.assign(own_.positions.size(), ~0u);
+        for (auto t = static_cast<uint32_t>(own_.triangle_count()); t-- > 0;)
+            for (int c = 0; c < 3; ++c) own_first_[own_.indices[3 * size_t{t} + c]] = t;
     }
-    auto corners = [&](uint32_t id, PlacedDraws::Corner out[3]) {
-        if (id >= own_count) {
-            placed->corners(id, out);
-            for (int c = 0; c < 3; ++c) out[c].vertex += own.positions.size();
+
+    void of(uint32_t id, PlacedDraws::Corner out[3]) const {
+        if (id >= own_.triangle_count()) {
+            placed_->corners(id, out);
+            for (int c = 0; c < 3; ++c) out[c].vertex += own_.positions.size();
             return;
         }
         for (int c = 0; c < 3; ++c) {
-            const uint32_t v = own.indices[3 * size_t{id} + c];
-            out[c] = {v, own.material[id], first_faces ? own_first[v] : id};
+            const uint32_t v = own_.indices[3 * size_t{id} + c];
+            out[c] = {v, own_.material[id], first_faces_ ? own_first_[v] : id};
         }
-    };
-    if (first_faces) {  // (the list is split by material: a vertex has one)
+    }
+
+    /// Writes scene vertex `vertices[i]` into vertex i of `list` (sized), for i in [begin,
+    /// end), ascending: the list's copied, the placements' placed.
+    void write(const std::vector<uint64_t>& vertices, size_t begin, size_t end,
+               TriangleList& list) const {
+        const size_t own = own_.positions.size();
+        size_t i = begin;
+        for (; i < end && vertices[i] < own; ++i) {
+            const uint64_t v = vertices[i];
+            list.positions[i] = own_.positions[v];
+            list.normals[i] = own_.normals[v];
+            list.uvs[i] = own_.uvs[v];
+            if (!list.uvs1.empty()) list.uvs1[i] = own_.uvs1.empty() ? own_.uvs[v] : own_.uvs1[v];
+            if (!list.colors.empty())
+                list.colors[i] = own_.colors.empty() ? vec4(1.0f) : own_.colors[v];
+            list.tangents[i] = own_.tangents[v];
+        }
+        if (i < end) placed_->write_vertices(&vertices[i], end - i, own, list, i);
+    }
+
+private:
+    const TriangleList& own_;
+    const PlacedDraws* placed_;
+    bool first_faces_;
+    std::vector<uint32_t> own_first_;  // per vertex of the list, the first face that uses it
+};
+
+}  // namespace
+
+VisibleTriangles visible_triangles(const SceneTriangles& scene, const CameraMatrices& camera,
+                                   const PipelineState& state,
+                                   const std::vector<SamplePattern>& passes, bool first_faces,
+                                   int threads, PassMemory* memory) {
+    std::vector<uint32_t> ids = held_triangles(scene, camera, state, passes, threads, memory);
+    const SceneCorners corners(scene, first_faces);
+    if (first_faces) {
         const size_t held = ids.size();
         for (size_t i = 0; i < held; ++i) {
             PlacedDraws::Corner c[3];
-            corners(ids[i], c);
+            corners.of(ids[i], c);
             for (const auto& corner : c) ids.push_back(corner.first_face);
         }
         std::sort(ids.begin(), ids.end());
         ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
     }
 
-    // One vertex per (vertex, material), in the order of the keys.
+    // Every corner's key, sorted: one vertex per (vertex, material).
     struct Key {
         uint64_t vertex;
         uint32_t material;
@@ -403,7 +454,7 @@ VisibleTriangles visible_triangles(const SceneTriangles& scene, const CameraMatr
         [&](size_t begin, size_t end) {
             for (size_t i = begin; i < end; ++i) {
                 PlacedDraws::Corner c[3];
-                corners(ids[i], c);
+                corners.of(ids[i], c);
                 for (uint32_t k = 0; k < 3; ++k)
                     keys[3 * i + k] = {c[k].vertex, c[k].material,
                                        static_cast<uint32_t>(3 * i + k)};
@@ -414,37 +465,24 @@ VisibleTriangles visible_triangles(const SceneTriangles& scene, const CameraMatr
     std::sort(keys.begin(), keys.end(), [](const Key& a, const Key& b) {
         return a.vertex != b.vertex ? a.vertex < b.vertex : a.material < b.material;
     });
-    std::vector<size_t> unique;  // the first key of each vertex
-    for (size_t k = 0; k < keys.size(); ++k)
+    std::vector<uint64_t> vertices;  // of the scene, one per vertex of the list, ascending
+    std::vector<uint32_t> indices(keys.size());
+    for (size_t k = 0; k < keys.size(); ++k) {
         if (k == 0 || keys[k].vertex != keys[k - 1].vertex ||
             keys[k].material != keys[k - 1].material)
-            unique.push_back(k);
+            vertices.push_back(keys[k].vertex);
+        indices[keys[k].corner] = static_cast<uint32_t>(vertices.size() - 1);
+    }
 
     TriangleList out;
-    const bool second_set = !own.uvs1.empty() || (placed && placed->second_set());
-    const bool colored = !own.colors.empty() || (placed && placed->colored());
-    size_list(out, unique.size(), ids.size(), second_set, colored);
+    const PlacedDraws* placed = scene.placed;
+    size_list(out, vertices.size(), ids.size(),
+              !scene.list.uvs1.empty() || (placed && placed->second_set()),
+              !scene.list.colors.empty() || (placed && placed->colored()));
+    out.indices = std::move(indices);
     parallel_ranges(
-        unique.size(), threads,
-        [&](size_t begin, size_t end) {
-            for (size_t u = begin; u < end; ++u) {
-                const size_t last = u + 1 < unique.size() ? unique[u + 1] : keys.size();
-                for (size_t k = unique[u]; k < last; ++k)
-                    out.indices[keys[k].corner] = static_cast<uint32_t>(u);
-                const uint64_t v = keys[unique[u]].vertex;
-                if (v >= own.positions.size()) {
-                    placed->write_vertex(v - own.positions.size(), out, u);
-                    continue;
-                }
-                out.positions[u] = own.positions[v];
-                out.normals[u] = own.normals[v];
-                out.uvs[u] = own.uvs[v];
-                if (second_set) out.uvs1[u] = own.uvs1.empty() ? own.uvs[v] : own.uvs1[v];
-                if (colored) out.colors[u] = own.colors.empty() ? vec4(1.0f) : own.colors[v];
-                out.tangents[u] = own.tangents[v];
-            }
-        },
-        4096);
+        vertices.size(), threads,
+        [&](size_t begin, size_t end) { corners.write(vertices, begin, end, out); }, 4096);
     out.material = std::move(material);
     return {std::move(out), std::move(ids)};
 }

@@ -15,6 +15,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <utility>
 #include <vector>
 
 #include "svetlo/geometry/geometry.h"
@@ -37,9 +38,9 @@ public:
     PlacedDraws(const Scene& scene, const TessellationOptions& options, uint32_t first_id,
                 bool adjacency, int threads);
 
-    uint32_t first_id() const { return static_cast<uint32_t>(first_.front()); }
     uint64_t end_id() const { return first_.back(); }
-    uint64_t triangles() const { return end_id() - first_id(); }
+    /// The ids of placement p's triangles: [first, end).
+    std::pair<uint64_t, uint64_t> ids_of(size_t p) const { return {first_[p], first_[p + 1]}; }
     /// A box around every placed triangle (each part's box carried into the world).
     Bounds3 bounds() const;
     /// The least distance from `eye` along `forward` of a placed point in front of the eye,
@@ -96,9 +97,11 @@ public:
     };
     /// The corners of placed triangle `id` (in [first_id(), end_id())).
     void corners(uint32_t id, Corner out[3]) const;
-    /// Writes placed vertex `vertex` (a Corner's) into vertex `to` of `list` (sized), as
-    /// `draw` places it.
-    void write_vertex(uint64_t vertex, TriangleList& list, size_t to) const;
+    /// Writes placed vertex vertices[j] - base (a Corner's vertex), for j < count, into vertex
+    /// first + j of `list` (sized), as `draw` places them. Ascending, a part's vertices share
+    /// its transform, found once.
+    void write_vertices(const uint64_t* vertices, size_t count, uint64_t base, TriangleList& list,
+                        size_t first) const;
     /// Whether some prototype's mesh has a second uv set, or vertex colours.
     bool second_set() const { return second_set_; }
     bool colored() const { return colored_; }
@@ -149,6 +152,8 @@ private:
 struct SceneTriangles {
     const TriangleList& list;
     const PlacedDraws* placed = nullptr;
+    // A batch of placements, kept from draw to draw (and lent to a pass between draws).
+    mutable TriangleList scratch = {};
 
     Bounds3 bounds() const;
     /// draw_samples of the list, then of every placement (their items numbered on).

@@ -13,6 +13,7 @@
 //      side of the receiver, projected onto the plane, and drawn with the stencil test
 //      "equal to the receiver's number" (so the shadow stays on the receiver's own pixels,
 //      with no depth test and no z-fighting), setting the top bit (so it never darkens twice).
+#include <algorithm>
 #include <array>
 
 #include "svetlo/core/error.h"
@@ -129,7 +130,6 @@ public:
         PipelineState item_state;
         item_state.cull = f.cull;
         item_state.alpha = alpha;
-        TriangleList scratch;  // a batch of placements
         for (const SamplePattern& sp : passes) {
             RenderTargets targets;
             targets.clear(width_, height_, sp.count, true, true);
@@ -174,11 +174,15 @@ public:
                         draw(list, [&](size_t t) { return receiver_of_[t] == r + 1; });
                         if (!placed_) continue;
                         placed_->for_each_batch(
-                            nullptr, threads, scratch,
+                            nullptr, threads, scene_triangles.scratch,
                             [&](const TriangleList& batch, const std::vector<uint32_t>& items,
                                 const std::vector<size_t>&) {
-                                draw(batch,
-                                     [&](size_t t) { return receiver_number(items[t]) == r + 1; });
+                                // Only its own placement's triangles may be the receiver's.
+                                const auto [lo, hi] = receiver_ids(r);
+                                draw(batch, [&](size_t t) {
+                                    return items[t] >= lo && items[t] < hi &&
+                                           receiver_number(items[t]) == r + 1;
+                                });
                             });
                     }
                     for (size_t i = 0; i < lit.size(); ++i) {
@@ -318,6 +322,16 @@ private:
                 }
             }
         }
+    }
+
+    /// The ids of the placement that holds receiver r ([0, 0) for one of the list's).
+    std::pair<uint64_t, uint64_t> receiver_ids(size_t r) const {
+        if (first_receiver_.empty() || r < first_receiver_.front()) return {0, 0};
+        const auto p = static_cast<size_t>(
+                           std::upper_bound(first_receiver_.begin(), first_receiver_.end(), r) -
+                           first_receiver_.begin()) -
+                       1;
+        return placed_->ids_of(p);
     }
 
     /// The receiver triangle `id` of the scene lies in, plus 1 (0: none).

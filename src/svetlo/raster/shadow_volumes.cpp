@@ -139,7 +139,6 @@ public:
             caps.push_back(use_zfail || f.cull != CullMode::None ? 1 : 0);
             volumes.push_back(volume(own, c, cam.orthographic, caps.back() != 0));
         }
-        TriangleList scratch;  // a batch of placements
         for (const SamplePattern& sp : passes) {
             RenderTargets targets;
             targets.clear(width_, height_, sp.count, true);
@@ -160,7 +159,7 @@ public:
                 draw(volumes[k]);
                 if (placed) {  // (a placement out of view may cast into it: all of them)
                     placed->for_each_batch(
-                        nullptr, threads, scratch,
+                        nullptr, threads, scene_triangles.scratch,
                         [&](const TriangleList& batch, const std::vector<uint32_t>&,
                             const std::vector<size_t>&) {
                             draw(volume(Occluders(batch), casters_[k], cam.orthographic,
