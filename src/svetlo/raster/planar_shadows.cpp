@@ -178,9 +178,9 @@ public:
                             [&](const TriangleList& batch, const std::vector<uint32_t>& items,
                                 const std::vector<size_t>&) {
                                 // Only its own placement's triangles may be the receiver's.
-                                const auto [lo, hi] = receiver_ids(r);
+                                const std::pair<uint64_t, uint64_t> ids = receiver_ids(r);
                                 draw(batch, [&](size_t t) {
-                                    return items[t] >= lo && items[t] < hi &&
+                                    return items[t] >= ids.first && items[t] < ids.second &&
                                            receiver_number(items[t]) == r + 1;
                                 });
                             });
